@@ -1,0 +1,42 @@
+# robcal — top-level entry points. Every target installs missing Debian packages first.
+BUILD ?= build
+JOBS ?= $(shell nproc)
+CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
+
+DEBIAN_PACKAGES = build-essential cmake libeigen3-dev libceres-dev libcli11-dev libyaml-cpp-dev \
+  nlohmann-json3-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev \
+  python3-dev python3-numpy python3-pytest
+
+.PHONY: deps build test demo bench experiments format clean browser-deps
+
+deps:
+	@bash scripts/install-deps.sh $(DEBIAN_PACKAGES)
+
+browser-deps:
+	@bash scripts/install-deps.sh chromium
+
+$(BUILD)/CMakeCache.txt: | deps
+	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)
+
+build: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j $(JOBS)
+
+test: build browser-deps
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+demo: build
+	$(BUILD)/robcal demo --out demo-out
+
+bench: build
+	mkdir -p bench/results
+	$(BUILD)/robcal_bench --benchmark_repetitions=15 --benchmark_report_aggregates_only=true \
+	  --benchmark_out=bench/results/latest.json --benchmark_out_format=json
+
+experiments: build
+	$(BUILD)/robcal experiments --out bench/experiments/results
+
+format:
+	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
+
+clean:
+	rm -rf $(BUILD)

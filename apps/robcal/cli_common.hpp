@@ -1,0 +1,30 @@
+#pragma once
+/// \file
+/// Shared pieces of the command-line program: parsing joint lists and poses, loading robots
+/// and tools, printing JSON, progress on a terminal.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "robcal/model/robot_model.hpp"
+
+namespace robcal::cli {
+
+/// Comma-separated numbers ("10,-20,30"); `what` names the flag in errors. Exactly `count`
+/// values unless count < 0.
+std::vector<double> parse_numbers(const std::string& text, int count, const std::string& what);
+
+/// Six controller joint values given in degrees → radians.
+Vector6d parse_joints_deg(const std::string& text, const std::string& what = "--joints");
+
+/// Prints JSON (2-space indent) to stdout.
+void print_json(const nlohmann::json& value);
+
+/// True when stdout is a terminal (progress output is shown only then).
+bool stdout_is_terminal();
+
+/// Rounds for printing: keeps JSON readable and removes -0.
+double tidy(double value, int decimals = 9);
+
+}  // namespace robcal::cli

@@ -1,0 +1,57 @@
+/// robcal: the command-line program. Each command lives in its own cmd_*.cpp and registers
+/// itself; this file only runs CLI11 and turns errors into messages and exit codes.
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <iostream>
+#include <utility>
+#include <vector>
+
+#include "command_registry.hpp"
+#include "robcal/core/error.hpp"
+
+namespace robcal::cli {
+
+namespace {
+std::vector<std::pair<int, CommandSetup>>& registry() {
+  static std::vector<std::pair<int, CommandSetup>> commands;
+  return commands;
+}
+}  // namespace
+
+bool register_command(int order, CommandSetup setup) {
+  registry().emplace_back(order, std::move(setup));
+  return true;
+}
+
+void setup_commands(CLI::App& app) {
+  auto& commands = registry();
+  std::stable_sort(commands.begin(), commands.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [order, setup] : commands) setup(app);
+}
+
+}  // namespace robcal::cli
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "robcal — absolute calibration of six-axis industrial robots.\n"
+      "Units: millimetres and degrees in every file, flag and printout."};
+  app.require_subcommand(1);
+  app.set_help_all_flag("--help-all", "Show help for every command");
+  robcal::cli::setup_commands(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const robcal::InputError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,39 @@
+#pragma once
+/// \file
+/// Robot and tool files (YAML, mm and degrees). The formats are documented in the README;
+/// `data/robots/*.yaml` are the built-in robots.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "robcal/io/yaml_support.hpp"
+#include "robcal/model/robot_model.hpp"
+#include "robcal/model/tool.hpp"
+
+namespace robcal {
+
+/// The folder with the built-in data: $ROBCAL_DATA_DIR if set, else the source tree's data/.
+std::filesystem::path data_directory();
+
+/// Names of the built-in robots (file stems under data/robots/), sorted.
+std::vector<std::string> builtin_robot_names();
+
+/// A built-in robot by name ("abb-irb120") or a robot file by path.
+RobotModel load_robot(const std::string& name_or_path);
+
+/// Parses a robot description; errors name the file, line, column and key.
+RobotModel parse_robot(const yaml::Node& root);
+
+/// The robot as YAML in the same format (round-trips through parse_robot).
+std::string robot_to_yaml(const RobotModel& model);
+
+/// Emits the robot's fields into an open YAML map (shared by robot and calibrated-model files).
+void emit_robot_fields(YAML::Emitter& out, const RobotModel& model);
+
+/// Tool file: payload, targets (a target written `~` is to be identified), optional tcp.
+Tool load_tool(const std::string& path);
+Tool parse_tool(const yaml::Node& root);
+std::string tool_to_yaml(const Tool& tool);
+
+}  // namespace robcal

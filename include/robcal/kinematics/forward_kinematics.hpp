@@ -1,0 +1,173 @@
+#pragma once
+/// \file
+/// Forward kinematics of the error model (METHOD §2–§3), templated on the scalar type so that
+/// `ceres::Jet` gives exact derivatives with respect to joints and parameters.
+///
+/// Frame naming: `world_T_flange` maps flange coordinates to world coordinates. Joint values
+/// passed in are the controller's (rad); the model's joint map turns them into model angles.
+
+#include <Eigen/Core>
+#include <array>
+
+#include "robcal/model/parameters.hpp"
+#include "robcal/model/robot_model.hpp"
+
+namespace robcal {
+
+template <typename T>
+using Vector3 = Eigen::Matrix<T, 3, 1>;
+template <typename T>
+using Matrix3 = Eigen::Matrix<T, 3, 3>;
+
+/// A rigid transform as rotation + translation (mm), cheaper than a 4×4 and Jet-friendly.
+template <typename T>
+struct Pose {
+  Matrix3<T> R = Matrix3<T>::Identity();
+  Vector3<T> p = Vector3<T>::Zero();
+
+  [[nodiscard]] Vector3<T> operator*(const Vector3<T>& x) const { return R * x + p; }
+  [[nodiscard]] Pose operator*(const Pose& other) const { return {R * other.R, R * other.p + p}; }
+  [[nodiscard]] Pose inverse() const {
+    Pose out;
+    out.R = R.transpose();
+    out.p = -(out.R * p);
+    return out;
+  }
+};
+
+namespace detail {
+
+/// Rot_x(alpha) · Trans_x(a) · Rot_z(theta) · Trans_z(d), closed form (Craig eq. 3.6).
+template <typename T>
+Pose<T> mdh_transform(const T& alpha, const T& a, const T& theta, const T& d) {
+  using std::cos;
+  using std::sin;
+  const T ca = cos(alpha), sa = sin(alpha), ct = cos(theta), st = sin(theta);
+  Pose<T> A;
+  A.R << ct, -st, T(0), st * ca, ct * ca, -sa, st * sa, ct * sa, ca;
+  A.p << a, -sa * d, ca * d;
+  return A;
+}
+
+/// world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1) (METHOD §2).
+template <typename T>
+Pose<T> base_transform(const T* params, const T& d1, const T& theta1) {
+  using std::cos;
+  using std::sin;
+  const T ca = cos(params[3]), sa = sin(params[3]);
+  const T cb = cos(params[4]), sb = sin(params[4]);
+  const T g = params[5] + theta1;
+  const T cg = cos(g), sg = sin(g);
+  Matrix3<T> Rxy;
+  Rxy << cb, T(0), sb, sa * sb, ca, -sa * cb, -ca * sb, sa, ca * cb;
+  Matrix3<T> Rz;
+  Rz << cg, -sg, T(0), sg, cg, T(0), T(0), T(0), T(1);
+  Pose<T> A;
+  A.R = Rxy * Rz;
+  A.p << params[0], params[1], d1 + params[2];
+  return A;
+}
+
+}  // namespace detail
+
+/// Model joint angles (rad) from controller joint values (rad), through the robot's joint map.
+template <typename T>
+std::array<T, kJointCount> model_joint_angles(const RobotModel& model, const T* controller) {
+  std::array<T, kJointCount> q;
+  if (model.joint_map.is_identity()) {
+    for (int i = 0; i < kJointCount; ++i) q[i] = controller[i];
+    return q;
+  }
+  for (int i = 0; i < kJointCount; ++i) {
+    q[i] = T(model.joint_map.offset[i]);
+    for (int j = 0; j < kJointCount; ++j)
+      if (model.joint_map.matrix(i, j) != 0.0) q[i] += model.joint_map.matrix(i, j) * controller[j];
+  }
+  return q;
+}
+
+/// Static gravity torques τ_2..τ_6 (N·mm) about joint axes 2..6 for undeflected joint angles
+/// `theta` (rad, θ_i of links 1..6 before compliance), METHOD §3: τ_i = (Σ_{j≥i} m_j u_j^i × g_i)_z.
+/// Computed tip to base with the first moment S_i = Σ_{j≥i} m_j u_j^i, so it is O(n).
+/// `payload` (flange frame) is lumped with link 6.
+template <typename T>
+std::array<T, 5> gravity_torques(const RobotModel& model, const PointMass& payload,
+                                 const T* params, const std::array<T, kJointCount>& theta) {
+  // Relative transforms A_2..A_6 with the undeflected angles.
+  std::array<Pose<T>, kJointCount> A;  // A[i] = A_{i+1}, frame i -> i+1 (0-based: A[1] = A_2)
+  for (int link = 2; link <= kJointCount; ++link)
+    A[link - 1] = detail::mdh_transform(params[link_param(link, 0)], params[link_param(link, 1)],
+                                        theta[link - 1], params[link_param(link, 3)]);
+  // Gravity in each link frame: g_1 = R_world_1^T g_world (the base tilt alpha, beta matters:
+  // gravity acts in the world, which the reference data set confirms), g_i = R_{i-1,i}^T g_{i-1}.
+  std::array<Vector3<T>, kJointCount> g;
+  g[0] = detail::base_transform(params, T(0), theta[0]).R.transpose() *
+         model.gravity_m_s2.template cast<T>();
+  for (int i = 1; i < kJointCount; ++i) g[i] = A[i].R.transpose() * g[i - 1];
+  // First moments from the tip: S_6 = m_6 u_6 + m_p u_p; S_i = m_i u_i + A_{i+1}·(S_{i+1}, M_{i+1}).
+  Vector3<T> S = (model.link_masses[5].mass_kg * model.link_masses[5].cog_mm +
+                  payload.mass_kg * payload.cog_mm)
+                     .template cast<T>();
+  double M = model.link_masses[5].mass_kg + payload.mass_kg;
+  std::array<T, 5> tau;
+  for (int i = kJointCount - 1; i >= 1; --i) {  // 0-based frame index i = link i+1
+    if (i < kJointCount - 1) {
+      S = A[i + 1].R * S + A[i + 1].p * T(M) +
+          (model.link_masses[i].mass_kg * model.link_masses[i].cog_mm).template cast<T>();
+      M += model.link_masses[i].mass_kg;
+    }
+    tau[i - 1] = S.x() * g[i].y() - S.y() * g[i].x();
+  }
+  return tau;
+}
+
+/// Joint angles θ_1..θ_6 (rad) used in the links: θ_i = scale_i·q_i + offset_i (+ c_i·τ_i when
+/// the model has compliance), METHOD §2. `q` are model joint angles.
+template <typename T>
+std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass& payload,
+                                       const T* params, const std::array<T, kJointCount>& q) {
+  std::array<T, kJointCount> theta;
+  theta[0] = params[scale_param(1)] * q[0] + T(model.mdh[0].theta_offset);
+  for (int link = 2; link <= kJointCount; ++link)
+    theta[link - 1] = params[scale_param(link)] * q[link - 1] + params[link_param(link, 2)];
+  bool compliant = false;
+  for (int link = 2; link <= kJointCount; ++link)
+    compliant = compliant || params[compliance_param(link)] != T(0);
+  if (compliant) {
+    const std::array<T, 5> tau = gravity_torques(model, payload, params, theta);
+    for (int link = 2; link <= kJointCount; ++link)
+      theta[link - 1] += params[compliance_param(link)] * tau[link - 2];
+  }
+  return theta;
+}
+
+/// World poses of the link frames Φ1..Φ6 (frames[5] is the flange, Φ6).
+/// \param params  parameter vector (METHOD §3 layout, internal units), kParameterCount values
+/// \param joints  controller joint values, rad
+template <typename T>
+std::array<Pose<T>, kJointCount> link_frames(const RobotModel& model, const PointMass& payload,
+                                             const T* params, const T* joints) {
+  const std::array<T, kJointCount> q = model_joint_angles(model, joints);
+  const std::array<T, kJointCount> theta = link_angles(model, payload, params, q);
+  std::array<Pose<T>, kJointCount> frames;
+  frames[0] = detail::base_transform(params, T(model.mdh[0].d), theta[0]);
+  for (int link = 2; link <= kJointCount; ++link)
+    frames[link - 1] =
+        frames[link - 2] * detail::mdh_transform(params[link_param(link, 0)],
+                                                 params[link_param(link, 1)], theta[link - 1],
+                                                 params[link_param(link, 3)]);
+  return frames;
+}
+
+/// World pose of the flange (Φ6): world_T_flange = world_A_1 · A_2 ⋯ A_6.
+template <typename T>
+Pose<T> flange_pose(const RobotModel& model, const PointMass& payload, const T* params,
+                    const T* joints) {
+  return link_frames(model, payload, params, joints)[kJointCount - 1];
+}
+
+/// Convenience for double: flange pose from a parameter vector and controller joints (rad).
+Pose<double> flange_pose(const RobotModel& model, const PointMass& payload,
+                         const ParameterVector& params, const Vector6d& joints);
+
+}  // namespace robcal

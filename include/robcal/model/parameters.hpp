@@ -1,0 +1,59 @@
+#pragma once
+/// \file
+/// The robot's parameter vector: every quantity the error model of METHOD §3 may identify,
+/// stored as absolute values in internal units (mm, rad, rad/(N·mm), unitless scale).
+///
+/// Layout (kParameterCount = 37):
+///   [0, 6)   base.x base.y base.z (mm), base.alpha base.beta base.gamma (rad):
+///            world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1)
+///   [6, 26)  linkI.alpha (rad), linkI.a (mm), linkI.theta (rad, the joint zero offset),
+///            linkI.d (mm) for I = 2..6 (MDH, Craig)
+///   [26, 31) jointI.compliance (rad per N·mm of gravity torque) for I = 2..6
+///   [31, 37) jointI.scale (unitless, θ_real = scale · q + offset; level 1) for I = 1..6
+/// The 31 of the published full model are the first 31; scales are fixed unless asked for.
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace robcal {
+
+inline constexpr int kJointCount = 6;
+inline constexpr int kBaseParamCount = 6;
+inline constexpr int kLinkParamOffset = 6;
+inline constexpr int kComplianceOffset = 26;
+inline constexpr int kScaleOffset = 31;
+inline constexpr int kParameterCount = 37;
+
+/// Index of MDH quantity k (0 alpha, 1 a, 2 theta, 3 d) of link i (2..6).
+constexpr int link_param(int link, int k) { return kLinkParamOffset + 4 * (link - 2) + k; }
+/// Index of the compliance of joint i (2..6).
+constexpr int compliance_param(int joint) { return kComplianceOffset + (joint - 2); }
+/// Index of the scale of joint i (1..6).
+constexpr int scale_param(int joint) { return kScaleOffset + (joint - 1); }
+
+enum class ParamKind { Length, Angle, Compliance, Scale };
+
+/// Name, kind and external unit of one parameter of the layout.
+struct ParameterInfo {
+  std::string name;   ///< stable dotted name, e.g. "link3.a", "joint5.compliance"
+  ParamKind kind;
+  std::string unit;   ///< external unit: "mm", "deg", "rad/N·mm", "1"
+  /// Factor from internal to external units (1 for mm, 180/π for angles).
+  [[nodiscard]] double to_external() const;
+};
+
+/// The 37 parameters in layout order.
+const std::array<ParameterInfo, kParameterCount>& parameter_table();
+
+/// Index of a parameter by its dotted name, or -1.
+int parameter_index(std::string_view name);
+
+/// Indices whose names match a glob pattern ('*' and '?'), e.g. "link6.*", "*.compliance".
+std::vector<int> match_parameters(std::string_view pattern);
+
+/// Simple glob match ('*' any run, '?' one character), shared by every name filter.
+bool glob_match(std::string_view pattern, std::string_view text);
+
+}  // namespace robcal

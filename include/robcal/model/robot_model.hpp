@@ -1,0 +1,82 @@
+#pragma once
+/// \file
+/// The immutable description of a six-revolute serial robot (METHOD §2–§4): nominal
+/// Modified-DH table, joint limits, controller joint map, link masses and gravity.
+/// Algorithms never modify a model; per-call state lives in their own workspaces.
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+
+#include "robcal/model/parameters.hpp"
+
+namespace robcal {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using ParameterVector = Eigen::Matrix<double, kParameterCount, 1>;
+
+/// One row of a Modified DH table (Craig): A = Rot_x(alpha)·Trans_x(a)·Rot_z(theta)·Trans_z(d).
+struct MdhRow {
+  double alpha = 0;         ///< rad
+  double a = 0;             ///< mm
+  double theta_offset = 0;  ///< rad, added to the joint angle
+  double d = 0;             ///< mm
+};
+
+/// A point mass: a link's (or a payload's) mass and centre of gravity in its own frame.
+struct PointMass {
+  double mass_kg = 0;
+  Eigen::Vector3d cog_mm = Eigen::Vector3d::Zero();
+};
+
+/// How the robot's controller numbers its joints. Model joint angles (rad) are
+/// q = matrix · j + offset, with j the controller's values (rad). A Fanuc reports J3 relative
+/// to the horizontal, so the model's q3 = J3 + J2: matrix(2,1) = 1.
+struct JointMap {
+  Matrix6d matrix = Matrix6d::Identity();
+  Vector6d offset = Vector6d::Zero();  ///< rad
+  [[nodiscard]] bool is_identity() const {
+    return matrix.isIdentity(0.0) && offset.isZero(0.0);
+  }
+  /// Model joint angles from controller joint values (both rad).
+  [[nodiscard]] Vector6d to_model(const Vector6d& controller) const {
+    return matrix * controller + offset;
+  }
+  /// Controller joint values from model joint angles (both rad).
+  [[nodiscard]] Vector6d to_controller(const Vector6d& model) const;
+};
+
+/// Joint range in controller values, rad.
+struct JointLimit {
+  double lower = 0;
+  double upper = 0;
+};
+
+/// Orientation convention a robot maker prints (the angles all describe R = Rz·Ry·Rx):
+/// ABB and KUKA print (A=z, B=y, C=x); Fanuc prints (W=x, P=y, R=z).
+enum class EulerConvention { ZyxABC, XyzWPR };
+
+/// Immutable robot description. `nominal()` gives the parameter vector of the nominal robot
+/// placed at the world origin (base parameters zero, compliance zero, scales one).
+struct RobotModel {
+  std::string name;
+  std::string manufacturer;
+  std::string source;  ///< where the numbers come from (data sheet, paper)
+  EulerConvention euler = EulerConvention::ZyxABC;
+
+  std::array<MdhRow, kJointCount> mdh{};  ///< links 1..6; link 1 must have alpha = a = 0
+  std::array<JointLimit, kJointCount> limits{};
+  JointMap joint_map;
+  std::array<PointMass, kJointCount> link_masses{};  ///< links 1..6, CoG in the link frame
+  Eigen::Vector3d gravity_m_s2{0, 0, -9.81};  ///< in the world (measurement) frame, levelled
+
+  /// Nominal parameter vector (METHOD §3 layout, internal units).
+  [[nodiscard]] ParameterVector nominal() const;
+
+  /// True when the controller joint values are all inside the limits (with `tolerance` rad).
+  [[nodiscard]] bool within_limits(const Vector6d& controller_joints,
+                                   double tolerance = 1e-9) const;
+};
+
+}  // namespace robcal

@@ -1,0 +1,235 @@
+#include "robcal/io/robot_file.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cstdlib>
+
+#include "robcal/core/units.hpp"
+#include "robcal/io/atomic_file.hpp"
+
+namespace robcal {
+
+namespace fs = std::filesystem;
+
+fs::path data_directory() {
+  if (const char* env = std::getenv("ROBCAL_DATA_DIR"); env && *env) return env;
+  return ROBCAL_DATA_DIR;
+}
+
+std::vector<std::string> builtin_robot_names() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(data_directory() / "robots", ec))
+    if (entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+RobotModel load_robot(const std::string& name_or_path) {
+  const fs::path builtin = data_directory() / "robots" / (name_or_path + ".yaml");
+  if (name_or_path.find('/') == std::string::npos && fs::exists(builtin))
+    return parse_robot(yaml::load_file(builtin.string()));
+  if (fs::exists(name_or_path)) return parse_robot(yaml::load_file(name_or_path));
+  std::string known;
+  for (const auto& n : builtin_robot_names()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError({"", 0, 0, "--robot"},
+                   fmt::format("unknown robot '{}': not a built-in robot ({}) nor a file",
+                               name_or_path, known));
+}
+
+namespace {
+
+EulerConvention parse_euler(const yaml::Node& node) {
+  const std::string text = node.as_string();
+  if (text == "ZYX" || text == "zyx" || text == "ABC") return EulerConvention::ZyxABC;
+  if (text == "WPR" || text == "wpr" || text == "XYZ") return EulerConvention::XyzWPR;
+  throw node.error(fmt::format("unknown Euler convention '{}': expected ZYX (ABB, KUKA) or WPR (Fanuc)", text));
+}
+
+}  // namespace
+
+RobotModel parse_robot(const yaml::Node& root) {
+  RobotModel model;
+  model.name = root.at("name").as_string();
+  if (root.has("manufacturer")) model.manufacturer = root.at("manufacturer").as_string();
+  if (root.has("source")) model.source = root.at("source").as_string();
+  if (root.has("euler")) model.euler = parse_euler(root.at("euler"));
+
+  const yaml::Node mdh = root.at("mdh");
+  if (!mdh.node.IsSequence() || mdh.size() != kJointCount)
+    throw mdh.error("expected 6 rows [alpha_deg, a_mm, theta_offset_deg, d_mm]");
+  for (int i = 0; i < kJointCount; ++i) {
+    const auto row = mdh.at(i).as_doubles(4);
+    model.mdh[i] = {deg2rad(row[0]), row[1], deg2rad(row[2]), row[3]};
+  }
+  if (model.mdh[0].alpha != 0.0 || model.mdh[0].a != 0.0)
+    throw mdh.at(0).error("link 1 must have alpha = 0 and a = 0 (its placement is the base)");
+
+  const yaml::Node limits = root.at("joint_limits_deg");
+  if (!limits.node.IsSequence() || limits.size() != kJointCount)
+    throw limits.error("expected 6 pairs [lower, upper] in degrees");
+  for (int i = 0; i < kJointCount; ++i) {
+    const auto pair = limits.at(i).as_doubles(2);
+    if (!(pair[0] < pair[1])) throw limits.at(i).error("lower limit must be below upper limit");
+    model.limits[i] = {deg2rad(pair[0]), deg2rad(pair[1])};
+  }
+
+  if (root.has("masses")) {
+    const yaml::Node masses = root.at("masses");
+    for (const std::string& key : masses.keys()) {
+      const yaml::Node entry = masses.at(key);
+      int link = 0;
+      try {
+        link = std::stoi(key);
+      } catch (const std::exception&) {
+        throw entry.error("mass keys are link numbers 1..6");
+      }
+      if (link < 1 || link > kJointCount) throw entry.error("mass keys are link numbers 1..6");
+      const double mass = entry.at("mass_kg").as_double();
+      if (mass < 0) throw entry.at("mass_kg").error("mass must not be negative");
+      model.link_masses[link - 1] = {mass, entry.at("cog_mm").as_vector3()};
+    }
+  }
+  if (root.has("gravity_m_s2")) model.gravity_m_s2 = root.at("gravity_m_s2").as_vector3();
+
+  if (root.has("joint_map")) {
+    const yaml::Node map = root.at("joint_map");
+    if (map.has("matrix")) {
+      const yaml::Node matrix = map.at("matrix");
+      if (!matrix.node.IsSequence() || matrix.size() != kJointCount)
+        throw matrix.error("expected 6 rows of 6 numbers");
+      for (int i = 0; i < kJointCount; ++i) {
+        const auto row = matrix.at(i).as_doubles(kJointCount);
+        for (int j = 0; j < kJointCount; ++j) model.joint_map.matrix(i, j) = row[j];
+      }
+      if (std::abs(model.joint_map.matrix.determinant()) < 1e-9)
+        throw matrix.error("the joint map must be invertible");
+    }
+    if (map.has("offset_deg")) {
+      const auto offset = map.at("offset_deg").as_doubles(kJointCount);
+      for (int i = 0; i < kJointCount; ++i) model.joint_map.offset[i] = deg2rad(offset[i]);
+    }
+  }
+  return model;
+}
+
+void emit_robot_fields(YAML::Emitter& out, const RobotModel& model) {
+  out << YAML::Key << "name" << YAML::Value << model.name;
+  if (!model.manufacturer.empty())
+    out << YAML::Key << "manufacturer" << YAML::Value << model.manufacturer;
+  if (!model.source.empty()) out << YAML::Key << "source" << YAML::Value << model.source;
+  out << YAML::Key << "euler" << YAML::Value
+      << (model.euler == EulerConvention::ZyxABC ? "ZYX" : "WPR");
+  out << YAML::Key << "mdh" << YAML::Comment("alpha_deg, a_mm, theta_offset_deg, d_mm")
+      << YAML::Value << YAML::BeginSeq;
+  for (const MdhRow& row : model.mdh)
+    out << YAML::Flow << std::vector<double>{rad2deg(row.alpha), row.a, rad2deg(row.theta_offset), row.d};
+  out << YAML::EndSeq;
+  out << YAML::Key << "joint_limits_deg" << YAML::Value << YAML::BeginSeq;
+  for (const JointLimit& lim : model.limits)
+    out << YAML::Flow << std::vector<double>{rad2deg(lim.lower), rad2deg(lim.upper)};
+  out << YAML::EndSeq;
+  out << YAML::Key << "masses" << YAML::Value << YAML::BeginMap;
+  for (int i = 0; i < kJointCount; ++i) {
+    const PointMass& m = model.link_masses[i];
+    if (m.mass_kg == 0.0) continue;
+    out << YAML::Key << std::to_string(i + 1) << YAML::Value << YAML::Flow << YAML::BeginMap
+        << YAML::Key << "mass_kg" << YAML::Value << m.mass_kg << YAML::Key << "cog_mm"
+        << YAML::Value << YAML::Flow
+        << std::vector<double>{m.cog_mm.x(), m.cog_mm.y(), m.cog_mm.z()} << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  out << YAML::Key << "gravity_m_s2" << YAML::Value << YAML::Flow
+      << std::vector<double>{model.gravity_m_s2.x(), model.gravity_m_s2.y(), model.gravity_m_s2.z()};
+  if (!model.joint_map.is_identity()) {
+    out << YAML::Key << "joint_map" << YAML::Value << YAML::BeginMap << YAML::Key << "matrix"
+        << YAML::Value << YAML::BeginSeq;
+    for (int i = 0; i < kJointCount; ++i) {
+      std::vector<double> row(kJointCount);
+      for (int j = 0; j < kJointCount; ++j) row[j] = model.joint_map.matrix(i, j);
+      out << YAML::Flow << row;
+    }
+    out << YAML::EndSeq << YAML::Key << "offset_deg" << YAML::Value << YAML::Flow;
+    std::vector<double> offset(kJointCount);
+    for (int i = 0; i < kJointCount; ++i) offset[i] = rad2deg(model.joint_map.offset[i]);
+    out << offset << YAML::EndMap;
+  }
+}
+
+std::string robot_to_yaml(const RobotModel& model) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(12);
+  out << YAML::BeginMap;
+  emit_robot_fields(out, model);
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+Tool parse_tool(const yaml::Node& root) {
+  Tool tool;
+  if (root.has("payload")) {
+    const yaml::Node payload = root.at("payload");
+    tool.payload.mass_kg = payload.at("mass_kg").as_double();
+    if (tool.payload.mass_kg < 0) throw payload.at("mass_kg").error("mass must not be negative");
+    tool.payload.cog_mm = payload.at("cog_mm").as_vector3();
+  }
+  if (root.has("targets")) {
+    const yaml::Node targets = root.at("targets");
+    for (const std::string& name : targets.keys()) {
+      const yaml::Node entry = targets.get(name);
+      Target target{name, Eigen::Vector3d::Zero(), entry.defined()};
+      if (target.known) target.position_mm = entry.as_vector3();
+      tool.targets.push_back(target);
+    }
+  }
+  if (root.has("tcp")) {
+    const yaml::Node tcp = root.at("tcp");
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    if (tcp.has("position_mm")) T.translation() = tcp.at("position_mm").as_vector3();
+    if (tcp.has("quaternion_wxyz")) {
+      const auto q = tcp.at("quaternion_wxyz").as_doubles(4);
+      Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
+      if (std::abs(quat.norm() - 1.0) > 1e-6)
+        throw tcp.at("quaternion_wxyz").error(
+            fmt::format("quaternion must have unit norm, has {:.9f}", quat.norm()));
+      T.linear() = quat.normalized().toRotationMatrix();
+    }
+    tool.flange_T_tcp = T;
+  }
+  return tool;
+}
+
+Tool load_tool(const std::string& path) { return parse_tool(yaml::load_file(path)); }
+
+std::string tool_to_yaml(const Tool& tool) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(12);
+  out << YAML::BeginMap;
+  out << YAML::Key << "payload" << YAML::Value << YAML::BeginMap << YAML::Key << "mass_kg"
+      << YAML::Value << tool.payload.mass_kg << YAML::Key << "cog_mm" << YAML::Value << YAML::Flow
+      << std::vector<double>{tool.payload.cog_mm.x(), tool.payload.cog_mm.y(), tool.payload.cog_mm.z()}
+      << YAML::EndMap;
+  out << YAML::Key << "targets" << YAML::Value << YAML::BeginMap;
+  for (const Target& t : tool.targets) {
+    out << YAML::Key << YAML::DoubleQuoted << t.name << YAML::Value;
+    if (t.known)
+      out << YAML::Flow << std::vector<double>{t.position_mm.x(), t.position_mm.y(), t.position_mm.z()};
+    else
+      out << YAML::Null;
+  }
+  out << YAML::EndMap;
+  if (!tool.flange_T_tcp.isApprox(Eigen::Isometry3d::Identity())) {
+    const Eigen::Quaterniond q(tool.flange_T_tcp.linear());
+    const Eigen::Vector3d p = tool.flange_T_tcp.translation();
+    out << YAML::Key << "tcp" << YAML::Value << YAML::BeginMap << YAML::Key << "position_mm"
+        << YAML::Value << YAML::Flow << std::vector<double>{p.x(), p.y(), p.z()} << YAML::Key
+        << "quaternion_wxyz" << YAML::Value << YAML::Flow
+        << std::vector<double>{q.w(), q.x(), q.y(), q.z()} << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace robcal

@@ -1,0 +1,74 @@
+#include "robcal/model/parameters.hpp"
+
+#include <fmt/format.h>
+
+#include "robcal/core/units.hpp"
+
+namespace robcal {
+
+double ParameterInfo::to_external() const { return kind == ParamKind::Angle ? kRadToDeg : 1.0; }
+
+const std::array<ParameterInfo, kParameterCount>& parameter_table() {
+  static const std::array<ParameterInfo, kParameterCount> table = [] {
+    std::array<ParameterInfo, kParameterCount> t;
+    const char* base_names[] = {"x", "y", "z", "alpha", "beta", "gamma"};
+    for (int k = 0; k < 6; ++k) {
+      const bool angle = k >= 3;
+      t[k] = {fmt::format("base.{}", base_names[k]), angle ? ParamKind::Angle : ParamKind::Length,
+              angle ? "deg" : "mm"};
+    }
+    const char* link_names[] = {"alpha", "a", "theta", "d"};
+    for (int link = 2; link <= 6; ++link) {
+      for (int k = 0; k < 4; ++k) {
+        const bool angle = (k == 0 || k == 2);
+        t[link_param(link, k)] = {fmt::format("link{}.{}", link, link_names[k]),
+                                  angle ? ParamKind::Angle : ParamKind::Length,
+                                  angle ? "deg" : "mm"};
+      }
+      t[compliance_param(link)] = {fmt::format("joint{}.compliance", link), ParamKind::Compliance,
+                                   "rad/N·mm"};
+    }
+    for (int joint = 1; joint <= 6; ++joint)
+      t[scale_param(joint)] = {fmt::format("joint{}.scale", joint), ParamKind::Scale, "1"};
+    return t;
+  }();
+  return table;
+}
+
+int parameter_index(std::string_view name) {
+  const auto& table = parameter_table();
+  for (int i = 0; i < kParameterCount; ++i)
+    if (table[i].name == name) return i;
+  return -1;
+}
+
+bool glob_match(std::string_view pattern, std::string_view text) {
+  // Iterative wildcard match with single backtrack point (linear for one '*').
+  size_t p = 0, t = 0, star = std::string_view::npos, mark = 0;
+  while (t < text.size()) {
+    if (p < pattern.size() && (pattern[p] == '?' || pattern[p] == text[t])) {
+      ++p;
+      ++t;
+    } else if (p < pattern.size() && pattern[p] == '*') {
+      star = p++;
+      mark = t;
+    } else if (star != std::string_view::npos) {
+      p = star + 1;
+      t = ++mark;
+    } else {
+      return false;
+    }
+  }
+  while (p < pattern.size() && pattern[p] == '*') ++p;
+  return p == pattern.size();
+}
+
+std::vector<int> match_parameters(std::string_view pattern) {
+  std::vector<int> out;
+  const auto& table = parameter_table();
+  for (int i = 0; i < kParameterCount; ++i)
+    if (glob_match(pattern, table[i].name)) out.push_back(i);
+  return out;
+}
+
+}  // namespace robcal
