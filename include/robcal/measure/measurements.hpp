@@ -1,0 +1,70 @@
+#pragma once
+/// \file
+/// What instruments deliver, in memory: one record per CSV row (METHOD §5, §7).
+/// Joints are the controller's values in rad (files hold degrees); positions in mm in the
+/// instrument's (world) frame.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "robcal/kinematics/forward_kinematics.hpp"
+#include "robcal/model/robot_model.hpp"
+
+namespace robcal {
+
+enum class MeasurementKind {
+  Points,    ///< laser tracker / CMM probe: one target position per row
+  Poses,     ///< optical CMM / hexapod: 6D pose of the tool (TCP) frame per row
+  Distances  ///< ballbar: distance from a target to a fixed centre per row
+};
+
+/// `config,target,j1..j6,x,y,z`
+struct PointMeasurement {
+  std::string config;  ///< configuration label as written in the file
+  int target = 0;      ///< index into Tool::targets
+  Vector6d joints = Vector6d::Zero();
+  Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();
+  int line = 0;  ///< 1-based line in the source file (0: not from a file)
+};
+
+/// `config,j1..j6,x,y,z,qw,qx,qy,qz`: world_T_tcp.
+struct PoseMeasurement {
+  std::string config;
+  Vector6d joints = Vector6d::Zero();
+  Pose<double> world_T_tcp;
+  int line = 0;
+};
+
+/// `config,target,j1..j6,length`: |p_target − centre| in mm.
+struct DistanceMeasurement {
+  std::string config;
+  int target = 0;
+  Vector6d joints = Vector6d::Zero();
+  double length_mm = 0;
+  int line = 0;
+};
+
+/// The rows of one measurement file; exactly one of the three vectors is filled.
+struct MeasurementSet {
+  MeasurementKind kind = MeasurementKind::Points;
+  std::string file;  ///< where the rows came from (for messages)
+  std::vector<PointMeasurement> points;
+  std::vector<PoseMeasurement> poses;
+  std::vector<DistanceMeasurement> distances;
+
+  [[nodiscard]] size_t size() const {
+    switch (kind) {
+      case MeasurementKind::Points: return points.size();
+      case MeasurementKind::Poses: return poses.size();
+      case MeasurementKind::Distances: return distances.size();
+    }
+    return 0;
+  }
+  /// Scalar residuals one row gives: 3, 6 or 1.
+  [[nodiscard]] int residuals_per_row() const {
+    return kind == MeasurementKind::Points ? 3 : kind == MeasurementKind::Poses ? 6 : 1;
+  }
+};
+
+}  // namespace robcal
