@@ -1,0 +1,44 @@
+#pragma once
+/// \file
+/// A robot with identified parameters: what `calibrate` writes and every later command reads
+/// (`--model FILE`), and what the simulator's truth file holds (without covariance).
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "robcal/model/parameters.hpp"
+#include "robcal/model/robot_model.hpp"
+#include "robcal/model/tool.hpp"
+
+namespace robcal {
+
+/// Why a parameter was not identified.
+enum class ParameterStatus { Identified, Fixed, Dropped };
+
+struct CalibratedRobot {
+  RobotModel model;
+  ParameterVector params = ParameterVector::Zero();  ///< values in use (internal units)
+  std::array<ParameterStatus, kParameterCount> status{};
+  std::array<std::string, kParameterCount> reason{};  ///< for Dropped: which parameters it depends on
+  /// Covariance of all parameters (internal units), zero rows/columns for the non-identified;
+  /// empty when unknown (a truth file, a nominal robot).
+  Eigen::MatrixXd covariance;
+  Tool tool;                 ///< the tool, with identified target coordinates filled in
+  bool base_fitted = false;  ///< false: no world frame (nominal robot at the origin)
+  std::string level;         ///< "nominal", "base", "joints", "kinematic", "full"
+
+  /// The nominal robot at the world origin (no world frame).
+  static CalibratedRobot nominal(const RobotModel& model, const Tool& tool);
+};
+
+/// Writes the calibrated model as YAML (robot fields + a parameter table with nominal,
+/// identified value, standard deviation, unit, status and reason, + fit statistics given as
+/// an already-built YAML map in `statistics_yaml`, may be empty).
+std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
+                                     const std::string& statistics_yaml = "");
+
+/// Loads a calibrated model file (errors name the file, line and key).
+CalibratedRobot load_calibrated_robot(const std::string& path);
+
+}  // namespace robcal
