@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <thread>
 
 #include "robcal/core/error.hpp"
 #include "robcal/design/observability.hpp"
@@ -20,7 +21,7 @@ constexpr double kMinusInf = -std::numeric_limits<double>::infinity();
 double log_det_spd(const Eigen::MatrixXd& A) {
   const Eigen::LLT<Eigen::MatrixXd> llt(A);
   if (llt.info() != Eigen::Success) return kMinusInf;
-  const auto d = llt.matrixL().nestedExpression().diagonal();
+  const auto d = llt.matrixLLT().diagonal();
   if (!(d.minCoeff() > 0)) return kMinusInf;
   return 2 * d.array().log().sum();
 }
@@ -45,31 +46,41 @@ double InformationMatrix::loss(const Eigen::Ref<const Eigen::MatrixXd>& A) const
   return log_det_spd(C);
 }
 
-const Eigen::MatrixXd& InformationMatrix::update(const Eigen::Ref<const Eigen::MatrixXd>& A,
-                                                 double sign) {
+InformationMatrix::Update InformationMatrix::factor(const Eigen::Ref<const Eigen::MatrixXd>& A,
+                                                    double sign) const {
   // C = I ± A P Aᵀ = L Lᵀ; W = P Aᵀ L⁻ᵀ; (M ± AᵀA)⁻¹ = P ∓ W Wᵀ; det(M ± AᵀA) = det M · det C.
   const Eigen::MatrixXd PAt = P_ * A.transpose();
   const Eigen::MatrixXd C = Eigen::MatrixXd::Identity(A.rows(), A.rows()) + sign * (A * PAt);
   const Eigen::LLT<Eigen::MatrixXd> llt(C);
-  W_ = llt.matrixL().solve(PAt.transpose()).transpose();
-  log_det_ += 2 * llt.matrixL().nestedExpression().diagonal().array().log().sum();
+  Update out;
+  out.W = llt.matrixL().solve(PAt.transpose()).transpose();
+  out.log_det_change = 2 * llt.matrixLLT().diagonal().array().log().sum();
+  return out;
+}
+
+void InformationMatrix::apply(const Eigen::Ref<const Eigen::MatrixXd>& A, double sign,
+                              const Update& update) {
   M_.noalias() += sign * (A.transpose() * A);
-  P_.noalias() -= sign * (W_ * W_.transpose());
-  return W_;
+  P_.noalias() -= sign * (update.W * update.W.transpose());
+  log_det_ += update.log_det_change;
 }
 
-const Eigen::MatrixXd& InformationMatrix::add(const Eigen::Ref<const Eigen::MatrixXd>& A) {
-  return update(A, +1.0);
+Eigen::MatrixXd InformationMatrix::add(const Eigen::Ref<const Eigen::MatrixXd>& A) {
+  Update u = factor(A, +1.0);
+  apply(A, +1.0, u);
+  return std::move(u.W);
 }
 
-const Eigen::MatrixXd& InformationMatrix::remove(const Eigen::Ref<const Eigen::MatrixXd>& A) {
-  return update(A, -1.0);
+Eigen::MatrixXd InformationMatrix::remove(const Eigen::Ref<const Eigen::MatrixXd>& A) {
+  Update u = factor(A, -1.0);
+  apply(A, -1.0, u);
+  return std::move(u.W);
 }
 
 void InformationMatrix::refresh() {
   const Eigen::LLT<Eigen::MatrixXd> llt(M_);
   P_ = llt.solve(Eigen::MatrixXd::Identity(M_.rows(), M_.cols()));
-  log_det_ = 2 * llt.matrixL().nestedExpression().diagonal().array().log().sum();
+  log_det_ = 2 * llt.matrixLLT().diagonal().array().log().sum();
 }
 
 double information_log_det(const DesignMatrix& design, const std::vector<int>& subset) {
@@ -183,62 +194,91 @@ class DOptimalSearch {
         info_(design.columns(), ridge),
         G_(A_.rows(), R),
         in_set_(static_cast<size_t>(n_), 0) {
-    recompute_cache();
+    for (int i = 0; i < n_; ++i)
+      G_.template middleRows<R>(i * R).noalias() = block(i) * block(i).transpose() / ridge;
   }
 
   /// Every candidate's G_i = A_i M⁻¹ A_iᵀ from the current inverse (O(N r m²)).
   void recompute_cache() {
-    const Eigen::MatrixXd B = A_ * info_.inverse();
+    const Eigen::MatrixXd B = product(info_.inverse());
     for (int i = 0; i < n_; ++i)
-      G_.template middleRows<R>(i * R) =
-          B.middleRows(i * R, R) * A_.middleRows(i * R, R).transpose();
+      G_.template middleRows<R>(i * R).noalias() = B.middleRows(i * R, R) * block(i).transpose();
     updates_since_refresh_ = 0;
   }
 
-  [[nodiscard]] double gain(int i) const {
-    return std::log((Block::Identity() + G_.template middleRows<R>(i * R)).determinant());
-  }
-  [[nodiscard]] double loss(int i) const {
-    const double det = (Block::Identity() - G_.template middleRows<R>(i * R)).determinant();
-    return det > 0 ? std::log(det) : kMinusInf;
-  }
-
-  void add(int i) {
-    apply(info_.add(A_.middleRows(i * R, R)), -1.0);
-    in_set_[static_cast<size_t>(i)] = 1;
-    chosen_.push_back(i);
-  }
-  void remove(int i) {
-    apply(info_.remove(A_.middleRows(i * R, R)), +1.0);
-    in_set_[static_cast<size_t>(i)] = 0;
-    chosen_.erase(std::find(chosen_.begin(), chosen_.end(), i));
-  }
-
-  [[nodiscard]] int best_addition() const {
+  /// Greedy step: adds the candidate of largest det(I + G_i), the largest gain in log det M.
+  void add_best() {
     int best = -1;
-    double best_gain = kMinusInf;
+    double best_det = 0;
     for (int i = 0; i < n_; ++i) {
       if (in_set_[static_cast<size_t>(i)]) continue;
-      const double g = gain(i);
-      if (g > best_gain) best_gain = g, best = i;
+      const double d = (Block::Identity() + G(i)).determinant();
+      if (d > best_det) best_det = d, best = i;
     }
-    return best;
+    const auto u = info_.factor(block(best), +1.0);
+    commit(best, +1.0, u, product(u.W));
   }
-  [[nodiscard]] int best_removal() const {
-    int best = -1;
-    double best_loss = kMinusInf;
-    for (int i : chosen_) {
-      const double l = loss(i);
-      if (l > best_loss) best_loss = l, best = i;
+
+  /// Removes the chosen configuration that loses least and adds the best candidate, when
+  /// that increases log det M. Candidates are scored against the inverse after the removal,
+  /// G_i + B_i B_iᵀ with B = A W, without applying anything until the move is accepted.
+  bool remove_then_add() {
+    int j = -1;
+    double best_det = 0;
+    for (int k : chosen_) {
+      const double d = (Block::Identity() - G(k)).determinant();
+      if (d > best_det) best_det = d, j = k;
     }
-    return best;
+    if (j < 0) return false;
+    const auto removal = info_.factor(block(j), -1.0);
+    const Eigen::MatrixXd B = product(removal.W);
+    int i = -1;
+    double best_gain = 0;
+    for (int k = 0; k < n_; ++k) {
+      if (in_set_[static_cast<size_t>(k)] && k != j) continue;
+      const auto b = B.middleRows(k * R, R);
+      const double d = (Block::Identity() + G(k) + b * b.transpose()).determinant();
+      if (d > best_gain) best_gain = d, i = k;
+    }
+    if (i == j || removal.log_det_change + std::log(best_gain) <= kMinImprovement) return false;
+    commit(j, -1.0, removal, B);
+    const auto addition = info_.factor(block(i), +1.0);
+    commit(i, +1.0, addition, product(addition.W));
+    return true;
+  }
+
+  /// Adds the best candidate and removes the configuration that then loses least, when that
+  /// increases log det M (scored on G_k − B_k B_kᵀ before applying).
+  bool add_then_remove() {
+    int i = -1;
+    double best_det = 0;
+    for (int k = 0; k < n_; ++k) {
+      if (in_set_[static_cast<size_t>(k)]) continue;
+      const double d = (Block::Identity() + G(k)).determinant();
+      if (d > best_det) best_det = d, i = k;
+    }
+    const auto addition = info_.factor(block(i), +1.0);
+    int j = -1;
+    double best_keep = 0;
+    const auto score = [&](int k) {  // only the chosen rows of A W are needed here
+      const Block b = block(k) * addition.W;
+      const double d = (Block::Identity() - G(k) + b * b.transpose()).determinant();
+      if (d > best_keep) best_keep = d, j = k;
+    };
+    for (int k : chosen_) score(k);
+    score(i);
+    if (j < 0 || j == i || addition.log_det_change + std::log(best_keep) <= kMinImprovement)
+      return false;
+    commit(i, +1.0, addition, product(addition.W));
+    const auto removal = info_.factor(block(j), -1.0);
+    commit(j, -1.0, removal, product(removal.W));
+    return true;
   }
 
   /// Replaces the ridge by the exact information of the chosen set (once it has full rank).
   void drop_ridge() {
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(A_.cols(), A_.cols());
-    for (int i : chosen_)
-      M.noalias() += A_.middleRows(i * R, R).transpose() * A_.middleRows(i * R, R);
+    for (int i : chosen_) M.noalias() += block(i).transpose() * block(i);
     if (log_det_spd(M) == kMinusInf) return;
     info_ = InformationMatrix(M);
     recompute_cache();
@@ -248,12 +288,52 @@ class DOptimalSearch {
   [[nodiscard]] double log_det() const { return info_.log_det(); }
 
  private:
-  // G_i ∓= (A_i W)(A_i W)ᵀ for every candidate: one (N r × m)·(m × r) product.
-  void apply(const Eigen::MatrixXd& W, double sign) {
-    const Eigen::MatrixXd B = A_ * W;
-    for (int i = 0; i < n_; ++i) {
-      const auto b = B.middleRows(i * R, R);
-      G_.template middleRows<R>(i * R).noalias() += sign * (b * b.transpose());
+  static constexpr double kMinImprovement = 1e-12;
+  static constexpr int kRefreshEvery = 256;
+  static constexpr int kParallelCandidates = 2000;
+
+  [[nodiscard]] auto block(int i) const { return A_.middleRows(i * R, R); }
+
+  // Work over the candidates split in two halves on two threads (the machine has two cores);
+  // small designs stay on one.
+  template <typename F>
+  void in_halves(F&& f) const {
+    if (n_ < kParallelCandidates) {
+      f(0, n_);
+      return;
+    }
+    std::thread other([&] { f(n_ / 2, n_); });
+    f(0, n_ / 2);
+    other.join();
+  }
+
+  /// A W for every candidate: the (N r × m)·(m × c) product behind every update.
+  [[nodiscard]] Eigen::MatrixXd product(const Eigen::MatrixXd& W) const {
+    Eigen::MatrixXd B(A_.rows(), W.cols());
+    in_halves([&](int begin, int end) {
+      B.middleRows(begin * R, (end - begin) * R).noalias() =
+          A_.middleRows(begin * R, (end - begin) * R) * W;
+    });
+    return B;
+  }
+  [[nodiscard]] auto G(int i) const { return G_.template middleRows<R>(i * R); }
+
+  // Applies M += sign·A_iᵀA_i, given its factor and B = A W: G_k −= sign·B_k B_kᵀ for every
+  // candidate (one (N r × m)·(m × r) product, done by the caller).
+  void commit(int i, double sign, const InformationMatrix::Update& u, const Eigen::MatrixXd& B) {
+    info_.apply(block(i), sign, u);
+    in_halves([&](int begin, int end) {
+      for (int k = begin; k < end; ++k) {
+        const auto b = B.middleRows(k * R, R);
+        G_.template middleRows<R>(k * R).noalias() -= sign * (b * b.transpose());
+      }
+    });
+    if (sign > 0) {
+      in_set_[static_cast<size_t>(i)] = 1;
+      chosen_.push_back(i);
+    } else {
+      in_set_[static_cast<size_t>(i)] = 0;
+      chosen_.erase(std::find(chosen_.begin(), chosen_.end(), i));
     }
     if (++updates_since_refresh_ >= kRefreshEvery) {
       info_.refresh();
@@ -261,7 +341,6 @@ class DOptimalSearch {
     }
   }
 
-  static constexpr int kRefreshEvery = 64;
   const Eigen::MatrixXd& A_;
   int n_;
   InformationMatrix info_;
@@ -277,29 +356,15 @@ Selection run_d_optimal(const DesignMatrix& design, int count) {
   // exact information before the exchanges. Columns have unit RMS norm per candidate, so
   // 1e-6 is far below any real eigenvalue of a full-rank design.
   DOptimalSearch<R> search(design, 1e-6);
-  while (static_cast<int>(search.chosen().size()) < count) search.add(search.best_addition());
+  while (static_cast<int>(search.chosen().size()) < count) search.add_best();
   search.drop_ridge();
   Selection out;
   const int max_exchanges = 50 * count;
   bool improved = true;
   while (improved && out.exchanges < max_exchanges) {
     improved = false;
-    // Remove the least informative, add the best (possibly the same one back: no change).
-    const int j = search.best_removal();
-    if (j >= 0 && search.loss(j) > kMinusInf) {
-      const double before = search.log_det();
-      search.remove(j);
-      const int i = search.best_addition();
-      search.add(i);
-      if (i != j && search.log_det() > before + 1e-12) improved = true, ++out.exchanges;
-    }
-    // Add the best, remove the least informative (possibly the one just added).
-    const double before = search.log_det();
-    const int i = search.best_addition();
-    search.add(i);
-    const int k = search.best_removal();
-    search.remove(k);
-    if (k != i && search.log_det() > before + 1e-12) improved = true, ++out.exchanges;
+    if (search.remove_then_add()) improved = true, ++out.exchanges;
+    if (search.add_then_remove()) improved = true, ++out.exchanges;
   }
   out.chosen = search.chosen();
   out.log_det = information_log_det(design, out.chosen);
@@ -347,7 +412,7 @@ ContinuousDesign d_optimal_continuous(const DesignMatrix& design, double toleran
           std::sqrt(out.weights[active[k]]) * design.block(active[k]);
     const Eigen::MatrixXd M = A.transpose() * A;
     const Eigen::LLT<Eigen::MatrixXd> llt(M);
-    out.log_det = 2 * llt.matrixL().nestedExpression().diagonal().array().log().sum();
+    out.log_det = 2 * llt.matrixLLT().diagonal().array().log().sum();
     // Variance function d_i = tr(A_i M⁻¹ A_iᵀ) of the unweighted blocks.
     B = llt.solve(A.transpose()).transpose();  // (√w A_i) M⁻¹ per row
     const Eigen::VectorXd row_d = B.cwiseProduct(A).rowwise().sum();

@@ -33,10 +33,20 @@ class InformationMatrix {
   /// log det(M − AᵀA) − log det M = log det(I − A M⁻¹ Aᵀ); −∞ when M − AᵀA is singular.
   [[nodiscard]] double loss(const Eigen::Ref<const Eigen::MatrixXd>& A) const;
 
+  /// The change M → M + sign·AᵀA without applying it: (M + sign·AᵀA)⁻¹ = M⁻¹ − sign·W Wᵀ
+  /// and log det changes by `log_det_change`. M + sign·AᵀA must be positive definite.
+  struct Update {
+    Eigen::MatrixXd W;  ///< m × r
+    double log_det_change = 0;
+  };
+  [[nodiscard]] Update factor(const Eigen::Ref<const Eigen::MatrixXd>& A, double sign) const;
+  /// Applies an update computed by factor(A, sign) for the current state.
+  void apply(const Eigen::Ref<const Eigen::MatrixXd>& A, double sign, const Update& update);
+
   /// M += AᵀA. Returns W (m × r) with the new M⁻¹ = old M⁻¹ − W Wᵀ.
-  const Eigen::MatrixXd& add(const Eigen::Ref<const Eigen::MatrixXd>& A);
+  Eigen::MatrixXd add(const Eigen::Ref<const Eigen::MatrixXd>& A);
   /// M −= AᵀA (must stay positive definite). Returns W with the new M⁻¹ = old M⁻¹ + W Wᵀ.
-  const Eigen::MatrixXd& remove(const Eigen::Ref<const Eigen::MatrixXd>& A);
+  Eigen::MatrixXd remove(const Eigen::Ref<const Eigen::MatrixXd>& A);
   /// Recomputes M⁻¹ and log det M from M by Cholesky (bounds the round-off of long update runs).
   void refresh();
 
@@ -45,8 +55,7 @@ class InformationMatrix {
   [[nodiscard]] double log_det() const { return log_det_; }
 
  private:
-  const Eigen::MatrixXd& update(const Eigen::Ref<const Eigen::MatrixXd>& A, double sign);
-  Eigen::MatrixXd M_, P_, W_;
+  Eigen::MatrixXd M_, P_;
   double log_det_ = 0;
 };
 
