@@ -37,8 +37,8 @@ ErrorStats validate(const CalibratedRobot& robot, const MeasurementSet& validati
   ErrorStats s;
   for (const PointMeasurement& m : validation.points) {
     const Pose<double> F = flange_pose(robot.model, robot.tool.payload, robot.params, m.joints);
-    const double e = (F * robot.tool.targets[static_cast<size_t>(m.target)].position_mm -
-                      m.position_mm).norm();
+    const double e =
+        (F * robot.tool.targets[static_cast<size_t>(m.target)].position_mm - m.position_mm).norm();
     s.mean += e;
     s.max = std::max(s.max, e);
   }
@@ -79,9 +79,9 @@ TEST_F(ReferenceSet, FullFitReachesTheIndependentFitsNoiseFloor) {
   EXPECT_NEAR(result.predicted.rms_vs_measurements_mm, 0.0373, 0.006);
   RecordProperty("full_mean_mm", std::to_string(s.mean));
   RecordProperty("full_max_mm", std::to_string(s.max));
-  std::cout << "reference full: mean " << s.mean << " max " << s.max << " sigma "
-            << result.sigma_mm << " iterations " << result.status.iterations
-            << " predicted vs truth rms " << result.predicted.rms_mm << "\n";
+  std::cout << "reference full: mean " << s.mean << " max " << s.max << " sigma " << result.sigma_mm
+            << " iterations " << result.status.iterations << " predicted vs truth rms "
+            << result.predicted.rms_mm << "\n";
 }
 
 TEST_F(ReferenceSet, KinematicIsVisiblyWorseAndDropsLink3d) {
@@ -134,8 +134,8 @@ TEST_F(ReferenceSet, NoiseFreeSetGivesBackTheTruth) {
   double worst_compliance = 0;
   for (int j = 2; j <= 6; ++j) {
     const int i = compliance_param(j);
-    worst_compliance = std::max(worst_compliance,
-                                std::abs(result.robot.params[i] / truth.params[i] - 1.0));
+    worst_compliance =
+        std::max(worst_compliance, std::abs(result.robot.params[i] / truth.params[i] - 1.0));
   }
   EXPECT_LT(worst_compliance, 1e-4);
   std::cout << "noise-free: worst geometric error " << worst << " (" << worst_name

@@ -16,7 +16,8 @@ double row_error(const Eigen::VectorXd& r, int k, Eigen::Index row) {
 }
 
 std::string row_target_name(const Tool& tool, const MeasurementSet& data, size_t row) {
-  if (data.kind == MeasurementKind::Points) return tool.targets[static_cast<size_t>(data.points[row].target)].name;
+  if (data.kind == MeasurementKind::Points)
+    return tool.targets[static_cast<size_t>(data.points[row].target)].name;
   if (data.kind == MeasurementKind::Distances)
     return tool.targets[static_cast<size_t>(data.distances[row].target)].name;
   return "tcp";
@@ -30,8 +31,8 @@ std::pair<std::string, int> row_origin(const MeasurementSet& data, size_t row) {
 
 }  // namespace
 
-IdentificationResult calibrate(const RobotModel& model, const Tool& tool, const MeasurementSet& data,
-                               const IdentifyOptions& options) {
+IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
+                               const MeasurementSet& data, const IdentifyOptions& options) {
   const IdentificationSetup setup = prepare_identification(model, tool, data, options);
   const FitResult fit = fit_unknowns(setup, data);
   const ResidualContext context{&setup.model, &setup.tool, &data, &setup.layout,
@@ -54,8 +55,8 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool, const 
   // 4σ (3 axes) or 3.3σ (a length), each about a 1-in-1000 event for Gaussian noise.
   std::vector<double> magnitudes(r.data(), r.data() + r.size());
   for (double& v : magnitudes) v = std::abs(v);
-  std::nth_element(magnitudes.begin(), magnitudes.begin() + static_cast<long>(magnitudes.size() / 2),
-                   magnitudes.end());
+  std::nth_element(magnitudes.begin(),
+                   magnitudes.begin() + static_cast<long>(magnitudes.size() / 2), magnitudes.end());
   const double robust_sigma = 1.4826 * magnitudes[magnitudes.size() / 2];
   const double outlier_limit = (k == 1 ? 3.3 : 4.0) * robust_sigma;
   double rss = 0, sum_sq_error = 0;
@@ -79,8 +80,8 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool, const 
   }
   out.rms_mm = std::sqrt(sum_sq_error / static_cast<double>(rows));
   for (const auto& [name, entry] : by_target)
-    out.by_target.push_back({name, entry.first, std::sqrt(entry.second.first / entry.first),
-                             entry.second.second});
+    out.by_target.push_back(
+        {name, entry.first, std::sqrt(entry.second.first / entry.first), entry.second.second});
 
   const int dof = std::max(1, inlier_residuals - out.identified_count);
   out.sigma_mm = std::sqrt(rss / dof);
@@ -102,8 +103,9 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool, const 
         out.correlations.push_back({setup.layout.names[setup.free[static_cast<size_t>(i)]],
                                     setup.layout.names[setup.free[static_cast<size_t>(j)]], rho});
     }
-  std::sort(out.correlations.begin(), out.correlations.end(),
-            [](const Correlation& a, const Correlation& b) { return std::abs(a.rho) > std::abs(b.rho); });
+  std::sort(
+      out.correlations.begin(), out.correlations.end(),
+      [](const Correlation& a, const Correlation& b) { return std::abs(a.rho) > std::abs(b.rho); });
   if (out.correlations.size() > 10) out.correlations.resize(10);
 
   // The calibrated robot.
@@ -128,7 +130,8 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool, const 
     reasons[static_cast<size_t>(dep.column)] =
         "not identifiable: " + describe_dependency(setup.layout, model, dep);
   }
-  for (size_t c = 0; c < setup.free.size(); ++c) status[static_cast<size_t>(setup.free[c])] = ParameterStatus::Identified;
+  for (size_t c = 0; c < setup.free.size(); ++c)
+    status[static_cast<size_t>(setup.free[c])] = ParameterStatus::Identified;
   for (int i = 0; i < kParameterCount; ++i) {
     robot.status[static_cast<size_t>(i)] = status[static_cast<size_t>(i)];
     robot.reason[static_cast<size_t>(i)] = reasons[static_cast<size_t>(i)];
@@ -184,7 +187,8 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool, const 
   const std::vector<Vector6d> validation =
       sample_configurations(lower, upper, options.prediction_configurations, rng);
   std::vector<Eigen::Vector3d> validation_targets;
-  for (size_t v = 0; v < validation.size(); ++v) validation_targets.push_back(targets[v % targets.size()]);
+  for (size_t v = 0; v < validation.size(); ++v)
+    validation_targets.push_back(targets[v % targets.size()]);
   std::vector<int> model_free;
   std::vector<Eigen::Index> model_cols;
   for (size_t c = 0; c < setup.free.size(); ++c)
@@ -195,10 +199,11 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool, const 
   Eigen::MatrixXd C(model_cols.size(), model_cols.size());
   for (size_t a = 0; a < model_cols.size(); ++a)
     for (size_t b = 0; b < model_cols.size(); ++b)
-      C(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) = out.covariance(model_cols[a], model_cols[b]);
+      C(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(b)) =
+          out.covariance(model_cols[a], model_cols[b]);
   if (!validation.empty())
-    out.predicted = predict_position_error(model, tool.payload, robot.params, model_free, C, validation,
-                                           validation_targets, out.sigma_mm);
+    out.predicted = predict_position_error(model, tool.payload, robot.params, model_free, C,
+                                           validation, validation_targets, out.sigma_mm);
   return out;
 }
 
@@ -231,8 +236,8 @@ std::string statistics_yaml(const IdentificationResult& result) {
   y << YAML::Key << "suspected_outliers" << YAML::Value << YAML::BeginSeq;
   for (const auto& o : result.outliers)
     y << YAML::Flow << YAML::BeginMap << YAML::Key << "config" << YAML::Value << o.config
-      << YAML::Key << "line" << YAML::Value << o.line << YAML::Key << "residual_mm"
-      << YAML::Value << o.residual_mm << YAML::EndMap;
+      << YAML::Key << "line" << YAML::Value << o.line << YAML::Key << "residual_mm" << YAML::Value
+      << o.residual_mm << YAML::EndMap;
   y << YAML::EndSeq;
   const PredictedAccuracy& p = result.predicted;
   y << YAML::Key << "predicted_position_error_mm" << YAML::Value << YAML::BeginMap;

@@ -43,13 +43,15 @@ RankAnalysis analyse_rank(const Eigen::MatrixXd& J, const std::vector<int>& orde
     const Eigen::VectorXd w = qr.solve(J.col(c) / J.col(c).norm());
     Dependency dep{c, {}};
     for (Eigen::Index k = 0; k < w.size(); ++k)
-      if (std::abs(w[k]) >= 1e-3) dep.depends_on.emplace_back(out.kept[static_cast<size_t>(k)], w[k]);
+      if (std::abs(w[k]) >= 1e-3)
+        dep.depends_on.emplace_back(out.kept[static_cast<size_t>(k)], w[k]);
     std::sort(dep.depends_on.begin(), dep.depends_on.end(),
               [](const auto& a, const auto& b) { return std::abs(a.second) > std::abs(b.second); });
     out.dropped.push_back(dep);
   }
-  out.singular_values = K.cols() > 0 ? Eigen::VectorXd(Eigen::JacobiSVD<Eigen::MatrixXd>(K).singularValues())
-                                     : Eigen::VectorXd();
+  out.singular_values = K.cols() > 0
+                            ? Eigen::VectorXd(Eigen::JacobiSVD<Eigen::MatrixXd>(K).singularValues())
+                            : Eigen::VectorXd();
   return out;
 }
 

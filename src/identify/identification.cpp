@@ -29,7 +29,8 @@ class RowsCost final : public ceres::CostFunction {
   bool Evaluate(double const* const* z, double* residuals, double** jacobians) const override {
     Eigen::VectorXd unknowns = start_;
     const auto n = free_.size();
-    for (size_t i = 0; i < n; ++i) unknowns[free_[i]] += scales_[static_cast<Eigen::Index>(i)] * z[0][i];
+    for (size_t i = 0; i < n; ++i)
+      unknowns[free_[i]] += scales_[static_cast<Eigen::Index>(i)] * z[0][i];
     const int k = context_.data->residuals_per_row();
     const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
     Eigen::MatrixXd J;
@@ -42,7 +43,8 @@ class RowsCost final : public ceres::CostFunction {
       double* out = jacobians[0] + (row - begin_) * static_cast<size_t>(k) * n;
       for (int i = 0; i < k; ++i)
         for (size_t c = 0; c < n; ++c)
-          out[static_cast<size_t>(i) * n + c] = J(i, free_[c]) * scales_[static_cast<Eigen::Index>(c)];
+          out[static_cast<size_t>(i) * n + c] =
+              J(i, free_[c]) * scales_[static_cast<Eigen::Index>(c)];
     }
     return true;
   }
@@ -106,7 +108,8 @@ void check_data(const Tool& tool, const MeasurementSet& data) {
   if (data.size() == 0) throw InputError({data.file, 0, 0, ""}, "the measurements have no rows");
   for (size_t row = 0; row < data.size(); ++row) {
     const int t = target_of(data, row);
-    if (data.kind != MeasurementKind::Poses && (t < 0 || t >= static_cast<int>(tool.targets.size())))
+    if (data.kind != MeasurementKind::Poses &&
+        (t < 0 || t >= static_cast<int>(tool.targets.size())))
       throw InputError({data.file, 0, 0, "target"},
                        fmt::format("row {} refers to target {} of a tool with {} targets", row + 1,
                                    t, tool.targets.size()));
@@ -267,8 +270,8 @@ FitResult fit_unknowns(const IdentificationSetup& setup, const MeasurementSet& d
   FitResult out;
   out.unknowns = setup.start;
   initial_guess(context, setup.fit_base, out.unknowns);
-  out.status = solve(context, setup.free, setup.scales, setup.options.max_iterations, 0.0,
-                     out.unknowns);
+  out.status =
+      solve(context, setup.free, setup.scales, setup.options.max_iterations, 0.0, out.unknowns);
   if (setup.options.huber) {
     out.huber_scale_mm = setup.options.huber_scale_mm;
     if (out.huber_scale_mm <= 0) {

@@ -87,8 +87,7 @@ void fit_ballbar_centre(const ResidualContext& context, Eigen::VectorXd& unknown
 
 }  // namespace
 
-void initial_guess(const ResidualContext& context, bool fit_base_frame,
-                   Eigen::VectorXd& unknowns) {
+void initial_guess(const ResidualContext& context, bool fit_base_frame, Eigen::VectorXd& unknowns) {
   const MeasurementSet& data = *context.data;
   if (data.kind == MeasurementKind::Distances) {
     fit_ballbar_centre(context, unknowns);

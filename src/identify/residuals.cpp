@@ -15,9 +15,12 @@ namespace {
 
 const Vector6d& row_joints(const MeasurementSet& data, size_t row) {
   switch (data.kind) {
-    case MeasurementKind::Points: return data.points[row].joints;
-    case MeasurementKind::Poses: return data.poses[row].joints;
-    case MeasurementKind::Distances: return data.distances[row].joints;
+    case MeasurementKind::Points:
+      return data.points[row].joints;
+    case MeasurementKind::Poses:
+      return data.poses[row].joints;
+    case MeasurementKind::Distances:
+      return data.distances[row].joints;
   }
   return data.points[row].joints;
 }
@@ -54,7 +57,8 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
       const double w = context.orientation_weight_mm;
       Eigen::Map<Eigen::Matrix<double, 6, 1>> r(residuals);
       r.head<3>() = p - m.world_T_tcp.p;
-      r.tail<3>() = 0.5 * w * Eigen::Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
+      r.tail<3>() =
+          0.5 * w * Eigen::Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
       if (!jacobian) return;
       jacobian->block<3, kParameterCount>(0, 0) = point_jacobian_from_twist(twist, p);
       // R → exp([δφ]×)·R gives d(A − Aᵀ) = [δφ]×·A + Aᵀ·[δφ]×, column by column.
@@ -77,8 +81,8 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
       const double length = d.norm();
       residuals[0] = length - m.length_mm - unknowns[context.layout->length_offset];
       if (!jacobian) return;
-      const Eigen::RowVector3d u = length > 0 ? Eigen::RowVector3d(d.transpose() / length)
-                                              : Eigen::RowVector3d::Zero();
+      const Eigen::RowVector3d u =
+          length > 0 ? Eigen::RowVector3d(d.transpose() / length) : Eigen::RowVector3d::Zero();
       jacobian->leftCols<kParameterCount>() = u * point_jacobian_from_twist(twist, p);
       const int slot = context.layout->target_slot[static_cast<size_t>(m.target)];
       if (slot >= 0) jacobian->block<1, 3>(0, slot) = u * flange.R;

@@ -11,16 +11,21 @@ CalibrationLevel parse_calibration_level(const std::string& text) {
   if (text == "joints") return CalibrationLevel::Joints;
   if (text == "kinematic") return CalibrationLevel::Kinematic;
   if (text == "full") return CalibrationLevel::Full;
-  throw InputError({"", 0, 0, "--level"},
-                   fmt::format("unknown level '{}': expected base, joints, kinematic or full", text));
+  throw InputError(
+      {"", 0, 0, "--level"},
+      fmt::format("unknown level '{}': expected base, joints, kinematic or full", text));
 }
 
 const char* level_name(CalibrationLevel level) {
   switch (level) {
-    case CalibrationLevel::Base: return "base";
-    case CalibrationLevel::Joints: return "joints";
-    case CalibrationLevel::Kinematic: return "kinematic";
-    case CalibrationLevel::Full: return "full";
+    case CalibrationLevel::Base:
+      return "base";
+    case CalibrationLevel::Joints:
+      return "joints";
+    case CalibrationLevel::Kinematic:
+      return "kinematic";
+    case CalibrationLevel::Full:
+      return "full";
   }
   return "";
 }
@@ -98,12 +103,13 @@ std::vector<bool> select_unknowns(const UnknownLayout& layout, CalibrationLevel 
         free[i] = value;
       }
       if (!matched)
-        throw InputError({"", 0, 0, flag},
-                         fmt::format("pattern '{}' matches no parameter (names look like "
-                                     "base.x, link3.a, joint2.compliance, joint1.scale{})",
-                                     pattern, layout.size() > kParameterCount
-                                                  ? ", " + layout.names[kParameterCount]
-                                                  : ""));
+        throw InputError(
+            {"", 0, 0, flag},
+            fmt::format(
+                "pattern '{}' matches no parameter (names look like "
+                "base.x, link3.a, joint2.compliance, joint1.scale{})",
+                pattern,
+                layout.size() > kParameterCount ? ", " + layout.names[kParameterCount] : ""));
     }
   };
   apply(identify, true, "--identify");

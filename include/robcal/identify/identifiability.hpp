@@ -20,9 +20,9 @@ struct Dependency {
 };
 
 struct RankAnalysis {
-  std::vector<int> kept;             ///< columns kept, in the order examined
-  std::vector<Dependency> dropped;   ///< columns dropped
-  Eigen::VectorXd singular_values;   ///< of the kept scaled columns, descending
+  std::vector<int> kept;            ///< columns kept, in the order examined
+  std::vector<Dependency> dropped;  ///< columns dropped
+  Eigen::VectorXd singular_values;  ///< of the kept scaled columns, descending
   [[nodiscard]] double condition_number() const;
 };
 

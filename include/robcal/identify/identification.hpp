@@ -49,8 +49,8 @@ struct IdentifyOptions {
 struct SolverStatus {
   bool converged = false;
   int iterations = 0;
-  std::string message;         ///< Ceres' termination reason
-  double initial_rms_mm = 0;   ///< RMS residual at the start (after the rigid fit)
+  std::string message;        ///< Ceres' termination reason
+  double initial_rms_mm = 0;  ///< RMS residual at the start (after the rigid fit)
   double final_rms_mm = 0;
 };
 
@@ -62,12 +62,12 @@ struct IdentificationSetup {
   MeasurementKind kind = MeasurementKind::Points;
   UnknownLayout layout;
   IdentifyOptions options;
-  std::vector<bool> requested;       ///< unknowns the level and patterns free
-  std::vector<int> free;             ///< unknowns fitted (requested minus dropped), layout order
-  std::vector<Dependency> dropped;   ///< model dependencies found on the synthetic design
-  Eigen::VectorXd start;             ///< start values (nominal; extras zero) before the rigid fit
-  Eigen::VectorXd scales;            ///< column scale of each free unknown (1/‖column‖)
-  bool fit_base = false;             ///< all six base parameters free: start with the rigid fit
+  std::vector<bool> requested;      ///< unknowns the level and patterns free
+  std::vector<int> free;            ///< unknowns fitted (requested minus dropped), layout order
+  std::vector<Dependency> dropped;  ///< model dependencies found on the synthetic design
+  Eigen::VectorXd start;            ///< start values (nominal; extras zero) before the rigid fit
+  Eigen::VectorXd scales;           ///< column scale of each free unknown (1/‖column‖)
+  bool fit_base = false;            ///< all six base parameters free: start with the rigid fit
 };
 
 /// Checks and prepares an identification for measurements like `data` (its rows: joints,
@@ -110,7 +110,8 @@ struct UnknownEstimate {
 struct TargetResiduals {
   std::string target;  ///< target name ("tcp" for poses)
   int rows = 0;
-  double rms_mm = 0;  ///< RMS over rows of the position residual norm (|length error| for distances)
+  double rms_mm =
+      0;  ///< RMS over rows of the position residual norm (|length error| for distances)
   double max_mm = 0;
 };
 
@@ -131,13 +132,13 @@ struct IdentificationResult {
   std::vector<UnknownEstimate> unknowns;  ///< every unknown of the layout
   int residual_count = 0;
   int identified_count = 0;
-  double sigma_mm = 0;  ///< a-posteriori residual standard deviation √(RSS/(m − n))
+  double sigma_mm = 0;            ///< a-posteriori residual standard deviation √(RSS/(m − n))
   double rms_mm = 0, max_mm = 0;  ///< over rows, position residual norm
   double huber_scale_mm = 0;
   std::vector<TargetResiduals> by_target;
-  std::vector<Correlation> correlations;  ///< strongest (|ρ| ≥ 0.5), at most 10, largest first
+  std::vector<Correlation> correlations;   ///< strongest (|ρ| ≥ 0.5), at most 10, largest first
   std::vector<SuspectedOutlier> outliers;  ///< rows above 3 robust σ (per axis)
-  double condition_number = 0;            ///< of the column-scaled Jacobian at the solution
+  double condition_number = 0;             ///< of the column-scaled Jacobian at the solution
   PredictedAccuracy predicted;
   Eigen::VectorXd values;      ///< all unknowns, internal units
   std::vector<int> free;       ///< the identified unknowns (indices into values)
@@ -146,8 +147,8 @@ struct IdentificationResult {
 
 /// Full calibration: prepare, fit, statistics and the calibrated robot (tool with the
 /// identified target coordinates filled in).
-IdentificationResult calibrate(const RobotModel& model, const Tool& tool, const MeasurementSet& data,
-                               const IdentifyOptions& options);
+IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
+                               const MeasurementSet& data, const IdentifyOptions& options);
 
 /// The fit statistics as a YAML map (for calibrated_robot_to_yaml).
 std::string statistics_yaml(const IdentificationResult& result);
