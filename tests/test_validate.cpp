@@ -51,7 +51,7 @@ TEST(ValidateHistogram, BinsClampAndMerge) {
   EXPECT_THROW((void)make_histogram(values, 4, 1.0, 1.0), std::invalid_argument);
 
   const std::string text = histogram_text(h, "mm", 10);
-  EXPECT_NE(text.find("0.00 – 0.25    mm |##########|          3   37.5%"), std::string::npos)
+  EXPECT_NE(text.find("   0.00 –    0.25 mm |##########|          3   37.5%"), std::string::npos)
       << text;
   EXPECT_NE(text.find("|###       |          1   12.5%"), std::string::npos) << text;
   // Trailing empty bins are not printed.

@@ -49,7 +49,7 @@ std::string histogram_text(const Histogram& histogram, std::string_view unit, in
     const uint64_t count = histogram.counts[i];
     const int bar = static_cast<int>(
         std::lround(static_cast<double>(count) * bar_width / static_cast<double>(fullest)));
-    out += fmt::format("  {:>{}.{}f} – {:<{}.{}f} {} |{:<{}}| {:>10}  {:5.1f}%\n", from,
+    out += fmt::format("  {:>{}.{}f} – {:>{}.{}f} {} |{:<{}}| {:>10}  {:5.1f}%\n", from,
                        decimals + 5, decimals, from + width, decimals + 5, decimals, unit,
                        std::string(static_cast<size_t>(bar), '#'), bar_width, count,
                        100.0 * static_cast<double>(count) / static_cast<double>(total));
