@@ -16,6 +16,7 @@
 #include "robcal/design/design_matrix.hpp"
 #include "robcal/design/observability.hpp"
 #include "robcal/design/selection.hpp"
+#include "robcal/identify/unknowns.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/true_robot.hpp"
 
@@ -33,7 +34,7 @@ struct Setup {
     CandidateOptions options;
     options.count = count;
     candidates = generate_candidates(model, tool, options, rng).candidates;
-    settings.parameters = level_parameters("full");
+    settings.parameters = level_parameters(CalibrationLevel::Full);
   }
 };
 

@@ -16,6 +16,8 @@
 #include "robcal/design/observability.hpp"
 #include "robcal/design/predicted_accuracy.hpp"
 #include "robcal/design/selection.hpp"
+#include "robcal/identify/accuracy_prediction.hpp"
+#include "robcal/identify/unknowns.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/simulator.hpp"
@@ -138,7 +140,7 @@ void run_plan(const PlanOptions& o) {
   const Tool tool = o.tool.empty() ? default_simulation_tool() : load_tool(o.tool);
   const InstrumentKind kind = parse_instrument_kind(o.instrument, "--instrument");
   const JointConstraints constraints = joint_constraints_preset(o.constraints);
-  std::vector<int> parameters = level_parameters(o.level);
+  const std::vector<int> parameters = level_parameters(parse_calibration_level(o.level));
   const TrueRobot cell = planning_cell(model, tool);
   const VirtualInstrument instrument = standard_instrument(kind, cell, o.noise_mm);
   std::mt19937_64 rng(o.seed);
@@ -181,14 +183,14 @@ void run_plan(const PlanOptions& o) {
       task.push_back(c.joints);
   }
   const double sigma = o.noise_mm > 0 ? o.noise_mm : instrument_sigma(instrument);
-  const ParameterVector at = linearisation_params(model, settings);
-  const Eigen::Vector3d tcp = tool.flange_T_tcp.translation();
-  const TaskAccuracy acc_selected =
-      predict_task_accuracy(model, tool.payload, at, design.parameters,
-                            design_parameter_covariance(design, chosen.chosen, sigma), task, tcp);
-  const TaskAccuracy acc_random =
-      predict_task_accuracy(model, tool.payload, at, design.parameters,
-                            design_parameter_covariance(design, random, sigma), task, tcp);
+  const std::vector<Eigen::Vector3d> tcp{tool.flange_T_tcp.translation()};
+  const auto predict = [&](const std::vector<int>& subset) {
+    return predict_position_error(model, tool.payload, cell.robot.params, design.parameters,
+                                  design_parameter_covariance(design, subset, sigma), task, tcp,
+                                  sigma);
+  };
+  const PredictedAccuracy acc_selected = predict(chosen.chosen);
+  const PredictedAccuracy acc_random = predict(random);
 
   std::vector<PlannedConfiguration> configs;
   for (size_t k = 0; k < chosen.chosen.size(); ++k) {

@@ -3,30 +3,15 @@
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "robcal/core/error.hpp"
+#include "robcal/identify/identifiability.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
 
 namespace robcal {
-
-std::vector<int> level_parameters(std::string_view level, std::string_view flag) {
-  std::vector<int> out;
-  for (int i = 0; i < kBaseParamCount; ++i) out.push_back(i);
-  if (level == "base") return out;
-  if (level == "joints") {
-    for (int link = 2; link <= kJointCount; ++link) out.push_back(link_param(link, 2));
-    return out;
-  }
-  if (level != "kinematic" && level != "full")
-    throw InputError(
-        {"", 0, 0, std::string(flag)},
-        fmt::format("unknown level '{}', expected base, joints, kinematic or full", level));
-  for (int i = kLinkParamOffset; i < kComplianceOffset; ++i) out.push_back(i);
-  if (level == "full")
-    for (int i = kComplianceOffset; i < kScaleOffset; ++i) out.push_back(i);
-  return out;
-}
 
 Eigen::MatrixXd DesignMatrix::stacked(const std::vector<int>& subset) const {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(subset.size()) * rows_per_candidate, columns());
@@ -44,58 +29,33 @@ int rows_for(MeasurementKind kind) {
 
 }  // namespace
 
-ParameterVector linearisation_params(const RobotModel& model, const DesignSettings& settings) {
-  ParameterVector params = settings.linearisation.value_or(model.nominal());
-  for (int i = kComplianceOffset; i < kScaleOffset; ++i)
-    if (params[i] == 0.0) params[i] = kComplianceProbe;
-  return params;
-}
-
 Eigen::MatrixXd candidate_jacobian(const RobotModel& model, const Tool& tool,
                                    const ParameterVector& params, const Candidate& candidate,
                                    const DesignSettings& settings) {
-  Eigen::MatrixXd out(rows_for(settings.kind), kParameterCount);
-  Eigen::Vector3d p;
-  PositionJacobian J;
+  // The analytic kinematic regressor (identify's): world twist of the flange per parameter.
+  Pose<double> world_T_flange;
+  TwistJacobian twist;
+  flange_twist_jacobian(model, tool.payload, params, candidate.joints, &world_T_flange, &twist);
   if (settings.kind == MeasurementKind::Poses) {
-    // Position rows of the TCP origin; orientation rows from three points at the lever arm L
-    // along the TCP axes: their motion is δv_k = ω × v_k, and Σ_k v_k × δv_k = 2L²ω, so
-    // L·ω = Σ_k v_k × δv_k / (2L) (rotation vector in mm at the lever arm).
-    const double L = settings.orientation_lever_mm;
-    const Eigen::Vector3d origin = tool.flange_T_tcp.translation();
-    target_position_jacobian_autodiff(model, tool.payload, params, candidate.joints, origin, &p,
-                                      &J);
-    out.topRows<3>() = J;
-    out.bottomRows<3>().setZero();
-    for (int k = 0; k < 3; ++k) {
-      Eigen::Vector3d pk;
-      PositionJacobian Jk;
-      target_position_jacobian_autodiff(model, tool.payload, params, candidate.joints,
-                                        origin + L * tool.flange_T_tcp.linear().col(k), &pk, &Jk);
-      const Eigen::Vector3d v = pk - p;
-      const PositionJacobian dv = Jk - J;
-      for (int c = 0; c < kParameterCount; ++c)
-        out.block<3, 1>(3, c) += v.cross(dv.col(c)) / (2 * L);
-    }
+    // TCP position rows, and the flange's rotation rows ω times the lever arm (mm).
+    Eigen::MatrixXd out(6, kParameterCount);
+    out.topRows<3>() = point_jacobian_from_twist(
+        twist, world_T_flange * Eigen::Vector3d(tool.flange_T_tcp.translation()));
+    out.bottomRows<3>() = settings.orientation_lever_mm * twist.bottomRows<3>();
     return out;
   }
-  const Eigen::Vector3d& target =
-      tool.targets.at(static_cast<size_t>(candidate.target)).position_mm;
-  target_position_jacobian_autodiff(model, tool.payload, params, candidate.joints, target, &p, &J);
-  if (settings.kind == MeasurementKind::Points) {
-    out = J;
-  } else {
-    // Ballbar: d|p − c| = uᵀ dp with u the unit vector from the centre to the target.
-    const Eigen::Vector3d u = (p - settings.ballbar_centre_mm).normalized();
-    out = u.transpose() * J;
-  }
-  return out;
+  const Eigen::Vector3d p =
+      world_T_flange * tool.targets.at(static_cast<size_t>(candidate.target)).position_mm;
+  const PositionJacobian J = point_jacobian_from_twist(twist, p);
+  if (settings.kind == MeasurementKind::Points) return J;
+  // Ballbar: d|p − c| = uᵀ dp with u the unit vector from the centre to the target.
+  return (p - settings.ballbar_centre_mm).normalized().transpose() * J;
 }
 
 DesignMatrix build_design_matrix(const RobotModel& model, const Tool& tool,
                                  const std::vector<Candidate>& candidates,
                                  const DesignSettings& settings) {
-  const ParameterVector params = linearisation_params(model, settings);
+  const ParameterVector params = settings.linearisation.value_or(model.nominal());
   const int r = rows_for(settings.kind);
   const auto n = static_cast<Eigen::Index>(candidates.size());
   const auto m = static_cast<Eigen::Index>(settings.parameters.size());
@@ -118,29 +78,17 @@ DesignMatrix build_design_matrix(const RobotModel& model, const Tool& tool,
   }
   raw = raw * scale.asDiagonal();
 
-  // Rank test in layout order: a column whose Schur-complement pivot of the information
-  // matrix is negligible lies in the span of the kept earlier columns and is dropped, so with
-  // axes 2 and 3 parallel link3.d goes and link2.d stays (METHOD §3).
-  const Eigen::MatrixXd info = raw.transpose() * raw;
-  constexpr double kRelativePivot = 1e-9;
-  std::vector<Eigen::Index> kept;
+  // Identifiability over the whole candidate set (identify's rank analysis, columns examined
+  // in layout order): with axes 2 and 3 parallel link3.d goes and link2.d stays (METHOD §3).
+  std::vector<int> order(static_cast<size_t>(m));
+  std::iota(order.begin(), order.end(), 0);
+  const RankAnalysis rank = analyse_rank(raw, order);
   DesignMatrix out;
   out.rows_per_candidate = r;
-  Eigen::MatrixXd L(m, m);  // Cholesky factor of the kept block
-  for (Eigen::Index j = 0; j < m; ++j) {
-    const auto k = static_cast<Eigen::Index>(kept.size());
-    Eigen::VectorXd b(k);
-    for (Eigen::Index a = 0; a < k; ++a) b[a] = info(kept[static_cast<size_t>(a)], j);
-    const Eigen::VectorXd l = L.topLeftCorner(k, k).triangularView<Eigen::Lower>().solve(b);
-    const double pivot = info(j, j) - l.squaredNorm();
-    if (!(info(j, j) > 0) || pivot <= kRelativePivot * info(j, j)) {
-      out.dropped.push_back(settings.parameters[static_cast<size_t>(j)]);
-      continue;
-    }
-    L.block(k, 0, 1, k) = l.transpose();
-    L(k, k) = std::sqrt(pivot);
-    kept.push_back(j);
-  }
+  for (const Dependency& d : rank.dropped)
+    out.dropped.push_back(settings.parameters[static_cast<size_t>(d.column)]);
+  std::vector<int> kept = rank.kept;
+  std::sort(kept.begin(), kept.end());
   out.rows.resize(n * r, static_cast<Eigen::Index>(kept.size()));
   out.column_scale.resize(static_cast<Eigen::Index>(kept.size()));
   for (size_t c = 0; c < kept.size(); ++c) {

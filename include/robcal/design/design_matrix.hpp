@@ -15,7 +15,6 @@
 #include <Eigen/Core>
 #include <optional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "robcal/design/candidates.hpp"
@@ -25,25 +24,14 @@
 
 namespace robcal {
 
-/// Parameters (layout indices) of a calibration level (METHOD §1, §3): "base" (6 base),
-/// "joints" (+ joint offsets of links 2..6), "kinematic" (+ every MDH error of links 2..6),
-/// "full" (+ compliance of joints 2..6): 6, 11, 26, 31. Throws InputError (key `flag`).
-std::vector<int> level_parameters(std::string_view level, std::string_view flag = "--level");
-
 struct DesignSettings {
   MeasurementKind kind = MeasurementKind::Points;
   std::vector<int> parameters;        ///< layout indices asked for (e.g. level_parameters("full"))
   double orientation_lever_mm = 100;  ///< poses: rotation rows × this
   Eigen::Vector3d ballbar_centre_mm = Eigen::Vector3d::Zero();  ///< distances: fixed centre
-  /// Where to linearise; empty: the nominal robot. Compliances that are exactly zero are
-  /// evaluated at kComplianceProbe instead, because the forward kinematics skips the gravity
-  /// pass (and so the compliance derivatives) when every compliance is zero.
+  /// Where to linearise (e.g. the robot placed in the instrument's frame); empty: nominal.
   std::optional<ParameterVector> linearisation;
 };
-
-/// Compliance value (rad per N·mm) used to obtain compliance columns at a zero-compliance
-/// robot: the columns are linear in the compliance, and 1e-12 deflects a joint by < 1e-7 rad.
-inline constexpr double kComplianceProbe = 1e-12;
 
 struct DesignMatrix {
   int rows_per_candidate = 3;
@@ -64,10 +52,6 @@ struct DesignMatrix {
   /// The stacked scaled Jacobian of a subset of candidates.
   [[nodiscard]] Eigen::MatrixXd stacked(const std::vector<int>& subset) const;
 };
-
-/// The parameters the design is linearised at: settings.linearisation or the nominal robot,
-/// zero compliances replaced by kComplianceProbe.
-ParameterVector linearisation_params(const RobotModel& model, const DesignSettings& settings);
 
 /// Unscaled identification Jacobian rows of one candidate for every layout parameter
 /// (rows_per_candidate × kParameterCount) at `params` (used as given).

@@ -1,0 +1,33 @@
+"""Configuration design from Python: indices on a hand-computed case, selection quality."""
+import numpy as np
+import pytest
+
+import robcal
+
+
+def test_indices_of_a_diagonal_jacobian():
+    o = robcal._robcal.observability_indices(np.diag([1.0, 2.0, 4.0]), 1)
+    assert o["O1"] == pytest.approx(2.0)
+    assert o["O2"] == pytest.approx(0.25)
+    assert o["O3"] == pytest.approx(1.0)
+    assert o["O4"] == pytest.approx(0.25)
+    assert o["O5"] == pytest.approx(4.0 / 7.0)
+
+
+def test_d_optimal_beats_random_subsets():
+    rng = np.random.default_rng(3)
+    # 400 candidates of 3 rows over 8 parameters, with very unequal information.
+    rows = rng.normal(size=(1200, 8)) * np.repeat(rng.uniform(0.1, 2.0, 400), 3)[:, None]
+    chosen = robcal._robcal.select_d_optimal(rows, 3, 12)
+    assert len(set(chosen)) == 12
+    stacked = lambda s: np.vstack([rows[3 * i:3 * i + 3] for i in s])
+    o1 = robcal._robcal.observability_indices(stacked(chosen), 12)["O1"]
+    for _ in range(10):
+        random = rng.choice(400, 12, replace=False)
+        assert o1 > robcal._robcal.observability_indices(stacked(random), 12)["O1"]
+    assert robcal._robcal.d_efficiency(rows, 3, chosen) > 0.9
+
+
+def test_bad_input_raises_value_error():
+    with pytest.raises(ValueError):
+        robcal._robcal.select_d_optimal(np.ones((10, 3)), 3, 2)
