@@ -1,0 +1,303 @@
+/// `robcal hexapod …`: the ballbar hexapod of METHOD §8 — direct kinematics, the 72 poses,
+/// uncertainty, world frame and set-up, planning, the guided session and the simulated run.
+
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+#include <random>
+
+#include "cli_common.hpp"
+#include "command_registry.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/hexapod/direct_kinematics.hpp"
+#include "robcal/hexapod/poses.hpp"
+#include "robcal/hexapod/uncertainty.hpp"
+#include "robcal/hexapod/world_frame.hpp"
+#include "robcal/kinematics/orientation.hpp"
+
+namespace robcal::cli {
+namespace {
+
+using namespace robcal::hexapod;
+
+/// "300" (equilateral) or "300.01,299.98,300.02" (d12, d23, d31).
+TriangleSides parse_sides(const std::string& text, const std::string& flag) {
+  const std::vector<double> v = parse_numbers(text, -1, flag);
+  if (v.size() == 1) return {v[0], v[0], v[0]};
+  if (v.size() == 3) return {v[0], v[1], v[2]};
+  throw InputError(
+      {"", 0, 0, flag},
+      fmt::format("expected one side length or three (d12,d23,d31), got {} values", v.size()));
+}
+
+/// The fixture options shared by the geometry commands.
+struct GeometryOptions {
+  std::string base = "300";
+  std::string tool = "150";
+  double leg_mm = 300;
+
+  void add_to(CLI::App* cmd) {
+    cmd->add_option("--base-mm", base,
+                    "Base fixture sides b12,b23,b31 in mm (one value: equilateral)")
+        ->capture_default_str();
+    cmd->add_option("--tool-mm", tool,
+                    "Tool fixture sides t12,t23,t31 in mm (one value: equilateral)")
+        ->capture_default_str();
+    cmd->add_option("--leg-mm", leg_mm, "Ballbar nominal length: every leg of a planned pose, mm")
+        ->capture_default_str();
+  }
+  [[nodiscard]] HexapodGeometry geometry() const {
+    HexapodGeometry g{parse_sides(base, "--base-mm"), parse_sides(tool, "--tool-mm"), leg_mm};
+    fixture_cups(g.base, "--base-mm");
+    fixture_cups(g.tool, "--tool-mm");
+    if (!(leg_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
+    return g;
+  }
+};
+
+nlohmann::json vec_json(const Eigen::Vector3d& v, int decimals = 9) {
+  return {tidy(v.x(), decimals), tidy(v.y(), decimals), tidy(v.z(), decimals)};
+}
+
+nlohmann::json pose_json(const Pose<double>& pose) {
+  const Eigen::Quaterniond q = to_quaternion(pose.R);
+  return {
+      {"position_mm", vec_json(pose.p)},
+      {"quaternion_wxyz", {tidy(q.w(), 12), tidy(q.x(), 12), tidy(q.y(), 12), tidy(q.z(), 12)}}};
+}
+
+// ---- dkp -------------------------------------------------------------------------------------
+
+void run_dkp(const std::string& base, const std::string& tool, const std::string& legs_text,
+             bool json) {
+  const TriangleSides bs = parse_sides(base, "--base-mm");
+  const TriangleSides ts = parse_sides(tool, "--tool-mm");
+  const std::vector<double> v = parse_numbers(legs_text, 6, "--legs");
+  const LegLengths<double> legs{v[0], v[1], v[2], v[3], v[4], v[5]};
+  const DkpResult dkp = solve_dkp(bs, ts, legs);
+  if (dkp.status != DkpStatus::Ok) throw InputError({"", 0, 0, "--legs"}, dkp.message);
+  if (json) {
+    nlohmann::json out;
+    for (const AssemblyModeSolution& s : dkp.solutions) {
+      nlohmann::json cups = nlohmann::json::array();
+      for (const auto& c : s.tool) cups.push_back(vec_json(c));
+      out["solutions"].push_back({{"mode", s.mode},
+                                  {"signs", s.signs},
+                                  {"tool_cups_mm", cups},
+                                  {"base_T_tool", pose_json(frame_from_cups(s.tool))}});
+    }
+    print_json(out);
+    return;
+  }
+  fmt::print("tool cups in the base fixture frame (b1 origin, b2 on x), mm\n");
+  for (const AssemblyModeSolution& s : dkp.solutions) {
+    fmt::print("mode {} (signs {:+d} {:+d} {:+d})\n", s.mode, s.signs[0], s.signs[1], s.signs[2]);
+    for (int j = 0; j < 3; ++j)
+      fmt::print("  T{}  {:12.6f} {:12.6f} {:12.6f}\n", j + 1, s.tool[j].x(), s.tool[j].y(),
+                 s.tool[j].z());
+  }
+}
+
+// ---- poses -----------------------------------------------------------------------------------
+
+nlohmann::json hexapod_pose_json(const HexapodPose& p) {
+  nlohmann::json legs = nlohmann::json::array();
+  for (const PhysicalLeg& l : p.legs)
+    legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
+  nlohmann::json cups = nlohmann::json::array();
+  for (const auto& c : p.tool_cups) cups.push_back(vec_json(c));
+  return {{"label", p.label},
+          {"mode", p.mode},
+          {"rotation_deg", p.rotation_deg},
+          {"base_roles", {p.design.base[0] + 1, p.design.base[1] + 1, p.design.base[2] + 1}},
+          {"legs", legs},
+          {"tool_cups_mm", cups},
+          {"base_T_tool", pose_json(p.base_T_tool)}};
+}
+
+void run_poses(const GeometryOptions& options, double angle_deg, double distance_mm, bool json) {
+  if (!(angle_deg >= 0) || !(distance_mm >= 0))
+    throw InputError({"", 0, 0, "--angle-deg/--distance-mm"}, "expected non-negative thresholds");
+  const std::vector<HexapodPose> all = enumerate_poses(options.geometry());
+  const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(angle_deg), distance_mm);
+  if (json) {
+    nlohmann::json out{{"enumerated", all.size()},
+                       {"kept", kept.size()},
+                       {"angle_deg", angle_deg},
+                       {"distance_mm", distance_mm}};
+    out["poses"] = nlohmann::json::array();
+    for (const HexapodPose& p : kept) out["poses"].push_back(hexapod_pose_json(p));
+    print_json(out);
+    return;
+  }
+  fmt::print("{} poses enumerated, {} kept (redundant: within {}° and {} mm of a kept one)\n",
+             all.size(), kept.size(), angle_deg, distance_mm);
+  for (const HexapodPose& p : kept) {
+    const Eigen::Vector3d c = centroid(p.tool_cups);
+    fmt::print("{}  {:<32} centroid {:8.2f} {:8.2f} {:8.2f} mm\n", p.label, p.description(), c.x(),
+               c.y(), c.z());
+  }
+}
+
+// ---- uncertainty -----------------------------------------------------------------------------
+
+void run_uncertainty(const GeometryOptions& options, double sigma_um, uint64_t seed, int samples,
+                     bool json) {
+  if (!(sigma_um > 0)) throw InputError({"", 0, 0, "--sigma-um"}, "expected a positive σ");
+  if (samples < 100) throw InputError({"", 0, 0, "--samples"}, "expected at least 100 samples");
+  const HexapodGeometry g = options.geometry();
+  std::mt19937_64 rng(seed);
+  const std::vector<ModeUncertainty> analytic = dkp_uncertainty(g);
+  const std::vector<ModeUncertainty> mc =
+      dkp_uncertainty_monte_carlo(g, sigma_um * 1e-3, samples, rng);
+  double worst = 0, worst_disagreement = 0;
+  nlohmann::json modes = nlohmann::json::array();
+  for (size_t m = 0; m < analytic.size(); ++m) {
+    nlohmann::json cups = nlohmann::json::array();
+    for (int j = 0; j < 3; ++j) {
+      const CupUncertainty& a = analytic[m].cups[j];
+      const CupUncertainty& b = mc[m].cups[j];
+      worst = std::max(worst, a.norm);
+      worst_disagreement = std::max(worst_disagreement, std::abs(b.norm / a.norm - 1));
+      cups.push_back({{"cup", a.cup},
+                      {"per_axis_sigma", vec_json(a.per_axis, 4)},
+                      {"norm_sigma", tidy(a.norm, 4)},
+                      {"per_axis_um", vec_json(a.per_axis * sigma_um, 4)},
+                      {"norm_um", tidy(a.norm * sigma_um, 4)},
+                      {"monte_carlo_per_axis_sigma", vec_json(b.per_axis, 4)},
+                      {"monte_carlo_norm_sigma", tidy(b.norm, 4)}});
+    }
+    modes.push_back({{"mode", analytic[m].mode}, {"cups", cups}});
+  }
+  if (json) {
+    print_json({{"sigma_um", sigma_um},
+                {"seed", seed},
+                {"samples", samples},
+                {"modes", modes},
+                {"worst_norm_sigma", tidy(worst, 4)},
+                {"worst_norm_um", tidy(worst * sigma_um, 4)},
+                {"worst_norm_um_95", tidy(2 * worst * sigma_um, 4)},
+                {"monte_carlo_max_relative_difference", tidy(worst_disagreement, 5)},
+                {"published_worst_sigma", 3.2}});
+    return;
+  }
+  fmt::print("σ = {} µm per distance; Monte Carlo {} samples, seed {}\n", sigma_um, samples, seed);
+  fmt::print("mode cup   σx/σ    σy/σ    σz/σ   |σ|/σ   |σ| µm  (MC |σ|/σ)\n");
+  for (const nlohmann::json& m : modes)
+    for (const nlohmann::json& c : m["cups"])
+      fmt::print("{:>4} {:>3} {:7.3f} {:7.3f} {:7.3f} {:7.3f} {:8.3f}  ({:.3f})\n",
+                 m["mode"].get<int>(), c["cup"].get<std::string>(),
+                 c["per_axis_sigma"][0].get<double>(), c["per_axis_sigma"][1].get<double>(),
+                 c["per_axis_sigma"][2].get<double>(), c["norm_sigma"].get<double>(),
+                 c["norm_um"].get<double>(), c["monte_carlo_norm_sigma"].get<double>());
+  fmt::print("worst case {:.3f} σ = {:.3f} µm (±{:.2f} µm at 95%); published ≈ 3.2 σ\n", worst,
+             worst * sigma_um, 2 * worst * sigma_um);
+}
+
+// ---- world frame and set-up -------------------------------------------------------------------
+
+Cups<double> parse_points(const std::string& text, const std::string& flag) {
+  const std::vector<double> v = parse_numbers(text, 9, flag);
+  return {Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d(v[3], v[4], v[5]),
+          Eigen::Vector3d(v[6], v[7], v[8])};
+}
+
+void run_world_frame(const std::string& points, const std::string& sides, bool json) {
+  const WorldFrameFit fit =
+      fit_world_frame(parse_points(points, "--points"), parse_sides(sides, "--sides"));
+  if (json) {
+    nlohmann::json corrected = nlohmann::json::array();
+    for (const auto& c : fit.corrected) corrected.push_back(vec_json(c));
+    print_json({{"robot_T_world", pose_json(fit.robot_T_fixture)},
+                {"corrected_cups_mm", corrected},
+                {"planar",
+                 {{"x_mm", tidy(fit.planar[0])},
+                  {"y_mm", tidy(fit.planar[1])},
+                  {"phi_deg", tidy(rad2deg(fit.planar[2]), 12)}}},
+                {"rms_mm", tidy(fit.rms_mm)},
+                {"iterations", fit.iterations},
+                {"converged", fit.converged}});
+    return;
+  }
+  fmt::print(
+      "planar correction x {:.6f} mm, y {:.6f} mm, φ {:.6f}° ({} Gauss-Newton steps), rms {:.6f} "
+      "mm\n",
+      fit.planar[0], fit.planar[1], rad2deg(fit.planar[2]), fit.iterations, fit.rms_mm);
+  for (int i = 0; i < 3; ++i)
+    fmt::print("B{} corrected {:12.6f} {:12.6f} {:12.6f} mm (robot frame)\n", i + 1,
+               fit.corrected[i].x(), fit.corrected[i].y(), fit.corrected[i].z());
+  const Pose<double>& w = fit.robot_T_fixture;
+  fmt::print("world frame: origin {:.6f} {:.6f} {:.6f} mm, z axis {:.9f} {:.9f} {:.9f}\n", w.p.x(),
+             w.p.y(), w.p.z(), w.R(0, 2), w.R(1, 2), w.R(2, 2));
+}
+
+const bool registered = register_command(60, [](CLI::App& app) {
+  auto* hex =
+      app.add_subcommand("hexapod", "The ballbar hexapod: 6D poses from one ballbar (METHOD §8)");
+  hex->require_subcommand(1);
+
+  {
+    auto* cmd = hex->add_subcommand("dkp", "Direct kinematics: tool cups from the 12 distances");
+    auto base = std::make_shared<std::string>("300");
+    auto tool = std::make_shared<std::string>("150");
+    auto legs = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    cmd->add_option("--base-mm", *base, "Measured base sides b12,b23,b31 (mm)")
+        ->capture_default_str();
+    cmd->add_option("--tool-mm", *tool, "Measured tool sides t12,t23,t31 (mm)")
+        ->capture_default_str();
+    cmd->add_option("--legs", *legs, "Legs ρ11,ρ12,ρ21,ρ22,ρ23,ρ31 (mm)")->required();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_dkp(*base, *tool, *legs, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand("poses", "The 72 poses and the ones left after pruning");
+    auto geometry = std::make_shared<GeometryOptions>();
+    auto angle = std::make_shared<double>(30.0);
+    auto distance = std::make_shared<double>(50.0);
+    auto json = std::make_shared<bool>(false);
+    geometry->add_to(cmd);
+    cmd->add_option("--angle-deg", *angle, "Redundant when closer than this in orientation")
+        ->capture_default_str();
+    cmd->add_option("--distance-mm", *distance,
+                    "… and closer than this in position (tool-fixture centroid)")
+        ->capture_default_str();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_poses(*geometry, *angle, *distance, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "uncertainty", "Tool-cup uncertainty per assembly mode (Guide 98-3, with Monte Carlo)");
+    auto geometry = std::make_shared<GeometryOptions>();
+    auto sigma = std::make_shared<double>(0.51);
+    auto seed = std::make_shared<uint64_t>(1);
+    auto samples = std::make_shared<int>(100000);
+    auto json = std::make_shared<bool>(false);
+    geometry->add_to(cmd);
+    cmd->add_option("--sigma-um", *sigma, "Standard uncertainty of one ballbar distance (µm)")
+        ->capture_default_str();
+    cmd->add_option("--seed", *seed, "Seed of the Monte Carlo draws")->capture_default_str();
+    cmd->add_option("--samples", *samples, "Monte Carlo draws per assembly mode")
+        ->capture_default_str();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_uncertainty(*geometry, *sigma, *seed, *samples, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "world-frame", "World frame from the base cups: planar least-squares correction");
+    auto points = std::make_shared<std::string>();
+    auto sides = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    cmd->add_option("--points", *points,
+                    "Where the robot put the cups, robot frame: x1,y1,z1,x2,y2,z2,x3,y3,z3 (mm)")
+        ->required();
+    cmd->add_option("--sides", *sides, "Ballbar-measured b12,b23,b31 (mm)")->required();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_world_frame(*points, *sides, *json); });
+  }
+});
+
+}  // namespace
+}  // namespace robcal::cli
