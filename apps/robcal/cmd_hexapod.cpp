@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <random>
@@ -12,9 +13,13 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
+#include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
+#include "robcal/hexapod/session.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/world_frame.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::cli {
@@ -233,6 +238,247 @@ void run_world_frame(const std::string& points, const std::string& sides, bool j
              w.p.y(), w.p.z(), w.R(0, 2), w.R(1, 2), w.R(2, 2));
 }
 
+// ---- set-up and planning ---------------------------------------------------------------------
+
+/// The cell options shared by `setup`, `plan` and `simulate`.
+struct CellOptions {
+  std::string robot = "fanuc-lrmate200ic";
+  std::string placement = "400,0,100,0";
+  double tool_offset_mm = 100;
+  double ball_offset_mm = 100;
+  double table_z_mm = 0;
+  double angle_deg = 30;
+  double distance_mm = 50;
+
+  void add_to(CLI::App* cmd) {
+    cmd->add_option("--robot", robot, "Built-in robot name or robot file")->capture_default_str();
+    cmd->add_option("--placement", placement,
+                    "Rough base-fixture placement in the robot frame: centroid x,y,z of the cups "
+                    "(mm) and yaw about z (deg)")
+        ->capture_default_str();
+    cmd->add_option("--tool-offset-mm", tool_offset_mm,
+                    "Tool fixture centroid along the flange z axis (fixture plane ⟂ flange axis)")
+        ->capture_default_str();
+    cmd->add_option("--ball-offset-mm", ball_offset_mm,
+                    "Setting ball (TCP used to place the base cups) along the flange z axis")
+        ->capture_default_str();
+    cmd->add_option("--table-z-mm", table_z_mm, "Table plane height in the robot frame")
+        ->capture_default_str();
+    cmd->add_option("--angle-deg", angle_deg, "Pruning: redundant when closer in orientation…")
+        ->capture_default_str();
+    cmd->add_option("--distance-mm", distance_mm,
+                    "… and closer in position (tool-fixture centroid)")
+        ->capture_default_str();
+  }
+  [[nodiscard]] Pose<double> rough_placement() const {
+    const std::vector<double> v = parse_numbers(placement, 4, "--placement");
+    Pose<double> pose;
+    pose.R = Eigen::AngleAxisd(deg2rad(v[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    pose.p = Eigen::Vector3d(v[0], v[1], v[2]);
+    return pose;
+  }
+};
+
+/// The base fixture frame (B1 origin, B2 on x) for a rough placement of its cup centroid.
+Pose<double> fixture_frame_at(const Pose<double>& placement, const Cups<double>& cups) {
+  Pose<double> centroid_T_base;
+  centroid_T_base.p = -centroid(cups);
+  return placement * centroid_T_base;
+}
+
+nlohmann::json joints_json(const Vector6d& q) {
+  nlohmann::json out = nlohmann::json::array();
+  for (int i = 0; i < kJointCount; ++i) out.push_back(tidy(rad2deg(q[i]), 6));
+  return out;
+}
+
+/// The setting-ball points and the robot configurations that reach them, ball pointing down.
+nlohmann::json setup_json(const RobotModel& model, const Pose<double>& placement, double side_mm,
+                          double ball_offset_mm) {
+  const Cups<double> points = setting_ball_points(placement, side_mm);
+  const auto geometry = analyze_ortho_parallel(model);
+  nlohmann::json out = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i) {
+    // Flange z pointing down, the ball ball_offset_mm below the flange.
+    Pose<double> robot_T_flange;
+    robot_T_flange.R =
+        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix() * placement.R;
+    robot_T_flange.p = points[i] + Eigen::Vector3d(0, 0, ball_offset_mm);
+    nlohmann::json entry{{"cup", fmt::format("B{}", i + 1)},
+                         {"ball_position_mm", vec_json(points[i])}};
+    entry["configurations"] = nlohmann::json::array();
+    if (geometry)
+      for (const IkSolution& s : nominal_ik(*geometry, robot_T_flange))
+        entry["configurations"].push_back(
+            {{"labels", s.config.label()}, {"joints_deg", joints_json(s.joints)}});
+    out.push_back(entry);
+  }
+  return out;
+}
+
+nlohmann::json plan_json(const RobotModel& model, const HexapodGeometry& g, const CellOptions& o,
+                         const PlanSummary& summary, size_t enumerated) {
+  nlohmann::json out;
+  out["robot"] = o.robot;
+  out["ballbar"] = {
+      {"tool_mm", g.tool.d12}, {"leg_mm", g.leg_mm}, {"range_mm", 1.0}, {"recheck_every", 5}};
+  out["geometry"] = {{"base_sides_mm", g.base.as_array()}, {"tool_sides_mm", g.tool.as_array()}};
+  out["placement"] = o.placement;
+  out["tool_offset_mm"] = o.tool_offset_mm;
+  out["setting_ball"] = setup_json(model, o.rough_placement(), g.leg_mm, o.ball_offset_mm);
+  out["poses_enumerated"] = enumerated;
+  out["poses_kept"] = summary.poses.size();
+  out["poses_measurable"] = summary.measurable_poses;
+  out["configurations_measurable"] = summary.configurations;
+  out["configurations"] = nlohmann::json::array();
+  out["poses"] = nlohmann::json::array();
+  for (const PosePlan& p : summary.poses) {
+    nlohmann::json legs = nlohmann::json::array();
+    for (const PhysicalLeg& l : p.pose.legs)
+      legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
+    out["poses"].push_back({{"label", p.pose.label},
+                            {"description", p.pose.description()},
+                            {"ik", to_string(p.ik_status)},
+                            {"configurations", p.configurations.size()},
+                            {"rejected_table", p.rejected_table},
+                            {"rejected_fixture", p.rejected_fixture}});
+    for (const PlannedConfigurationOfPose& c : p.configurations)
+      out["configurations"].push_back({{"pose", p.pose.label},
+                                       {"labels", c.config.label()},
+                                       {"joints_deg", joints_json(c.joints)},
+                                       {"legs", legs}});
+  }
+  return out;
+}
+
+void run_setup(const CellOptions& o, double side_mm, bool json) {
+  if (!(side_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
+  const RobotModel model = load_robot(o.robot);
+  const nlohmann::json points = setup_json(model, o.rough_placement(), side_mm, o.ball_offset_mm);
+  if (json) {
+    print_json({{"robot", o.robot}, {"side_mm", side_mm}, {"setting_ball", points}});
+    return;
+  }
+  fmt::print(
+      "Put the setting ball (TCP {} mm along the flange z, pointing down) at these points, "
+      "{} mm apart by the robot's own model; snap and lock each base cup there:\n",
+      o.ball_offset_mm, side_mm);
+  for (const nlohmann::json& p : points) {
+    fmt::print("{}  x {:.3f}  y {:.3f}  z {:.3f} mm\n", p["cup"].get<std::string>(),
+               p["ball_position_mm"][0].get<double>(), p["ball_position_mm"][1].get<double>(),
+               p["ball_position_mm"][2].get<double>());
+    for (const nlohmann::json& c : p["configurations"])
+      fmt::print("    {:<18} joints {}\n", c["labels"].get<std::string>(), c["joints_deg"].dump());
+  }
+}
+
+void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
+              const std::string& out_path, bool json) {
+  const HexapodGeometry g = geometry_options.geometry();
+  const RobotModel model = load_robot(o.robot);
+  const std::vector<HexapodPose> all = enumerate_poses(g);
+  const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(o.angle_deg), o.distance_mm);
+  const Cups<double> base_cups = fixture_cups(g.base, "--base-mm");
+  CellSetup cell;
+  cell.robot_T_base = fixture_frame_at(o.rough_placement(), base_cups);
+  cell.flange_T_tool = default_tool_mount(g.tool, o.tool_offset_mm);
+  cell.table_z_mm = o.table_z_mm;
+  const PlanSummary summary = plan_poses(model, cell, base_cups, kept);
+  const nlohmann::json plan = plan_json(model, g, o, summary, all.size());
+  if (!out_path.empty()) write_file_atomically(out_path, plan.dump(2) + "\n");
+  if (json) {
+    print_json(plan);
+    return;
+  }
+  fmt::print(
+      "{}: {} poses enumerated, {} kept after pruning, {} measurable with {} configurations\n",
+      model.name, all.size(), kept.size(), summary.measurable_poses, summary.configurations);
+  for (const PosePlan& p : summary.poses) {
+    std::vector<std::string> labels;
+    for (const auto& c : p.configurations) labels.push_back(c.config.label());
+    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {})\n",
+               p.pose.label, p.pose.description(), to_string(p.ik_status), p.configurations.size(),
+               fmt::join(labels, " "), p.rejected_table, p.rejected_fixture);
+  }
+  if (!out_path.empty()) fmt::print("plan written to {}\n", out_path);
+}
+
+// ---- session ---------------------------------------------------------------------------------
+
+/// One operator answer: a reading (mm), "out" (ballbar out of range), "quit", or invalid.
+struct Answer {
+  enum Kind { Reading, Out, Quit, Invalid } kind = Invalid;
+  double value = 0;
+};
+
+Answer parse_answer(const std::string& line) {
+  const auto first = line.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return {};
+  const std::string text = line.substr(first, line.find_last_not_of(" \t\r") - first + 1);
+  if (text == "out" || text == "x") return {Answer::Out};
+  if (text == "quit" || text == "q") return {Answer::Quit};
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return {Answer::Reading, v};
+  } catch (const std::exception&) {
+  }
+  return {};
+}
+
+void run_session(const std::string& plan_path, const std::string& journal_path, bool resume,
+                 const std::string& out_path, bool json) {
+  Session session(load_session_plan(plan_path));
+  SessionJournal journal =
+      resume ? SessionJournal::open_for_resume(journal_path) : SessionJournal::create(journal_path);
+  std::FILE* talk = json ? stderr : stdout;  // prompts never mix with the JSON result
+  if (resume)
+    fmt::print(talk, "Resumed {}: {} readings replayed.\n", journal_path, journal.replay(session));
+  while (const std::optional<SessionStep> step = session.next_step()) {
+    fmt::print(talk, "{}\n> ", step->prompt);
+    std::fflush(talk);
+    std::string line;
+    if (!std::getline(std::cin, line)) {
+      fmt::print(talk, "\nInput ended. Every reading is in {}; continue with --resume.\n",
+                 journal_path);
+      return;
+    }
+    const Answer answer = parse_answer(line);
+    if (answer.kind == Answer::Quit) {
+      fmt::print(talk, "Stopped. Every reading is in {}; continue with --resume.\n", journal_path);
+      return;
+    }
+    if (answer.kind == Answer::Invalid ||
+        (answer.kind == Answer::Out && step->kind != StepKind::Leg)) {
+      fmt::print(talk, "'{}' is not a reading: enter a length in mm{}, or 'quit'.\n", line,
+                 step->kind == StepKind::Leg ? ", 'out' when the ballbar does not fit" : "");
+      continue;
+    }
+    const std::optional<double> reading =
+        answer.kind == Answer::Reading ? std::optional<double>(answer.value) : std::nullopt;
+    std::string message;
+    try {
+      message = session.record(reading);
+    } catch (const InputError& e) {
+      fmt::print(talk, "{}\n", e.what());
+      continue;
+    }
+    journal.append(step->key, reading);
+    if (!message.empty()) fmt::print(talk, "{}\n", message);
+  }
+  const nlohmann::json result = session.result_json();
+  if (!out_path.empty()) write_file_atomically(out_path, result.dump(2) + "\n");
+  if (json) {
+    print_json(result);
+    return;
+  }
+  fmt::print(
+      "Session complete: {} configurations measured, {} to retry after the preliminary "
+      "calibration.{}\n",
+      result["measured"].get<int>(), result["retry_after_preliminary_calibration"].get<int>(),
+      out_path.empty() ? "" : " Result: " + out_path);
+}
+
 const bool registered = register_command(60, [](CLI::App& app) {
   auto* hex =
       app.add_subcommand("hexapod", "The ballbar hexapod: 6D poses from one ballbar (METHOD §8)");
@@ -296,6 +542,52 @@ const bool registered = register_command(60, [](CLI::App& app) {
     cmd->add_option("--sides", *sides, "Ballbar-measured b12,b23,b31 (mm)")->required();
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] { run_world_frame(*points, *sides, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "setup", "Where the robot must put the setting ball to place the base cups");
+    auto cell = std::make_shared<CellOptions>();
+    auto side = std::make_shared<double>(300.0);
+    auto json = std::make_shared<bool>(false);
+    cell->add_to(cmd);
+    cmd->add_option("--leg-mm", *side, "Distance between the cups (the ballbar's length)")
+        ->capture_default_str();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_setup(*cell, *side, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "plan",
+        "Robot configurations for every pose, for a base-fixture placement (the session's plan)");
+    auto geometry = std::make_shared<GeometryOptions>();
+    auto cell = std::make_shared<CellOptions>();
+    auto out = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    geometry->add_to(cmd);
+    cell->add_to(cmd);
+    cmd->add_option("--out", *out, "Write the plan (JSON) for `robcal hexapod session`");
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_plan(*geometry, *cell, *out, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "session",
+        "Guided measurement: prompts step by step, readings typed or piped on stdin, every "
+        "reading journaled at once");
+    auto plan = std::make_shared<std::string>();
+    auto journal = std::make_shared<std::string>();
+    auto resume = std::make_shared<bool>(false);
+    auto out = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    cmd->add_option("--plan", *plan, "Plan file (JSON, from `robcal hexapod plan --out`)")
+        ->required();
+    cmd->add_option("--journal", *journal,
+                    "Session journal (created; must not exist unless --resume)")
+        ->required();
+    cmd->add_flag("--resume", *resume, "Replay the journal and continue where it stopped");
+    cmd->add_option("--out", *out, "Result file (JSON), written once the session is complete");
+    cmd->add_flag("--json", *json, "Print the result as JSON (prompts go to stderr)");
+    cmd->callback([=] { run_session(*plan, *journal, *resume, *out, *json); });
   }
 });
 
