@@ -17,7 +17,7 @@ SessionPlan small_plan() {
   SessionPlan plan;
   plan.recheck_every = 1;
   for (int c = 0; c < 3; ++c) {
-    PlannedConfiguration config;
+    SessionConfiguration config;
     config.id = c + 1;
     config.pose = "P0" + std::to_string(c + 1);
     for (size_t i = 0; i < kDesignLegs.size(); ++i)

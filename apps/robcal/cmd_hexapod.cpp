@@ -342,7 +342,7 @@ nlohmann::json plan_json(const RobotModel& model, const HexapodGeometry& g, cons
                             {"configurations", p.configurations.size()},
                             {"rejected_table", p.rejected_table},
                             {"rejected_fixture", p.rejected_fixture}});
-    for (const PlannedConfigurationOfPose& c : p.configurations)
+    for (const PoseConfiguration& c : p.configurations)
       out["configurations"].push_back({{"pose", p.pose.label},
                                        {"labels", c.config.label()},
                                        {"joints_deg", joints_json(c.joints)},

@@ -59,7 +59,7 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string key = fmt::format("configurations[{}]", i);
     const nlohmann::json& c = list[i];
-    PlannedConfiguration config;
+    SessionConfiguration config;
     config.id = static_cast<int>(i) + 1;
     if (!c.is_object() || !c.contains("pose") || !c["pose"].is_string())
       throw InputError(at(key + ".pose"), "expected the pose label (a string)");
@@ -148,7 +148,7 @@ std::optional<SessionStep> Session::next_step() const {
           i,
           plan_.leg_mm};
   for (size_t c = 0; c < plan_.configurations.size(); ++c) {
-    const PlannedConfiguration& config = plan_.configurations[c];
+    const SessionConfiguration& config = plan_.configurations[c];
     if (configuration_done(c)) {
       if (recheck_due_after(c))
         return SessionStep{StepKind::CalibratorCheck,
@@ -223,7 +223,7 @@ std::string Session::record(const std::optional<double>& reading) {
     case StepKind::Leg:
       break;
   }
-  const PlannedConfiguration& config = plan_.configurations[step->configuration];
+  const SessionConfiguration& config = plan_.configurations[step->configuration];
   ConfigurationReadings& r = state_.configurations[step->configuration];
   if (!reading || std::abs(*reading - plan_.leg_mm) > plan_.range_mm) {
     r.retry = true;
@@ -249,7 +249,7 @@ nlohmann::json Session::result_json() const {
   out["configurations"] = nlohmann::json::array();
   int measured = 0, retry = 0;
   for (size_t c = 0; c < plan_.configurations.size(); ++c) {
-    const PlannedConfiguration& config = plan_.configurations[c];
+    const SessionConfiguration& config = plan_.configurations[c];
     const ConfigurationReadings& r = state_.configurations[c];
     const std::string status = r.retry ? "retry" : configuration_done(c) ? "measured" : "pending";
     measured += status == "measured";

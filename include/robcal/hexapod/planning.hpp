@@ -38,7 +38,7 @@ Pose<double> default_tool_mount(const TriangleSides& tool_sides, double offset_m
 enum class Clearance { Ok, Table, BaseFixture };
 
 /// One measurable configuration of a pose.
-struct PlannedConfigurationOfPose {
+struct PoseConfiguration {
   Vector6d joints = Vector6d::Zero();  ///< controller joints, rad
   ArmConfig config;
 };
@@ -48,7 +48,7 @@ struct PosePlan {
   Pose<double> robot_T_flange;  ///< where the flange must be (nominal model)
   IkStatus ik_status = IkStatus::Unreachable;
   /// Measurable ones, one per arm branch (equivalent joint turns are not counted twice).
-  std::vector<PlannedConfigurationOfPose> configurations;
+  std::vector<PoseConfiguration> configurations;
   int rejected_table = 0;    ///< IK solutions within limits rejected by the table check
   int rejected_fixture = 0;  ///< … by the base-fixture check
 };

@@ -23,7 +23,7 @@
 namespace robcal::hexapod {
 
 /// One robot configuration to measure: a pose of the device reached with given joints.
-struct PlannedConfiguration {
+struct SessionConfiguration {
   int id = 0;                       ///< 1-based, as shown to the operator
   std::string pose;                 ///< pose label ("P07")
   std::string labels;               ///< "front/up/no-flip" (may be empty)
@@ -37,7 +37,7 @@ struct SessionPlan {
   double leg_mm = 300;           ///< ballbar set-up for the base sides and the legs
   double range_mm = 1.0;         ///< the ballbar reads only within ±range of its set-up length
   int recheck_every = 5;         ///< configurations between calibrator re-checks (0: never)
-  std::vector<PlannedConfiguration> configurations;
+  std::vector<SessionConfiguration> configurations;
 };
 
 /// Reads a plan file (JSON written by `robcal hexapod plan`); errors name the file and key.
