@@ -7,6 +7,7 @@
 #include <random>
 
 #include "module_registry.hpp"
+#include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/poses.hpp"
@@ -33,13 +34,27 @@ Eigen::Matrix3d rows_from_cups(const Cups<double>& cups) {
   return rows;
 }
 
-TriangleSides sides(const std::array<double, 3>& d) { return {d[0], d[1], d[2]}; }
+TriangleSides sides(const std::array<double, 3>& d) {
+  return {d[0], d[1], d[2]};
+}
+
+/// Bad input raises ValueError in Python (InputError is a runtime_error in C++).
+template <typename F>
+auto checked(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw py::value_error(e.what());
+  }
+}
 
 const bool registered = register_bindings(60, [](py::module_& m) {
   auto h = m.def_submodule("hexapod", "The ballbar hexapod of METHOD §8 (mm)");
   h.def(
       "triangle_from_sides",
-      [](const std::array<double, 3>& d) { return rows_from_cups(fixture_cups(sides(d), "sides")); },
+      [](const std::array<double, 3>& d) {
+        return checked([&] { return rows_from_cups(fixture_cups(sides(d), "sides")); });
+      },
       py::arg("sides_mm"),
       "Cup positions (rows) from d12, d23, d31: c1 at the origin, c2 on x, c3 in the xy plane");
   h.def(
@@ -58,7 +73,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         const DkpResult r = solve_dkp(sides(base), sides(tool), legs);
         if (r.status != DkpStatus::Ok) throw py::value_error(r.message);
         py::dict out;
-        for (const AssemblyModeSolution& s : r.solutions) out[py::int_(s.mode)] = rows_from_cups(s.tool);
+        for (const AssemblyModeSolution& s : r.solutions)
+          out[py::int_(s.mode)] = rows_from_cups(s.tool);
         return out;
       },
       py::arg("base_sides_mm"), py::arg("tool_sides_mm"), py::arg("legs_mm"),
@@ -74,7 +90,9 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "enumerate_poses",
       [](const std::array<double, 3>& base, const std::array<double, 3>& tool, double leg_mm,
          double angle_deg, double distance_mm) {
-        const std::vector<HexapodPose> all = enumerate_poses({sides(base), sides(tool), leg_mm});
+        const std::vector<HexapodPose> all = checked([&] {
+          return enumerate_poses({sides(base), sides(tool), leg_mm});
+        });
         py::list out;
         for (const HexapodPose& p : prune_redundant(all, deg2rad(angle_deg), distance_mm)) {
           py::dict d;
@@ -93,7 +111,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "The poses (72 before pruning) with every leg at leg_mm, pruned at the given distances");
   h.def(
       "uncertainty",
-      [](double base_mm, double tool_mm, double leg_mm, double sigma_um, int samples, uint64_t seed) {
+      [](double base_mm, double tool_mm, double leg_mm, double sigma_um, int samples,
+         uint64_t seed) {
         if (!(sigma_um > 0) || samples < 2) throw py::value_error("need sigma_um > 0, samples ≥ 2");
         const HexapodGeometry g{{base_mm, base_mm, base_mm}, {tool_mm, tool_mm, tool_mm}, leg_mm};
         std::mt19937_64 rng(seed);
@@ -127,7 +146,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
   h.def(
       "fit_world_frame",
       [](const Eigen::MatrixXd& points, const std::array<double, 3>& measured) {
-        const WorldFrameFit fit = fit_world_frame(cups_from_rows(points, "points"), sides(measured));
+        const WorldFrameFit fit = checked(
+            [&] { return fit_world_frame(cups_from_rows(points, "points"), sides(measured)); });
         py::dict d;
         d["corrected"] = rows_from_cups(fit.corrected);
         d["rotation"] = fit.robot_T_fixture.R;
@@ -138,7 +158,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         return d;
       },
       py::arg("robot_points"), py::arg("measured_sides_mm"),
-      "World frame from the base cups: planar least-squares correction; planar = (x mm, y mm, φ deg)");
+      "World frame from the base cups: planar least-squares correction; planar = (x mm, y mm, φ "
+      "deg)");
 });
 
 }  // namespace

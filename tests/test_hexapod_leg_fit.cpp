@@ -27,7 +27,7 @@ Fixture simulate(double offset_mm) {
   // Levelled: gravity along the base's z, as the relative model (base held) assumes.
   truth.robot.params[3] = truth.robot.params[4] = 0;
   HexapodCellOptions o;
-  o.placement.p = Eigen::Vector3d(400, 0, 100);
+  o.placement.p = Eigen::Vector3d(450, 0, 300);
   o.sigma_mm = 0;
   f.cell = set_up_simulated_cell(truth, f.model, o, rng);
   // A ballbar that reads `offset_mm` short at its leg set-up.
@@ -57,16 +57,16 @@ TEST(HexapodLegFit, NoiseFreeFitReproducesTheTrueToolCupsAndTheOffset) {
     ASSERT_GT(f.readings.size(), 30u);
     LegFitOptions options;
     options.free_parameters = relative_full_model();
-    const LegFitResult fit =
-        fit_from_legs(f.model, f.cell.truth.robot.tool.payload, f.cell.base_sides,
-                      f.cell.tool_sides, f.readings, f.model.nominal(),
-                      f.cell.world.robot_T_fixture, f.cell.cell.flange_T_tool, options);
+    const LegFitResult fit = fit_from_legs(
+        f.model, f.cell.truth.robot.tool.payload, f.cell.base_sides, f.cell.tool_sides, f.readings,
+        f.model.nominal(), f.cell.world.robot_T_fixture, f.cell.cell.flange_T_tool, options);
     EXPECT_TRUE(fit.converged) << fit.message;
     EXPECT_GT(fit.initial_rms_mm, 0.05);
     EXPECT_LT(fit.rms_mm, 1e-6);
     EXPECT_NEAR(fit.length_offset_mm, offset, 1e-5);
     bool link3_d_held = false;
-    for (const std::string& h : fit.held) link3_d_held = link3_d_held || h.rfind("link3.d", 0) == 0 || h.rfind("link2.d", 0) == 0;
+    for (const std::string& h : fit.held)
+      link3_d_held = link3_d_held || h.rfind("link3.d", 0) == 0 || h.rfind("link2.d", 0) == 0;
     EXPECT_TRUE(link3_d_held) << "axes 2 and 3 are parallel: one of link2.d, link3.d is held";
     // The true robot in its own base frame (the relative model's frame).
     ParameterVector truth0 = f.cell.truth.robot.params;
@@ -77,16 +77,20 @@ TEST(HexapodLegFit, NoiseFreeFitReproducesTheTrueToolCupsAndTheOffset) {
     for (int k = 0; k < 200; ++k) {
       Vector6d q;
       q << 1.2 * u(rng), 0.3 + 0.6 * u(rng), 0.3 * u(rng), 2 * u(rng), 1.5 * u(rng), 3 * u(rng);
-      const Pose<double> fit_f = flange_pose(f.model, f.cell.truth.robot.tool.payload, fit.params, q);
-      const Pose<double> true_f = flange_pose(f.cell.truth.robot.model, f.cell.truth.robot.tool.payload, truth0, q);
+      const Pose<double> fit_f =
+          flange_pose(f.model, f.cell.truth.robot.tool.payload, fit.params, q);
+      const Pose<double> true_f =
+          flange_pose(f.cell.truth.robot.model, f.cell.truth.robot.tool.payload, truth0, q);
       for (int j = 0; j < 3; ++j)
-        worst = std::max(worst, (fit_f * fit.tool_cups_flange[j] - true_f * f.cell.tool_cups_flange[j]).norm());
+        worst = std::max(
+            worst, (fit_f * fit.tool_cups_flange[j] - true_f * f.cell.tool_cups_flange[j]).norm());
     }
     EXPECT_LT(worst, 1e-4);
-    std::printf("leg fit (offset %.3f mm): %zu configurations, %d residuals, rms %.2g -> %.2g mm, "
-                "offset %.6f mm, worst tool-cup prediction error %.2g mm\n",
-                offset, f.readings.size(), fit.residuals, fit.initial_rms_mm, fit.rms_mm,
-                fit.length_offset_mm, worst);
+    std::printf(
+        "leg fit (offset %.3f mm): %zu configurations, %d residuals, rms %.2g -> %.2g mm, "
+        "offset %.6f mm, worst tool-cup prediction error %.2g mm\n",
+        offset, f.readings.size(), fit.residuals, fit.initial_rms_mm, fit.rms_mm,
+        fit.length_offset_mm, worst);
   }
 }
 

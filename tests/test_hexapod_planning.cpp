@@ -20,7 +20,7 @@ namespace {
 
 HexapodCellOptions lr_mate_cell() {
   HexapodCellOptions o;
-  o.placement.p = Eigen::Vector3d(400, 0, 100);
+  o.placement.p = Eigen::Vector3d(450, 0, 300);
   return o;
 }
 
@@ -58,9 +58,10 @@ TEST(HexapodPlanning, ConfigurationsReachTheirPosesWithinLimitsAndClearOfTheTabl
     }
   }
   EXPECT_EQ(total, plan.configurations);
-  std::printf("LR Mate 200iC, fixture at (400, 0, 100) mm: %d of 72 poses measurable, %d "
-              "configurations (published: 46 poses, 124 configurations for its placement)\n",
-              plan.measurable_poses, plan.configurations);
+  std::printf(
+      "LR Mate 200iC, fixture at (400, 0, 100) mm: %d of 72 poses measurable, %d "
+      "configurations (published: 46 poses, 124 configurations for its placement)\n",
+      plan.measurable_poses, plan.configurations);
 }
 
 TEST(HexapodPlanning, ArmBelowTheTableIsRejected) {
@@ -70,14 +71,21 @@ TEST(HexapodPlanning, ArmBelowTheTableIsRejected) {
   const Cups<double> base = fixture_cups({300, 300, 300}, "base");
   Cups<double> cups_robot;
   for (int i = 0; i < 3; ++i) cups_robot[i] = cell.robot_T_base * base[i];
+  // Upper arm leaning far forward, forearm turned down until the wrist centre is near the table.
   Vector6d down = Vector6d::Zero();
-  down[1] = deg2rad(100);  // upper arm leaning far forward: the wrist goes below the base plane
-  const auto frames = link_frames(model, PointMass{}, model.nominal().data(), down.data());
-  ASSERT_LT(frames[4].p.z(), 50);
+  down[1] = deg2rad(100);
+  double wrist_z = 1e9;
+  for (double j3 = -70; j3 <= 205 && wrist_z >= 30; j3 += 5) {
+    down[2] = deg2rad(j3);
+    wrist_z = link_frames(model, PointMass{}, model.nominal().data(), down.data())[4].p.z();
+  }
+  ASSERT_LT(wrist_z, 30);
+  ASSERT_TRUE(model.within_limits(down));
   EXPECT_EQ(check_clearance(model, cell, cups_robot, down), Clearance::Table);
   EXPECT_EQ(check_clearance(model, cell, cups_robot, Vector6d::Zero()), Clearance::Ok);
   // The same home configuration with the fixture right under the wrist.
-  const auto home = link_frames(model, PointMass{}, model.nominal().data(), Vector6d::Zero().eval().data());
+  const auto home =
+      link_frames(model, PointMass{}, model.nominal().data(), Vector6d::Zero().eval().data());
   Pose<double> centroid_T_base;
   centroid_T_base.p = -centroid(base);
   Pose<double> under;
@@ -97,8 +105,8 @@ TEST(HexapodSimulation, PerfectRobotReadsNominalLegsAndRecoversPlannedPoses) {
   auto rng = test::seeded_rng(3);
   const SimulatedHexapodCell cell = set_up_simulated_cell(truth, model, o, rng);
   EXPECT_LT(cell.world.rms_mm, 1e-9);  // a perfect robot puts the cups exactly 300 mm apart
-  const PlanSummary plan =
-      plan_poses(model, cell.cell, fixture_cups(cell.base_sides, "base"), enumerate_poses(o.design));
+  const PlanSummary plan = plan_poses(model, cell.cell, fixture_cups(cell.base_sides, "base"),
+                                      enumerate_poses(o.design));
   std::vector<LegReadings> readings;
   std::vector<Pose<double>> expected;
   for (const PosePlan& p : plan.poses)

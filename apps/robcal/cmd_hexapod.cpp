@@ -13,6 +13,7 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
+#include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/session.hpp"
@@ -243,7 +244,7 @@ void run_world_frame(const std::string& points, const std::string& sides, bool j
 /// The cell options shared by `setup`, `plan` and `simulate`.
 struct CellOptions {
   std::string robot = "fanuc-lrmate200ic";
-  std::string placement = "400,0,100,0";
+  std::string placement = "450,0,300,0";
   double tool_offset_mm = 100;
   double ball_offset_mm = 100;
   double table_z_mm = 0;
@@ -479,6 +480,100 @@ void run_session(const std::string& plan_path, const std::string& journal_path, 
       out_path.empty() ? "" : " Result: " + out_path);
 }
 
+// ---- simulate ------------------------------------------------------------------------------
+
+nlohmann::json figures_json(const ValidationFigures& f) {
+  const auto stats = [](const ErrorStatistics& s) {
+    return nlohmann::json{{"count", s.count},
+                          {"mean_mm", tidy(s.mean, 6)},
+                          {"std_mm", tidy(s.std, 6)},
+                          {"mean_plus_3std_mm", tidy(s.mean_plus_3std(), 6)},
+                          {"max_mm", tidy(s.max, 6)}};
+  };
+  return {{"absolute", stats(f.absolute)}, {"pairs", stats(f.pairs)}};
+}
+
+nlohmann::json stage_json(const CalibrationStage& s) {
+  return {{"configurations", s.configurations},
+          {"rms_mm", tidy(s.rms_mm, 6)},
+          {"iterations", s.iterations},
+          {"converged", s.converged},
+          {"validation", figures_json(s.validation)}};
+}
+
+void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation, int threads,
+                  bool leg_fit, bool json) {
+  if (validation < 2)
+    throw InputError({"", 0, 0, "--validation"}, "expected at least 2 configurations");
+  if (threads < 1) throw InputError({"", 0, 0, "--threads"}, "expected at least 1 thread");
+  const RobotModel model = load_robot(cell_options.robot);
+  EndToEndOptions o;
+  o.cell.placement = cell_options.rough_placement();
+  o.cell.tool_offset_mm = cell_options.tool_offset_mm;
+  o.cell.ball_offset_mm = cell_options.ball_offset_mm;
+  o.cell.table_z_mm = cell_options.table_z_mm;
+  o.angle_deg = cell_options.angle_deg;
+  o.distance_mm = cell_options.distance_mm;
+  o.validation_configurations = validation;
+  o.threads = threads;
+  o.leg_fit = leg_fit;
+  std::mt19937_64 rng(seed);
+  const EndToEndReport r = run_end_to_end(model, o, rng);
+  nlohmann::json out{{"robot", r.robot},
+                     {"seed", seed},
+                     {"poses_enumerated", r.poses_enumerated},
+                     {"poses_kept", r.poses_kept},
+                     {"poses_measurable", r.poses_measurable},
+                     {"configurations_planned", r.configurations_planned},
+                     {"measured_first_pass", r.measured_first},
+                     {"out_of_range_first_pass", r.retried},
+                     {"measured_after_replanning", r.measured_after_replan},
+                     {"world_frame_rms_mm", tidy(r.world_frame_rms_mm, 6)},
+                     {"validation_configurations", r.validation_configurations},
+                     {"nominal", figures_json(r.nominal)},
+                     {"preliminary", stage_json(r.preliminary)},
+                     {"final", stage_json(r.final_pose_fit)}};
+  if (leg_fit) {
+    out["leg_fit"] = stage_json(r.leg_fit);
+    out["leg_fit"]["length_offset_mm"] = tidy(r.leg_fit_offset_mm, 6);
+  }
+  out["published"] = {{"poses", 46},
+                      {"configurations", 124},
+                      {"nominal_mean_mm", 1.355},
+                      {"front_up_46_mean_max_mm", {0.517, 1.223}},
+                      {"all_61_mean_max_mm", {0.796, 1.630}},
+                      {"pairs_before_mean_mm", 1.062},
+                      {"pairs_after_mean_max_mm", {0.400, 1.666}},
+                      {"laser_tracker_50_mean_max_mm", {0.156, 0.490}}};
+  if (json) {
+    print_json(out);
+    return;
+  }
+  fmt::print("Simulated hexapod calibration of a {} (seed {})\n", r.robot, seed);
+  fmt::print("poses: {} enumerated, {} kept, {} measurable; {} configurations planned\n",
+             r.poses_enumerated, r.poses_kept, r.poses_measurable, r.configurations_planned);
+  fmt::print(
+      "first pass: {} measured, {} out of the ballbar's range; after the preliminary "
+      "calibration {} of those measured\n",
+      r.measured_first, r.retried, r.measured_after_replan);
+  fmt::print("world frame from the base cups: rms {:.4f} mm\n", r.world_frame_rms_mm);
+  fmt::print("validation on {} random configurations (laser tracker), mm:\n",
+             r.validation_configurations);
+  fmt::print("{:<26} {:>8} {:>8} {:>8}   {:>10} {:>10}\n", "model", "mean", "std", "max",
+             "pairs mean", "pairs max");
+  const auto row = [](const char* name, const ValidationFigures& f) {
+    fmt::print("{:<26} {:8.4f} {:8.4f} {:8.4f}   {:10.4f} {:10.4f}\n", name, f.absolute.mean,
+               f.absolute.std, f.absolute.max, f.pairs.mean, f.pairs.max);
+  };
+  row("nominal", r.nominal);
+  row("preliminary (poses)", r.preliminary.validation);
+  row("final (poses)", r.final_pose_fit.validation);
+  if (leg_fit) row("final (raw legs)", r.leg_fit.validation);
+  fmt::print(
+      "published (LR Mate 200iC, real robot): nominal 1.355 mean; 46 configs 0.517 / 1.223; "
+      "61 configs 0.796 / 1.630; pairs 1.062 → 0.400 / 1.666\n");
+}
+
 const bool registered = register_command(60, [](CLI::App& app) {
   auto* hex =
       app.add_subcommand("hexapod", "The ballbar hexapod: 6D poses from one ballbar (METHOD §8)");
@@ -568,6 +663,28 @@ const bool registered = register_command(60, [](CLI::App& app) {
     cmd->add_option("--out", *out, "Write the plan (JSON) for `robcal hexapod session`");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] { run_plan(*geometry, *cell, *out, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "simulate",
+        "Simulated end to end: placement, planning, ballbar readings, preliminary and final "
+        "calibration, laser-tracker validation");
+    auto cell = std::make_shared<CellOptions>();
+    auto seed = std::make_shared<uint64_t>(1);
+    auto validation = std::make_shared<int>(10000);
+    auto threads = std::make_shared<int>(2);
+    auto no_leg_fit = std::make_shared<bool>(false);
+    auto json = std::make_shared<bool>(false);
+    cell->add_to(cmd);
+    cmd->add_option("--seed", *seed, "Seed of the true robot, the readings and the validation")
+        ->capture_default_str();
+    cmd->add_option("--validation", *validation, "Random validation configurations")
+        ->capture_default_str();
+    cmd->add_option("--threads", *threads, "Threads of the all-pairs statistics")
+        ->capture_default_str();
+    cmd->add_flag("--no-leg-fit", *no_leg_fit, "Skip the fit from the raw leg readings");
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_simulate(*cell, *seed, *validation, *threads, !*no_leg_fit, *json); });
   }
   {
     auto* cmd = hex->add_subcommand(

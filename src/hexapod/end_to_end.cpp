@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "robcal/core/units.hpp"
 #include "robcal/hexapod/leg_fit.hpp"
 #include "robcal/hexapod/measurement.hpp"
 #include "robcal/identify/identification.hpp"
@@ -29,10 +30,12 @@ ValidationFigures validate(const RobotModel& model, const PointMass& payload,
   Eigen::Matrix3Xd predicted(3, static_cast<int>(set.joints.size()));
   std::vector<double> errors(set.joints.size());
   for (size_t k = 0; k < set.joints.size(); ++k) {
-    predicted.col(k) = world_T_robot * (flange_pose(model, payload, params, set.joints[k]) * target_flange);
+    predicted.col(k) =
+        world_T_robot * (flange_pose(model, payload, params, set.joints[k]) * target_flange);
     errors[k] = (predicted.col(k) - set.measured.col(k)).norm();
   }
-  return {error_statistics(errors), pairwise_distance_errors(set.measured, predicted, threads).stats};
+  return {error_statistics(errors),
+          pairwise_distance_errors(set.measured, predicted, threads).stats};
 }
 
 IdentifyOptions relative_full_model() {
@@ -94,17 +97,18 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   rep.retried = static_cast<int>(retry.size());
   const Tool tool = hexapod_tool(payload, cell.cell.flange_T_tool, cell.tool_sides);
   const auto measurements = [&] {
-    return pose_measurements(cell.base_sides, cell.tool_sides, readings,
-                             cell.world.robot_T_fixture, "simulated hexapod");
+    return pose_measurements(cell.base_sides, cell.tool_sides, readings, cell.world.robot_T_fixture,
+                             "simulated hexapod");
   };
-  const IdentificationResult preliminary = calibrate(model, tool, measurements(), relative_full_model());
+  const IdentificationResult preliminary =
+      calibrate(model, tool, measurements(), relative_full_model());
   rep.preliminary = stage_of(preliminary, rep.measured_first);
 
   // Re-plan the rest: the joints that put the flange where the pose needs it on the
   // preliminary model (Newton from the nominal solution), then measure again.
   for (const auto& [p, c] : retry) {
-    const NumericIkResult ik = numeric_ik(model, payload, preliminary.robot.params,
-                                          p->robot_T_flange, c.joints);
+    const NumericIkResult ik =
+        numeric_ik(model, payload, preliminary.robot.params, p->robot_T_flange, c.joints);
     if (ik.status != NumericIkStatus::Converged || !ik.within_limits) continue;
     if (auto legs = simulate_legs(cell, p->pose, ik.joints, rng)) {
       readings.push_back({fmt::format("{}-{}", p->pose.label, c.config.label()), ik.joints,
@@ -112,7 +116,8 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
       ++rep.measured_after_replan;
     }
   }
-  const IdentificationResult final_fit = calibrate(model, tool, measurements(), relative_full_model());
+  const IdentificationResult final_fit =
+      calibrate(model, tool, measurements(), relative_full_model());
   rep.final_pose_fit = stage_of(final_fit, static_cast<int>(readings.size()));
 
   // Validation: random configurations in the published joint box, a laser tracker reading the
@@ -132,9 +137,11 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
         cell.world_T_sim * read_point(tracker, true_flange_pose(truth, q) * true_target, rng);
   }
   rep.validation_configurations = o.validation_configurations;
-  const Eigen::Vector3d target = cell.cell.flange_T_tool * centroid(fixture_cups(cell.tool_sides, "tool"));
+  const Eigen::Vector3d target =
+      cell.cell.flange_T_tool * centroid(fixture_cups(cell.tool_sides, "tool"));
   const Pose<double>& robot_T_world = cell.world.robot_T_fixture;
-  rep.nominal = validate(model, payload, model.nominal(), target, robot_T_world, validation, o.threads);
+  rep.nominal =
+      validate(model, payload, model.nominal(), target, robot_T_world, validation, o.threads);
   rep.preliminary.validation = validate(model, payload, preliminary.robot.params, target,
                                         robot_T_world, validation, o.threads);
   rep.final_pose_fit.validation = validate(model, payload, final_fit.robot.params, target,

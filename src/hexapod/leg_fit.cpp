@@ -111,14 +111,14 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     problem.SetParameterBlockConstant(&zero_offset);
     const std::array<double, 3> bs = base_sides.as_array(), ts = tool_sides.as_array();
     for (int i = 0; i < 3; ++i) {
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SideResidual, 1, 3, 3, 1>(
-                                   new SideResidual{bs[i]}),
-                               nullptr, result.base_cups_robot[i].data(),
-                               result.base_cups_robot[(i + 1) % 3].data(), &result.length_offset_mm);
-      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<SideResidual, 1, 3, 3, 1>(
-                                   new SideResidual{ts[i]}),
-                               nullptr, result.tool_cups_flange[i].data(),
-                               result.tool_cups_flange[(i + 1) % 3].data(), &zero_offset);
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<SideResidual, 1, 3, 3, 1>(new SideResidual{bs[i]}),
+          nullptr, result.base_cups_robot[i].data(), result.base_cups_robot[(i + 1) % 3].data(),
+          &result.length_offset_mm);
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<SideResidual, 1, 3, 3, 1>(new SideResidual{ts[i]}),
+          nullptr, result.tool_cups_flange[i].data(), result.tool_cups_flange[(i + 1) % 3].data(),
+          &zero_offset);
     }
   };
 
@@ -154,9 +154,9 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     for (int c = rank; c < J.cols(); ++c) {
       const int k = columns[qr.colsPermutation().indices()[c]];
       candidate[k] = false;
-      result.held.push_back((k < kParameterCount ? parameter_table()[k].name
-                                                 : extra_name(k - kParameterCount)) +
-                            ": not identifiable from these readings (rank test)");
+      result.held.push_back(
+          (k < kParameterCount ? parameter_table()[k].name : extra_name(k - kParameterCount)) +
+          ": not identifiable from these readings (rank test)");
     }
   }
 
@@ -164,8 +164,10 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
   build(problem);
   std::vector<int> fixed;
   for (int i = 0; i < kParameterCount; ++i)
-    if (!candidate[i]) fixed.push_back(i);
-    else result.identified.push_back(i);
+    if (!candidate[i])
+      fixed.push_back(i);
+    else
+      result.identified.push_back(i);
   if (fixed.size() == static_cast<size_t>(kParameterCount))
     problem.SetParameterBlockConstant(result.params.data());
   else if (!fixed.empty())
@@ -176,8 +178,10 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     std::vector<int> held;
     for (int a = 0; a < 3; ++a)
       if (!candidate[kParameterCount + 3 * block + a]) held.push_back(a);
-    if (held.size() == 3) problem.SetParameterBlockConstant(data);
-    else if (!held.empty()) problem.SetManifold(data, new ceres::SubsetManifold(3, held));
+    if (held.size() == 3)
+      problem.SetParameterBlockConstant(data);
+    else if (!held.empty())
+      problem.SetManifold(data, new ceres::SubsetManifold(3, held));
   }
   if (!candidate[kParameterCount + 18]) problem.SetParameterBlockConstant(&result.length_offset_mm);
 

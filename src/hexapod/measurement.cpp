@@ -12,11 +12,12 @@ Pose<double> measured_tool_pose(const TriangleSides& base_sides, const TriangleS
                                   design_tool_sides(r.design, tool), r.legs);
   const AssemblyModeSolution* solution = dkp.mode(r.mode);
   if (solution == nullptr)
-    throw InputError({"", 0, 0, r.config},
-                     "configuration " + r.config + ": " +
-                         (dkp.status == DkpStatus::Ok
-                              ? "the legs have no solution in assembly mode " + std::to_string(r.mode)
-                              : dkp.message));
+    throw InputError(
+        {"", 0, 0, r.config},
+        "configuration " + r.config + ": " +
+            (dkp.status == DkpStatus::Ok
+                 ? "the legs have no solution in assembly mode " + std::to_string(r.mode)
+                 : dkp.message));
   return frame_from_cups(physical_tool_cups(r.design, solution->tool));
 }
 

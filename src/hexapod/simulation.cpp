@@ -42,8 +42,10 @@ SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotMo
   std::uniform_real_distribution<double> tolerance(-options.fixture_tolerance_mm,
                                                    options.fixture_tolerance_mm);
   const TriangleSides& t = options.design.tool;
-  const TriangleSides true_tool{t.d12 + tolerance(rng), t.d23 + tolerance(rng), t.d31 + tolerance(rng)};
-  const Pose<double> flange_T_tool = default_tool_mount(options.design.tool, options.tool_offset_mm);
+  const TriangleSides true_tool{t.d12 + tolerance(rng), t.d23 + tolerance(rng),
+                                t.d31 + tolerance(rng)};
+  const Pose<double> flange_T_tool =
+      default_tool_mount(options.design.tool, options.tool_offset_mm);
   const Cups<double> tool_local = fixture_cups(true_tool, "tool fixture");
   for (int j = 0; j < 3; ++j) c.tool_cups_flange[j] = flange_T_tool * tool_local[j];
   // The robot puts the setting ball at three points leg_mm apart by its own model; each cup
@@ -52,15 +54,15 @@ SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotMo
   const Eigen::Vector3d ball_flange(0, 0, options.ball_offset_mm);
   for (int i = 0; i < 3; ++i) {
     Pose<double> robot_T_flange;
-    robot_T_flange.R = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix() *
-                       options.placement.R;
+    robot_T_flange.R =
+        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix() * options.placement.R;
     robot_T_flange.p = c.setting_points[i] - robot_T_flange.R * ball_flange;
     const IkResult ik = nominal_ik(*geometry, robot_T_flange);
     const IkSolution* s = nearest_solution(ik, Vector6d::Zero());
     if (s == nullptr)
       throw InputError({"", 0, 0, "--placement"},
-                       fmt::format("the robot cannot put the setting ball at base cup B{} ({})", i + 1,
-                                   to_string(ik.status)));
+                       fmt::format("the robot cannot put the setting ball at base cup B{} ({})",
+                                   i + 1, to_string(ik.status)));
     c.base_cups_sim[i] = true_flange_pose(truth, s->joints) * ball_flange;
   }
   c.tool_sides = measure_sides(c.tool_cups_flange, options.design.tool.d12, options, rng);

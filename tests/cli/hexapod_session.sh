@@ -71,7 +71,7 @@ mkfifo "$tmp/fifo"
 pid=$!
 exec 3> "$tmp/fifo"
 head -n "$valid_before_kill" "$tmp/readings" >&3
-for _ in $(seq 1 200); do
+for _ in $(seq 1 1200); do
   [ -f "$tmp/killed.jsonl" ] && [ "$(wc -l < "$tmp/killed.jsonl")" -ge "$valid_before_kill" ] && break
   sleep 0.05
 done

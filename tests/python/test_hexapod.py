@@ -62,12 +62,18 @@ def test_uncertainty_analytic_matches_monte_carlo():
     assert 2.5 < worst < 4.0  # published: about 3.2 σ
 
 
-def test_world_frame_recovers_a_planar_shift():
+def test_world_frame_keeps_the_measured_triangle_closest_to_the_robot_points():
     sides = [300.004, 299.991, 300.012]
     q = hexapod.triangle_from_sides(sides)
-    phi = math.radians(0.05)
-    moved = q @ rotation([0, 0, 1], phi).T + np.array([0.3, -0.2, 0.0])
+    moved = q @ rotation([1, 2, 0.5], 0.3).T + np.array([450.0, -120.0, 80.0])
     fit = hexapod.fit_world_frame(moved, sides)
     assert fit["converged"]
-    np.testing.assert_allclose(fit["planar"], [0.3, -0.2, 0.05], atol=1e-9)
+    assert fit["rms_mm"] < 1e-9
     np.testing.assert_allclose(fit["corrected"], moved, atol=1e-9)
+    # Robot points off by a few tenths: the corrected triangle keeps the ballbar's sides.
+    noisy = moved + np.array([[0.2, -0.1, 0.0], [-0.1, 0.05, 0.02], [0.0, 0.1, -0.03]])
+    fit = hexapod.fit_world_frame(noisy, sides)
+    c = fit["corrected"]
+    measured = [np.linalg.norm(c[0] - c[1]), np.linalg.norm(c[1] - c[2]), np.linalg.norm(c[2] - c[0])]
+    np.testing.assert_allclose(measured, sides, atol=1e-9)
+    assert 0 < fit["rms_mm"] < 0.3

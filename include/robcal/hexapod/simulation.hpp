@@ -20,7 +20,7 @@
 namespace robcal::hexapod {
 
 struct HexapodCellOptions {
-  HexapodGeometry design;  ///< nominal fixtures and the ballbar's set-up length
+  HexapodGeometry design;              ///< nominal fixtures and the ballbar's set-up length
   double fixture_tolerance_mm = 0.05;  ///< true fixture sides within ± this of the design
   Pose<double> placement;              ///< rough base-fixture placement (cup centroid), robot frame
   double tool_offset_mm = 100;         ///< tool fixture centroid along the flange z
@@ -34,22 +34,21 @@ struct SimulatedHexapodCell {
   TrueRobot truth;
   RobotModel nominal;  ///< the robot file the operator uses
   HexapodCellOptions options;
-  CellSetup cell;  ///< as the operator knows it: fitted world frame, nominal tool mount
-  Cups<double> base_cups_sim;       ///< true cup centres, simulation world frame
-  Cups<double> tool_cups_flange;    ///< true tool cups, flange frame
-  Cups<double> setting_points;      ///< p_i: where the nominal model put the ball, robot frame
-  TriangleSides base_sides;         ///< measured with the ballbar
-  TriangleSides tool_sides;         ///< measured with the ballbar
-  WorldFrameFit world;              ///< robot_T_world from p_i and the measured base sides
-  Pose<double> world_T_sim;         ///< true base fixture frame ← simulation world
+  CellSetup cell;              ///< as the operator knows it: fitted world frame, nominal tool mount
+  Cups<double> base_cups_sim;  ///< true cup centres, simulation world frame
+  Cups<double> tool_cups_flange;  ///< true tool cups, flange frame
+  Cups<double> setting_points;    ///< p_i: where the nominal model put the ball, robot frame
+  TriangleSides base_sides;       ///< measured with the ballbar
+  TriangleSides tool_sides;       ///< measured with the ballbar
+  WorldFrameFit world;            ///< robot_T_world from p_i and the measured base sides
+  Pose<double> world_T_sim;       ///< true base fixture frame ← simulation world
 };
 
 /// Places the base cups with the true robot (nominal inverse kinematics of the setting-ball
 /// points, the configuration nearest the joints' zero), measures the fixture sides and fits the
 /// world frame. Throws InputError when a setting point cannot be reached.
 SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotModel& nominal,
-                                           const HexapodCellOptions& options,
-                                           std::mt19937_64& rng);
+                                           const HexapodCellOptions& options, std::mt19937_64& rng);
 
 /// Readings of the six legs of `pose` with the true robot at `joints` (controller, rad), in
 /// measurement order, or nullopt with `out_of_range` set to the first leg the ballbar cannot
