@@ -30,21 +30,30 @@ PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
   return out;
 }
 
+/// Joint moves beyond which the branch is checked, and beyond which a step is shortened
+/// (near a singularity a full Newton step can leap across the workspace).
+constexpr double kBranchCheckRad = 0.05;
+constexpr double kMaxStepRad = 0.25;
+
 bool within(const PoseError& err, const CalibratedIkOptions& options) {
   return err.position_mm <= options.position_tolerance_mm &&
          err.orientation_rad <= options.orientation_tolerance_rad;
 }
 
-/// Final verdict of a converged iterate: limits decide Converged vs OutsideLimits.
-CalibratedIkResult finish(const Compensator& comp, const Vector6d& joints, const PoseError& err,
-                          int iterations) {
+/// Final verdict of a converged iterate: still in the seed's configuration, then the limits.
+CalibratedIkResult finish(const Compensator& comp, const Vector6d& seed, const Vector6d& joints,
+                          const PoseError& err, int iterations) {
   CalibratedIkResult r;
   r.joints = joints;
   r.iterations = iterations;
   r.position_error_mm = err.position_mm;
   r.orientation_error_rad = err.orientation_rad;
-  r.status = comp.model.within_limits(joints) ? CalibratedIkStatus::Converged
-                                              : CalibratedIkStatus::OutsideLimits;
+  if ((joints - seed).cwiseAbs().maxCoeff() > kBranchCheckRad &&
+      !(arm_config_of(comp.model, joints) == arm_config_of(comp.model, seed)))
+    r.status = CalibratedIkStatus::LeftConfiguration;
+  else
+    r.status = comp.model.within_limits(joints) ? CalibratedIkStatus::Converged
+                                                : CalibratedIkStatus::OutsideLimits;
   return r;
 }
 
@@ -60,6 +69,19 @@ CalibratedIkResult failed(CalibratedIkStatus status, const Vector6d& joints, con
 }
 
 }  // namespace
+
+ArmConfig arm_config_of(const RobotModel& model, const Vector6d& joints) {
+  const auto frames = link_frames(model, PointMass{}, model.nominal().data(), joints.data());
+  const auto q = model_joint_angles(model, joints.data());
+  const Eigen::Vector3d x1 = frames[0].R.col(0), y1 = frames[0].R.col(1);
+  const Eigen::Vector3d S = frames[1].p, E = frames[2].p, W = frames[4].p;
+  const double front = (W - frames[0].p).dot(x1);
+  ArmConfig config;
+  config.back = front < 0;
+  config.down = !((front < 0 ? -1.0 : 1.0) * (W - S).cross(E - S).dot(-y1) > 0);
+  config.flip = std::sin(q[4] + model.mdh[4].theta_offset) < 0;
+  return config;
+}
 
 const char* to_string(CalibratedIkStatus status) {
   switch (status) {
@@ -136,7 +158,7 @@ CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<doub
   Matrix6d J;
   for (int it = 0;; ++it) {
     const PoseError err = pose_error(world_T_tcp, calibrated_tcp_pose(comp.chain, joints, &J));
-    if (within(err, options)) return finish(comp, joints, err, it);
+    if (within(err, options)) return finish(comp, seed, joints, err, it);
     if (it == options.max_iterations)
       return failed(CalibratedIkStatus::NotConverged, joints, err, it);
     const Eigen::PartialPivLU<Matrix6d> lu(J);
@@ -145,8 +167,11 @@ CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<doub
     const double largest = U.diagonal().cwiseAbs().maxCoeff();
     if (!(U.diagonal().cwiseAbs().minCoeff() > 1e-10 * largest))
       return failed(CalibratedIkStatus::Singular, joints, err, it);
-    joints += lu.solve(err.e);
-    if (!joints.allFinite()) return failed(CalibratedIkStatus::Singular, seed, err, it);
+    Vector6d step = lu.solve(err.e);
+    const double largest_step = step.cwiseAbs().maxCoeff();
+    if (!std::isfinite(largest_step)) return failed(CalibratedIkStatus::Singular, seed, err, it);
+    if (largest_step > kMaxStepRad) step *= kMaxStepRad / largest_step;
+    joints += step;
     if ((joints - seed).cwiseAbs().maxCoeff() > options.max_joint_change_rad)
       return failed(CalibratedIkStatus::LeftConfiguration, joints, err, it + 1);
   }
@@ -162,7 +187,7 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
   for (int it = 0;; ++it) {
     const Pose<double> reached = calibrated_tcp_pose(comp.chain, joints);
     const PoseError err = pose_error(world_T_tcp, reached);
-    if (within(err, options)) return finish(comp, joints, err, it);
+    if (within(err, options)) return finish(comp, seed, joints, err, it);
     if (it == options.max_iterations)
       return failed(CalibratedIkStatus::NotConverged, joints, err, it);
     command = command * (reached.inverse() * world_T_tcp);

@@ -29,16 +29,17 @@ struct CalibratedIkOptions {
   int max_iterations = 12;
   double position_tolerance_mm = 1e-7;
   double orientation_tolerance_rad = 1e-9;  ///< ≈ 6e-8°
-  /// A solution further than this from its nominal seed (any joint, rad) has left the seed's
-  /// configuration: calibration errors move joints by far less.
-  double max_joint_change_rad = 0.2;
+  /// An iterate further than this from its nominal seed (any joint, rad) is abandoned: it is
+  /// heading for another turn or branch. Converged answers are also checked to keep the
+  /// seed's arm configuration.
+  double max_joint_change_rad = 1.0;
 };
 
 enum class CalibratedIkStatus : std::uint8_t {
   Converged,          ///< within tolerance, inside the joint limits
   NoNominalSolution,  ///< the nominal inverse has no solution in the configuration asked for
   Singular,           ///< the Jacobian (or the step) degenerated: at or near a singularity
-  LeftConfiguration,  ///< the iteration drifted more than max_joint_change_rad from the seed
+  LeftConfiguration,  ///< drifted beyond max_joint_change_rad, or converged in another branch
   NotConverged,       ///< max_iterations reached
   OutsideLimits,      ///< reaches the pose, but a joint is outside its limits
 };
@@ -75,6 +76,10 @@ Compensator make_compensator(const CalibratedRobot& robot,
 /// nearest to `near` (Euclidean; `near` picks the turn of wide-range joints), or nullopt.
 std::optional<Vector6d> nominal_solution(const Compensator& comp, const Pose<double>& base_T_tcp,
                                          const ArmConfig& config, const Vector6d& near);
+
+/// The arm configuration of controller joints (rad): the definitions of
+/// kinematics/inverse_kinematics.hpp applied to the nominal robot's frames.
+ArmConfig arm_config_of(const RobotModel& model, const Vector6d& joints);
 
 /// TCP pose (controller base frame) of the nominal model: what the controller displays.
 Pose<double> nominal_tcp_pose(const Compensator& comp, const Vector6d& joints);
