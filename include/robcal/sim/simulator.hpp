@@ -1,0 +1,92 @@
+#pragma once
+/// \file
+/// Simulated measurement campaigns: a true robot (sim/true_robot.hpp) moved through planned or
+/// random configurations and read by a virtual instrument (measure/instrument.hpp). The result
+/// is the same MeasurementSet a real instrument's file gives, so the pipeline cannot tell the
+/// difference.
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "robcal/measure/instrument.hpp"
+#include "robcal/measure/measurements.hpp"
+#include "robcal/sim/true_robot.hpp"
+
+namespace robcal {
+
+/// One configuration to measure: controller joints (rad) and the target to read (index into
+/// Tool::targets; −1 lets the instrument pick a visible one).
+struct PlannedConfiguration {
+  std::string name;
+  Vector6d joints = Vector6d::Zero();
+  int target = -1;
+};
+
+/// Reads `config,target,j1..j6` (degrees; what `robcal plan` writes; `target` may be empty or
+/// absent). Errors name the file, line and column. Extra columns are ignored.
+std::vector<PlannedConfiguration> read_configurations_csv(const std::string& path,
+                                                          const Tool& tool);
+
+/// Writes configurations in the same format (round-trips through read_configurations_csv).
+std::string write_configurations_csv(const std::vector<PlannedConfiguration>& configs,
+                                     const Tool& tool);
+
+/// One instrument of the cell, placed in the world (measurement) frame.
+struct VirtualInstrument {
+  InstrumentKind kind = InstrumentKind::LaserTracker;
+  LaserTracker tracker;
+  OpticalCmm cmm;
+  Ballbar ballbar;
+};
+
+/// The instrument of `kind` in a standard cell around `truth`: tracker or CMM at the world
+/// origin, ballbar centre at (300, 0, 250) mm in the robot's base frame with a 150 mm bar.
+/// `noise_mm` > 0 replaces the instrument's σ (per axis; for the CMM the orientation σ scales
+/// with it, as σ / 100 mm).
+VirtualInstrument standard_instrument(InstrumentKind kind, const TrueRobot& truth,
+                                      double noise_mm = 0);
+
+/// A base-frame point (the robot's foot, z up) in the world frame of `truth`.
+Eigen::Vector3d world_from_base(const TrueRobot& truth, const Eigen::Vector3d& p_base_mm);
+
+struct SimulationOptions {
+  /// true: every configuration approached from below (q − 5° on every joint, METHOD §6), which
+  /// cancels backlash; false: the robot moves straight from one configuration to the next.
+  bool approach_from_below = true;
+  double seconds_per_measurement = 20;  ///< clock for thermal drift
+};
+
+struct SimulationResult {
+  MeasurementSet measurements;
+  std::vector<std::string> skipped;  ///< one line per configuration not measured, with why
+};
+
+/// Measures `configs` in order on the true robot. A configuration whose target the instrument
+/// cannot read (not facing the tracker, tool not seen by the CMM, ballbar out of range) is
+/// skipped and listed.
+SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInstrument& instrument,
+                                       const std::vector<PlannedConfiguration>& configs,
+                                       std::mt19937_64& rng, const SimulationOptions& options = {});
+
+/// Joint ranges of the published tests (METHOD §6): θ2 ≥ 0°, θ3 ≥ −80°, |θ1| ≤ 90°,
+/// |θ4| ≤ 150°, |θ5| ≤ 90°, |θ6| ≤ 180°, intersected with the robot's limits (controller values).
+std::array<JointLimit, kJointCount> published_joint_box(const RobotModel& model);
+
+struct RandomConfigurationOptions {
+  std::array<JointLimit, kJointCount> box{};  ///< controller joint ranges, rad
+  double min_target_height_mm = 50;           ///< above the robot's base plane
+  std::string name_prefix = "R";
+  int max_attempts = 2000;  ///< per configuration, before giving up with an InputError
+};
+
+/// `count` random configurations the instrument can measure on the true robot, uniform in the
+/// box, each with the target to read. For the ballbar, each draw is moved (Gauss-Newton on the
+/// joints, nominal geometry at the truth's placement: what the operator's program does) so
+/// that its target sits at the bar's nominal length from the centre.
+std::vector<PlannedConfiguration> random_configurations(const TrueRobot& truth,
+                                                        const VirtualInstrument& instrument,
+                                                        int count, std::mt19937_64& rng,
+                                                        const RandomConfigurationOptions& options);
+
+}  // namespace robcal

@@ -1,0 +1,125 @@
+#include "robcal/design/candidates.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+
+namespace robcal {
+
+JointConstraints unconstrained_joints() {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  JointConstraints c;
+  c.range.fill(JointLimit{-inf, inf});
+  return c;
+}
+
+JointConstraints published_joint_constraints() {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  JointConstraints c;
+  c.range[0] = {deg2rad(-90), deg2rad(90)};
+  c.range[1] = {0, inf};
+  c.range[2] = {deg2rad(-80), inf};
+  c.range[3] = {deg2rad(-150), deg2rad(150)};
+  c.range[4] = {deg2rad(-90), deg2rad(90)};
+  c.range[5] = {deg2rad(-180), deg2rad(180)};
+  return c;
+}
+
+JointConstraints joint_constraints_preset(std::string_view name, std::string_view flag) {
+  if (name == "published") return published_joint_constraints();
+  if (name == "none") return unconstrained_joints();
+  throw InputError(
+      {"", 0, 0, std::string(flag)},
+      fmt::format("unknown constraint preset '{}', expected 'published' or 'none'", name));
+}
+
+namespace {
+
+bool above_floor(const std::array<Pose<double>, kJointCount>& frames, const Tool& tool,
+                 double floor_z_mm) {
+  // Elbow, wrist centre and flange (link frames 3..6) and every target.
+  for (int i = 2; i < kJointCount; ++i)
+    if (frames[i].p.z() < floor_z_mm) return false;
+  for (const Target& t : tool.targets)
+    if ((frames[kJointCount - 1] * t.position_mm).z() < floor_z_mm) return false;
+  return true;
+}
+
+}  // namespace
+
+CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
+                                 const CandidateOptions& options, std::mt19937_64& rng) {
+  if (options.count <= 0)
+    throw InputError(
+        {"", 0, 0, "--candidates"},
+        fmt::format("expected a positive number of candidates, got {}", options.count));
+  if (options.kind != MeasurementKind::Poses && tool.targets.empty())
+    throw InputError({"", 0, 0, "--tool"}, "the tool has no targets to measure");
+  std::array<std::uniform_real_distribution<double>, kJointCount> joint;
+  for (int i = 0; i < kJointCount; ++i) {
+    const double lo = std::max(model.limits[i].lower, options.constraints.range[i].lower);
+    const double hi = std::min(model.limits[i].upper, options.constraints.range[i].upper);
+    if (!(lo <= hi))
+      throw InputError(
+          {"", 0, 0, "--constraints"},
+          fmt::format("joint {} has no feasible range: robot limits [{:.1f}, {:.1f}] "
+                      "deg, constraint [{:.1f}, {:.1f}] deg",
+                      i + 1, rad2deg(model.limits[i].lower), rad2deg(model.limits[i].upper),
+                      rad2deg(options.constraints.range[i].lower),
+                      rad2deg(options.constraints.range[i].upper)));
+    joint[i] = std::uniform_real_distribution<double>(lo, hi);
+  }
+
+  const ParameterVector nominal = model.nominal();
+  const int target_count = static_cast<int>(tool.targets.size());
+  CandidateSet out;
+  out.candidates.reserve(static_cast<size_t>(options.count));
+  const long budget = static_cast<long>(options.count) * options.draws_per_candidate;
+  std::vector<int> visible_targets;
+  while (static_cast<int>(out.candidates.size()) < options.count && out.draws < budget) {
+    ++out.draws;
+    Candidate c;
+    for (int i = 0; i < kJointCount; ++i) c.joints[i] = joint[i](rng);
+    const auto frames = link_frames(model, tool.payload, nominal.data(), c.joints.data());
+    if (!above_floor(frames, tool, options.floor_z_mm)) {
+      ++out.below_floor;
+      continue;
+    }
+    const Pose<double>& world_T_flange = frames[kJointCount - 1];
+    if (options.kind == MeasurementKind::Poses) {
+      if (options.visible && !options.visible(world_T_flange, -1)) {
+        ++out.not_visible;
+        continue;
+      }
+      c.target = -1;
+    } else {
+      visible_targets.clear();
+      for (int t = 0; t < target_count; ++t)
+        if (!options.visible || options.visible(world_T_flange, t)) visible_targets.push_back(t);
+      if (visible_targets.empty()) {
+        ++out.not_visible;
+        continue;
+      }
+      // One target per configuration (METHOD §6: one SMR seen at a time), drawn among the
+      // visible ones so every target gets used.
+      c.target = visible_targets[std::uniform_int_distribution<size_t>(
+          0, visible_targets.size() - 1)(rng)];
+    }
+    out.candidates.push_back(c);
+  }
+  if (out.candidates.empty())
+    throw InputError(
+        {"", 0, 0, out.not_visible > 0 ? "--instrument" : "--constraints"},
+        fmt::format("no feasible candidate configuration in {} random draws: {} had a target or "
+                    "the wrist below the floor (z < {:.1f} mm), {} had no target the "
+                    "instrument can see",
+                    out.draws, out.below_floor, options.floor_z_mm, out.not_visible));
+  return out;
+}
+
+}  // namespace robcal

@@ -1,0 +1,340 @@
+// Configuration design (METHOD §6): observability indices, rank-r information updates,
+// candidates, selection quality against random sets and the continuous D-optimum.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <numeric>
+
+#include "robcal/core/error.hpp"
+#include "robcal/design/candidates.hpp"
+#include "robcal/design/design_matrix.hpp"
+#include "robcal/design/observability.hpp"
+#include "robcal/design/selection.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "test_support.hpp"
+
+namespace robcal {
+namespace {
+
+Eigen::MatrixXd random_matrix(std::mt19937_64& rng, int rows, int cols) {
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd A(rows, cols);
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j) A(i, j) = normal(rng);
+  return A;
+}
+
+TEST(DesignIndices, DiagonalJacobianGivesItsEntriesAsSingularValues) {
+  // σ = 1, 2, 4 from one configuration: O1 = 8^(1/3) = 2, O2 = 1/4, O3 = 1, O4 = 1/4,
+  // O5 = 1/(1 + 1/2 + 1/4) = 4/7.
+  const Eigen::Vector3d s(1, 2, 4);
+  const ObservabilityIndices o = observability_indices(Eigen::MatrixXd(s.asDiagonal()), 1);
+  EXPECT_NEAR(o.O1, 2.0, 1e-12);
+  EXPECT_NEAR(o.O2, 0.25, 1e-12);
+  EXPECT_NEAR(o.O3, 1.0, 1e-12);
+  EXPECT_NEAR(o.O4, 0.25, 1e-12);
+  EXPECT_NEAR(o.O5, 4.0 / 7.0, 1e-12);
+}
+
+TEST(DesignIndices, OrthogonalColumnsOfTwoConfigurations) {
+  // Columns orthogonal with norms 3, 4, 12 (rows of two 3-row configurations):
+  // σ = {12, 4, 3}; O1 = (144)^(1/3)/√2, O2 = 3/12, O3 = 3, O4 = 9/12, O5 = 1/(1/3+1/4+1/12).
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(6, 3);
+  J(0, 0) = 3;        // column 0: norm 3
+  J(1, 1) = 4 * 0.6;  // column 1: (0.6, 0.8)·4 on rows 1 and 4
+  J(4, 1) = 4 * 0.8;
+  J(2, 2) = 12.0 / std::sqrt(2.0);  // column 2: rows 2 and 5
+  J(5, 2) = -12.0 / std::sqrt(2.0);
+  const ObservabilityIndices o = observability_indices(J, 2);
+  EXPECT_NEAR(o.O1, std::cbrt(144.0) / std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(o.O2, 0.25, 1e-12);
+  EXPECT_NEAR(o.O3, 3.0, 1e-12);
+  EXPECT_NEAR(o.O4, 0.75, 1e-12);
+  EXPECT_NEAR(o.O5, 1.0 / (1.0 / 3 + 1.0 / 4 + 1.0 / 12), 1e-12);
+}
+
+TEST(DesignIndices, RankDeficientJacobianScoresZeroNotNaN) {
+  Eigen::MatrixXd J(4, 3);
+  J << 1, 2, 3, 4, 5, 9, 0, 1, 1, 2, 0, 2;  // column 2 = column 0 + column 1
+  const ObservabilityIndices o = observability_indices(J, 2);
+  EXPECT_EQ(o.O1, 0.0);
+  EXPECT_EQ(o.O2, 0.0);
+  EXPECT_EQ(o.O3, 0.0);
+  EXPECT_EQ(o.O4, 0.0);
+  EXPECT_EQ(o.O5, 0.0);
+  // Fewer rows than parameters: rank deficient too.
+  EXPECT_EQ(observability_indices(Eigen::MatrixXd::Identity(2, 3), 1).O1, 0.0);
+}
+
+TEST(DesignInformation, RankThreeUpdatesMatchRecomputation) {
+  SCOPED_TRACE("seed 7");
+  auto rng = test::seeded_rng(7);
+  const int m = 12;
+  InformationMatrix info(m, 1e-6);
+  Eigen::MatrixXd M = Eigen::MatrixXd::Identity(m, m) * 1e-6;
+  std::vector<Eigen::MatrixXd> blocks;
+  for (int k = 0; k < 20; ++k) {
+    blocks.push_back(random_matrix(rng, 3, m));
+    const double predicted_gain = info.gain(blocks.back());
+    const double before = info.log_det();
+    info.add(blocks.back());
+    M += blocks.back().transpose() * blocks.back();
+    EXPECT_NEAR(info.log_det() - before, predicted_gain, 1e-9 * std::abs(predicted_gain));
+  }
+  for (int k = 0; k < 6; ++k) {
+    const Eigen::MatrixXd& A = blocks[static_cast<size_t>(3 * k)];
+    const double predicted_loss = info.loss(A);
+    const double before = info.log_det();
+    info.remove(A);
+    M -= A.transpose() * A;
+    EXPECT_NEAR(info.log_det() - before, predicted_loss, 1e-9 * std::abs(predicted_loss));
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(M);
+  const Eigen::MatrixXd inverse = llt.solve(Eigen::MatrixXd::Identity(m, m));
+  const double log_det = 2 * llt.matrixLLT().diagonal().array().log().sum();
+  EXPECT_NEAR(info.log_det(), log_det, 1e-9 * std::abs(log_det));
+  EXPECT_LE((info.inverse() - inverse).norm(), 1e-9 * inverse.norm());
+  EXPECT_LE((info.matrix() - M).norm(), 1e-12 * M.norm());
+}
+
+TEST(DesignInformation, RankOneUpdatesMatchRecomputation) {
+  auto rng = test::seeded_rng(11);
+  const int m = 5;
+  Eigen::MatrixXd start = random_matrix(rng, 8, m);
+  Eigen::MatrixXd M = start.transpose() * start;
+  InformationMatrix info(M);
+  const Eigen::MatrixXd a = random_matrix(rng, 1, m);
+  // Matrix determinant lemma by hand: det(M + aᵀa) = det M · (1 + a M⁻¹ aᵀ).
+  const double lemma = std::log1p((a * M.inverse() * a.transpose())(0, 0));
+  EXPECT_NEAR(info.gain(a), lemma, 1e-12);
+  info.add(a);
+  M += a.transpose() * a;
+  EXPECT_LE((info.inverse() - M.inverse()).norm(), 1e-9 * M.inverse().norm());
+  EXPECT_NEAR(info.log_det(), std::log(M.determinant()),
+              1e-9 * std::abs(std::log(M.determinant())));
+  // Removing a block that would make M singular is reported as −∞, not NaN.
+  InformationMatrix single(Eigen::MatrixXd(a.transpose() * a + Eigen::MatrixXd::Identity(m, m)));
+  EXPECT_GT(single.loss(a), -std::numeric_limits<double>::infinity());
+  InformationMatrix rank_one(m, 1.0);
+  EXPECT_NEAR(rank_one.gain(a), std::log1p(a.squaredNorm()), 1e-12);
+}
+
+TEST(DesignParameters, LevelSizes) {
+  EXPECT_EQ(level_parameters("base").size(), 6u);
+  EXPECT_EQ(level_parameters("joints").size(), 11u);
+  EXPECT_EQ(level_parameters("kinematic").size(), 26u);
+  EXPECT_EQ(level_parameters("full").size(), 31u);
+  EXPECT_THROW(level_parameters("everything"), InputError);
+}
+
+// Shared IRB 120 candidate set: 5000 feasible configurations, published constraints, the
+// reference tool (three SMRs), points.
+struct Irb120Design {
+  RobotModel model = load_robot("abb-irb120");
+  Tool tool = load_tool(test::data_path("irb120-published/tool.yaml"));
+  std::vector<Candidate> candidates;
+  DesignMatrix design;
+
+  explicit Irb120Design(int count) {
+    auto rng = test::seeded_rng(1);
+    CandidateOptions options;
+    options.count = count;
+    candidates = generate_candidates(model, tool, options, rng).candidates;
+    DesignSettings settings;
+    settings.parameters = level_parameters("full");
+    design = build_design_matrix(model, tool, candidates, settings);
+  }
+};
+
+const Irb120Design& irb120_5000() {
+  static const Irb120Design d(5000);
+  return d;
+}
+
+TEST(DesignCandidates, RespectLimitsConstraintsFloorAndVisibility) {
+  const RobotModel model = load_robot("abb-irb120");
+  const Tool tool = load_tool(test::data_path("irb120-published/tool.yaml"));
+  auto rng = test::seeded_rng(3);
+  CandidateOptions options;
+  options.count = 300;
+  options.floor_z_mm = 100;
+  // An instrument that sees only target 2, and only when it is in front of the robot (x > 0).
+  options.visible = [](const Pose<double>& world_T_flange, int target) {
+    return target == 1 && world_T_flange.p.x() > 0;
+  };
+  const CandidateSet set = generate_candidates(model, tool, options, rng);
+  ASSERT_EQ(set.candidates.size(), 300u);
+  EXPECT_GT(set.below_floor + set.not_visible, 0);
+  const JointConstraints pub = published_joint_constraints();
+  for (const Candidate& c : set.candidates) {
+    EXPECT_EQ(c.target, 1);
+    EXPECT_TRUE(model.within_limits(c.joints));
+    for (int j = 0; j < kJointCount; ++j) {
+      EXPECT_GE(c.joints[j], pub.range[j].lower);
+      EXPECT_LE(c.joints[j], pub.range[j].upper);
+    }
+    const Pose<double> flange = flange_pose(model, tool.payload, model.nominal(), c.joints);
+    EXPECT_GT(flange.p.x(), 0);
+    for (const Target& t : tool.targets) EXPECT_GE((flange * t.position_mm).z(), 100);
+  }
+  // Same seed, same candidates.
+  auto rng2 = test::seeded_rng(3);
+  const CandidateSet again = generate_candidates(model, tool, options, rng2);
+  EXPECT_EQ(again.candidates[17].joints, set.candidates[17].joints);
+}
+
+TEST(DesignCandidates, ClearErrorsWhenNothingIsFeasible) {
+  const RobotModel model = load_robot("abb-irb120");
+  const Tool tool = load_tool(test::data_path("irb120-published/tool.yaml"));
+  auto rng = test::seeded_rng(5);
+  CandidateOptions options;
+  options.count = 10;
+  options.draws_per_candidate = 20;
+  options.visible = [](const Pose<double>&, int) { return false; };
+  try {
+    generate_candidates(model, tool, options, rng);
+    FAIL() << "an instrument that sees nothing must be an error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "--instrument");
+    EXPECT_NE(std::string(e.what()).find("instrument can see"), std::string::npos) << e.what();
+  }
+  options.visible = nullptr;
+  options.floor_z_mm = 5000;  // above the robot's reach
+  EXPECT_THROW(generate_candidates(model, tool, options, rng), InputError);
+  options.floor_z_mm = 0;
+  options.constraints.range[2] = {deg2rad(80), deg2rad(90)};  // IRB 120 joint 3 stops at 70°
+  try {
+    generate_candidates(model, tool, options, rng);
+    FAIL() << "an empty joint range must be an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("joint 3"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(joint_constraints_preset("loose"), InputError);
+}
+
+TEST(DesignMatrixTest, FullModelDropsLink3DAndScalesColumns) {
+  const Irb120Design& d = irb120_5000();
+  ASSERT_EQ(d.design.candidates(), 5000);
+  // Axes 2 and 3 are parallel: link3.d depends on link2.d and is the one dropped (METHOD §3).
+  ASSERT_EQ(d.design.dropped.size(), 1u);
+  EXPECT_EQ(parameter_table()[static_cast<size_t>(d.design.dropped[0])].name, "link3.d");
+  EXPECT_EQ(d.design.columns(), 30);
+  for (int j = 0; j < d.design.columns(); ++j)
+    EXPECT_NEAR(d.design.rows.col(j).norm() / std::sqrt(5000.0), 1.0, 1e-12);
+}
+
+TEST(DesignMatrixTest, PoseRowsMatchFiniteDifferencesOfTheToolPose) {
+  const RobotModel model = load_robot("abb-irb120");
+  Tool tool = load_tool(test::data_path("irb120-published/tool.yaml"));
+  tool.flange_T_tcp.translation() = Eigen::Vector3d(10, 20, 150);
+  tool.flange_T_tcp.linear() =
+      Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).matrix();
+  Candidate c;
+  c.joints << 0.3, 0.5, -0.4, 1.0, 0.7, -0.5;
+  c.target = -1;
+  DesignSettings settings;
+  settings.kind = MeasurementKind::Poses;
+  settings.orientation_lever_mm = 100;
+  ParameterVector params = model.nominal();
+  for (int i = kComplianceOffset; i < kScaleOffset; ++i) params[i] = 1e-7;
+  const Eigen::MatrixXd J = candidate_jacobian(model, tool, params, c, settings);
+  const Eigen::Isometry3d tcp = tool.flange_T_tcp;
+  const auto tool_pose = [&](const Eigen::VectorXd& x) {
+    const Pose<double> f = flange_pose(model, tool.payload, ParameterVector(x), c.joints);
+    return std::pair<Eigen::Matrix3d, Eigen::Vector3d>{f.R * tcp.linear(), f * tcp.translation()};
+  };
+  const auto [R0, p0] = tool_pose(params);
+  // Position, and the rotation vector of R(x)·R0ᵀ times the lever arm.
+  const auto f = [&](const Eigen::VectorXd& x) {
+    const auto [R, p] = tool_pose(x);
+    const Eigen::AngleAxisd aa(R * R0.transpose());
+    Eigen::VectorXd out(6);
+    out << p, 100.0 * aa.angle() * aa.axis();
+    return out;
+  };
+  const Eigen::MatrixXd numeric = test::numerical_jacobian(f, params, 1e-7);
+  for (int col = 0; col < kParameterCount; ++col) {
+    // Compliance columns need a larger step: use a relative check on their scale.
+    const double scale = std::max(1.0, numeric.col(col).norm());
+    EXPECT_LE((J.col(col) - numeric.col(col)).norm(), 2e-5 * scale) << "column " << col;
+  }
+}
+
+TEST(DesignSelection, DOptimalBeatsRandomAndIsNearTheContinuousOptimum) {
+  const Irb120Design& d = irb120_5000();
+  const Selection fast = select_d_optimal(d.design, 40);
+  ASSERT_EQ(fast.chosen.size(), 40u);
+  EXPECT_NEAR(fast.log_det, information_log_det(d.design, fast.chosen), 1e-9);
+  const ObservabilityIndices chosen = observability_indices(d.design, fast.chosen);
+
+  // 20 random 40-sets from the same candidates.
+  auto rng = test::seeded_rng(2);
+  std::vector<int> all(5000);
+  std::iota(all.begin(), all.end(), 0);
+  const ContinuousDesign optimum = d_optimal_continuous(d.design);
+  ASSERT_TRUE(optimum.converged);
+  double best_random_o1 = 0, mean_random_eff = 0;
+  for (int k = 0; k < 20; ++k) {
+    std::shuffle(all.begin(), all.end(), rng);
+    const std::vector<int> random(all.begin(), all.begin() + 40);
+    best_random_o1 = std::max(best_random_o1, observability_indices(d.design, random).O1);
+    mean_random_eff += d_efficiency(d.design, random, optimum) / 20;
+  }
+  const double efficiency = d_efficiency(d.design, fast.chosen, optimum);
+  std::printf(
+      "[ design ] IRB 120 full, points, 40 of 5000: O1 selected %.4f, best of 20 random "
+      "%.4f; D-efficiency selected %.4f, random mean %.4f (continuous gap %.1e, %d "
+      "iterations)\n",
+      chosen.O1, best_random_o1, efficiency, mean_random_eff, optimum.gap, optimum.iterations);
+  RecordProperty("d_efficiency", std::to_string(efficiency));
+  EXPECT_GT(chosen.O1, best_random_o1);
+  EXPECT_GE(efficiency, 0.95);
+  EXPECT_LT(mean_random_eff, efficiency);
+}
+
+TEST(DesignSelection, PublishedExchangeImprovesOnItsStart) {
+  const Irb120Design d(150);
+  auto rng = test::seeded_rng(4);
+  const Selection published = select_published_exchange(d.design, 30, rng);
+  ASSERT_EQ(published.chosen.size(), 30u);
+  std::vector<int> unique = published.chosen;
+  std::sort(unique.begin(), unique.end());
+  EXPECT_EQ(std::unique(unique.begin(), unique.end()), unique.end());
+  const Selection fast = select_d_optimal(d.design, 30);
+  const double o1_published = observability_indices(d.design, published.chosen).O1;
+  const double o1_fast = observability_indices(d.design, fast.chosen).O1;
+  // Random 30-sets of these candidates for comparison.
+  auto rng2 = test::seeded_rng(5);
+  std::vector<int> all(150);
+  std::iota(all.begin(), all.end(), 0);
+  double best_random = 0;
+  for (int k = 0; k < 10; ++k) {
+    std::shuffle(all.begin(), all.end(), rng2);
+    best_random = std::max(
+        best_random,
+        observability_indices(d.design, std::vector<int>(all.begin(), all.begin() + 30)).O1);
+  }
+  std::printf(
+      "[ design ] 30 of 150: O1 published exchange %.4f, fast D-optimal %.4f, best "
+      "random %.4f\n",
+      o1_published, o1_fast, best_random);
+  EXPECT_GT(o1_published, best_random);
+  EXPECT_GE(o1_fast, 0.98 * o1_published);
+}
+
+TEST(DesignSelection, CountBelowIdentifiableParametersIsAnError) {
+  const Irb120Design d(200);
+  try {
+    select_d_optimal(d.design, 9);  // 27 equations for 30 parameters
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().key, "--count");
+    EXPECT_NE(std::string(e.what()).find("at least 10"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(select_d_optimal(d.design, 201), InputError);
+}
+
+}  // namespace
+}  // namespace robcal
