@@ -64,6 +64,7 @@ struct Compensator {
   /// where the calibrated model puts it, world_T_base = world_A_1(q1=0) · base_A_1(q1=0)⁻¹.
   Pose<double> world_T_base;
   Pose<double> flange_T_tcp;
+  PointMass payload;  ///< the payload the compliance is computed for
 };
 
 /// Builds the compensator of a calibrated robot; `payload` overrides the tool's (the
