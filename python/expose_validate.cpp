@@ -139,28 +139,30 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         d["histogram"] = histogram_dict(r.histogram);
         return d;
       },
-      py::arg("measured_mm"), py::arg("modelled_mm"), py::arg("threads") = 2,
-      py::arg("bins") = 128,
+      py::arg("measured_mm"), py::arg("modelled_mm"), py::arg("threads") = 2, py::arg("bins") = 128,
       "Distance errors | |m_i − m_j| − |p_i − p_j| | over every pair of rows (N×3 arrays, mm): "
       "count (= pairs), mean, std, min, max, histogram; the same for any thread count");
 
   m.def(
       "validate",
       [](const std::string& robot_name, const std::string& tool_file,
-         const std::string& measurements, bool fit_base_first, int threads) {
+         const std::string& measurements, const std::string& model_file, bool fit_base_first,
+         int threads) {
         return checked([&] {
-          const RobotModel model = load_robot(robot_name);
           const Tool tool = load_tool(tool_file);
+          CalibratedRobot robot = model_file.empty()
+                                      ? CalibratedRobot::nominal(load_robot(robot_name), tool)
+                                      : load_calibrated_robot(model_file);
+          if (robot.tool.targets.empty()) robot.tool = tool;
           const MeasurementSet set =
-              read_measurements_csv(measurements, tool,
+              read_measurements_csv(measurements, robot.tool,
                                     {MeasurementKind::Points, MeasurementKind::Poses})
                   .measurements;
-          CalibratedRobot robot = CalibratedRobot::nominal(model, tool);
-          if (!fit_base_first)
+          if (!robot.base_fitted && !fit_base_first)
             throw InputError({measurements, 0, 0, "fit_base"},
-                             "the nominal robot has no world frame: pass fit_base=True, or "
-                             "calibrate with --level base");
-          robot = fit_base(robot, set);
+                             "the model has no world frame (its base was never fitted): pass "
+                             "fit_base=True, or calibrate with --level base");
+          if (!robot.base_fitted) robot = fit_base(robot, set);
           const ValidationReport report = validate_model(robot, set, threads);
           py::dict d;
           d["points"] = set.size();
@@ -180,9 +182,10 @@ const bool registered = register_bindings(60, [](py::module_& m) {
           return d;
         });
       },
-      py::arg("robot"), py::arg("tool_file"), py::arg("measurements"), py::arg("fit_base") = false,
-      py::arg("threads") = 2,
-      "Validates the nominal robot (placed by a rigid best fit when fit_base=True) against a "
+      py::arg("robot"), py::arg("tool_file"), py::arg("measurements"), py::arg("model") = "",
+      py::arg("fit_base") = false, py::arg("threads") = 2,
+      "Validates a calibrated model file (`model`), or the nominal robot `robot`, (placed by a "
+      "rigid best fit when it has no world frame and fit_base=True) against a "
       "points or poses file: position errors overall and per target, histogram, and distance "
       "errors over every pair of rows (METHOD §9)");
 });
