@@ -76,6 +76,7 @@ CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
   }
 
   const ParameterVector nominal = model.nominal();
+  const ParameterVector placed = options.instrument_frame_params.value_or(nominal);
   const int target_count = static_cast<int>(tool.targets.size());
   CandidateSet out;
   out.candidates.reserve(static_cast<size_t>(options.count));
@@ -90,7 +91,9 @@ CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
       ++out.below_floor;
       continue;
     }
-    const Pose<double>& world_T_flange = frames[kJointCount - 1];
+    const Pose<double> world_T_flange = options.instrument_frame_params
+                                            ? flange_pose(model, tool.payload, placed, c.joints)
+                                            : frames[kJointCount - 1];
     if (options.kind == MeasurementKind::Poses) {
       if (options.visible && !options.visible(world_T_flange, -1)) {
         ++out.not_visible;
@@ -114,7 +117,7 @@ CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
   }
   if (out.candidates.empty())
     throw InputError(
-        {"", 0, 0, out.not_visible > 0 ? "--instrument" : "--constraints"},
+        {"", 0, 0, out.not_visible > 0 ? "--instrument" : "--floor-mm"},
         fmt::format("no feasible candidate configuration in {} random draws: {} had a target or "
                     "the wrist below the floor (z < {:.1f} mm), {} had no target the "
                     "instrument can see",

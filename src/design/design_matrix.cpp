@@ -44,6 +44,13 @@ int rows_for(MeasurementKind kind) {
 
 }  // namespace
 
+ParameterVector linearisation_params(const RobotModel& model, const DesignSettings& settings) {
+  ParameterVector params = settings.linearisation.value_or(model.nominal());
+  for (int i = kComplianceOffset; i < kScaleOffset; ++i)
+    if (params[i] == 0.0) params[i] = kComplianceProbe;
+  return params;
+}
+
 Eigen::MatrixXd candidate_jacobian(const RobotModel& model, const Tool& tool,
                                    const ParameterVector& params, const Candidate& candidate,
                                    const DesignSettings& settings) {
@@ -88,9 +95,7 @@ Eigen::MatrixXd candidate_jacobian(const RobotModel& model, const Tool& tool,
 DesignMatrix build_design_matrix(const RobotModel& model, const Tool& tool,
                                  const std::vector<Candidate>& candidates,
                                  const DesignSettings& settings) {
-  ParameterVector params = settings.linearisation.value_or(model.nominal());
-  for (int i = kComplianceOffset; i < kScaleOffset; ++i)
-    if (params[i] == 0.0) params[i] = kComplianceProbe;
+  const ParameterVector params = linearisation_params(model, settings);
   const int r = rows_for(settings.kind);
   const auto n = static_cast<Eigen::Index>(candidates.size());
   const auto m = static_cast<Eigen::Index>(settings.parameters.size());

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <random>
 #include <string_view>
 #include <vector>
@@ -51,6 +52,10 @@ struct CandidateOptions {
   MeasurementKind kind = MeasurementKind::Points;
   /// Empty: the instrument sees everything.
   VisibilityPredicate visible;
+  /// The robot's parameters in the instrument's frame (its base placement), used for the
+  /// flange pose given to `visible`; empty: the nominal robot at the origin. The floor is
+  /// always tested in the robot's base frame.
+  std::optional<ParameterVector> instrument_frame_params;
 };
 
 /// One candidate measurement: a configuration and the target it measures (-1: the tool pose).

@@ -65,6 +65,10 @@ struct DesignMatrix {
   [[nodiscard]] Eigen::MatrixXd stacked(const std::vector<int>& subset) const;
 };
 
+/// The parameters the design is linearised at: settings.linearisation or the nominal robot,
+/// zero compliances replaced by kComplianceProbe.
+ParameterVector linearisation_params(const RobotModel& model, const DesignSettings& settings);
+
 /// Unscaled identification Jacobian rows of one candidate for every layout parameter
 /// (rows_per_candidate × kParameterCount) at `params` (used as given).
 Eigen::MatrixXd candidate_jacobian(const RobotModel& model, const Tool& tool,

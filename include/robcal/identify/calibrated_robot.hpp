@@ -20,7 +20,8 @@ struct CalibratedRobot {
   RobotModel model;
   ParameterVector params = ParameterVector::Zero();  ///< values in use (internal units)
   std::array<ParameterStatus, kParameterCount> status{};
-  std::array<std::string, kParameterCount> reason{};  ///< for Dropped: which parameters it depends on
+  std::array<std::string, kParameterCount>
+      reason{};  ///< for Dropped: which parameters it depends on
   /// Covariance of all parameters (internal units), zero rows/columns for the non-identified;
   /// empty when unknown (a truth file, a nominal robot).
   Eigen::MatrixXd covariance;

@@ -68,6 +68,16 @@ Pose<T> base_transform(const T* params, const T& d1, const T& theta1) {
   return A;
 }
 
+/// True when x is non-zero or, for a ceres::Jet, carries a derivative: a compliance of zero
+/// must still be differentiated.
+template <typename T>
+bool is_nonzero(const T& x) {
+  if constexpr (requires { x.v; })
+    return x.a != 0.0 || !x.v.isZero(0.0);
+  else
+    return x != T(0);
+}
+
 }  // namespace detail
 
 /// Model joint angles (rad) from controller joint values (rad), through the robot's joint map.
@@ -132,7 +142,7 @@ std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass&
     theta[link - 1] = params[scale_param(link)] * q[link - 1] + params[link_param(link, 2)];
   bool compliant = false;
   for (int link = 2; link <= kJointCount; ++link)
-    compliant = compliant || params[compliance_param(link)] != T(0);
+    compliant = compliant || detail::is_nonzero(params[compliance_param(link)]);
   if (compliant) {
     const std::array<T, 5> tau = gravity_torques(model, payload, params, theta);
     for (int link = 2; link <= kJointCount; ++link)

@@ -1,0 +1,232 @@
+/// `robcal calibrate`: identify a robot's parameters from measurements (METHOD §5) and write
+/// the calibrated model.
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <iostream>
+
+#include "cli_common.hpp"
+#include "command_registry.hpp"
+#include "robcal/identify/cross_validation.hpp"
+#include "robcal/identify/identification.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/io/measurement_file.hpp"
+#include "robcal/io/robot_file.hpp"
+
+namespace robcal::cli {
+namespace {
+
+struct CalibrateArgs {
+  std::string robot, tool, measurements, level = "full", loss = "none", out;
+  std::vector<std::string> identify, fix;
+  double huber_scale = 0;
+  double orientation_weight = kDefaultOrientationWeightMm;
+  int kfold = 0;
+  uint64_t seed = 1;
+  bool json = false;
+};
+
+const char* status_text(ParameterStatus s) {
+  return s == ParameterStatus::Identified ? "identified"
+         : s == ParameterStatus::Dropped  ? "dropped"
+                                          : "fixed";
+}
+
+nlohmann::json to_json(const IdentificationResult& r, const CrossValidation* cv,
+                       const CalibrateArgs& args, size_t rows) {
+  nlohmann::json out;
+  out["robot"] = r.robot.model.name;
+  out["level"] = r.robot.level;
+  out["rows"] = rows;
+  out["converged"] = r.status.converged;
+  out["iterations"] = r.status.iterations;
+  out["solver_message"] = r.status.message;
+  out["residuals"] = r.residual_count;
+  out["identified"] = r.identified_count;
+  out["initial_rms_mm"] = tidy(r.status.initial_rms_mm);
+  out["rms_mm"] = tidy(r.rms_mm);
+  out["max_mm"] = tidy(r.max_mm);
+  out["sigma_mm"] = tidy(r.sigma_mm);
+  out["condition_number"] = r.condition_number;
+  if (r.huber_scale_mm > 0) out["huber_scale_mm"] = tidy(r.huber_scale_mm);
+  out["by_target"] = nlohmann::json::array();
+  for (const auto& t : r.by_target)
+    out["by_target"].push_back({{"target", t.target},
+                                {"rows", t.rows},
+                                {"rms_mm", tidy(t.rms_mm)},
+                                {"max_mm", tidy(t.max_mm)}});
+  out["parameters"] = nlohmann::json::array();
+  for (const auto& u : r.unknowns) {
+    nlohmann::json p = {{"name", u.name},
+                        {"unit", u.unit},
+                        {"nominal", tidy(u.nominal, 12)},
+                        {"value", tidy(u.value, 12)},
+                        {"std", u.std_dev},
+                        {"status", status_text(u.status)}};
+    if (!u.reason.empty()) p["reason"] = u.reason;
+    out["parameters"].push_back(p);
+  }
+  out["correlations"] = nlohmann::json::array();
+  for (const auto& c : r.correlations)
+    out["correlations"].push_back(
+        {{"first", c.first}, {"second", c.second}, {"rho", tidy(c.rho, 6)}});
+  out["suspected_outliers"] = nlohmann::json::array();
+  for (const auto& o : r.outliers)
+    out["suspected_outliers"].push_back(
+        {{"config", o.config}, {"line", o.line}, {"residual_mm", tidy(o.residual_mm)}});
+  const PredictedAccuracy& p = r.predicted;
+  out["predicted_position_error_mm"] = {
+      {"configurations", p.configurations},
+      {"seed", args.seed},
+      {"against_truth",
+       {{"mean", tidy(p.mean_mm)}, {"rms", tidy(p.rms_mm)}, {"max", tidy(p.max_mm)}}},
+      {"against_new_measurements",
+       {{"mean", tidy(p.mean_vs_measurements_mm)}, {"rms", tidy(p.rms_vs_measurements_mm)}}}};
+  if (cv)
+    out["cross_validation"] = {{"folds", cv->folds},
+                               {"seed", cv->seed},
+                               {"rows", cv->errors_mm.size()},
+                               {"error_mm",
+                                {{"mean", tidy(cv->mean_mm)},
+                                 {"std", tidy(cv->std_mm)},
+                                 {"mean_plus_3std", tidy(cv->mean_plus_3std_mm())},
+                                 {"max", tidy(cv->max_mm)}}}};
+  out["output"] = args.out;
+  return out;
+}
+
+void print_report(const IdentificationResult& r, const CrossValidation* cv,
+                  const CalibrateArgs& args, const MeasurementSet& data) {
+  fmt::print("calibrated {} at level {} from {} {} rows ({})\n", r.robot.model.name, r.robot.level,
+             data.size(), measurement_kind_name(data.kind), data.file);
+  fmt::print("solver: {} after {} iterations ({})\n",
+             r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations,
+             r.status.message);
+  fmt::print(
+      "residuals: rms {:.4f} mm, max {:.4f} mm (start {:.4f} mm after the rigid fit); "
+      "σ {:.4f} mm per residual ({} residuals, {} unknowns)\n",
+      r.rms_mm, r.max_mm, r.status.initial_rms_mm, r.sigma_mm, r.residual_count,
+      r.identified_count);
+  for (const auto& t : r.by_target)
+    fmt::print("  target {:<8} {:>4} rows  rms {:.4f}  max {:.4f} mm\n", t.target, t.rows, t.rms_mm,
+               t.max_mm);
+  fmt::print("\nparameters (value ± 1σ; nominal):\n");
+  int fixed = 0;
+  for (const auto& u : r.unknowns) {
+    if (u.status == ParameterStatus::Fixed) {
+      ++fixed;
+      continue;
+    }
+    if (u.status == ParameterStatus::Dropped) {
+      fmt::print("  {:<22} dropped, {}\n", u.name, u.reason);
+      continue;
+    }
+    fmt::print("  {:<22} {:>16.6g} ± {:<10.3g} {:<9} (nominal {:.6g})\n", u.name, u.value,
+               u.std_dev, u.unit, u.nominal);
+  }
+  fmt::print("  ({} parameters held at their nominal values)\n", fixed);
+  if (!r.correlations.empty()) {
+    fmt::print("strongest correlations:");
+    for (size_t i = 0; i < r.correlations.size() && i < 5; ++i)
+      fmt::print("{} {}~{} {:+.3f}", i ? "," : "", r.correlations[i].first,
+                 r.correlations[i].second, r.correlations[i].rho);
+    fmt::print("\n");
+  }
+  if (!r.outliers.empty()) {
+    fmt::print("suspected outliers (residual beyond 4 robust σ):\n");
+    for (const auto& o : r.outliers)
+      fmt::print("  config {} (line {}): {:.4f} mm\n", o.config, o.line, o.residual_mm);
+  }
+  const PredictedAccuracy& p = r.predicted;
+  fmt::print(
+      "predicted position error over {} configurations in the measured joint ranges "
+      "(seed {}):\n  against the true robot:    mean {:.4f}  rms {:.4f}  max {:.4f} mm\n"
+      "  against new measurements:  mean {:.4f}  rms {:.4f} mm (adds σ = {:.4f} mm per "
+      "axis of instrument noise)\n",
+      p.configurations, args.seed, p.mean_mm, p.rms_mm, p.max_mm, p.mean_vs_measurements_mm,
+      p.rms_vs_measurements_mm, p.measurement_sigma_mm);
+  if (cv)
+    fmt::print(
+        "cross-validation ({} folds, seed {}), held-out error over {} rows: mean {:.4f}  "
+        "std {:.4f}  mean+3std {:.4f}  max {:.4f} mm\n",
+        cv->folds, cv->seed, cv->errors_mm.size(), cv->mean_mm, cv->std_mm, cv->mean_plus_3std_mm(),
+        cv->max_mm);
+  fmt::print("written {}\n", args.out);
+}
+
+void run_calibrate(const CalibrateArgs& args) {
+  const RobotModel model = load_robot(args.robot);
+  const Tool tool = load_tool(args.tool);
+  const MeasurementFile file = read_measurements_csv(args.measurements, tool);
+  for (const std::string& w : file.warnings) std::cerr << "warning: " << w << "\n";
+  if (args.loss != "none" && args.loss != "huber")
+    throw InputError({"", 0, 0, "--loss"},
+                     fmt::format("unknown loss '{}': expected none or huber", args.loss));
+  IdentifyOptions options;
+  options.level = parse_calibration_level(args.level);
+  options.identify = args.identify;
+  options.fix = args.fix;
+  options.huber = args.loss == "huber";
+  options.huber_scale_mm = args.huber_scale;
+  options.orientation_weight_mm = args.orientation_weight;
+  options.seed = args.seed;
+  const bool progress = !args.json && stdout_is_terminal();
+  if (progress) fmt::print("calibrating ({} rows)…\n", file.measurements.size());
+  const IdentificationResult result = calibrate(model, tool, file.measurements, options);
+  CrossValidation cv;
+  if (args.kfold != 0) {
+    if (progress) fmt::print("cross-validating ({} folds)…\n", args.kfold);
+    cv = cross_validate(model, tool, file.measurements, options, args.kfold, args.seed);
+  }
+  YAML::Node statistics = YAML::Load(statistics_yaml(result));
+  if (args.kfold != 0) {
+    statistics["cross_validation"]["folds"] = cv.folds;
+    statistics["cross_validation"]["seed"] = cv.seed;
+    statistics["cross_validation"]["mean_mm"] = cv.mean_mm;
+    statistics["cross_validation"]["std_mm"] = cv.std_mm;
+    statistics["cross_validation"]["max_mm"] = cv.max_mm;
+  }
+  YAML::Emitter emitter;
+  emitter.SetDoublePrecision(9);
+  emitter << statistics;
+  write_file_atomically(args.out, calibrated_robot_to_yaml(result.robot, emitter.c_str()));
+  if (!result.status.converged)
+    std::cerr << "warning: the solver did not converge: " << result.status.message << "\n";
+  if (args.json)
+    print_json(to_json(result, args.kfold ? &cv : nullptr, args, file.measurements.size()));
+  else
+    print_report(result, args.kfold ? &cv : nullptr, args, file.measurements);
+}
+
+const bool registered = register_command(30, [](CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "calibrate",
+      "Identify the robot's parameters from measurements and write the calibrated model");
+  auto args = std::make_shared<CalibrateArgs>();
+  cmd->add_option("--robot", args->robot, "Built-in robot name or robot file")->required();
+  cmd->add_option("--tool", args->tool, "Tool file (payload, targets, tcp)")->required();
+  cmd->add_option("--measurements", args->measurements,
+                  "Measurement CSV (points, poses or distances)")
+      ->required();
+  cmd->add_option("--level", args->level, "base, joints, kinematic or full (default full)");
+  cmd->add_option("--identify", args->identify,
+                  "Also identify the parameters matching this glob (repeatable), e.g. "
+                  "'joint*.scale'");
+  cmd->add_option("--fix", args->fix,
+                  "Hold the parameters matching this glob at nominal (repeatable), e.g. 'link6.*'");
+  cmd->add_option("--loss", args->loss, "none (least squares) or huber (robust; lists outliers)");
+  cmd->add_option("--huber-scale", args->huber_scale,
+                  "Huber threshold in mm (default: 3 × the robust σ of a least-squares pass)");
+  cmd->add_option("--orientation-weight", args->orientation_weight,
+                  "Pose measurements: mm per rad of orientation error (default 100)");
+  cmd->add_option("--kfold", args->kfold, "Estimate accuracy by K-fold cross-validation");
+  cmd->add_option("--seed", args->seed,
+                  "Seed of the cross-validation folds and predicted-accuracy samples (default 1)");
+  cmd->add_flag("--json", args->json, "Machine-readable summary on stdout");
+  cmd->add_option("--out", args->out, "Calibrated model file to write (YAML)")->required();
+  cmd->callback([args] { run_calibrate(*args); });
+});
+
+}  // namespace
+}  // namespace robcal::cli

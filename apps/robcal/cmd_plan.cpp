@@ -1,0 +1,287 @@
+/// `robcal plan`: choose the configurations to measure (METHOD §6) and predict the accuracy
+/// they give before measuring.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <memory>
+#include <numeric>
+
+#include "cli_common.hpp"
+#include "command_registry.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/design/candidates.hpp"
+#include "robcal/design/design_matrix.hpp"
+#include "robcal/design/observability.hpp"
+#include "robcal/design/predicted_accuracy.hpp"
+#include "robcal/design/selection.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/sim/simulator.hpp"
+
+namespace robcal::cli {
+namespace {
+
+struct PlanOptions {
+  std::string robot = "abb-irb120";
+  std::string tool;
+  std::string instrument = "laser-tracker";
+  std::string level = "full";
+  int count = 40;
+  int candidates = 5000;
+  uint64_t seed = 1;
+  std::string constraints = "published";
+  double floor_mm = 50;
+  double noise_mm = 0;
+  std::string method = "fast";
+  std::string task_configs;
+  int task_count = 1000;
+  std::string out;
+  bool json = false;
+};
+
+nlohmann::json indices_json(const ObservabilityIndices& o) {
+  return {{"O1", tidy(o.O1)},
+          {"O2", tidy(o.O2)},
+          {"O3", tidy(o.O3)},
+          {"O4", tidy(o.O4)},
+          {"O5", tidy(o.O5)}};
+}
+
+double instrument_sigma(const VirtualInstrument& instrument) {
+  switch (instrument.kind) {
+    case InstrumentKind::LaserTracker:
+      return instrument.tracker.sigma_mm.maxCoeff();
+    case InstrumentKind::OpticalCmm:
+      return instrument.cmm.sigma_mm;
+    case InstrumentKind::Ballbar:
+      return instrument.ballbar.sigma_mm;
+  }
+  return 0;
+}
+
+/// The planning cell: the nominal robot placed as in the simulator's standard cell, so the
+/// instrument's placement and visibility are those `robcal simulate` uses.
+TrueRobot planning_cell(const RobotModel& model, const Tool& tool) {
+  TrueRobot cell;
+  cell.robot = CalibratedRobot::nominal(model, tool);
+  const std::array<double, 6> base = default_base_placement();
+  for (int i = 0; i < 3; ++i) cell.robot.params[i] = base[static_cast<size_t>(i)];
+  for (int i = 3; i < 6; ++i) cell.robot.params[i] = deg2rad(base[static_cast<size_t>(i)]);
+  cell.robot.base_fitted = true;
+  cell.origin = "nominal robot in the standard cell";
+  return cell;
+}
+
+std::vector<Candidate> plan_candidates(const PlanOptions& o, const TrueRobot& cell,
+                                       const VirtualInstrument& instrument,
+                                       const JointConstraints& constraints, std::mt19937_64& rng) {
+  const RobotModel& model = cell.robot.model;
+  const Tool& tool = cell.robot.tool;
+  if (instrument.kind == InstrumentKind::Ballbar) {
+    // Ballbar configurations must put the target on the bar's sphere (±1 mm): the simulator's
+    // generator moves each draw there, exactly as the measuring program will.
+    RandomConfigurationOptions options;
+    for (int j = 0; j < kJointCount; ++j)
+      options.box[static_cast<size_t>(j)] = {
+          std::max(model.limits[j].lower, constraints.range[j].lower),
+          std::min(model.limits[j].upper, constraints.range[j].upper)};
+    options.min_target_height_mm = o.floor_mm;
+    try {
+      std::vector<Candidate> out;
+      for (const PlannedConfiguration& c :
+           random_configurations(cell, instrument, o.candidates, rng, options))
+        out.push_back({c.joints, c.target});
+      return out;
+    } catch (const InputError& e) {
+      throw InputError({"", 0, 0, "--instrument"}, e.what());
+    }
+  }
+  CandidateOptions options;
+  options.constraints = constraints;
+  options.floor_z_mm = o.floor_mm;
+  options.count = o.candidates;
+  options.instrument_frame_params = cell.robot.params;
+  if (instrument.kind == InstrumentKind::LaserTracker) {
+    options.kind = MeasurementKind::Points;
+    options.visible = [&](const Pose<double>& world_T_flange, int target) {
+      const Eigen::Vector3d& t = tool.targets[static_cast<size_t>(target)].position_mm;
+      return smr_visible(instrument.tracker, world_T_flange * t,
+                         world_T_flange.R * smr_axis_flange(instrument.tracker, tool, target));
+    };
+  } else {
+    options.kind = MeasurementKind::Poses;
+    options.visible = [&](const Pose<double>& world_T_flange, int) {
+      return cmm_sees_tool(instrument.cmm, world_T_flange, tool);
+    };
+  }
+  const CandidateSet set = generate_candidates(model, tool, options, rng);
+  if (static_cast<int>(set.candidates.size()) < o.candidates && !o.json)
+    fmt::print(
+        "note: only {} of {} candidates found in {} draws ({} below the floor, {} not "
+        "seen by the instrument)\n",
+        set.candidates.size(), o.candidates, set.draws, set.below_floor, set.not_visible);
+  return set.candidates;
+}
+
+void run_plan(const PlanOptions& o) {
+  if (o.out.empty()) throw InputError({"", 0, 0, "--out"}, "expected an output file");
+  if (o.count <= 0)
+    throw InputError({"", 0, 0, "--count"},
+                     fmt::format("expected a positive count, got {}", o.count));
+  if (o.method != "fast" && o.method != "published")
+    throw InputError({"", 0, 0, "--method"},
+                     fmt::format("unknown method '{}', expected 'fast' or 'published'", o.method));
+  if (o.noise_mm < 0) throw InputError({"", 0, 0, "--noise-mm"}, "expected a non-negative noise");
+  const RobotModel model = load_robot(o.robot);
+  const Tool tool = o.tool.empty() ? default_simulation_tool() : load_tool(o.tool);
+  const InstrumentKind kind = parse_instrument_kind(o.instrument, "--instrument");
+  const JointConstraints constraints = joint_constraints_preset(o.constraints);
+  std::vector<int> parameters = level_parameters(o.level);
+  const TrueRobot cell = planning_cell(model, tool);
+  const VirtualInstrument instrument = standard_instrument(kind, cell, o.noise_mm);
+  std::mt19937_64 rng(o.seed);
+
+  const std::vector<Candidate> candidates = plan_candidates(o, cell, instrument, constraints, rng);
+  DesignSettings settings;
+  settings.kind = kind == InstrumentKind::LaserTracker ? MeasurementKind::Points
+                  : kind == InstrumentKind::OpticalCmm ? MeasurementKind::Poses
+                                                       : MeasurementKind::Distances;
+  settings.parameters = parameters;
+  settings.linearisation = cell.robot.params;
+  settings.ballbar_centre_mm = instrument.ballbar.centre_mm;
+  const DesignMatrix design = build_design_matrix(model, tool, candidates, settings);
+
+  const Selection chosen = o.method == "fast" ? select_d_optimal(design, o.count)
+                                              : select_published_exchange(design, o.count, rng);
+  std::vector<int> random(static_cast<size_t>(design.candidates()));
+  std::iota(random.begin(), random.end(), 0);
+  std::shuffle(random.begin(), random.end(), rng);
+  random.resize(static_cast<size_t>(o.count));
+
+  const ObservabilityIndices selected_o = observability_indices(design, chosen.chosen);
+  const ObservabilityIndices random_o = observability_indices(design, random);
+  const ContinuousDesign optimum = d_optimal_continuous(design);
+  const double eff_selected = d_efficiency(design, chosen.chosen, optimum);
+  const double eff_random = d_efficiency(design, random, optimum);
+
+  // Predicted accuracy of the TCP over the task region: the given configurations, or random
+  // ones in the constrained joint box above the floor.
+  std::vector<Vector6d> task;
+  if (!o.task_configs.empty()) {
+    for (const PlannedConfiguration& c : read_configurations_csv(o.task_configs, tool))
+      task.push_back(c.joints);
+  } else {
+    CandidateOptions region;
+    region.constraints = constraints;
+    region.floor_z_mm = o.floor_mm;
+    region.count = o.task_count;
+    for (const Candidate& c : generate_candidates(model, tool, region, rng).candidates)
+      task.push_back(c.joints);
+  }
+  const double sigma = o.noise_mm > 0 ? o.noise_mm : instrument_sigma(instrument);
+  const ParameterVector at = linearisation_params(model, settings);
+  const Eigen::Vector3d tcp = tool.flange_T_tcp.translation();
+  const TaskAccuracy acc_selected =
+      predict_task_accuracy(model, tool.payload, at, design.parameters,
+                            design_parameter_covariance(design, chosen.chosen, sigma), task, tcp);
+  const TaskAccuracy acc_random =
+      predict_task_accuracy(model, tool.payload, at, design.parameters,
+                            design_parameter_covariance(design, random, sigma), task, tcp);
+
+  std::vector<PlannedConfiguration> configs;
+  for (size_t k = 0; k < chosen.chosen.size(); ++k) {
+    const Candidate& c = candidates[static_cast<size_t>(chosen.chosen[k])];
+    configs.push_back({fmt::format("C{}", k + 1), c.joints, c.target});
+  }
+  write_file_atomically(o.out, write_configurations_csv(configs, tool));
+
+  std::vector<std::string> dropped;
+  for (int p : design.dropped) dropped.push_back(parameter_table()[static_cast<size_t>(p)].name);
+  if (o.json) {
+    nlohmann::json out;
+    out["selected"] = indices_json(selected_o);
+    out["random"] = indices_json(random_o);
+    out["count"] = o.count;
+    out["d_efficiency"] = tidy(eff_selected, 4);
+    out["d_efficiency_random"] = tidy(eff_random, 4);
+    out["candidates"] = design.candidates();
+    out["parameters"] = design.columns();
+    out["dropped"] = dropped;
+    out["method"] = o.method;
+    out["seed"] = o.seed;
+    out["instrument"] = instrument_name(kind);
+    out["level"] = o.level;
+    out["sigma_mm"] = sigma;
+    out["predicted_error_mm"] = {
+        {"task_configurations", acc_selected.configurations},
+        {"selected",
+         {{"mean", tidy(acc_selected.mean_mm, 6)}, {"max", tidy(acc_selected.max_mm, 6)}}},
+        {"random", {{"mean", tidy(acc_random.mean_mm, 6)}, {"max", tidy(acc_random.max_mm, 6)}}}};
+    out["out"] = o.out;
+    print_json(out);
+    return;
+  }
+  fmt::print(
+      "plan for {} with a {}, level {} ({} identifiable parameters{}), seed {}\n", model.name,
+      instrument_name(kind), o.level, design.columns(),
+      dropped.empty() ? "" : fmt::format("; dropped as dependent: {}", fmt::join(dropped, ", ")),
+      o.seed);
+  fmt::print("chose {} of {} feasible candidates ({} method, {} exchanges)\n\n", o.count,
+             design.candidates(), o.method, chosen.exchanges);
+  fmt::print("index      selected        random\n");
+  const auto row = [](const char* name, double a, double b) {
+    fmt::print("{:<6} {:>12.6g}  {:>12.6g}\n", name, a, b);
+  };
+  row("O1", selected_o.O1, random_o.O1);
+  row("O2", selected_o.O2, random_o.O2);
+  row("O3", selected_o.O3, random_o.O3);
+  row("O4", selected_o.O4, random_o.O4);
+  row("O5", selected_o.O5, random_o.O5);
+  row("D-eff", eff_selected, eff_random);
+  fmt::print("\npredicted TCP error after calibration (σ = {} mm, {} task configurations):\n",
+             sigma, acc_selected.configurations);
+  fmt::print("  selected: mean {:.4f} mm, max {:.4f} mm\n", acc_selected.mean_mm,
+             acc_selected.max_mm);
+  fmt::print("  random:   mean {:.4f} mm, max {:.4f} mm\n", acc_random.mean_mm, acc_random.max_mm);
+  fmt::print("wrote {}\n", o.out);
+}
+
+const bool registered = register_command(60, [](CLI::App& app) {
+  auto o = std::make_shared<PlanOptions>();
+  auto* cmd = app.add_subcommand(
+      "plan", "Choose calibration configurations (observability) and predict their accuracy");
+  cmd->add_option("--robot", o->robot, "Built-in robot name or robot file")->capture_default_str();
+  cmd->add_option("--tool", o->tool, "Tool file (default: 3 SMRs, 2.6 kg payload)");
+  cmd->add_option("--instrument", o->instrument, "laser-tracker, optical-cmm or ballbar")
+      ->capture_default_str();
+  cmd->add_option("--level", o->level, "base, joints, kinematic or full")->capture_default_str();
+  cmd->add_option("--count", o->count, "Configurations to choose")->capture_default_str();
+  cmd->add_option("--candidates", o->candidates, "Random feasible candidates to choose from")
+      ->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Seed of every random draw")->capture_default_str();
+  cmd->add_option("--constraints", o->constraints,
+                  "Joint constraints: published (θ2≥0, θ3≥−80, |θ1|≤90, |θ4|≤150, |θ5|≤90, "
+                  "|θ6|≤180 deg) or none")
+      ->capture_default_str();
+  cmd->add_option("--floor-mm", o->floor_mm,
+                  "Targets, flange and wrist above this height over the robot's base plane")
+      ->capture_default_str();
+  cmd->add_option("--noise-mm", o->noise_mm,
+                  "Instrument σ for the predicted accuracy (default: the instrument's own)");
+  cmd->add_option("--method", o->method,
+                  "fast (D-optimal, rank-r updates) or published (exchange on O1)")
+      ->capture_default_str();
+  cmd->add_option("--task-configs", o->task_configs,
+                  "Task region for the predicted accuracy: config,target,j1..j6 CSV (default: "
+                  "random configurations in the constrained joint box)");
+  cmd->add_option("--task-count", o->task_count, "Random task configurations when no file")
+      ->capture_default_str();
+  cmd->add_option("--out", o->out, "Output CSV: config,target,j1..j6 (deg)")->required();
+  cmd->add_flag("--json", o->json, "Machine-readable output");
+  cmd->callback([o] { run_plan(*o); });
+});
+
+}  // namespace
+}  // namespace robcal::cli

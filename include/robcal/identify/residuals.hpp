@@ -1,0 +1,55 @@
+#pragma once
+/// \file
+/// Residuals of the identification (METHOD §5) and their exact derivatives with respect to the
+/// unknown vector (model parameters + extras, see unknowns.hpp), built on the analytic twist
+/// Jacobian of the flange:
+/// - points: r = p_model − p_measured (3, mm);
+/// - poses: TCP position (3, mm) and orientation r = w·vee(½(A − Aᵀ)), A = R_model·R_measuredᵀ
+///   (≈ w·rotation vector; w = `orientation_weight_mm`, mm per rad, makes an orientation error
+///   count like the displacement it causes at that distance);
+/// - distances: r = |p_model − centre| − (length + length_offset) (1, mm).
+
+#include <Eigen/Core>
+
+#include "robcal/identify/unknowns.hpp"
+#include "robcal/measure/measurements.hpp"
+#include "robcal/model/robot_model.hpp"
+#include "robcal/model/tool.hpp"
+
+namespace robcal {
+
+/// Orientation residual weight of pose measurements: an orientation error of θ rad counts as
+/// θ·100 mm, the displacement it causes across a 100 mm target cluster (how an optical CMM
+/// sees it).
+inline constexpr double kDefaultOrientationWeightMm = 100.0;
+
+/// Everything a residual needs besides the unknowns (not owned; must outlive the context).
+struct ResidualContext {
+  const RobotModel* model = nullptr;
+  const Tool* tool = nullptr;
+  const MeasurementSet* data = nullptr;
+  const UnknownLayout* layout = nullptr;
+  double orientation_weight_mm = kDefaultOrientationWeightMm;
+};
+
+/// Residuals of one row (data->residuals_per_row() values into `residuals`) and, when
+/// `jacobian` is not null, their derivative with respect to every unknown (rows × layout size,
+/// fully overwritten).
+void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
+                   double* residuals, Eigen::MatrixXd* jacobian);
+
+/// All residuals stacked row by row, and the Jacobian restricted to the `columns` unknowns
+/// (in that order) when `jacobian` is not null.
+void stacked_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns,
+                       const std::vector<int>& columns, Eigen::VectorXd* residuals,
+                       Eigen::MatrixXd* jacobian);
+
+/// The world position of a row's target (points, distances) or TCP (poses) in the model.
+Eigen::Vector3d modelled_position(const ResidualContext& context, const Eigen::VectorXd& unknowns,
+                                  size_t row);
+
+/// The coordinates (flange frame, mm) of tool target `target` in the unknown vector's state.
+Eigen::Vector3d target_coordinates(const ResidualContext& context, const Eigen::VectorXd& unknowns,
+                                   int target);
+
+}  // namespace robcal

@@ -1,0 +1,61 @@
+#pragma once
+/// \file
+/// What a calibration solves for: the robot's parameters (METHOD §3 layout) followed by the
+/// extra unknowns the measurements bring — coordinates of tool targets given without
+/// coordinates, the ballbar's fixed centre and, on request, the ballbar's length offset — and
+/// which of them a calibration level and the user's `--identify`/`--fix` patterns set free.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "robcal/measure/measurements.hpp"
+#include "robcal/model/parameters.hpp"
+#include "robcal/model/tool.hpp"
+
+namespace robcal {
+
+/// The four calibration levels (METHOD §1, §3).
+enum class CalibrationLevel {
+  Base,       ///< the 6 base parameters: the nominal robot placed in the world
+  Joints,     ///< + joint offsets link2..6.theta
+  Kinematic,  ///< + every MDH error of links 2..6
+  Full        ///< + compliance of joints 2..6 under gravity
+};
+
+/// "base", "joints", "kinematic", "full" → level; InputError (key "--level") otherwise.
+CalibrationLevel parse_calibration_level(const std::string& text);
+const char* level_name(CalibrationLevel level);
+
+/// Model parameter indices a level frees.
+std::vector<int> level_parameters(CalibrationLevel level);
+
+/// The unknown vector of one calibration: kParameterCount model parameters, then the extras.
+/// Names: the parameters' dotted names, `target.<name>.x|y|z`, `ballbar.centre.x|y|z`,
+/// `ballbar.length_offset` (all extras in mm).
+struct UnknownLayout {
+  std::vector<std::string> names;
+  std::vector<int> target_slot;  ///< per tool target: index of its x coordinate, or -1 if known
+  int centre = -1;               ///< index of ballbar.centre.x (distances only), or -1
+  int length_offset = -1;        ///< index of ballbar.length_offset (distances only), or -1
+
+  [[nodiscard]] int size() const { return static_cast<int>(names.size()); }
+  [[nodiscard]] bool is_model(int index) const { return index < kParameterCount; }
+  /// Internal → external unit factor (deg for angles, else 1) and the external unit's name.
+  [[nodiscard]] double to_external(int index) const;
+  [[nodiscard]] std::string unit(int index) const;
+  /// Index of a name, or -1.
+  [[nodiscard]] int index(const std::string& name) const;
+};
+
+UnknownLayout make_unknown_layout(const Tool& tool, MeasurementKind kind);
+
+/// Which unknowns a calibration frees: the level's parameters, every target coordinate to be
+/// identified and the ballbar centre; then each `identify` pattern adds and each `fix` pattern
+/// removes the unknowns whose names match (glob, '*' and '?'). A pattern matching nothing, or
+/// fixing a target that has no coordinates, is an InputError naming the pattern.
+std::vector<bool> select_unknowns(const UnknownLayout& layout, CalibrationLevel level,
+                                  const std::vector<std::string>& identify,
+                                  const std::vector<std::string>& fix);
+
+}  // namespace robcal

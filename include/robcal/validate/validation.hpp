@@ -1,0 +1,28 @@
+#pragma once
+/// \file
+/// The whole validation of METHOD §9 for one model and one measurement set: absolute position
+/// errors (per row, overall, per target, histogram) and distance errors over every pair of rows.
+
+#include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/measure/measurements.hpp"
+#include "robcal/validate/histogram.hpp"
+#include "robcal/validate/pairwise_distance.hpp"
+#include "robcal/validate/position_error.hpp"
+
+namespace robcal {
+
+struct ValidationReport {
+  PositionErrors positions;
+  Histogram position_histogram;      ///< kPositionHistogramBins bins over [0, max error]
+  PairwiseDistanceErrors distances;  ///< 128 bins
+};
+
+inline constexpr int kPositionHistogramBins = 16;
+
+/// Validates `robot` against a points or poses set. `threads` only changes the speed.
+/// Position errors of a robot whose base was never fitted compare frames that were never
+/// related: callers should refuse them (the distance errors remain meaningful).
+ValidationReport validate_model(const CalibratedRobot& robot, const MeasurementSet& set,
+                                int threads = 2);
+
+}  // namespace robcal

@@ -1,0 +1,145 @@
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+
+#include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/io/yaml_support.hpp"
+
+namespace robcal {
+namespace {
+
+const char* status_name(ParameterStatus status) {
+  switch (status) {
+    case ParameterStatus::Identified:
+      return "identified";
+    case ParameterStatus::Fixed:
+      return "fixed";
+    case ParameterStatus::Dropped:
+      return "dropped";
+  }
+  return "";
+}
+
+ParameterStatus parse_status(const yaml::Node& node) {
+  const std::string text = node.as_string();
+  if (text == "identified") return ParameterStatus::Identified;
+  if (text == "fixed") return ParameterStatus::Fixed;
+  if (text == "dropped") return ParameterStatus::Dropped;
+  throw node.error(fmt::format("unknown status '{}': expected identified, fixed or dropped", text));
+}
+
+}  // namespace
+
+std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
+                                     const std::string& statistics_yaml) {
+  const auto& table = parameter_table();
+  const ParameterVector nominal = robot.model.nominal();
+  const bool has_covariance = robot.covariance.rows() == kParameterCount;
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::Comment(
+      "robcal calibrated model: the robot, its tool and every parameter (mm, deg, rad/N·mm)");
+  out << YAML::BeginMap;
+  out << YAML::Key << "format" << YAML::Value << "robcal-calibrated-model";
+  out << YAML::Key << "level" << YAML::Value << robot.level;
+  out << YAML::Key << "base_fitted" << YAML::Value << robot.base_fitted;
+  out << YAML::Key << "robot" << YAML::Value << YAML::BeginMap;
+  emit_robot_fields(out, robot.model);
+  out << YAML::EndMap;
+  out << YAML::Key << "tool" << YAML::Value << YAML::Load(tool_to_yaml(robot.tool));
+  out << YAML::Key << "parameters" << YAML::Value << YAML::BeginSeq;
+  std::vector<int> identified;
+  for (int i = 0; i < kParameterCount; ++i) {
+    const double f = table[i].to_external();
+    const auto s = static_cast<size_t>(i);
+    const double variance = has_covariance ? robot.covariance(i, i) : 0.0;
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << table[i].name
+        << YAML::Key << "unit" << YAML::Value << table[i].unit << YAML::Key << "nominal"
+        << YAML::Value << nominal[i] * f << YAML::Key << "value" << YAML::Value
+        << robot.params[i] * f << YAML::Key << "std" << YAML::Value
+        << std::sqrt(std::max(0.0, variance)) * f << YAML::Key << "status" << YAML::Value
+        << status_name(robot.status[s]);
+    if (!robot.reason[s].empty()) out << YAML::Key << "reason" << YAML::Value << robot.reason[s];
+    out << YAML::EndMap;
+    if (robot.status[s] == ParameterStatus::Identified) identified.push_back(i);
+  }
+  out << YAML::EndSeq;
+  if (has_covariance && !identified.empty()) {
+    out << YAML::Key << "covariance" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "units" << YAML::Value << "products of the parameters' units";
+    out << YAML::Key << "parameters" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (int i : identified) out << table[i].name;
+    out << YAML::EndSeq << YAML::Key << "matrix" << YAML::Value << YAML::BeginSeq;
+    for (int i : identified) {
+      std::vector<double> row;
+      for (int j : identified)
+        row.push_back(robot.covariance(i, j) * table[i].to_external() * table[j].to_external());
+      out << YAML::Flow << row;
+    }
+    out << YAML::EndSeq << YAML::EndMap;
+  }
+  if (!statistics_yaml.empty())
+    out << YAML::Key << "statistics" << YAML::Value << YAML::Load(statistics_yaml);
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+CalibratedRobot load_calibrated_robot(const std::string& path) {
+  const yaml::Node root = yaml::load_file(path);
+  const auto& table = parameter_table();
+  if (!root.has("parameters") || !root.has("robot"))
+    throw root.error(
+        "not a calibrated model: expected the keys 'robot' and 'parameters' "
+        "(a file written by `robcal calibrate`)");
+  CalibratedRobot robot;
+  robot.model = parse_robot(root.at("robot"));
+  robot.tool = root.has("tool") ? parse_tool(root.at("tool")) : Tool{};
+  robot.level = root.has("level") ? root.at("level").as_string() : "nominal";
+  robot.base_fitted = root.has("base_fitted") && root.at("base_fitted").node.as<bool>(false);
+  robot.params = robot.model.nominal();
+  robot.status.fill(ParameterStatus::Fixed);
+  std::array<bool, kParameterCount> seen{};
+  const yaml::Node parameters = root.at("parameters");
+  if (!parameters.node.IsSequence()) throw parameters.error("expected a list of parameters");
+  for (size_t k = 0; k < parameters.size(); ++k) {
+    const yaml::Node entry = parameters.at(k);
+    const yaml::Node name = entry.at("name");
+    const int i = parameter_index(name.as_string());
+    if (i < 0) throw name.error(fmt::format("unknown parameter '{}'", name.as_string()));
+    const auto s = static_cast<size_t>(i);
+    if (seen[s]) throw name.error(fmt::format("parameter '{}' given twice", table[i].name));
+    seen[s] = true;
+    if (entry.has("unit") && entry.at("unit").as_string() != table[i].unit)
+      throw entry.at("unit").error(fmt::format("{} is in {}, not {}", table[i].name, table[i].unit,
+                                               entry.at("unit").as_string()));
+    robot.params[i] = entry.at("value").as_double() / table[i].to_external();
+    if (entry.has("status")) robot.status[s] = parse_status(entry.at("status"));
+    if (entry.has("reason")) robot.reason[s] = entry.at("reason").as_string();
+  }
+  if (root.has("covariance")) {
+    const yaml::Node cov = root.at("covariance");
+    const yaml::Node names = cov.at("parameters");
+    std::vector<int> index;
+    for (size_t k = 0; k < names.size(); ++k) {
+      const int i = parameter_index(names.at(k).as_string());
+      if (i < 0)
+        throw names.at(k).error(fmt::format("unknown parameter '{}'", names.at(k).as_string()));
+      index.push_back(i);
+    }
+    const yaml::Node matrix = cov.at("matrix");
+    if (!matrix.node.IsSequence() || matrix.size() != index.size())
+      throw matrix.error(fmt::format("expected {} rows, one per parameter", index.size()));
+    robot.covariance = Eigen::MatrixXd::Zero(kParameterCount, kParameterCount);
+    for (size_t a = 0; a < index.size(); ++a) {
+      const auto row = matrix.at(a).as_doubles(static_cast<int>(index.size()));
+      for (size_t b = 0; b < index.size(); ++b)
+        robot.covariance(index[a], index[b]) =
+            row[b] / (table[index[a]].to_external() * table[index[b]].to_external());
+    }
+  }
+  return robot;
+}
+
+}  // namespace robcal

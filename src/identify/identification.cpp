@@ -1,0 +1,297 @@
+#include "robcal/identify/identification.hpp"
+
+#include <ceres/ceres.h>
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <map>
+
+#include "robcal/core/error.hpp"
+#include "robcal/identify/initial_guess.hpp"
+
+namespace robcal {
+namespace {
+
+/// The rows [begin, end) of a measurement set as one Ceres cost on the scaled unknowns z:
+/// unknowns = start + scales ⊙ z over the free indices (column scaling makes mm, rad and
+/// rad/N·mm comparable; z starts at 0).
+class RowsCost final : public ceres::CostFunction {
+ public:
+  RowsCost(const ResidualContext& context, const std::vector<int>& free,
+           const Eigen::VectorXd& scales, const Eigen::VectorXd& start, size_t begin, size_t end)
+      : context_(context), free_(free), scales_(scales), start_(start), begin_(begin), end_(end) {
+    set_num_residuals(static_cast<int>(end - begin) * context.data->residuals_per_row());
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(free.size()));
+  }
+
+  bool Evaluate(double const* const* z, double* residuals, double** jacobians) const override {
+    Eigen::VectorXd unknowns = start_;
+    const auto n = free_.size();
+    for (size_t i = 0; i < n; ++i)
+      unknowns[free_[i]] += scales_[static_cast<Eigen::Index>(i)] * z[0][i];
+    const int k = context_.data->residuals_per_row();
+    const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
+    Eigen::MatrixXd J;
+    for (size_t row = begin_; row < end_; ++row) {
+      double* r = residuals + (row - begin_) * static_cast<size_t>(k);
+      row_residuals(context_, unknowns, row, r, want_jacobian ? &J : nullptr);
+      for (int i = 0; i < k; ++i)
+        if (!std::isfinite(r[i])) return false;
+      if (!want_jacobian) continue;
+      double* out = jacobians[0] + (row - begin_) * static_cast<size_t>(k) * n;
+      for (int i = 0; i < k; ++i)
+        for (size_t c = 0; c < n; ++c)
+          out[static_cast<size_t>(i) * n + c] =
+              J(i, free_[c]) * scales_[static_cast<Eigen::Index>(c)];
+    }
+    return true;
+  }
+
+ private:
+  const ResidualContext& context_;
+  const std::vector<int>& free_;
+  const Eigen::VectorXd& scales_;
+  const Eigen::VectorXd& start_;
+  size_t begin_, end_;
+};
+
+/// Levenberg–Marquardt on the free unknowns from `unknowns` (updated in place).
+SolverStatus solve(const ResidualContext& context, const std::vector<int>& free,
+                   const Eigen::VectorXd& scales, int max_iterations, double huber_scale,
+                   Eigen::VectorXd& unknowns) {
+  const Eigen::VectorXd start = unknowns;
+  std::vector<double> z(free.size(), 0.0);
+  ceres::Problem problem;
+  const size_t rows = context.data->size();
+  if (huber_scale > 0) {
+    for (size_t row = 0; row < rows; ++row)
+      problem.AddResidualBlock(new RowsCost(context, free, scales, start, row, row + 1),
+                               new ceres::HuberLoss(huber_scale), z.data());
+  } else {
+    problem.AddResidualBlock(new RowsCost(context, free, scales, start, 0, rows), nullptr,
+                             z.data());
+  }
+  ceres::Solver::Options options;
+  options.minimizer_type = ceres::TRUST_REGION;
+  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.jacobi_scaling = false;  // the unknowns are already column-scaled
+  options.max_num_iterations = max_iterations;
+  options.function_tolerance = 1e-14;
+  options.gradient_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-12;
+  options.logging_type = ceres::SILENT;
+  options.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  for (size_t i = 0; i < free.size(); ++i)
+    unknowns[free[i]] += scales[static_cast<Eigen::Index>(i)] * z[i];
+  SolverStatus status;
+  status.converged = summary.termination_type == ceres::CONVERGENCE;
+  status.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  status.message = summary.message;
+  const double m = std::max<double>(1, summary.num_residuals);
+  status.initial_rms_mm = std::sqrt(2 * summary.initial_cost / m);
+  status.final_rms_mm = std::sqrt(2 * summary.final_cost / m);
+  return status;
+}
+
+int target_of(const MeasurementSet& data, size_t row) {
+  return data.kind == MeasurementKind::Points      ? data.points[row].target
+         : data.kind == MeasurementKind::Distances ? data.distances[row].target
+                                                   : -1;
+}
+
+void check_data(const Tool& tool, const MeasurementSet& data) {
+  if (data.size() == 0) throw InputError({data.file, 0, 0, ""}, "the measurements have no rows");
+  for (size_t row = 0; row < data.size(); ++row) {
+    const int t = target_of(data, row);
+    if (data.kind != MeasurementKind::Poses &&
+        (t < 0 || t >= static_cast<int>(tool.targets.size())))
+      throw InputError({data.file, 0, 0, "target"},
+                       fmt::format("row {} refers to target {} of a tool with {} targets", row + 1,
+                                   t, tool.targets.size()));
+  }
+}
+
+/// Rows of the same kind and targets at 60 configurations drawn in the joint limits (fixed
+/// seed): rich enough that what stays dependent there is the model's own redundancy.
+MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& data) {
+  std::vector<int> targets;
+  for (size_t row = 0; row < data.size(); ++row) {
+    const int t = target_of(data, row);
+    if (std::find(targets.begin(), targets.end(), t) == targets.end()) targets.push_back(t);
+  }
+  Vector6d lower, upper;
+  for (int i = 0; i < kJointCount; ++i) {
+    lower[i] = model.limits[i].lower;
+    upper[i] = model.limits[i].upper;
+  }
+  std::mt19937_64 rng(20140601);
+  MeasurementSet synthetic;
+  synthetic.kind = data.kind;
+  for (const Vector6d& q : sample_configurations(lower, upper, 60, rng)) {
+    for (int t : targets) {
+      if (data.kind == MeasurementKind::Points) synthetic.points.push_back({"", t, q, {}, 0});
+      if (data.kind == MeasurementKind::Poses) synthetic.poses.push_back({"", q, {}, 0});
+      if (data.kind == MeasurementKind::Distances) synthetic.distances.push_back({"", t, q, 0, 0});
+    }
+  }
+  return synthetic;
+}
+
+/// Preferred order for the rank test: extras (target coordinates, ballbar centre) first, then
+/// the model parameters in layout order; of a dependent group the later one is dropped.
+std::vector<int> preference_order(const UnknownLayout& layout, const std::vector<bool>& requested) {
+  std::vector<int> order;
+  for (int i = kParameterCount; i < layout.size(); ++i)
+    if (requested[i]) order.push_back(i);
+  for (int i = 0; i < kParameterCount; ++i)
+    if (requested[i]) order.push_back(i);
+  return order;
+}
+
+}  // namespace
+
+std::string describe_dependency(const UnknownLayout& layout, const RobotModel& model,
+                                const Dependency& dep) {
+  if (dep.depends_on.empty()) return "the measurements do not depend on it";
+  std::string text = "depends on ";
+  for (size_t i = 0; i < dep.depends_on.size() && i < 4; ++i)
+    text += fmt::format("{}{} ({:+.3f})", i ? ", " : "", layout.names[dep.depends_on[i].first],
+                        dep.depends_on[i].second);
+  if (dep.depends_on.size() > 4) text += fmt::format(" and {} more", dep.depends_on.size() - 4);
+  // Two d's along parallel consecutive axes move the chain identically (METHOD §3).
+  const auto& name = layout.names[dep.column];
+  for (const auto& [other, weight] : dep.depends_on) {
+    const std::string& o = layout.names[other];
+    if (name.size() == 7 && o.size() == 7 && name.substr(5) == ".d" && o.substr(5) == ".d") {
+      const int a = std::min(name[4], o[4]) - '0', b = std::max(name[4], o[4]) - '0';
+      if (b == a + 1 && std::abs(std::sin(model.mdh[b - 1].alpha)) < 1e-9)
+        text += fmt::format(": axes {} and {} are parallel", a, b);
+    }
+  }
+  return text;
+}
+
+IdentificationSetup prepare_identification(const RobotModel& model, const Tool& tool,
+                                           const MeasurementSet& data,
+                                           const IdentifyOptions& options) {
+  check_data(tool, data);
+  IdentificationSetup setup;
+  setup.model = model;
+  setup.tool = tool;
+  setup.kind = data.kind;
+  setup.layout = make_unknown_layout(tool, data.kind);
+  setup.options = options;
+  setup.requested = select_unknowns(setup.layout, options.level, options.identify, options.fix);
+  setup.start = Eigen::VectorXd::Zero(setup.layout.size());
+  setup.start.head<kParameterCount>() = model.nominal();
+  bool all_base = data.kind != MeasurementKind::Distances;
+  for (int i = 0; i < kBaseParamCount; ++i) all_base = all_base && setup.requested[i];
+  setup.fit_base = all_base;
+
+  const ResidualContext context{&setup.model, &setup.tool, &data, &setup.layout,
+                                options.orientation_weight_mm};
+  Eigen::VectorXd u0 = setup.start;
+  initial_guess(context, setup.fit_base, u0);
+
+  // The model's own dependencies, on a rich synthetic design.
+  const std::vector<int> order = preference_order(setup.layout, setup.requested);
+  const MeasurementSet synthetic = synthetic_design(model, data);
+  ResidualContext synthetic_context = context;
+  synthetic_context.data = &synthetic;
+  Eigen::MatrixXd J;
+  stacked_residuals(synthetic_context, u0, order, nullptr, &J);
+  std::vector<int> positions(order.size());
+  for (size_t i = 0; i < order.size(); ++i) positions[i] = static_cast<int>(i);
+  const RankAnalysis structural = analyse_rank(J, positions);
+  std::vector<int> kept;
+  for (int p : structural.kept) kept.push_back(order[static_cast<size_t>(p)]);
+  for (Dependency dep : structural.dropped) {
+    dep.column = order[static_cast<size_t>(dep.column)];
+    for (auto& entry : dep.depends_on) entry.first = order[static_cast<size_t>(entry.first)];
+    setup.dropped.push_back(dep);
+  }
+  if (kept.empty())
+    throw InputError({data.file, 0, 0, "--level"},
+                     "nothing to identify: every requested parameter is fixed or not seen by "
+                     "these measurements");
+
+  // Enough equations?
+  const int k = data.residuals_per_row();
+  const auto n = static_cast<int>(kept.size());
+  const int m = static_cast<int>(data.size()) * k;
+  if (m <= n) {
+    const char* kind = data.kind == MeasurementKind::Points  ? "point"
+                       : data.kind == MeasurementKind::Poses ? "pose"
+                                                             : "distance";
+    throw InputError(
+        {data.file, 0, 0, ""},
+        fmt::format("too few measurements: level {} identifies {} unknowns here; a {} row gives "
+                    "{} equation{}, so at least {} rows are needed and the file has {} (the "
+                    "published calibrations use 35–50 configurations)",
+                    level_name(options.level), n, kind, k, k > 1 ? "s" : "", n / k + 1,
+                    data.size()));
+  }
+
+  // The data's own design.
+  stacked_residuals(context, u0, kept, nullptr, &J);
+  std::vector<int> all(kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) all[i] = static_cast<int>(i);
+  const RankAnalysis design = analyse_rank(J, all);
+  if (!design.dropped.empty()) {
+    std::string list;
+    for (Dependency dep : design.dropped) {
+      dep.column = kept[static_cast<size_t>(dep.column)];
+      for (auto& entry : dep.depends_on) entry.first = kept[static_cast<size_t>(entry.first)];
+      list += fmt::format("\n  {}: {}", setup.layout.names[dep.column],
+                          describe_dependency(setup.layout, model, dep));
+    }
+    throw InputError({data.file, 0, 0, ""},
+                     fmt::format("the measurements cannot identify {} of the unknowns (rank-"
+                                 "deficient design):{}\nmeasure more varied configurations or "
+                                 "hold them with --fix",
+                                 design.dropped.size(), list));
+  }
+  std::sort(kept.begin(), kept.end());
+  setup.free = kept;
+  Eigen::MatrixXd Jf;
+  stacked_residuals(context, u0, setup.free, nullptr, &Jf);
+  setup.scales = Jf.colwise().norm().cwiseInverse().transpose();
+  return setup;
+}
+
+FitResult fit_unknowns(const IdentificationSetup& setup, const MeasurementSet& data) {
+  const ResidualContext context{&setup.model, &setup.tool, &data, &setup.layout,
+                                setup.options.orientation_weight_mm};
+  FitResult out;
+  out.unknowns = setup.start;
+  initial_guess(context, setup.fit_base, out.unknowns);
+  out.status =
+      solve(context, setup.free, setup.scales, setup.options.max_iterations, 0.0, out.unknowns);
+  if (setup.options.huber) {
+    out.huber_scale_mm = setup.options.huber_scale_mm;
+    if (out.huber_scale_mm <= 0) {
+      Eigen::VectorXd r;
+      stacked_residuals(context, out.unknowns, {}, &r, nullptr);
+      std::vector<double> a(r.data(), r.data() + r.size());
+      for (double& v : a) v = std::abs(v);
+      std::nth_element(a.begin(), a.begin() + static_cast<long>(a.size() / 2), a.end());
+      out.huber_scale_mm = std::max(3 * 1.4826 * a[a.size() / 2], 1e-9);
+    }
+    const SolverStatus first = out.status;
+    out.status = solve(context, setup.free, setup.scales, setup.options.max_iterations,
+                       out.huber_scale_mm, out.unknowns);
+    out.status.initial_rms_mm = first.initial_rms_mm;
+    out.status.iterations += first.iterations;
+    Eigen::VectorXd r;
+    stacked_residuals(context, out.unknowns, {}, &r, nullptr);
+    out.status.final_rms_mm = std::sqrt(r.squaredNorm() / static_cast<double>(r.size()));
+  }
+  return out;
+}
+
+}  // namespace robcal

@@ -1,0 +1,131 @@
+#include "robcal/identify/residuals.hpp"
+
+#include "robcal/kinematics/parameter_jacobian.hpp"
+
+namespace robcal {
+
+Eigen::Vector3d target_coordinates(const ResidualContext& context, const Eigen::VectorXd& unknowns,
+                                   int target) {
+  const int slot = context.layout->target_slot[static_cast<size_t>(target)];
+  return slot < 0 ? context.tool->targets[static_cast<size_t>(target)].position_mm
+                  : Eigen::Vector3d(unknowns.segment<3>(slot));
+}
+
+namespace {
+
+const Vector6d& row_joints(const MeasurementSet& data, size_t row) {
+  switch (data.kind) {
+    case MeasurementKind::Points:
+      return data.points[row].joints;
+    case MeasurementKind::Poses:
+      return data.poses[row].joints;
+    case MeasurementKind::Distances:
+      return data.distances[row].joints;
+  }
+  return data.points[row].joints;
+}
+
+}  // namespace
+
+void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
+                   double* residuals, Eigen::MatrixXd* jacobian) {
+  const MeasurementSet& data = *context.data;
+  const ParameterVector params = unknowns.head<kParameterCount>();
+  Pose<double> flange;
+  TwistJacobian twist;
+  flange_twist_jacobian(*context.model, context.tool->payload, params, row_joints(data, row),
+                        &flange, jacobian ? &twist : nullptr);
+  if (jacobian) jacobian->setZero(data.residuals_per_row(), context.layout->size());
+
+  switch (data.kind) {
+    case MeasurementKind::Points: {
+      const PointMeasurement& m = data.points[row];
+      const Eigen::Vector3d p = flange * target_coordinates(context, unknowns, m.target);
+      Eigen::Map<Eigen::Vector3d> r(residuals);
+      r = p - m.position_mm;
+      if (!jacobian) return;
+      jacobian->leftCols<kParameterCount>() = point_jacobian_from_twist(twist, p);
+      const int slot = context.layout->target_slot[static_cast<size_t>(m.target)];
+      if (slot >= 0) jacobian->block<3, 3>(0, slot) = flange.R;
+      return;
+    }
+    case MeasurementKind::Poses: {
+      const PoseMeasurement& m = data.poses[row];
+      const Eigen::Matrix3d R = flange.R * context.tool->flange_T_tcp.linear();
+      const Eigen::Vector3d p = flange * Eigen::Vector3d(context.tool->flange_T_tcp.translation());
+      const Eigen::Matrix3d A = R * m.world_T_tcp.R.transpose();
+      const double w = context.orientation_weight_mm;
+      Eigen::Map<Eigen::Matrix<double, 6, 1>> r(residuals);
+      r.head<3>() = p - m.world_T_tcp.p;
+      r.tail<3>() =
+          0.5 * w * Eigen::Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
+      if (!jacobian) return;
+      jacobian->block<3, kParameterCount>(0, 0) = point_jacobian_from_twist(twist, p);
+      // R → exp([δφ]×)·R gives d(A − Aᵀ) = [δφ]×·A + Aᵀ·[δφ]×, column by column.
+      Eigen::Matrix3d D;
+      for (int k = 0; k < 3; ++k) {
+        Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
+        const Eigen::Vector3d e = Eigen::Vector3d::Unit(k);
+        E << 0, -e.z(), e.y(), e.z(), 0, -e.x(), -e.y(), e.x(), 0;
+        const Eigen::Matrix3d S = E * A + A.transpose() * E;
+        D.col(k) = 0.5 * w * Eigen::Vector3d(S(2, 1), S(0, 2), S(1, 0));
+      }
+      jacobian->block<3, kParameterCount>(3, 0) = D * twist.bottomRows<3>();
+      return;
+    }
+    case MeasurementKind::Distances: {
+      const DistanceMeasurement& m = data.distances[row];
+      const Eigen::Vector3d p = flange * target_coordinates(context, unknowns, m.target);
+      const int c = context.layout->centre;
+      const Eigen::Vector3d d = p - unknowns.segment<3>(c);
+      const double length = d.norm();
+      residuals[0] = length - m.length_mm - unknowns[context.layout->length_offset];
+      if (!jacobian) return;
+      const Eigen::RowVector3d u =
+          length > 0 ? Eigen::RowVector3d(d.transpose() / length) : Eigen::RowVector3d::Zero();
+      jacobian->leftCols<kParameterCount>() = u * point_jacobian_from_twist(twist, p);
+      const int slot = context.layout->target_slot[static_cast<size_t>(m.target)];
+      if (slot >= 0) jacobian->block<1, 3>(0, slot) = u * flange.R;
+      jacobian->block<1, 3>(0, c) = -u;
+      (*jacobian)(0, context.layout->length_offset) = -1.0;
+      return;
+    }
+  }
+}
+
+void stacked_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns,
+                       const std::vector<int>& columns, Eigen::VectorXd* residuals,
+                       Eigen::MatrixXd* jacobian) {
+  const int k = context.data->residuals_per_row();
+  const auto rows = static_cast<Eigen::Index>(context.data->size());
+  if (residuals) residuals->resize(rows * k);
+  if (jacobian) jacobian->resize(rows * k, static_cast<Eigen::Index>(columns.size()));
+  Eigen::VectorXd r(k);
+  Eigen::MatrixXd J;
+  for (Eigen::Index row = 0; row < rows; ++row) {
+    row_residuals(context, unknowns, static_cast<size_t>(row), r.data(), jacobian ? &J : nullptr);
+    if (residuals) residuals->segment(row * k, k) = r;
+    if (jacobian)
+      for (size_t c = 0; c < columns.size(); ++c)
+        jacobian->block(row * k, static_cast<Eigen::Index>(c), k, 1) = J.col(columns[c]);
+  }
+}
+
+Eigen::Vector3d modelled_position(const ResidualContext& context, const Eigen::VectorXd& unknowns,
+                                  size_t row) {
+  const MeasurementSet& data = *context.data;
+  const ParameterVector params = unknowns.head<kParameterCount>();
+  const Vector6d& q = row_joints(data, row);
+  const Pose<double> flange = flange_pose(*context.model, context.tool->payload, params, q);
+  switch (data.kind) {
+    case MeasurementKind::Points:
+      return flange * target_coordinates(context, unknowns, data.points[row].target);
+    case MeasurementKind::Poses:
+      return flange * Eigen::Vector3d(context.tool->flange_T_tcp.translation());
+    case MeasurementKind::Distances:
+      return flange * target_coordinates(context, unknowns, data.distances[row].target);
+  }
+  return Eigen::Vector3d::Zero();
+}
+
+}  // namespace robcal

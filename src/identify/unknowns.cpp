@@ -1,0 +1,120 @@
+#include "robcal/identify/unknowns.hpp"
+
+#include <fmt/format.h>
+
+#include "robcal/core/error.hpp"
+
+namespace robcal {
+
+CalibrationLevel parse_calibration_level(const std::string& text) {
+  if (text == "base") return CalibrationLevel::Base;
+  if (text == "joints") return CalibrationLevel::Joints;
+  if (text == "kinematic") return CalibrationLevel::Kinematic;
+  if (text == "full") return CalibrationLevel::Full;
+  throw InputError(
+      {"", 0, 0, "--level"},
+      fmt::format("unknown level '{}': expected base, joints, kinematic or full", text));
+}
+
+const char* level_name(CalibrationLevel level) {
+  switch (level) {
+    case CalibrationLevel::Base:
+      return "base";
+    case CalibrationLevel::Joints:
+      return "joints";
+    case CalibrationLevel::Kinematic:
+      return "kinematic";
+    case CalibrationLevel::Full:
+      return "full";
+  }
+  return "";
+}
+
+std::vector<int> level_parameters(CalibrationLevel level) {
+  std::vector<int> out;
+  for (int i = 0; i < kBaseParamCount; ++i) out.push_back(i);
+  for (int link = 2; link <= kJointCount; ++link) {
+    for (int k = 0; k < 4; ++k) {
+      const bool offset = k == 2;
+      if (level == CalibrationLevel::Kinematic || level == CalibrationLevel::Full ||
+          (level == CalibrationLevel::Joints && offset))
+        out.push_back(link_param(link, k));
+    }
+  }
+  if (level == CalibrationLevel::Full)
+    for (int joint = 2; joint <= kJointCount; ++joint) out.push_back(compliance_param(joint));
+  return out;
+}
+
+double UnknownLayout::to_external(int index) const {
+  return is_model(index) ? parameter_table()[index].to_external() : 1.0;
+}
+
+std::string UnknownLayout::unit(int index) const {
+  return is_model(index) ? parameter_table()[index].unit : "mm";
+}
+
+int UnknownLayout::index(const std::string& name) const {
+  for (int i = 0; i < size(); ++i)
+    if (names[i] == name) return i;
+  return -1;
+}
+
+UnknownLayout make_unknown_layout(const Tool& tool, MeasurementKind kind) {
+  UnknownLayout layout;
+  for (const ParameterInfo& info : parameter_table()) layout.names.push_back(info.name);
+  for (const Target& target : tool.targets) {
+    if (target.known) {
+      layout.target_slot.push_back(-1);
+      continue;
+    }
+    layout.target_slot.push_back(layout.size());
+    for (const char* axis : {"x", "y", "z"})
+      layout.names.push_back(fmt::format("target.{}.{}", target.name, axis));
+  }
+  if (kind == MeasurementKind::Distances) {
+    layout.centre = layout.size();
+    for (const char* axis : {"x", "y", "z"})
+      layout.names.push_back(fmt::format("ballbar.centre.{}", axis));
+    layout.length_offset = layout.size();
+    layout.names.push_back("ballbar.length_offset");
+  }
+  return layout;
+}
+
+std::vector<bool> select_unknowns(const UnknownLayout& layout, CalibrationLevel level,
+                                  const std::vector<std::string>& identify,
+                                  const std::vector<std::string>& fix) {
+  std::vector<bool> free(layout.size(), false);
+  for (int i : level_parameters(level)) free[i] = true;
+  for (int i = kParameterCount; i < layout.size(); ++i) free[i] = i != layout.length_offset;
+  const auto apply = [&](const std::vector<std::string>& patterns, bool value, const char* flag) {
+    for (const std::string& pattern : patterns) {
+      bool matched = false;
+      for (int i = 0; i < layout.size(); ++i) {
+        if (!glob_match(pattern, layout.names[i])) continue;
+        matched = true;
+        if (!value && !layout.is_model(i) && i != layout.length_offset &&
+            (layout.centre < 0 || i < layout.centre))
+          throw InputError({"", 0, 0, flag},
+                           fmt::format("'{}' would fix {}, a target given without coordinates: "
+                                       "give its coordinates in the tool file instead",
+                                       pattern, layout.names[i]));
+        free[i] = value;
+      }
+      if (!matched)
+        throw InputError(
+            {"", 0, 0, flag},
+            fmt::format(
+                "pattern '{}' matches no parameter (names look like "
+                "base.x, link3.a, joint2.compliance, joint1.scale{})",
+                pattern,
+                layout.size() > kParameterCount ? ", " + layout.names[kParameterCount] : ""));
+    }
+  };
+  apply(identify, true, "--identify");
+  apply(fix, false, "--fix");
+  return free;
+}
+
+}  // namespace robcal

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# End-to-end checks of `robcal plan`: the chosen configurations file (config,target,j1..j6,
+# read back by the simulator), the JSON indices (selected better than random), and bad input
+# (exit code 2, a message naming the flag, no output file). Usage: plan_cli.sh path/to/robcal.
+set -u
+ROBCAL=${1:?usage: plan_cli.sh path/to/robcal}
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+FAILED=0
+
+fail() { echo "FAIL: $*"; FAILED=1; }
+
+# expect_error "<description>" "<substring of stderr>" robcal-args...
+expect_error() {
+  local what=$1 needle=$2
+  shift 2
+  "$ROBCAL" "$@" >"$TMP/out" 2>"$TMP/err"
+  local rc=$?
+  [[ $rc -eq 2 ]] || fail "$what: exit code $rc (expected 2) for: $*"
+  grep -qF -- "$needle" "$TMP/err" || fail "$what: stderr lacks '$needle': $(cat "$TMP/err")"
+  [[ ! -e "$TMP/bad.csv" ]] || fail "$what: wrote an output file"
+}
+
+# 1. Laser tracker, full level: 40 rows, selected indices above the random ones.
+"$ROBCAL" plan --robot abb-irb120 --instrument laser-tracker --level full --count 40 \
+  --candidates 1500 --seed 3 --task-count 200 --json --out "$TMP/configs.csv" >"$TMP/plan.json" ||
+  fail "plan failed: $(cat "$TMP/plan.json")"
+/usr/bin/python3 - "$TMP/plan.json" "$TMP/configs.csv" <<'PY' || FAILED=1
+import csv, json, sys
+d = json.load(open(sys.argv[1]))
+rows = list(csv.DictReader(open(sys.argv[2])))
+errors = []
+if d["count"] != 40 or len(rows) != 40: errors.append(f"count {d['count']}, rows {len(rows)}")
+if list(rows[0].keys()) != ["config", "target", "j1", "j2", "j3", "j4", "j5", "j6"]:
+    errors.append(f"columns {list(rows[0].keys())}")
+for k in ["O1", "O3", "O5"]:
+    if not d["selected"][k] > d["random"][k]: errors.append(f"{k}: {d['selected'][k]} vs {d['random'][k]}")
+if not d["d_efficiency"] > d["d_efficiency_random"]: errors.append("D-efficiency")
+if d["parameters"] != 30 or d["dropped"] != ["link3.d"]: errors.append(f"parameters {d['parameters']} {d['dropped']}")
+p = d["predicted_error_mm"]
+if not 0 < p["selected"]["mean"] <= p["selected"]["max"]: errors.append(f"prediction {p}")
+for r in rows:
+    j = [float(r[f"j{i}"]) for i in range(1, 7)]
+    # published constraints
+    if not (abs(j[0]) <= 90 and j[1] >= 0 and j[2] >= -80 and abs(j[3]) <= 150 and abs(j[4]) <= 90):
+        errors.append(f"row {r['config']} outside the published constraints: {j}")
+    if r["target"] not in ("1", "2", "3"): errors.append(f"target {r['target']}")
+for e in errors: print("FAIL:", e)
+sys.exit(1 if errors else 0)
+PY
+
+# 2. Same seed, same file.
+"$ROBCAL" plan --count 40 --candidates 1500 --seed 3 --task-count 200 --out "$TMP/again.csv" \
+  >/dev/null || fail "second plan failed"
+cmp -s "$TMP/configs.csv" "$TMP/again.csv" || fail "same seed gave a different plan"
+
+# 3. The optical CMM (poses) and the text output.
+"$ROBCAL" plan --instrument optical-cmm --level kinematic --count 12 --candidates 500 \
+  --task-count 100 --out "$TMP/cmm.csv" >"$TMP/cmm.txt" || fail "cmm plan failed: $(cat "$TMP/cmm.txt")"
+grep -q "^O1" "$TMP/cmm.txt" || fail "cmm plan: no O1 line"
+grep -q "predicted TCP error" "$TMP/cmm.txt" || fail "cmm plan: no prediction"
+
+# 4. Bad input.
+expect_error "count too small" "at least 10 configurations" plan --count 5 --candidates 300 \
+  --out "$TMP/bad.csv"
+expect_error "floor above the robot" "no feasible candidate" plan --floor-mm 5000 \
+  --candidates 50 --out "$TMP/bad.csv"
+expect_error "unknown constraints" "--constraints" plan --constraints loose --out "$TMP/bad.csv"
+expect_error "unknown level" "--level" plan --level everything --out "$TMP/bad.csv"
+expect_error "unknown instrument" "--instrument" plan --instrument sextant --out "$TMP/bad.csv"
+expect_error "unknown method" "--method" plan --method magic --out "$TMP/bad.csv"
+printf 'payload: {mass_kg: 1, cog_mm: [0, 0, 50]}\ntargets: {}\n' >"$TMP/empty_tool.yaml"
+expect_error "tool without targets" "no targets" plan --tool "$TMP/empty_tool.yaml" \
+  --candidates 50 --out "$TMP/bad.csv"
+
+exit $FAILED

@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# robcal validate end to end: refusal without a world frame, --fit-base on the reference data,
+# JSON keys, thread-count independence, bad input with exit code 2 and file:line:column.
+set -euo pipefail
+robcal="$1"
+data=tests/data/irb120-published
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# The nominal robot has no world frame: refused, with the way out named.
+set +e
+"$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --measurements $data/validation.csv \
+  >"$tmp/out" 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "nominal without --fit-base: exit $rc, expected 2"
+grep -q -- "--level base" "$tmp/err" || fail "no --level base suggestion: $(cat "$tmp/err")"
+grep -q -- "--fit-base" "$tmp/err" || fail "no --fit-base suggestion"
+[ ! -s "$tmp/out" ] || fail "output printed on error"
+
+# --fit-base, JSON, 1 and 2 threads.
+for t in 1 2; do
+  "$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --measurements $data/validation.csv \
+    --fit-base --json --threads $t >"$tmp/t$t.json"
+done
+python3 - "$tmp/t1.json" "$tmp/t2.json" <<'PY'
+import json, sys
+one, two = (json.load(open(p)) for p in sys.argv[1:3])
+assert one["points"] == 1000, one["points"]
+pe = one["position_error_mm"]
+for key in ("mean", "std", "mean_plus_3std", "max"):
+    assert key in pe, key
+assert abs(pe["mean_plus_3std"] - (pe["mean"] + 3 * pe["std"])) < 1e-12
+# Nominal IRB 120 placed by a rigid fit: millimetres off (METHOD §10: 1-5 mm).
+assert 0.8 < pe["mean"] < 3.5, pe
+de = one["distance_error_mm"]
+assert de["pairs"] == 1000 * 999 // 2, de["pairs"]
+for key in ("mean", "std", "max"):
+    assert key in de, key
+assert sum(de["histogram"]["counts"]) == de["pairs"]
+assert len(de["histogram"]["counts"]) == 128
+assert [t["target"] for t in one["per_target"]] == ["1", "2", "3"]
+assert sum(t["rows"] for t in one["per_target"]) == 1000
+del one["threads"], two["threads"]
+assert one == two, "results differ between 1 and 2 threads"
+PY
+
+# Human output: the table and both histograms.
+"$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --measurements $data/validation.csv \
+  --fit-base >"$tmp/human"
+grep -q "mean+3std" "$tmp/human" || fail "no table"
+grep -q "distance error over all 499500 pairs" "$tmp/human" || fail "no distance errors"
+
+# Bad input: exit 2 naming file, line, column.
+printf 'config,target,j1,j2,j3,j4,j5,j6,x,y,z\n1,1,0,0,0,0,0,0,1,2,3\n2,1,0,0,x,0,0,0,1,2,3\n' >"$tmp/bad.csv"
+set +e
+"$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --measurements "$tmp/bad.csv" \
+  --fit-base 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "bad value: exit $rc"
+grep -q "bad.csv:3:5 (j3): 'x' is not a number" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+
+printf 'config,target,j1,j2,j3,j4,j5,j6,length\n1,1,0,0,0,0,0,0,300\n' >"$tmp/ballbar.csv"
+set +e
+"$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --measurements "$tmp/ballbar.csv" \
+  --fit-base 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "distances file: exit $rc"
+grep -q "this is a distances file" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+
+# Unused columns: a warning on stderr, results unchanged.
+sed '1s/$/,temperature/; 2,$s/$/,21.5/' $data/validation.csv >"$tmp/extra.csv"
+"$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --measurements "$tmp/extra.csv" \
+  --fit-base --json 2>"$tmp/err" >"$tmp/extra.json"
+grep -q "column 'temperature' is not used" "$tmp/err" || fail "no warning"
+python3 - "$tmp/t2.json" "$tmp/extra.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["position_error_mm"] == b["position_error_mm"]
+PY
+echo "validate CLI: ok"

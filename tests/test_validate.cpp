@@ -1,0 +1,363 @@
+// Validation (METHOD §9): statistics against hand-computed values, all-pairs distance errors
+// against a naive double loop and across thread counts, position/orientation errors, the rigid
+// base fit, and the reference data set's noise floor.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/io/measurement_file.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/validate/base_fit.hpp"
+#include "robcal/validate/validation.hpp"
+#include "test_support.hpp"
+
+namespace robcal {
+namespace {
+
+TEST(ValidateStatistics, HandComputed) {
+  const std::vector<double> errors = {1, 2, 3, 4};
+  const ErrorStatistics s = error_statistics(errors);
+  EXPECT_EQ(s.count, 4u);
+  EXPECT_DOUBLE_EQ(s.mean, 2.5);
+  // Population std: sqrt(((1.5² + 0.5²)·2)/4) = sqrt(1.25).
+  EXPECT_DOUBLE_EQ(s.std, std::sqrt(1.25));
+  EXPECT_DOUBLE_EQ(s.mean_plus_3std(), 2.5 + 3 * std::sqrt(1.25));
+  EXPECT_EQ(s.min, 1);
+  EXPECT_EQ(s.max, 4);
+
+  const ErrorStatistics one = error_statistics(std::vector<double>{0.7});
+  EXPECT_EQ(one.mean, 0.7);
+  EXPECT_EQ(one.std, 0.0);
+  EXPECT_EQ(error_statistics({}).count, 0u);
+  EXPECT_EQ(error_statistics({}).mean, 0.0);
+}
+
+TEST(ValidateHistogram, BinsClampAndMerge) {
+  const std::vector<double> values = {0, 0.1, 0.25, 0.5, 0.99, 1.0, 5, -1};
+  const Histogram h = make_histogram(values, 4, 0.0, 1.0);
+  EXPECT_EQ(h.counts, (std::vector<uint64_t>{3, 1, 1, 3}));
+  EXPECT_EQ(h.total(), values.size());
+  EXPECT_DOUBLE_EQ(h.bin_width(), 0.25);
+  const Histogram merged = merge_bins(h, 2);
+  EXPECT_EQ(merged.counts, (std::vector<uint64_t>{4, 4}));
+  EXPECT_DOUBLE_EQ(merged.bin_width(), 0.5);
+  EXPECT_THROW((void)merge_bins(h, 3), std::invalid_argument);
+  EXPECT_THROW((void)make_histogram(values, 4, 1.0, 1.0), std::invalid_argument);
+
+  const std::string text = histogram_text(h, "mm", 10);
+  EXPECT_NE(text.find("   0.00 –    0.25 mm |##########|          3   37.5%"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("|###       |          1   12.5%"), std::string::npos) << text;
+  // Trailing empty bins are not printed.
+  const Histogram tail = make_histogram(std::vector<double>{0.1}, 4, 0.0, 1.0);
+  const std::string tail_text = histogram_text(tail, "mm");
+  EXPECT_EQ(std::count(tail_text.begin(), tail_text.end(), '\n'), 1) << tail_text;
+}
+
+TEST(ValidatePairwise, ThreePointsByHand) {
+  Eigen::Matrix3Xd measured(3, 3), modelled(3, 3);
+  measured << 0, 10, 0, 0, 0, 20, 0, 0, 0;
+  modelled << 0, 10.5, 0, 0, 0, 19, 0, 0, 0;
+  // Measured distances 10, 20, √500; modelled 10.5, 19, √471.25.
+  const double e3 = std::sqrt(500.0) - std::sqrt(471.25);
+  const PairwiseDistanceErrors r = pairwise_distance_errors(measured, modelled, 1, 4);
+  EXPECT_EQ(r.stats.count, 3u);
+  EXPECT_NEAR(r.stats.mean, (0.5 + 1 + e3) / 3, 1e-15);
+  const double mean = (0.5 + 1 + e3) / 3;
+  EXPECT_NEAR(
+      r.stats.std,
+      std::sqrt(
+          ((0.5 - mean) * (0.5 - mean) + (1 - mean) * (1 - mean) + (e3 - mean) * (e3 - mean)) / 3),
+      1e-15);
+  EXPECT_NEAR(r.stats.min, 0.5, 1e-15);
+  EXPECT_NEAR(r.stats.max, 1.0, 1e-15);
+  EXPECT_EQ(r.histogram.total(), 3u);
+  EXPECT_GE(r.histogram.upper, r.stats.max);
+}
+
+TEST(ValidatePairwise, FewerThanTwoRowsHaveNoPairs) {
+  const Eigen::Matrix3Xd one = Eigen::Matrix3Xd::Ones(3, 1);
+  const PairwiseDistanceErrors r = pairwise_distance_errors(one, one, 2);
+  EXPECT_EQ(r.stats.count, 0u);
+  EXPECT_EQ(r.stats.mean, 0.0);
+  EXPECT_EQ(r.histogram.total(), 0u);
+  EXPECT_THROW((void)pairwise_distance_errors(one, Eigen::Matrix3Xd::Ones(3, 2)),
+               std::invalid_argument);
+  Eigen::Matrix3Xd bad = Eigen::Matrix3Xd::Ones(3, 2);
+  bad(1, 1) = NAN;
+  EXPECT_THROW((void)pairwise_distance_errors(bad, bad), std::invalid_argument);
+}
+
+/// N positions in a 1.6 m cube; the "model" sees them moved rigidly (a frame it does not
+/// know), scaled by 1.0005 and with 0.05 mm noise, so distance errors span 0..~1 mm.
+struct RandomPositions {
+  Eigen::Matrix3Xd measured, modelled;
+  RandomPositions(int n, uint64_t seed) : measured(3, n), modelled(3, n) {
+    auto rng = test::seeded_rng(seed);
+    std::uniform_real_distribution<double> coord(-800, 800);
+    std::normal_distribution<double> noise(0, 0.05);
+    const Eigen::Matrix3d R =
+        Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    for (int i = 0; i < n; ++i) {
+      measured.col(i) << coord(rng), coord(rng), coord(rng) + 1000;
+      modelled.col(i) = R * measured.col(i) * 1.0005 + Eigen::Vector3d(300, -20, 5) +
+                        Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    }
+  }
+};
+
+TEST(ValidatePairwise, MatchesNaiveDoubleLoop) {
+  const RandomPositions data(500, 11);
+  const PairwiseDistanceErrors r = pairwise_distance_errors(data.measured, data.modelled, 2);
+  std::vector<double> errors;
+  for (int i = 0; i < 500; ++i)
+    for (int j = i + 1; j < 500; ++j)
+      errors.push_back(std::abs((data.measured.col(i) - data.measured.col(j)).norm() -
+                                (data.modelled.col(i) - data.modelled.col(j)).norm()));
+  const ErrorStatistics naive = error_statistics(errors);
+  EXPECT_EQ(r.stats.count, naive.count);
+  EXPECT_EQ(r.stats.count, 500u * 499u / 2);
+  // The naive formula subtracts two lengths of ~1000 mm and so carries ulp(1000 mm) ≈ 1e-13 mm
+  // of rounding per pair; ours is accurate to a few ulps of the error itself.
+  EXPECT_NEAR(r.stats.mean, naive.mean, 1e-12);
+  EXPECT_NEAR(r.stats.std, naive.std, 1e-12);
+  EXPECT_NEAR(r.stats.min, naive.min, 1e-12);
+  EXPECT_NEAR(r.stats.max, naive.max, 1e-12);
+  EXPECT_GT(naive.max, 0.3);  // the data do span a range
+  // Histogram: same bins as binning the naive values over the same range.
+  const Histogram expected = make_histogram(errors, 128, r.histogram.lower, r.histogram.upper);
+  EXPECT_EQ(r.histogram.counts, expected.counts);
+  EXPECT_GE(r.histogram.upper, naive.max);
+  // The bound is r1 + r2 after the rigid fit: not far above the largest error.
+  EXPECT_LT(r.histogram.upper, 4 * naive.max);
+}
+
+TEST(ValidatePairwise, AccurateWhereTheNaiveFormulaIsNot) {
+  // Long double reference on pairs whose lengths (~1 m) dwarf their errors (~1e-6 mm).
+  Eigen::Matrix3Xd measured(3, 40), modelled(3, 40);
+  auto rng = test::seeded_rng(5);
+  std::uniform_real_distribution<double> coord(-900, 900), tiny(-1e-6, 1e-6);
+  for (int i = 0; i < 40; ++i) {
+    measured.col(i) << coord(rng), coord(rng), coord(rng);
+    modelled.col(i) = measured.col(i) + Eigen::Vector3d(tiny(rng), tiny(rng), tiny(rng));
+  }
+  const PairwiseDistanceErrors r = pairwise_distance_errors(measured, modelled, 1);
+  long double sum = 0, max = 0;
+  for (int i = 0; i < 40; ++i)
+    for (int j = i + 1; j < 40; ++j) {
+      long double dm = 0, dp = 0;
+      for (int k = 0; k < 3; ++k) {
+        const long double a = static_cast<long double>(measured(k, i)) - measured(k, j);
+        const long double b = static_cast<long double>(modelled(k, i)) - modelled(k, j);
+        dm += a * a;
+        dp += b * b;
+      }
+      const long double e = std::fabs(std::sqrt(dm) - std::sqrt(dp));
+      sum += e;
+      max = std::max(max, e);
+    }
+  const double mean = static_cast<double>(sum / (40 * 39 / 2));
+  // Relative 1e-9 against errors of ~1e-6 mm, i.e. 1e-15 mm; long double itself carries
+  // ~1e-16 mm here.
+  EXPECT_NEAR(r.stats.mean, mean, 1e-9 * mean);
+  EXPECT_NEAR(r.stats.max, static_cast<double>(max), 1e-9 * static_cast<double>(max));
+}
+
+TEST(ValidatePairwise, BitIdenticalForAnyThreadCount) {
+  const RandomPositions data(1237, 3);  // not a multiple of the block or chunk size
+  const PairwiseDistanceErrors one = pairwise_distance_errors(data.measured, data.modelled, 1);
+  for (int threads : {2, 3, 8}) {
+    SCOPED_TRACE(threads);
+    const PairwiseDistanceErrors many =
+        pairwise_distance_errors(data.measured, data.modelled, threads);
+    EXPECT_EQ(std::bit_cast<uint64_t>(many.stats.mean), std::bit_cast<uint64_t>(one.stats.mean));
+    EXPECT_EQ(std::bit_cast<uint64_t>(many.stats.std), std::bit_cast<uint64_t>(one.stats.std));
+    EXPECT_EQ(many.stats.min, one.stats.min);
+    EXPECT_EQ(many.stats.max, one.stats.max);
+    EXPECT_EQ(many.histogram.upper, one.histogram.upper);
+    EXPECT_EQ(many.histogram.counts, one.histogram.counts);
+  }
+  EXPECT_EQ(one.histogram.total(), one.stats.count);
+}
+
+/// The reference robot (truth.yaml) as a calibrated robot with its tool and world frame.
+CalibratedRobot reference_robot() {
+  const test::ReferenceTruth truth = test::load_reference_truth();
+  CalibratedRobot robot;
+  robot.model = truth.model;
+  robot.params = truth.params;
+  robot.tool = load_tool(test::data_path("irb120-published/tool.yaml"));
+  robot.tool.payload = truth.payload;
+  robot.base_fitted = true;
+  robot.level = "full";
+  return robot;
+}
+
+TEST(ValidateReference, TrueRobotIsAtTheNoiseFloor) {
+  const CalibratedRobot robot = reference_robot();
+  const MeasurementSet set =
+      read_measurements_csv(test::data_path("irb120-published/validation.csv"), robot.tool)
+          .measurements;
+  const ValidationReport report = validate_model(robot, set, 2);
+  // 0.02 mm Gaussian noise per axis: |error| is Maxwell distributed with mean
+  // 0.02·√(8/π) = 0.0319 mm and std 0.02·√(3 − 8/π) = 0.0135 mm.
+  const double sigma = 0.02;
+  EXPECT_NEAR(report.positions.position_mm.mean, sigma * std::sqrt(8 / std::numbers::pi), 0.0015);
+  EXPECT_NEAR(report.positions.position_mm.std, sigma * std::sqrt(3 - 8 / std::numbers::pi),
+              0.0015);
+  EXPECT_LT(report.positions.position_mm.max, 0.1);
+  EXPECT_EQ(report.positions.position_mm.count, 1000u);
+  ASSERT_EQ(report.positions.per_target.size(), 3u);
+  uint64_t rows = 0;
+  for (const TargetErrorStatistics& t : report.positions.per_target) {
+    rows += t.position_mm.count;
+    EXPECT_NEAR(t.position_mm.mean, 0.032, 0.004) << t.target;
+  }
+  EXPECT_EQ(rows, 1000u);
+  EXPECT_EQ(report.position_histogram.total(), 1000u);
+  // A distance error is the projection of the difference of two noise vectors (σ√2 per axis)
+  // on the line between the points: |N(0, 2σ²)|, mean σ√2·√(2/π) = 2σ/√π = 0.0226 mm.
+  EXPECT_EQ(report.distances.stats.count, 1000u * 999u / 2);
+  EXPECT_NEAR(report.distances.stats.mean, 2 * sigma / std::sqrt(std::numbers::pi), 0.001);
+  EXPECT_EQ(report.distances.histogram.total(), report.distances.stats.count);
+}
+
+TEST(ValidateReference, NominalRobotIsMillimetresOff) {
+  CalibratedRobot robot = reference_robot();
+  const CalibratedRobot nominal = CalibratedRobot::nominal(robot.model, robot.tool);
+  const MeasurementSet set =
+      read_measurements_csv(test::data_path("irb120-published/validation.csv"), robot.tool)
+          .measurements;
+  const ValidationReport report = validate_model(fit_base(nominal, set), set, 2);
+  // METHOD §10: the IRB 120 is 1–5 mm off before calibration (3.168 mm published; 1.394 mm
+  // for a base-only fit in the reference README).
+  EXPECT_GT(report.positions.position_mm.mean, 0.8);
+  EXPECT_LT(report.positions.position_mm.mean, 3.5);
+  EXPECT_GT(report.distances.stats.mean, 0.3);
+}
+
+TEST(ValidateBaseFit, RecoversAKnownBase) {
+  // A robot without compliance placed by a known base; its exact positions; the same robot at
+  // the origin, fitted: the base parameters come back.
+  CalibratedRobot placed = reference_robot();
+  for (int link = 2; link <= 6; ++link) placed.params[compliance_param(link)] = 0;
+  placed.params[0] = 812.5;
+  placed.params[1] = -240.25;
+  placed.params[2] = 35.0;
+  placed.params[3] = deg2rad(1.5);
+  placed.params[4] = deg2rad(-2.25);
+  placed.params[5] = deg2rad(130.0);
+  MeasurementSet set;
+  set.kind = MeasurementKind::Points;
+  auto rng = test::seeded_rng(9);
+  std::uniform_real_distribution<double> angle(-1.2, 1.2);
+  for (int r = 0; r < 30; ++r) {
+    PointMeasurement m;
+    m.config = std::to_string(r);
+    m.target = r % 3;
+    for (int j = 0; j < 6; ++j) m.joints[j] = angle(rng);
+    set.points.push_back(m);
+  }
+  const Eigen::Matrix3Xd exact = predicted_positions(placed, set);
+  for (int r = 0; r < 30; ++r) set.points[static_cast<size_t>(r)].position_mm = exact.col(r);
+
+  CalibratedRobot origin = placed;
+  origin.params.head<6>().setZero();
+  origin.base_fitted = false;
+  const CalibratedRobot fitted = fit_base(origin, set);
+  EXPECT_TRUE(fitted.base_fitted);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(fitted.params[k], placed.params[k], 1e-8) << k;
+  for (int k = 3; k < 6; ++k) EXPECT_NEAR(fitted.params[k], placed.params[k], 1e-11) << k;
+  EXPECT_LT(position_errors(fitted, set).position_mm.max, 1e-8);
+}
+
+TEST(ValidateBaseFit, ResidualsAreTheRigidFitResiduals) {
+  // The nominal robot against the reference data: after fit_base the model's position errors
+  // are exactly the residuals of the rigid best fit of its (origin) predictions.
+  const CalibratedRobot robot = reference_robot();
+  const CalibratedRobot nominal = CalibratedRobot::nominal(robot.model, robot.tool);
+  const MeasurementSet set =
+      read_measurements_csv(test::data_path("irb120-published/calibration.csv"), robot.tool)
+          .measurements;
+  const Eigen::Matrix3Xd p = predicted_positions(nominal, set);
+  Eigen::Matrix3Xd m(3, p.cols());
+  for (Eigen::Index r = 0; r < p.cols(); ++r)
+    m.col(r) = set.points[static_cast<size_t>(r)].position_mm;
+  const Eigen::Matrix4d T = Eigen::umeyama(p, m, false);
+  const PositionErrors errors = position_errors(fit_base(nominal, set), set);
+  for (Eigen::Index r = 0; r < p.cols(); ++r) {
+    const double residual =
+        (m.col(r) - (T.topLeftCorner<3, 3>() * p.col(r) + T.topRightCorner<3, 1>())).norm();
+    EXPECT_NEAR(errors.position_error_mm[static_cast<size_t>(r)], residual, 1e-9);
+  }
+}
+
+TEST(ValidateBaseFit, RefusesPositionsThatFixNoFrame) {
+  const CalibratedRobot robot = reference_robot();
+  MeasurementSet set;
+  set.file = "line.csv";
+  for (int r = 0; r < 5; ++r)
+    set.points.push_back({std::to_string(r), 0, Vector6d::Zero(), {10.0 * r, 0, 0}, r + 2});
+  try {
+    (void)fit_base(robot, set);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "line.csv: 5 measured positions do not fix a world frame: at least 3 positions not "
+              "on one line are needed");
+  }
+}
+
+TEST(ValidatePoses, PositionAndOrientationErrors) {
+  CalibratedRobot robot = reference_robot();
+  robot.tool.flange_T_tcp =
+      Eigen::Translation3d(10, 20, 150) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY());
+  MeasurementSet set;
+  set.kind = MeasurementKind::Poses;
+  const Eigen::Vector3d offset(0.3, -0.4, 1.2);  // |offset| = 1.3 mm
+  for (int r = 0; r < 4; ++r) {
+    PoseMeasurement m;
+    m.config = std::to_string(r);
+    m.joints << 0.1 * r, 0.5, -0.2, 0.3 * r, 0.7, -1.0;
+    const Pose<double> flange =
+        flange_pose(robot.model, robot.tool.payload, robot.params, m.joints);
+    m.world_T_tcp.R =
+        flange.R * robot.tool.flange_T_tcp.rotation() *
+        Eigen::AngleAxisd(deg2rad(0.25 * (r + 1)), Eigen::Vector3d(1, 1, 0).normalized())
+            .toRotationMatrix();
+    m.world_T_tcp.p = flange * robot.tool.flange_T_tcp.translation() + offset;
+    set.poses.push_back(m);
+  }
+  const PositionErrors e = position_errors(robot, set);
+  for (int r = 0; r < 4; ++r) {
+    EXPECT_NEAR(e.position_error_mm[static_cast<size_t>(r)], 1.3, 1e-9);
+    EXPECT_NEAR(e.orientation_error_deg[static_cast<size_t>(r)], 0.25 * (r + 1), 1e-9);
+  }
+  EXPECT_NEAR(e.orientation_deg.mean, 0.625, 1e-9);
+  EXPECT_TRUE(e.per_target.empty());
+}
+
+TEST(ValidatePositions, TargetWithoutCoordinatesIsNamed) {
+  CalibratedRobot robot = reference_robot();
+  robot.tool.targets[1].known = false;
+  MeasurementSet set;
+  set.file = "v.csv";
+  set.points.push_back({"c", 1, Vector6d::Zero(), Eigen::Vector3d::Zero(), 7});
+  try {
+    (void)position_errors(robot, set);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("v.csv:7 (target): target '2' has no coordinates"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace robcal
