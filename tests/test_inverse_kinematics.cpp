@@ -11,6 +11,7 @@
 
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/kinematics/fast_atan2.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/kinematics/numeric_ik.hpp"
@@ -47,21 +48,6 @@ bool near_singular(const RobotModel& model, const Vector6d& joints) {
   const double sin_elbow = (E - S).normalized().cross((W - E).normalized()).norm();
   const double radial = std::hypot(W.x(), W.y());
   return sin5 < limit || sin_elbow < limit || radial < 50.0;
-}
-
-/// Configuration label recomputed from the link frames, as the header defines it.
-ArmConfig config_from_frames(const RobotModel& model, const Vector6d& joints) {
-  const auto frames = link_frames(model, PointMass{}, model.nominal().data(), joints.data());
-  const Eigen::Vector3d x1 = frames[0].R.col(0), y1 = frames[0].R.col(1);
-  const Eigen::Vector3d S = frames[1].p, E = frames[2].p, W = frames[3].p;
-  ArmConfig c;
-  c.back = (W - frames[0].p).dot(x1) < 0;
-  const double side = ((W - S).cross(E - S)).dot(-y1);
-  c.down = (c.back ? -side : side) <= 0;
-  // flip: the sign of sin θ5, θ5 the MDH link-5 angle.
-  const Vector6d q = model.joint_map.to_model(joints);
-  c.flip = std::sin(q[4] + model.mdh[4].theta_offset) < 0;
-  return c;
 }
 
 double max_angle_difference(const Vector6d& a, const Vector6d& b) {
@@ -108,7 +94,8 @@ RoundTripStats round_trip(const std::string& robot, int samples, std::uint64_t s
     const double error = max_angle_difference(nearest->joints, q);
     stats.worst_joint_error = std::max(stats.worst_joint_error, error);
     if (error < 1e-9) ++stats.regular_found;
-    if (!(nearest->config == config_from_frames(model, q))) ++stats.label_mismatches;
+    // The closed form's labels (from its angles) against the geometric definition (frames).
+    if (!(nearest->config == arm_config(model, q))) ++stats.label_mismatches;
   }
   return stats;
 }
@@ -244,6 +231,28 @@ TEST(InverseKinematics, RejectsRobotsThatAreNotOrthoParallel) {
   model.joint_map.matrix(2, 1) = 0.5;
   EXPECT_FALSE(analyze_ortho_parallel(model, &why));
   EXPECT_NE(why.find("joint map"), std::string::npos) << why;
+}
+
+TEST(InverseKinematics, FastAtan2AgreesWithTheLibrary) {
+  // Every octant, the breakpoints of the table, tiny and huge magnitudes, and the axes.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), e(-30.0, 30.0);
+  double worst = 0;
+  for (int n = 0; n < 1000000; ++n) {
+    const double scale = std::pow(10.0, e(rng));
+    const double y = u(rng) * scale, x = u(rng) * scale;
+    worst = std::max(worst, std::abs(fast_atan2(y, x) - std::atan2(y, x)));
+  }
+  for (double t : {0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1.0})
+    for (double sy : {1.0, -1.0})
+      for (double sx : {1.0, -1.0}) {
+        worst = std::max(worst, std::abs(fast_atan2(sy * t, sx) - std::atan2(sy * t, sx)));
+        worst = std::max(worst, std::abs(fast_atan2(sy, sx * t) - std::atan2(sy, sx * t)));
+      }
+  EXPECT_LT(worst, 5e-16);
+  EXPECT_EQ(fast_atan2(0.0, 0.0), 0.0);
+  EXPECT_EQ(fast_atan2(0.0, -1.0), std::atan2(0.0, -1.0));
+  EXPECT_EQ(fast_atan2(-0.0, -1.0), std::atan2(-0.0, -1.0));
 }
 
 TEST(InverseKinematics, LabelsParseBack) {

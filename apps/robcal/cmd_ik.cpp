@@ -10,7 +10,6 @@
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
-#include "robcal/kinematics/numeric_ik.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::cli {
@@ -41,38 +40,19 @@ Pose<double> parse_pose(const std::string& text) {
 
 std::vector<PrintedSolution> solve(const RobotModel& model, const Pose<double>& target,
                                    const Vector6d& seed, std::string& method) {
-  std::string why_not;
+  const AnyIkResult result = solve_ik(model, target, seed);
+  method = result.method;
+  if (result.status == IkStatus::Unreachable)
+    throw InputError({"", 0, 0, "--pose"},
+                     fmt::format("pose unreachable for {}: {}", model.name, result.method));
+  if (result.status == IkStatus::OutsideLimits)
+    throw InputError({"", 0, 0, "--pose"},
+                     fmt::format("the pose is reachable by {}, but every solution violates a "
+                                 "joint limit",
+                                 model.name));
   std::vector<PrintedSolution> out;
-  if (const auto geometry = analyze_ortho_parallel(model, &why_not)) {
-    method = "closed form (ortho-parallel, spherical wrist)";
-    const IkResult result = nominal_ik(*geometry, target, seed);
-    if (result.status == IkStatus::Unreachable)
-      throw InputError({"", 0, 0, "--pose"},
-                       fmt::format("pose unreachable for {}: the wrist centre is out of the "
-                                   "arm's reach",
-                                   model.name));
-    if (result.status == IkStatus::OutsideLimits)
-      throw InputError({"", 0, 0, "--pose"},
-                       fmt::format("pose reachable by {} arm branches of {}, but every solution "
-                                   "violates a joint limit",
-                                   result.branches_reached, model.name));
-    for (const IkSolution& s : result)
-      out.push_back({s.joints, s.config.label(), s.wrist_singular});
-    return out;
-  }
-  method =
-      fmt::format("numeric (damped least squares from the seed); not ortho-parallel: {}", why_not);
-  const NumericIkResult r = numeric_ik(model, PointMass{}, model.nominal(), target, seed);
-  if (r.status != NumericIkStatus::Converged)
-    throw InputError({"", 0, 0, "--pose"},
-                     fmt::format("numeric IK {} after {} iterations: {:.3g} mm, {:.3g} deg "
-                                 "from the pose (unreachable, or try another --seed-joints)",
-                                 to_string(r.status), r.iterations, r.position_error_mm,
-                                 rad2deg(r.orientation_error_rad)));
-  if (!r.within_limits)
-    throw InputError({"", 0, 0, "--pose"},
-                     "numeric IK converged to joints outside the robot's limits");
-  out.push_back({r.joints, "numeric", false});
+  for (const IkSolution& s : result.solutions)
+    out.push_back({s.joints, s.config.label(), s.wrist_singular});
   return out;
 }
 

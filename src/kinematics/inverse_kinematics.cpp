@@ -8,12 +8,15 @@
 #include <numbers>
 
 #include "robcal/core/units.hpp"
+#include "robcal/kinematics/fast_atan2.hpp"
+#include "robcal/kinematics/numeric_ik.hpp"
 
 namespace robcal {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kInvTwoPi = 0.5 / std::numbers::pi;
 constexpr double kAngleTolerance = 1e-9;   // rad, for "α = ±90°" in a table written in degrees
 constexpr double kLengthTolerance = 1e-9;  // mm, for "d = 0"
 constexpr double kLimitTolerance = 1e-9;   // rad, as RobotModel::within_limits
@@ -61,7 +64,7 @@ class Solver {
 
   void run() {
     const double wx = wrist_.x(), wy = wrist_.y();
-    const double rxy = std::hypot(wx, wy);
+    const double rxy = std::sqrt(wx * wx + wy * wy);
     double theta1, c1, s1;
     if (rxy < kShoulderSingularMm) {
       theta1 = seed_theta1_;
@@ -69,7 +72,7 @@ class Solver {
       s1 = std::sin(theta1);
       shoulder_singular_ = true;
     } else {
-      theta1 = std::atan2(wy, wx);
+      theta1 = fast_atan2(wy, wx);
       c1 = wx / rxy;
       s1 = wy / rxy;
     }
@@ -97,7 +100,7 @@ class Solver {
     X.row(0) = Q.row(0);
     X.row(1) = g_.s_alpha2 * Q.row(2);
     X.row(2) = -g_.s_alpha2 * Q.row(1);
-    const double phi_abs = std::atan2(sigma, k);
+    const double phi_abs = fast_atan2(sigma, k);
     for (int elbow = 0; elbow < 2; ++elbow) {
       if (elbow == 1 && sigma == 0.0) break;  // stretched: both elbows coincide
       const double sign = elbow == 0 ? 1.0 : -1.0;
@@ -108,7 +111,7 @@ class Solver {
       // v = (a3, 0) + ρ(cos φ, sin φ); θ2 turns v onto w.
       const double vx = g_.a3 + g_.rho * k, vy = g_.rho * sphi;
       const double dot = vx * wx + vy * wy, cross = vx * wy - vy * wx;
-      const double theta2 = std::atan2(cross, dot);
+      const double theta2 = fast_atan2(cross, dot);
       const double c2 = D > 0 ? dot / D : 1.0, s2 = D > 0 ? cross / D : 0.0;
       ArmSolution arm{theta1, theta2, theta3, c1, s1, c2 * c3 - s2 * s3, s2 * c3 + c2 * s3,
                       back,   false};
@@ -125,14 +128,14 @@ class Solver {
     const Eigen::RowVector3d y1 = -arm.s23 * X.row(0) + arm.c23 * X.row(1);
     const double m02 = y0[2], m12 = g_.s_alpha4 * X(2, 2);
     const Eigen::RowVector3d m2 = -g_.s_alpha4 * y1;
-    const double s5 = std::hypot(m02, m12);
+    const double s5 = std::sqrt(m02 * m02 + m12 * m12);
     const double c5 = -g_.s_alpha5 * g_.s_alpha6 * m2[2];
-    const double theta5 = std::atan2(s5, c5);
+    const double theta5 = fast_atan2(s5, c5);
     double theta4, theta6;
     const bool singular = s5 < kWristSingularSin;
     if (s5 >= kWristNearSingularSin) {
-      theta4 = std::atan2(g_.s_alpha6 * m12, g_.s_alpha6 * m02);
-      theta6 = std::atan2(-g_.s_alpha5 * m2[1], g_.s_alpha5 * m2[0]);
+      theta4 = fast_atan2(g_.s_alpha6 * m12, g_.s_alpha6 * m02);
+      theta6 = fast_atan2(-g_.s_alpha5 * m2[1], g_.s_alpha5 * m2[0]);
     } else {
       theta4 = singular ? seed_theta4_ : std::atan2(g_.s_alpha6 * m12, g_.s_alpha6 * m02);
       theta6 = residual_theta6(arm, X, theta4, theta5);
@@ -177,10 +180,10 @@ class Solver {
       const double lower = g_.limits[i].lower - kLimitTolerance;
       const double upper = g_.limits[i].upper + kLimitTolerance;
       double v = j[i];
-      if (v < lower || v >= lower + kTwoPi) v -= kTwoPi * std::floor((v - lower) / kTwoPi);
+      if (v < lower || v >= lower + kTwoPi) v -= kTwoPi * std::floor((v - lower) * kInvTwoPi);
       if (v > upper) return;
       first[i] = v;
-      turns[i] = 1 + static_cast<int>(std::floor((upper - v) / kTwoPi));
+      turns[i] = upper - v < kTwoPi ? 1 : 1 + static_cast<int>((upper - v) * kInvTwoPi);
       total *= turns[i];
     }
     std::array<int, kJointCount> k{};
@@ -326,6 +329,48 @@ const IkSolution* nearest_solution(const IkResult& result, const Vector6d& joint
     }
   }
   return best;
+}
+
+ArmConfig arm_config(const RobotModel& model, const Vector6d& joints) {
+  const auto frames = link_frames(model, PointMass{}, model.nominal().data(), joints.data());
+  const Eigen::Vector3d x1 = frames[0].R.col(0), y1 = frames[0].R.col(1);
+  const Eigen::Vector3d S = frames[1].p, E = frames[2].p, W = frames[3].p;
+  ArmConfig c{};
+  c.back = (W - frames[0].p).dot(x1) < 0;
+  const double side = (W - S).cross(E - S).dot(-y1);
+  c.down = (c.back ? -side : side) <= 0;
+  c.flip = std::sin(model.joint_map.to_model(joints)[4] + model.mdh[4].theta_offset) < 0;
+  return c;
+}
+
+AnyIkResult solve_ik(const RobotModel& model, const Pose<double>& world_T_flange,
+                     const Vector6d& seed) {
+  AnyIkResult out;
+  std::string why_not;
+  if (const auto geometry = analyze_ortho_parallel(model, &why_not)) {
+    out.method = "closed form (ortho-parallel, spherical wrist)";
+    const IkResult r = nominal_ik(*geometry, world_T_flange, seed);
+    out.status = r.status;
+    out.solutions.assign(r.begin(), r.end());
+    return out;
+  }
+  out.method =
+      fmt::format("numeric (damped least squares from the seed); not ortho-parallel: {}", why_not);
+  const NumericIkResult r = numeric_ik(model, PointMass{}, model.nominal(), world_T_flange, seed);
+  if (r.status != NumericIkStatus::Converged) {
+    out.status = IkStatus::Unreachable;
+    out.method += fmt::format("; {} after {} iterations, {:.3g} mm and {:.3g}° from the pose",
+                              to_string(r.status), r.iterations, r.position_error_mm,
+                              rad2deg(r.orientation_error_rad));
+    return out;
+  }
+  if (!r.within_limits) {
+    out.status = IkStatus::OutsideLimits;
+    return out;
+  }
+  out.status = IkStatus::Solved;
+  out.solutions.push_back({r.joints, arm_config(model, r.joints), false, false});
+  return out;
 }
 
 }  // namespace robcal

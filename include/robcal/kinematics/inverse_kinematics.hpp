@@ -40,6 +40,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/model/robot_model.hpp"
@@ -53,11 +54,12 @@ inline constexpr double kShoulderSingularMm = 1e-9;
 /// Capacity of an IkResult: 8 branches × the equivalent turns of wide-range joints.
 inline constexpr int kMaxIkSolutions = 96;
 
-/// The arm configuration of one solution (see the file comment for the definitions).
+/// The arm configuration of one solution (see the file comment for the definitions). Plain
+/// fields without initialisers keep IkResult's fixed array free to construct.
 struct ArmConfig {
-  bool back = false;
-  bool down = false;
-  bool flip = false;
+  bool back;
+  bool down;
+  bool flip;
   /// "front-up-noflip" style label.
   [[nodiscard]] std::string label() const;
   /// Index 0..7: back·4 + down·2 + flip.
@@ -68,11 +70,12 @@ struct ArmConfig {
 /// Parses a label made by ArmConfig::label(); std::nullopt when it is not one.
 std::optional<ArmConfig> parse_arm_config(const std::string& label);
 
+/// One solution; every field is set by the solver.
 struct IkSolution {
   Vector6d joints;  ///< controller joint values, rad
   ArmConfig config;
-  bool wrist_singular = false;     ///< θ4 was taken from the seed
-  bool shoulder_singular = false;  ///< θ1 was taken from the seed
+  bool wrist_singular;     ///< θ4 was taken from the seed
+  bool shoulder_singular;  ///< θ1 was taken from the seed
 };
 
 enum class IkStatus : std::uint8_t {
@@ -128,5 +131,20 @@ const IkSolution* nearest_solution(const IkResult& result, const Vector6d& joint
 /// Controller joint values (rad) from MDH link angles θ1..θ6 (rad), without limit handling.
 Vector6d controller_from_link_angles(const OrthoParallelGeometry& geometry,
                                      const std::array<double, kJointCount>& theta);
+
+/// The configuration of controller joints from the link frames, by the definitions above with
+/// W, S, E the origins of frames 4, 2, 3 (meaningful for any six-revolute arm of this shape).
+ArmConfig arm_config(const RobotModel& model, const Vector6d& joints);
+
+/// For tools (CLI, Python): every closed-form solution when the robot is ortho-parallel, else
+/// the damped-least-squares solution from `seed` (numeric_ik.hpp) labelled by arm_config.
+/// Allocates; the hot path is nominal_ik.
+struct AnyIkResult {
+  IkStatus status = IkStatus::Unreachable;
+  std::vector<IkSolution> solutions;
+  std::string method;  ///< which solver ran, and why
+};
+AnyIkResult solve_ik(const RobotModel& model, const Pose<double>& world_T_flange,
+                     const Vector6d& seed = Vector6d::Zero());
 
 }  // namespace robcal

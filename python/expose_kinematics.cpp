@@ -1,0 +1,120 @@
+// Python bindings of the robot library and the kinematics (include/robcal/io/robot_file.hpp,
+// include/robcal/kinematics/). Millimetres and degrees in and out, quaternions (w, x, y, z).
+
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+
+#include "module_registry.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/kinematics/forward_kinematics.hpp"
+#include "robcal/kinematics/inverse_kinematics.hpp"
+#include "robcal/kinematics/orientation.hpp"
+
+namespace py = pybind11;
+
+namespace robcal::python {
+namespace {
+
+Vector6d joints_from_deg(const Eigen::VectorXd& deg, const char* what) {
+  if (deg.size() != kJointCount)
+    throw py::value_error(std::string(what) + ": expected 6 joint values (deg), got " +
+                          std::to_string(deg.size()));
+  Vector6d q;
+  for (int i = 0; i < kJointCount; ++i) {
+    if (!std::isfinite(deg[i])) throw py::value_error(std::string(what) + ": not finite");
+    q[i] = deg2rad(deg[i]);
+  }
+  return q;
+}
+
+Eigen::VectorXd joints_to_deg(const Vector6d& q) {
+  Eigen::VectorXd deg(kJointCount);
+  for (int i = 0; i < kJointCount; ++i) deg[i] = rad2deg(q[i]);
+  return deg;
+}
+
+const bool registered = register_bindings(10, [](py::module_& m) {
+  py::class_<RobotModel>(m, "RobotModel", "An immutable robot description (MDH table, limits)")
+      .def_readonly("name", &RobotModel::name)
+      .def_readonly("manufacturer", &RobotModel::manufacturer)
+      .def_readonly("source", &RobotModel::source)
+      .def_property_readonly(
+          "joint_limits_deg",
+          [](const RobotModel& r) {
+            Eigen::MatrixXd limits(kJointCount, 2);
+            for (int i = 0; i < kJointCount; ++i)
+              limits.row(i) << rad2deg(r.limits[i].lower), rad2deg(r.limits[i].upper);
+            return limits;
+          },
+          "6×2 array of [lower, upper] controller joint limits, deg")
+      .def_property_readonly(
+          "is_ortho_parallel",
+          [](const RobotModel& r) { return analyze_ortho_parallel(r).has_value(); },
+          "True when the closed-form IK applies (otherwise ik() is numeric)")
+      .def("__repr__", [](const RobotModel& r) { return "<RobotModel " + r.name + ">"; });
+
+  m.def("builtin_robots", &builtin_robot_names, "Names of the built-in robots");
+  m.def(
+      "load_robot",
+      [](const std::string& name_or_path) {
+        try {
+          return load_robot(name_or_path);
+        } catch (const InputError& e) {
+          throw py::value_error(e.what());
+        }
+      },
+      py::arg("name_or_path"), "A built-in robot by name or a robot file by path");
+
+  m.def(
+      "fk",
+      [](const RobotModel& robot, const Eigen::VectorXd& joints_deg) {
+        const Pose<double> pose =
+            flange_pose(robot, PointMass{}, robot.nominal(), joints_from_deg(joints_deg, "fk"));
+        const Eigen::Quaterniond q = to_quaternion(pose.R);
+        py::dict out;
+        out["position_mm"] = Eigen::Vector3d(pose.p);
+        out["quaternion_wxyz"] = Eigen::Vector4d(q.w(), q.x(), q.y(), q.z());
+        return out;
+      },
+      py::arg("robot"), py::arg("joints_deg"),
+      "Flange pose of the nominal robot: {'position_mm': [x,y,z], 'quaternion_wxyz': [w,x,y,z]}");
+
+  m.def(
+      "ik",
+      [](const RobotModel& robot, const Eigen::Vector3d& position_mm,
+         const Eigen::Vector4d& quaternion_wxyz, std::optional<Eigen::VectorXd> seed_deg) {
+        Pose<double> target;
+        try {
+          target = pose_from_position_quaternion(position_mm, quaternion_wxyz);
+        } catch (const InputError& e) {
+          throw py::value_error(e.what());
+        }
+        const Vector6d seed = seed_deg ? joints_from_deg(*seed_deg, "ik seed") : Vector6d::Zero();
+        const AnyIkResult result = solve_ik(robot, target, seed);
+        py::list solutions;
+        for (const IkSolution& s : result.solutions) {
+          py::dict d;
+          d["joints_deg"] = joints_to_deg(s.joints);
+          d["config"] = s.config.label();
+          d["wrist_singular"] = s.wrist_singular;
+          solutions.append(d);
+        }
+        py::dict out;
+        out["status"] = to_string(result.status);
+        out["method"] = result.method;
+        out["solutions"] = solutions;
+        return out;
+      },
+      py::arg("robot"), py::arg("position_mm"), py::arg("quaternion_wxyz"),
+      py::arg("seed_joints_deg") = py::none(),
+      "Every IK solution of the nominal robot: {'status', 'method', 'solutions': [{'joints_deg', "
+      "'config', 'wrist_singular'}]}; an unreachable pose gives status 'unreachable' and no "
+      "solutions");
+});
+
+}  // namespace
+}  // namespace robcal::python

@@ -1,0 +1,64 @@
+"""Robot library and kinematics from Python: the IRB 120 home pose and IK round trips."""
+import math
+import random
+
+import numpy as np
+import pytest
+
+import robcal
+
+
+def test_builtin_robots_load():
+    names = robcal.builtin_robots()
+    assert "abb-irb120" in names
+    for name in names:
+        robot = robcal.load_robot(name)
+        assert robot.joint_limits_deg.shape == (6, 2)
+        assert robot.is_ortho_parallel
+
+
+def test_unknown_robot_is_a_value_error():
+    with pytest.raises(ValueError, match="no-such-robot"):
+        robcal.load_robot("no-such-robot")
+
+
+def test_irb120_home_pose():
+    robot = robcal.load_robot("abb-irb120")
+    pose = robcal.fk(robot, [0, 0, 0, 0, 0, 0])
+    np.testing.assert_allclose(pose["position_mm"], [374.0, 0.0, 630.0], atol=1e-9)
+    # Flange z along base +x: a +90° turn about y, q = (cos 45°, 0, sin 45°, 0).
+    h = math.sqrt(0.5)
+    np.testing.assert_allclose(pose["quaternion_wxyz"], [h, 0.0, h, 0.0], atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["abb-irb120", "fanuc-lrmate200ic", "kuka-kr6-r900-sixx"])
+def test_ik_round_trip(name):
+    robot = robcal.load_robot(name)
+    limits = robot.joint_limits_deg
+    rng = random.Random(20261122)
+    for _ in range(50):
+        joints = [rng.uniform(lo + 1, hi - 1) for lo, hi in limits]
+        if abs(math.sin(math.radians(joints[4]))) < 0.1:
+            continue  # near the wrist singularity θ4 comes from the seed
+        pose = robcal.fk(robot, joints)
+        result = robcal.ik(robot, pose["position_mm"], pose["quaternion_wxyz"])
+        assert result["status"] == "solved"
+        best = min(np.max(np.abs(s["joints_deg"] - joints)) for s in result["solutions"])
+        assert best < 1e-7, (joints, best)
+        for s in result["solutions"]:  # every solution reaches the same pose
+            back = robcal.fk(robot, s["joints_deg"])
+            np.testing.assert_allclose(back["position_mm"], pose["position_mm"], atol=1e-8)
+            assert abs(abs(np.dot(back["quaternion_wxyz"], pose["quaternion_wxyz"])) - 1) < 1e-12
+
+
+def test_unreachable_pose_is_a_status():
+    robot = robcal.load_robot("abb-irb120")
+    result = robcal.ik(robot, [2000.0, 0.0, 500.0], [1.0, 0.0, 0.0, 0.0])
+    assert result["status"] == "unreachable"
+    assert result["solutions"] == []
+
+
+def test_bad_joint_count_is_a_value_error():
+    robot = robcal.load_robot("abb-irb120")
+    with pytest.raises(ValueError, match="6 joint values"):
+        robcal.fk(robot, [0, 0, 0])
