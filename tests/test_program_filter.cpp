@@ -144,7 +144,7 @@ TEST(ProgramFilter, ReadsValuesAsWritten) {
   EXPECT_EQ(points[1].line, 6);
   EXPECT_NEAR(points[1].base_T_tcp.p.x(), 400.5, 1e-12);
   EXPECT_NEAR(points[1].base_T_tcp.p.y(), -120.25, 1e-12);
-  EXPECT_EQ(points[1].config, (std::vector<int>{-1, 0, -1, 0}));
+  EXPECT_EQ(points[1].config, (std::vector<int>{-1, 0, 0, 0}));
   // q = (0, √½, √½, 0): a half turn about (1,1,0)/√2 maps x to y.
   EXPECT_NEAR((points[1].base_T_tcp.R * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(),
               0, 1e-6);

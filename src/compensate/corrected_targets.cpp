@@ -198,8 +198,10 @@ std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage la
                                      const Vector6d& joints) {
   const ArmConfig config = arm_config_of(comp.model, joints);
   if (language == ProgramLanguage::Rapid) {
+    // Quadrant of a joint; the tolerance keeps an exact 0° (or 90°...) that the closed form
+    // returns as −1e-14 in the quadrant above, as it was written.
     const auto quadrant = [&](int i) {
-      return static_cast<int>(std::floor(rad2deg(joints[i]) / 90.0));
+      return static_cast<int>(std::floor(rad2deg(joints[i]) / 90.0 + 1e-9));
     };
     return {quadrant(0), quadrant(3), quadrant(5), config.index()};
   }
