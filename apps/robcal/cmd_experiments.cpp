@@ -43,10 +43,15 @@ struct Experiment {
   std::vector<std::string> rows;  ///< markdown rows
 };
 
+/// Millimetres for the table: fixed point, or scientific below a micrometre.
+std::string mm(double value) {
+  return value < 1e-3 ? fmt::format("{:.1e}", value) : fmt::format("{:.4f}", value);
+}
+
 std::string md_row(const std::string& id, const std::string& setting, const nlohmann::json& f,
                    const std::string& against, const std::string& published) {
-  return fmt::format("| {} | {} | {:.4f} | {:.4f} | {} | {} |", id, setting,
-                     f["mean_mm"].get<double>(), f["max_mm"].get<double>(), against, published);
+  return fmt::format("| {} | {} | {} | {} | {} | {} |", id, setting, mm(f["mean_mm"].get<double>()),
+                     mm(f["max_mm"].get<double>()), against, published);
 }
 
 void run_experiments(const ExperimentOptions& o) {
