@@ -1,7 +1,8 @@
 // Kinematics speed (BENCHMARKS.md): ABB IRB 120, inputs generated here from fixed seeds.
-//   FK of the flange and 3 targets (goal ≤ 0.2 µs), nominal closed-form IK with every solution
-//   (goal ≤ 0.40 µs median; opw_kinematics 0.52–0.85 µs on this machine), and the numeric
-//   (DLS) IK of a calibrated, compliant robot seeded with the nominal analytic solution.
+//   FK of the flange and 3 targets (goal ≤ 0.2 µs; error-model FK and the nominal chain), nominal
+//   closed-form IK with every solution (goal ≤ 0.40 µs median; opw_kinematics 0.52–0.85 µs on this
+//   machine), and the numeric (DLS) IK of a calibrated, compliant robot seeded with the nominal
+//   analytic solution.
 // Run: build/robcal_bench --benchmark_filter=Kinematics --benchmark_repetitions=15
 
 #include <benchmark/benchmark.h>
@@ -13,6 +14,7 @@
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
+#include "robcal/kinematics/nominal_chain.hpp"
 #include "robcal/kinematics/numeric_ik.hpp"
 
 namespace robcal {
@@ -49,6 +51,26 @@ void Kinematics_FkFlangeAnd3Targets(benchmark::State& state) {
   }
 }
 BENCHMARK(Kinematics_FkFlangeAnd3Targets);
+
+// The same work with the nominal chain's precomputed twists (nominal_chain.hpp).
+void Kinematics_NominalChainFkFlangeAnd3Targets(benchmark::State& state) {
+  const RobotModel model = load_robot("abb-irb120");
+  const NominalChain chain = make_nominal_chain(model);
+  std::mt19937_64 rng(kSeed);
+  const std::vector<Vector6d> joints = random_joints(model, rng, kInputs);
+  const std::array<Eigen::Vector3d, 3> targets{
+      Eigen::Vector3d(50, 0, 100), Eigen::Vector3d(-40, 60, 90), Eigen::Vector3d(0, -70, 120)};
+  size_t k = 0;
+  for (auto _ : state) {
+    const Pose<double> flange = nominal_flange_pose(chain, joints[k]);
+    for (const Eigen::Vector3d& t : targets) {
+      Eigen::Vector3d p = flange * t;
+      benchmark::DoNotOptimize(p);
+    }
+    k = (k + 1) % joints.size();
+  }
+}
+BENCHMARK(Kinematics_NominalChainFkFlangeAnd3Targets);
 
 void Kinematics_NominalIkAllSolutions(benchmark::State& state) {
   const RobotModel model = load_robot("abb-irb120");

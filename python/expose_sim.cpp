@@ -7,12 +7,77 @@
 #include <random>
 
 #include "module_registry.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/io/robot_file.hpp"
 #include "robcal/measure/instrument.hpp"
+#include "robcal/sim/simulator.hpp"
 
 namespace py = pybind11;
 
 namespace robcal::python {
 namespace {
+
+/// A simulated campaign as arrays: what `robcal simulate` writes, in memory.
+py::dict simulate(const std::string& instrument_name, const std::string& truth_name, int count,
+                  uint64_t seed, double noise_mm) {
+  if (count < 1) throw py::value_error("count must be positive");
+  if (noise_mm < 0) throw py::value_error("noise_mm must not be negative");
+  const RobotModel model = load_robot("abb-irb120");
+  const Tool tool = default_simulation_tool();
+  std::mt19937_64 truth_rng(seed), config_rng(seed + 1), noise_rng(seed + 2);
+  TrueRobot truth;
+  if (truth_name == "published")
+    truth = published_irb120_truth(model, tool);
+  else if (truth_name == "random")
+    truth = random_truth(model, tool, ErrorBounds{}, truth_rng);
+  else
+    throw py::value_error("truth must be 'published' or 'random'");
+  VirtualInstrument instrument =
+      standard_instrument(parse_instrument_kind(instrument_name, "instrument"), truth, noise_mm);
+  if (noise_mm == 0) {  // exact readings
+    instrument.tracker.sigma_mm.setZero();
+    instrument.cmm.sigma_mm = 0;
+    instrument.cmm.sigma_orientation_deg = 0;
+    instrument.ballbar.sigma_mm = 0;
+  }
+  RandomConfigurationOptions options;
+  options.box = published_joint_box(model);
+  const auto configs = random_configurations(truth, instrument, count, config_rng, options);
+  const MeasurementSet set =
+      simulate_measurements(truth, instrument, configs, noise_rng).measurements;
+  const Eigen::Index n = static_cast<Eigen::Index>(set.size());
+  Eigen::MatrixXd joints(n, kJointCount), values(n, set.residuals_per_row() == 1 ? 1 : 3);
+  py::list names, targets;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const size_t k = static_cast<size_t>(i);
+    switch (set.kind) {
+      case MeasurementKind::Points:
+        names.append(set.points[k].config);
+        targets.append(tool.targets[static_cast<size_t>(set.points[k].target)].name);
+        joints.row(i) = set.points[k].joints.transpose() * kRadToDeg;
+        values.row(i) = set.points[k].position_mm.transpose();
+        break;
+      case MeasurementKind::Poses:
+        names.append(set.poses[k].config);
+        targets.append("tcp");
+        joints.row(i) = set.poses[k].joints.transpose() * kRadToDeg;
+        values.row(i) = set.poses[k].world_T_tcp.p.transpose();
+        break;
+      case MeasurementKind::Distances:
+        names.append(set.distances[k].config);
+        targets.append(tool.targets[static_cast<size_t>(set.distances[k].target)].name);
+        joints.row(i) = set.distances[k].joints.transpose() * kRadToDeg;
+        values(i, 0) = set.distances[k].length_mm;
+        break;
+    }
+  }
+  py::dict out;
+  out["config"] = names;
+  out["target"] = targets;
+  out["joints_deg"] = joints;
+  out[set.kind == MeasurementKind::Distances ? "length_mm" : "position_mm"] = values;
+  return out;
+}
 
 const bool registered = register_bindings(40, [](py::module_& m) {
   py::class_<LaserTracker>(m, "LaserTracker", "Laser tracker: 3D point of one SMR (METHOD §7)")
@@ -51,6 +116,13 @@ const bool registered = register_bindings(40, [](py::module_& m) {
       .def_readwrite("sigma_mm", &OpticalCmm::sigma_mm)
       .def_readwrite("sigma_orientation_deg", &OpticalCmm::sigma_orientation_deg)
       .def_readwrite("facing_limit_deg", &OpticalCmm::facing_limit_deg);
+
+  m.def("simulate", &simulate, py::arg("instrument") = "laser-tracker",
+        py::arg("truth") = "published", py::arg("count") = 20, py::arg("seed") = 1,
+        py::arg("noise_mm") = 0.0,
+        "Measures `count` random measurable configurations of a virtual IRB 120 (published or "
+        "random truth) with a virtual instrument; noise_mm = 0 gives exact readings. Returns a "
+        "dict of config, target, joints_deg (n×6) and position_mm (n×3) or length_mm (n×1).");
 });
 
 }  // namespace

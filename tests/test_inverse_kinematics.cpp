@@ -14,6 +14,7 @@
 #include "robcal/kinematics/fast_atan2.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
+#include "robcal/kinematics/nominal_chain.hpp"
 #include "robcal/kinematics/numeric_ik.hpp"
 #include "robcal/kinematics/orientation.hpp"
 #include "test_support.hpp"
@@ -253,6 +254,27 @@ TEST(InverseKinematics, FastAtan2AgreesWithTheLibrary) {
   EXPECT_EQ(fast_atan2(0.0, 0.0), 0.0);
   EXPECT_EQ(fast_atan2(0.0, -1.0), std::atan2(0.0, -1.0));
   EXPECT_EQ(fast_atan2(-0.0, -1.0), std::atan2(-0.0, -1.0));
+}
+
+TEST(NominalChain, MatchesTheErrorModelFkAtNominalParameters) {
+  for (const std::string name : {"abb-irb120", "fanuc-lrmate200ic", "kuka-kr6-r900-sixx"}) {
+    const RobotModel model = load_robot(name);
+    const NominalChain chain = make_nominal_chain(model);
+    std::mt19937_64 rng(5);
+    double worst_mm = 0, worst_rad = 0;
+    for (int n = 0; n < 2000; ++n) {
+      const Vector6d q = random_joints(model, rng);
+      const Pose<double> fast = nominal_flange_pose(chain, q), ref = nominal_fk(model, q);
+      worst_mm = std::max(worst_mm, (fast.p - ref.p).norm());
+      worst_rad = std::max(worst_rad, rotation_distance(fast.R, ref.R));
+    }
+    EXPECT_LT(worst_mm, 1e-11) << name;
+    EXPECT_LT(worst_rad, 1e-13) << name;
+  }
+  // And against the independent home pose of the IRB 120.
+  const NominalChain irb = make_nominal_chain(load_robot("abb-irb120"));
+  const Pose<double> home = nominal_flange_pose(irb, Vector6d::Zero());
+  EXPECT_LT((home.p - Eigen::Vector3d(374, 0, 630)).norm(), 1e-12);
 }
 
 TEST(InverseKinematics, LabelsParseBack) {

@@ -98,8 +98,8 @@ nlohmann::json to_json(const IdentificationResult& r, const CrossValidation* cv,
 
 void print_report(const IdentificationResult& r, const CrossValidation* cv,
                   const CalibrateArgs& args, const MeasurementSet& data) {
-  fmt::print("calibrated {} at level {} from {} {} rows ({})\n", r.robot.model.name, r.robot.level,
-             data.size(), measurement_kind_name(data.kind), data.file);
+  fmt::print("calibrated {} at level {} from {} rows of {} ({})\n", r.robot.model.name,
+             r.robot.level, data.size(), measurement_kind_name(data.kind), data.file);
   fmt::print("solver: {} after {} iterations ({})\n",
              r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations,
              r.status.message);

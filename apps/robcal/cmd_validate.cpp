@@ -21,6 +21,7 @@ namespace {
 struct ValidateOptions {
   std::string robot;
   std::string tool;
+  std::string model;
   std::string measurements;
   bool fit_base = false;
   bool json = false;
@@ -47,12 +48,20 @@ void print_statistics_row(const std::string& label, const ErrorStatistics& s) {
 void run_validate(const ValidateOptions& options) {
   const RobotModel model = load_robot(options.robot);
   const Tool tool = load_tool(options.tool);
-  MeasurementFile file = read_measurements_csv(options.measurements, tool,
+  CalibratedRobot robot = CalibratedRobot::nominal(model, tool);
+  if (!options.model.empty()) {
+    robot = load_calibrated_robot(options.model);
+    if (robot.model.name != model.name)
+      throw InputError({options.model, 0, 0, "--model"},
+                       fmt::format("this is a model of the {}, not of the {} (--robot {})",
+                                   robot.model.name, model.name, options.robot));
+    // The model's tool holds the identified target coordinates; an older file may have none.
+    if (robot.tool.targets.empty()) robot.tool = tool;
+  }
+  MeasurementFile file = read_measurements_csv(options.measurements, robot.tool,
                                                {MeasurementKind::Points, MeasurementKind::Poses});
   for (const std::string& warning : file.warnings) std::cerr << "warning: " << warning << "\n";
   const MeasurementSet& set = file.measurements;
-
-  CalibratedRobot robot = CalibratedRobot::nominal(model, tool);
   std::string frame = "the model's world frame";
   if (!robot.base_fitted) {
     if (!options.fit_base)
@@ -132,6 +141,8 @@ const bool registered = register_command(60, [](CLI::App& app) {
       "error over every pair of rows, of a model against measurements");
   cmd->add_option("--robot", options->robot, "Built-in robot name or robot file")->required();
   cmd->add_option("--tool", options->tool, "Tool file (payload, targets, tcp)")->required();
+  cmd->add_option("--model", options->model,
+                  "Calibrated model written by `robcal calibrate` (default: the nominal robot)");
   cmd->add_option("--measurements", options->measurements,
                   "Validation measurements: points or poses CSV (mm, degrees)")
       ->required();

@@ -76,10 +76,10 @@ SolverStatus solve(const ResidualContext& context, const std::vector<int>& free,
   ceres::Solver::Options options;
   options.minimizer_type = ceres::TRUST_REGION;
   options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  options.linear_solver_type = ceres::DENSE_QR;
+  options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
   options.jacobi_scaling = false;  // the unknowns are already column-scaled
   options.max_num_iterations = max_iterations;
-  options.function_tolerance = 1e-14;
+  options.function_tolerance = 1e-10;
   options.gradient_tolerance = 1e-14;
   options.parameter_tolerance = 1e-12;
   options.logging_type = ceres::SILENT;

@@ -43,13 +43,16 @@ inline Eigen::Vector3d rx90_transpose_times(double sigma, const Eigen::Vector3d&
   return {v[0], sigma * v[2], -sigma * v[1]};
 }
 
-/// One arm solution (θ1, θ2, θ3) with its cos/sin, before the wrist.
+/// One arm solution (θ1, θ2, θ3) with what the wrist needs.
 struct ArmSolution {
   double theta1, theta2, theta3;
-  double c1, s1, c23, s23;
+  double c23, s23;
+  int shoulder;  ///< 0 front, 1 back: which X of the solver
   bool back, down;
 };
 
+/// Solves in stages so that the independent atan2 evaluations of all branches sit in short
+/// loops the processor can overlap: θ1 → both elbow angles → four θ2 → twelve wrist angles.
 class Solver {
  public:
   Solver(const OrthoParallelGeometry& g, const Pose<double>& pose, const Vector6d& seed,
@@ -63,6 +66,7 @@ class Solver {
   }
 
   void run() {
+    // θ1: W lies in the x1–z1 plane.
     const double wx = wrist_.x(), wy = wrist_.y();
     const double rxy = std::sqrt(wx * wx + wy * wy);
     double theta1, c1, s1;
@@ -76,69 +80,92 @@ class Solver {
       c1 = wx / rxy;
       s1 = wy / rxy;
     }
-    arm_branches(theta1, c1, s1, rxy, false);
-    arm_branches(theta1 + kPi, -c1, -s1, -rxy, true);
+    // Planar arm for front (r = +|W_xy|) and back (r = −|W_xy|): W at (r, 0, h) in frame 1,
+    // w = W − shoulder in frame 2's plane, w = Rz(θ2)·v (see the header).
+    const double h = wrist_.z() - g_.d1;
+    std::array<double, 2> w_x, w_y, D, kappa, sigma, phi;
+    std::array<bool, 2> reach;
+    for (int b = 0; b < 2; ++b) {
+      const double r = b == 0 ? rxy : -rxy;
+      w_x[b] = r - g_.a2;
+      w_y[b] = g_.s_alpha2 * h;
+      D[b] = w_x[b] * w_x[b] + w_y[b] * w_y[b];
+      const double k = (D[b] - g_.a3 * g_.a3 - g_.rho * g_.rho) / (2.0 * g_.a3 * g_.rho);
+      reach[b] = std::abs(k) <= 1.0 + kReachTolerance;
+      kappa[b] = std::clamp(k, -1.0, 1.0);
+      sigma[b] = std::sqrt(1.0 - kappa[b] * kappa[b]);
+    }
+    for (int b = 0; b < 2; ++b) phi[b] = fast_atan2(sigma[b], kappa[b]);
+    // Wrist-side rotations X_b = Rx(α2)ᵀ·Rz(θ1_b)ᵀ·R (rows of R rotated), one per shoulder.
+    for (int b = 0; b < 2; ++b) {
+      const double c = b == 0 ? c1 : -c1, s = b == 0 ? s1 : -s1;
+      X_[b].row(0) = c * R_.row(0) + s * R_.row(1);
+      X_[b].row(1) = g_.s_alpha2 * R_.row(2);
+      X_[b].row(2) = -g_.s_alpha2 * (-s * R_.row(0) + c * R_.row(1));
+    }
+    // Elbows: φ = θ3 + ψ = ±φ_b; v = (a3, 0) + ρ(cos φ, sin φ); θ2 turns v onto w.
+    std::array<ArmSolution, 4> arms;
+    std::array<double, 4> dot, cross, c3, s3;
+    int n = 0;
+    for (int b = 0; b < 2; ++b) {
+      if (!reach[b]) continue;
+      for (int elbow = 0; elbow < 2; ++elbow) {
+        if (elbow == 1 && sigma[b] == 0.0) break;  // stretched: both elbows coincide
+        const double sign = elbow == 0 ? 1.0 : -1.0;
+        const double sphi = sign * sigma[b];
+        c3[n] = kappa[b] * g_.cos_psi + sphi * g_.sin_psi;
+        s3[n] = sphi * g_.cos_psi - kappa[b] * g_.sin_psi;
+        const double vx = g_.a3 + g_.rho * kappa[b], vy = g_.rho * sphi;
+        dot[n] = vx * w_x[b] + vy * w_y[b];
+        cross[n] = vx * w_y[b] - vy * w_x[b];
+        ArmSolution& arm = arms[n];
+        arm.theta1 = b == 0 ? theta1 : theta1 + kPi;
+        arm.theta3 = sign * phi[b] - g_.psi;
+        arm.shoulder = b;
+        arm.back = b == 1;
+        // Elbow up/down from the sign of the (x1, z1) cross product (header definition).
+        arm.down = (arm.back ? -1.0 : 1.0) * (-g_.s_alpha2 * g_.a3 * sphi) <= 0.0;
+        ++n;
+      }
+    }
+    for (int i = 0; i < n; ++i) arms[i].theta2 = fast_atan2(cross[i], dot[i]);
+    // Wrist: Y = Rz(θ23)ᵀ·X, M = Rx(α4)ᵀ·Y = Rz(θ4)·Rx(α5)·Rz(θ5)·Rx(α6)·Rz(θ6), whose third
+    // column is σ6·s5·(c4, s4, ·) and third row σ5·s5·(c6, −s6, ·), c5 = −σ5σ6·M22.
+    std::array<double, 12> ay, ax, angle;
+    std::array<double, 4> s5;
+    for (int i = 0; i < n; ++i) {
+      ArmSolution& arm = arms[i];
+      const double D_b = D[arm.shoulder];
+      const double c2 = D_b > 0 ? dot[i] / D_b : 1.0, s2 = D_b > 0 ? cross[i] / D_b : 0.0;
+      arm.c23 = c2 * c3[i] - s2 * s3[i];
+      arm.s23 = s2 * c3[i] + c2 * s3[i];
+      const Eigen::Matrix3d& X = X_[arm.shoulder];
+      const double m02 = arm.c23 * X(0, 2) + arm.s23 * X(1, 2);
+      const double m12 = g_.s_alpha4 * X(2, 2);
+      const double m20 = g_.s_alpha4 * (arm.s23 * X(0, 0) - arm.c23 * X(1, 0));
+      const double m21 = g_.s_alpha4 * (arm.s23 * X(0, 1) - arm.c23 * X(1, 1));
+      const double m22 = g_.s_alpha4 * (arm.s23 * X(0, 2) - arm.c23 * X(1, 2));
+      s5[i] = std::sqrt(m02 * m02 + m12 * m12);
+      ay[3 * i] = s5[i];
+      ax[3 * i] = -g_.s_alpha5 * g_.s_alpha6 * m22;
+      ay[3 * i + 1] = g_.s_alpha6 * m12;
+      ax[3 * i + 1] = g_.s_alpha6 * m02;
+      ay[3 * i + 2] = -g_.s_alpha5 * m21;
+      ax[3 * i + 2] = g_.s_alpha5 * m20;
+    }
+    for (int i = 0; i < 3 * n; ++i) angle[i] = fast_atan2(ay[i], ax[i]);
+    for (int i = 0; i < n; ++i)
+      wrist(arms[i], s5[i], angle[3 * i + 1], angle[3 * i], angle[3 * i + 2]);
   }
 
  private:
-  /// Both elbows for one θ1: W is at (r, 0, h) in frame 1.
-  void arm_branches(double theta1, double c1, double s1, double r, bool back) {
-    const double h = wrist_.z() - g_.d1;
-    // W in frame 2's plane, relative to the shoulder: w = Rz(θ2)·v (see the header).
-    const double wx = r - g_.a2, wy = g_.s_alpha2 * h;
-    const double D = wx * wx + wy * wy;
-    const double kappa = (D - g_.a3 * g_.a3 - g_.rho * g_.rho) / (2.0 * g_.a3 * g_.rho);
-    if (std::abs(kappa) > 1.0 + kReachTolerance) return;
-    const double k = std::clamp(kappa, -1.0, 1.0);
-    const double sigma = std::sqrt(1.0 - k * k);
-    // Wrist-side rotation Q = (Rz(θ1)·Rx(α2))ᵀ·R, shared by both elbows: rows of R rotated.
-    Eigen::Matrix3d Q;
-    Q.row(0) = c1 * R_.row(0) + s1 * R_.row(1);
-    Q.row(1) = -s1 * R_.row(0) + c1 * R_.row(1);
-    Q.row(2) = R_.row(2);
-    Eigen::Matrix3d X;  // Rx(α2)ᵀ·Q
-    X.row(0) = Q.row(0);
-    X.row(1) = g_.s_alpha2 * Q.row(2);
-    X.row(2) = -g_.s_alpha2 * Q.row(1);
-    const double phi_abs = fast_atan2(sigma, k);
-    for (int elbow = 0; elbow < 2; ++elbow) {
-      if (elbow == 1 && sigma == 0.0) break;  // stretched: both elbows coincide
-      const double sign = elbow == 0 ? 1.0 : -1.0;
-      const double sphi = sign * sigma;  // φ = θ3 + ψ
-      const double theta3 = sign * phi_abs - g_.psi;
-      const double c3 = k * g_.cos_psi + sphi * g_.sin_psi;
-      const double s3 = sphi * g_.cos_psi - k * g_.sin_psi;
-      // v = (a3, 0) + ρ(cos φ, sin φ); θ2 turns v onto w.
-      const double vx = g_.a3 + g_.rho * k, vy = g_.rho * sphi;
-      const double dot = vx * wx + vy * wy, cross = vx * wy - vy * wx;
-      const double theta2 = fast_atan2(cross, dot);
-      const double c2 = D > 0 ? dot / D : 1.0, s2 = D > 0 ? cross / D : 0.0;
-      ArmSolution arm{theta1, theta2, theta3, c1, s1, c2 * c3 - s2 * s3, s2 * c3 + c2 * s3,
-                      back,   false};
-      // Elbow up/down from the sign of the (x1, z1) cross product (header definition).
-      arm.down = (back ? -1.0 : 1.0) * (-g_.s_alpha2 * g_.a3 * sphi) <= 0.0;
-      wrist(arm, X);
-    }
-  }
-
-  /// θ4, θ5, θ6 and the flipped wrist for one arm solution.
-  void wrist(const ArmSolution& arm, const Eigen::Matrix3d& X) {
-    // Y = Rz(θ23)ᵀ·X; M = Rx(α4)ᵀ·Y = Rz(θ4)·Rx(α5)·Rz(θ5)·Rx(α6)·Rz(θ6).
-    const Eigen::RowVector3d y0 = arm.c23 * X.row(0) + arm.s23 * X.row(1);
-    const Eigen::RowVector3d y1 = -arm.s23 * X.row(0) + arm.c23 * X.row(1);
-    const double m02 = y0[2], m12 = g_.s_alpha4 * X(2, 2);
-    const Eigen::RowVector3d m2 = -g_.s_alpha4 * y1;
-    const double s5 = std::sqrt(m02 * m02 + m12 * m12);
-    const double c5 = -g_.s_alpha5 * g_.s_alpha6 * m2[2];
-    const double theta5 = fast_atan2(s5, c5);
-    double theta4, theta6;
+  /// Emits the wrist solution and its flip (θ4 + π, −θ5, θ6 + π) for one arm; near the wrist
+  /// singularity θ4 comes from the seed and θ6 from the residual rotation.
+  void wrist(const ArmSolution& arm, double s5, double theta4, double theta5, double theta6) {
     const bool singular = s5 < kWristSingularSin;
-    if (s5 >= kWristNearSingularSin) {
-      theta4 = fast_atan2(g_.s_alpha6 * m12, g_.s_alpha6 * m02);
-      theta6 = fast_atan2(-g_.s_alpha5 * m2[1], g_.s_alpha5 * m2[0]);
-    } else {
-      theta4 = singular ? seed_theta4_ : std::atan2(g_.s_alpha6 * m12, g_.s_alpha6 * m02);
-      theta6 = residual_theta6(arm, X, theta4, theta5);
+    if (s5 < kWristNearSingularSin) {
+      if (singular) theta4 = seed_theta4_;
+      theta6 = residual_theta6(arm, X_[arm.shoulder], theta4, theta5);
     }
     emit(arm, theta4, theta5, theta6, false, singular);
     ++out_.branches_reached;
@@ -186,6 +213,14 @@ class Solver {
       turns[i] = upper - v < kTwoPi ? 1 : 1 + static_cast<int>((upper - v) * kInvTwoPi);
       total *= turns[i];
     }
+    if (total == 1 && out_.count < kMaxIkSolutions) {  // the common case: one turn each
+      IkSolution& s = out_.solutions[out_.count++];
+      for (int i = 0; i < kJointCount; ++i) s.joints[i] = first[i];
+      s.config = ArmConfig{arm.back, arm.down, flip};
+      s.wrist_singular = singular;
+      s.shoulder_singular = shoulder_singular_;
+      return;
+    }
     std::array<int, kJointCount> k{};
     for (int n = 0; n < total; ++n) {
       if (out_.count == kMaxIkSolutions) {
@@ -207,6 +242,7 @@ class Solver {
   const OrthoParallelGeometry& g_;
   const Eigen::Matrix3d& R_;
   IkResult& out_;
+  std::array<Eigen::Matrix3d, 2> X_;
   Eigen::Vector3d wrist_;
   double seed_theta1_ = 0, seed_theta4_ = 0;
   bool shoulder_singular_ = false;
@@ -295,14 +331,6 @@ std::optional<OrthoParallelGeometry> analyze_ortho_parallel(const RobotModel& mo
   g.map_identity = model.joint_map.is_identity();
   g.limits = model.limits;
   return g;
-}
-
-Vector6d controller_from_link_angles(const OrthoParallelGeometry& g,
-                                     const std::array<double, kJointCount>& theta) {
-  Vector6d q;
-  for (int i = 0; i < kJointCount; ++i) q[i] = theta[i] - g.theta_offset[i];
-  if (g.map_identity) return q;
-  return g.map_inverse * (q - g.map_offset);
 }
 
 IkResult nominal_ik(const OrthoParallelGeometry& geometry, const Pose<double>& world_T_flange,

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "robcal/core/error.hpp"
+#include "robcal/identify/initial_guess.hpp"
 #include "robcal/validate/position_error.hpp"
 
 namespace robcal {
@@ -32,29 +33,23 @@ CalibratedRobot fit_base(const CalibratedRobot& robot, const MeasurementSet& set
                                  "positions not on one line are needed",
                                  measured.cols()));
 
-  const Eigen::Matrix4d fit = Eigen::umeyama(predicted, measured, false);
-  const Eigen::Matrix3d R_fit = fit.topLeftCorner<3, 3>();
-  const Eigen::Vector3d t_fit = fit.topRightCorner<3, 1>();
+  Eigen::Isometry3d world_T_fit(Eigen::umeyama(predicted, measured, false));
 
-  // Old base: Trans(x, y, d1 + z) · Rx(α) Ry(β) Rz(γ) (· Rz(θ1)); new = T_fit · old.
+  // The robot's current base frame (nominal base at the origin for a nominal robot):
+  // world_A_1 = Trans(x, y, d1 + z)·R(α, β, γ)·Rot_z(θ1) = world_T_base · Trans(0, 0,
+  // d1)·Rot_z(θ1).
   const ParameterVector& p = robot.params;
   const double d1 = robot.model.mdh[0].d;
-  const Eigen::Matrix3d R_old = (Eigen::AngleAxisd(p[3], Eigen::Vector3d::UnitX()) *
-                                 Eigen::AngleAxisd(p[4], Eigen::Vector3d::UnitY()) *
-                                 Eigen::AngleAxisd(p[5], Eigen::Vector3d::UnitZ()))
-                                    .toRotationMatrix();
-  const Eigen::Matrix3d R = R_fit * R_old;
-  const Eigen::Vector3d origin = t_fit + R_fit * Eigen::Vector3d(p[0], p[1], d1 + p[2]);
+  Eigen::Isometry3d world_T_base = Eigen::Isometry3d::Identity();
+  world_T_base.linear() = (Eigen::AngleAxisd(p[3], Eigen::Vector3d::UnitX()) *
+                           Eigen::AngleAxisd(p[4], Eigen::Vector3d::UnitY()) *
+                           Eigen::AngleAxisd(p[5], Eigen::Vector3d::UnitZ()))
+                              .toRotationMatrix();
+  world_T_base.translation() =
+      Eigen::Vector3d(p[0], p[1], d1 + p[2]) - world_T_base.linear().col(2) * d1;
 
   CalibratedRobot out = robot;
-  out.params[0] = origin.x();
-  out.params[1] = origin.y();
-  out.params[2] = origin.z() - d1;
-  // R = Rx(α)·Ry(β)·Rz(γ): R(0,2) = sin β, R(1,2) = −sin α cos β, R(2,2) = cos α cos β,
-  // R(0,1) = −cos β sin γ, R(0,0) = cos β cos γ.
-  out.params[4] = std::atan2(R(0, 2), std::hypot(R(0, 0), R(0, 1)));
-  out.params[3] = std::atan2(-R(1, 2), R(2, 2));
-  out.params[5] = std::atan2(-R(0, 1), R(0, 0));
+  out.params.head<6>() = base_parameters_from_transform(world_T_fit * world_T_base, d1);
   out.base_fitted = true;
   return out;
 }

@@ -81,4 +81,20 @@ import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:3])
 assert a["position_error_mm"] == b["position_error_mm"]
 PY
+# Calibrated models (robcal calibrate) against the reference validation set: the full model is
+# at the noise floor (reference README: 0.0343 mm mean), the base-only one is not (1.394 mm).
+for level in base full; do
+  "$robcal" calibrate --robot abb-irb120 --tool $data/tool.yaml --measurements $data/calibration.csv \
+    --level $level --out "$tmp/$level.yaml" >/dev/null
+  "$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --model "$tmp/$level.yaml" \
+    --measurements $data/validation.csv --json >"$tmp/$level.json"
+done
+python3 - "$tmp/base.json" "$tmp/full.json" <<'PY'
+import json, sys
+base, full = (json.load(open(p)) for p in sys.argv[1:3])
+assert 1.2 < base["position_error_mm"]["mean"] < 1.6, base["position_error_mm"]
+assert 0.028 < full["position_error_mm"]["mean"] < 0.045, full["position_error_mm"]
+assert full["position_error_mm"]["max"] < 0.15, full["position_error_mm"]
+assert full["level"] == "full" and not full["base_fitted_to_measurements"]
+PY
 echo "validate CLI: ok"

@@ -40,3 +40,23 @@ def test_ballbar_window():
 def test_negative_count_is_a_value_error():
     with pytest.raises(ValueError):
         robcal.read_points(robcal.LaserTracker(), np.zeros(3), -1, 1)
+
+
+def test_simulated_readings_are_truth_plus_noise():
+    exact = robcal.simulate("laser-tracker", "published", 200, 9, 0.0)
+    noisy = robcal.simulate("laser-tracker", "published", 200, 9, 0.05)
+    # Same seed: same configurations and targets; only the noise differs.
+    np.testing.assert_array_equal(exact["joints_deg"], noisy["joints_deg"])
+    assert exact["target"] == noisy["target"]
+    errors = noisy["position_mm"] - exact["position_mm"]
+    assert errors.shape == (200, 3)
+    assert abs(errors.std(ddof=1) / 0.05 - 1) < 0.1
+    # Joints within the published test ranges (METHOD §6).
+    assert np.all(exact["joints_deg"][:, 1] >= 0) and np.all(np.abs(exact["joints_deg"][:, 0]) <= 90)
+
+
+def test_simulate_rejects_bad_arguments():
+    with pytest.raises(ValueError):
+        robcal.simulate("laser-tracker", "imagined", 5, 1, 0.0)
+    with pytest.raises(ValueError):
+        robcal.simulate("laser-tracker", "published", 0, 1, 0.0)

@@ -129,8 +129,13 @@ IkResult nominal_ik(const OrthoParallelGeometry& geometry, const Pose<double>& w
 const IkSolution* nearest_solution(const IkResult& result, const Vector6d& joints);
 
 /// Controller joint values (rad) from MDH link angles θ1..θ6 (rad), without limit handling.
-Vector6d controller_from_link_angles(const OrthoParallelGeometry& geometry,
-                                     const std::array<double, kJointCount>& theta);
+inline Vector6d controller_from_link_angles(const OrthoParallelGeometry& geometry,
+                                            const std::array<double, kJointCount>& theta) {
+  Vector6d q;
+  for (int i = 0; i < kJointCount; ++i) q[i] = theta[i] - geometry.theta_offset[i];
+  if (geometry.map_identity) return q;
+  return geometry.map_inverse * (q - geometry.map_offset);
+}
 
 /// The configuration of controller joints from the link frames, by the definitions above with
 /// W, S, E the origins of frames 4, 2, 3 (meaningful for any six-revolute arm of this shape).

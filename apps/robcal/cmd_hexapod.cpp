@@ -1,0 +1,712 @@
+/// `robcal hexapod …`: the ballbar hexapod of METHOD §8 — direct kinematics, the 72 poses,
+/// uncertainty, world frame and set-up, planning, the guided session and the simulated run.
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <random>
+
+#include "cli_common.hpp"
+#include "command_registry.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/hexapod/direct_kinematics.hpp"
+#include "robcal/hexapod/end_to_end.hpp"
+#include "robcal/hexapod/planning.hpp"
+#include "robcal/hexapod/poses.hpp"
+#include "robcal/hexapod/session.hpp"
+#include "robcal/hexapod/uncertainty.hpp"
+#include "robcal/hexapod/world_frame.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/kinematics/orientation.hpp"
+
+namespace robcal::cli {
+namespace {
+
+using namespace robcal::hexapod;
+
+/// "300" (equilateral) or "300.01,299.98,300.02" (d12, d23, d31).
+TriangleSides parse_sides(const std::string& text, const std::string& flag) {
+  const std::vector<double> v = parse_numbers(text, -1, flag);
+  if (v.size() == 1) return {v[0], v[0], v[0]};
+  if (v.size() == 3) return {v[0], v[1], v[2]};
+  throw InputError(
+      {"", 0, 0, flag},
+      fmt::format("expected one side length or three (d12,d23,d31), got {} values", v.size()));
+}
+
+/// The fixture options shared by the geometry commands.
+struct GeometryOptions {
+  std::string base = "300";
+  std::string tool = "150";
+  double leg_mm = 300;
+
+  void add_to(CLI::App* cmd) {
+    cmd->add_option("--base-mm", base,
+                    "Base fixture sides b12,b23,b31 in mm (one value: equilateral)")
+        ->capture_default_str();
+    cmd->add_option("--tool-mm", tool,
+                    "Tool fixture sides t12,t23,t31 in mm (one value: equilateral)")
+        ->capture_default_str();
+    cmd->add_option("--leg-mm", leg_mm, "Ballbar nominal length: every leg of a planned pose, mm")
+        ->capture_default_str();
+  }
+  [[nodiscard]] HexapodGeometry geometry() const {
+    HexapodGeometry g{parse_sides(base, "--base-mm"), parse_sides(tool, "--tool-mm"), leg_mm};
+    fixture_cups(g.base, "--base-mm");
+    fixture_cups(g.tool, "--tool-mm");
+    if (!(leg_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
+    return g;
+  }
+};
+
+nlohmann::json vec_json(const Eigen::Vector3d& v, int decimals = 9) {
+  return {tidy(v.x(), decimals), tidy(v.y(), decimals), tidy(v.z(), decimals)};
+}
+
+nlohmann::json pose_json(const Pose<double>& pose) {
+  const Eigen::Quaterniond q = to_quaternion(pose.R);
+  return {
+      {"position_mm", vec_json(pose.p)},
+      {"quaternion_wxyz", {tidy(q.w(), 12), tidy(q.x(), 12), tidy(q.y(), 12), tidy(q.z(), 12)}}};
+}
+
+// ---- dkp -------------------------------------------------------------------------------------
+
+void run_dkp(const std::string& base, const std::string& tool, const std::string& legs_text,
+             bool json) {
+  const TriangleSides bs = parse_sides(base, "--base-mm");
+  const TriangleSides ts = parse_sides(tool, "--tool-mm");
+  const std::vector<double> v = parse_numbers(legs_text, 6, "--legs");
+  const LegLengths<double> legs{v[0], v[1], v[2], v[3], v[4], v[5]};
+  const DkpResult dkp = solve_dkp(bs, ts, legs);
+  if (dkp.status != DkpStatus::Ok) throw InputError({"", 0, 0, "--legs"}, dkp.message);
+  if (json) {
+    nlohmann::json out;
+    for (const AssemblyModeSolution& s : dkp.solutions) {
+      nlohmann::json cups = nlohmann::json::array();
+      for (const auto& c : s.tool) cups.push_back(vec_json(c));
+      out["solutions"].push_back({{"mode", s.mode},
+                                  {"signs", s.signs},
+                                  {"tool_cups_mm", cups},
+                                  {"base_T_tool", pose_json(frame_from_cups(s.tool))}});
+    }
+    print_json(out);
+    return;
+  }
+  fmt::print("tool cups in the base fixture frame (b1 origin, b2 on x), mm\n");
+  for (const AssemblyModeSolution& s : dkp.solutions) {
+    fmt::print("mode {} (signs {:+d} {:+d} {:+d})\n", s.mode, s.signs[0], s.signs[1], s.signs[2]);
+    for (int j = 0; j < 3; ++j)
+      fmt::print("  T{}  {:12.6f} {:12.6f} {:12.6f}\n", j + 1, s.tool[j].x(), s.tool[j].y(),
+                 s.tool[j].z());
+  }
+}
+
+// ---- poses -----------------------------------------------------------------------------------
+
+nlohmann::json hexapod_pose_json(const HexapodPose& p) {
+  nlohmann::json legs = nlohmann::json::array();
+  for (const PhysicalLeg& l : p.legs)
+    legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
+  nlohmann::json cups = nlohmann::json::array();
+  for (const auto& c : p.tool_cups) cups.push_back(vec_json(c));
+  return {{"label", p.label},
+          {"mode", p.mode},
+          {"rotation_deg", p.rotation_deg},
+          {"base_roles", {p.design.base[0] + 1, p.design.base[1] + 1, p.design.base[2] + 1}},
+          {"legs", legs},
+          {"tool_cups_mm", cups},
+          {"base_T_tool", pose_json(p.base_T_tool)}};
+}
+
+void run_poses(const GeometryOptions& options, double angle_deg, double distance_mm, bool json) {
+  if (!(angle_deg >= 0) || !(distance_mm >= 0))
+    throw InputError({"", 0, 0, "--angle-deg/--distance-mm"}, "expected non-negative thresholds");
+  const std::vector<HexapodPose> all = enumerate_poses(options.geometry());
+  const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(angle_deg), distance_mm);
+  if (json) {
+    nlohmann::json out{{"enumerated", all.size()},
+                       {"kept", kept.size()},
+                       {"angle_deg", angle_deg},
+                       {"distance_mm", distance_mm}};
+    out["poses"] = nlohmann::json::array();
+    for (const HexapodPose& p : kept) out["poses"].push_back(hexapod_pose_json(p));
+    print_json(out);
+    return;
+  }
+  fmt::print("{} poses enumerated, {} kept (redundant: within {}° and {} mm of a kept one)\n",
+             all.size(), kept.size(), angle_deg, distance_mm);
+  for (const HexapodPose& p : kept) {
+    const Eigen::Vector3d c = centroid(p.tool_cups);
+    fmt::print("{}  {:<32} centroid {:8.2f} {:8.2f} {:8.2f} mm\n", p.label, p.description(), c.x(),
+               c.y(), c.z());
+  }
+}
+
+// ---- uncertainty -----------------------------------------------------------------------------
+
+void run_uncertainty(const GeometryOptions& options, double sigma_um, uint64_t seed, int samples,
+                     bool json) {
+  if (!(sigma_um > 0)) throw InputError({"", 0, 0, "--sigma-um"}, "expected a positive σ");
+  if (samples < 100) throw InputError({"", 0, 0, "--samples"}, "expected at least 100 samples");
+  const HexapodGeometry g = options.geometry();
+  std::mt19937_64 rng(seed);
+  const std::vector<ModeUncertainty> analytic = dkp_uncertainty(g);
+  const std::vector<ModeUncertainty> mc =
+      dkp_uncertainty_monte_carlo(g, sigma_um * 1e-3, samples, rng);
+  double worst = 0, worst_disagreement = 0;
+  nlohmann::json modes = nlohmann::json::array();
+  for (size_t m = 0; m < analytic.size(); ++m) {
+    nlohmann::json cups = nlohmann::json::array();
+    for (int j = 0; j < 3; ++j) {
+      const CupUncertainty& a = analytic[m].cups[j];
+      const CupUncertainty& b = mc[m].cups[j];
+      worst = std::max(worst, a.norm);
+      worst_disagreement = std::max(worst_disagreement, std::abs(b.norm / a.norm - 1));
+      cups.push_back({{"cup", a.cup},
+                      {"per_axis_sigma", vec_json(a.per_axis, 4)},
+                      {"norm_sigma", tidy(a.norm, 4)},
+                      {"per_axis_um", vec_json(a.per_axis * sigma_um, 4)},
+                      {"norm_um", tidy(a.norm * sigma_um, 4)},
+                      {"monte_carlo_per_axis_sigma", vec_json(b.per_axis, 4)},
+                      {"monte_carlo_norm_sigma", tidy(b.norm, 4)}});
+    }
+    modes.push_back({{"mode", analytic[m].mode}, {"cups", cups}});
+  }
+  if (json) {
+    print_json({{"sigma_um", sigma_um},
+                {"seed", seed},
+                {"samples", samples},
+                {"modes", modes},
+                {"worst_norm_sigma", tidy(worst, 4)},
+                {"worst_norm_um", tidy(worst * sigma_um, 4)},
+                {"worst_norm_um_95", tidy(2 * worst * sigma_um, 4)},
+                {"monte_carlo_max_relative_difference", tidy(worst_disagreement, 5)},
+                {"published_worst_sigma", 3.2}});
+    return;
+  }
+  fmt::print("σ = {} µm per distance; Monte Carlo {} samples, seed {}\n", sigma_um, samples, seed);
+  fmt::print("mode cup   σx/σ    σy/σ    σz/σ   |σ|/σ   |σ| µm  (MC |σ|/σ)\n");
+  for (const nlohmann::json& m : modes)
+    for (const nlohmann::json& c : m["cups"])
+      fmt::print("{:>4} {:>3} {:7.3f} {:7.3f} {:7.3f} {:7.3f} {:8.3f}  ({:.3f})\n",
+                 m["mode"].get<int>(), c["cup"].get<std::string>(),
+                 c["per_axis_sigma"][0].get<double>(), c["per_axis_sigma"][1].get<double>(),
+                 c["per_axis_sigma"][2].get<double>(), c["norm_sigma"].get<double>(),
+                 c["norm_um"].get<double>(), c["monte_carlo_norm_sigma"].get<double>());
+  fmt::print("worst case {:.3f} σ = {:.3f} µm (±{:.2f} µm at 95%); published ≈ 3.2 σ\n", worst,
+             worst * sigma_um, 2 * worst * sigma_um);
+}
+
+// ---- world frame and set-up -------------------------------------------------------------------
+
+Cups<double> parse_points(const std::string& text, const std::string& flag) {
+  const std::vector<double> v = parse_numbers(text, 9, flag);
+  return {Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Vector3d(v[3], v[4], v[5]),
+          Eigen::Vector3d(v[6], v[7], v[8])};
+}
+
+void run_world_frame(const std::string& points, const std::string& sides, bool json) {
+  const WorldFrameFit fit =
+      fit_world_frame(parse_points(points, "--points"), parse_sides(sides, "--sides"));
+  if (json) {
+    nlohmann::json corrected = nlohmann::json::array();
+    for (const auto& c : fit.corrected) corrected.push_back(vec_json(c));
+    print_json({{"robot_T_world", pose_json(fit.robot_T_fixture)},
+                {"corrected_cups_mm", corrected},
+                {"planar",
+                 {{"x_mm", tidy(fit.planar[0])},
+                  {"y_mm", tidy(fit.planar[1])},
+                  {"phi_deg", tidy(rad2deg(fit.planar[2]), 12)}}},
+                {"rms_mm", tidy(fit.rms_mm)},
+                {"iterations", fit.iterations},
+                {"converged", fit.converged}});
+    return;
+  }
+  fmt::print(
+      "planar correction x {:.6f} mm, y {:.6f} mm, φ {:.6f}° ({} Gauss-Newton steps), rms {:.6f} "
+      "mm\n",
+      fit.planar[0], fit.planar[1], rad2deg(fit.planar[2]), fit.iterations, fit.rms_mm);
+  for (int i = 0; i < 3; ++i)
+    fmt::print("B{} corrected {:12.6f} {:12.6f} {:12.6f} mm (robot frame)\n", i + 1,
+               fit.corrected[i].x(), fit.corrected[i].y(), fit.corrected[i].z());
+  const Pose<double>& w = fit.robot_T_fixture;
+  fmt::print("world frame: origin {:.6f} {:.6f} {:.6f} mm, z axis {:.9f} {:.9f} {:.9f}\n", w.p.x(),
+             w.p.y(), w.p.z(), w.R(0, 2), w.R(1, 2), w.R(2, 2));
+}
+
+// ---- set-up and planning ---------------------------------------------------------------------
+
+/// The cell options shared by `setup`, `plan` and `simulate`.
+struct CellOptions {
+  std::string robot = "fanuc-lrmate200ic";
+  std::string placement = "450,0,300,0";
+  double tool_offset_mm = 100;
+  double ball_offset_mm = 100;
+  double table_z_mm = 0;
+  double angle_deg = 30;
+  double distance_mm = 50;
+
+  void add_to(CLI::App* cmd) {
+    cmd->add_option("--robot", robot, "Built-in robot name or robot file")->capture_default_str();
+    cmd->add_option("--placement", placement,
+                    "Rough base-fixture placement in the robot frame: centroid x,y,z of the cups "
+                    "(mm) and yaw about z (deg)")
+        ->capture_default_str();
+    cmd->add_option("--tool-offset-mm", tool_offset_mm,
+                    "Tool fixture centroid along the flange z axis (fixture plane ⟂ flange axis)")
+        ->capture_default_str();
+    cmd->add_option("--ball-offset-mm", ball_offset_mm,
+                    "Setting ball (TCP used to place the base cups) along the flange z axis")
+        ->capture_default_str();
+    cmd->add_option("--table-z-mm", table_z_mm, "Table plane height in the robot frame")
+        ->capture_default_str();
+    cmd->add_option("--angle-deg", angle_deg, "Pruning: redundant when closer in orientation…")
+        ->capture_default_str();
+    cmd->add_option("--distance-mm", distance_mm,
+                    "… and closer in position (tool-fixture centroid)")
+        ->capture_default_str();
+  }
+  [[nodiscard]] Pose<double> rough_placement() const {
+    const std::vector<double> v = parse_numbers(placement, 4, "--placement");
+    Pose<double> pose;
+    pose.R = Eigen::AngleAxisd(deg2rad(v[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    pose.p = Eigen::Vector3d(v[0], v[1], v[2]);
+    return pose;
+  }
+};
+
+/// The base fixture frame (B1 origin, B2 on x) for a rough placement of its cup centroid.
+Pose<double> fixture_frame_at(const Pose<double>& placement, const Cups<double>& cups) {
+  Pose<double> centroid_T_base;
+  centroid_T_base.p = -centroid(cups);
+  return placement * centroid_T_base;
+}
+
+nlohmann::json joints_json(const Vector6d& q) {
+  nlohmann::json out = nlohmann::json::array();
+  for (int i = 0; i < kJointCount; ++i) out.push_back(tidy(rad2deg(q[i]), 6));
+  return out;
+}
+
+/// The setting-ball points and the robot configurations that reach them, ball pointing down.
+nlohmann::json setup_json(const RobotModel& model, const Pose<double>& placement, double side_mm,
+                          double ball_offset_mm) {
+  const Cups<double> points = setting_ball_points(placement, side_mm);
+  const auto geometry = analyze_ortho_parallel(model);
+  nlohmann::json out = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i) {
+    // Flange z pointing down, the ball ball_offset_mm below the flange.
+    Pose<double> robot_T_flange;
+    robot_T_flange.R =
+        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix() * placement.R;
+    robot_T_flange.p = points[i] + Eigen::Vector3d(0, 0, ball_offset_mm);
+    nlohmann::json entry{{"cup", fmt::format("B{}", i + 1)},
+                         {"ball_position_mm", vec_json(points[i])}};
+    entry["configurations"] = nlohmann::json::array();
+    if (geometry)
+      for (const IkSolution& s : nominal_ik(*geometry, robot_T_flange))
+        entry["configurations"].push_back(
+            {{"labels", s.config.label()}, {"joints_deg", joints_json(s.joints)}});
+    out.push_back(entry);
+  }
+  return out;
+}
+
+nlohmann::json plan_json(const RobotModel& model, const HexapodGeometry& g, const CellOptions& o,
+                         const PlanSummary& summary, size_t enumerated) {
+  nlohmann::json out;
+  out["robot"] = o.robot;
+  out["ballbar"] = {
+      {"tool_mm", g.tool.d12}, {"leg_mm", g.leg_mm}, {"range_mm", 1.0}, {"recheck_every", 5}};
+  out["geometry"] = {{"base_sides_mm", g.base.as_array()}, {"tool_sides_mm", g.tool.as_array()}};
+  out["placement"] = o.placement;
+  out["tool_offset_mm"] = o.tool_offset_mm;
+  out["setting_ball"] = setup_json(model, o.rough_placement(), g.leg_mm, o.ball_offset_mm);
+  out["poses_enumerated"] = enumerated;
+  out["poses_kept"] = summary.poses.size();
+  out["poses_measurable"] = summary.measurable_poses;
+  out["configurations_measurable"] = summary.configurations;
+  out["configurations"] = nlohmann::json::array();
+  out["poses"] = nlohmann::json::array();
+  for (const PosePlan& p : summary.poses) {
+    nlohmann::json legs = nlohmann::json::array();
+    for (const PhysicalLeg& l : p.pose.legs)
+      legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
+    out["poses"].push_back({{"label", p.pose.label},
+                            {"description", p.pose.description()},
+                            {"ik", to_string(p.ik_status)},
+                            {"configurations", p.configurations.size()},
+                            {"rejected_table", p.rejected_table},
+                            {"rejected_fixture", p.rejected_fixture}});
+    for (const PoseConfiguration& c : p.configurations)
+      out["configurations"].push_back({{"pose", p.pose.label},
+                                       {"labels", c.config.label()},
+                                       {"joints_deg", joints_json(c.joints)},
+                                       {"legs", legs}});
+  }
+  return out;
+}
+
+void run_setup(const CellOptions& o, double side_mm, bool json) {
+  if (!(side_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
+  const RobotModel model = load_robot(o.robot);
+  const nlohmann::json points = setup_json(model, o.rough_placement(), side_mm, o.ball_offset_mm);
+  if (json) {
+    print_json({{"robot", o.robot}, {"side_mm", side_mm}, {"setting_ball", points}});
+    return;
+  }
+  fmt::print(
+      "Put the setting ball (TCP {} mm along the flange z, pointing down) at these points, "
+      "{} mm apart by the robot's own model; snap and lock each base cup there:\n",
+      o.ball_offset_mm, side_mm);
+  for (const nlohmann::json& p : points) {
+    fmt::print("{}  x {:.3f}  y {:.3f}  z {:.3f} mm\n", p["cup"].get<std::string>(),
+               p["ball_position_mm"][0].get<double>(), p["ball_position_mm"][1].get<double>(),
+               p["ball_position_mm"][2].get<double>());
+    for (const nlohmann::json& c : p["configurations"])
+      fmt::print("    {:<18} joints {}\n", c["labels"].get<std::string>(), c["joints_deg"].dump());
+  }
+}
+
+void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
+              const std::string& out_path, bool json) {
+  const HexapodGeometry g = geometry_options.geometry();
+  const RobotModel model = load_robot(o.robot);
+  const std::vector<HexapodPose> all = enumerate_poses(g);
+  const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(o.angle_deg), o.distance_mm);
+  const Cups<double> base_cups = fixture_cups(g.base, "--base-mm");
+  CellSetup cell;
+  cell.robot_T_base = fixture_frame_at(o.rough_placement(), base_cups);
+  cell.flange_T_tool = default_tool_mount(g.tool, o.tool_offset_mm);
+  cell.table_z_mm = o.table_z_mm;
+  const PlanSummary summary = plan_poses(model, cell, base_cups, kept);
+  const nlohmann::json plan = plan_json(model, g, o, summary, all.size());
+  if (!out_path.empty()) write_file_atomically(out_path, plan.dump(2) + "\n");
+  if (json) {
+    print_json(plan);
+    return;
+  }
+  fmt::print(
+      "{}: {} poses enumerated, {} kept after pruning, {} measurable with {} configurations\n",
+      model.name, all.size(), kept.size(), summary.measurable_poses, summary.configurations);
+  for (const PosePlan& p : summary.poses) {
+    std::vector<std::string> labels;
+    for (const auto& c : p.configurations) labels.push_back(c.config.label());
+    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {})\n",
+               p.pose.label, p.pose.description(), to_string(p.ik_status), p.configurations.size(),
+               fmt::join(labels, " "), p.rejected_table, p.rejected_fixture);
+  }
+  if (!out_path.empty()) fmt::print("plan written to {}\n", out_path);
+}
+
+// ---- session ---------------------------------------------------------------------------------
+
+/// One operator answer: a reading (mm), "out" (ballbar out of range), "quit", or invalid.
+struct Answer {
+  enum Kind { Reading, Out, Quit, Invalid } kind = Invalid;
+  double value = 0;
+};
+
+Answer parse_answer(const std::string& line) {
+  const auto first = line.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return {};
+  const std::string text = line.substr(first, line.find_last_not_of(" \t\r") - first + 1);
+  if (text == "out" || text == "x") return {Answer::Out};
+  if (text == "quit" || text == "q") return {Answer::Quit};
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return {Answer::Reading, v};
+  } catch (const std::exception&) {
+  }
+  return {};
+}
+
+void run_session(const std::string& plan_path, const std::string& journal_path, bool resume,
+                 const std::string& out_path, bool json) {
+  Session session(load_session_plan(plan_path));
+  SessionJournal journal =
+      resume ? SessionJournal::open_for_resume(journal_path) : SessionJournal::create(journal_path);
+  std::FILE* talk = json ? stderr : stdout;  // prompts never mix with the JSON result
+  if (resume)
+    fmt::print(talk, "Resumed {}: {} readings replayed.\n", journal_path, journal.replay(session));
+  while (const std::optional<SessionStep> step = session.next_step()) {
+    fmt::print(talk, "{}\n> ", step->prompt);
+    std::fflush(talk);
+    std::string line;
+    if (!std::getline(std::cin, line)) {
+      fmt::print(talk, "\nInput ended. Every reading is in {}; continue with --resume.\n",
+                 journal_path);
+      return;
+    }
+    const Answer answer = parse_answer(line);
+    if (answer.kind == Answer::Quit) {
+      fmt::print(talk, "Stopped. Every reading is in {}; continue with --resume.\n", journal_path);
+      return;
+    }
+    if (answer.kind == Answer::Invalid ||
+        (answer.kind == Answer::Out && step->kind != StepKind::Leg)) {
+      fmt::print(talk, "'{}' is not a reading: enter a length in mm{}, or 'quit'.\n", line,
+                 step->kind == StepKind::Leg ? ", 'out' when the ballbar does not fit" : "");
+      continue;
+    }
+    const std::optional<double> reading =
+        answer.kind == Answer::Reading ? std::optional<double>(answer.value) : std::nullopt;
+    std::string message;
+    try {
+      message = session.record(reading);
+    } catch (const InputError& e) {
+      fmt::print(talk, "{}\n", e.what());
+      continue;
+    }
+    journal.append(step->key, reading);
+    if (!message.empty()) fmt::print(talk, "{}\n", message);
+  }
+  const nlohmann::json result = session.result_json();
+  if (!out_path.empty()) write_file_atomically(out_path, result.dump(2) + "\n");
+  if (json) {
+    print_json(result);
+    return;
+  }
+  fmt::print(
+      "Session complete: {} configurations measured, {} to retry after the preliminary "
+      "calibration.{}\n",
+      result["measured"].get<int>(), result["retry_after_preliminary_calibration"].get<int>(),
+      out_path.empty() ? "" : " Result: " + out_path);
+}
+
+// ---- simulate ------------------------------------------------------------------------------
+
+nlohmann::json figures_json(const ValidationFigures& f) {
+  const auto stats = [](const ErrorStatistics& s) {
+    return nlohmann::json{{"count", s.count},
+                          {"mean_mm", tidy(s.mean, 6)},
+                          {"std_mm", tidy(s.std, 6)},
+                          {"mean_plus_3std_mm", tidy(s.mean_plus_3std(), 6)},
+                          {"max_mm", tidy(s.max, 6)}};
+  };
+  return {{"absolute", stats(f.absolute)}, {"pairs", stats(f.pairs)}};
+}
+
+nlohmann::json stage_json(const CalibrationStage& s) {
+  return {{"configurations", s.configurations},
+          {"rms_mm", tidy(s.rms_mm, 6)},
+          {"iterations", s.iterations},
+          {"converged", s.converged},
+          {"validation", figures_json(s.validation)}};
+}
+
+void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation, int threads,
+                  bool leg_fit, bool json) {
+  if (validation < 2)
+    throw InputError({"", 0, 0, "--validation"}, "expected at least 2 configurations");
+  if (threads < 1) throw InputError({"", 0, 0, "--threads"}, "expected at least 1 thread");
+  const RobotModel model = load_robot(cell_options.robot);
+  EndToEndOptions o;
+  o.cell.placement = cell_options.rough_placement();
+  o.cell.tool_offset_mm = cell_options.tool_offset_mm;
+  o.cell.ball_offset_mm = cell_options.ball_offset_mm;
+  o.cell.table_z_mm = cell_options.table_z_mm;
+  o.angle_deg = cell_options.angle_deg;
+  o.distance_mm = cell_options.distance_mm;
+  o.validation_configurations = validation;
+  o.threads = threads;
+  o.leg_fit = leg_fit;
+  std::mt19937_64 rng(seed);
+  const EndToEndReport r = run_end_to_end(model, o, rng);
+  nlohmann::json out{{"robot", r.robot},
+                     {"seed", seed},
+                     {"poses_enumerated", r.poses_enumerated},
+                     {"poses_kept", r.poses_kept},
+                     {"poses_measurable", r.poses_measurable},
+                     {"configurations_planned", r.configurations_planned},
+                     {"measured_first_pass", r.measured_first},
+                     {"out_of_range_first_pass", r.retried},
+                     {"measured_after_replanning", r.measured_after_replan},
+                     {"world_frame_rms_mm", tidy(r.world_frame_rms_mm, 6)},
+                     {"validation_configurations", r.validation_configurations},
+                     {"nominal", figures_json(r.nominal)},
+                     {"preliminary", stage_json(r.preliminary)},
+                     {"final", stage_json(r.final_pose_fit)}};
+  if (leg_fit) {
+    out["leg_fit"] = stage_json(r.leg_fit);
+    out["leg_fit"]["length_offset_mm"] = tidy(r.leg_fit_offset_mm, 6);
+  }
+  out["published"] = {{"poses", 46},
+                      {"configurations", 124},
+                      {"nominal_mean_mm", 1.355},
+                      {"front_up_46_mean_max_mm", {0.517, 1.223}},
+                      {"all_61_mean_max_mm", {0.796, 1.630}},
+                      {"pairs_before_mean_mm", 1.062},
+                      {"pairs_after_mean_max_mm", {0.400, 1.666}},
+                      {"laser_tracker_50_mean_max_mm", {0.156, 0.490}}};
+  if (json) {
+    print_json(out);
+    return;
+  }
+  fmt::print("Simulated hexapod calibration of a {} (seed {})\n", r.robot, seed);
+  fmt::print("poses: {} enumerated, {} kept, {} measurable; {} configurations planned\n",
+             r.poses_enumerated, r.poses_kept, r.poses_measurable, r.configurations_planned);
+  fmt::print(
+      "first pass: {} measured, {} out of the ballbar's range; after the preliminary "
+      "calibration {} of those measured\n",
+      r.measured_first, r.retried, r.measured_after_replan);
+  fmt::print("world frame from the base cups: rms {:.4f} mm\n", r.world_frame_rms_mm);
+  fmt::print("validation on {} random configurations (laser tracker), mm:\n",
+             r.validation_configurations);
+  fmt::print("{:<26} {:>8} {:>8} {:>8}   {:>10} {:>10}\n", "model", "mean", "std", "max",
+             "pairs mean", "pairs max");
+  const auto row = [](const char* name, const ValidationFigures& f) {
+    fmt::print("{:<26} {:8.4f} {:8.4f} {:8.4f}   {:10.4f} {:10.4f}\n", name, f.absolute.mean,
+               f.absolute.std, f.absolute.max, f.pairs.mean, f.pairs.max);
+  };
+  row("nominal", r.nominal);
+  row("preliminary (poses)", r.preliminary.validation);
+  row("final (poses)", r.final_pose_fit.validation);
+  if (leg_fit) row("final (raw legs)", r.leg_fit.validation);
+  fmt::print(
+      "published (LR Mate 200iC, real robot): nominal 1.355 mean; 46 configs 0.517 / 1.223; "
+      "61 configs 0.796 / 1.630; pairs 1.062 → 0.400 / 1.666\n");
+}
+
+const bool registered = register_command(60, [](CLI::App& app) {
+  auto* hex =
+      app.add_subcommand("hexapod", "The ballbar hexapod: 6D poses from one ballbar (METHOD §8)");
+  hex->require_subcommand(1);
+
+  {
+    auto* cmd = hex->add_subcommand("dkp", "Direct kinematics: tool cups from the 12 distances");
+    auto base = std::make_shared<std::string>("300");
+    auto tool = std::make_shared<std::string>("150");
+    auto legs = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    cmd->add_option("--base-mm", *base, "Measured base sides b12,b23,b31 (mm)")
+        ->capture_default_str();
+    cmd->add_option("--tool-mm", *tool, "Measured tool sides t12,t23,t31 (mm)")
+        ->capture_default_str();
+    cmd->add_option("--legs", *legs, "Legs ρ11,ρ12,ρ21,ρ22,ρ23,ρ31 (mm)")->required();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_dkp(*base, *tool, *legs, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand("poses", "The 72 poses and the ones left after pruning");
+    auto geometry = std::make_shared<GeometryOptions>();
+    auto angle = std::make_shared<double>(30.0);
+    auto distance = std::make_shared<double>(50.0);
+    auto json = std::make_shared<bool>(false);
+    geometry->add_to(cmd);
+    cmd->add_option("--angle-deg", *angle, "Redundant when closer than this in orientation")
+        ->capture_default_str();
+    cmd->add_option("--distance-mm", *distance,
+                    "… and closer than this in position (tool-fixture centroid)")
+        ->capture_default_str();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_poses(*geometry, *angle, *distance, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "uncertainty", "Tool-cup uncertainty per assembly mode (Guide 98-3, with Monte Carlo)");
+    auto geometry = std::make_shared<GeometryOptions>();
+    auto sigma = std::make_shared<double>(0.51);
+    auto seed = std::make_shared<uint64_t>(1);
+    auto samples = std::make_shared<int>(100000);
+    auto json = std::make_shared<bool>(false);
+    geometry->add_to(cmd);
+    cmd->add_option("--sigma-um", *sigma, "Standard uncertainty of one ballbar distance (µm)")
+        ->capture_default_str();
+    cmd->add_option("--seed", *seed, "Seed of the Monte Carlo draws")->capture_default_str();
+    cmd->add_option("--samples", *samples, "Monte Carlo draws per assembly mode")
+        ->capture_default_str();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_uncertainty(*geometry, *sigma, *seed, *samples, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "world-frame", "World frame from the base cups: planar least-squares correction");
+    auto points = std::make_shared<std::string>();
+    auto sides = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    cmd->add_option("--points", *points,
+                    "Where the robot put the cups, robot frame: x1,y1,z1,x2,y2,z2,x3,y3,z3 (mm)")
+        ->required();
+    cmd->add_option("--sides", *sides, "Ballbar-measured b12,b23,b31 (mm)")->required();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_world_frame(*points, *sides, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "setup", "Where the robot must put the setting ball to place the base cups");
+    auto cell = std::make_shared<CellOptions>();
+    auto side = std::make_shared<double>(300.0);
+    auto json = std::make_shared<bool>(false);
+    cell->add_to(cmd);
+    cmd->add_option("--leg-mm", *side, "Distance between the cups (the ballbar's length)")
+        ->capture_default_str();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_setup(*cell, *side, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "plan",
+        "Robot configurations for every pose, for a base-fixture placement (the session's plan)");
+    auto geometry = std::make_shared<GeometryOptions>();
+    auto cell = std::make_shared<CellOptions>();
+    auto out = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    geometry->add_to(cmd);
+    cell->add_to(cmd);
+    cmd->add_option("--out", *out, "Write the plan (JSON) for `robcal hexapod session`");
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_plan(*geometry, *cell, *out, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "simulate",
+        "Simulated end to end: placement, planning, ballbar readings, preliminary and final "
+        "calibration, laser-tracker validation");
+    auto cell = std::make_shared<CellOptions>();
+    auto seed = std::make_shared<uint64_t>(1);
+    auto validation = std::make_shared<int>(10000);
+    auto threads = std::make_shared<int>(2);
+    auto no_leg_fit = std::make_shared<bool>(false);
+    auto json = std::make_shared<bool>(false);
+    cell->add_to(cmd);
+    cmd->add_option("--seed", *seed, "Seed of the true robot, the readings and the validation")
+        ->capture_default_str();
+    cmd->add_option("--validation", *validation, "Random validation configurations")
+        ->capture_default_str();
+    cmd->add_option("--threads", *threads, "Threads of the all-pairs statistics")
+        ->capture_default_str();
+    cmd->add_flag("--no-leg-fit", *no_leg_fit, "Skip the fit from the raw leg readings");
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] { run_simulate(*cell, *seed, *validation, *threads, !*no_leg_fit, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "session",
+        "Guided measurement: prompts step by step, readings typed or piped on stdin, every "
+        "reading journaled at once");
+    auto plan = std::make_shared<std::string>();
+    auto journal = std::make_shared<std::string>();
+    auto resume = std::make_shared<bool>(false);
+    auto out = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    cmd->add_option("--plan", *plan, "Plan file (JSON, from `robcal hexapod plan --out`)")
+        ->required();
+    cmd->add_option("--journal", *journal,
+                    "Session journal (created; must not exist unless --resume)")
+        ->required();
+    cmd->add_flag("--resume", *resume, "Replay the journal and continue where it stopped");
+    cmd->add_option("--out", *out, "Result file (JSON), written once the session is complete");
+    cmd->add_flag("--json", *json, "Print the result as JSON (prompts go to stderr)");
+    cmd->callback([=] { run_session(*plan, *journal, *resume, *out, *json); });
+  }
+});
+
+}  // namespace
+}  // namespace robcal::cli

@@ -1,0 +1,108 @@
+#pragma once
+/// \file
+/// Inverse kinematics of the calibrated robot (METHOD §1 step 5, §4): the controller joints
+/// that put the TCP at a wanted world pose on the calibrated model, compliance included, in
+/// a chosen arm configuration. Two iterations, both seeded by the nominal closed form
+/// (kinematics/inverse_kinematics.hpp):
+///
+/// - Newton: j ← j + J⁻¹·e with the exact Jacobian of calibrated_chain.hpp and the world pose
+///   error e = (p* − p, log(R*·Rᵀ)); quadratic convergence, 2–3 iterations from the seed.
+/// - Pose shift: needs only the nominal inverse and the calibrated forward model. With T the
+///   pose commanded to the nominal inverse and F(T) the calibrated TCP pose its joints give,
+///   T ← T · F(T)⁻¹ · T*; linear convergence (errors of a world frame are absorbed in one step).
+///
+/// Every answer is checked by the calibrated forward model before it is reported Converged;
+/// anything else (no nominal seed, a singular Jacobian, a step that leaves the configuration,
+/// a joint limit) comes back as a status, never as joints that miss the pose.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "robcal/compensate/calibrated_chain.hpp"
+#include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/kinematics/inverse_kinematics.hpp"
+
+namespace robcal {
+
+struct CalibratedIkOptions {
+  int max_iterations = 12;
+  double position_tolerance_mm = 1e-7;
+  double orientation_tolerance_rad = 1e-9;  ///< ≈ 6e-8°
+  /// An iterate further than this from its nominal seed (any joint, rad) is abandoned: it is
+  /// heading for another turn or branch. Converged answers are also checked to keep the
+  /// seed's arm configuration.
+  double max_joint_change_rad = 1.0;
+};
+
+enum class CalibratedIkStatus : std::uint8_t {
+  Converged,          ///< within tolerance, inside the joint limits
+  NoNominalSolution,  ///< the nominal inverse has no solution in the configuration asked for
+  Singular,           ///< the Jacobian (or the step) degenerated: at or near a singularity
+  LeftConfiguration,  ///< drifted beyond max_joint_change_rad, or converged in another branch
+  NotConverged,       ///< max_iterations reached
+  OutsideLimits,      ///< reaches the pose, but a joint is outside its limits
+};
+
+const char* to_string(CalibratedIkStatus status);
+
+struct CalibratedIkResult {
+  CalibratedIkStatus status = CalibratedIkStatus::NoNominalSolution;
+  Vector6d joints = Vector6d::Zero();  ///< controller joints, rad
+  int iterations = 0;                  ///< forward-model evaluations after the seed
+  double position_error_mm = 0;        ///< at `joints`, calibrated model
+  double orientation_error_rad = 0;
+  [[nodiscard]] bool ok() const { return status == CalibratedIkStatus::Converged; }
+};
+
+/// Everything the calibrated inverse needs for one robot, payload and tool. Immutable.
+struct Compensator {
+  RobotModel model;
+  CalibratedChain chain;
+  OrthoParallelGeometry geometry;  ///< the nominal robot's closed form
+  /// The controller's base frame in the world: where the nominal base sits when frame Φ1 is
+  /// where the calibrated model puts it, world_T_base = world_A_1(q1=0) · base_A_1(q1=0)⁻¹.
+  Pose<double> world_T_base;
+  Pose<double> flange_T_tcp;
+  PointMass payload;  ///< the payload the compliance is computed for
+};
+
+/// Builds the compensator of a calibrated robot; `payload` overrides the tool's (the
+/// compliance re-compensates for it). InputError when the robot has no closed-form nominal
+/// inverse (not ortho-parallel) or a parameter is not finite.
+Compensator make_compensator(const CalibratedRobot& robot,
+                             const std::optional<PointMass>& payload = std::nullopt);
+
+/// The nominal solution (controller joints, rad) of `base_T_tcp` in configuration `config`
+/// nearest to `near` (Euclidean; `near` picks the turn of wide-range joints), or nullopt.
+std::optional<Vector6d> nominal_solution(const Compensator& comp, const Pose<double>& base_T_tcp,
+                                         const ArmConfig& config, const Vector6d& near);
+
+/// The arm configuration of controller joints (rad): the definitions of
+/// kinematics/inverse_kinematics.hpp applied to the nominal robot's frames.
+ArmConfig arm_config_of(const RobotModel& model, const Vector6d& joints);
+
+/// TCP pose (controller base frame) of the nominal model: what the controller displays.
+Pose<double> nominal_tcp_pose(const Compensator& comp, const Vector6d& joints);
+
+/// Newton iteration on the calibrated model from `seed` (controller joints, rad).
+CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<double>& world_T_tcp,
+                                        const Vector6d& seed,
+                                        const CalibratedIkOptions& options = {});
+
+/// Pose-shift iteration, each step a nominal closed-form solve in configuration `config`
+/// nearest to the previous joints, starting from `seed`.
+CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
+                                            const Pose<double>& world_T_tcp,
+                                            const ArmConfig& config, const Vector6d& seed,
+                                            const CalibratedIkOptions& options = {});
+
+enum class IkMethod { Newton, PoseShift };
+
+/// Seeds from the nominal solution (world pose taken into the base frame) and iterates.
+CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& world_T_tcp,
+                                 const ArmConfig& config, const Vector6d& near,
+                                 IkMethod method = IkMethod::Newton,
+                                 const CalibratedIkOptions& options = {});
+
+}  // namespace robcal

@@ -1,0 +1,77 @@
+#pragma once
+/// \file
+/// Corrected targets (METHOD §1 step 5): for each wanted TCP pose in the world, the joints that
+/// reach it on the calibrated model and the nominal-model Cartesian target (controller base
+/// frame) that makes the controller command those joints, with a 95 % confidence radius of
+/// the position from the model's parameter covariance; and the same as a corrector of robot
+/// programs (RAPID / KRL configuration data mapped to arm branches and turns).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "robcal/compensate/calibrated_ik.hpp"
+#include "robcal/compensate/program_filter.hpp"
+
+namespace robcal {
+
+/// One row of a wanted-targets file `name,x,y,z,qw,qx,qy,qz[,config]` (mm, unit quaternion;
+/// config: an ArmConfig label such as "front-up-noflip", or its index 0..7, which is ABB's
+/// cfx; empty or absent: the branch nearest the previous row's joints, home for the first).
+struct WantedTarget {
+  std::string name;
+  Pose<double> world_T_tcp;
+  std::optional<ArmConfig> config;
+  int line = 0;  ///< in the file, for messages
+};
+
+/// Reads a wanted-targets CSV (header row required; '#' lines skipped). Errors name the file,
+/// line, column and what was expected.
+std::vector<WantedTarget> read_wanted_targets(const std::string& path);
+std::vector<WantedTarget> parse_wanted_targets(const std::string& text, const std::string& file);
+
+struct CorrectedTarget {
+  std::string name;
+  ArmConfig config;
+  CalibratedIkResult ik;
+  Pose<double> base_T_tcp_nominal;  ///< send this (with `config`) to the controller
+  /// 95 % radius (mm) of the TCP position predicted at `ik.joints`: √(χ²₃(0.95)·λmax(J·Σ·Jᵀ)),
+  /// J the parameter Jacobian of the TCP position, Σ the model's covariance; nullopt when
+  /// the model has none.
+  std::optional<double> confidence95_mm;
+};
+
+/// Corrects every wanted target. Throws InputError naming the file and line of the first row
+/// that cannot be corrected (with the reason), so no partial result exists.
+std::vector<CorrectedTarget> correct_targets(const Compensator& comp, const CalibratedRobot& robot,
+                                             const std::vector<WantedTarget>& wanted,
+                                             const std::string& file, IkMethod method);
+
+/// `name,config,j1..j6,x,y,z,qw,qx,qy,qz,<euler labels>,iterations,residual_mm,confidence95_mm`
+/// (degrees and mm; the Euler angles in the maker's convention of `model`).
+std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows,
+                                  const RobotModel& model);
+
+/// 95 % confidence radius of the TCP position at `joints` (nullopt without covariance).
+std::optional<double> position_confidence95_mm(const CalibratedRobot& robot,
+                                               const PointMass& payload,
+                                               const Pose<double>& flange_T_tcp,
+                                               const Vector6d& joints);
+
+/// A program corrector. A Cartesian point (controller base frame, wobj0, the tool's TCP) is
+/// solved on the calibrated robot in the nominal solution whose configuration data (RAPID
+/// cf1/cf4/cf6/cfx, KRL S/T) match the written ones (the branch must match; the turns are
+/// the nearest to the written quadrants or signs); a KRL point without S/T takes the branch
+/// nearest the previous point's joints. The corrected point is the nominal pose of the
+/// calibrated joints, with the configuration data recomputed from them. A joint target j is
+/// read as the pose the nominal model gives it: the corrected joints reach that pose on the
+/// calibrated robot, in the same configuration.
+PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language);
+
+/// Configuration data as the maker writes it for controller joints (rad): RAPID (cf1, cf4,
+/// cf6, cfx) with cfx = ArmConfig index; KRL (S, T) with S bit 0 = back, bit 1 = up,
+/// bit 2 = A5 ≤ 0, T bit i = (A_{i+1} < 0).
+std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
+                                     const Vector6d& joints);
+
+}  // namespace robcal

@@ -1,0 +1,87 @@
+#pragma once
+/// \file
+/// The two triangular fixtures of the ballbar hexapod (METHOD §8): cup positions from the three
+/// side lengths measured with the ballbar, and the fixture frame that three cup positions define.
+///
+/// Convention, used for both fixtures: cup 1 at the origin, cup 2 on +x, cup 3 in the xy plane
+/// with y > 0, so z = (c2 − c1) × (c3 − c1) / |…|. The base cups are numbered counter-clockwise
+/// seen from above (z points up, towards the tool); the tool cups counter-clockwise seen from the
+/// side the cups open to.
+
+#include <ceres/jet.h>
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <string>
+
+#include "robcal/kinematics/forward_kinematics.hpp"
+
+namespace robcal::hexapod {
+
+/// Three cup centres (mm) in some frame; index 0..2 = cup 1..3.
+template <typename T>
+using Cups = std::array<Vector3<T>, 3>;
+
+/// The value part of a double or a Jet: validity tests must not look at derivatives.
+inline double scalar_value(double x) {
+  return x;
+}
+template <typename S, int N>
+double scalar_value(const ceres::Jet<S, N>& x) {
+  return x.a;
+}
+
+/// Side lengths of a triangular fixture (mm): d12 = |c1c2|, d23 = |c2c3|, d31 = |c3c1|.
+struct TriangleSides {
+  double d12 = 0;
+  double d23 = 0;
+  double d31 = 0;
+  [[nodiscard]] std::array<double, 3> as_array() const { return {d12, d23, d31}; }
+};
+
+/// Empty when the sides make a proper triangle; otherwise why not (a side not positive or
+/// finite, or the triangle inequality broken or within 1e-6 of equality: the cups are collinear).
+std::string triangle_problem(const TriangleSides& sides);
+
+/// Cup positions from the side lengths (METHOD §8): c1 = 0, c2 = (d12, 0, 0),
+/// c3 = (x, y, 0) with x = (d12² − d23² + d31²)/(2·d12) and y = 2·area/d12 (Heron).
+/// Precondition: triangle_problem(sides) is empty (the Jet version cannot throw usefully).
+template <typename T>
+Cups<T> triangle_from_sides(const T& d12, const T& d23, const T& d31) {
+  using std::sqrt;
+  const T s = (d12 + d23 + d31) / T(2);
+  const T area = sqrt(s * (s - d12) * (s - d23) * (s - d31));
+  Cups<T> c;
+  c[0] = Vector3<T>::Zero();
+  c[1] << d12, T(0), T(0);
+  c[2] << (d12 * d12 - d23 * d23 + d31 * d31) / (T(2) * d12), T(2) * area / d12, T(0);
+  return c;
+}
+
+/// Checked version for measured sides: throws InputError naming `what` (e.g. "base fixture")
+/// and the sides when they do not make a triangle.
+Cups<double> fixture_cups(const TriangleSides& sides, const std::string& what);
+
+/// The fixture frame defined by three cup positions: origin at c1, x towards c2,
+/// z = (c2 − c1) × (c3 − c1) normalised. Returns frame_T_fixture (maps fixture coordinates into
+/// the cups' frame). Precondition: the cups are not collinear.
+template <typename T>
+Pose<T> frame_from_cups(const Cups<T>& c) {
+  const Vector3<T> x = (c[1] - c[0]).normalized();
+  const Vector3<T> z = (c[1] - c[0]).cross(c[2] - c[0]).normalized();
+  Pose<T> pose;
+  pose.R.col(0) = x;
+  pose.R.col(1) = z.cross(x);
+  pose.R.col(2) = z;
+  pose.p = c[0];
+  return pose;
+}
+
+/// Centroid of three cups.
+template <typename T>
+Vector3<T> centroid(const Cups<T>& c) {
+  return (c[0] + c[1] + c[2]) / T(3);
+}
+
+}  // namespace robcal::hexapod

@@ -1,0 +1,51 @@
+#pragma once
+/// \file
+/// Identification straight from the raw ballbar readings (beyond the published method, which
+/// fits poses from the DKP): one Ceres fit whose residuals are the measured distances —
+/// every leg |B_a − H(q)·T_b| and the fixture sides — and whose unknowns are the robot's
+/// parameters (relative model, METHOD §3: base held), the base cups in the robot frame, the tool
+/// cups in the flange frame and the ballbar's length offset at its leg set-up.
+///
+/// Dependencies handled by name: with free tool cups, link6.d and link6.theta only move the cups
+/// (a shift along and a turn about the flange axis) and are held; any further rank deficiency of
+/// the column-scaled Jacobian (rank-revealing QR) holds the dependent unknowns and names them.
+
+#include <string>
+#include <vector>
+
+#include "robcal/hexapod/measurement.hpp"
+#include "robcal/model/robot_model.hpp"
+
+namespace robcal::hexapod {
+
+struct LegFitOptions {
+  std::vector<int> free_parameters;  ///< model parameter indices to identify (never base.*)
+  bool fit_length_offset = true;     ///< the ballbar's offset at its leg set-up length
+  int max_iterations = 100;
+};
+
+struct LegFitResult {
+  ParameterVector params = ParameterVector::Zero();
+  Cups<double> base_cups_robot;   ///< robot frame, mm
+  Cups<double> tool_cups_flange;  ///< flange frame, mm
+  double length_offset_mm = 0;    ///< true length = reading + offset (leg set-up)
+  std::vector<int> identified;    ///< model parameters fitted
+  std::vector<std::string> held;  ///< unknowns held, each with why
+  int residuals = 0;
+  double initial_rms_mm = 0;
+  double rms_mm = 0;
+  int iterations = 0;
+  bool converged = false;
+  std::string message;  ///< Ceres' termination reason
+};
+
+/// Fits from the readings. Start: `start_params`, the base cups where the world frame puts them
+/// (`robot_T_world` × the measured base triangle), the tool cups from the measured tool triangle
+/// through `flange_T_tool`, offset 0. Throws InputError when a start index is a base parameter.
+LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
+                           const TriangleSides& base_sides, const TriangleSides& tool_sides,
+                           const std::vector<LegReadings>& readings,
+                           const ParameterVector& start_params, const Pose<double>& robot_T_world,
+                           const Pose<double>& flange_T_tool, const LegFitOptions& options);
+
+}  // namespace robcal::hexapod

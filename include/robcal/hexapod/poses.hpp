@@ -1,0 +1,61 @@
+#pragma once
+/// \file
+/// The measurable poses of the ballbar hexapod (METHOD §8): with every leg at the ballbar's
+/// nominal length, 4 assembly modes × 3 rotations of the tool fixture (0, ±120° about its
+/// normal) × 6 permutations of the base cups = 72 poses of the tool fixture relative to the base
+/// fixture; poses closer than given orientation and position distances to an earlier one are
+/// redundant and pruned.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "robcal/hexapod/direct_kinematics.hpp"
+
+namespace robcal::hexapod {
+
+/// The measured fixtures and the ballbar's nominal length (mm).
+struct HexapodGeometry {
+  TriangleSides base{300, 300, 300};  ///< b12, b23, b31
+  TriangleSides tool{150, 150, 150};  ///< t12, t23, t31
+  double leg_mm = 300;                ///< every leg at this length in a planned pose
+};
+
+/// One leg between physical cups (0-based: base cup B(base+1), tool cup T(tool+1)).
+struct PhysicalLeg {
+  int base = 0;
+  int tool = 0;
+};
+
+struct HexapodPose {
+  int index = 0;                    ///< 1-based position in the enumeration (1..72)
+  std::string label;                ///< "P01".."P72"
+  int mode = 0;                     ///< assembly mode 1..4
+  int rotation_deg = 0;             ///< tool fixture rotation: 0, -120 or 120
+  LegDesign design;                 ///< physical cup of each design role
+  Cups<double> tool_cups;           ///< physical T1..T3 in the base fixture frame, mm
+  Pose<double> base_T_tool;         ///< tool fixture frame in the base fixture frame
+  std::array<PhysicalLeg, 6> legs;  ///< the six legs in measurement order (kDesignLegs)
+
+  /// "mode 2, tool −120°, base B2 B1 B3" (the physical cups in the design roles B1, B2, B3).
+  [[nodiscard]] std::string description() const;
+};
+
+/// The 72 poses (fewer if some assembly mode has no real solution for these fixtures), in the
+/// order mode, rotation (0, −120, +120), base permutation (lexicographic).
+/// Throws InputError when a fixture's sides do not make a triangle.
+std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry);
+
+/// Keeps each pose unless an already kept one is both within `max_angle_rad` in orientation and
+/// `max_distance_mm` between the tool-fixture centroids (METHOD §8 defaults: 30°, 50 mm).
+std::vector<HexapodPose> prune_redundant(const std::vector<HexapodPose>& poses,
+                                         double max_angle_rad, double max_distance_mm);
+
+/// Physical tool cups (base fixture frame) from a DKP solution in design roles.
+Cups<double> physical_tool_cups(const LegDesign& design, const Cups<double>& design_tool);
+
+/// Design-role base cups and tool sides for a leg design (what the DKP needs).
+Cups<double> design_base_cups(const LegDesign& design, const Cups<double>& physical_base);
+TriangleSides design_tool_sides(const LegDesign& design, const Cups<double>& physical_tool);
+
+}  // namespace robcal::hexapod

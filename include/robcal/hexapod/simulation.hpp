@@ -1,0 +1,60 @@
+#pragma once
+/// \file
+/// A simulated hexapod cell (METHOD §8, published procedure): a true robot (sim/true_robot.hpp)
+/// places the base cups with a setting ball where its nominal model says, the ballbar
+/// (measure/instrument.hpp: σ and ±range) measures the fixture sides and the legs. Everything
+/// the operator would not know — the true cup positions, the true fixture sides — stays in the
+/// cell for the simulation to use and the pipeline never sees.
+///
+/// Frames: the simulation world is the truth's world (the laser tracker's); the robot frame is
+/// the nominal model's; the hexapod world is the base fixture frame fitted from the cups.
+
+#include <optional>
+#include <random>
+
+#include "robcal/hexapod/planning.hpp"
+#include "robcal/hexapod/poses.hpp"
+#include "robcal/hexapod/world_frame.hpp"
+#include "robcal/sim/true_robot.hpp"
+
+namespace robcal::hexapod {
+
+struct HexapodCellOptions {
+  HexapodGeometry design;              ///< nominal fixtures and the ballbar's set-up length
+  double fixture_tolerance_mm = 0.05;  ///< true fixture sides within ± this of the design
+  Pose<double> placement;              ///< rough base-fixture placement (cup centroid), robot frame
+  double tool_offset_mm = 100;         ///< tool fixture centroid along the flange z
+  double ball_offset_mm = 100;         ///< setting ball along the flange z
+  double table_z_mm = 0;
+  double sigma_mm = 0.00051;  ///< ballbar σ (METHOD §7)
+  double range_mm = 1.0;      ///< ballbar range about its set-up length
+};
+
+struct SimulatedHexapodCell {
+  TrueRobot truth;
+  RobotModel nominal;  ///< the robot file the operator uses
+  HexapodCellOptions options;
+  CellSetup cell;              ///< as the operator knows it: fitted world frame, nominal tool mount
+  Cups<double> base_cups_sim;  ///< true cup centres, simulation world frame
+  Cups<double> tool_cups_flange;  ///< true tool cups, flange frame
+  Cups<double> setting_points;    ///< p_i: where the nominal model put the ball, robot frame
+  TriangleSides base_sides;       ///< measured with the ballbar
+  TriangleSides tool_sides;       ///< measured with the ballbar
+  WorldFrameFit world;            ///< robot_T_world from p_i and the measured base sides
+  Pose<double> world_T_sim;       ///< true base fixture frame ← simulation world
+};
+
+/// Places the base cups with the true robot (nominal inverse kinematics of the setting-ball
+/// points, the configuration nearest the joints' zero), measures the fixture sides and fits the
+/// world frame. Throws InputError when a setting point cannot be reached.
+SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotModel& nominal,
+                                           const HexapodCellOptions& options, std::mt19937_64& rng);
+
+/// Readings of the six legs of `pose` with the true robot at `joints` (controller, rad), in
+/// measurement order, or nullopt with `out_of_range` set to the first leg the ballbar cannot
+/// read (0..5).
+std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell,
+                                                const HexapodPose& pose, const Vector6d& joints,
+                                                std::mt19937_64& rng, int* out_of_range = nullptr);
+
+}  // namespace robcal::hexapod

@@ -1,0 +1,77 @@
+#pragma once
+/// \file
+/// The calibration report (METHOD §9): one self-contained HTML page that works offline, and
+/// the same content as JSON. The page embeds its data and the Chart.js library (Debian's
+/// libjs-chart.js, found at configure time) inline; its script draws the before/after error
+/// histograms and the error against distance to the calibration region, then marks the
+/// element `#render-status` with `data-status="rendered"` (or `"error: …"` on a script error),
+/// which the browser test reads.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/measure/measurements.hpp"
+
+namespace robcal {
+
+/// Absolute position errors of one model over the validation rows.
+struct ModelErrors {
+  std::string label;              ///< "nominal", "base", "kinematic", "full", "calibrated"…
+  std::vector<double> errors_mm;  ///< per validation row, in row order
+  std::vector<std::string> target_of_row;  ///< per row: the target's name ("tcp" for poses)
+};
+
+/// A parameter's row of the report (external units: mm, deg, rad/N·mm, 1).
+struct ReportParameter {
+  std::string name, unit, status, reason;
+  double nominal = 0, value = 0, std_dev = 0;
+};
+
+/// Everything the report shows, already computed.
+struct ReportData {
+  std::string title;
+  std::string robot;
+  std::vector<std::string> sources;  ///< input files or the demo's description
+  std::vector<ModelErrors> models;   ///< the first is "before", the last "after"
+  /// Per validation row: distance (mm) from its measured position to the nearest measured
+  /// calibration position; empty when no calibration set was given.
+  std::vector<double> distance_to_calibration_mm;
+  std::vector<ReportParameter> parameters;
+  nlohmann::json diagnostics = nlohmann::json::object();  ///< the fit's statistics
+  std::vector<std::string> notes;
+};
+
+/// The parameter rows of a calibrated robot: every parameter that is not fixed, with its
+/// nominal value, identified value, standard deviation (from the covariance) and status.
+std::vector<ReportParameter> report_parameters(const CalibratedRobot& robot);
+
+/// Errors of `robot` over the rows of points or poses sets (validate's position errors).
+ModelErrors model_errors(const std::string& label, const CalibratedRobot& robot,
+                         const std::vector<MeasurementSet>& validation);
+
+/// Distance from each validation row's measured position to the nearest calibration row's.
+std::vector<double> distance_to_calibration(const std::vector<MeasurementSet>& validation,
+                                            const MeasurementSet& calibration);
+
+/// A YAML text (the model file's statistics map) as JSON: numbers stay numbers.
+nlohmann::json yaml_to_json(const std::string& yaml_text);
+
+/// The report's content as JSON: summaries (mean, std, mean + 3 std, max) per model and per
+/// target, histograms on common bins, the error/distance pairs, parameters and diagnostics.
+nlohmann::json report_json(const ReportData& data);
+
+/// The Chart.js source to embed. Reads the file found at configure time (or $ROBCAL_CHARTJS);
+/// throws InputError saying which package to install when it is missing.
+std::string load_chartjs();
+
+/// The HTML page for `report` (from report_json) with `chartjs` inline.
+std::string report_html(const nlohmann::json& report, std::string_view chartjs);
+
+/// Plain-text table of the models' summaries in the published tables' style.
+std::string report_table_text(const nlohmann::json& report);
+
+}  // namespace robcal

@@ -1,0 +1,166 @@
+// Python bindings of the ballbar hexapod (include/robcal/hexapod/): fixture triangles, the tripod
+// function, the direct kinematics, the 72 poses, the uncertainty and the world frame. mm outside.
+
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include <random>
+
+#include "module_registry.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/hexapod/direct_kinematics.hpp"
+#include "robcal/hexapod/poses.hpp"
+#include "robcal/hexapod/uncertainty.hpp"
+#include "robcal/hexapod/world_frame.hpp"
+
+namespace py = pybind11;
+
+namespace robcal::python {
+namespace {
+
+using namespace robcal::hexapod;
+
+/// Rows of a 3×3 array as three cups; ValueError for any other shape.
+Cups<double> cups_from_rows(const Eigen::MatrixXd& rows, const char* what) {
+  if (rows.rows() != 3 || rows.cols() != 3)
+    throw py::value_error(std::string(what) + ": expected a 3×3 array (one cup per row, mm)");
+  return {rows.row(0).transpose(), rows.row(1).transpose(), rows.row(2).transpose()};
+}
+
+Eigen::Matrix3d rows_from_cups(const Cups<double>& cups) {
+  Eigen::Matrix3d rows;
+  for (int i = 0; i < 3; ++i) rows.row(i) = cups[i].transpose();
+  return rows;
+}
+
+TriangleSides sides(const std::array<double, 3>& d) {
+  return {d[0], d[1], d[2]};
+}
+
+/// Bad input raises ValueError in Python (InputError is a runtime_error in C++).
+template <typename F>
+auto checked(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw py::value_error(e.what());
+  }
+}
+
+const bool registered = register_bindings(60, [](py::module_& m) {
+  auto h = m.def_submodule("hexapod", "The ballbar hexapod of METHOD §8 (mm)");
+  h.def(
+      "triangle_from_sides",
+      [](const std::array<double, 3>& d) {
+        return checked([&] { return rows_from_cups(fixture_cups(sides(d), "sides")); });
+      },
+      py::arg("sides_mm"),
+      "Cup positions (rows) from d12, d23, d31: c1 at the origin, c2 on x, c3 in the xy plane");
+  h.def(
+      "tripod",
+      [](const Eigen::Vector3d& v1, const Eigen::Vector3d& v2, const Eigen::Vector3d& v3, double l1,
+         double l2, double l3, int sign) -> std::optional<Eigen::Vector3d> {
+        if (sign != 1 && sign != -1) throw py::value_error("sign must be +1 or -1");
+        return tripod(v1, v2, v3, l1, l2, l3, sign);
+      },
+      py::arg("v1"), py::arg("v2"), py::arg("v3"), py::arg("l1"), py::arg("l2"), py::arg("l3"),
+      py::arg("sign"), "Tri of METHOD §8; None when there is no real solution");
+  h.def(
+      "solve_dkp",
+      [](const std::array<double, 3>& base, const std::array<double, 3>& tool,
+         const std::array<double, 6>& legs) {
+        const DkpResult r = solve_dkp(sides(base), sides(tool), legs);
+        if (r.status != DkpStatus::Ok) throw py::value_error(r.message);
+        py::dict out;
+        for (const AssemblyModeSolution& s : r.solutions)
+          out[py::int_(s.mode)] = rows_from_cups(s.tool);
+        return out;
+      },
+      py::arg("base_sides_mm"), py::arg("tool_sides_mm"), py::arg("legs_mm"),
+      "Tool cups (rows, base fixture frame) by assembly mode 1..4 from b_ij, t_ij and the legs "
+      "ρ11, ρ12, ρ21, ρ22, ρ23, ρ31; ValueError for ill-posed distances");
+  h.def(
+      "leg_lengths",
+      [](const Eigen::MatrixXd& base, const Eigen::MatrixXd& tool) {
+        return leg_lengths(cups_from_rows(base, "base"), cups_from_rows(tool, "tool"));
+      },
+      py::arg("base_cups"), py::arg("tool_cups"), "The six legs of design 1^12 2^123 3^1");
+  h.def(
+      "enumerate_poses",
+      [](const std::array<double, 3>& base, const std::array<double, 3>& tool, double leg_mm,
+         double angle_deg, double distance_mm) {
+        const std::vector<HexapodPose> all = checked([&] {
+          return enumerate_poses({sides(base), sides(tool), leg_mm});
+        });
+        py::list out;
+        for (const HexapodPose& p : prune_redundant(all, deg2rad(angle_deg), distance_mm)) {
+          py::dict d;
+          d["label"] = p.label;
+          d["mode"] = p.mode;
+          d["rotation_deg"] = p.rotation_deg;
+          d["base_roles"] = p.design.base;
+          d["tool_cups"] = rows_from_cups(p.tool_cups);
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("base_sides_mm") = std::array<double, 3>{300, 300, 300},
+      py::arg("tool_sides_mm") = std::array<double, 3>{150, 150, 150}, py::arg("leg_mm") = 300.0,
+      py::arg("angle_deg") = 0.0, py::arg("distance_mm") = 0.0,
+      "The poses (72 before pruning) with every leg at leg_mm, pruned at the given distances");
+  h.def(
+      "uncertainty",
+      [](double base_mm, double tool_mm, double leg_mm, double sigma_um, int samples,
+         uint64_t seed) {
+        if (!(sigma_um > 0) || samples < 2) throw py::value_error("need sigma_um > 0, samples ≥ 2");
+        const HexapodGeometry g{{base_mm, base_mm, base_mm}, {tool_mm, tool_mm, tool_mm}, leg_mm};
+        std::mt19937_64 rng(seed);
+        const auto analytic = dkp_uncertainty(g);
+        const auto mc = dkp_uncertainty_monte_carlo(g, sigma_um * 1e-3, samples, rng);
+        py::list out;
+        for (size_t m = 0; m < analytic.size(); ++m) {
+          py::dict d;
+          d["mode"] = analytic[m].mode;
+          d["sensitivity"] = Eigen::MatrixXd(analytic[m].sensitivity);
+          Eigen::Matrix3d per_axis, mc_axis;
+          Eigen::Vector3d norm, mc_norm;
+          for (int j = 0; j < 3; ++j) {
+            per_axis.row(j) = analytic[m].cups[j].per_axis.transpose();
+            mc_axis.row(j) = mc[m].cups[j].per_axis.transpose();
+            norm[j] = analytic[m].cups[j].norm;
+            mc_norm[j] = mc[m].cups[j].norm;
+          }
+          d["per_axis_sigma"] = per_axis;
+          d["norm_sigma"] = norm;
+          d["monte_carlo_per_axis_sigma"] = mc_axis;
+          d["monte_carlo_norm_sigma"] = mc_norm;
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("base_mm") = 300.0, py::arg("tool_mm") = 150.0, py::arg("leg_mm") = 300.0,
+      py::arg("sigma_um") = 0.51, py::arg("samples") = 20000, py::arg("seed") = 1,
+      "Per mode: sensitivity (9×12), σ per axis and norm of each tool cup in multiples of σ, "
+      "analytic and Monte Carlo");
+  h.def(
+      "fit_world_frame",
+      [](const Eigen::MatrixXd& points, const std::array<double, 3>& measured) {
+        const WorldFrameFit fit = checked(
+            [&] { return fit_world_frame(cups_from_rows(points, "points"), sides(measured)); });
+        py::dict d;
+        d["corrected"] = rows_from_cups(fit.corrected);
+        d["rotation"] = fit.robot_T_fixture.R;
+        d["origin_mm"] = fit.robot_T_fixture.p;
+        d["planar"] = Eigen::Vector3d(fit.planar[0], fit.planar[1], rad2deg(fit.planar[2]));
+        d["rms_mm"] = fit.rms_mm;
+        d["converged"] = fit.converged;
+        return d;
+      },
+      py::arg("robot_points"), py::arg("measured_sides_mm"),
+      "World frame from the base cups: planar least-squares correction; planar = (x mm, y mm, φ "
+      "deg)");
+});
+
+}  // namespace
+}  // namespace robcal::python

@@ -1,0 +1,217 @@
+#include "robcal/compensate/calibrated_ik.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+
+#include "robcal/core/error.hpp"
+
+namespace robcal {
+namespace {
+
+/// World pose error (p* − p, log(R*·Rᵀ)) and its two magnitudes.
+struct PoseError {
+  Vector6d e;
+  double position_mm;
+  double orientation_rad;
+};
+
+PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
+  PoseError out;
+  out.e.head<3>() = wanted.p - reached.p;
+  const Eigen::Matrix3d E = wanted.R * reached.R.transpose();
+  const Eigen::Vector3d w(E(2, 1) - E(1, 2), E(0, 2) - E(2, 0), E(1, 0) - E(0, 1));
+  const double s = 0.5 * w.norm();           // sin of the angle
+  const double c = 0.5 * (E.trace() - 1.0);  // cos of the angle
+  const double angle = std::atan2(s, c);
+  // log map: axis·angle; the ratio angle/sin tends to 1 as the rotation vanishes.
+  out.e.tail<3>() = s > 1e-12 ? Eigen::Vector3d(w * (0.5 * angle / s)) : Eigen::Vector3d(0.5 * w);
+  out.position_mm = out.e.head<3>().norm();
+  out.orientation_rad = angle;
+  return out;
+}
+
+/// Joint moves beyond which the branch is checked, and beyond which a step is shortened
+/// (near a singularity a full Newton step can leap across the workspace).
+constexpr double kBranchCheckRad = 0.05;
+constexpr double kMaxStepRad = 0.25;
+
+bool within(const PoseError& err, const CalibratedIkOptions& options) {
+  return err.position_mm <= options.position_tolerance_mm &&
+         err.orientation_rad <= options.orientation_tolerance_rad;
+}
+
+/// Final verdict of a converged iterate: still in the seed's configuration, then the limits.
+CalibratedIkResult finish(const Compensator& comp, const Vector6d& seed, const Vector6d& joints,
+                          const PoseError& err, int iterations) {
+  CalibratedIkResult r;
+  r.joints = joints;
+  r.iterations = iterations;
+  r.position_error_mm = err.position_mm;
+  r.orientation_error_rad = err.orientation_rad;
+  if ((joints - seed).cwiseAbs().maxCoeff() > kBranchCheckRad &&
+      !(arm_config_of(comp.model, joints) == arm_config_of(comp.model, seed)))
+    r.status = CalibratedIkStatus::LeftConfiguration;
+  else
+    r.status = comp.model.within_limits(joints) ? CalibratedIkStatus::Converged
+                                                : CalibratedIkStatus::OutsideLimits;
+  return r;
+}
+
+CalibratedIkResult failed(CalibratedIkStatus status, const Vector6d& joints, const PoseError& err,
+                          int iterations) {
+  CalibratedIkResult r;
+  r.status = status;
+  r.joints = joints;
+  r.iterations = iterations;
+  r.position_error_mm = err.position_mm;
+  r.orientation_error_rad = err.orientation_rad;
+  return r;
+}
+
+}  // namespace
+
+ArmConfig arm_config_of(const RobotModel& model, const Vector6d& joints) {
+  const auto frames = link_frames(model, PointMass{}, model.nominal().data(), joints.data());
+  const auto q = model_joint_angles(model, joints.data());
+  const Eigen::Vector3d x1 = frames[0].R.col(0), y1 = frames[0].R.col(1);
+  const Eigen::Vector3d S = frames[1].p, E = frames[2].p, W = frames[4].p;
+  const double front = (W - frames[0].p).dot(x1);
+  ArmConfig config;
+  config.back = front < 0;
+  config.down = !((front < 0 ? -1.0 : 1.0) * (W - S).cross(E - S).dot(-y1) > 0);
+  config.flip = std::sin(q[4] + model.mdh[4].theta_offset) < 0;
+  return config;
+}
+
+const char* to_string(CalibratedIkStatus status) {
+  switch (status) {
+    case CalibratedIkStatus::Converged:
+      return "converged";
+    case CalibratedIkStatus::NoNominalSolution:
+      return "no nominal solution in this configuration";
+    case CalibratedIkStatus::Singular:
+      return "singular (at or near a singularity)";
+    case CalibratedIkStatus::LeftConfiguration:
+      return "left the configuration";
+    case CalibratedIkStatus::NotConverged:
+      return "not converged";
+    case CalibratedIkStatus::OutsideLimits:
+      return "outside the joint limits";
+  }
+  return "unknown";
+}
+
+Compensator make_compensator(const CalibratedRobot& robot,
+                             const std::optional<PointMass>& payload) {
+  Compensator comp;
+  comp.model = robot.model;
+  std::string why_not;
+  const auto geometry = analyze_ortho_parallel(robot.model, &why_not);
+  if (!geometry)
+    throw InputError(SourceLocation{"", 0, 0, "robot"},
+                     "compensation needs the nominal closed-form inverse (an ortho-parallel robot "
+                     "with a spherical wrist): " +
+                         why_not);
+  comp.geometry = *geometry;
+  for (int i = 0; i < kParameterCount; ++i)
+    if (!std::isfinite(robot.params[i]))
+      throw InputError(SourceLocation{"", 0, 0, parameter_table()[i].name},
+                       "parameter is not a finite number");
+  comp.flange_T_tcp.R = robot.tool.flange_T_tcp.linear();
+  comp.flange_T_tcp.p = robot.tool.flange_T_tcp.translation();
+  comp.payload = payload.value_or(robot.tool.payload);
+  comp.chain = make_calibrated_chain(robot.model, robot.params, comp.payload, comp.flange_T_tcp);
+  // world_T_base = world_A_1(q1 = 0) · (nominal base_A_1(q1 = 0))⁻¹ = (R_xy·Rz(γ), p_b − d1·R_xy·ẑ)
+  const CalibratedChain& c = comp.chain;
+  const double cg = std::cos(c.base_gamma), sg = std::sin(c.base_gamma);
+  Eigen::Matrix3d Rz;
+  Rz << cg, -sg, 0, sg, cg, 0, 0, 0, 1;
+  comp.world_T_base.R = c.base_R_xy * Rz;
+  comp.world_T_base.p = c.base_p - robot.model.mdh[0].d * c.base_R_xy.col(2);
+  return comp;
+}
+
+std::optional<Vector6d> nominal_solution(const Compensator& comp, const Pose<double>& base_T_tcp,
+                                         const ArmConfig& config, const Vector6d& near) {
+  const IkResult result = nominal_ik(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), near);
+  const IkSolution* best = nullptr;
+  double best_distance = 0;
+  for (const IkSolution& s : result) {
+    if (!(s.config == config)) continue;
+    const double distance = (s.joints - near).squaredNorm();
+    if (!best || distance < best_distance) {
+      best = &s;
+      best_distance = distance;
+    }
+  }
+  if (!best) return std::nullopt;
+  return best->joints;
+}
+
+Pose<double> nominal_tcp_pose(const Compensator& comp, const Vector6d& joints) {
+  return flange_pose(comp.model, PointMass{}, comp.model.nominal(), joints) * comp.flange_T_tcp;
+}
+
+CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<double>& world_T_tcp,
+                                        const Vector6d& seed, const CalibratedIkOptions& options) {
+  Vector6d joints = seed;
+  Matrix6d J;
+  for (int it = 0;; ++it) {
+    const PoseError err = pose_error(world_T_tcp, calibrated_tcp_pose(comp.chain, joints, &J));
+    if (within(err, options)) return finish(comp, seed, joints, err, it);
+    if (it == options.max_iterations)
+      return failed(CalibratedIkStatus::NotConverged, joints, err, it);
+    const Eigen::PartialPivLU<Matrix6d> lu(J);
+    // A vanishing pivot (relative to the largest) means the Jacobian lost rank.
+    const auto& U = lu.matrixLU();
+    const double largest = U.diagonal().cwiseAbs().maxCoeff();
+    if (!(U.diagonal().cwiseAbs().minCoeff() > 1e-10 * largest))
+      return failed(CalibratedIkStatus::Singular, joints, err, it);
+    Vector6d step = lu.solve(err.e);
+    const double largest_step = step.cwiseAbs().maxCoeff();
+    if (!std::isfinite(largest_step)) return failed(CalibratedIkStatus::Singular, seed, err, it);
+    if (largest_step > kMaxStepRad) step *= kMaxStepRad / largest_step;
+    joints += step;
+    if ((joints - seed).cwiseAbs().maxCoeff() > options.max_joint_change_rad)
+      return failed(CalibratedIkStatus::LeftConfiguration, joints, err, it + 1);
+  }
+}
+
+CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
+                                            const Pose<double>& world_T_tcp,
+                                            const ArmConfig& config, const Vector6d& seed,
+                                            const CalibratedIkOptions& options) {
+  Vector6d joints = seed;
+  // The command starts as the nominal pose of the seed (the base-frame image of the wanted).
+  Pose<double> command = nominal_tcp_pose(comp, seed);
+  for (int it = 0;; ++it) {
+    const Pose<double> reached = calibrated_tcp_pose(comp.chain, joints);
+    const PoseError err = pose_error(world_T_tcp, reached);
+    if (within(err, options)) return finish(comp, seed, joints, err, it);
+    if (it == options.max_iterations)
+      return failed(CalibratedIkStatus::NotConverged, joints, err, it);
+    command = command * (reached.inverse() * world_T_tcp);
+    const std::optional<Vector6d> next = nominal_solution(comp, command, config, joints);
+    if (!next) return failed(CalibratedIkStatus::NoNominalSolution, joints, err, it + 1);
+    joints = *next;
+    if ((joints - seed).cwiseAbs().maxCoeff() > options.max_joint_change_rad)
+      return failed(CalibratedIkStatus::LeftConfiguration, joints, err, it + 1);
+  }
+}
+
+CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& world_T_tcp,
+                                 const ArmConfig& config, const Vector6d& near, IkMethod method,
+                                 const CalibratedIkOptions& options) {
+  const std::optional<Vector6d> seed =
+      nominal_solution(comp, comp.world_T_base.inverse() * world_T_tcp, config, near);
+  if (!seed) {
+    CalibratedIkResult r;
+    r.status = CalibratedIkStatus::NoNominalSolution;
+    return r;
+  }
+  return method == IkMethod::Newton
+             ? calibrated_ik_newton(comp, world_T_tcp, *seed, options)
+             : calibrated_ik_pose_shift(comp, world_T_tcp, config, *seed, options);
+}
+
+}  // namespace robcal

@@ -1,0 +1,53 @@
+#include "robcal/compensate/closed_loop.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "robcal/core/units.hpp"
+
+namespace robcal {
+namespace {
+
+void add(ToolErrorStats& s, std::vector<double>& all, const Pose<double>& wanted,
+         const Pose<double>& reached) {
+  const double mm = (reached.p - wanted.p).norm();
+  const double deg = rad2deg(Eigen::AngleAxisd(reached.R.transpose() * wanted.R).angle());
+  all.push_back(mm);
+  ++s.count;
+  s.mean_mm += mm;
+  s.rms_mm += mm * mm;
+  s.max_mm = std::max(s.max_mm, mm);
+  s.mean_deg += deg;
+  s.max_deg = std::max(s.max_deg, deg);
+}
+
+void finish(ToolErrorStats& s) {
+  if (s.count == 0) return;
+  s.mean_mm /= s.count;
+  s.rms_mm = std::sqrt(s.rms_mm / s.count);
+  s.mean_deg /= s.count;
+}
+
+}  // namespace
+
+ClosedLoopReport closed_loop_check(const Compensator& comp, const TrueRobot& truth,
+                                   const std::vector<WantedTarget>& wanted,
+                                   const std::vector<CorrectedTarget>& corrected) {
+  ClosedLoopReport report;
+  for (size_t i = 0; i < wanted.size() && i < corrected.size(); ++i) {
+    const Pose<double>& want = wanted[i].world_T_tcp;
+    const Vector6d& joints = corrected[i].ik.joints;
+    add(report.compensated, report.compensated_mm, want,
+        true_flange_pose(truth, joints) * comp.flange_T_tcp);
+    const auto plain =
+        nominal_solution(comp, comp.world_T_base.inverse() * want, corrected[i].config, joints);
+    if (plain)
+      add(report.uncompensated, report.uncompensated_mm, want,
+          true_flange_pose(truth, *plain) * comp.flange_T_tcp);
+  }
+  finish(report.compensated);
+  finish(report.uncompensated);
+  return report;
+}
+
+}  // namespace robcal

@@ -1,0 +1,275 @@
+#include "robcal/compensate/corrected_targets.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Eigenvalues>
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/kinematics/orientation.hpp"
+#include "robcal/kinematics/parameter_jacobian.hpp"
+
+namespace robcal {
+namespace {
+
+/// χ²(3 degrees of freedom) at 95 %: a 3-D Gaussian lies within √(7.815·σ²) of its mean
+/// along its longest axis with 95 % probability (conservative for the other axes).
+constexpr double kChi2_3_95 = 7.814727903;
+
+std::string trim(std::string_view s) {
+  const size_t a = s.find_first_not_of(" \t\r");
+  if (a == std::string_view::npos) return "";
+  const size_t b = s.find_last_not_of(" \t\r");
+  return std::string(s.substr(a, b - a + 1));
+}
+
+std::optional<ArmConfig> parse_config_cell(const std::string& cell) {
+  if (cell.size() == 1 && cell[0] >= '0' && cell[0] <= '7') {
+    const int index = cell[0] - '0';
+    return ArmConfig{(index & 4) != 0, (index & 2) != 0, (index & 1) != 0};
+  }
+  return parse_arm_config(cell);
+}
+
+}  // namespace
+
+std::vector<WantedTarget> read_wanted_targets(const std::string& path) {
+  return parse_wanted_targets(read_text_file(path), path);
+}
+
+std::vector<WantedTarget> parse_wanted_targets(const std::string& text, const std::string& file) {
+  static const char* const kColumns[] = {"name", "x", "y", "z", "qw", "qx", "qy", "qz"};
+  std::vector<WantedTarget> out;
+  std::istringstream in(text);
+  std::string line;
+  int number = 0;
+  bool header = false;
+  bool has_config = false;
+  while (std::getline(in, line)) {
+    ++number;
+    const std::string stripped = trim(line);
+    if (stripped.empty() || stripped[0] == '#') continue;
+    // Cells with their 1-based columns.
+    std::vector<std::pair<std::string, int>> cells;
+    size_t start = 0;
+    for (;;) {
+      const size_t comma = line.find(',', start);
+      cells.emplace_back(trim(std::string_view(line).substr(start, comma - start)),
+                         static_cast<int>(start) + 1);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    if (!header) {
+      for (int k = 0; k < 8; ++k)
+        if (static_cast<int>(cells.size()) <= k || cells[k].first != kColumns[k])
+          throw InputError(
+              SourceLocation{file, number, k < static_cast<int>(cells.size()) ? cells[k].second : 0,
+                             ""},
+              fmt::format("expected the header name,x,y,z,qw,qx,qy,qz[,config]; column "
+                          "{} should be '{}'",
+                          k + 1, kColumns[k]));
+      has_config = cells.size() > 8 && cells[8].first == "config";
+      if (cells.size() > (has_config ? 9u : 8u))
+        throw InputError(SourceLocation{file, number, cells[has_config ? 9 : 8].second, ""},
+                         "unexpected column after the header's last (config)");
+      header = true;
+      continue;
+    }
+    const size_t expected = has_config ? 9 : 8;
+    if (cells.size() != expected && !(has_config && cells.size() == 8))
+      throw InputError(SourceLocation{file, number, 0, ""},
+                       fmt::format("expected {} cells, found {}", expected, cells.size()));
+    WantedTarget t;
+    t.line = number;
+    t.name = cells[0].first;
+    if (t.name.empty()) throw InputError(SourceLocation{file, number, 1, "name"}, "empty name");
+    double v[7];
+    for (int k = 0; k < 7; ++k) {
+      const std::string& cell = cells[k + 1].first;
+      const auto [ptr, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), v[k]);
+      if (ec != std::errc() || ptr != cell.data() + cell.size() || !std::isfinite(v[k]))
+        throw InputError(SourceLocation{file, number, cells[k + 1].second, kColumns[k + 1]},
+                         fmt::format("expected a number, found '{}'", cell));
+    }
+    try {
+      t.world_T_tcp = pose_from_position_quaternion(Eigen::Vector3d(v[0], v[1], v[2]),
+                                                    Eigen::Vector4d(v[3], v[4], v[5], v[6]));
+    } catch (const InputError& e) {
+      throw InputError(SourceLocation{file, number, cells[4].second, "qw..qz"}, e.what());
+    }
+    if (cells.size() == 9 && !cells[8].first.empty()) {
+      t.config = parse_config_cell(cells[8].first);
+      if (!t.config)
+        throw InputError(SourceLocation{file, number, cells[8].second, "config"},
+                         fmt::format("expected a configuration such as front-up-noflip or its "
+                                     "index 0..7, found '{}'",
+                                     cells[8].first));
+    }
+    out.push_back(std::move(t));
+  }
+  if (!header)
+    throw InputError(SourceLocation{file, 0, 0, ""}, "no header row name,x,y,z,qw,qx,qy,qz");
+  if (out.empty()) throw InputError(SourceLocation{file, 0, 0, ""}, "no targets");
+  return out;
+}
+
+std::optional<double> position_confidence95_mm(const CalibratedRobot& robot,
+                                               const PointMass& payload,
+                                               const Pose<double>& flange_T_tcp,
+                                               const Vector6d& joints) {
+  if (robot.covariance.rows() != kParameterCount || robot.covariance.cols() != kParameterCount)
+    return std::nullopt;
+  Eigen::Vector3d p;
+  PositionJacobian J;
+  target_position_jacobian_autodiff(robot.model, payload, robot.params, joints, flange_T_tcp.p, &p,
+                                    &J);
+  const Eigen::Matrix3d S = J * robot.covariance * J.transpose();
+  const double largest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S).eigenvalues().maxCoeff();
+  return std::sqrt(kChi2_3_95 * std::max(largest, 0.0));
+}
+
+std::vector<CorrectedTarget> correct_targets(const Compensator& comp, const CalibratedRobot& robot,
+                                             const std::vector<WantedTarget>& wanted,
+                                             const std::string& file, IkMethod method) {
+  std::vector<CorrectedTarget> out;
+  Vector6d previous = Vector6d::Zero();  // home
+  const PointMass payload = comp.payload;
+  for (const WantedTarget& w : wanted) {
+    const SourceLocation where{file, w.line, 0, w.name};
+    // Without a configuration: the branch of the nominal solution nearest the previous joints.
+    ArmConfig config;
+    if (w.config) {
+      config = *w.config;
+    } else {
+      const IkResult all = nominal_ik(
+          comp.geometry, comp.world_T_base.inverse() * w.world_T_tcp * comp.flange_T_tcp.inverse(),
+          previous);
+      const IkSolution* nearest = nearest_solution(all, previous);
+      if (!nearest)
+        throw InputError(where, fmt::format("unreachable: the nominal inverse has no solution ({})",
+                                            to_string(all.status)));
+      config = nearest->config;
+    }
+    CorrectedTarget t;
+    t.name = w.name;
+    t.config = config;
+    t.ik = calibrated_ik(comp, w.world_T_tcp, config, previous, method);
+    if (!t.ik.ok())
+      throw InputError(where,
+                       fmt::format("cannot correct in configuration {}: {} ({} iterations, "
+                                   "{:.3g} mm and {:.3g} deg from the pose)",
+                                   config.label(), to_string(t.ik.status), t.ik.iterations,
+                                   t.ik.position_error_mm, rad2deg(t.ik.orientation_error_rad)));
+    t.base_T_tcp_nominal = nominal_tcp_pose(comp, t.ik.joints);
+    t.confidence95_mm = position_confidence95_mm(robot, payload, comp.flange_T_tcp, t.ik.joints);
+    previous = t.ik.joints;
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows,
+                                  const RobotModel& model) {
+  const auto labels = euler_labels(model.euler);
+  std::string out = fmt::format(
+      "name,config,j1,j2,j3,j4,j5,j6,x,y,z,qw,qx,qy,qz,{},{},{},iterations,residual_mm,"
+      "confidence95_mm\n",
+      labels[0], labels[1], labels[2]);
+  for (const CorrectedTarget& r : rows) {
+    const Eigen::Quaterniond q = to_quaternion(r.base_T_tcp_nominal.R);
+    const Eigen::Vector3d euler = euler_angles_deg(r.base_T_tcp_nominal.R, model.euler);
+    const Vector6d j = r.ik.joints * kRadToDeg;
+    const Eigen::Vector3d& p = r.base_T_tcp_nominal.p;
+    out += fmt::format(
+        "{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},"
+        "{:.10f},{:.10f},{:.10f},{:.10f},{:.6f},{:.6f},{:.6f},{},{:.3g},{}\n",
+        r.name, r.config.label(), j[0], j[1], j[2], j[3], j[4], j[5], p.x(), p.y(), p.z(), q.w(),
+        q.x(), q.y(), q.z(), euler[0], euler[1], euler[2], r.ik.iterations, r.ik.position_error_mm,
+        r.confidence95_mm ? fmt::format("{:.4f}", *r.confidence95_mm) : "");
+  }
+  return out;
+}
+
+std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
+                                     const Vector6d& joints) {
+  const ArmConfig config = arm_config_of(comp.model, joints);
+  if (language == ProgramLanguage::Rapid) {
+    // Quadrant of a joint; the tolerance keeps an exact 0° (or 90°...) that the closed form
+    // returns as −1e-14 in the quadrant above, as it was written.
+    const auto quadrant = [&](int i) {
+      return static_cast<int>(std::floor(rad2deg(joints[i]) / 90.0 + 1e-9));
+    };
+    return {quadrant(0), quadrant(3), quadrant(5), config.index()};
+  }
+  int s = (config.back ? 1 : 0) | (config.down ? 0 : 2) | (joints[4] <= 0 ? 4 : 0);
+  int t = 0;
+  for (int i = 0; i < kJointCount; ++i)
+    if (joints[i] < 0) t |= 1 << i;
+  return {s, t};
+}
+
+PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language) {
+  // The previous point's joints: the branch of KRL points without S/T.
+  auto previous = std::make_shared<Vector6d>(Vector6d::Zero());
+  return [&comp, language, previous](const ProgramPoint& point) {
+    CorrectedPoint out;
+    Pose<double> base_T_tcp;
+    Vector6d near;
+    if (point.is_joint_target) {
+      near = point.joints_deg * kDegToRad;
+      base_T_tcp = nominal_tcp_pose(comp, near);
+    } else {
+      base_T_tcp = point.base_T_tcp;
+      const IkResult all =
+          nominal_ik(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), *previous);
+      // The written configuration: the branch must match, the turns should.
+      const IkSolution* best = nullptr;
+      int best_score = -1;
+      for (const IkSolution& s : all) {
+        const std::vector<int> cfg = maker_configuration(comp, language, s.joints);
+        int score = 0;
+        if (point.config.empty()) {
+          score = 1;
+        } else {
+          const size_t branch = language == ProgramLanguage::Rapid ? 3 : 0;
+          if (cfg[branch] != point.config[branch]) continue;
+          score = cfg == point.config ? 2 : 1;
+        }
+        if (score > best_score ||
+            (score == best_score &&
+             (s.joints - *previous).squaredNorm() < (best->joints - *previous).squaredNorm())) {
+          best = &s;
+          best_score = score;
+        }
+      }
+      if (!best) {
+        out.failure =
+            point.config.empty()
+                ? fmt::format("unreachable for the nominal robot ({})", to_string(all.status))
+                : fmt::format("no nominal solution with the written configuration [{}]",
+                              fmt::join(point.config, ","));
+        return out;
+      }
+      near = best->joints;
+    }
+    const CalibratedIkResult r =
+        calibrated_ik(comp, comp.world_T_base * base_T_tcp, arm_config_of(comp.model, near), near);
+    if (!r.ok()) {
+      out.failure = fmt::format("cannot correct: {} ({:.3g} mm from the pose)", to_string(r.status),
+                                r.position_error_mm);
+      return out;
+    }
+    *previous = r.joints;
+    out.joints_deg = r.joints * kRadToDeg;
+    out.base_T_tcp = nominal_tcp_pose(comp, r.joints);
+    if (!point.is_joint_target && !point.config.empty())
+      out.config = maker_configuration(comp, language, r.joints);
+    return out;
+  };
+}
+
+}  // namespace robcal

@@ -1,0 +1,253 @@
+// KUKA KRL: E6POS/POS and E6AXIS/AXIS points in .dat declarations, assignments and motions.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <unordered_map>
+
+#include "program_scan.hpp"
+#include "robcal/kinematics/orientation.hpp"
+
+namespace robcal::detail {
+namespace {
+
+enum class PointKind { Position, Axis };
+
+std::string upper(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
+/// One `KEY value` entry of a KRL aggregate `{X 1.0, Y 2.0, ...}`.
+struct Entry {
+  std::string key;  ///< upper case
+  Token at;
+  NumberField number;  ///< present when the value is a (signed) number or a bit literal
+};
+
+class KrlScanner {
+ public:
+  KrlScanner(std::string_view text, const std::string& file, const ProgramFilterOptions& options)
+      : lexer_(text, ProgramLanguage::Krl, file), options_(options) {}
+
+  std::vector<PointSite> run() {
+    for (;;) {
+      const Token t = lexer_.next();
+      if (t.kind == TokenKind::End) break;
+      if (t.kind != TokenKind::Identifier) continue;
+      const std::string word = upper(t.text);
+      if (const auto kind = point_type(word); kind && lexer_.peek().kind == TokenKind::Identifier)
+        declaration(*kind);
+      else if (word == "PTP" || word == "LIN" || word == "CIRC" || word == "SPTP" ||
+               word == "SLIN" || word == "SCIRC")
+        motion();
+      else if (auto found = declared_.find(word); found != declared_.end())
+        assignment(t, found->second);
+    }
+    return std::move(sites_);
+  }
+
+ private:
+  static std::optional<PointKind> point_type(const std::string& word) {
+    if (word == "E6POS" || word == "POS") return PointKind::Position;
+    if (word == "E6AXIS" || word == "AXIS") return PointKind::Axis;
+    return std::nullopt;
+  }
+
+  // `[DECL] [GLOBAL] E6POS name[[n]] [= {...}] [, name2 ...]`
+  void declaration(PointKind kind) {
+    for (;;) {
+      const Token name = lexer_.next();
+      declared_[upper(name.text)] = kind;
+      const std::string index = array_index();
+      if (lexer_.peek().is('=') && lexer_.peek(1).is('{')) {
+        lexer_.next();
+        point(kind, std::string(name.text) + index, /*inline_motion=*/false);
+      }
+      if (!(lexer_.peek().is(',') && lexer_.peek(1).kind == TokenKind::Identifier)) return;
+      lexer_.next();
+    }
+  }
+
+  // `name[i] = {...}` or `name = {...}` for a name declared as a point.
+  void assignment(const Token& name, PointKind kind) {
+    const std::string index = array_index();
+    if (lexer_.peek().is('=') && lexer_.peek(1).is('{')) {
+      lexer_.next();
+      point(kind, std::string(name.text) + index, false);
+    }
+  }
+
+  // Motions with literal points: `PTP {...}`, `CIRC {aux}, {target}`; the kind follows the keys.
+  void motion() {
+    while (lexer_.peek().is('{')) {
+      point(std::nullopt, "", true);
+      if (!(lexer_.peek().is(',') && lexer_.peek(1).is('{'))) return;
+      lexer_.next();
+    }
+  }
+
+  // Text of an array index `[...]` when one follows, consumed.
+  std::string array_index() {
+    if (!lexer_.peek().is('[')) return "";
+    std::string out;
+    for (Token t = lexer_.next();; t = lexer_.next()) {
+      if (t.kind == TokenKind::End) refuse(lexer_.file(), t, "array index never closed");
+      out += t.text;
+      if (t.is(']')) return out;
+    }
+  }
+
+  void point(std::optional<PointKind> kind, const std::string& name, bool inline_motion) {
+    const Token open = lexer_.next();
+    const std::vector<Entry> entries = aggregate(open);
+    const auto find = [&](const char* key) -> const Entry* {
+      for (const Entry& e : entries)
+        if (e.key == key) return &e;
+      return nullptr;
+    };
+    if (!kind) {
+      if (find("A1"))
+        kind = PointKind::Axis;
+      else if (find("X") || find("Y") || find("Z") || find("A") || find("B") || find("C"))
+        kind = PointKind::Position;
+      else
+        return;  // not a point (e.g. an empty aggregate)
+    }
+    static const char* const kPositionKeys[] = {"X", "Y", "Z", "A", "B", "C"};
+    static const char* const kAxisKeys[] = {"A1", "A2", "A3", "A4", "A5", "A6"};
+    const bool axis = *kind == PointKind::Axis;
+    if (axis && !options_.joints) return;
+    PointSite site;
+    site.point.is_joint_target = axis;
+    site.point.name = name;
+    site.point.line = open.line;
+    site.point.column = open.column;
+    for (const char* key : axis ? kAxisKeys : kPositionKeys) {
+      const Entry* e = find(key);
+      if (!e)
+        refuse(lexer_.file(), open,
+               fmt::format("point {}has no {}: incomplete points take the missing values from the "
+                           "robot at run time and cannot be corrected{}",
+                           name.empty() ? "" : "'" + name + "' ", key,
+                           inline_motion ? " (use a _REL motion for relative moves)" : ""));
+      if (!e->number.present || e->number.binary_digits > 0)
+        refuse(lexer_.file(), e->at, fmt::format("{} is not a number literal", key));
+      site.fields.push_back(e->number);
+    }
+    if (axis) {
+      for (int k = 0; k < 6; ++k) site.point.joints_deg[k] = site.fields[k].value;
+    } else {
+      const Eigen::Vector3d abc(site.fields[3].value, site.fields[4].value, site.fields[5].value);
+      site.point.base_T_tcp.p << site.fields[0].value, site.fields[1].value, site.fields[2].value;
+      site.point.base_T_tcp.R = rotation_from_euler_deg(abc, EulerConvention::ZyxABC);
+      const Entry* s = find("S");
+      const Entry* t = find("T");
+      if ((s == nullptr) != (t == nullptr))
+        refuse(lexer_.file(), open, "a point with only one of S and T");
+      if (s) {
+        for (const Entry* e : {s, t}) {
+          if (!e->number.present || e->number.value != std::round(e->number.value))
+            refuse(lexer_.file(), e->at, fmt::format("{} must be an integer", e->key));
+          site.fields.push_back(e->number);
+          site.point.config.push_back(static_cast<int>(e->number.value));
+        }
+      }
+    }
+    sites_.push_back(std::move(site));
+  }
+
+  // Reads `{[TYPE:] KEY value, ...}` after its `{`.
+  std::vector<Entry> aggregate(const Token& open) {
+    std::vector<Entry> out;
+    if (lexer_.peek().kind == TokenKind::Identifier && lexer_.peek(1).is(':')) {
+      lexer_.next();
+      lexer_.next();
+    }
+    if (lexer_.peek().is('}')) {
+      lexer_.next();
+      return out;
+    }
+    for (;;) {
+      const Token key = lexer_.next();
+      if (key.kind != TokenKind::Identifier)
+        refuse(lexer_.file(), key.kind == TokenKind::End ? open : key,
+               key.kind == TokenKind::End
+                   ? "aggregate '{' never closed"
+                   : fmt::format("expected a component name, found '{}'", key.text));
+      Entry entry;
+      entry.key = upper(key.text);
+      entry.at = lexer_.peek();
+      value(entry);
+      out.push_back(std::move(entry));
+      const Token t = lexer_.next();
+      if (t.is('}')) return out;
+      if (!t.is(','))
+        refuse(lexer_.file(), t.kind == TokenKind::End ? open : t,
+               t.kind == TokenKind::End ? "aggregate '{' never closed"
+                                        : fmt::format("expected ',' or '}}', found '{}'", t.text));
+    }
+  }
+
+  void value(Entry& entry) {
+    const Token first = lexer_.peek();
+    size_t k = (first.is('-') || first.is('+')) ? 1 : 0;
+    const Token& literal = lexer_.peek(k);
+    const Token& after = lexer_.peek(k + 1);
+    if ((literal.kind == TokenKind::Number || (k == 0 && literal.kind == TokenKind::BitString)) &&
+        (after.is(',') || after.is('}'))) {
+      entry.number.present = true;
+      entry.number.begin = first.offset;
+      entry.number.end = literal.offset + literal.text.size();
+      if (literal.kind == TokenKind::Number) {
+        double v = 0;
+        std::from_chars(literal.text.data(), literal.text.data() + literal.text.size(), v);
+        entry.number.value = first.is('-') ? -v : v;
+      } else {
+        // 'B0101' (binary) or 'H1F' (hex), quotes included in the token.
+        const std::string_view body = literal.text.substr(2, literal.text.size() - 3);
+        const char base =
+            static_cast<char>(std::toupper(static_cast<unsigned char>(literal.text[1])));
+        int v = 0;
+        const auto [ptr, ec] =
+            std::from_chars(body.data(), body.data() + body.size(), v, base == 'B' ? 2 : 16);
+        if ((base != 'B' && base != 'H') || ec != std::errc() || ptr != body.data() + body.size())
+          refuse(lexer_.file(), literal, fmt::format("bad bit literal {}", literal.text));
+        entry.number.value = v;
+        entry.number.binary_digits = base == 'B' ? static_cast<int>(body.size()) : 0;
+        if (base == 'H') entry.number.present = false;  // hex S/T: not rewritten, refused later
+      }
+      for (size_t i = 0; i <= k; ++i) lexer_.next();
+      return;
+    }
+    int depth = 0;
+    for (;;) {
+      const Token& t = lexer_.peek();
+      if (t.kind == TokenKind::End) refuse(lexer_.file(), first, "aggregate never closed");
+      if (depth == 0 && (t.is(',') || t.is('}'))) return;
+      if (t.is('(') || t.is('[') || t.is('{')) ++depth;
+      if (t.is(')') || t.is(']') || t.is('}')) --depth;
+      lexer_.next();
+    }
+  }
+
+  ProgramLexer lexer_;
+  const ProgramFilterOptions& options_;
+  std::unordered_map<std::string, PointKind> declared_;
+  std::vector<PointSite> sites_;
+};
+
+}  // namespace
+
+std::vector<PointSite> scan_krl(std::string_view text, const std::string& file,
+                                const ProgramFilterOptions& options) {
+  return KrlScanner(text, file, options).run();
+}
+
+}  // namespace robcal::detail

@@ -1,0 +1,106 @@
+#include <cctype>
+
+#include "program_scan.hpp"
+#include "robcal/core/error.hpp"
+
+namespace robcal::detail {
+
+bool iequals(std::string_view a, std::string_view b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(a[i])) !=
+        std::tolower(static_cast<unsigned char>(b[i])))
+      return false;
+  return true;
+}
+
+void refuse(const std::string& file, const Token& at, const std::string& message) {
+  throw InputError(SourceLocation{file, at.line, at.column, ""}, message);
+}
+
+ProgramLexer::ProgramLexer(std::string_view text, ProgramLanguage language, const std::string& file)
+    : text_(text), language_(language), file_(file) {}
+
+const Token& ProgramLexer::peek(size_t ahead) {
+  while (ahead_.size() <= ahead) ahead_.push_back(lex_one());
+  return ahead_[ahead];
+}
+
+Token ProgramLexer::next() {
+  if (ahead_.empty()) return lex_one();
+  Token t = ahead_.front();
+  ahead_.pop_front();
+  return t;
+}
+
+Token ProgramLexer::lex_one() {
+  const auto at_end = [&] { return pos_ >= text_.size(); };
+  const auto ch = [&](size_t k = 0) { return pos_ + k < text_.size() ? text_[pos_ + k] : '\0'; };
+  const char comment = language_ == ProgramLanguage::Rapid ? '!' : ';';
+  // Skip white space, comments and (KRL) `&` directive lines.
+  while (!at_end()) {
+    const char c = ch();
+    if (c == '\n') {
+      ++pos_;
+      ++line_;
+      line_start_ = pos_;
+    } else if (std::isspace(static_cast<unsigned char>(c))) {
+      ++pos_;
+    } else if (c == comment ||
+               (language_ == ProgramLanguage::Krl && c == '&' && pos_ == line_start_)) {
+      while (!at_end() && ch() != '\n') ++pos_;
+    } else {
+      break;
+    }
+  }
+  Token t;
+  t.offset = pos_;
+  t.line = line_;
+  t.column = static_cast<int>(pos_ - line_start_) + 1;
+  if (at_end()) {
+    t.kind = TokenKind::End;
+    return t;
+  }
+  const char c = ch();
+  const auto ident_char = [&](char x) {
+    return std::isalnum(static_cast<unsigned char>(x)) || x == '_' ||
+           (language_ == ProgramLanguage::Krl && x == '$');
+  };
+  if (std::isalpha(static_cast<unsigned char>(c)) || c == '_' ||
+      (language_ == ProgramLanguage::Krl && (c == '$' || c == '#'))) {
+    ++pos_;
+    while (!at_end() && ident_char(ch())) ++pos_;
+    t.kind = TokenKind::Identifier;
+  } else if (std::isdigit(static_cast<unsigned char>(c)) ||
+             (c == '.' && std::isdigit(static_cast<unsigned char>(ch(1))))) {
+    while (!at_end() && (std::isdigit(static_cast<unsigned char>(ch())) || ch() == '.')) ++pos_;
+    if (ch() == 'e' || ch() == 'E') {
+      size_t k = 1;
+      if (ch(k) == '+' || ch(k) == '-') ++k;
+      if (std::isdigit(static_cast<unsigned char>(ch(k)))) {
+        pos_ += k;
+        while (!at_end() && std::isdigit(static_cast<unsigned char>(ch()))) ++pos_;
+      }
+    }
+    t.kind = TokenKind::Number;
+  } else if (c == '"' || (c == '\'' && language_ == ProgramLanguage::Krl)) {
+    ++pos_;
+    while (!at_end() && ch() != c && ch() != '\n') ++pos_;
+    if (ch() != c) {
+      t.text = text_.substr(t.offset, 1);
+      refuse(file_, t, "unterminated string or bit literal");
+    }
+    ++pos_;
+    t.kind = c == '"' ? TokenKind::String : TokenKind::BitString;
+  } else if (c == ':' && ch(1) == '=') {
+    pos_ += 2;
+    t.kind = TokenKind::Punct;
+  } else {
+    ++pos_;
+    t.kind = TokenKind::Punct;
+  }
+  t.text = text_.substr(t.offset, pos_ - t.offset);
+  return t;
+}
+
+}  // namespace robcal::detail

@@ -1,0 +1,74 @@
+#pragma once
+// Private to program filtering: a streaming lexer for RAPID and KRL text and the record of
+// where each point's numbers sit in the text, so that only those bytes are rewritten.
+
+#include <deque>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "robcal/compensate/program_filter.hpp"
+
+namespace robcal::detail {
+
+enum class TokenKind { Identifier, Number, BitString, String, Punct, End };
+
+struct Token {
+  TokenKind kind = TokenKind::End;
+  std::string_view text;
+  size_t offset = 0;
+  int line = 0;
+  int column = 0;
+  [[nodiscard]] bool is(char punct) const {
+    return kind == TokenKind::Punct && text.size() == 1 && text[0] == punct;
+  }
+};
+
+/// Case-insensitive comparison (RAPID and KRL keywords and names are case-insensitive).
+bool iequals(std::string_view a, std::string_view b);
+
+/// Tokens on demand with look-ahead; comments (RAPID `!`, KRL `;` and `&` directives) and
+/// white space are skipped. Memory stays small for programs with 100,000 points.
+class ProgramLexer {
+ public:
+  ProgramLexer(std::string_view text, ProgramLanguage language, const std::string& file);
+  const Token& peek(size_t ahead = 0);
+  Token next();
+  [[nodiscard]] const std::string& file() const { return file_; }
+
+ private:
+  Token lex_one();
+  std::string_view text_;
+  ProgramLanguage language_;
+  std::string file_;
+  size_t pos_ = 0;
+  int line_ = 1;
+  size_t line_start_ = 0;
+  std::deque<Token> ahead_;
+};
+
+/// A number in the text: its byte range, value, and how it is written.
+struct NumberField {
+  bool present = false;
+  size_t begin = 0;
+  size_t end = 0;
+  double value = 0;
+  int binary_digits = 0;  ///< KRL 'B0101' literal: its digit count; 0 for decimal
+};
+
+/// A point and where its numbers are. Field order: RAPID robtarget x y z q1 q2 q3 q4 cf1 cf4
+/// cf6 cfx; KRL position X Y Z A B C S T; joint targets j1..j6.
+struct PointSite {
+  ProgramPoint point;
+  std::vector<NumberField> fields;
+};
+
+std::vector<PointSite> scan_rapid(std::string_view text, const std::string& file,
+                                  const ProgramFilterOptions& options);
+std::vector<PointSite> scan_krl(std::string_view text, const std::string& file,
+                                const ProgramFilterOptions& options);
+
+/// InputError at a token.
+[[noreturn]] void refuse(const std::string& file, const Token& at, const std::string& message);
+
+}  // namespace robcal::detail

@@ -1,0 +1,170 @@
+#include "robcal/hexapod/end_to_end.hpp"
+
+#include <fmt/format.h>
+
+#include "robcal/core/units.hpp"
+#include "robcal/hexapod/leg_fit.hpp"
+#include "robcal/hexapod/measurement.hpp"
+#include "robcal/identify/identification.hpp"
+#include "robcal/kinematics/numeric_ik.hpp"
+#include "robcal/measure/instrument.hpp"
+#include "robcal/sim/simulator.hpp"
+#include "robcal/validate/pairwise_distance.hpp"
+
+namespace robcal::hexapod {
+namespace {
+
+/// The validation set: random configurations and the tracker's readings of one point on the tool
+/// (the tool fixture's centroid), in the world frame (the tracker registered on the base cups).
+struct ValidationSet {
+  std::vector<Vector6d> joints;
+  Eigen::Matrix3Xd measured;
+};
+
+/// Errors of a model whose robot frame sits at `robot_T_world` (relative model).
+ValidationFigures validate(const RobotModel& model, const PointMass& payload,
+                           const ParameterVector& params, const Eigen::Vector3d& target_flange,
+                           const Pose<double>& robot_T_world, const ValidationSet& set,
+                           int threads) {
+  const Pose<double> world_T_robot = robot_T_world.inverse();
+  Eigen::Matrix3Xd predicted(3, static_cast<int>(set.joints.size()));
+  std::vector<double> errors(set.joints.size());
+  for (size_t k = 0; k < set.joints.size(); ++k) {
+    predicted.col(k) =
+        world_T_robot * (flange_pose(model, payload, params, set.joints[k]) * target_flange);
+    errors[k] = (predicted.col(k) - set.measured.col(k)).norm();
+  }
+  return {error_statistics(errors),
+          pairwise_distance_errors(set.measured, predicted, threads).stats};
+}
+
+IdentifyOptions relative_full_model() {
+  IdentifyOptions options;
+  options.level = CalibrationLevel::Full;
+  options.fix = {"base.*"};  // relative model: the world frame comes from the base cups
+  options.prediction_configurations = 100;
+  return options;
+}
+
+CalibrationStage stage_of(const IdentificationResult& r, int configurations) {
+  CalibrationStage s;
+  s.configurations = configurations;
+  s.rms_mm = r.rms_mm;
+  s.iterations = r.status.iterations;
+  s.converged = r.status.converged;
+  return s;
+}
+
+}  // namespace
+
+EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
+                              std::mt19937_64& rng) {
+  EndToEndReport rep;
+  rep.robot = model.name;
+  // The true robot: random errors, levelled on its table (the relative model keeps gravity along
+  // the base z), carrying the published end-effector (METHOD §3: 2.6 kg at (50, 25, 100) mm).
+  Tool carried;
+  carried.payload = {2.6, Eigen::Vector3d(50, 25, 100)};
+  TrueRobot truth = random_truth(model, carried, o.errors, rng, {0, 0, 0, 0, 0, 0});
+  truth.robot.params[3] = truth.robot.params[4] = 0;
+  const PointMass payload = carried.payload;
+  const SimulatedHexapodCell cell = set_up_simulated_cell(truth, model, o.cell, rng);
+  rep.world_frame_rms_mm = cell.world.rms_mm;
+
+  // Plan with the measured fixtures.
+  const HexapodGeometry measured{cell.base_sides, cell.tool_sides, o.cell.design.leg_mm};
+  const std::vector<HexapodPose> all = enumerate_poses(measured);
+  const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(o.angle_deg), o.distance_mm);
+  const PlanSummary plan =
+      plan_poses(model, cell.cell, fixture_cups(cell.base_sides, "base fixture"), kept);
+  rep.poses_enumerated = static_cast<int>(all.size());
+  rep.poses_kept = static_cast<int>(kept.size());
+  rep.poses_measurable = plan.measurable_poses;
+  rep.configurations_planned = plan.configurations;
+
+  // First pass: every planned configuration; a leg out of the ballbar's range → retry later.
+  std::vector<LegReadings> readings;
+  std::vector<std::pair<const PosePlan*, PoseConfiguration>> retry;
+  for (const PosePlan& p : plan.poses)
+    for (const PoseConfiguration& c : p.configurations) {
+      const std::string name = fmt::format("{}-{}", p.pose.label, c.config.label());
+      if (auto legs = simulate_legs(cell, p.pose, c.joints, rng))
+        readings.push_back({name, c.joints, p.pose.design, p.pose.mode, *legs});
+      else
+        retry.emplace_back(&p, c);
+    }
+  rep.measured_first = static_cast<int>(readings.size());
+  rep.retried = static_cast<int>(retry.size());
+  const Tool tool = hexapod_tool(payload, cell.cell.flange_T_tool, cell.tool_sides);
+  const auto measurements = [&] {
+    return pose_measurements(cell.base_sides, cell.tool_sides, readings, cell.world.robot_T_fixture,
+                             "simulated hexapod");
+  };
+  const IdentificationResult preliminary =
+      calibrate(model, tool, measurements(), relative_full_model());
+  rep.preliminary = stage_of(preliminary, rep.measured_first);
+
+  // Re-plan the rest: the joints that put the flange where the pose needs it on the
+  // preliminary model (Newton from the nominal solution), then measure again.
+  for (const auto& [p, c] : retry) {
+    const NumericIkResult ik =
+        numeric_ik(model, payload, preliminary.robot.params, p->robot_T_flange, c.joints);
+    if (ik.status != NumericIkStatus::Converged || !ik.within_limits) continue;
+    if (auto legs = simulate_legs(cell, p->pose, ik.joints, rng)) {
+      readings.push_back({fmt::format("{}-{}", p->pose.label, c.config.label()), ik.joints,
+                          p->pose.design, p->pose.mode, *legs});
+      ++rep.measured_after_replan;
+    }
+  }
+  const IdentificationResult final_fit =
+      calibrate(model, tool, measurements(), relative_full_model());
+  rep.final_pose_fit = stage_of(final_fit, static_cast<int>(readings.size()));
+
+  // Validation: random configurations in the published joint box, a laser tracker reading the
+  // tool fixture's centroid, registered on the base cups.
+  ValidationSet validation;
+  const std::array<JointLimit, kJointCount> box = published_joint_box(model);
+  LaserTracker tracker;
+  tracker.sigma_mm = Eigen::Vector3d::Constant(o.tracker_sigma_mm);
+  const Eigen::Vector3d true_target = centroid(cell.tool_cups_flange);
+  validation.measured.resize(3, o.validation_configurations);
+  for (int k = 0; k < o.validation_configurations; ++k) {
+    Vector6d q;
+    for (int i = 0; i < kJointCount; ++i)
+      q[i] = std::uniform_real_distribution<double>(box[i].lower, box[i].upper)(rng);
+    validation.joints.push_back(q);
+    validation.measured.col(k) =
+        cell.world_T_sim * read_point(tracker, true_flange_pose(truth, q) * true_target, rng);
+  }
+  rep.validation_configurations = o.validation_configurations;
+  const Eigen::Vector3d target =
+      cell.cell.flange_T_tool * centroid(fixture_cups(cell.tool_sides, "tool"));
+  const Pose<double>& robot_T_world = cell.world.robot_T_fixture;
+  rep.nominal =
+      validate(model, payload, model.nominal(), target, robot_T_world, validation, o.threads);
+  rep.preliminary.validation = validate(model, payload, preliminary.robot.params, target,
+                                        robot_T_world, validation, o.threads);
+  rep.final_pose_fit.validation = validate(model, payload, final_fit.robot.params, target,
+                                           robot_T_world, validation, o.threads);
+
+  if (o.leg_fit) {
+    LegFitOptions leg_options;
+    for (size_t i = 0; i < final_fit.free.size(); ++i)
+      if (final_fit.free[i] >= kBaseParamCount && final_fit.free[i] < kParameterCount)
+        leg_options.free_parameters.push_back(final_fit.free[i]);
+    const LegFitResult legs =
+        fit_from_legs(model, payload, cell.base_sides, cell.tool_sides, readings, model.nominal(),
+                      cell.world.robot_T_fixture, cell.cell.flange_T_tool, leg_options);
+    rep.leg_fit.configurations = static_cast<int>(readings.size());
+    rep.leg_fit.rms_mm = legs.rms_mm;
+    rep.leg_fit.iterations = legs.iterations;
+    rep.leg_fit.converged = legs.converged;
+    rep.leg_fit_offset_mm = legs.length_offset_mm;
+    // Its world frame is the one of its own base cups.
+    rep.leg_fit.validation = validate(model, payload, legs.params, centroid(legs.tool_cups_flange),
+                                      frame_from_cups(legs.base_cups_robot), validation, o.threads);
+  }
+  return rep;
+}
+
+}  // namespace robcal::hexapod

@@ -1,0 +1,203 @@
+#include "robcal/hexapod/leg_fit.hpp"
+
+#include <ceres/ceres.h>
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "robcal/core/error.hpp"
+
+namespace robcal::hexapod {
+namespace {
+
+/// |B − H(q)·T| − (reading + offset) for one leg.
+struct LegResidual {
+  const RobotModel* model;
+  PointMass payload;
+  Vector6d joints;
+  double reading;
+
+  template <typename T>
+  bool operator()(const T* params, const T* base_cup, const T* tool_cup, const T* offset,
+                  T* residual) const {
+    std::array<T, kJointCount> q;
+    for (int i = 0; i < kJointCount; ++i) q[i] = T(joints[i]);
+    const Pose<T> f = flange_pose(*model, payload, params, q.data());
+    const Vector3<T> t = f * Vector3<T>(tool_cup[0], tool_cup[1], tool_cup[2]);
+    const Vector3<T> b(base_cup[0], base_cup[1], base_cup[2]);
+    residual[0] = (b - t).norm() - (T(reading) + offset[0]);
+    return true;
+  }
+};
+
+/// |a − b| − (reading + offset) for a fixture side.
+struct SideResidual {
+  double reading;
+  template <typename T>
+  bool operator()(const T* a, const T* b, const T* offset, T* residual) const {
+    const Vector3<T> d(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+    residual[0] = d.norm() - (T(reading) + offset[0]);
+    return true;
+  }
+};
+
+constexpr int kExtras = 19;  // 9 base-cup + 9 tool-cup coordinates + the length offset
+
+std::string extra_name(int k) {
+  if (k < 9) return fmt::format("base_cup.B{}.{}", k / 3 + 1, "xyz"[k % 3]);
+  if (k < 18) return fmt::format("tool_cup.T{}.{}", (k - 9) / 3 + 1, "xyz"[(k - 9) % 3]);
+  return "ballbar.length_offset";
+}
+
+}  // namespace
+
+LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
+                           const TriangleSides& base_sides, const TriangleSides& tool_sides,
+                           const std::vector<LegReadings>& readings,
+                           const ParameterVector& start_params, const Pose<double>& robot_T_world,
+                           const Pose<double>& flange_T_tool, const LegFitOptions& options) {
+  for (int i : options.free_parameters)
+    if (i < kBaseParamCount || i >= kParameterCount)
+      throw InputError({"", 0, 0, "free parameters"},
+                       "the leg fit uses the relative model: base parameters stay fixed");
+  LegFitResult result;
+  result.params = start_params;
+  const Cups<double> base_local = fixture_cups(base_sides, "base fixture sides");
+  const Cups<double> tool_local = fixture_cups(tool_sides, "tool fixture sides");
+  for (int i = 0; i < 3; ++i) {
+    result.base_cups_robot[i] = robot_T_world * base_local[i];
+    result.tool_cups_flange[i] = flange_T_tool * tool_local[i];
+  }
+  // Which unknowns are candidates: the requested parameters except those the free tool cups
+  // absorb, every cup coordinate, the offset if asked.
+  std::vector<bool> candidate(kParameterCount + kExtras, false);
+  for (int i : options.free_parameters) candidate[i] = true;
+  for (int link6 : {link_param(6, 3), link_param(6, 2)})
+    if (candidate[link6]) {
+      candidate[link6] = false;
+      result.held.push_back(parameter_table()[link6].name +
+                            ": a shift along / turn about the flange axis moves only the tool "
+                            "cups, which are identified");
+    }
+  for (int k = 0; k < kExtras; ++k)
+    candidate[kParameterCount + k] = k < 18 || options.fit_length_offset;
+
+  double zero_offset = 0;  // the tool sides' set-up offset, held
+  ceres::Problem::Options problem_options;
+  problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
+  const auto build = [&](ceres::Problem& problem) {
+    double* params = result.params.data();
+    problem.AddParameterBlock(params, kParameterCount);
+    for (int i = 0; i < 3; ++i) {
+      problem.AddParameterBlock(result.base_cups_robot[i].data(), 3);
+      problem.AddParameterBlock(result.tool_cups_flange[i].data(), 3);
+    }
+    problem.AddParameterBlock(&result.length_offset_mm, 1);
+    for (const LegReadings& r : readings)
+      for (size_t i = 0; i < kDesignLegs.size(); ++i) {
+        const int b = r.design.base[kDesignLegs[i].base];
+        const int t = r.design.tool[kDesignLegs[i].tool];
+        problem.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<LegResidual, 1, kParameterCount, 3, 3, 1>(
+                new LegResidual{&model, payload, r.joints, r.legs[i]}),
+            nullptr, params, result.base_cups_robot[b].data(), result.tool_cups_flange[t].data(),
+            &result.length_offset_mm);
+      }
+    // Base sides at the leg set-up share its offset; the tool sides (150 mm set-up) get their own,
+    // held at zero: that set-up is calibrated separately.
+    problem.AddParameterBlock(&zero_offset, 1);
+    problem.SetParameterBlockConstant(&zero_offset);
+    const std::array<double, 3> bs = base_sides.as_array(), ts = tool_sides.as_array();
+    for (int i = 0; i < 3; ++i) {
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<SideResidual, 1, 3, 3, 1>(new SideResidual{bs[i]}),
+          nullptr, result.base_cups_robot[i].data(), result.base_cups_robot[(i + 1) % 3].data(),
+          &result.length_offset_mm);
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<SideResidual, 1, 3, 3, 1>(new SideResidual{ts[i]}),
+          nullptr, result.tool_cups_flange[i].data(), result.tool_cups_flange[(i + 1) % 3].data(),
+          &zero_offset);
+    }
+  };
+
+  // Rank-revealing QR of the column-scaled Jacobian over the candidates, at the start point.
+  std::vector<int> columns;
+  for (int k = 0; k < kParameterCount + kExtras; ++k)
+    if (candidate[k]) columns.push_back(k);
+  {
+    ceres::Problem probe(problem_options);
+    build(probe);
+    ceres::CRSMatrix crs;
+    ceres::Problem::EvaluateOptions eval;
+    eval.parameter_blocks = {result.params.data()};
+    for (int i = 0; i < 3; ++i) eval.parameter_blocks.push_back(result.base_cups_robot[i].data());
+    for (int i = 0; i < 3; ++i) eval.parameter_blocks.push_back(result.tool_cups_flange[i].data());
+    eval.parameter_blocks.push_back(&result.length_offset_mm);
+    double cost = 0;
+    std::vector<double> residuals;
+    probe.Evaluate(eval, &cost, &residuals, nullptr, &crs);
+    result.residuals = static_cast<int>(residuals.size());
+    result.initial_rms_mm = std::sqrt(2 * cost / residuals.size());
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, static_cast<int>(columns.size()));
+    std::vector<int> where(kParameterCount + kExtras, -1);
+    for (size_t c = 0; c < columns.size(); ++c) where[columns[c]] = static_cast<int>(c);
+    for (int row = 0; row < crs.num_rows; ++row)
+      for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k)
+        if (where[crs.cols[k]] >= 0) J(row, where[crs.cols[k]]) = crs.values[k];
+    for (int c = 0; c < J.cols(); ++c)
+      if (J.col(c).norm() > 0) J.col(c) /= J.col(c).norm();
+    Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(J);
+    qr.setThreshold(1e-9);
+    const int rank = static_cast<int>(qr.rank());
+    for (int c = rank; c < J.cols(); ++c) {
+      const int k = columns[qr.colsPermutation().indices()[c]];
+      candidate[k] = false;
+      result.held.push_back(
+          (k < kParameterCount ? parameter_table()[k].name : extra_name(k - kParameterCount)) +
+          ": not identifiable from these readings (rank test)");
+    }
+  }
+
+  ceres::Problem problem(problem_options);
+  build(problem);
+  std::vector<int> fixed;
+  for (int i = 0; i < kParameterCount; ++i)
+    if (!candidate[i])
+      fixed.push_back(i);
+    else
+      result.identified.push_back(i);
+  if (fixed.size() == static_cast<size_t>(kParameterCount))
+    problem.SetParameterBlockConstant(result.params.data());
+  else if (!fixed.empty())
+    problem.SetManifold(result.params.data(), new ceres::SubsetManifold(kParameterCount, fixed));
+  for (int block = 0; block < 6; ++block) {
+    double* data = block < 3 ? result.base_cups_robot[block].data()
+                             : result.tool_cups_flange[block - 3].data();
+    std::vector<int> held;
+    for (int a = 0; a < 3; ++a)
+      if (!candidate[kParameterCount + 3 * block + a]) held.push_back(a);
+    if (held.size() == 3)
+      problem.SetParameterBlockConstant(data);
+    else if (!held.empty())
+      problem.SetManifold(data, new ceres::SubsetManifold(3, held));
+  }
+  if (!candidate[kParameterCount + 18]) problem.SetParameterBlockConstant(&result.length_offset_mm);
+
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = options.max_iterations;
+  solver.function_tolerance = 1e-15;
+  solver.gradient_tolerance = 1e-15;
+  solver.parameter_tolerance = 1e-12;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  result.converged = summary.termination_type == ceres::CONVERGENCE;
+  result.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  result.message = summary.message;
+  result.rms_mm = std::sqrt(2 * summary.final_cost / result.residuals);
+  return result;
+}
+
+}  // namespace robcal::hexapod

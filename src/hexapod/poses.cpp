@@ -1,0 +1,81 @@
+#include "robcal/hexapod/poses.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "robcal/kinematics/orientation.hpp"
+
+namespace robcal::hexapod {
+
+std::string HexapodPose::description() const {
+  return fmt::format("mode {}, tool {:+}°, base B{} B{} B{}", mode, rotation_deg,
+                     design.base[0] + 1, design.base[1] + 1, design.base[2] + 1);
+}
+
+Cups<double> physical_tool_cups(const LegDesign& design, const Cups<double>& design_tool) {
+  Cups<double> physical;
+  for (int j = 0; j < 3; ++j) physical[design.tool[j]] = design_tool[j];
+  return physical;
+}
+
+Cups<double> design_base_cups(const LegDesign& design, const Cups<double>& physical_base) {
+  return {physical_base[design.base[0]], physical_base[design.base[1]],
+          physical_base[design.base[2]]};
+}
+
+TriangleSides design_tool_sides(const LegDesign& design, const Cups<double>& physical_tool) {
+  const auto d = [&](int i, int j) {
+    return (physical_tool[design.tool[i]] - physical_tool[design.tool[j]]).norm();
+  };
+  return {d(0, 1), d(1, 2), d(2, 0)};
+}
+
+std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry) {
+  const Cups<double> base = fixture_cups(geometry.base, "base fixture");
+  const Cups<double> tool = fixture_cups(geometry.tool, "tool fixture");
+  // Cyclic relabellings of the tool cups: design T1 is physical cup shift+1. Turning the fixture
+  // by −120° about its normal brings T2 where T1 was.
+  static constexpr std::array<int, 3> kRotationDeg{0, -120, 120};
+  LegLengths<double> legs;
+  legs.fill(geometry.leg_mm);
+  std::vector<HexapodPose> poses;
+  for (int mode = 1; mode <= 4; ++mode)
+    for (int shift = 0; shift < 3; ++shift) {
+      std::array<int, 3> perm{0, 1, 2};
+      do {
+        LegDesign design{perm, {shift, (shift + 1) % 3, (shift + 2) % 3}};
+        const DkpResult dkp = solve_dkp(design_base_cups(design, base), Eigen::Vector3d::UnitZ(),
+                                        design_tool_sides(design, tool), legs);
+        const AssemblyModeSolution* solution = dkp.mode(mode);
+        if (solution == nullptr) continue;
+        HexapodPose pose;
+        pose.index = static_cast<int>(poses.size()) + 1;
+        pose.label = fmt::format("P{:02d}", pose.index);
+        pose.mode = mode;
+        pose.rotation_deg = kRotationDeg[shift];
+        pose.design = design;
+        pose.tool_cups = physical_tool_cups(design, solution->tool);
+        pose.base_T_tool = frame_from_cups(pose.tool_cups);
+        for (size_t i = 0; i < kDesignLegs.size(); ++i)
+          pose.legs[i] = {design.base[kDesignLegs[i].base], design.tool[kDesignLegs[i].tool]};
+        poses.push_back(pose);
+      } while (std::next_permutation(perm.begin(), perm.end()));
+    }
+  return poses;
+}
+
+std::vector<HexapodPose> prune_redundant(const std::vector<HexapodPose>& poses,
+                                         double max_angle_rad, double max_distance_mm) {
+  std::vector<HexapodPose> kept;
+  for (const HexapodPose& pose : poses) {
+    const bool redundant = std::any_of(kept.begin(), kept.end(), [&](const HexapodPose& k) {
+      return rotation_distance(k.base_T_tool.R, pose.base_T_tool.R) < max_angle_rad &&
+             (centroid(k.tool_cups) - centroid(pose.tool_cups)).norm() < max_distance_mm;
+    });
+    if (!redundant) kept.push_back(pose);
+  }
+  return kept;
+}
+
+}  // namespace robcal::hexapod

@@ -1,0 +1,359 @@
+#include "robcal/hexapod/session.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "robcal/core/error.hpp"
+#include "robcal/io/atomic_file.hpp"
+
+namespace robcal::hexapod {
+namespace {
+
+// Cup pairs of the three sides, cup i to cup i+1.
+constexpr std::array<std::array<int, 2>, 3> kSides{{{1, 2}, {2, 3}, {3, 1}}};
+
+std::string leg_name(const PhysicalLeg& leg) {
+  return fmt::format("B{}-T{}", leg.base + 1, leg.tool + 1);
+}
+
+PhysicalLeg parse_leg(const std::string& text, const SourceLocation& where) {
+  int b = 0, t = 0;
+  char extra = 0;
+  if (std::sscanf(text.c_str(), "B%d-T%d%c", &b, &t, &extra) != 2 || b < 1 || b > 3 || t < 1 ||
+      t > 3)
+    throw InputError(where, fmt::format("leg '{}': expected Bi-Tj with i, j in 1..3", text));
+  return {b - 1, t - 1};
+}
+
+double positive(const nlohmann::json& node, const SourceLocation& where) {
+  if (!node.is_number() || !(node.get<double>() > 0))
+    throw InputError(where, "expected a positive number");
+  return node.get<double>();
+}
+
+}  // namespace
+
+SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& file) {
+  const auto at = [&](const std::string& key) { return SourceLocation{file, 0, 0, key}; };
+  SessionPlan plan;
+  if (!root.is_object()) throw InputError(at(""), "expected a JSON object (a hexapod plan)");
+  if (root.contains("ballbar")) {
+    const nlohmann::json& b = root["ballbar"];
+    if (b.contains("tool_mm")) plan.tool_nominal_mm = positive(b["tool_mm"], at("ballbar.tool_mm"));
+    if (b.contains("leg_mm")) plan.leg_mm = positive(b["leg_mm"], at("ballbar.leg_mm"));
+    if (b.contains("range_mm")) plan.range_mm = positive(b["range_mm"], at("ballbar.range_mm"));
+    if (b.contains("recheck_every")) {
+      if (!b["recheck_every"].is_number_integer() || b["recheck_every"].get<int>() < 0)
+        throw InputError(at("ballbar.recheck_every"), "expected a non-negative integer");
+      plan.recheck_every = b["recheck_every"].get<int>();
+    }
+  }
+  if (!root.contains("configurations") || !root["configurations"].is_array())
+    throw InputError(at("configurations"), "expected a list of configurations");
+  const nlohmann::json& list = root["configurations"];
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string key = fmt::format("configurations[{}]", i);
+    const nlohmann::json& c = list[i];
+    SessionConfiguration config;
+    config.id = static_cast<int>(i) + 1;
+    if (!c.is_object() || !c.contains("pose") || !c["pose"].is_string())
+      throw InputError(at(key + ".pose"), "expected the pose label (a string)");
+    config.pose = c["pose"].get<std::string>();
+    if (c.contains("labels") && c["labels"].is_string())
+      config.labels = c["labels"].get<std::string>();
+    if (c.contains("joints_deg")) {
+      if (!c["joints_deg"].is_array() || c["joints_deg"].size() != 6)
+        throw InputError(at(key + ".joints_deg"), "expected six joint values (deg)");
+      for (const auto& q : c["joints_deg"]) {
+        if (!q.is_number()) throw InputError(at(key + ".joints_deg"), "expected numbers");
+        config.joints_deg.push_back(q.get<double>());
+      }
+    }
+    if (!c.contains("legs") || !c["legs"].is_array() || c["legs"].size() != 6)
+      throw InputError(at(key + ".legs"), "expected six legs like \"B1-T1\"");
+    for (size_t l = 0; l < 6; ++l) {
+      if (!c["legs"][l].is_string()) throw InputError(at(key + ".legs"), "expected strings");
+      config.legs[l] = parse_leg(c["legs"][l].get<std::string>(), at(key + ".legs"));
+    }
+    plan.configurations.push_back(config);
+  }
+  return plan;
+}
+
+SessionPlan load_session_plan(const std::filesystem::path& path) {
+  const std::string text = read_text_file(path);
+  nlohmann::json root;
+  try {
+    root = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError({path.string(), 0, 0, ""}, fmt::format("not valid JSON: {}", e.what()));
+  }
+  return parse_session_plan(root, path.string());
+}
+
+Session::Session(SessionPlan plan) : plan_(std::move(plan)) {
+  state_.configurations.resize(plan_.configurations.size());
+}
+
+bool Session::configuration_done(size_t c) const {
+  const ConfigurationReadings& r = state_.configurations[c];
+  if (r.retry) return true;
+  for (const auto& leg : r.legs)
+    if (!leg) return false;
+  return true;
+}
+
+bool Session::recheck_due_after(size_t c) const {
+  if (plan_.recheck_every <= 0 || (c + 1) % plan_.recheck_every != 0 ||
+      c + 1 >= plan_.configurations.size())
+    return false;
+  const int id = plan_.configurations[c].id;
+  for (const auto& check : state_.calibrator_checks)
+    if (check.first == id) return false;
+  return true;
+}
+
+std::optional<SessionStep> Session::next_step() const {
+  for (int i = 0; i < 3; ++i)
+    if (!state_.tool_sides[i])
+      return SessionStep{
+          StepKind::ToolSide,
+          fmt::format("tool/T{}-T{}", kSides[i][0], kSides[i][1]),
+          fmt::format(
+              "{}Attach the ballbar between tool cups T{} and T{}, then enter the reading "
+              "(mm)",
+              i == 0 ? fmt::format("Set the ballbar up at {} mm. ", plan_.tool_nominal_mm) : "",
+              kSides[i][0], kSides[i][1]),
+          -1,
+          i,
+          plan_.tool_nominal_mm};
+  for (int i = 0; i < 3; ++i)
+    if (!state_.base_sides[i])
+      return SessionStep{
+          StepKind::BaseSide,
+          fmt::format("base/B{}-B{}", kSides[i][0], kSides[i][1]),
+          fmt::format("{}Attach the ballbar between base cups B{} and B{}, then enter the reading "
+                      "(mm)",
+                      i == 0 ? fmt::format("The robot has placed and locked the base cups. Set the "
+                                           "ballbar up at {} mm. ",
+                                           plan_.leg_mm)
+                             : "",
+                      kSides[i][0], kSides[i][1]),
+          -1,
+          i,
+          plan_.leg_mm};
+  for (size_t c = 0; c < plan_.configurations.size(); ++c) {
+    const SessionConfiguration& config = plan_.configurations[c];
+    if (configuration_done(c)) {
+      if (recheck_due_after(c))
+        return SessionStep{StepKind::CalibratorCheck,
+                           fmt::format("check/{}", config.id),
+                           fmt::format("Re-check the ballbar on its calibrator (set-up {} mm: "
+                                       "magnetic snaps accumulate), then enter its reading (mm)",
+                                       plan_.leg_mm),
+                           static_cast<int>(c),
+                           0,
+                           plan_.leg_mm};
+      continue;
+    }
+    const ConfigurationReadings& r = state_.configurations[c];
+    int leg = 0;
+    while (r.legs[leg]) ++leg;
+    SessionStep step{StepKind::Leg,
+                     fmt::format("leg/{}/{}", config.id, leg_name(config.legs[leg])),
+                     "",
+                     static_cast<int>(c),
+                     leg,
+                     plan_.leg_mm};
+    std::string move;
+    if (leg == 0) {
+      std::string joints;
+      if (!config.joints_deg.empty())
+        joints = fmt::format("; joints {:.3f}", fmt::join(config.joints_deg, ", "));
+      move = fmt::format("Move to configuration {} ({}{}{}). ", config.id, config.pose,
+                         config.labels.empty() ? "" : ", " + config.labels, joints);
+    }
+    step.prompt = fmt::format(
+        "{}Attach the ballbar between B{} and T{}, then enter the reading (mm, or 'out' if it does "
+        "not fit the ±{} mm range)",
+        move, config.legs[leg].base + 1, config.legs[leg].tool + 1, plan_.range_mm);
+    return step;
+  }
+  return std::nullopt;
+}
+
+std::string Session::record(const std::optional<double>& reading) {
+  const std::optional<SessionStep> step = next_step();
+  if (!step) throw InputError("the session is complete: no reading is expected");
+  if (reading && !std::isfinite(*reading))
+    throw InputError({"", 0, 0, step->key}, "expected a finite reading");
+  switch (step->kind) {
+    case StepKind::ToolSide:
+    case StepKind::BaseSide:
+    case StepKind::CalibratorCheck:
+      if (!reading || !(*reading > 0))
+        throw InputError({"", 0, 0, step->key}, "expected a positive length in mm");
+      break;
+    case StepKind::Leg:
+      break;
+  }
+  switch (step->kind) {
+    case StepKind::ToolSide:
+      state_.tool_sides[step->item] = reading;
+      return {};
+    case StepKind::BaseSide:
+      state_.base_sides[step->item] = reading;
+      return {};
+    case StepKind::CalibratorCheck: {
+      const int id = plan_.configurations[step->configuration].id;
+      state_.calibrator_checks.emplace_back(id, *reading);
+      const double drift_um = (*reading - state_.calibrator_checks.front().second) * 1e3;
+      if (std::abs(drift_um) > 2)
+        return fmt::format(
+            "The ballbar has drifted {:+.1f} µm since the first check: re-seat it "
+            "on the calibrator and reset it before going on.",
+            drift_um);
+      return {};
+    }
+    case StepKind::Leg:
+      break;
+  }
+  const SessionConfiguration& config = plan_.configurations[step->configuration];
+  ConfigurationReadings& r = state_.configurations[step->configuration];
+  if (!reading || std::abs(*reading - plan_.leg_mm) > plan_.range_mm) {
+    r.retry = true;
+    return fmt::format(
+        "Leg {} is out of the ballbar's ±{} mm range: configuration {} ({}) is "
+        "marked 'retry after preliminary calibration'.",
+        leg_name(config.legs[step->item]), plan_.range_mm, config.id, config.pose);
+  }
+  r.legs[step->item] = reading;
+  return {};
+}
+
+nlohmann::json Session::result_json() const {
+  const auto optional_list = [](const auto& values) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& v : values) out.push_back(v ? nlohmann::json(*v) : nlohmann::json());
+    return out;
+  };
+  nlohmann::json out;
+  out["complete"] = !next_step().has_value();
+  out["tool_sides_mm"] = optional_list(state_.tool_sides);
+  out["base_sides_mm"] = optional_list(state_.base_sides);
+  out["configurations"] = nlohmann::json::array();
+  int measured = 0, retry = 0;
+  for (size_t c = 0; c < plan_.configurations.size(); ++c) {
+    const SessionConfiguration& config = plan_.configurations[c];
+    const ConfigurationReadings& r = state_.configurations[c];
+    const std::string status = r.retry ? "retry" : configuration_done(c) ? "measured" : "pending";
+    measured += status == "measured";
+    retry += r.retry;
+    nlohmann::json legs = nlohmann::json::array();
+    for (const auto& leg : config.legs) legs.push_back(leg_name(leg));
+    out["configurations"].push_back({{"id", config.id},
+                                     {"pose", config.pose},
+                                     {"labels", config.labels},
+                                     {"joints_deg", config.joints_deg},
+                                     {"legs", legs},
+                                     {"legs_mm", optional_list(r.legs)},
+                                     {"status", status}});
+  }
+  out["measured"] = measured;
+  out["retry_after_preliminary_calibration"] = retry;
+  out["calibrator_checks"] = nlohmann::json::array();
+  for (const auto& [id, value] : state_.calibrator_checks)
+    out["calibrator_checks"].push_back({{"after_configuration", id}, {"reading_mm", value}});
+  return out;
+}
+
+// ---- journal ---------------------------------------------------------------------------------
+
+SessionJournal::SessionJournal(std::filesystem::path path, std::FILE* file)
+    : path_(std::move(path)), file_(file) {}
+
+SessionJournal::SessionJournal(SessionJournal&& other) noexcept
+    : path_(std::move(other.path_)), file_(other.file_) {
+  other.file_ = nullptr;
+}
+
+SessionJournal::~SessionJournal() {
+  if (file_ != nullptr) std::fclose(file_);
+}
+
+SessionJournal SessionJournal::create(const std::filesystem::path& path) {
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  std::FILE* file = std::fopen(path.c_str(), "wx");  // exclusive: never overwrite a session
+  if (file == nullptr)
+    throw InputError({path.string(), 0, 0, "--journal"},
+                     std::filesystem::exists(path)
+                         ? "the journal exists already: continue it with --resume or choose "
+                           "another file"
+                         : "cannot create the journal file");
+  return SessionJournal(path, file);
+}
+
+SessionJournal SessionJournal::open_for_resume(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path))
+    throw InputError({path.string(), 0, 0, "--journal"}, "no journal to resume");
+  std::FILE* file = std::fopen(path.c_str(), "a+");
+  if (file == nullptr)
+    throw InputError({path.string(), 0, 0, "--journal"}, "cannot open the journal");
+  return SessionJournal(path, file);
+}
+
+int SessionJournal::replay(Session& session) {
+  const std::string text = read_text_file(path_);
+  size_t start = 0;
+  int line = 0, applied = 0;
+  while (start < text.size()) {
+    const size_t end = text.find('\n', start);
+    if (end == std::string::npos) {
+      // A line cut short by a crash: drop it, the reading was never confirmed to the operator.
+      std::fflush(file_);
+      std::filesystem::resize_file(path_, start);
+      break;
+    }
+    ++line;
+    const std::string entry_text = text.substr(start, end - start);
+    start = end + 1;
+    if (entry_text.empty()) continue;
+    const SourceLocation where{path_.string(), line, 0, ""};
+    nlohmann::json entry;
+    try {
+      entry = nlohmann::json::parse(entry_text);
+    } catch (const nlohmann::json::parse_error&) {
+      throw InputError(where, "not a journal entry (expected one JSON object per line)");
+    }
+    if (!entry.is_object() || !entry.contains("key") || !entry["key"].is_string() ||
+        !entry.contains("reading") || !(entry["reading"].is_number() || entry["reading"].is_null()))
+      throw InputError(where, "expected {\"key\": …, \"reading\": number or null}");
+    const std::optional<SessionStep> step = session.next_step();
+    const std::string key = entry["key"].get<std::string>();
+    if (!step || step->key != key)
+      throw InputError(where, fmt::format("entry '{}' does not match the plan's next step '{}': "
+                                          "the journal belongs to another plan",
+                                          key, step ? step->key : "(none, complete)"));
+    session.record(entry["reading"].is_null()
+                       ? std::nullopt
+                       : std::optional<double>(entry["reading"].get<double>()));
+    ++applied;
+  }
+  return applied;
+}
+
+void SessionJournal::append(const std::string& key, const std::optional<double>& reading) {
+  const nlohmann::json entry{{"key", key},
+                             {"reading", reading ? nlohmann::json(*reading) : nlohmann::json()}};
+  const std::string line = entry.dump() + "\n";
+  if (std::fputs(line.c_str(), file_) < 0 || std::fflush(file_) != 0 ||
+      ::fsync(::fileno(file_)) != 0)
+    throw InputError({path_.string(), 0, 0, "--journal"}, "cannot write to the journal");
+}
+
+}  // namespace robcal::hexapod

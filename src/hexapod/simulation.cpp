@@ -1,0 +1,98 @@
+#include "robcal/hexapod/simulation.hpp"
+
+#include <fmt/format.h>
+
+#include "robcal/core/error.hpp"
+#include "robcal/kinematics/inverse_kinematics.hpp"
+#include "robcal/measure/instrument.hpp"
+
+namespace robcal::hexapod {
+namespace {
+
+TriangleSides measure_sides(const Cups<double>& cups, double nominal, const HexapodCellOptions& o,
+                            std::mt19937_64& rng) {
+  Ballbar bar{cups[0], nominal, o.sigma_mm, o.range_mm};
+  std::array<double, 3> d{};
+  for (int i = 0; i < 3; ++i) {
+    bar.centre_mm = cups[i];
+    const std::optional<double> r = read_length(bar, cups[(i + 1) % 3], rng);
+    if (!r)
+      throw InputError({"", 0, 0, "fixture"},
+                       fmt::format("fixture side {}-{} = {:.3f} mm is outside the ballbar's ±{} mm "
+                                   "range about {} mm",
+                                   i + 1, (i + 1) % 3 + 1, (cups[i] - cups[(i + 1) % 3]).norm(),
+                                   o.range_mm, nominal));
+    d[i] = *r;
+  }
+  return {d[0], d[1], d[2]};
+}
+
+}  // namespace
+
+SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotModel& nominal,
+                                           const HexapodCellOptions& options,
+                                           std::mt19937_64& rng) {
+  SimulatedHexapodCell c;
+  c.truth = truth;
+  c.nominal = nominal;
+  c.options = options;
+  const auto geometry = analyze_ortho_parallel(nominal);
+  if (!geometry) throw InputError({"", 0, 0, "robot"}, nominal.name + " is not ortho-parallel");
+  // The true tool fixture: its sides within the tolerance of the design.
+  std::uniform_real_distribution<double> tolerance(-options.fixture_tolerance_mm,
+                                                   options.fixture_tolerance_mm);
+  const TriangleSides& t = options.design.tool;
+  const TriangleSides true_tool{t.d12 + tolerance(rng), t.d23 + tolerance(rng),
+                                t.d31 + tolerance(rng)};
+  const Pose<double> flange_T_tool =
+      default_tool_mount(options.design.tool, options.tool_offset_mm);
+  const Cups<double> tool_local = fixture_cups(true_tool, "tool fixture");
+  for (int j = 0; j < 3; ++j) c.tool_cups_flange[j] = flange_T_tool * tool_local[j];
+  // The robot puts the setting ball at three points leg_mm apart by its own model; each cup
+  // snaps on where the ball truly is.
+  c.setting_points = setting_ball_points(options.placement, options.design.leg_mm);
+  const Eigen::Vector3d ball_flange(0, 0, options.ball_offset_mm);
+  for (int i = 0; i < 3; ++i) {
+    Pose<double> robot_T_flange;
+    robot_T_flange.R =
+        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix() * options.placement.R;
+    robot_T_flange.p = c.setting_points[i] - robot_T_flange.R * ball_flange;
+    const IkResult ik = nominal_ik(*geometry, robot_T_flange);
+    const IkSolution* s = nearest_solution(ik, Vector6d::Zero());
+    if (s == nullptr)
+      throw InputError({"", 0, 0, "--placement"},
+                       fmt::format("the robot cannot put the setting ball at base cup B{} ({})",
+                                   i + 1, to_string(ik.status)));
+    c.base_cups_sim[i] = true_flange_pose(truth, s->joints) * ball_flange;
+  }
+  c.tool_sides = measure_sides(c.tool_cups_flange, options.design.tool.d12, options, rng);
+  c.base_sides = measure_sides(c.base_cups_sim, options.design.leg_mm, options, rng);
+  c.world = fit_world_frame(c.setting_points, c.base_sides);
+  c.world_T_sim = frame_from_cups(c.base_cups_sim).inverse();
+  c.cell.robot_T_base = c.world.robot_T_fixture;
+  c.cell.flange_T_tool = flange_T_tool;
+  c.cell.table_z_mm = options.table_z_mm;
+  return c;
+}
+
+std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell,
+                                                const HexapodPose& pose, const Vector6d& joints,
+                                                std::mt19937_64& rng, int* out_of_range) {
+  const Pose<double> sim_T_flange = true_flange_pose(cell.truth, joints);
+  Ballbar bar{Eigen::Vector3d::Zero(), cell.options.design.leg_mm, cell.options.sigma_mm,
+              cell.options.range_mm};
+  LegLengths<double> legs{};
+  for (size_t i = 0; i < pose.legs.size(); ++i) {
+    bar.centre_mm = cell.base_cups_sim[pose.legs[i].base];
+    const std::optional<double> r =
+        read_length(bar, sim_T_flange * cell.tool_cups_flange[pose.legs[i].tool], rng);
+    if (!r) {
+      if (out_of_range != nullptr) *out_of_range = static_cast<int>(i);
+      return std::nullopt;
+    }
+    legs[i] = *r;
+  }
+  return legs;
+}
+
+}  // namespace robcal::hexapod

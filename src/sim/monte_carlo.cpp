@@ -1,0 +1,175 @@
+#include "robcal/sim/monte_carlo.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <thread>
+
+#include "robcal/core/error.hpp"
+#include "robcal/sim/campaign.hpp"
+
+namespace robcal {
+
+namespace {
+
+/// The generator of run `run`: independent of the thread that executes it.
+std::mt19937_64 run_generator(uint64_t seed, int run) {
+  std::seed_seq sequence{static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32),
+                         static_cast<uint32_t>(run), 0x6d63u};
+  return std::mt19937_64(sequence);
+}
+
+std::vector<int> all_parameters() {
+  std::vector<int> all(kParameterCount);
+  std::iota(all.begin(), all.end(), 0);
+  return all;
+}
+
+}  // namespace
+
+MonteCarloSetup prepare_monte_carlo(const TrueRobot& truth, const VirtualInstrument& instrument,
+                                    const RobotModel& model, const Tool& tool,
+                                    const MonteCarloOptions& options) {
+  if (instrument.kind != InstrumentKind::LaserTracker)
+    throw InputError({"", 0, 0, "--instrument"}, "the Monte Carlo simulates a laser tracker");
+  const Eigen::Vector3d& s = instrument.tracker.sigma_mm;
+  if (s.x() != s.y() || s.y() != s.z() || !(s.x() > 0))
+    throw InputError({"", 0, 0, "--noise-mm"},
+                     "the Monte Carlo needs one positive σ for every axis");
+  if (options.runs < 1 || options.poses < 1 || options.validation < 1 || options.threads < 1)
+    throw InputError({"", 0, 0, "--runs"},
+                     "runs, poses, validation configurations and threads must be positive");
+  MonteCarloSetup setup;
+  setup.truth = truth;
+  setup.instrument = instrument;
+  setup.sigma_mm = s.x();
+  std::mt19937_64 plan_rng(options.seed), validation_rng(options.seed + 2);
+  RandomConfigurationOptions random_options;
+  random_options.box = published_joint_box(model);
+  random_options.name_prefix = "C";
+  setup.plan =
+      options.optimal_plan
+          ? plan_calibration(truth, instrument, model, tool, options.level, options.poses,
+                             options.candidates, plan_rng)
+          : random_configurations(truth, instrument, options.poses, plan_rng, random_options);
+  VirtualInstrument exact = instrument;
+  exact.tracker.sigma_mm.setZero();
+  std::mt19937_64 unused(0);
+  setup.template_set = simulate_measurements(truth, exact, setup.plan, unused).measurements;
+  for (const PointMeasurement& m : setup.template_set.points)
+    setup.true_positions.push_back(m.position_mm);
+
+  IdentifyOptions identify;
+  identify.level = options.level;
+  identify.seed = options.seed;
+  setup.identification = prepare_identification(model, tool, setup.template_set, identify);
+
+  // Validation: Jacobian at the truth, plus the model-error bias p(q; x_true, model's masses)
+  // − p_true(q), zero for a model-complete truth; kept in the Jacobian's last column block.
+  random_options.name_prefix = "V";
+  const std::vector<PlannedConfiguration> validation =
+      random_configurations(truth, instrument, options.validation, validation_rng, random_options);
+  std::vector<Vector6d> joints;
+  std::vector<Eigen::Vector3d> targets;
+  for (const PlannedConfiguration& c : validation) {
+    joints.push_back(c.joints);
+    targets.push_back(tool.targets[static_cast<size_t>(c.target)].position_mm);
+  }
+  const ParameterVector& x_true = truth.robot.params;
+  setup.validation_jacobian = Eigen::MatrixXd(3 * joints.size(), kParameterCount + 1);
+  setup.validation_jacobian.leftCols(kParameterCount) =
+      position_jacobian(model, tool.payload, x_true, all_parameters(), joints, targets);
+  for (size_t v = 0; v < joints.size(); ++v) {
+    const Eigen::Vector3d modelled =
+        flange_pose(model, tool.payload, x_true, joints[v]) * targets[v];
+    const Eigen::Vector3d real = true_flange_pose(truth, joints[v]) * targets[v];
+    setup.validation_jacobian.block<3, 1>(static_cast<Eigen::Index>(3 * v), kParameterCount) =
+        modelled - real;
+  }
+
+  // Cramér–Rao: the covariance of the fitted parameters from the design at the truth.
+  std::vector<int> free_parameters;
+  for (const int u : setup.identification.free)
+    if (u < kParameterCount) free_parameters.push_back(u);
+  std::vector<Vector6d> cal_joints;
+  std::vector<Eigen::Vector3d> cal_targets;
+  for (const PointMeasurement& m : setup.template_set.points) {
+    cal_joints.push_back(m.joints);
+    cal_targets.push_back(tool.targets[static_cast<size_t>(m.target)].position_mm);
+  }
+  const Eigen::MatrixXd J =
+      position_jacobian(model, tool.payload, x_true, free_parameters, cal_joints, cal_targets);
+  setup.predicted =
+      predict_position_error(model, tool.payload, x_true, free_parameters,
+                             design_covariance(J, setup.sigma_mm), joints, targets, setup.sigma_mm);
+  return setup;
+}
+
+ParameterVector monte_carlo_fit(const MonteCarloSetup& setup, uint64_t seed, int run) {
+  std::mt19937_64 rng = run_generator(seed, run);
+  std::normal_distribution<double> noise(0.0, setup.sigma_mm);
+  MeasurementSet data = setup.template_set;
+  for (size_t i = 0; i < data.points.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      data.points[i].position_mm[k] = setup.true_positions[i][k] + noise(rng);
+  const FitResult fit = fit_unknowns(setup.identification, data);
+  return fit.status.converged ? ParameterVector(fit.unknowns.head<kParameterCount>())
+                              : ParameterVector::Constant(std::numeric_limits<double>::quiet_NaN());
+}
+
+MonteCarloResult run_monte_carlo(const MonteCarloSetup& setup, const MonteCarloOptions& options) {
+  MonteCarloResult result;
+  result.runs.resize(static_cast<size_t>(options.runs));
+  const Eigen::Index rows = setup.validation_jacobian.rows();
+  auto work = [&](int first, int stride) {
+    Eigen::VectorXd delta(kParameterCount + 1);
+    for (int r = first; r < options.runs; r += stride) {
+      MonteCarloRun& run = result.runs[static_cast<size_t>(r)];
+      const ParameterVector fitted = monte_carlo_fit(setup, options.seed, r);
+      run.converged = fitted.allFinite();
+      if (!run.converged) continue;
+      delta.head<kParameterCount>() = fitted - setup.truth.robot.params;
+      delta[kParameterCount] = 1.0;  // the model-error bias column
+      const Eigen::VectorXd e = setup.validation_jacobian * delta;
+      double sum_sq = 0, sum = 0, worst = 0;
+      for (Eigen::Index v = 0; v < rows / 3; ++v) {
+        const double n = e.segment<3>(3 * v).norm();
+        sum_sq += n * n;
+        sum += n;
+        worst = std::max(worst, n);
+      }
+      const double count = static_cast<double>(rows / 3);
+      run.rms_mm = std::sqrt(sum_sq / count);
+      run.mean_mm = sum / count;
+      run.max_mm = worst;
+    }
+  };
+  const int threads = std::min(options.threads, options.runs);
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work, t, threads);
+  work(0, threads);
+  for (std::thread& thread : pool) thread.join();
+
+  // Aggregated in run order: the same sums whatever the threads.
+  double sum_sq = 0, sum = 0;
+  int good = 0;
+  for (const MonteCarloRun& run : result.runs) {
+    if (!run.converged) {
+      ++result.failed;
+      continue;
+    }
+    sum_sq += run.rms_mm * run.rms_mm;
+    sum += run.mean_mm;
+    ++good;
+  }
+  if (good > 0) {
+    result.observed_rms_mm = std::sqrt(sum_sq / good);
+    result.observed_mean_mm = sum / good;
+    result.ratio = result.observed_rms_mm / setup.predicted.rms_mm;
+  }
+  return result;
+}
+
+}  // namespace robcal

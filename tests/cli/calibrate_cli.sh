@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# End-to-end checks of `robcal calibrate` on the reference data set: the JSON summary, the
+# written model loads in `validate --model` territory (round trip through the file), K-fold
+# cross-validation, and bad input of every kind (exit code 2, a message naming the flag, file
+# or key, and no output file). Usage: calibrate_cli.sh path/to/robcal (cwd: repo root).
+set -u
+ROBCAL=${1:?usage: calibrate_cli.sh path/to/robcal}
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+FAILED=0
+REF=tests/data/irb120-published
+
+fail() { echo "FAIL: $*"; FAILED=1; }
+
+# expect_error "<description>" "<substring of stderr>" robcal-args... (all write $TMP/bad.yaml)
+expect_error() {
+  local what=$1 needle=$2
+  shift 2
+  "$ROBCAL" "$@" >"$TMP/out" 2>"$TMP/err"
+  local rc=$?
+  [[ $rc -eq 2 ]] || fail "$what: exit code $rc (expected 2) for: $*"
+  grep -qF -- "$needle" "$TMP/err" || fail "$what: stderr lacks '$needle': $(cat "$TMP/err")"
+  [[ ! -e "$TMP/bad.yaml" ]] || fail "$what: an output file was written"
+}
+
+# 1. Full calibration with JSON output and 5-fold cross-validation.
+"$ROBCAL" calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --level full --kfold 5 --json --out "$TMP/model.yaml" >"$TMP/full.json" || fail "calibrate full failed"
+/usr/bin/python3 - "$TMP/full.json" "$TMP/model.yaml" <<'PY' || FAILED=1
+import json, sys
+d = json.load(open(sys.argv[1]))
+errors = []
+if not d["converged"]: errors.append("not converged")
+if d["identified"] != 30: errors.append(f"identified {d['identified']} (expected 30)")
+if not 0.015 < d["sigma_mm"] < 0.025: errors.append(f"sigma {d['sigma_mm']} (noise 0.02)")
+dropped = [p for p in d["parameters"] if p["status"] == "dropped"]
+if [p["name"] for p in dropped] != ["link3.d"] or "link2.d" not in dropped[0]["reason"]:
+    errors.append(f"dropped {dropped}")
+cv = d["cross_validation"]["error_mm"]
+if not 0.02 < cv["mean"] < 0.06: errors.append(f"cross-validation mean {cv['mean']}")
+pred = d["predicted_position_error_mm"]
+if not pred["against_truth"]["mean"] < pred["against_new_measurements"]["mean"]:
+    errors.append("prediction against truth should be below that against measurements")
+text = open(sys.argv[2]).read()
+for key in ("format: robcal-calibrated-model", "level: full", "covariance:", "statistics:", "cross_validation:"):
+    if key not in text: errors.append(f"model file lacks {key}")
+for e in errors: print("FAIL:", e)
+sys.exit(1 if errors else 0)
+PY
+
+# 2. Text output mentions the dropped parameter and why; base level works.
+"$ROBCAL" calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --level kinematic --out "$TMP/kin.yaml" >"$TMP/kin.txt" || fail "calibrate kinematic failed"
+grep -q "link3.d.*axes 2 and 3 are parallel" "$TMP/kin.txt" || fail "kinematic report lacks the link3.d explanation"
+"$ROBCAL" calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --level base --loss huber --json --out "$TMP/base.yaml" >"$TMP/base.json" || fail "calibrate base failed"
+/usr/bin/python3 -c "import json,sys; d=json.load(open('$TMP/base.json')); sys.exit(0 if d['identified']==6 and d['huber_scale_mm']>0 else 1)" \
+  || fail "base/huber JSON wrong"
+
+# 3. Bad input: clear errors, exit code 2, no output file.
+expect_error "unknown level" "unknown level 'everything'" calibrate --robot abb-irb120 \
+  --tool $REF/tool.yaml --measurements $REF/calibration.csv --level everything --out "$TMP/bad.yaml"
+expect_error "unknown pattern" "'link9.*' matches no parameter" calibrate --robot abb-irb120 \
+  --tool $REF/tool.yaml --measurements $REF/calibration.csv --fix 'link9.*' --out "$TMP/bad.yaml"
+expect_error "unknown loss" "unknown loss 'cauchy'" calibrate --robot abb-irb120 \
+  --tool $REF/tool.yaml --measurements $REF/calibration.csv --loss cauchy --out "$TMP/bad.yaml"
+head -6 $REF/calibration.csv >"$TMP/few.csv"
+expect_error "too few rows" "at least 11 rows are needed" calibrate --robot abb-irb120 \
+  --tool $REF/tool.yaml --measurements "$TMP/few.csv" --out "$TMP/bad.yaml"
+# All rows at one wrist orientation: joints 4..6 frozen → rank-deficient design.
+/usr/bin/python3 - $REF/calibration.csv "$TMP/frozen.csv" <<'PY'
+import sys
+lines = open(sys.argv[1]).read().splitlines()
+out = [lines[0]]
+for line in lines[1:]:
+    f = line.split(",")
+    f[5], f[6], f[7] = "10", "20", "30"
+    out.append(",".join(f))
+open(sys.argv[2], "w").write("\n".join(out) + "\n")
+PY
+expect_error "rank-deficient design" "rank-deficient design" calibrate --robot abb-irb120 \
+  --tool $REF/tool.yaml --measurements "$TMP/frozen.csv" --out "$TMP/bad.yaml"
+sed 's/^5,2,/5,7,/' $REF/calibration.csv >"$TMP/badtarget.csv"
+expect_error "unknown target" "badtarget.csv" calibrate --robot abb-irb120 \
+  --tool $REF/tool.yaml --measurements "$TMP/badtarget.csv" --out "$TMP/bad.yaml"
+expect_error "kfold too large" "--kfold" calibrate --robot abb-irb120 --tool $REF/tool.yaml \
+  --measurements $REF/calibration.csv --kfold 500 --out "$TMP/bad.yaml"
+expect_error "missing file" "nonexistent.csv" calibrate --robot abb-irb120 --tool $REF/tool.yaml \
+  --measurements "$TMP/nonexistent.csv" --out "$TMP/bad.yaml"
+
+# 4. The written model loads back (validate reads it); its base is fitted.
+grep -q "base_fitted: true" "$TMP/model.yaml" || fail "model has no fitted base"
+
+exit $FAILED

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# robcal demo (reduced sizes) end to end, then robcal report on the files it wrote: the full
+# model beats the kinematic one, which beats the nominal one; every file is there.
+set -euo pipefail
+robcal="$1"
+out="$(mktemp -d)"
+trap 'rm -rf "$out"' EXIT
+
+"$robcal" demo --out "$out/demo" --seed 2 --count 40 --validation 200 --json > "$out/demo.json"
+for f in plan.csv calibration/measurements.csv calibration/tool.yaml calibration/truth/truth.yaml \
+         validation/measurements.csv models/base.yaml models/kinematic.yaml models/full.yaml \
+         report.html report.json; do
+  test -s "$out/demo/$f" || { echo "missing $f"; exit 1; }
+done
+python3 - "$out/demo.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+m = {k: v["mean_mm"] for k, v in d["vs_measurements"].items()}
+assert m["full"] < m["kinematic"] < m["nominal"], m
+assert d["vs_truth"]["full"]["mean_mm"] < 0.05, d["vs_truth"]["full"]
+assert d["validation_rows"] == 200, d["validation_rows"]
+PY
+
+"$robcal" report --model "$out/demo/models/full.yaml" \
+  --measurements "$out/demo/validation/measurements.csv" \
+  --calibration "$out/demo/calibration/measurements.csv" --out "$out/report.html" > /dev/null
+test -s "$out/report.html" && test -s "$out/report.json"
+grep -q 'id="render-status"' "$out/report.html"
+python3 - "$out/report.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert len(r["models"]) == 2 and r["models"][1]["summary"]["count"] == 200
+assert len(r["distance_to_calibration_mm"]) == 200
+assert any(p["status"] == "identified" for p in r["parameters"])
+PY
+
+# Bad input: exit 2 and no output.
+set +e
+"$robcal" report --model "$out/demo/models/full.yaml" --measurements /nonexistent.csv \
+  --out "$out/bad.html" 2> "$out/err"
+code=$?
+set -e
+test "$code" -eq 2 && grep -q "nonexistent.csv" "$out/err" && test ! -e "$out/bad.html"
+echo "demo_smoke: ok"

@@ -1,0 +1,239 @@
+// Calibrated inverse kinematics (issue 7): the chain against the templated FK, its Jacobian
+// against autodiff and finite differences, round trips over random reachable poses of every
+// configuration, both iterations agreeing, and the statuses near singularities and limits.
+
+#include <ceres/jet.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <map>
+
+#include "robcal/compensate/calibrated_ik.hpp"
+#include "test_compensate_support.hpp"
+#include "test_support.hpp"
+
+namespace robcal {
+namespace {
+
+using test::kRobots;
+using test::near_singular;
+using test::random_calibrated;
+using test::random_joints;
+
+double angle_between(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+  return Eigen::AngleAxisd(a.transpose() * b).angle();
+}
+
+TEST(CompensateChain, MatchesTemplatedForwardKinematics) {
+  auto rng = test::seeded_rng(11);
+  for (const char* name : kRobots) {
+    const CalibratedRobot robot = random_calibrated(name, rng);
+    const Compensator comp = make_compensator(robot);
+    for (int k = 0; k < 200; ++k) {
+      const Vector6d j = random_joints(robot.model, rng);
+      const Pose<double> want =
+          flange_pose(robot.model, robot.tool.payload, robot.params, j) * comp.flange_T_tcp;
+      const Pose<double> got = calibrated_tcp_pose(comp.chain, j);
+      ASSERT_LT((got.p - want.p).norm(), 1e-9) << name;
+      ASSERT_LT((got.R - want.R).norm(), 1e-12) << name;
+    }
+  }
+}
+
+TEST(CompensateChain, JacobianMatchesAutodiffAndFiniteDifferences) {
+  using Jet = ceres::Jet<double, 6>;
+  auto rng = test::seeded_rng(12);
+  for (const char* name : kRobots) {
+    const CalibratedRobot robot = random_calibrated(name, rng);
+    const Compensator comp = make_compensator(robot);
+    std::array<Jet, kParameterCount> params;
+    for (int i = 0; i < kParameterCount; ++i) params[i] = Jet(robot.params[i]);
+    for (int k = 0; k < 50; ++k) {
+      const Vector6d j = random_joints(robot.model, rng);
+      Matrix6d J;
+      const Pose<double> pose = calibrated_tcp_pose(comp.chain, j, &J);
+      // Autodiff through flange_pose<Jet> (compliance included), TCP appended.
+      std::array<Jet, kJointCount> jj;
+      for (int i = 0; i < kJointCount; ++i) jj[i] = Jet(j[i], i);
+      const Pose<Jet> flange =
+          flange_pose<Jet>(robot.model, robot.tool.payload, params.data(), jj.data());
+      Pose<Jet> tcp_in_flange;
+      tcp_in_flange.R = comp.flange_T_tcp.R.cast<Jet>();
+      tcp_in_flange.p = comp.flange_T_tcp.p.cast<Jet>();
+      const Pose<Jet> tcp = flange * tcp_in_flange;
+      Matrix6d J_ad;
+      for (int c = 0; c < kJointCount; ++c) {
+        Eigen::Matrix3d dR;
+        for (int r = 0; r < 3; ++r) {
+          J_ad(r, c) = tcp.p[r].v[c];
+          for (int s = 0; s < 3; ++s) dR(r, s) = tcp.R(r, s).v[c];
+        }
+        const Eigen::Matrix3d W = dR * pose.R.transpose();  // skew(ω)
+        J_ad.block<3, 1>(3, c) = Eigen::Vector3d(W(2, 1), W(0, 2), W(1, 0));
+      }
+      ASSERT_LT((J - J_ad).cwiseAbs().maxCoeff(), 1e-9 * (1 + J.cwiseAbs().maxCoeff())) << name;
+      // Central differences of the chain itself.
+      const double h = 1e-6;
+      for (int c = 0; c < kJointCount; ++c) {
+        Vector6d jp = j, jm = j;
+        jp[c] += h;
+        jm[c] -= h;
+        const Pose<double> a = calibrated_tcp_pose(comp.chain, jp),
+                           b = calibrated_tcp_pose(comp.chain, jm);
+        const Eigen::AngleAxisd w(a.R * b.R.transpose());
+        EXPECT_LT(((a.p - b.p) / (2 * h) - J.block<3, 1>(0, c)).norm(), 1e-4) << name;
+        EXPECT_LT((w.axis() * w.angle() / (2 * h) - J.block<3, 1>(3, c)).norm(), 1e-7) << name;
+      }
+    }
+  }
+}
+
+/// Round trip over random reachable poses: for every configuration the nominal inverse offers
+/// for a pose, both iterations land on the same joints and the calibrated model reaches the
+/// pose within 1e-6 mm and 1e-6°. Counts per configuration are printed.
+TEST(CompensateIk, RoundTripEveryConfigurationBothIterationsAgree) {
+  constexpr int kPoses = 400;  // × up to 8 configurations × 3 robots; 100,000 in robcal_bench
+  auto rng = test::seeded_rng(13);
+  for (const char* name : kRobots) {
+    SCOPED_TRACE(name);
+    const CalibratedRobot robot = random_calibrated(name, rng);
+    const Compensator comp = make_compensator(robot);
+    std::map<std::string, int> solved;
+    int max_newton = 0, max_shift = 0, drawn = 0;
+    double worst_mm = 0, worst_deg = 0, worst_agree = 0;
+    while (drawn < kPoses) {
+      const Vector6d q = random_joints(robot.model, rng);
+      if (near_singular(robot.model, q)) continue;
+      ++drawn;
+      const Pose<double> wanted = calibrated_tcp_pose(comp.chain, q);
+      const Pose<double> base_T_tcp = comp.world_T_base.inverse() * wanted;
+      const IkResult nominal =
+          nominal_ik(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), q);
+      std::map<int, const IkSolution*> one_per_config;
+      for (const IkSolution& s : nominal) one_per_config.emplace(s.config.index(), &s);
+      for (const auto& [index, s] : one_per_config) {
+        // The other configurations of a pose drawn 5° from a singularity may lie closer to
+        // one, or just outside the calibrated arm's reach: those need a wider margin.
+        if (near_singular(robot.model, s->joints, 10)) continue;
+        const CalibratedIkResult newton =
+            calibrated_ik(comp, wanted, s->config, s->joints, IkMethod::Newton);
+        const CalibratedIkResult shift =
+            calibrated_ik(comp, wanted, s->config, s->joints, IkMethod::PoseShift);
+        // A solution a hair outside the limits is a legitimate OutsideLimits; skip those.
+        if (!robot.model.within_limits(newton.joints, -1e-3)) continue;
+        ASSERT_EQ(newton.status, CalibratedIkStatus::Converged) << to_string(newton.status);
+        ASSERT_EQ(shift.status, CalibratedIkStatus::Converged) << to_string(shift.status);
+        for (const CalibratedIkResult* r : {&newton, &shift}) {
+          const Pose<double> reached = calibrated_tcp_pose(comp.chain, r->joints);
+          worst_mm = std::max(worst_mm, (reached.p - wanted.p).norm());
+          worst_deg = std::max(worst_deg, rad2deg(angle_between(reached.R, wanted.R)));
+        }
+        worst_agree = std::max(worst_agree, (newton.joints - shift.joints).cwiseAbs().maxCoeff());
+        max_newton = std::max(max_newton, newton.iterations);
+        max_shift = std::max(max_shift, shift.iterations);
+        ++solved[s->config.label()];
+      }
+    }
+    EXPECT_LT(worst_mm, 1e-6);
+    EXPECT_LT(worst_deg, 1e-6);
+    EXPECT_LT(worst_agree, 1e-8);  // rad: pose shift stops just inside 1e-7 mm
+    EXPECT_LE(max_newton, 4);
+    EXPECT_LE(max_shift, 10);
+    std::string counts;
+    for (const auto& [label, n] : solved) counts += " " + label + "=" + std::to_string(n);
+    std::printf("[%s] worst %.2e mm %.2e deg, Newton ≤ %d it, pose shift ≤ %d it;%s\n", name,
+                worst_mm, worst_deg, max_newton, max_shift, counts.c_str());
+    EXPECT_GE(solved.size(), 4u);
+  }
+}
+
+TEST(CompensateIk, RecoversTheDrawnJoints) {
+  auto rng = test::seeded_rng(14);
+  const CalibratedRobot robot = random_calibrated("abb-irb120", rng);
+  const Compensator comp = make_compensator(robot);
+  for (int k = 0; k < 300;) {
+    const Vector6d q = random_joints(robot.model, rng);
+    if (near_singular(robot.model, q)) continue;
+    ++k;
+    const Pose<double> wanted = calibrated_tcp_pose(comp.chain, q);
+    const IkResult nominal = nominal_ik(
+        comp.geometry, comp.world_T_base.inverse() * wanted * comp.flange_T_tcp.inverse(), q);
+    const IkSolution* own = nearest_solution(nominal, q);
+    if (!own || (own->joints - q).cwiseAbs().maxCoeff() > 0.2) continue;  // seed beyond a limit
+    const CalibratedIkResult r = calibrated_ik(comp, wanted, own->config, q);
+    ASSERT_TRUE(r.ok()) << to_string(r.status);
+    EXPECT_LT((r.joints - q).cwiseAbs().maxCoeff(), 1e-8);
+  }
+}
+
+TEST(CompensateIk, ArmConfigOfAgreesWithTheClosedFormLabels) {
+  auto rng = test::seeded_rng(16);
+  for (const char* name : kRobots) {
+    const RobotModel model = load_robot(name);
+    const auto geometry = analyze_ortho_parallel(model);
+    ASSERT_TRUE(geometry);
+    int checked = 0;
+    for (int k = 0; k < 200; ++k) {
+      const Vector6d q = random_joints(model, rng);
+      const IkResult all =
+          nominal_ik(*geometry, flange_pose(model, PointMass{}, model.nominal(), q), q);
+      for (const IkSolution& s : all) {
+        if (near_singular(model, s.joints, 1)) continue;
+        EXPECT_EQ(arm_config_of(model, s.joints).label(), s.config.label()) << name;
+        ++checked;
+      }
+    }
+    EXPECT_GT(checked, 400) << name;
+  }
+}
+
+TEST(CompensateIk, NominalRobotNeedsNoIteration) {
+  const RobotModel model = load_robot("abb-irb120");
+  const Compensator comp = make_compensator(CalibratedRobot::nominal(model, Tool{}));
+  const Vector6d q = (Vector6d() << 0.3, 0.2, -0.4, 0.5, 0.8, -1.0).finished();
+  const Pose<double> wanted = flange_pose(model, PointMass{}, model.nominal(), q);
+  const CalibratedIkResult r = calibrated_ik(comp, wanted, ArmConfig{}, q);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_LT((r.joints - q).cwiseAbs().maxCoeff(), 1e-8);
+}
+
+TEST(CompensateIk, ReportsWhatItCannotSolve) {
+  auto rng = test::seeded_rng(15);
+  const CalibratedRobot robot = random_calibrated("abb-irb120", rng);
+  const Compensator comp = make_compensator(robot);
+  // Out of reach: 2 m from the base.
+  Pose<double> far = comp.world_T_base;
+  far.p += comp.world_T_base.R * Eigen::Vector3d(2000, 0, 300);
+  EXPECT_EQ(calibrated_ik(comp, far, ArmConfig{}, Vector6d::Zero()).status,
+            CalibratedIkStatus::NoNominalSolution);
+  // Near the wrist singularity: whatever the status, a Converged answer reaches the pose.
+  int converged = 0, refused = 0;
+  for (int k = 0; k < 200; ++k) {
+    Vector6d q = random_joints(robot.model, rng);
+    q[4] = deg2rad(std::uniform_real_distribution<double>(-0.5, 0.5)(rng));
+    const Pose<double> wanted = calibrated_tcp_pose(comp.chain, q);
+    for (const IkMethod method : {IkMethod::Newton, IkMethod::PoseShift}) {
+      const CalibratedIkResult r =
+          calibrated_ik(comp, wanted, ArmConfig{false, false, q[4] < 0}, q, method);
+      if (r.ok()) {
+        const Pose<double> reached = calibrated_tcp_pose(comp.chain, r.joints);
+        EXPECT_LT((reached.p - wanted.p).norm(), 1e-6);
+        EXPECT_LT(rad2deg(angle_between(reached.R, wanted.R)), 1e-6);
+        ++converged;
+      } else {
+        EXPECT_NE(r.status, CalibratedIkStatus::Converged);
+        ++refused;
+      }
+    }
+  }
+  std::printf("within 0.5° of the wrist singularity: %d converged (verified), %d refused\n",
+              converged, refused);
+  // A robot without a closed-form nominal inverse is refused up front.
+  RobotModel bent = robot.model;
+  bent.mdh[2].alpha = deg2rad(10);
+  EXPECT_THROW(make_compensator(CalibratedRobot::nominal(bent, Tool{})), InputError);
+}
+
+}  // namespace
+}  // namespace robcal

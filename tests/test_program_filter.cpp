@@ -1,0 +1,240 @@
+// Program filtering: only the points' numbers change, every other byte stays (issue 7).
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <regex>
+#include <set>
+
+#include "robcal/compensate/program_filter.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "test_support.hpp"
+
+namespace robcal {
+namespace {
+
+std::vector<std::string> split_lines(const std::string& text) {
+  std::vector<std::string> lines;
+  size_t at = 0;
+  while (at <= text.size()) {
+    const size_t end = text.find('\n', at);
+    if (end == std::string::npos) {
+      lines.push_back(text.substr(at));
+      break;
+    }
+    lines.push_back(text.substr(at, end - at + 1));  // keeps "\r\n" / "\n" as written
+    at = end + 1;
+  }
+  return lines;
+}
+
+/// The line with every number literal replaced by '#': two lines that differ only in their
+/// numbers have the same skeleton.
+std::string skeleton(const std::string& line) {
+  static const std::regex number(R"(-?\d+(\.\d*)?([eE][-+]?\d+)?)");
+  return std::regex_replace(line, number, "#");
+}
+
+/// A known correction, independent of any robot: shift, small rotation about a skew axis,
+/// joints + 0.1°, and the first configuration value + 1 for points written with cf1 = -1.
+const Eigen::Vector3d kShift(0.5, -1.25, 2.0);
+Eigen::Matrix3d known_rotation() {
+  return Eigen::AngleAxisd(deg2rad(0.02), Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+}
+CorrectedPoint known_correction(const ProgramPoint& p) {
+  CorrectedPoint c;
+  c.base_T_tcp.p = p.base_T_tcp.p + kShift;
+  c.base_T_tcp.R = known_rotation() * p.base_T_tcp.R;
+  c.joints_deg = p.joints_deg + Vector6d::Constant(0.1);
+  c.config = p.config;
+  if (!c.config.empty() && c.config[0] == -1) c.config[0] = 0;
+  return c;
+}
+
+struct FilterCase {
+  std::string file;
+  bool joints;
+  std::set<int> changed_lines;  // 1-based, read off the sample files by hand
+  int cartesian, joint;
+};
+
+void check_filter(const FilterCase& fc) {
+  const std::string path = test::data_path("programs/" + fc.file);
+  const std::string text = read_text_file(path);
+  const ProgramLanguage language = program_language_from_path(path);
+  ProgramFilterOptions options;
+  options.joints = fc.joints;
+  const ProgramFilterResult result =
+      filter_program(text, language, path, options, known_correction);
+  EXPECT_EQ(result.cartesian_points, fc.cartesian);
+  EXPECT_EQ(result.joint_points, fc.joint);
+
+  const auto before = split_lines(text);
+  const auto after = split_lines(result.text);
+  ASSERT_EQ(before.size(), after.size());
+  for (size_t i = 0; i < before.size(); ++i) {
+    const int line = static_cast<int>(i) + 1;
+    if (fc.changed_lines.count(line)) {
+      EXPECT_NE(before[i], after[i]) << fc.file << ":" << line << " should change";
+      EXPECT_EQ(skeleton(before[i]), skeleton(after[i])) << fc.file << ":" << line;
+    } else {
+      EXPECT_EQ(before[i], after[i]) << fc.file << ":" << line << " must stay as written";
+    }
+  }
+
+  // The rewritten points read back as the known correction of the originals.
+  const auto old_points = read_program_points(text, language, path, options);
+  const auto new_points = read_program_points(result.text, language, path, options);
+  ASSERT_EQ(old_points.size(), new_points.size());
+  for (size_t i = 0; i < old_points.size(); ++i) {
+    const CorrectedPoint want = known_correction(old_points[i]);
+    const ProgramPoint& got = new_points[i];
+    EXPECT_EQ(got.line, old_points[i].line);
+    if (got.is_joint_target) {
+      EXPECT_LT((got.joints_deg - want.joints_deg).cwiseAbs().maxCoeff(), 1e-9);
+      continue;
+    }
+    EXPECT_LT((got.base_T_tcp.p - want.base_T_tcp.p).norm(), 1e-4) << got.line;
+    const Eigen::AngleAxisd diff(got.base_T_tcp.R.transpose() * want.base_T_tcp.R);
+    // RAPID: 9-decimal quaternions; KRL: 5-decimal degrees.
+    EXPECT_LT(rad2deg(std::abs(diff.angle())), 2e-5) << got.line;
+    EXPECT_EQ(got.config, want.config) << got.line;
+  }
+}
+
+TEST(ProgramFilter, RapidOnlyRobtargetLinesChange) {
+  check_filter({"pick_place.mod", false, {5, 6, 7, 9, 10, 20}, 6, 0});
+}
+
+TEST(ProgramFilter, RapidJointTargetsWhenAsked) {
+  check_filter({"pick_place.mod", true, {5, 6, 7, 9, 10, 11, 20, 23}, 6, 2});
+}
+
+TEST(ProgramFilter, KrlDatPointsChangeFramesStay) {
+  check_filter({"weld_seam.dat", false, {4, 6, 7, 11}, 4, 0});
+  check_filter({"weld_seam.dat", true, {4, 6, 7, 9, 11}, 4, 1});
+}
+
+TEST(ProgramFilter, KrlSrcInlinePointsChange) {
+  check_filter({"weld_seam.src", false, {4, 7}, 2, 0});
+  check_filter({"weld_seam.src", true, {4, 7, 8}, 2, 1});
+}
+
+TEST(ProgramFilter, IdentityCorrectionKeepsEveryByte) {
+  for (const char* file : {"pick_place.mod", "weld_seam.dat", "weld_seam.src"}) {
+    const std::string path = test::data_path(std::string("programs/") + file);
+    const std::string text = read_text_file(path);
+    ProgramFilterOptions options;
+    options.joints = true;
+    const auto result = filter_program(
+        text, program_language_from_path(path), path, options, [](const ProgramPoint& p) {
+          return CorrectedPoint{p.base_T_tcp, p.config, p.joints_deg, ""};
+        });
+    EXPECT_EQ(result.text, text) << file;
+  }
+}
+
+TEST(ProgramFilter, ReadsValuesAsWritten) {
+  const std::string path = test::data_path("programs/pick_place.mod");
+  const auto points = read_program_points(read_text_file(path), ProgramLanguage::Rapid, path);
+  ASSERT_EQ(points.size(), 6u);
+  EXPECT_EQ(points[1].name, "pPick");
+  EXPECT_EQ(points[1].line, 6);
+  EXPECT_NEAR(points[1].base_T_tcp.p.x(), 400.5, 1e-12);
+  EXPECT_NEAR(points[1].base_T_tcp.p.y(), -120.25, 1e-12);
+  EXPECT_EQ(points[1].config, (std::vector<int>{-1, 0, 0, 0}));
+  // q = (0, √½, √½, 0): a half turn about (1,1,0)/√2 maps x to y.
+  EXPECT_NEAR((points[1].base_T_tcp.R * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(),
+              0, 1e-6);
+  EXPECT_EQ(points[3].name, "pPath{1}");
+  EXPECT_EQ(points[4].name, "pPath{2}");
+  EXPECT_EQ(points[5].name, "");  // inline in MoveL
+
+  const std::string dat = test::data_path("programs/weld_seam.dat");
+  const auto krl = read_program_points(read_text_file(dat), ProgramLanguage::Krl, dat);
+  ASSERT_EQ(krl.size(), 4u);
+  EXPECT_EQ(krl[1].config, (std::vector<int>{2, 10}));  // 'B010', 'B1010'
+  EXPECT_EQ(krl[3].name, "XSEAM[1]");
+  // A -45, B 60, C 170 → R = Rz(-45)·Ry(60)·Rx(170).
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(deg2rad(-45), Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(deg2rad(60), Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(deg2rad(170), Eigen::Vector3d::UnitX()))
+                                .toRotationMatrix();
+  EXPECT_LT((krl[1].base_T_tcp.R - R).norm(), 1e-12);
+}
+
+/// The error message of filtering `text`, or "" when it is accepted.
+std::string filter_error(const std::string& text, ProgramLanguage language) {
+  try {
+    filter_program(text, language, "bad.prg", {}, known_correction);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ProgramFilter, RefusesWhatItCannotCorrectNamingLineAndColumn) {
+  const auto rapid = ProgramLanguage::Rapid;
+  EXPECT_EQ(filter_error("MODULE m\n  CONST robtarget p:=[[x0,0,0],[1,0,0,0],[0,0,0,0],"
+                         "[9E9,9E9,9E9,9E9,9E9,9E9]];\nENDMODULE\n",
+                         rapid),
+            "bad.prg:2:22: 'p' is declared robtarget but its value is not a literal "
+            "[[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[e1,...,e6]]");
+  EXPECT_NE(filter_error(
+                "MODULE m\nPROC main()\n  MoveL p10, v100, fine, tool0\\WObj:=wobjTable;\n", rapid)
+                .find("bad.prg:3:38: targets relative to work object 'wobjTable'"),
+            std::string::npos);
+  EXPECT_NE(filter_error("MODULE m\n  MoveL [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]"
+                         ", v100, fine, tool0;\n",
+                         rapid)
+                .find("bad.prg:2:82: expected ',' or ']', found ';'"),
+            std::string::npos);
+  EXPECT_NE(
+      filter_error("CONST robtarget p:=[[1,2,3],[0.9,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];",
+                   rapid)
+          .find("bad.prg:1:29: quaternion"),
+      std::string::npos);
+  EXPECT_NE(
+      filter_error("CONST string s:=\"never closed;\n", rapid).find("bad.prg:1:17: unterminated"),
+      std::string::npos);
+  const auto krl = ProgramLanguage::Krl;
+  EXPECT_NE(
+      filter_error("DEF p()\n  LIN {X 100, Y 0}\nEND\n", krl).find("bad.prg:2:7: point has no Z"),
+      std::string::npos);
+  EXPECT_NE(filter_error("DECL E6POS P1={X 1,Y 2,Z 3,A 0,B 0,C $VAR,S 2,T 2}\n", krl)
+                .find("bad.prg:1:38: C is not a number literal"),
+            std::string::npos);
+  EXPECT_NE(
+      filter_error("DECL POS P1={X 1,Y 2,Z 3,A 0,B 0,C 0,S 2}\n", krl).find("only one of S and T"),
+      std::string::npos);
+  // A relative motion and a frame are not points: accepted untouched.
+  EXPECT_EQ(filter_error(
+                "DEF p()\n  LIN_REL {Z 50}\n  DECL FRAME F={X 1,Y 2,Z 3,A 0,B 0,C 0}\nEND\n", krl),
+            "");
+}
+
+TEST(ProgramFilter, CorrectorFailureNamesThePoint) {
+  const std::string text =
+      "CONST robtarget pFar:=[[5000,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n";
+  try {
+    filter_program(text, ProgramLanguage::Rapid, "far.mod", {}, [](const ProgramPoint&) {
+      CorrectedPoint c;
+      c.failure = "out of reach";
+      return c;
+    });
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "far.mod:1:23 (pFar): out of reach");
+  }
+}
+
+TEST(ProgramFilter, LanguageFromExtension) {
+  EXPECT_EQ(program_language_from_path("a/b/MAIN.MOD"), ProgramLanguage::Rapid);
+  EXPECT_EQ(program_language_from_path("x.dat"), ProgramLanguage::Krl);
+  EXPECT_THROW(program_language_from_path("x.txt"), InputError);
+}
+
+}  // namespace
+}  // namespace robcal
