@@ -49,11 +49,13 @@ TEST(ForwardKinematics, TrueRobotWithComplianceMatchesReferenceCases) {
   const auto cases = test::read_csv(test::data_path("irb120-published/fk_cases.csv"));
   double worst = 0;
   for (size_t r = 0; r < cases.rows.size(); ++r) {
-    const Pose<double> pose = flange_pose(truth.model, tool.payload, truth.params, joints_of(cases, r));
-    const Eigen::Vector3d expected(cases.at(r, "true_x"), cases.at(r, "true_y"), cases.at(r, "true_z"));
+    const Pose<double> pose =
+        flange_pose(truth.model, tool.payload, truth.params, joints_of(cases, r));
+    const Eigen::Vector3d expected(cases.at(r, "true_x"), cases.at(r, "true_y"),
+                                   cases.at(r, "true_z"));
     worst = std::max(worst, (pose.p - expected).norm());
-    const Eigen::Quaterniond q(cases.at(r, "true_qw"), cases.at(r, "true_qx"), cases.at(r, "true_qy"),
-                               cases.at(r, "true_qz"));
+    const Eigen::Quaterniond q(cases.at(r, "true_qw"), cases.at(r, "true_qx"),
+                               cases.at(r, "true_qy"), cases.at(r, "true_qz"));
     EXPECT_LT(rotation_distance(pose.R, q.toRotationMatrix()), 1e-9) << "case " << r;
     for (int k = 1; k <= 3; ++k) {
       const Eigen::Vector3d target = pose * tool.targets[k - 1].position_mm;
@@ -78,7 +80,8 @@ mdh:
   - [-90, 0, 0, 115.7]
   - [90, 0, 180, 92.2]
 joint_limits_deg: [[-360,360],[-360,360],[-360,360],[-360,360],[-360,360],[-360,360]]
-)", "inline");
+)",
+                                "inline");
   const RobotModel model = parse_robot(root);
   std::ifstream in(test::data_path("pybotics/ur10-joints-poses.csv"));
   ASSERT_TRUE(in.good());
@@ -119,20 +122,24 @@ TEST(ForwardKinematics, JetDerivativesMatchFiniteDifferences) {
     for (int i = 0; i < kJointCount; ++i) x[kParameterCount + i] = angle(rng);
     std::array<Jet, N> xj;
     for (int i = 0; i < N; ++i) xj[i] = Jet(x[i], i);
-    const Pose<Jet> pose = flange_pose<Jet>(truth.model, tool.payload, xj.data(), xj.data() + kParameterCount);
+    const Pose<Jet> pose =
+        flange_pose<Jet>(truth.model, tool.payload, xj.data(), xj.data() + kParameterCount);
     const Vector3<Jet> p = pose * t.cast<Jet>();
     Eigen::MatrixXd J_ad(3, N);
     for (int r = 0; r < 3; ++r) J_ad.row(r) = p[r].v.transpose();
     auto f = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd {
-      const Pose<double> q = flange_pose<double>(truth.model, tool.payload, y.data(), y.data() + kParameterCount);
+      const Pose<double> q =
+          flange_pose<double>(truth.model, tool.payload, y.data(), y.data() + kParameterCount);
       return q * t;
     };
     const Eigen::MatrixXd J_fd = test::numerical_jacobian(f, x, 1e-7);
     for (int c = 0; c < N; ++c) {
       // Compliance columns are ~1e9 mm per unit: compare relative to the column's size.
       const double scale = std::max(1.0, J_ad.col(c).norm());
-      EXPECT_LT((J_ad.col(c) - J_fd.col(c)).norm() / scale, c >= kComplianceOffset && c < kScaleOffset ? 1e-4 : 1e-5)
-          << "column " << parameter_table()[std::min(c, kParameterCount - 1)].name << " trial " << trial;
+      EXPECT_LT((J_ad.col(c) - J_fd.col(c)).norm() / scale,
+                c >= kComplianceOffset && c < kScaleOffset ? 1e-4 : 1e-5)
+          << "column " << parameter_table()[std::min(c, kParameterCount - 1)].name << " trial "
+          << trial;
     }
   }
 }

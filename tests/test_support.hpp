@@ -104,6 +104,8 @@ inline Eigen::MatrixXd numerical_jacobian(
 }
 
 /// Seeded generator; tests print the seed on failure through SCOPED_TRACE.
-inline std::mt19937_64 seeded_rng(uint64_t seed) { return std::mt19937_64(seed); }
+inline std::mt19937_64 seeded_rng(uint64_t seed) {
+  return std::mt19937_64(seed);
+}
 
 }  // namespace robcal::test

@@ -2,8 +2,8 @@
 
 #include <unistd.h>
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
@@ -21,20 +21,21 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
     ++column;
     const auto first = item.find_first_not_of(" \t");
     const auto last = item.find_last_not_of(" \t");
-    const std::string trimmed = first == std::string::npos ? "" : item.substr(first, last - first + 1);
+    const std::string trimmed =
+        first == std::string::npos ? "" : item.substr(first, last - first + 1);
     try {
       size_t used = 0;
       const double v = std::stod(trimmed, &used);
       if (used != trimmed.size() || !std::isfinite(v)) throw std::invalid_argument(trimmed);
       values.push_back(v);
     } catch (const std::exception&) {
-      throw InputError({"", 0, 0, what}, fmt::format("value {} is '{}', expected a finite number",
-                                                     column, trimmed));
+      throw InputError({"", 0, 0, what},
+                       fmt::format("value {} is '{}', expected a finite number", column, trimmed));
     }
   }
   if (count >= 0 && static_cast<int>(values.size()) != count)
-    throw InputError({"", 0, 0, what},
-                     fmt::format("expected {} comma-separated values, got {}", count, values.size()));
+    throw InputError({"", 0, 0, what}, fmt::format("expected {} comma-separated values, got {}",
+                                                   count, values.size()));
   return values;
 }
 
@@ -45,9 +46,13 @@ Vector6d parse_joints_deg(const std::string& text, const std::string& what) {
   return q;
 }
 
-void print_json(const nlohmann::json& value) { std::cout << value.dump(2) << std::endl; }
+void print_json(const nlohmann::json& value) {
+  std::cout << value.dump(2) << std::endl;
+}
 
-bool stdout_is_terminal() { return ::isatty(STDOUT_FILENO) != 0; }
+bool stdout_is_terminal() {
+  return ::isatty(STDOUT_FILENO) != 0;
+}
 
 double tidy(double value, int decimals) {
   const double scale = std::pow(10.0, decimals);

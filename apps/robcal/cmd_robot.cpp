@@ -78,8 +78,8 @@ void run_fk(const std::string& robot, const std::string& joints_text, bool json)
     out["joints_deg"] = parse_numbers(joints_text, kJointCount, "--joints");
     out["position_mm"] = {tidy(pose.p.x()), tidy(pose.p.y()), tidy(pose.p.z())};
     out["quaternion_wxyz"] = {tidy(q.w(), 12), tidy(q.x(), 12), tidy(q.y(), 12), tidy(q.z(), 12)};
-    out["euler_deg"] = {{labels[0], tidy(euler[0])}, {labels[1], tidy(euler[1])},
-                        {labels[2], tidy(euler[2])}};
+    out["euler_deg"] = {
+        {labels[0], tidy(euler[0])}, {labels[1], tidy(euler[1])}, {labels[2], tidy(euler[2])}};
     print_json(out);
     return;
   }

@@ -1,8 +1,8 @@
 /// robcal: the command-line program. Each command lives in its own cmd_*.cpp and registers
 /// itself; this file only runs CLI11 and turns errors into messages and exit codes.
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <iostream>

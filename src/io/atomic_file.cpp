@@ -30,13 +30,16 @@ void write_file_atomically(const std::filesystem::path& path, std::string_view c
   fs::rename(tmp, path, ec);
   if (ec) {
     fs::remove(tmp, ec);
-    throw InputError(SourceLocation{path.string(), 0, 0, ""}, "cannot replace the file: " + ec.message());
+    throw InputError(SourceLocation{path.string(), 0, 0, ""},
+                     "cannot replace the file: " + ec.message());
   }
 }
 
 std::string read_text_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path.string(), 0, 0, ""}, "cannot open for reading (does it exist?)");
+  if (!in)
+    throw InputError(SourceLocation{path.string(), 0, 0, ""},
+                     "cannot open for reading (does it exist?)");
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();

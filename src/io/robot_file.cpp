@@ -34,9 +34,9 @@ RobotModel load_robot(const std::string& name_or_path) {
   if (fs::exists(name_or_path)) return parse_robot(yaml::load_file(name_or_path));
   std::string known;
   for (const auto& n : builtin_robot_names()) known += (known.empty() ? "" : ", ") + n;
-  throw InputError({"", 0, 0, "--robot"},
-                   fmt::format("unknown robot '{}': not a built-in robot ({}) nor a file",
-                               name_or_path, known));
+  throw InputError(
+      {"", 0, 0, "--robot"},
+      fmt::format("unknown robot '{}': not a built-in robot ({}) nor a file", name_or_path, known));
 }
 
 namespace {
@@ -45,7 +45,8 @@ EulerConvention parse_euler(const yaml::Node& node) {
   const std::string text = node.as_string();
   if (text == "ZYX" || text == "zyx" || text == "ABC") return EulerConvention::ZyxABC;
   if (text == "WPR" || text == "wpr" || text == "XYZ") return EulerConvention::XyzWPR;
-  throw node.error(fmt::format("unknown Euler convention '{}': expected ZYX (ABB, KUKA) or WPR (Fanuc)", text));
+  throw node.error(
+      fmt::format("unknown Euler convention '{}': expected ZYX (ABB, KUKA) or WPR (Fanuc)", text));
 }
 
 }  // namespace
@@ -125,7 +126,8 @@ void emit_robot_fields(YAML::Emitter& out, const RobotModel& model) {
   out << YAML::Key << "mdh" << YAML::Comment("alpha_deg, a_mm, theta_offset_deg, d_mm")
       << YAML::Value << YAML::BeginSeq;
   for (const MdhRow& row : model.mdh)
-    out << YAML::Flow << std::vector<double>{rad2deg(row.alpha), row.a, rad2deg(row.theta_offset), row.d};
+    out << YAML::Flow
+        << std::vector<double>{rad2deg(row.alpha), row.a, rad2deg(row.theta_offset), row.d};
   out << YAML::EndSeq;
   out << YAML::Key << "joint_limits_deg" << YAML::Value << YAML::BeginSeq;
   for (const JointLimit& lim : model.limits)
@@ -142,7 +144,8 @@ void emit_robot_fields(YAML::Emitter& out, const RobotModel& model) {
   }
   out << YAML::EndMap;
   out << YAML::Key << "gravity_m_s2" << YAML::Value << YAML::Flow
-      << std::vector<double>{model.gravity_m_s2.x(), model.gravity_m_s2.y(), model.gravity_m_s2.z()};
+      << std::vector<double>{model.gravity_m_s2.x(), model.gravity_m_s2.y(),
+                             model.gravity_m_s2.z()};
   if (!model.joint_map.is_identity()) {
     out << YAML::Key << "joint_map" << YAML::Value << YAML::BeginMap << YAML::Key << "matrix"
         << YAML::Value << YAML::BeginSeq;
@@ -192,8 +195,8 @@ Tool parse_tool(const yaml::Node& root) {
       const auto q = tcp.at("quaternion_wxyz").as_doubles(4);
       Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
       if (std::abs(quat.norm() - 1.0) > 1e-6)
-        throw tcp.at("quaternion_wxyz").error(
-            fmt::format("quaternion must have unit norm, has {:.9f}", quat.norm()));
+        throw tcp.at("quaternion_wxyz")
+            .error(fmt::format("quaternion must have unit norm, has {:.9f}", quat.norm()));
       T.linear() = quat.normalized().toRotationMatrix();
     }
     tool.flange_T_tcp = T;
@@ -201,7 +204,9 @@ Tool parse_tool(const yaml::Node& root) {
   return tool;
 }
 
-Tool load_tool(const std::string& path) { return parse_tool(yaml::load_file(path)); }
+Tool load_tool(const std::string& path) {
+  return parse_tool(yaml::load_file(path));
+}
 
 std::string tool_to_yaml(const Tool& tool) {
   YAML::Emitter out;
@@ -209,13 +214,15 @@ std::string tool_to_yaml(const Tool& tool) {
   out << YAML::BeginMap;
   out << YAML::Key << "payload" << YAML::Value << YAML::BeginMap << YAML::Key << "mass_kg"
       << YAML::Value << tool.payload.mass_kg << YAML::Key << "cog_mm" << YAML::Value << YAML::Flow
-      << std::vector<double>{tool.payload.cog_mm.x(), tool.payload.cog_mm.y(), tool.payload.cog_mm.z()}
+      << std::vector<double>{tool.payload.cog_mm.x(), tool.payload.cog_mm.y(),
+                             tool.payload.cog_mm.z()}
       << YAML::EndMap;
   out << YAML::Key << "targets" << YAML::Value << YAML::BeginMap;
   for (const Target& t : tool.targets) {
     out << YAML::Key << YAML::DoubleQuoted << t.name << YAML::Value;
     if (t.known)
-      out << YAML::Flow << std::vector<double>{t.position_mm.x(), t.position_mm.y(), t.position_mm.z()};
+      out << YAML::Flow
+          << std::vector<double>{t.position_mm.x(), t.position_mm.y(), t.position_mm.z()};
     else
       out << YAML::Null;
   }

@@ -1,7 +1,7 @@
 #include "robcal/io/yaml_support.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 #include "robcal/io/atomic_file.hpp"
 
@@ -96,11 +96,12 @@ Node parse(const std::string& text, const std::string& file) {
   try {
     return {YAML::Load(text), file, ""};
   } catch (const YAML::Exception& e) {
-    throw InputError({file, e.mark.line + 1, e.mark.column + 1, ""},
-                     "YAML syntax error: " + e.msg);
+    throw InputError({file, e.mark.line + 1, e.mark.column + 1, ""}, "YAML syntax error: " + e.msg);
   }
 }
 
-Node load_file(const std::string& path) { return parse(read_text_file(path), path); }
+Node load_file(const std::string& path) {
+  return parse(read_text_file(path), path);
+}
 
 }  // namespace robcal::yaml

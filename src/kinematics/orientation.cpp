@@ -1,7 +1,7 @@
 #include "robcal/kinematics/orientation.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
@@ -32,8 +32,9 @@ Eigen::Vector3d euler_angles_deg(const Eigen::Matrix3d& R, EulerConvention conve
 }
 
 Eigen::Matrix3d rotation_from_euler_deg(const Eigen::Vector3d& angles, EulerConvention convention) {
-  const Eigen::Vector3d abc =
-      convention == EulerConvention::ZyxABC ? angles : Eigen::Vector3d(angles[2], angles[1], angles[0]);
+  const Eigen::Vector3d abc = convention == EulerConvention::ZyxABC
+                                  ? angles
+                                  : Eigen::Vector3d(angles[2], angles[1], angles[0]);
   return (Eigen::AngleAxisd(deg2rad(abc[0]), Eigen::Vector3d::UnitZ()) *
           Eigen::AngleAxisd(deg2rad(abc[1]), Eigen::Vector3d::UnitY()) *
           Eigen::AngleAxisd(deg2rad(abc[2]), Eigen::Vector3d::UnitX()))
@@ -45,11 +46,13 @@ std::array<std::string, 3> euler_labels(EulerConvention convention) {
   return {"W", "P", "R"};
 }
 
-Pose<double> pose_from_position_quaternion(const Eigen::Vector3d& p_mm, const Eigen::Vector4d& q_wxyz) {
+Pose<double> pose_from_position_quaternion(const Eigen::Vector3d& p_mm,
+                                           const Eigen::Vector4d& q_wxyz) {
   const double norm = q_wxyz.norm();
   if (!std::isfinite(norm) || std::abs(norm - 1.0) > 1e-6)
     throw InputError(fmt::format("quaternion (w,x,y,z) must have unit norm, has {:.9f}", norm));
-  const Eigen::Quaterniond q(q_wxyz[0] / norm, q_wxyz[1] / norm, q_wxyz[2] / norm, q_wxyz[3] / norm);
+  const Eigen::Quaterniond q(q_wxyz[0] / norm, q_wxyz[1] / norm, q_wxyz[2] / norm,
+                             q_wxyz[3] / norm);
   Pose<double> pose;
   pose.R = q.toRotationMatrix();
   pose.p = p_mm;

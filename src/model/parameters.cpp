@@ -6,7 +6,9 @@
 
 namespace robcal {
 
-double ParameterInfo::to_external() const { return kind == ParamKind::Angle ? kRadToDeg : 1.0; }
+double ParameterInfo::to_external() const {
+  return kind == ParamKind::Angle ? kRadToDeg : 1.0;
+}
 
 const std::array<ParameterInfo, kParameterCount>& parameter_table() {
   static const std::array<ParameterInfo, kParameterCount> table = [] {

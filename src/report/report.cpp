@@ -176,7 +176,7 @@ void flatten(const nlohmann::json& value, const std::string& prefix, std::string
 }
 
 // The page. Tables are static HTML (readable even without scripts); the charts are drawn by
-// Chart.js from the embedded data. Placeholders: @TITLE@, @SUBTITLE@, @SUMMARY@, @TARGETS@,
+// Chart.js from the embedded data. Markers: @TITLE@, @SUBTITLE@, @SUMMARY@, @TARGETS@,
 // @PARAMETERS@, @DIAGNOSTICS@, @NOTES@, @DATA@, @CHARTJS@.
 constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
 <html lang="en">
@@ -396,7 +396,7 @@ std::string report_html(const nlohmann::json& report, std::string_view chartjs) 
   std::string notes;
   for (const auto& n : report["notes"])
     notes += "<p>" + html_escape(n.get<std::string>()) + "</p>\n";
-  // The data and the library go in last so that their text is never searched for placeholders.
+  // The data and the library go in last so that their text is never searched for markers.
   replace_all(page, "@TITLE@", title);
   replace_all(page, "@SUBTITLE@", subtitle);
   replace_all(page, "@SUMMARY@", summary_rows_html(report["models"]));

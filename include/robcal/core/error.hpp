@@ -11,9 +11,9 @@ namespace robcal {
 /// Where a piece of user input came from. Empty/zero fields are simply not printed.
 struct SourceLocation {
   std::string file;
-  int line = 0;    ///< 1-based, 0 when unknown
-  int column = 0;  ///< 1-based, 0 when unknown
-  std::string key; ///< YAML key path, CSV column name or CLI flag
+  int line = 0;     ///< 1-based, 0 when unknown
+  int column = 0;   ///< 1-based, 0 when unknown
+  std::string key;  ///< YAML key path, CSV column name or CLI flag
 
   /// "file:line:column (key)" with the unknown parts left out.
   [[nodiscard]] std::string describe() const;

@@ -97,12 +97,12 @@ std::array<T, kJointCount> model_joint_angles(const RobotModel& model, const T* 
 }
 
 /// Static gravity torques τ_2..τ_6 (N·mm) about joint axes 2..6 for undeflected joint angles
-/// `theta` (rad, θ_i of links 1..6 before compliance), METHOD §3: τ_i = (Σ_{j≥i} m_j u_j^i × g_i)_z.
-/// Computed tip to base with the first moment S_i = Σ_{j≥i} m_j u_j^i, so it is O(n).
+/// `theta` (rad, θ_i of links 1..6 before compliance), METHOD §3: τ_i = (Σ_{j≥i} m_j u_j^i ×
+/// g_i)_z. Computed tip to base with the first moment S_i = Σ_{j≥i} m_j u_j^i, so it is O(n).
 /// `payload` (flange frame) is lumped with link 6.
 template <typename T>
-std::array<T, 5> gravity_torques(const RobotModel& model, const PointMass& payload,
-                                 const T* params, const std::array<T, kJointCount>& theta) {
+std::array<T, 5> gravity_torques(const RobotModel& model, const PointMass& payload, const T* params,
+                                 const std::array<T, kJointCount>& theta) {
   // Relative transforms A_2..A_6 with the undeflected angles.
   std::array<Pose<T>, kJointCount> A;  // A[i] = A_{i+1}, frame i -> i+1 (0-based: A[1] = A_2)
   for (int link = 2; link <= kJointCount; ++link)
@@ -114,7 +114,8 @@ std::array<T, 5> gravity_torques(const RobotModel& model, const PointMass& paylo
   g[0] = detail::base_transform(params, T(0), theta[0]).R.transpose() *
          model.gravity_m_s2.template cast<T>();
   for (int i = 1; i < kJointCount; ++i) g[i] = A[i].R.transpose() * g[i - 1];
-  // First moments from the tip: S_6 = m_6 u_6 + m_p u_p; S_i = m_i u_i + A_{i+1}·(S_{i+1}, M_{i+1}).
+  // First moments from the tip: S_6 = m_6 u_6 + m_p u_p; S_i = m_i u_i + A_{i+1}·(S_{i+1},
+  // M_{i+1}).
   Vector3<T> S = (model.link_masses[5].mass_kg * model.link_masses[5].cog_mm +
                   payload.mass_kg * payload.cog_mm)
                      .template cast<T>();

@@ -27,7 +27,8 @@ std::array<std::string, 3> euler_labels(EulerConvention convention);
 
 /// A pose from position (mm) and quaternion (w, x, y, z); the quaternion must be unit within
 /// 1e-6 (InputError otherwise) and is normalised.
-Pose<double> pose_from_position_quaternion(const Eigen::Vector3d& p_mm, const Eigen::Vector4d& q_wxyz);
+Pose<double> pose_from_position_quaternion(const Eigen::Vector3d& p_mm,
+                                           const Eigen::Vector4d& q_wxyz);
 
 /// Rotation angle (rad) of R_a^T R_b: the orientation distance of two rotations.
 double rotation_distance(const Eigen::Matrix3d& Ra, const Eigen::Matrix3d& Rb);

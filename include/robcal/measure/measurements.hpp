@@ -55,9 +55,12 @@ struct MeasurementSet {
 
   [[nodiscard]] size_t size() const {
     switch (kind) {
-      case MeasurementKind::Points: return points.size();
-      case MeasurementKind::Poses: return poses.size();
-      case MeasurementKind::Distances: return distances.size();
+      case MeasurementKind::Points:
+        return points.size();
+      case MeasurementKind::Poses:
+        return poses.size();
+      case MeasurementKind::Distances:
+        return distances.size();
     }
     return 0;
   }

@@ -27,19 +27,25 @@ inline constexpr int kScaleOffset = 31;
 inline constexpr int kParameterCount = 37;
 
 /// Index of MDH quantity k (0 alpha, 1 a, 2 theta, 3 d) of link i (2..6).
-constexpr int link_param(int link, int k) { return kLinkParamOffset + 4 * (link - 2) + k; }
+constexpr int link_param(int link, int k) {
+  return kLinkParamOffset + 4 * (link - 2) + k;
+}
 /// Index of the compliance of joint i (2..6).
-constexpr int compliance_param(int joint) { return kComplianceOffset + (joint - 2); }
+constexpr int compliance_param(int joint) {
+  return kComplianceOffset + (joint - 2);
+}
 /// Index of the scale of joint i (1..6).
-constexpr int scale_param(int joint) { return kScaleOffset + (joint - 1); }
+constexpr int scale_param(int joint) {
+  return kScaleOffset + (joint - 1);
+}
 
 enum class ParamKind { Length, Angle, Compliance, Scale };
 
 /// Name, kind and external unit of one parameter of the layout.
 struct ParameterInfo {
-  std::string name;   ///< stable dotted name, e.g. "link3.a", "joint5.compliance"
+  std::string name;  ///< stable dotted name, e.g. "link3.a", "joint5.compliance"
   ParamKind kind;
-  std::string unit;   ///< external unit: "mm", "deg", "rad/N·mm", "1"
+  std::string unit;  ///< external unit: "mm", "deg", "rad/N·mm", "1"
   /// Factor from internal to external units (1 for mm, 180/π for angles).
   [[nodiscard]] double to_external() const;
 };

@@ -36,9 +36,7 @@ struct PointMass {
 struct JointMap {
   Matrix6d matrix = Matrix6d::Identity();
   Vector6d offset = Vector6d::Zero();  ///< rad
-  [[nodiscard]] bool is_identity() const {
-    return matrix.isIdentity(0.0) && offset.isZero(0.0);
-  }
+  [[nodiscard]] bool is_identity() const { return matrix.isIdentity(0.0) && offset.isZero(0.0); }
   /// Model joint angles from controller joint values (both rad).
   [[nodiscard]] Vector6d to_model(const Vector6d& controller) const {
     return matrix * controller + offset;
@@ -69,7 +67,7 @@ struct RobotModel {
   std::array<JointLimit, kJointCount> limits{};
   JointMap joint_map;
   std::array<PointMass, kJointCount> link_masses{};  ///< links 1..6, CoG in the link frame
-  Eigen::Vector3d gravity_m_s2{0, 0, -9.81};  ///< in the world (measurement) frame, levelled
+  Eigen::Vector3d gravity_m_s2{0, 0, -9.81};         ///< in the world (measurement) frame, levelled
 
   /// Nominal parameter vector (METHOD §3 layout, internal units).
   [[nodiscard]] ParameterVector nominal() const;
