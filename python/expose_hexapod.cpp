@@ -38,16 +38,6 @@ TriangleSides sides(const std::array<double, 3>& d) {
   return {d[0], d[1], d[2]};
 }
 
-/// Bad input raises ValueError in Python (InputError is a runtime_error in C++).
-template <typename F>
-auto checked(F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const InputError& e) {
-    throw py::value_error(e.what());
-  }
-}
-
 const bool registered = register_bindings(60, [](py::module_& m) {
   auto h = m.def_submodule("hexapod", "The ballbar hexapod of METHOD §8 (mm)");
   h.def(

@@ -19,16 +19,6 @@ namespace py = pybind11;
 namespace robcal::python {
 namespace {
 
-/// Runs f, turning bad input into Python's ValueError.
-template <typename F>
-auto checked(F&& f) {
-  try {
-    return f();
-  } catch (const InputError& e) {
-    throw py::value_error(e.what());
-  }
-}
-
 IdentifyOptions make_options(const std::string& level, const std::vector<std::string>& identify,
                              const std::vector<std::string>& fix, const std::string& loss,
                              uint64_t seed) {
@@ -70,11 +60,6 @@ MeasurementSet points_from_arrays(const Tool& tool, const Eigen::MatrixXd& joint
   return set;
 }
 
-const char* status_name(ParameterStatus s) {
-  return s == ParameterStatus::Identified ? "identified"
-         : s == ParameterStatus::Dropped  ? "dropped"
-                                          : "fixed";
-}
 
 const bool registered = register_bindings(30, [](py::module_& m) {
   py::class_<SolverStatus>(m, "SolverStatus", "How the least-squares solver ended")

@@ -19,16 +19,6 @@ namespace py = pybind11;
 namespace robcal::python {
 namespace {
 
-/// Runs `f`, turning input errors into ValueError.
-template <typename F>
-auto checked(F&& f) {
-  try {
-    return f();
-  } catch (const InputError& e) {
-    throw py::value_error(e.what());
-  }
-}
-
 py::dict statistics_dict(const ErrorStatistics& s) {
   py::dict d;
   d["count"] = s.count;

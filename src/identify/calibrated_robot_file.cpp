@@ -8,8 +8,6 @@
 #include "robcal/io/yaml_support.hpp"
 
 namespace robcal {
-namespace {
-
 const char* status_name(ParameterStatus status) {
   switch (status) {
     case ParameterStatus::Identified:
@@ -21,6 +19,8 @@ const char* status_name(ParameterStatus status) {
   }
   return "";
 }
+
+namespace {
 
 ParameterStatus parse_status(const yaml::Node& node) {
   const std::string text = node.as_string();

@@ -21,18 +21,6 @@ namespace {
 
 constexpr int kHistogramBins = 20;
 
-const char* status_name(ParameterStatus status) {
-  switch (status) {
-    case ParameterStatus::Identified:
-      return "identified";
-    case ParameterStatus::Fixed:
-      return "fixed";
-    case ParameterStatus::Dropped:
-      return "dropped";
-  }
-  return "";
-}
-
 nlohmann::json summary_json(std::span<const double> errors) {
   const ErrorStatistics s = error_statistics(errors);
   return {{"count", s.count},

@@ -16,6 +16,9 @@ namespace robcal {
 /// Why a parameter was not identified.
 enum class ParameterStatus { Identified, Fixed, Dropped };
 
+/// "identified", "fixed" or "dropped", as written in model files and reports.
+const char* status_name(ParameterStatus status);
+
 struct CalibratedRobot {
   RobotModel model;
   ParameterVector params = ParameterVector::Zero();  ///< values in use (internal units)
