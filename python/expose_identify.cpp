@@ -60,7 +60,6 @@ MeasurementSet points_from_arrays(const Tool& tool, const Eigen::MatrixXd& joint
   return set;
 }
 
-
 const bool registered = register_bindings(30, [](py::module_& m) {
   py::class_<SolverStatus>(m, "SolverStatus", "How the least-squares solver ended")
       .def_readonly("converged", &SolverStatus::converged)
