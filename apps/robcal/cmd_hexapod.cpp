@@ -326,6 +326,9 @@ nlohmann::json plan_json(const RobotModel& model, const HexapodGeometry& g, cons
   out["geometry"] = {{"base_sides_mm", g.base.as_array()}, {"tool_sides_mm", g.tool.as_array()}};
   out["placement"] = o.placement;
   out["tool_offset_mm"] = o.tool_offset_mm;
+  out["ball_offset_mm"] = o.ball_offset_mm;
+  out["table_z_mm"] = o.table_z_mm;
+  out["tool_mount"] = pose_json(default_tool_mount(g.tool, o.tool_offset_mm));
   out["setting_ball"] = setup_json(model, o.rough_placement(), g.leg_mm, o.ball_offset_mm);
   out["poses_enumerated"] = enumerated;
   out["poses_kept"] = summary.poses.size();
@@ -345,6 +348,7 @@ nlohmann::json plan_json(const RobotModel& model, const HexapodGeometry& g, cons
                             {"rejected_fixture", p.rejected_fixture}});
     for (const PoseConfiguration& c : p.configurations)
       out["configurations"].push_back({{"pose", p.pose.label},
+                                       {"mode", p.pose.mode},
                                        {"labels", c.config.label()},
                                        {"joints_deg", joints_json(c.joints)},
                                        {"legs", legs}});

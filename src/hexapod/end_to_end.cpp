@@ -14,17 +14,10 @@
 namespace robcal::hexapod {
 namespace {
 
-/// The validation set: random configurations and the tracker's readings of one point on the tool
-/// (the tool fixture's centroid), in the world frame (the tracker registered on the base cups).
-struct ValidationSet {
-  std::vector<Vector6d> joints;
-  Eigen::Matrix3Xd measured;
-};
-
 /// Errors of a model whose robot frame sits at `robot_T_world` (relative model).
 ValidationFigures validate(const RobotModel& model, const PointMass& payload,
                            const ParameterVector& params, const Eigen::Vector3d& target_flange,
-                           const Pose<double>& robot_T_world, const ValidationSet& set,
+                           const Pose<double>& robot_T_world, const TrackerValidation& set,
                            int threads) {
   const Pose<double> world_T_robot = robot_T_world.inverse();
   Eigen::Matrix3Xd predicted(3, static_cast<int>(set.joints.size()));
@@ -136,20 +129,8 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
 
   // Validation: random configurations in the published joint box, a laser tracker reading the
   // tool fixture's centroid, registered on the base cups.
-  ValidationSet validation;
-  const std::array<JointLimit, kJointCount> box = published_joint_box(model);
-  LaserTracker tracker;
-  tracker.sigma_mm = Eigen::Vector3d::Constant(o.tracker_sigma_mm);
-  const Eigen::Vector3d true_target = centroid(cell.tool_cups_flange);
-  validation.measured.resize(3, o.validation_configurations);
-  for (int k = 0; k < o.validation_configurations; ++k) {
-    Vector6d q;
-    for (int i = 0; i < kJointCount; ++i)
-      q[i] = std::uniform_real_distribution<double>(box[i].lower, box[i].upper)(rng);
-    validation.joints.push_back(q);
-    validation.measured.col(k) =
-        cell.world_T_sim * read_point(tracker, true_flange_pose(truth, q) * true_target, rng);
-  }
+  const TrackerValidation validation = simulate_tracker_validation(
+      cell, centroid(cell.tool_cups_flange), o.validation_configurations, o.tracker_sigma_mm, rng);
   rep.validation_configurations = o.validation_configurations;
   const Eigen::Vector3d target =
       cell.cell.flange_T_tool * centroid(fixture_cups(cell.tool_sides, "tool"));

@@ -32,6 +32,7 @@ SessionData load_session_data(const std::filesystem::path& session,
                      "holding plan.json and journal.jsonl");
   SessionData data;
   data.source = session.string();
+  data.plan_file = plan_file;
   data.plan = load_session_plan(plan_file);
   const SessionPlan& plan = data.plan;
   const auto missing = [&](const std::string& key, const std::string& what) {

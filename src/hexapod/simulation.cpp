@@ -6,6 +6,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/measure/instrument.hpp"
+#include "robcal/sim/simulator.hpp"
 
 namespace robcal::hexapod {
 namespace {
@@ -113,6 +114,25 @@ std::optional<double> simulate_session_reading(const SimulatedHexapodCell& cell,
   Vector6d q;
   for (int i = 0; i < kJointCount; ++i) q[i] = deg2rad(c.joints_deg[i]);
   return simulate_leg(cell, c.legs[step.item], q, rng);
+}
+
+TrackerValidation simulate_tracker_validation(const SimulatedHexapodCell& cell,
+                                              const Eigen::Vector3d& point_flange, int count,
+                                              double sigma_mm, std::mt19937_64& rng) {
+  const std::array<JointLimit, kJointCount> box = published_joint_box(cell.nominal);
+  LaserTracker tracker;
+  tracker.sigma_mm = Eigen::Vector3d::Constant(sigma_mm);
+  TrackerValidation v;
+  v.measured.resize(3, count);
+  for (int k = 0; k < count; ++k) {
+    Vector6d q;
+    for (int i = 0; i < kJointCount; ++i)
+      q[i] = std::uniform_real_distribution<double>(box[i].lower, box[i].upper)(rng);
+    v.joints.push_back(q);
+    v.measured.col(k) =
+        cell.world_T_sim * read_point(tracker, true_flange_pose(cell.truth, q) * point_flange, rng);
+  }
+  return v;
 }
 
 std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell,

@@ -34,8 +34,9 @@ struct RetryConfiguration {
 };
 
 struct SessionData {
-  std::string source;  ///< the session(s), for messages
-  SessionPlan plan;    ///< the (first) session's plan: ballbar set-up and cell
+  std::string source;               ///< the session(s), for messages
+  std::filesystem::path plan_file;  ///< the (first) session's plan file
+  SessionPlan plan;                 ///< … and its contents: ballbar set-up and cell
   TriangleSides tool_sides, base_sides;
   Cups<double> setting_points;        ///< where the robot put the setting ball, robot frame
   Pose<double> flange_T_tool;         ///< tool fixture frame in the flange frame

@@ -71,6 +71,17 @@ std::optional<double> simulate_session_reading(const SimulatedHexapodCell& cell,
                                                const SessionPlan& plan, const SessionStep& step,
                                                std::mt19937_64& rng);
 
+/// Laser-tracker validation readings (METHOD §9): random configurations in the published joint
+/// box (sim/simulator.hpp), the tracker (σ per axis) reading a point of the tool given in the
+/// flange frame of the true robot, registered on the base cups: base fixture frame.
+struct TrackerValidation {
+  std::vector<Vector6d> joints;  ///< controller, rad
+  Eigen::Matrix3Xd measured;     ///< base fixture frame, mm
+};
+TrackerValidation simulate_tracker_validation(const SimulatedHexapodCell& cell,
+                                              const Eigen::Vector3d& point_flange, int count,
+                                              double sigma_mm, std::mt19937_64& rng);
+
 std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell,
                                                 const HexapodPose& pose, const Vector6d& joints,
                                                 std::mt19937_64& rng, int* out_of_range = nullptr);
