@@ -121,7 +121,11 @@ SessionData merge_sessions(const std::vector<SessionData>& sessions) {
     }
     out.retry.insert(out.retry.end(), d.retry.begin(), d.retry.end());
   }
-  std::erase_if(out.retry, [&](const RetryConfiguration& r) { return measured.count(r.config); });
+  // A configuration out of range in several sessions is one retry; a measured one is none.
+  std::set<std::string> seen;
+  std::erase_if(out.retry, [&](const RetryConfiguration& r) {
+    return measured.count(r.config) > 0 || !seen.insert(r.config).second;
+  });
   return out;
 }
 
