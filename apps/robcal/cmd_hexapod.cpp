@@ -128,11 +128,24 @@ void run_poses(const GeometryOptions& options, double angle_deg, double distance
     throw InputError({"", 0, 0, "--angle-deg/--distance-mm"}, "expected non-negative thresholds");
   const std::vector<HexapodPose> all = enumerate_poses(options.geometry());
   const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(angle_deg), distance_mm);
+  // The closest two poses in orientation, and their tool-fixture centres' distance: what the
+  // angle threshold must exceed for any pruning.
+  double closest_deg = 180, closest_mm = 0;
+  for (size_t i = 0; i < all.size(); ++i)
+    for (size_t j = i + 1; j < all.size(); ++j) {
+      const double a = rad2deg(rotation_distance(all[i].base_T_tool.R, all[j].base_T_tool.R));
+      if (a < closest_deg) {
+        closest_deg = a;
+        closest_mm = (centroid(all[i].tool_cups) - centroid(all[j].tool_cups)).norm();
+      }
+    }
   if (json) {
     nlohmann::json out{{"enumerated", all.size()},
                        {"kept", kept.size()},
                        {"angle_deg", angle_deg},
-                       {"distance_mm", distance_mm}};
+                       {"distance_mm", distance_mm},
+                       {"closest_orientation_deg", tidy(closest_deg, 6)},
+                       {"closest_orientation_centres_mm", tidy(closest_mm, 6)}};
     out["poses"] = nlohmann::json::array();
     for (const HexapodPose& p : kept) out["poses"].push_back(hexapod_pose_json(p));
     print_json(out);
@@ -140,6 +153,9 @@ void run_poses(const GeometryOptions& options, double angle_deg, double distance
   }
   fmt::print("{} poses enumerated, {} kept (redundant: within {}° and {} mm of a kept one)\n",
              all.size(), kept.size(), angle_deg, distance_mm);
+  fmt::print(
+      "closest two poses in orientation: {:.3f}° apart, tool-fixture centres {:.1f} mm apart\n",
+      closest_deg, closest_mm);
   for (const HexapodPose& p : kept) {
     const Eigen::Vector3d c = centroid(p.tool_cups);
     fmt::print("{}  {:<32} centroid {:8.2f} {:8.2f} {:8.2f} mm\n", p.label, p.description(), c.x(),
