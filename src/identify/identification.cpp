@@ -14,6 +14,17 @@
 namespace robcal {
 namespace {
 
+/// Tells the costs whether Ceres evaluates at the point of its previous evaluation: after a
+/// successful step it asks for the Jacobian where it has just evaluated the residuals, and the
+/// rows' chains (the flange poses and what their derivatives need) are then reused.
+class SamePoint final : public ceres::EvaluationCallback {
+ public:
+  void PrepareForEvaluation(bool /*evaluate_jacobians*/, bool new_evaluation_point) override {
+    same = !new_evaluation_point;
+  }
+  bool same = false;
+};
+
 /// The rows [begin, end) of a measurement set as one Ceres cost on the scaled unknowns z:
 /// unknowns = start + scales ⊙ z over the free indices (column scaling makes mm, rad and
 /// rad/N·mm comparable; z starts at 0). The rows' configurations are prepared once, at the
@@ -23,31 +34,41 @@ class RowsCost final : public ceres::CostFunction {
  public:
   RowsCost(const ResidualContext& context, const std::vector<int>& free,
            const Eigen::VectorXd& scales, const Eigen::VectorXd& start,
-           const std::vector<PreparedConfiguration>& configurations, size_t begin, size_t end)
+           const std::vector<PreparedConfiguration>& configurations, const SamePoint& same_point,
+           size_t begin, size_t end)
       : context_(context),
         free_(free),
         scales_(scales),
         start_(start),
         configurations_(configurations),
+        same_point_(same_point),
         begin_(begin),
         end_(end),
         unknowns_(start),
         row_jacobian_(context.data->residuals_per_row(), context.layout->size()) {
+    chains_.reserve(end - begin);
     set_num_residuals(static_cast<int>(end - begin) * context.data->residuals_per_row());
     mutable_parameter_block_sizes()->push_back(static_cast<int>(free.size()));
   }
 
   bool Evaluate(double const* const* z, double* residuals, double** jacobians) const override {
-    unknowns_ = start_;
     const auto n = free_.size();
-    for (size_t i = 0; i < n; ++i)
-      unknowns_[free_[i]] += scales_[static_cast<Eigen::Index>(i)] * z[0][i];
-    const ParameterTrig trig = parameter_trig(unknowns_.head<kParameterCount>());
+    if (!same_point_.same || chains_.empty()) {
+      unknowns_ = start_;
+      for (size_t i = 0; i < n; ++i)
+        unknowns_[free_[i]] += scales_[static_cast<Eigen::Index>(i)] * z[0][i];
+      const ParameterTrig trig = parameter_trig(unknowns_.head<kParameterCount>());
+      const ParameterVector params = unknowns_.head<kParameterCount>();
+      chains_.clear();
+      for (size_t row = begin_; row < end_; ++row)
+        chains_.emplace_back(*context_.model, context_.tool->payload, params, trig,
+                             configurations_[row]);
+    }
     const int k = context_.data->residuals_per_row();
     const bool want_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
     for (size_t row = begin_; row < end_; ++row) {
       double* r = residuals + (row - begin_) * static_cast<size_t>(k);
-      row_residuals(context_, unknowns_, row, trig, configurations_[row], r,
+      row_residuals(context_, unknowns_, row, chains_[row - begin_], r,
                     want_jacobian ? &row_jacobian_ : nullptr);
       for (int i = 0; i < k; ++i)
         if (!std::isfinite(r[i])) return false;
@@ -67,7 +88,9 @@ class RowsCost final : public ceres::CostFunction {
   const Eigen::VectorXd& scales_;
   const Eigen::VectorXd& start_;
   const std::vector<PreparedConfiguration>& configurations_;
+  const SamePoint& same_point_;
   size_t begin_, end_;
+  mutable std::vector<FlangeRegressor> chains_;  ///< of the last evaluation point
   mutable Eigen::VectorXd unknowns_;
   mutable Eigen::MatrixXd row_jacobian_;
 };
@@ -84,15 +107,19 @@ SolverStatus solve(const ResidualContext& context, const std::vector<int>& free,
     configurations[row] =
         prepare_configuration(*context.model, start_params, row_joints(*context.data, row));
   std::vector<double> z(free.size(), 0.0);
-  ceres::Problem problem;
+  SamePoint same_point;
+  ceres::Problem::Options problem_options;
+  problem_options.evaluation_callback = &same_point;
+  ceres::Problem problem(problem_options);
   if (huber_scale > 0) {
     for (size_t row = 0; row < rows; ++row)
       problem.AddResidualBlock(
-          new RowsCost(context, free, scales, start, configurations, row, row + 1),
+          new RowsCost(context, free, scales, start, configurations, same_point, row, row + 1),
           new ceres::HuberLoss(huber_scale), z.data());
   } else {
-    problem.AddResidualBlock(new RowsCost(context, free, scales, start, configurations, 0, rows),
-                             nullptr, z.data());
+    problem.AddResidualBlock(
+        new RowsCost(context, free, scales, start, configurations, same_point, 0, rows), nullptr,
+        z.data());
   }
   ceres::Solver::Options options;
   options.minimizer_type = ceres::TRUST_REGION;

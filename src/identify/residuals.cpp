@@ -34,9 +34,15 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
 void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
                    const ParameterTrig& trig, const PreparedConfiguration& configuration,
                    double* residuals, Eigen::MatrixXd* jacobian) {
+  row_residuals(context, unknowns, row,
+                FlangeRegressor(*context.model, context.tool->payload,
+                                unknowns.head<kParameterCount>(), trig, configuration),
+                residuals, jacobian);
+}
+
+void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
+                   const FlangeRegressor& regressor, double* residuals, Eigen::MatrixXd* jacobian) {
   const MeasurementSet& data = *context.data;
-  const FlangeRegressor regressor(*context.model, context.tool->payload,
-                                  unknowns.head<kParameterCount>(), trig, configuration);
   const Pose<double>& flange = regressor.flange();
   if (jacobian) jacobian->setZero(data.residuals_per_row(), context.layout->size());
 

@@ -46,6 +46,11 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
                    const ParameterTrig& trig, const PreparedConfiguration& configuration,
                    double* residuals, Eigen::MatrixXd* jacobian);
 
+/// The same from the row's chain already evaluated at `unknowns` (FlangeRegressor): the
+/// identification reuses the chain of a residual-only evaluation for the Jacobian at that point.
+void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
+                   const FlangeRegressor& regressor, double* residuals, Eigen::MatrixXd* jacobian);
+
 /// The joint values (controller, rad) of a row of any kind.
 const Vector6d& row_joints(const MeasurementSet& data, size_t row);
 
