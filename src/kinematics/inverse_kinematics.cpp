@@ -91,19 +91,21 @@ class Solver {
       shoulder_singular_ = true;
     } else {
       theta1 = fast_atan2(wy, wx);
-      c1 = wx / rxy;
-      s1 = wy / rxy;
+      const double inv = 1.0 / rxy;  // one division: the divider is the IK's bottleneck
+      c1 = wx * inv;
+      s1 = wy * inv;
     }
     // Planar arm for front (r = +|W_xy|) and back (r = −|W_xy|): W at (r, 0, h) in frame 1,
     // w = W − shoulder in frame 2's plane, w = Rz(θ2)·v (see the header).
     const double h = wrist_.z() - g_.d1;
-    std::array<double, 2> w_x, w_y, D, kappa, sigma, phi;
+    std::array<double, 2> w_x, w_y, D, inv_D, kappa, sigma, phi;
     std::array<bool, 2> reach;
     for (int b = 0; b < 2; ++b) {
       const double r = b == 0 ? rxy : -rxy;
       w_x[b] = r - g_.a2;
       w_y[b] = g_.s_alpha2 * h;
       D[b] = w_x[b] * w_x[b] + w_y[b] * w_y[b];
+      inv_D[b] = 1.0 / D[b];
       const double k = (D[b] - g_.elbow_sum_sq) * g_.elbow_inv_product;
       reach[b] = std::abs(k) <= 1.0 + kReachTolerance && (mask_ & shoulder_mask(b)) != 0;
       kappa[b] = std::clamp(k, -1.0, 1.0);
@@ -156,7 +158,8 @@ class Solver {
     for (int i = 0; i < n; ++i) {
       ArmSolution& arm = arms[i];
       const double D_b = D[arm.shoulder];
-      const double c2 = D_b > 0 ? dot[i] / D_b : 1.0, s2 = D_b > 0 ? cross[i] / D_b : 0.0;
+      const double c2 = D_b > 0 ? dot[i] * inv_D[arm.shoulder] : 1.0;
+      const double s2 = D_b > 0 ? cross[i] * inv_D[arm.shoulder] : 0.0;
       arm.c23 = c2 * c3[i] - s2 * s3[i];
       arm.s23 = s2 * c3[i] + c2 * s3[i];
       const Eigen::Matrix3d& X = X_[arm.shoulder];
