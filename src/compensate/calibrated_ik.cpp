@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "robcal/core/error.hpp"
+#include "robcal/kinematics/fast_atan2.hpp"
 
 namespace robcal {
 namespace {
@@ -22,7 +23,7 @@ PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
   const Eigen::Vector3d w(E(2, 1) - E(1, 2), E(0, 2) - E(2, 0), E(1, 0) - E(0, 1));
   const double s = 0.5 * w.norm();           // sin of the angle
   const double c = 0.5 * (E.trace() - 1.0);  // cos of the angle
-  const double angle = std::atan2(s, c);
+  const double angle = fast_atan2(s, c);
   // log map: axis·angle; the ratio angle/sin tends to 1 as the rotation vanishes.
   out.e.tail<3>() = s > 1e-12 ? Eigen::Vector3d(w * (0.5 * angle / s)) : Eigen::Vector3d(0.5 * w);
   out.position_mm = out.e.head<3>().norm();
@@ -34,6 +35,47 @@ PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
 /// (near a singularity a full Newton step can leap across the workspace).
 constexpr double kBranchCheckRad = 0.05;
 constexpr double kMaxStepRad = 0.25;
+/// Newton's chord variant: reuse the Jacobian while a step divides the error by at least
+/// 1/kChordContraction; errors are compared as mm + kLeverMm·rad.
+constexpr double kChordContraction = 1e-2;
+constexpr double kLeverMm = 1000;
+
+/// |det| of a 3×3 block below this fraction of its largest column norm cubed (about the
+/// smallest LU pivot relative to the largest) counts as lost rank.
+constexpr double kRankRatio = 1e-10;
+
+/// Inverse of a 3×3 block, false when it has (nearly) lost rank.
+bool invert_block(const Eigen::Matrix3d& m, Eigen::Matrix3d& inverse) {
+  const double det = m.determinant();
+  const double largest = m.colwise().norm().maxCoeff();
+  if (!(std::abs(det) > kRankRatio * largest * largest * largest)) return false;
+  inverse = m.inverse();
+  return true;
+}
+
+/// Solves J·x = e through the spherical wrist's decoupling (Pieper): with the linear rows taken
+/// at the wrist centre (`r` = TCP − wrist centre, rows J_v + r × J_ω and e_v + r × e_ω, the
+/// same system), J = [[A, B], [C, D]] has A the arm's position block and D the wrist's
+/// orientation block (B vanishes on the nominal robot), and the Schur complement
+/// S = D − C·A⁻¹·B gives x_w = S⁻¹·(e_ω − C·A⁻¹·e_v), x_a = A⁻¹·(e_v − B·x_w): exact, with
+/// 3×3 inverses only. False at (or near) an arm or wrist singularity, where A or S loses rank.
+bool wrist_partitioned_solve(const Matrix6d& J, const Vector6d& e, const Eigen::Vector3d& r,
+                             Vector6d& x) {
+  Eigen::Matrix3d A, B;
+  for (int k = 0; k < 3; ++k) {
+    A.col(k) = J.block<3, 1>(0, k) + r.cross(J.block<3, 1>(3, k));
+    B.col(k) = J.block<3, 1>(0, k + 3) + r.cross(J.block<3, 1>(3, k + 3));
+  }
+  const auto C = J.block<3, 3>(3, 0), D = J.block<3, 3>(3, 3);
+  Eigen::Matrix3d A_inv, S_inv;
+  if (!invert_block(A, A_inv)) return false;
+  const Eigen::Matrix3d A_inv_B = A_inv * B;
+  if (!invert_block(D - C * A_inv_B, S_inv)) return false;
+  const Eigen::Vector3d A_inv_e = A_inv * (e.head<3>() + r.cross(e.tail<3>()));
+  x.tail<3>() = S_inv * (e.tail<3>() - C * A_inv_e);
+  x.head<3>() = A_inv_e - A_inv_B * x.tail<3>();
+  return true;
+}
 
 bool within(const PoseError& err, const CalibratedIkOptions& options) {
   return err.position_mm <= options.position_tolerance_mm &&
@@ -155,19 +197,17 @@ Pose<double> nominal_tcp_pose(const Compensator& comp, const Vector6d& joints) {
 CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<double>& world_T_tcp,
                                         const Vector6d& seed, const CalibratedIkOptions& options) {
   Vector6d joints = seed;
+  ChainState state;
   Matrix6d J;
   for (int it = 0;; ++it) {
-    const PoseError err = pose_error(world_T_tcp, calibrated_tcp_pose(comp.chain, joints, &J));
+    const PoseError err = pose_error(world_T_tcp, calibrated_tcp_pose(comp.chain, joints, state));
     if (within(err, options)) return finish(comp, seed, joints, err, it);
     if (it == options.max_iterations)
       return failed(CalibratedIkStatus::NotConverged, joints, err, it);
-    const Eigen::PartialPivLU<Matrix6d> lu(J);
-    // A vanishing pivot (relative to the largest) means the Jacobian lost rank.
-    const auto& U = lu.matrixLU();
-    const double largest = U.diagonal().cwiseAbs().maxCoeff();
-    if (!(U.diagonal().cwiseAbs().minCoeff() > 1e-10 * largest))
+    calibrated_jacobian(comp.chain, state, J);
+    Vector6d step;
+    if (!wrist_partitioned_solve(J, err.e, state.tcp_p - state.frames[4].p, step))
       return failed(CalibratedIkStatus::Singular, joints, err, it);
-    Vector6d step = lu.solve(err.e);
     const double largest_step = step.cwiseAbs().maxCoeff();
     if (!std::isfinite(largest_step)) return failed(CalibratedIkStatus::Singular, seed, err, it);
     if (largest_step > kMaxStepRad) step *= kMaxStepRad / largest_step;
