@@ -136,7 +136,7 @@ TEST(CompensateIk, RoundTripEveryConfigurationBothIterationsAgree) {
     }
     EXPECT_LT(worst_mm, 1e-6);
     EXPECT_LT(worst_deg, 1e-6);
-    EXPECT_LT(worst_agree, 1e-8);  // rad: pose shift stops just inside 1e-7 mm
+    EXPECT_LT(worst_agree, 1e-7);  // rad: both stop inside 5e-7 mm and 5e-7°
     EXPECT_LE(max_newton, 4);
     EXPECT_LE(max_shift, 10);
     std::string counts;
@@ -162,7 +162,7 @@ TEST(CompensateIk, RecoversTheDrawnJoints) {
     if (!own || (own->joints - q).cwiseAbs().maxCoeff() > 0.2) continue;  // seed beyond a limit
     const CalibratedIkResult r = calibrated_ik(comp, wanted, own->config, q);
     ASSERT_TRUE(r.ok()) << to_string(r.status);
-    EXPECT_LT((r.joints - q).cwiseAbs().maxCoeff(), 1e-8);
+    EXPECT_LT((r.joints - q).cwiseAbs().maxCoeff(), 1e-7);
   }
 }
 

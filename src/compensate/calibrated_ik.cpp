@@ -110,6 +110,29 @@ CalibratedIkResult failed(CalibratedIkStatus status, const Vector6d& joints, con
   return r;
 }
 
+/// The nominal branch `config` of `base_T_tcp`, of the turn nearest `near`: inside the limits
+/// when it can be, else on the seed geometry (limits widened by kSeedLimitMarginRad). Solved,
+/// or the status the calibrated inverse reports.
+struct Seed {
+  CalibratedIkStatus status;
+  Vector6d joints;
+};
+Seed seed_of(const Compensator& comp, const Pose<double>& base_T_tcp, const ArmConfig& config,
+             const Vector6d& near) {
+  const Pose<double> base_T_flange = base_T_tcp * comp.flange_T_tcp.inverse();
+  IkBranchResult r = nominal_ik_branch(comp.geometry, base_T_flange, config, near);
+  if (r.status == IkStatus::OutsideLimits)
+    r = nominal_ik_branch(comp.seed_geometry, base_T_flange, config, near);
+  switch (r.status) {
+    case IkStatus::Solved:
+      return {CalibratedIkStatus::Converged, r.solution.joints};
+    case IkStatus::OutsideLimits:
+      return {CalibratedIkStatus::OutsideLimits, Vector6d::Zero()};
+    default:
+      return {CalibratedIkStatus::NoNominalSolution, Vector6d::Zero()};
+  }
+}
+
 }  // namespace
 
 ArmConfig arm_config_of(const RobotModel& model, const Vector6d& joints) {
@@ -155,6 +178,11 @@ Compensator make_compensator(const CalibratedRobot& robot,
                      "with a spherical wrist): " +
                          why_not);
   comp.geometry = *geometry;
+  comp.seed_geometry = *geometry;
+  for (JointLimit& limit : comp.seed_geometry.limits) {
+    limit.lower -= kSeedLimitMarginRad;
+    limit.upper += kSeedLimitMarginRad;
+  }
   for (int i = 0; i < kParameterCount; ++i)
     if (!std::isfinite(robot.params[i]))
       throw InputError(SourceLocation{"", 0, 0, parameter_table()[i].name},
@@ -175,19 +203,10 @@ Compensator make_compensator(const CalibratedRobot& robot,
 
 std::optional<Vector6d> nominal_solution(const Compensator& comp, const Pose<double>& base_T_tcp,
                                          const ArmConfig& config, const Vector6d& near) {
-  const IkResult result = nominal_ik(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), near);
-  const IkSolution* best = nullptr;
-  double best_distance = 0;
-  for (const IkSolution& s : result) {
-    if (!(s.config == config)) continue;
-    const double distance = (s.joints - near).squaredNorm();
-    if (!best || distance < best_distance) {
-      best = &s;
-      best_distance = distance;
-    }
-  }
-  if (!best) return std::nullopt;
-  return best->joints;
+  const IkBranchResult r =
+      nominal_ik_branch(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), config, near);
+  if (r.status != IkStatus::Solved) return std::nullopt;
+  return r.solution.joints;
 }
 
 Pose<double> nominal_tcp_pose(const Compensator& comp, const Vector6d& joints) {
@@ -231,9 +250,10 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
     if (it == options.max_iterations)
       return failed(CalibratedIkStatus::NotConverged, joints, err, it);
     command = command * (reached.inverse() * world_T_tcp);
-    const std::optional<Vector6d> next = nominal_solution(comp, command, config, joints);
-    if (!next) return failed(CalibratedIkStatus::NoNominalSolution, joints, err, it + 1);
-    joints = *next;
+    const Seed next = seed_of(comp, command, config, joints);
+    if (next.status != CalibratedIkStatus::Converged)
+      return failed(next.status, joints, err, it + 1);
+    joints = next.joints;
     if ((joints - seed).cwiseAbs().maxCoeff() > options.max_joint_change_rad)
       return failed(CalibratedIkStatus::LeftConfiguration, joints, err, it + 1);
   }
@@ -242,16 +262,15 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
 CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& world_T_tcp,
                                  const ArmConfig& config, const Vector6d& near, IkMethod method,
                                  const CalibratedIkOptions& options) {
-  const std::optional<Vector6d> seed =
-      nominal_solution(comp, comp.world_T_base.inverse() * world_T_tcp, config, near);
-  if (!seed) {
+  const Seed seed = seed_of(comp, comp.world_T_base.inverse() * world_T_tcp, config, near);
+  if (seed.status != CalibratedIkStatus::Converged) {
     CalibratedIkResult r;
-    r.status = CalibratedIkStatus::NoNominalSolution;
+    r.status = seed.status;
     return r;
   }
   return method == IkMethod::Newton
-             ? calibrated_ik_newton(comp, world_T_tcp, *seed, options)
-             : calibrated_ik_pose_shift(comp, world_T_tcp, config, *seed, options);
+             ? calibrated_ik_newton(comp, world_T_tcp, seed.joints, options)
+             : calibrated_ik_pose_shift(comp, world_T_tcp, config, seed.joints, options);
 }
 
 }  // namespace robcal
