@@ -35,10 +35,8 @@ PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
 /// (near a singularity a full Newton step can leap across the workspace).
 constexpr double kBranchCheckRad = 0.05;
 constexpr double kMaxStepRad = 0.25;
-/// Newton's chord variant: reuse the Jacobian while a step divides the error by at least
-/// 1/kChordContraction; errors are compared as mm + kLeverMm·rad.
-constexpr double kChordContraction = 1e-2;
-constexpr double kLeverMm = 1000;
+/// How far (mm) a pose the nominal arm cannot reach is pulled in for a seed.
+constexpr double kReachMarginMm = 10;
 
 /// |det| of a 3×3 block below this fraction of its largest column norm cubed (about the
 /// smallest LU pivot relative to the largest) counts as lost rank.
@@ -46,11 +44,11 @@ constexpr double kRankRatio = 1e-10;
 
 /// Inverse of a 3×3 block, false when it has (nearly) lost rank.
 bool invert_block(const Eigen::Matrix3d& m, Eigen::Matrix3d& inverse) {
-  const double det = m.determinant();
+  double det;
+  bool invertible;
+  m.computeInverseAndDetWithCheck(inverse, det, invertible, 0.0);
   const double largest = m.colwise().norm().maxCoeff();
-  if (!(std::abs(det) > kRankRatio * largest * largest * largest)) return false;
-  inverse = m.inverse();
-  return true;
+  return invertible && std::abs(det) > kRankRatio * largest * largest * largest;
 }
 
 /// Solves J·x = e through the spherical wrist's decoupling (Pieper): with the linear rows taken
@@ -110,19 +108,15 @@ CalibratedIkResult failed(CalibratedIkStatus status, const Vector6d& joints, con
   return r;
 }
 
-/// The nominal branch `config` of `base_T_tcp`, of the turn nearest `near`: inside the limits
-/// when it can be, else on the seed geometry (limits widened by kSeedLimitMarginRad). Solved,
-/// or the status the calibrated inverse reports.
+/// The nominal branch `config` of `base_T_tcp` for the flange, of the turn nearest `near`, on
+/// `geometry`. Solved, or the status the calibrated inverse reports.
 struct Seed {
   CalibratedIkStatus status;
   Vector6d joints;
 };
-Seed seed_of(const Compensator& comp, const Pose<double>& base_T_tcp, const ArmConfig& config,
-             const Vector6d& near) {
-  const Pose<double> base_T_flange = base_T_tcp * comp.flange_T_tcp.inverse();
-  IkBranchResult r = nominal_ik_branch(comp.geometry, base_T_flange, config, near);
-  if (r.status == IkStatus::OutsideLimits)
-    r = nominal_ik_branch(comp.seed_geometry, base_T_flange, config, near);
+Seed seed_of(const OrthoParallelGeometry& geometry, const Pose<double>& base_T_flange,
+             const ArmConfig& config, const Vector6d& near) {
+  const IkBranchResult r = nominal_ik_branch(geometry, base_T_flange, config, near);
   switch (r.status) {
     case IkStatus::Solved:
       return {CalibratedIkStatus::Converged, r.solution.joints};
@@ -198,6 +192,8 @@ Compensator make_compensator(const CalibratedRobot& robot,
   Rz << cg, -sg, 0, sg, cg, 0, 0, 0, 1;
   comp.world_T_base.R = c.base_R_xy * Rz;
   comp.world_T_base.p = c.base_p - robot.model.mdh[0].d * c.base_R_xy.col(2);
+  comp.base_T_world = comp.world_T_base.inverse();
+  comp.tcp_T_flange = comp.flange_T_tcp.inverse();
   return comp;
 }
 
@@ -250,7 +246,7 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
     if (it == options.max_iterations)
       return failed(CalibratedIkStatus::NotConverged, joints, err, it);
     command = command * (reached.inverse() * world_T_tcp);
-    const Seed next = seed_of(comp, command, config, joints);
+    const Seed next = seed_of(comp.seed_geometry, command * comp.tcp_T_flange, config, joints);
     if (next.status != CalibratedIkStatus::Converged)
       return failed(next.status, joints, err, it + 1);
     joints = next.joints;
@@ -262,15 +258,35 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
 CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& world_T_tcp,
                                  const ArmConfig& config, const Vector6d& near, IkMethod method,
                                  const CalibratedIkOptions& options) {
-  const Seed seed = seed_of(comp, comp.world_T_base.inverse() * world_T_tcp, config, near);
+  const Pose<double> base_T_flange = comp.base_T_world * world_T_tcp * comp.tcp_T_flange;
+  auto iterate = [&](const Vector6d& seed) {
+    return method == IkMethod::Newton
+               ? calibrated_ik_newton(comp, world_T_tcp, seed, options)
+               : calibrated_ik_pose_shift(comp, world_T_tcp, config, seed, options);
+  };
+  // The turn nearest `near` on the widened limits first: near a limit the calibrated answer
+  // may lie inside while the nominal seed does not.
+  Seed seed = seed_of(comp.seed_geometry, base_T_flange, config, near);
+  if (seed.status == CalibratedIkStatus::NoNominalSolution) {
+    // Near full stretch the calibrated arm may reach a little further than the nominal one:
+    // seed from the pose pulled in towards the shoulder; the iteration takes it back out.
+    Pose<double> pulled = base_T_flange;
+    const Eigen::Vector3d out = pulled.p - Eigen::Vector3d(0, 0, comp.geometry.d1);
+    pulled.p -= kReachMarginMm * out.normalized();
+    seed = seed_of(comp.seed_geometry, pulled, config, near);
+  }
   if (seed.status != CalibratedIkStatus::Converged) {
     CalibratedIkResult r;
     r.status = seed.status;
     return r;
   }
-  return method == IkMethod::Newton
-             ? calibrated_ik_newton(comp, world_T_tcp, seed.joints, options)
-             : calibrated_ik_pose_shift(comp, world_T_tcp, config, seed.joints, options);
+  const CalibratedIkResult r = iterate(seed.joints);
+  if (r.status != CalibratedIkStatus::OutsideLimits) return r;
+  // Beyond a limit: another turn of a wide-range joint may be inside.
+  const Seed inside = seed_of(comp.geometry, base_T_flange, config, near);
+  if (inside.status != CalibratedIkStatus::Converged || inside.joints == seed.joints) return r;
+  const CalibratedIkResult other = iterate(inside.joints);
+  return other.ok() ? other : r;
 }
 
 }  // namespace robcal

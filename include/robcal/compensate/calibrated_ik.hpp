@@ -71,7 +71,9 @@ struct Compensator {
   /// The controller's base frame in the world: where the nominal base sits when frame Φ1 is
   /// where the calibrated model puts it, world_T_base = world_A_1(q1=0) · base_A_1(q1=0)⁻¹.
   Pose<double> world_T_base;
+  Pose<double> base_T_world;  ///< its inverse
   Pose<double> flange_T_tcp;
+  Pose<double> tcp_T_flange;  ///< its inverse
   PointMass payload;  ///< the payload the compliance is computed for
 };
 
