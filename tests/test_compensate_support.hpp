@@ -76,13 +76,14 @@ inline bool near_singular(const RobotModel& model, const Vector6d& joints, doubl
 
 /// What the round trip found, per configuration index (ArmConfig::index()) and overall.
 struct RoundTripStats {
-  std::array<long, 8> poses{};     ///< poses solved by both iterations
-  std::array<long, 8> failures{};  ///< poses where either iteration did not converge
-  long draws = 0;                  ///< joint vectors drawn, singular ones included
+  std::array<long, 8> poses{};         ///< poses solved by both iterations
+  std::array<long, 8> failures{};      ///< poses where either iteration did not converge
+  long draws = 0;                      ///< joint vectors drawn, singular ones included
   double worst_mm = 0, worst_deg = 0;  ///< calibrated FK of the answers against the pose
   double worst_agreement_rad = 0;      ///< Newton against pose shift
-  double worst_recovery_rad = 0;       ///< Newton against the drawn joints
-  int max_newton = 0, max_shift = 0;   ///< iterations
+  double worst_recovery_rad = 0;       ///< Newton against the drawn joints, same turn
+  long other_turn = 0;  ///< answers a full turn of a wide-range joint from the drawn joints
+  int max_newton = 0, max_shift = 0;  ///< iterations
   std::string first_failure;
   [[nodiscard]] bool complete(long per_config) const {
     return std::all_of(poses.begin(), poses.end(), [&](long n) { return n >= per_config; });
@@ -111,8 +112,7 @@ inline RoundTripStats round_trip(const CalibratedRobot& robot, const Compensator
     if (!newton.ok() || !shift.ok()) {
       if (st.failures[index]++ == 0 && st.first_failure.empty())
         st.first_failure = config.label() + ": Newton " + to_string(newton.status) +
-                           ", pose shift " + to_string(shift.status) + " at joints (rad) " +
-                           [&] {
+                           ", pose shift " + to_string(shift.status) + " at joints (rad) " + [&] {
                              std::string j;
                              for (int i = 0; i < kJointCount; ++i) j += std::to_string(q[i]) + " ";
                              return j;
@@ -122,13 +122,18 @@ inline RoundTripStats round_trip(const CalibratedRobot& robot, const Compensator
     for (const CalibratedIkResult* r : {&newton, &shift}) {
       const Pose<double> reached = calibrated_tcp_pose(comp.chain, r->joints);
       st.worst_mm = std::max(st.worst_mm, (reached.p - wanted.p).norm());
-      st.worst_deg = std::max(
-          st.worst_deg, rad2deg(Eigen::AngleAxisd(reached.R.transpose() * wanted.R).angle()));
+      st.worst_deg = std::max(st.worst_deg,
+                              rad2deg(Eigen::AngleAxisd(reached.R.transpose() * wanted.R).angle()));
     }
     st.worst_agreement_rad =
         std::max(st.worst_agreement_rad, (newton.joints - shift.joints).cwiseAbs().maxCoeff());
-    st.worst_recovery_rad =
-        std::max(st.worst_recovery_rad, (newton.joints - q).cwiseAbs().maxCoeff());
+    // The drawn joints, or (near a limit of a joint of more than one turn) the same pose a
+    // turn away: with joint scales ≠ 1 the calibrated turn differs from 2π by a little.
+    const double recovery = (newton.joints - q).cwiseAbs().maxCoeff();
+    if (recovery > 3.0)
+      ++st.other_turn;
+    else
+      st.worst_recovery_rad = std::max(st.worst_recovery_rad, recovery);
     st.max_newton = std::max(st.max_newton, newton.iterations);
     st.max_shift = std::max(st.max_shift, shift.iterations);
   }

@@ -123,8 +123,8 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
       rotate_by(cos_t[i], sin_t[i], c.compliance[i] * tau);
     }
     for (int i = 1; i < kJointCount; ++i)
-      next_frame(frames[i - 1], c.cos_alpha[i], c.sin_alpha[i], c.a[i], c.d[i], cos_t[i],
-                 sin_t[i], frames[i]);
+      next_frame(frames[i - 1], c.cos_alpha[i], c.sin_alpha[i], c.a[i], c.d[i], cos_t[i], sin_t[i],
+                 frames[i]);
   }
   const Pose<double> tcp = frames[kJointCount - 1] * c.flange_T_tcp;
   state.tcp_p = tcp.p;

@@ -53,7 +53,7 @@ struct CalibratedChain {
 /// evaluation of an iteration (a small step away) gets its own by the angle-addition formulas
 /// instead of calling cos and sin. A default-constructed state starts afresh.
 struct ChainState {
-  std::array<Pose<double>, kJointCount> frames;  ///< deflected world frames Φ1..Φ6
+  std::array<Pose<double>, kJointCount> frames;               ///< deflected world frames Φ1..Φ6
   std::array<Eigen::Vector3d, kJointCount> z_undeflected, V;  ///< axes and V_i before deflection
   Eigen::Vector3d tcp_p;
   bool has_angles = false;

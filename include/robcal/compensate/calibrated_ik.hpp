@@ -58,9 +58,10 @@ struct CalibratedIkResult {
 };
 
 /// How far (rad) the nominal seed may lie beyond a joint limit and still be iterated: the
-/// calibrated solution differs from the nominal one by a fraction of a degree, so a seed just
-/// beyond a limit can have its answer inside, and the verdict is taken on the calibrated joints.
-inline constexpr double kSeedLimitMarginRad = 0.035;  // 2°
+/// calibrated solution differs from the nominal one by a fraction of a degree, and by a few
+/// degrees in θ4, θ6 near the wrist singularity and θ1 near axis 1, so a seed beyond a limit
+/// can have its answer inside; the verdict is taken on the calibrated joints.
+inline constexpr double kSeedLimitMarginRad = 0.175;  // 10°
 
 /// Everything the calibrated inverse needs for one robot, payload and tool. Immutable.
 struct Compensator {
@@ -74,7 +75,7 @@ struct Compensator {
   Pose<double> base_T_world;  ///< its inverse
   Pose<double> flange_T_tcp;
   Pose<double> tcp_T_flange;  ///< its inverse
-  PointMass payload;  ///< the payload the compliance is computed for
+  PointMass payload;          ///< the payload the compliance is computed for
 };
 
 /// Builds the compensator of a calibrated robot; `payload` overrides the tool's (the
