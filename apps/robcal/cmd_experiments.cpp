@@ -60,7 +60,7 @@ TrueRobot five_millimetre_truth(const RobotModel& model, const Tool& tool, std::
   box.box = published_joint_box(model);
   constexpr int kMaxDraws = 200;
   for (draws = 1; draws <= kMaxDraws; ++draws) {
-    const TrueRobot truth = random_truth(model, tool, bounds, rng);
+    TrueRobot truth = random_truth(model, tool, bounds, rng);
     const VirtualInstrument tracker = standard_instrument(InstrumentKind::LaserTracker, truth);
     const double worst = nominal_max_error_mm(
         truth, model, tool, random_configurations(truth, tracker, 1000, rng, box));

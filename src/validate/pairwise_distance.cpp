@@ -84,8 +84,8 @@ struct Coordinates {
 /// 3e-7 — 3e-9 mm on a 0.01 mm error, far below any instrument — while the square roots and
 /// the division run 16 to a vector on the hardware divider instead of as Newton iterations.
 /// The direct formula |a| − |b| in double would lose ulp(|a|) ≈ 1e-13 mm absolute, which is
-/// worse for tiny errors. This file is built with -fno-math-errno and the dynamic vector cost
-/// model (CMakeLists.txt) so that this loop vectorises.
+/// worse for tiny errors. This file is built with -fno-math-errno -fno-trapping-math
+/// (CMakeLists.txt) so that this loop vectorises.
 ROBCAL_PAIR_KERNEL
 void pair_errors(const Coordinates& c, int i, int begin, double scale, int bins,
                  double* __restrict e, int32_t* __restrict bin) {
@@ -153,8 +153,8 @@ void accumulate(const double* __restrict e, const int32_t* __restrict bin, int c
   static_assert(kHistogramCopies == 4);
   uint64_t* __restrict copy0 = histogram;
   uint64_t* __restrict copy1 = histogram + bins;
-  uint64_t* __restrict copy2 = histogram + 2 * bins;
-  uint64_t* __restrict copy3 = histogram + 3 * bins;
+  uint64_t* __restrict copy2 = copy1 + bins;
+  uint64_t* __restrict copy3 = copy2 + bins;
   for (k = 0; k + kHistogramCopies <= count; k += kHistogramCopies) {
     ++copy0[bin[k]];
     ++copy1[bin[k + 1]];
