@@ -35,8 +35,6 @@ PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
 /// (near a singularity a full Newton step can leap across the workspace).
 constexpr double kBranchCheckRad = 0.05;
 constexpr double kMaxStepRad = 0.25;
-/// How far (mm) a pose the nominal arm cannot reach is pulled in for a seed.
-constexpr double kReachMarginMm = 10;
 
 /// |det| of a 3×3 block below this fraction of its largest column norm cubed (about the
 /// smallest LU pivot relative to the largest) counts as lost rank.
@@ -81,15 +79,17 @@ bool within(const PoseError& err, const CalibratedIkOptions& options) {
 }
 
 /// Final verdict of a converged iterate: still in the seed's configuration, then the limits.
-CalibratedIkResult finish(const Compensator& comp, const Vector6d& seed, const Vector6d& joints,
-                          const PoseError& err, int iterations) {
+/// `expected` is the configuration asked for, or null for the seed's.
+CalibratedIkResult finish(const Compensator& comp, const Vector6d& seed, const ArmConfig* expected,
+                          const Vector6d& joints, const PoseError& err, int iterations) {
   CalibratedIkResult r;
   r.joints = joints;
   r.iterations = iterations;
   r.position_error_mm = err.position_mm;
   r.orientation_error_rad = err.orientation_rad;
   if ((joints - seed).cwiseAbs().maxCoeff() > kBranchCheckRad &&
-      !(arm_config_of(comp.model, joints) == arm_config_of(comp.model, seed)))
+      !(arm_config_of(comp.model, joints) ==
+        (expected ? *expected : arm_config_of(comp.model, seed))))
     r.status = CalibratedIkStatus::LeftConfiguration;
   else
     r.status = comp.model.within_limits(joints) ? CalibratedIkStatus::Converged
@@ -209,14 +209,17 @@ Pose<double> nominal_tcp_pose(const Compensator& comp, const Vector6d& joints) {
   return flange_pose(comp.model, PointMass{}, comp.model.nominal(), joints) * comp.flange_T_tcp;
 }
 
-CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<double>& world_T_tcp,
-                                        const Vector6d& seed, const CalibratedIkOptions& options) {
+namespace {
+
+CalibratedIkResult newton(const Compensator& comp, const Pose<double>& world_T_tcp,
+                          const Vector6d& seed, const ArmConfig* expected,
+                          const CalibratedIkOptions& options) {
   Vector6d joints = seed;
   ChainState state;
   Matrix6d J;
   for (int it = 0;; ++it) {
     const PoseError err = pose_error(world_T_tcp, calibrated_tcp_pose(comp.chain, joints, state));
-    if (within(err, options)) return finish(comp, seed, joints, err, it);
+    if (within(err, options)) return finish(comp, seed, expected, joints, err, it);
     if (it == options.max_iterations)
       return failed(CalibratedIkStatus::NotConverged, joints, err, it);
     calibrated_jacobian(comp.chain, state, J);
@@ -232,6 +235,13 @@ CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<doub
   }
 }
 
+}  // namespace
+
+CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<double>& world_T_tcp,
+                                        const Vector6d& seed, const CalibratedIkOptions& options) {
+  return newton(comp, world_T_tcp, seed, nullptr, options);
+}
+
 CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
                                             const Pose<double>& world_T_tcp,
                                             const ArmConfig& config, const Vector6d& seed,
@@ -242,7 +252,7 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
   for (int it = 0;; ++it) {
     const Pose<double> reached = calibrated_tcp_pose(comp.chain, joints);
     const PoseError err = pose_error(world_T_tcp, reached);
-    if (within(err, options)) return finish(comp, seed, joints, err, it);
+    if (within(err, options)) return finish(comp, seed, &config, joints, err, it);
     if (it == options.max_iterations)
       return failed(CalibratedIkStatus::NotConverged, joints, err, it);
     command = command * (reached.inverse() * world_T_tcp);
@@ -261,19 +271,22 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
   const Pose<double> base_T_flange = comp.base_T_world * world_T_tcp * comp.tcp_T_flange;
   auto iterate = [&](const Vector6d& seed) {
     return method == IkMethod::Newton
-               ? calibrated_ik_newton(comp, world_T_tcp, seed, options)
+               ? newton(comp, world_T_tcp, seed, &config, options)
                : calibrated_ik_pose_shift(comp, world_T_tcp, config, seed, options);
   };
   // The turn nearest `near` on the widened limits first: near a limit the calibrated answer
   // may lie inside while the nominal seed does not.
   Seed seed = seed_of(comp.seed_geometry, base_T_flange, config, near);
-  if (seed.status == CalibratedIkStatus::NoNominalSolution) {
-    // Near full stretch the calibrated arm may reach a little further than the nominal one:
-    // seed from the pose pulled in towards the shoulder; the iteration takes it back out.
-    Pose<double> pulled = base_T_flange;
-    const Eigen::Vector3d out = pulled.p - Eigen::Vector3d(0, 0, comp.geometry.d1);
-    pulled.p -= kReachMarginMm * out.normalized();
-    seed = seed_of(comp.seed_geometry, pulled, config, near);
+  // Near full stretch (or fold) of the elbow the calibrated arm may reach a little further
+  // (or closer) than the nominal one: seed from the pose pulled in towards the shoulder (or
+  // pushed out), by as little as will do (the joints move fast there); the iteration takes it
+  // back.
+  for (const double pull_mm : {1.0, 3.0, 10.0, -1.0, -3.0, -10.0}) {
+    if (seed.status != CalibratedIkStatus::NoNominalSolution) break;
+    Pose<double> moved = base_T_flange;
+    const Eigen::Vector3d out = moved.p - Eigen::Vector3d(0, 0, comp.geometry.d1);
+    moved.p -= pull_mm * out.normalized();
+    seed = seed_of(comp.seed_geometry, moved, config, near);
   }
   if (seed.status != CalibratedIkStatus::Converged) {
     CalibratedIkResult r;
