@@ -172,11 +172,12 @@ Compensator make_compensator(const CalibratedRobot& robot,
                      "with a spherical wrist): " +
                          why_not);
   comp.geometry = *geometry;
-  comp.seed_geometry = *geometry;
-  for (JointLimit& limit : comp.seed_geometry.limits) {
+  RobotModel widened = robot.model;
+  for (JointLimit& limit : widened.limits) {
     limit.lower -= kSeedLimitMarginRad;
     limit.upper += kSeedLimitMarginRad;
   }
+  comp.seed_geometry = *analyze_ortho_parallel(widened);
   for (int i = 0; i < kParameterCount; ++i)
     if (!std::isfinite(robot.params[i]))
       throw InputError(SourceLocation{"", 0, 0, parameter_table()[i].name},
