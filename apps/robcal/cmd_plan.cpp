@@ -55,18 +55,6 @@ nlohmann::json indices_json(const ObservabilityIndices& o) {
           {"O5", tidy(o.O5)}};
 }
 
-double instrument_sigma(const VirtualInstrument& instrument) {
-  switch (instrument.kind) {
-    case InstrumentKind::LaserTracker:
-      return instrument.tracker.sigma_mm.maxCoeff();
-    case InstrumentKind::OpticalCmm:
-      return instrument.cmm.sigma_mm;
-    case InstrumentKind::Ballbar:
-      return instrument.ballbar.sigma_mm;
-  }
-  return 0;
-}
-
 void run_plan(const PlanOptions& o) {
   if (o.out.empty()) throw InputError({"", 0, 0, "--out"}, "expected an output file");
   if (o.count <= 0)

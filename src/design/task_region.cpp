@@ -11,6 +11,10 @@
 
 namespace robcal {
 
+namespace {
+constexpr double kReachToleranceMm = 1e-6;
+}  // namespace
+
 TaskBox parse_task_box(const std::string& text, const std::string& flag) {
   std::vector<double> values;
   std::stringstream stream(text);
@@ -55,7 +59,13 @@ std::vector<Vector6d> task_box_configurations(const RobotModel& model, const Too
   for (int j = 0; j < kJointCount; ++j)
     middle[j] =
         0.5 * (joint_box[static_cast<size_t>(j)].lower + joint_box[static_cast<size_t>(j)].upper);
-  const Pose<double> world_T_base = detail::base_transform(params.data(), 0.0, 0.0);
+  // The placement taking the nominal robot (base at the origin, which the closed-form IK
+  // solves) onto the placed one: the base offset d1 is applied along world z (METHOD §2), so
+  // world_T_base = world_A_1(params, θ1 = 0) · Trans_z(−d1).
+  Pose<double> lower_d1;
+  lower_d1.p.z() = -model.mdh[0].d;
+  const Pose<double> world_T_base =
+      detail::base_transform(params.data(), model.mdh[0].d, 0.0) * lower_d1;
   const Pose<double> base_T_world = world_T_base.inverse();
   Pose<double> tcp_T_flange;
   tcp_T_flange.R = tool.flange_T_tcp.linear().transpose();
@@ -72,11 +82,15 @@ std::vector<Vector6d> task_box_configurations(const RobotModel& model, const Too
     world_T_tcp.R = (Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()) *
                      Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()))
                         .toRotationMatrix();
-    const AnyIkResult ik = solve_ik(model, base_T_world * world_T_tcp * tcp_T_flange, middle);
+    const Pose<double> world_T_flange = world_T_tcp * tcp_T_flange;
+    const AnyIkResult ik = solve_ik(model, base_T_world * world_T_flange, middle);
     const IkSolution* best = nullptr;
     double best_distance = 0;
     for (const IkSolution& s : ik.solutions) {
-      bool inside = true;
+      // Keep only solutions that reach the pose on the placed robot (a singular wrist or a
+      // numeric fallback may not).
+      const Pose<double> reached = flange_pose(model, tool.payload, params, s.joints);
+      bool inside = (reached.p - world_T_flange.p).norm() < kReachToleranceMm;
       for (int j = 0; j < kJointCount; ++j)
         inside = inside && s.joints[j] >= joint_box[static_cast<size_t>(j)].lower &&
                  s.joints[j] <= joint_box[static_cast<size_t>(j)].upper;

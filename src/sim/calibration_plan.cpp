@@ -42,6 +42,18 @@ MeasurementKind measurement_kind(InstrumentKind kind) {
   return MeasurementKind::Points;
 }
 
+double instrument_sigma(const VirtualInstrument& instrument) {
+  switch (instrument.kind) {
+    case InstrumentKind::LaserTracker:
+      return instrument.tracker.sigma_mm.maxCoeff();
+    case InstrumentKind::OpticalCmm:
+      return instrument.cmm.sigma_mm;
+    case InstrumentKind::Ballbar:
+      return instrument.ballbar.sigma_mm;
+  }
+  return 0;
+}
+
 CandidateSet instrument_candidates(const TrueRobot& cell, const VirtualInstrument& instrument,
                                    const PlanSettings& settings, std::mt19937_64& rng) {
   const RobotModel& model = cell.robot.model;
