@@ -219,9 +219,9 @@ TEST(HexapodPoses, PruningKeepsOnlyPosesFarFromEachOther) {
   ASSERT_EQ(poses.size(), 72u);
   EXPECT_EQ(prune_redundant(poses, 0, 0).size(), 72u);
   EXPECT_EQ(prune_redundant(poses, 4, 1e6).size(), 1u);
-  // With these fixtures every two poses are ≥ 55° apart, so the default 30°/50 mm rule keeps
-  // all 72; 60°/100 mm makes some redundant. Both must leave a set in which no two poses are
-  // close and every dropped pose close to a kept one.
+  // With these fixtures no two poses are both within 30° and 50 mm (see the next test), so the
+  // default rule keeps all 72; 60°/100 mm makes some redundant. Both must leave a set in which no
+  // two poses are close and every dropped pose close to a kept one.
   for (const auto& [angle_deg, distance] : {std::pair{30.0, 50.0}, std::pair{60.0, 100.0}}) {
     const double angle = deg2rad(angle_deg);
     const std::vector<HexapodPose> kept = prune_redundant(poses, angle, distance);
@@ -246,6 +246,61 @@ TEST(HexapodPoses, PruningKeepsOnlyPosesFarFromEachOther) {
       closest =
           std::min(closest, rotation_distance(poses[i].base_T_tool.R, poses[j].base_T_tool.R));
   EXPECT_GT(rad2deg(closest), 30);
+}
+
+TEST(HexapodPoses, PublishedFiftyFourIsTheOrientationRuleJustAbove30Degrees) {
+  // METHOD §8: "closer than ~30° and ~50 mm … the published set keeps 54". For the published
+  // fixtures (300 / 150 / 300 mm, equilateral) the orientation distance (rotation angle between
+  // the tool fixture frames) of the closest pairs is just above 30°, with tool-fixture centres
+  // ≈ 148 mm apart; no pair is within 50 mm and 60°. So 30° and 50 mm together keep all 72, and
+  // 54 = 72 − 18 is what an orientation-only rule just above 30° leaves: the closest pairs are 18
+  // disjoint pairs (a mode-1 pose with a mode-3 one, a mode-2 with a mode-4), each losing one.
+  const std::vector<HexapodPose> poses = enumerate_poses(HexapodGeometry{});
+  ASSERT_EQ(poses.size(), 72u);
+  const auto angle = [&](size_t i, size_t j) {
+    return rad2deg(rotation_distance(poses[i].base_T_tool.R, poses[j].base_T_tool.R));
+  };
+  const auto distance = [&](size_t i, size_t j) {
+    return (centroid(poses[i].tool_cups) - centroid(poses[j].tool_cups)).norm();
+  };
+  double closest = 180;
+  for (size_t i = 0; i < poses.size(); ++i)
+    for (size_t j = i + 1; j < poses.size(); ++j) {
+      closest = std::min(closest, angle(i, j));
+      EXPECT_FALSE(angle(i, j) < 60 && distance(i, j) < 50) << poses[i].label << poses[j].label;
+    }
+  EXPECT_GT(closest, 30.0);
+  EXPECT_LT(closest, 30.5);
+  std::vector<int> partners(poses.size(), 0);
+  int pairs = 0;
+  for (size_t i = 0; i < poses.size(); ++i)
+    for (size_t j = i + 1; j < poses.size(); ++j)
+      if (angle(i, j) < closest + 1e-6) {
+        ++pairs;
+        ++partners[i];
+        ++partners[j];
+        EXPECT_EQ(std::abs(poses[i].mode - poses[j].mode), 2) << poses[i].label << poses[j].label;
+        EXPECT_GT(distance(i, j), 140);
+        EXPECT_LT(distance(i, j), 150);
+      }
+  EXPECT_EQ(pairs, 18);
+  for (int n : partners) EXPECT_LE(n, 1);  // disjoint
+  // The next-closest orientations are ≥ 38° apart: the rule keeps 54 for any angle in between.
+  for (size_t i = 0; i < poses.size(); ++i)
+    for (size_t j = i + 1; j < poses.size(); ++j)
+      if (angle(i, j) > closest + 1e-6) EXPECT_GT(angle(i, j), 37.5);
+  EXPECT_EQ(prune_redundant(poses, deg2rad(30), 50).size(), 72u);
+  EXPECT_EQ(prune_redundant(poses, deg2rad(31), 150).size(), 54u);
+  EXPECT_EQ(prune_redundant(poses, deg2rad(37), 1e6).size(), 54u);
+  std::printf(
+      "closest orientations %.3f deg apart (18 pairs, centres %.1f mm apart): 30 deg/50 mm "
+      "keeps 72, 31 deg/150 mm keeps 54\n",
+      closest, [&] {
+        for (size_t i = 0; i < poses.size(); ++i)
+          for (size_t j = i + 1; j < poses.size(); ++j)
+            if (angle(i, j) < closest + 1e-6) return distance(i, j);
+        return 0.0;
+      }());
 }
 
 }  // namespace

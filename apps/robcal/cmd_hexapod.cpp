@@ -128,11 +128,24 @@ void run_poses(const GeometryOptions& options, double angle_deg, double distance
     throw InputError({"", 0, 0, "--angle-deg/--distance-mm"}, "expected non-negative thresholds");
   const std::vector<HexapodPose> all = enumerate_poses(options.geometry());
   const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(angle_deg), distance_mm);
+  // The closest two poses in orientation, and their tool-fixture centres' distance: what the
+  // angle threshold must exceed for any pruning.
+  double closest_deg = 180, closest_mm = 0;
+  for (size_t i = 0; i < all.size(); ++i)
+    for (size_t j = i + 1; j < all.size(); ++j) {
+      const double a = rad2deg(rotation_distance(all[i].base_T_tool.R, all[j].base_T_tool.R));
+      if (a < closest_deg) {
+        closest_deg = a;
+        closest_mm = (centroid(all[i].tool_cups) - centroid(all[j].tool_cups)).norm();
+      }
+    }
   if (json) {
     nlohmann::json out{{"enumerated", all.size()},
                        {"kept", kept.size()},
                        {"angle_deg", angle_deg},
-                       {"distance_mm", distance_mm}};
+                       {"distance_mm", distance_mm},
+                       {"closest_orientation_deg", tidy(closest_deg, 6)},
+                       {"closest_orientation_centres_mm", tidy(closest_mm, 6)}};
     out["poses"] = nlohmann::json::array();
     for (const HexapodPose& p : kept) out["poses"].push_back(hexapod_pose_json(p));
     print_json(out);
@@ -140,6 +153,9 @@ void run_poses(const GeometryOptions& options, double angle_deg, double distance
   }
   fmt::print("{} poses enumerated, {} kept (redundant: within {}° and {} mm of a kept one)\n",
              all.size(), kept.size(), angle_deg, distance_mm);
+  fmt::print(
+      "closest two poses in orientation: {:.3f}° apart, tool-fixture centres {:.1f} mm apart\n",
+      closest_deg, closest_mm);
   for (const HexapodPose& p : kept) {
     const Eigen::Vector3d c = centroid(p.tool_cups);
     fmt::print("{}  {:<32} centroid {:8.2f} {:8.2f} {:8.2f} mm\n", p.label, p.description(), c.x(),
@@ -326,6 +342,9 @@ nlohmann::json plan_json(const RobotModel& model, const HexapodGeometry& g, cons
   out["geometry"] = {{"base_sides_mm", g.base.as_array()}, {"tool_sides_mm", g.tool.as_array()}};
   out["placement"] = o.placement;
   out["tool_offset_mm"] = o.tool_offset_mm;
+  out["ball_offset_mm"] = o.ball_offset_mm;
+  out["table_z_mm"] = o.table_z_mm;
+  out["tool_mount"] = pose_json(default_tool_mount(g.tool, o.tool_offset_mm));
   out["setting_ball"] = setup_json(model, o.rough_placement(), g.leg_mm, o.ball_offset_mm);
   out["poses_enumerated"] = enumerated;
   out["poses_kept"] = summary.poses.size();
@@ -345,6 +364,7 @@ nlohmann::json plan_json(const RobotModel& model, const HexapodGeometry& g, cons
                             {"rejected_fixture", p.rejected_fixture}});
     for (const PoseConfiguration& c : p.configurations)
       out["configurations"].push_back({{"pose", p.pose.label},
+                                       {"mode", p.pose.mode},
                                        {"labels", c.config.label()},
                                        {"joints_deg", joints_json(c.joints)},
                                        {"legs", legs}});
@@ -502,7 +522,7 @@ nlohmann::json stage_json(const CalibrationStage& s) {
 }
 
 void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation, int threads,
-                  bool leg_fit, bool json) {
+                  bool leg_fit, bool relative, bool json) {
   if (validation < 2)
     throw InputError({"", 0, 0, "--validation"}, "expected at least 2 configurations");
   if (threads < 1) throw InputError({"", 0, 0, "--threads"}, "expected at least 1 thread");
@@ -517,6 +537,7 @@ void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation
   o.validation_configurations = validation;
   o.threads = threads;
   o.leg_fit = leg_fit;
+  o.relative_pose_fit = relative;
   std::mt19937_64 rng(seed);
   const EndToEndReport r = run_end_to_end(model, o, rng);
   nlohmann::json out{{"robot", r.robot},
@@ -529,6 +550,9 @@ void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation
                      {"out_of_range_first_pass", r.retried},
                      {"measured_after_replanning", r.measured_after_replan},
                      {"world_frame_rms_mm", tidy(r.world_frame_rms_mm, 6)},
+                     {"world_frame_error_mm", tidy(r.world_frame_error_mm, 6)},
+                     {"world_frame_error_deg", tidy(r.world_frame_error_deg, 6)},
+                     {"relative_pose_fit", relative},
                      {"validation_configurations", r.validation_configurations},
                      {"nominal", figures_json(r.nominal)},
                      {"preliminary", stage_json(r.preliminary)},
@@ -556,7 +580,12 @@ void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation
       "first pass: {} measured, {} out of the ballbar's range; after the preliminary "
       "calibration {} of those measured\n",
       r.measured_first, r.retried, r.measured_after_replan);
-  fmt::print("world frame from the base cups: rms {:.4f} mm\n", r.world_frame_rms_mm);
+  fmt::print(
+      "world frame from the base cups: rms {:.4f} mm; off the true base fixture frame by {:.3f} "
+      "mm, "
+      "{:.4f}° (the uncalibrated robot placed the cups){}\n",
+      r.world_frame_rms_mm, r.world_frame_error_mm, r.world_frame_error_deg,
+      relative ? "; pose fits hold the base (relative model)" : "; pose fits identify the base");
   fmt::print("validation on {} random configurations (laser tracker), mm:\n",
              r.validation_configurations);
   fmt::print("{:<26} {:>8} {:>8} {:>8}   {:>10} {:>10}\n", "model", "mean", "std", "max",
@@ -674,6 +703,7 @@ const bool registered = register_command(60, [](CLI::App& app) {
     auto validation = std::make_shared<int>(10000);
     auto threads = std::make_shared<int>(2);
     auto no_leg_fit = std::make_shared<bool>(false);
+    auto relative = std::make_shared<bool>(false);
     auto json = std::make_shared<bool>(false);
     cell->add_to(cmd);
     cmd->add_option("--seed", *seed, "Seed of the true robot, the readings and the validation")
@@ -683,8 +713,12 @@ const bool registered = register_command(60, [](CLI::App& app) {
     cmd->add_option("--threads", *threads, "Threads of the all-pairs statistics")
         ->capture_default_str();
     cmd->add_flag("--no-leg-fit", *no_leg_fit, "Skip the fit from the raw leg readings");
+    cmd->add_flag("--relative", *relative,
+                  "Pose fits hold the base (the published relative model) instead of identifying "
+                  "it");
     cmd->add_flag("--json", *json, "Machine-readable output");
-    cmd->callback([=] { run_simulate(*cell, *seed, *validation, *threads, !*no_leg_fit, *json); });
+    cmd->callback(
+        [=] { run_simulate(*cell, *seed, *validation, *threads, !*no_leg_fit, *relative, *json); });
   }
   {
     auto* cmd = hex->add_subcommand(

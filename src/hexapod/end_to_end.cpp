@@ -14,17 +14,10 @@
 namespace robcal::hexapod {
 namespace {
 
-/// The validation set: random configurations and the tracker's readings of one point on the tool
-/// (the tool fixture's centroid), in the world frame (the tracker registered on the base cups).
-struct ValidationSet {
-  std::vector<Vector6d> joints;
-  Eigen::Matrix3Xd measured;
-};
-
 /// Errors of a model whose robot frame sits at `robot_T_world` (relative model).
 ValidationFigures validate(const RobotModel& model, const PointMass& payload,
                            const ParameterVector& params, const Eigen::Vector3d& target_flange,
-                           const Pose<double>& robot_T_world, const ValidationSet& set,
+                           const Pose<double>& robot_T_world, const TrackerValidation& set,
                            int threads) {
   const Pose<double> world_T_robot = robot_T_world.inverse();
   Eigen::Matrix3Xd predicted(3, static_cast<int>(set.joints.size()));
@@ -38,10 +31,14 @@ ValidationFigures validate(const RobotModel& model, const PointMass& payload,
           pairwise_distance_errors(set.measured, predicted, threads).stats};
 }
 
-IdentifyOptions relative_full_model() {
+/// The full model with its base: the world frame from the base cups is where the uncalibrated
+/// robot put them, off by its own error at those points (≈ 1 mm); holding the base (the relative
+/// model) would force the link parameters to absorb that rigid offset, which they cannot. The base
+/// parameters identify it, as the leg fit's free base cups do.
+IdentifyOptions pose_fit_options(bool relative) {
   IdentifyOptions options;
   options.level = CalibrationLevel::Full;
-  options.fix = {"base.*"};  // relative model: the world frame comes from the base cups
+  if (relative) options.fix = {"base.*"};
   options.prediction_configurations = 100;
   return options;
 }
@@ -63,13 +60,23 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   rep.robot = model.name;
   // The true robot: random errors, levelled on its table (the relative model keeps gravity along
   // the base z), carrying the published end-effector (METHOD §3: 2.6 kg at (50, 25, 100) mm).
-  Tool carried;
-  carried.payload = {2.6, Eigen::Vector3d(50, 25, 100)};
-  TrueRobot truth = random_truth(model, carried, o.errors, rng, {0, 0, 0, 0, 0, 0});
-  truth.robot.params[3] = truth.robot.params[4] = 0;
-  const PointMass payload = carried.payload;
+  const PointMass payload{2.6, Eigen::Vector3d(50, 25, 100)};
+  const TrueRobot truth = levelled_random_truth(model, payload, o.errors, rng);
   const SimulatedHexapodCell cell = set_up_simulated_cell(truth, model, o.cell, rng);
   rep.world_frame_rms_mm = cell.world.rms_mm;
+  {
+    // The fitted world frame against the true base fixture frame, both in the true robot's frame:
+    // world_A_1 = Trans(x, y, z) · Rx Ry Rz(γ) · (the nominal Trans(0, 0, d1) Rz(θ1)) for a
+    // levelled base (α = β = 0), so the true robot frame sits at Trans(x, y, z) · Rz(γ).
+    const ParameterVector& t = truth.robot.params;
+    Pose<double> sim_T_robot;
+    sim_T_robot.R = Eigen::AngleAxisd(t[5], Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    sim_T_robot.p = Eigen::Vector3d(t[0], t[1], t[2]);
+    const Pose<double> robot_T_fixture = sim_T_robot.inverse() * cell.world_T_sim.inverse();
+    const Pose<double> error = robot_T_fixture.inverse() * cell.world.robot_T_fixture;
+    rep.world_frame_error_mm = error.p.norm();
+    rep.world_frame_error_deg = rad2deg(Eigen::AngleAxisd(error.R).angle());
+  }
 
   // Plan with the measured fixtures.
   const HexapodGeometry measured{cell.base_sides, cell.tool_sides, o.cell.design.leg_mm};
@@ -101,7 +108,7 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
                              "simulated hexapod");
   };
   const IdentificationResult preliminary =
-      calibrate(model, tool, measurements(), relative_full_model());
+      calibrate(model, tool, measurements(), pose_fit_options(o.relative_pose_fit));
   rep.preliminary = stage_of(preliminary, rep.measured_first);
 
   // Re-plan the rest: the joints that put the flange where the pose needs it on the
@@ -117,25 +124,13 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
     }
   }
   const IdentificationResult final_fit =
-      calibrate(model, tool, measurements(), relative_full_model());
+      calibrate(model, tool, measurements(), pose_fit_options(o.relative_pose_fit));
   rep.final_pose_fit = stage_of(final_fit, static_cast<int>(readings.size()));
 
   // Validation: random configurations in the published joint box, a laser tracker reading the
   // tool fixture's centroid, registered on the base cups.
-  ValidationSet validation;
-  const std::array<JointLimit, kJointCount> box = published_joint_box(model);
-  LaserTracker tracker;
-  tracker.sigma_mm = Eigen::Vector3d::Constant(o.tracker_sigma_mm);
-  const Eigen::Vector3d true_target = centroid(cell.tool_cups_flange);
-  validation.measured.resize(3, o.validation_configurations);
-  for (int k = 0; k < o.validation_configurations; ++k) {
-    Vector6d q;
-    for (int i = 0; i < kJointCount; ++i)
-      q[i] = std::uniform_real_distribution<double>(box[i].lower, box[i].upper)(rng);
-    validation.joints.push_back(q);
-    validation.measured.col(k) =
-        cell.world_T_sim * read_point(tracker, true_flange_pose(truth, q) * true_target, rng);
-  }
+  const TrackerValidation validation = simulate_tracker_validation(
+      cell, centroid(cell.tool_cups_flange), o.validation_configurations, o.tracker_sigma_mm, rng);
   rep.validation_configurations = o.validation_configurations;
   const Eigen::Vector3d target =
       cell.cell.flange_T_tool * centroid(fixture_cups(cell.tool_sides, "tool"));

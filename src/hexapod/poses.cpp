@@ -31,31 +31,53 @@ TriangleSides design_tool_sides(const LegDesign& design, const Cups<double>& phy
   return {d(0, 1), d(1, 2), d(2, 0)};
 }
 
+std::optional<Cups<double>> planned_tool_cups(const Cups<double>& base, const Cups<double>& tool,
+                                              const LegDesign& design, int mode, double leg_mm) {
+  LegLengths<double> legs;
+  legs.fill(leg_mm);
+  const DkpResult dkp = solve_dkp(design_base_cups(design, base), Eigen::Vector3d::UnitZ(),
+                                  design_tool_sides(design, tool), legs);
+  const AssemblyModeSolution* solution = dkp.mode(mode);
+  if (solution == nullptr) return std::nullopt;
+  return physical_tool_cups(design, solution->tool);
+}
+
+std::optional<LegDesign> design_of_legs(const std::array<PhysicalLeg, 6>& legs) {
+  // Roles as in kDesignLegs: B1 of ρ11, B2 of ρ21, B3 of ρ31; T1 of ρ11, T2 of ρ12, T3 of ρ23.
+  const LegDesign design{{legs[0].base, legs[2].base, legs[5].base},
+                         {legs[0].tool, legs[1].tool, legs[4].tool}};
+  for (const std::array<int, 3>& roles : {design.base, design.tool})
+    if (!std::is_permutation(roles.begin(), roles.end(), std::array<int, 3>{0, 1, 2}.begin()))
+      return std::nullopt;
+  for (size_t i = 0; i < kDesignLegs.size(); ++i)
+    if (legs[i].base != design.base[kDesignLegs[i].base] ||
+        legs[i].tool != design.tool[kDesignLegs[i].tool])
+      return std::nullopt;
+  return design;
+}
+
 std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry) {
   const Cups<double> base = fixture_cups(geometry.base, "base fixture");
   const Cups<double> tool = fixture_cups(geometry.tool, "tool fixture");
   // Cyclic relabellings of the tool cups: design T1 is physical cup shift+1. Turning the fixture
   // by −120° about its normal brings T2 where T1 was.
   static constexpr std::array<int, 3> kRotationDeg{0, -120, 120};
-  LegLengths<double> legs;
-  legs.fill(geometry.leg_mm);
   std::vector<HexapodPose> poses;
   for (int mode = 1; mode <= 4; ++mode)
     for (int shift = 0; shift < 3; ++shift) {
       std::array<int, 3> perm{0, 1, 2};
       do {
         LegDesign design{perm, {shift, (shift + 1) % 3, (shift + 2) % 3}};
-        const DkpResult dkp = solve_dkp(design_base_cups(design, base), Eigen::Vector3d::UnitZ(),
-                                        design_tool_sides(design, tool), legs);
-        const AssemblyModeSolution* solution = dkp.mode(mode);
-        if (solution == nullptr) continue;
+        const std::optional<Cups<double>> cups =
+            planned_tool_cups(base, tool, design, mode, geometry.leg_mm);
+        if (!cups) continue;
         HexapodPose pose;
         pose.index = static_cast<int>(poses.size()) + 1;
         pose.label = fmt::format("P{:02d}", pose.index);
         pose.mode = mode;
         pose.rotation_deg = kRotationDeg[shift];
         pose.design = design;
-        pose.tool_cups = physical_tool_cups(design, solution->tool);
+        pose.tool_cups = *cups;
         pose.base_T_tool = frame_from_cups(pose.tool_cups);
         for (size_t i = 0; i < kDesignLegs.size(); ++i)
           pose.legs[i] = {design.base[kDesignLegs[i].base], design.tool[kDesignLegs[i].tool]};

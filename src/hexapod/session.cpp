@@ -36,6 +36,68 @@ double positive(const nlohmann::json& node, const SourceLocation& where) {
   return node.get<double>();
 }
 
+Eigen::Vector3d point3(const nlohmann::json& node, const SourceLocation& where) {
+  if (!node.is_array() || node.size() != 3 || !node[0].is_number() || !node[1].is_number() ||
+      !node[2].is_number())
+    throw InputError(where, "expected three numbers [x, y, z] (mm)");
+  return {node[0].get<double>(), node[1].get<double>(), node[2].get<double>()};
+}
+
+TriangleSides sides(const nlohmann::json& node, const SourceLocation& where) {
+  if (!node.is_array() || node.size() != 3 || !node[0].is_number() || !node[1].is_number() ||
+      !node[2].is_number())
+    throw InputError(where, "expected three side lengths [d12, d23, d31] (mm)");
+  const TriangleSides s{node[0].get<double>(), node[1].get<double>(), node[2].get<double>()};
+  if (const std::string problem = triangle_problem(s); !problem.empty())
+    throw InputError(where, problem);
+  return s;
+}
+
+/// The optional cell fields of a plan written by `robcal hexapod plan` or `replan`.
+template <typename At>
+void parse_plan_cell(const nlohmann::json& root, const At& at, SessionPlan& plan) {
+  if (root.contains("setting_ball")) {
+    const nlohmann::json& list = root["setting_ball"];
+    if (!list.is_array() || list.size() != 3)
+      throw InputError(at("setting_ball"), "expected the three setting-ball points B1..B3");
+    Cups<double> points;
+    for (int i = 0; i < 3; ++i) {
+      const std::string key = fmt::format("setting_ball[{}].ball_position_mm", i);
+      if (!list[i].is_object() || !list[i].contains("ball_position_mm"))
+        throw InputError(at(key), "expected the ball position (robot frame, mm)");
+      points[i] = point3(list[i]["ball_position_mm"], at(key));
+    }
+    plan.setting_points = points;
+  }
+  if (root.contains("tool_mount")) {
+    const nlohmann::json& m = root["tool_mount"];
+    if (!m.is_object() || !m.contains("position_mm") || !m.contains("quaternion_wxyz") ||
+        !m["quaternion_wxyz"].is_array() || m["quaternion_wxyz"].size() != 4)
+      throw InputError(at("tool_mount"),
+                       "expected {\"position_mm\": [x, y, z], \"quaternion_wxyz\": [w, x, y, z]}");
+    std::array<double, 4> q{};
+    for (int i = 0; i < 4; ++i) {
+      if (!m["quaternion_wxyz"][i].is_number())
+        throw InputError(at("tool_mount.quaternion_wxyz"), "expected four numbers");
+      q[i] = m["quaternion_wxyz"][i].get<double>();
+    }
+    const Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
+    if (std::abs(quat.norm() - 1) > 1e-6)
+      throw InputError(at("tool_mount.quaternion_wxyz"), "expected a unit quaternion");
+    Pose<double> pose;
+    pose.R = quat.normalized().toRotationMatrix();
+    pose.p = point3(m["position_mm"], at("tool_mount.position_mm"));
+    plan.flange_T_tool = pose;
+  }
+  if (root.contains("measured_sides")) {
+    const nlohmann::json& m = root["measured_sides"];
+    if (!m.is_object() || !m.contains("tool_mm") || !m.contains("base_mm"))
+      throw InputError(at("measured_sides"), "expected {\"tool_mm\": [...], \"base_mm\": [...]}");
+    plan.tool_sides = sides(m["tool_mm"], at("measured_sides.tool_mm"));
+    plan.base_sides = sides(m["base_mm"], at("measured_sides.base_mm"));
+  }
+}
+
 }  // namespace
 
 SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& file) {
@@ -66,6 +128,11 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
     config.pose = c["pose"].get<std::string>();
     if (c.contains("labels") && c["labels"].is_string())
       config.labels = c["labels"].get<std::string>();
+    if (c.contains("mode")) {
+      if (!c["mode"].is_number_integer() || c["mode"].get<int>() < 1 || c["mode"].get<int>() > 4)
+        throw InputError(at(key + ".mode"), "expected the assembly mode, an integer 1..4");
+      config.mode = c["mode"].get<int>();
+    }
     if (c.contains("joints_deg")) {
       if (!c["joints_deg"].is_array() || c["joints_deg"].size() != 6)
         throw InputError(at(key + ".joints_deg"), "expected six joint values (deg)");
@@ -82,6 +149,7 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
     }
     plan.configurations.push_back(config);
   }
+  parse_plan_cell(root, at, plan);
   return plan;
 }
 
@@ -98,6 +166,10 @@ SessionPlan load_session_plan(const std::filesystem::path& path) {
 
 Session::Session(SessionPlan plan) : plan_(std::move(plan)) {
   state_.configurations.resize(plan_.configurations.size());
+  for (int i = 0; i < 3; ++i) {
+    if (plan_.tool_sides) state_.tool_sides[i] = plan_.tool_sides->as_array()[i];
+    if (plan_.base_sides) state_.base_sides[i] = plan_.base_sides->as_array()[i];
+  }
 }
 
 bool Session::configuration_done(size_t c) const {
@@ -307,23 +379,22 @@ SessionJournal SessionJournal::open_for_resume(const std::filesystem::path& path
   return SessionJournal(path, file);
 }
 
-int SessionJournal::replay(Session& session) {
-  const std::string text = read_text_file(path_);
+namespace {
+
+/// Applies every complete line of a journal to `session`; returns the entries applied and sets
+/// `complete_bytes` to the length of the complete lines (less than the text after a crash).
+int replay_text(const std::filesystem::path& path, const std::string& text, Session& session,
+                size_t& complete_bytes) {
   size_t start = 0;
   int line = 0, applied = 0;
   while (start < text.size()) {
     const size_t end = text.find('\n', start);
-    if (end == std::string::npos) {
-      // A line cut short by a crash: drop it, the reading was never confirmed to the operator.
-      std::fflush(file_);
-      std::filesystem::resize_file(path_, start);
-      break;
-    }
+    if (end == std::string::npos) break;
     ++line;
     const std::string entry_text = text.substr(start, end - start);
     start = end + 1;
     if (entry_text.empty()) continue;
-    const SourceLocation where{path_.string(), line, 0, ""};
+    const SourceLocation where{path.string(), line, 0, ""};
     nlohmann::json entry;
     try {
       entry = nlohmann::json::parse(entry_text);
@@ -344,7 +415,29 @@ int SessionJournal::replay(Session& session) {
                        : std::optional<double>(entry["reading"].get<double>()));
     ++applied;
   }
+  complete_bytes = start;
   return applied;
+}
+
+}  // namespace
+
+int SessionJournal::replay(Session& session) {
+  const std::string text = read_text_file(path_);
+  size_t complete = 0;
+  const int applied = replay_text(path_, text, session, complete);
+  if (complete < text.size()) {
+    // A line cut short by a crash: drop it, the reading was never confirmed to the operator.
+    std::fflush(file_);
+    std::filesystem::resize_file(path_, complete);
+  }
+  return applied;
+}
+
+int SessionJournal::replay_read_only(const std::filesystem::path& path, Session& session) {
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError({path.string(), 0, 0, "journal"}, "no such session journal");
+  size_t complete = 0;
+  return replay_text(path, read_text_file(path), session, complete);
 }
 
 void SessionJournal::append(const std::string& key, const std::optional<double>& reading) {

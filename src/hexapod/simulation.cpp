@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/measure/instrument.hpp"
+#include "robcal/sim/simulator.hpp"
 
 namespace robcal::hexapod {
 namespace {
@@ -28,6 +30,15 @@ TriangleSides measure_sides(const Cups<double>& cups, double nominal, const Hexa
 }
 
 }  // namespace
+
+TrueRobot levelled_random_truth(const RobotModel& model, const PointMass& payload,
+                                const ErrorBounds& errors, std::mt19937_64& rng) {
+  Tool carried;
+  carried.payload = payload;
+  TrueRobot truth = random_truth(model, carried, errors, rng, {0, 0, 0, 0, 0, 0});
+  truth.robot.params[3] = truth.robot.params[4] = 0;
+  return truth;
+}
 
 SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotModel& nominal,
                                            const HexapodCellOptions& options,
@@ -75,17 +86,61 @@ SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotMo
   return c;
 }
 
+std::optional<double> simulate_leg(const SimulatedHexapodCell& cell, const PhysicalLeg& leg,
+                                   const Vector6d& joints, std::mt19937_64& rng) {
+  const Ballbar bar{cell.base_cups_sim[leg.base], cell.options.design.leg_mm, cell.options.sigma_mm,
+                    cell.options.range_mm};
+  return read_length(bar, true_flange_pose(cell.truth, joints) * cell.tool_cups_flange[leg.tool],
+                     rng);
+}
+
+std::optional<double> simulate_session_reading(const SimulatedHexapodCell& cell,
+                                               const SessionPlan& plan, const SessionStep& step,
+                                               std::mt19937_64& rng) {
+  switch (step.kind) {
+    case StepKind::ToolSide:
+      return cell.tool_sides.as_array()[step.item];
+    case StepKind::BaseSide:
+      return cell.base_sides.as_array()[step.item];
+    case StepKind::CalibratorCheck:
+      return plan.leg_mm + std::normal_distribution<double>(0, cell.options.sigma_mm)(rng);
+    case StepKind::Leg:
+      break;
+  }
+  const SessionConfiguration& c = plan.configurations[step.configuration];
+  if (c.joints_deg.size() != kJointCount)
+    throw InputError({"", 0, 0, fmt::format("configurations[{}].joints_deg", step.configuration)},
+                     "the simulator needs the joints of every configuration");
+  Vector6d q;
+  for (int i = 0; i < kJointCount; ++i) q[i] = deg2rad(c.joints_deg[i]);
+  return simulate_leg(cell, c.legs[step.item], q, rng);
+}
+
+TrackerValidation simulate_tracker_validation(const SimulatedHexapodCell& cell,
+                                              const Eigen::Vector3d& point_flange, int count,
+                                              double sigma_mm, std::mt19937_64& rng) {
+  const std::array<JointLimit, kJointCount> box = published_joint_box(cell.nominal);
+  LaserTracker tracker;
+  tracker.sigma_mm = Eigen::Vector3d::Constant(sigma_mm);
+  TrackerValidation v;
+  v.measured.resize(3, count);
+  for (int k = 0; k < count; ++k) {
+    Vector6d q;
+    for (int i = 0; i < kJointCount; ++i)
+      q[i] = std::uniform_real_distribution<double>(box[i].lower, box[i].upper)(rng);
+    v.joints.push_back(q);
+    v.measured.col(k) =
+        cell.world_T_sim * read_point(tracker, true_flange_pose(cell.truth, q) * point_flange, rng);
+  }
+  return v;
+}
+
 std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell,
                                                 const HexapodPose& pose, const Vector6d& joints,
                                                 std::mt19937_64& rng, int* out_of_range) {
-  const Pose<double> sim_T_flange = true_flange_pose(cell.truth, joints);
-  Ballbar bar{Eigen::Vector3d::Zero(), cell.options.design.leg_mm, cell.options.sigma_mm,
-              cell.options.range_mm};
   LegLengths<double> legs{};
   for (size_t i = 0; i < pose.legs.size(); ++i) {
-    bar.centre_mm = cell.base_cups_sim[pose.legs[i].base];
-    const std::optional<double> r =
-        read_length(bar, sim_T_flange * cell.tool_cups_flange[pose.legs[i].tool], rng);
+    const std::optional<double> r = simulate_leg(cell, pose.legs[i], joints, rng);
     if (!r) {
       if (out_of_range != nullptr) *out_of_range = static_cast<int>(i);
       return std::nullopt;

@@ -49,15 +49,28 @@ struct ArmSolution {
   double c23, s23;
   int shoulder;  ///< 0 front, 1 back: which X of the solver
   bool back, down;
+  unsigned labels;  ///< mask bits of the branches this arm stands for (both elbows if stretched)
+};
+
+/// Where a solve puts its solutions: every turn of every branch into an array, or, per branch,
+/// only the turn nearest the seed.
+struct SolutionSink {
+  IkSolution* solutions;
+  int capacity;
+  bool nearest_turn_only;
+  int count = 0;
+  int branches_reached = 0;
+  bool truncated = false;
 };
 
 /// Solves in stages so that the independent atan2 evaluations of all branches sit in short
 /// loops the processor can overlap: θ1 → both elbow angles → four θ2 → twelve wrist angles.
+/// Only the branches whose bit (1 << ArmConfig::index()) is set in `mask` are solved.
 class Solver {
  public:
   Solver(const OrthoParallelGeometry& g, const Pose<double>& pose, const Vector6d& seed,
-         IkResult& out)
-      : g_(g), R_(pose.R), out_(out) {
+         unsigned mask, SolutionSink& out)
+      : g_(g), R_(pose.R), seed_(seed), mask_(mask), out_(out) {
     // Seed in link angles, for the singular cases.
     const Vector6d q_seed = g.map_identity ? seed : Vector6d(g.map_matrix * seed + g.map_offset);
     seed_theta1_ = q_seed[0] + g.theta_offset[0];
@@ -91,11 +104,11 @@ class Solver {
       w_y[b] = g_.s_alpha2 * h;
       D[b] = w_x[b] * w_x[b] + w_y[b] * w_y[b];
       const double k = (D[b] - g_.a3 * g_.a3 - g_.rho * g_.rho) / (2.0 * g_.a3 * g_.rho);
-      reach[b] = std::abs(k) <= 1.0 + kReachTolerance;
+      reach[b] = std::abs(k) <= 1.0 + kReachTolerance && (mask_ & shoulder_mask(b)) != 0;
       kappa[b] = std::clamp(k, -1.0, 1.0);
       sigma[b] = std::sqrt(1.0 - kappa[b] * kappa[b]);
     }
-    for (int b = 0; b < 2; ++b) phi[b] = fast_atan2(sigma[b], kappa[b]);
+    for (int b = 0; b < 2; ++b) phi[b] = reach[b] ? fast_atan2(sigma[b], kappa[b]) : 0.0;
     // Wrist-side rotations X_b = Rx(α2)ᵀ·Rz(θ1_b)ᵀ·R (rows of R rotated), one per shoulder.
     for (int b = 0; b < 2; ++b) {
       const double c = b == 0 ? c1 : -c1, s = b == 0 ? s1 : -s1;
@@ -109,10 +122,16 @@ class Solver {
     int n = 0;
     for (int b = 0; b < 2; ++b) {
       if (!reach[b]) continue;
+      const bool stretched = sigma[b] == 0.0;  // both elbows coincide
       for (int elbow = 0; elbow < 2; ++elbow) {
-        if (elbow == 1 && sigma[b] == 0.0) break;  // stretched: both elbows coincide
+        if (elbow == 1 && stretched) break;
         const double sign = elbow == 0 ? 1.0 : -1.0;
         const double sphi = sign * sigma[b];
+        // Elbow up/down from the sign of the (x1, z1) cross product (header definition).
+        const bool down = (b == 1 ? -1.0 : 1.0) * (-g_.s_alpha2 * g_.a3 * sphi) <= 0.0;
+        // A stretched elbow stands for both labels.
+        const unsigned labels = stretched ? shoulder_mask(b) : elbow_mask(b, down);
+        if ((mask_ & labels) == 0) continue;
         c3[n] = kappa[b] * g_.cos_psi + sphi * g_.sin_psi;
         s3[n] = sphi * g_.cos_psi - kappa[b] * g_.sin_psi;
         const double vx = g_.a3 + g_.rho * kappa[b], vy = g_.rho * sphi;
@@ -123,8 +142,8 @@ class Solver {
         arm.theta3 = sign * phi[b] - g_.psi;
         arm.shoulder = b;
         arm.back = b == 1;
-        // Elbow up/down from the sign of the (x1, z1) cross product (header definition).
-        arm.down = (arm.back ? -1.0 : 1.0) * (-g_.s_alpha2 * g_.a3 * sphi) <= 0.0;
+        arm.down = down;
+        arm.labels = labels;
         ++n;
       }
     }
@@ -159,6 +178,10 @@ class Solver {
   }
 
  private:
+  /// Mask bits of the branches with shoulder `b` (0 front, 1 back), and also elbow `down`.
+  static unsigned shoulder_mask(int b) { return b == 0 ? 0x0Fu : 0xF0u; }
+  static unsigned elbow_mask(int b, bool down) { return 3u << (4 * b + (down ? 2 : 0)); }
+
   /// Emits the wrist solution and its flip (θ4 + π, −θ5, θ6 + π) for one arm; near the wrist
   /// singularity θ4 comes from the seed and θ6 from the residual rotation.
   void wrist(const ArmSolution& arm, double s5, double theta4, double theta5, double theta6) {
@@ -167,9 +190,14 @@ class Solver {
       if (singular) theta4 = seed_theta4_;
       theta6 = residual_theta6(arm, X_[arm.shoulder], theta4, theta5);
     }
-    emit(arm, theta4, theta5, theta6, false, singular);
-    ++out_.branches_reached;
-    if (singular) return;  // the flip is the same pose with θ4 off the seed
+    // Bit 0 of a branch index is the flip. At the singularity the flip is the same pose with
+    // θ4 off the seed: one solution stands for both.
+    constexpr unsigned kNoFlipBits = 0x55u, kFlipBits = 0xAAu;
+    if (mask_ & arm.labels & (singular ? ~0u : kNoFlipBits)) {
+      emit(arm, theta4, theta5, theta6, false, singular);
+      ++out_.branches_reached;
+    }
+    if (singular || !(mask_ & arm.labels & kFlipBits)) return;
     ++out_.branches_reached;
     emit(arm, theta4 > 0 ? theta4 - kPi : theta4 + kPi, -theta5,
          theta6 > 0 ? theta6 - kPi : theta6 + kPi, true, false);
@@ -193,7 +221,8 @@ class Solver {
     return std::atan2(Rz6(1, 0), Rz6(0, 0));
   }
 
-  /// Converts link angles to controller joints and emits every turn inside the limits.
+  /// Converts link angles to controller joints and emits every turn inside the limits (or the
+  /// turn nearest the seed).
   void emit(const ArmSolution& arm, double theta4, double theta5, double theta6, bool flip,
             bool singular) {
     const std::array<double, kJointCount> theta{arm.theta1, arm.theta2, arm.theta3,
@@ -213,23 +242,28 @@ class Solver {
       turns[i] = upper - v < kTwoPi ? 1 : 1 + static_cast<int>((upper - v) * kInvTwoPi);
       total *= turns[i];
     }
-    if (total == 1 && out_.count < kMaxIkSolutions) {  // the common case: one turn each
-      IkSolution& s = out_.solutions[out_.count++];
-      for (int i = 0; i < kJointCount; ++i) s.joints[i] = first[i];
-      s.config = ArmConfig{arm.back, arm.down, flip};
+    const ArmConfig config{arm.back, arm.down, flip};
+    if (out_.nearest_turn_only) {  // per joint, the turn nearest the seed
+      IkSolution& s = out_.solutions[0];
+      for (int i = 0; i < kJointCount; ++i) {
+        const double k = std::round((seed_[i] - first[i]) * kInvTwoPi);
+        s.joints[i] = first[i] + kTwoPi * std::clamp(k, 0.0, static_cast<double>(turns[i] - 1));
+      }
+      s.config = config;
       s.wrist_singular = singular;
       s.shoulder_singular = shoulder_singular_;
+      out_.count = 1;
       return;
     }
     std::array<int, kJointCount> k{};
     for (int n = 0; n < total; ++n) {
-      if (out_.count == kMaxIkSolutions) {
-        out_.status = IkStatus::Truncated;
+      if (out_.count == out_.capacity) {
+        out_.truncated = true;
         return;
       }
       IkSolution& s = out_.solutions[out_.count++];
       for (int i = 0; i < kJointCount; ++i) s.joints[i] = first[i] + kTwoPi * k[i];
-      s.config = ArmConfig{arm.back, arm.down, flip};
+      s.config = config;
       s.wrist_singular = singular;
       s.shoulder_singular = shoulder_singular_;
       for (int i = kJointCount - 1; i >= 0; --i) {  // odometer over the turns
@@ -241,12 +275,21 @@ class Solver {
 
   const OrthoParallelGeometry& g_;
   const Eigen::Matrix3d& R_;
-  IkResult& out_;
+  const Vector6d& seed_;
+  unsigned mask_;
+  SolutionSink& out_;
   std::array<Eigen::Matrix3d, 2> X_;
   Eigen::Vector3d wrist_;
   double seed_theta1_ = 0, seed_theta4_ = 0;
   bool shoulder_singular_ = false;
 };
+
+IkStatus status_of(const SolutionSink& sink) {
+  if (sink.truncated) return IkStatus::Truncated;
+  if (sink.branches_reached == 0) return IkStatus::Unreachable;
+  if (sink.count == 0) return IkStatus::OutsideLimits;
+  return IkStatus::Solved;
+}
 
 }  // namespace
 
@@ -334,15 +377,23 @@ std::optional<OrthoParallelGeometry> analyze_ortho_parallel(const RobotModel& mo
 }
 
 IkResult nominal_ik(const OrthoParallelGeometry& geometry, const Pose<double>& world_T_flange,
-                    const Vector6d& seed) {
+                    const Vector6d& seed, unsigned branch_mask) {
   IkResult result;
-  result.status = IkStatus::Solved;
-  Solver(geometry, world_T_flange, seed, result).run();
-  if (result.status == IkStatus::Truncated) return result;
-  if (result.branches_reached == 0)
-    result.status = IkStatus::Unreachable;
-  else if (result.count == 0)
-    result.status = IkStatus::OutsideLimits;
+  SolutionSink sink{result.solutions.data(), kMaxIkSolutions, false};
+  Solver(geometry, world_T_flange, seed, branch_mask, sink).run();
+  result.count = sink.count;
+  result.branches_reached = sink.branches_reached;
+  result.status = status_of(sink);
+  return result;
+}
+
+IkBranchResult nominal_ik_branch(const OrthoParallelGeometry& geometry,
+                                 const Pose<double>& world_T_flange, const ArmConfig& config,
+                                 const Vector6d& seed) {
+  IkBranchResult result;
+  SolutionSink sink{&result.solution, 1, true};
+  Solver(geometry, world_T_flange, seed, 1u << config.index(), sink).run();
+  result.status = status_of(sink);
   return result;
 }
 

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -74,36 +73,23 @@ struct Coordinates {
   }
 };
 
-/// One Newton step towards 1/sqrt(x), with half = x/2: y(3/2 − half·y²).
-inline double rsqrt_step(double y, double half) {
-  return y * (1.5 - half * y * y);
-}
-/// One Newton step towards 1/x: r(2 − x·r).
-inline double reciprocal_step(double r, double x) {
-  return r * (2.0 - x * r);
-}
-/// 1/sqrt(x) to within a few ulps for normal x ≥ 0 (0 gives a large finite value): the
-/// exponent-halving bit trick (≤ 3.5% off) and four Newton steps (error 3.5e-2 → 1.8e-3 →
-/// 4.6e-6 → 3e-11 → rounding).
-inline double inverse_sqrt(double x) {
-  const double half = 0.5 * x;
-  double y = std::bit_cast<double>(INT64_C(0x5FE6EB50C7B537A9) - (std::bit_cast<int64_t>(x) >> 1));
-  y = rsqrt_step(y, half);
-  y = rsqrt_step(y, half);
-  y = rsqrt_step(y, half);
-  return rsqrt_step(y, half);
-}
-
-/// Errors of the pairs (i, j), j in [begin, begin + kChunk), into `e` (entries past the last
-/// row are computed against the zero padding and ignored by the caller).
+/// Errors of the pairs (i, j), j in [begin, begin + kChunk), into `e`, and their histogram
+/// bins over [0, bins/scale) into `bin` (entries past the last row are computed against the
+/// zero padding and ignored by the caller).
 ///
 /// With a = m_i − m_j and b = p_i − p_j, |a| − |b| = (|a|² − |b|²)/(|a| + |b|) and
 /// |a|² − |b|² = (a − b)·(a + b) with a − b = r_i − r_j: the difference of two large, nearly
-/// equal lengths is never formed, so e_ij is accurate to a few ulps of itself (the direct
-/// formula loses ulp(|a|) ≈ 1e-13 mm), and the square roots and the division become Newton
-/// iterations, which vectorise (the hardware divider would cost ~4 cycles per pair).
+/// equal lengths is never formed. The numerator is exact to double rounding; the denominator
+/// only scales it, so single precision (relative 2⁻²⁴ per operation) gives e_ij to a relative
+/// 3e-7 — 3e-9 mm on a 0.01 mm error, far below any instrument — while the square roots and
+/// the division run 16 to a vector on the hardware divider instead of as Newton iterations.
+/// The direct formula |a| − |b| in double would lose ulp(|a|) ≈ 1e-13 mm absolute, which is
+/// worse for tiny errors. This file is built with -fno-math-errno -fno-trapping-math
+/// (CMakeLists.txt) so that this loop vectorises.
 ROBCAL_PAIR_KERNEL
-void pair_errors(const Coordinates& c, int i, int begin, double* __restrict e) {
+void pair_errors(const Coordinates& c, int i, int begin, double scale, int bins,
+                 double* __restrict e, int32_t* __restrict bin) {
+  const double last_bin = bins - 1;
   const size_t row = static_cast<size_t>(i), first = static_cast<size_t>(begin);
   const double mxi = c.m[0][row], myi = c.m[1][row], mzi = c.m[2][row];
   const double pxi = c.p[0][row], pyi = c.p[1][row], pzi = c.p[2][row];
@@ -120,22 +106,19 @@ void pair_errors(const Coordinates& c, int i, int begin, double* __restrict e) {
   for (int k = 0; k < kChunk; ++k) {
     const double ax = mxi - mx[k], ay = myi - my[k], az = mzi - mz[k];
     const double bx = pxi - px[k], by = pyi - py[k], bz = pzi - pz[k];
-    const double s = ax * ax + ay * ay + az * az;  // |a|²
-    const double t = bx * bx + by * by + bz * bz;  // |b|²
+    const auto s = static_cast<float>(ax * ax + ay * ay + az * az);  // |a|²
+    const auto t = static_cast<float>(bx * bx + by * by + bz * bz);  // |b|²
     const double difference =
         (rxi - rx[k]) * (ax + bx) + (ryi - ry[k]) * (ay + by) + (rzi - rz[k]) * (az + bz);
-    const double ya = inverse_sqrt(s), yb = inverse_sqrt(t);
-    const double sum = s * ya + t * yb;  // |a| + |b|
-    // 1/(|a| + |b|) from 1/(2·max(|a|, |b|)), which is within a factor 2 below it: six steps
-    // reach full precision from the worst start (error 1/2 → 1/4 → … → 5e-20).
-    double inverse = 0.5 * (ya < yb ? ya : yb);
-    inverse = reciprocal_step(inverse, sum);
-    inverse = reciprocal_step(inverse, sum);
-    inverse = reciprocal_step(inverse, sum);
-    inverse = reciprocal_step(inverse, sum);
-    inverse = reciprocal_step(inverse, sum);
-    inverse = reciprocal_step(inverse, sum);
-    e[k] = (difference < 0 ? -difference : difference) * inverse;
+    const float sum = std::sqrt(s) + std::sqrt(t);  // |a| + |b|
+    // sum is 0 only for |a|, |b| < 1e-19 mm, where the numerator is below 1e-19 mm too:
+    // dividing by 1 instead keeps e finite and that small.
+    const float inverse = 1.0F / (sum > 0 ? sum : 1.0F);
+    const double error = (difference < 0 ? -difference : difference) * static_cast<double>(inverse);
+    e[k] = error;
+    // histogram_bin for error ≥ 0 and lower = 0, without branches.
+    const double position = error * scale;
+    bin[k] = static_cast<int32_t>(position < last_bin ? position : last_bin);
   }
 }
 
@@ -146,53 +129,53 @@ struct RowSums {
   RowSums() { min.fill(std::numeric_limits<double>::infinity()); }
 };
 
-/// Adds the first `count` errors to the row's lanes and to the histogram copies. Chunks start
-/// at multiples of kLanes within the row, so pair k of a row always goes to lane k mod kLanes:
-/// the order of additions depends only on the data.
+/// Adds the first `count` errors to the row's lanes and their bins to the histogram copies.
+/// Chunks start at multiples of kLanes within the row, so pair k of a row always goes to lane
+/// k mod kLanes: the order of additions depends only on the data.
 ROBCAL_PAIR_KERNEL
-void accumulate(const double* __restrict e, int count, double scale, int bins, RowSums& sums,
-                uint64_t* __restrict histogram) {
-  alignas(64) int32_t bin[kChunk];
+void accumulate(const double* __restrict e, const int32_t* __restrict bin, int count, int bins,
+                RowSums& sums, uint64_t* __restrict histogram) {
   std::array<double, kLanes> sum = sums.sum, squares = sums.squares, min = sums.min, max = sums.max;
-  const double last_bin = bins - 1;
-  int k = 0;
-  for (; k + kLanes <= count; k += kLanes)
-    for (int l = 0; l < kLanes; ++l) {
-      const double v = e[k + l];
-      sum[l] += v;
-      squares[l] += v * v;
-      min[l] = v < min[l] ? v : min[l];
-      max[l] = v > max[l] ? v : max[l];
-      // histogram_bin for v ≥ 0, lower = 0, without branches.
-      const double position = v * scale;
-      bin[k + l] = static_cast<int32_t>(position < last_bin ? position : last_bin);
-    }
-  for (int l = 0; k + l < count; ++l) {
-    const double v = e[k + l];
+  const auto add = [&](int l, double v) {
     sum[l] += v;
     squares[l] += v * v;
     min[l] = v < min[l] ? v : min[l];
     max[l] = v > max[l] ? v : max[l];
-    bin[k + l] = histogram_bin(v, 0.0, scale, bins);
-  }
+  };
+  int k = 0;
+  for (; k + kLanes <= count; k += kLanes)
+    for (int l = 0; l < kLanes; ++l) add(l, e[k + l]);
+  for (int l = 0; k + l < count; ++l) add(l, e[k + l]);
   sums.sum = sum;
   sums.squares = squares;
   sums.min = min;
   sums.max = max;
-  for (k = 0; k < count; ++k) ++histogram[(k % kHistogramCopies) * bins + bin[k]];
+  static_assert(kHistogramCopies == 4);
+  uint64_t* __restrict copy0 = histogram;
+  uint64_t* __restrict copy1 = histogram + bins;
+  uint64_t* __restrict copy2 = copy1 + bins;
+  uint64_t* __restrict copy3 = copy2 + bins;
+  for (k = 0; k + kHistogramCopies <= count; k += kHistogramCopies) {
+    ++copy0[bin[k]];
+    ++copy1[bin[k + 1]];
+    ++copy2[bin[k + 2]];
+    ++copy3[bin[k + 3]];
+  }
+  for (; k < count; ++k) ++copy0[bin[k]];
 }
 
 BlockResult process_block(const Coordinates& c, int block, int rows, double scale, int bins,
                           uint64_t* histogram) {
   alignas(64) double e[kChunk];
+  alignas(64) int32_t bin[kChunk];
   BlockResult result;
   const int row_end = std::min(rows, (block + 1) * kRowsPerBlock);
   for (int i = block * kRowsPerBlock; i < row_end; ++i) {
     RowSums sums;
     for (int begin = i + 1; begin < rows; begin += kChunk) {
       const int count = std::min(kChunk, rows - begin);
-      pair_errors(c, i, begin, e);
-      accumulate(e, count, scale, bins, sums, histogram);
+      pair_errors(c, i, begin, scale, bins, e, bin);
+      accumulate(e, bin, count, bins, sums, histogram);
     }
     const double n = rows - 1 - i;
     if (n == 0) continue;
@@ -238,8 +221,13 @@ PairwiseDistanceErrors pairwise_distance_errors(const Eigen::Matrix3Xd& measured
         fmt::format("pairwise_distance_errors: {} measured and {} modelled "
                     "positions",
                     measured_mm.cols(), modelled_mm.cols()));
-  if (!measured_mm.allFinite() || !modelled_mm.allFinite())
-    throw std::invalid_argument("pairwise_distance_errors: positions must be finite");
+  // The kernel squares distances in single precision (up to 3e38): 1e12 mm leaves room.
+  constexpr double kMaxCoordinate = 1e12;
+  if (!measured_mm.allFinite() || !modelled_mm.allFinite() ||
+      measured_mm.cwiseAbs().maxCoeff() > kMaxCoordinate ||
+      modelled_mm.cwiseAbs().maxCoeff() > kMaxCoordinate)
+    throw std::invalid_argument(
+        "pairwise_distance_errors: positions must be finite and within ±1e12 mm");
   if (threads < 1 || bins < 1)
     throw std::invalid_argument(fmt::format(
         "pairwise_distance_errors: threads ({}) and bins ({}) must be >= 1", threads, bins));

@@ -77,3 +77,12 @@ def test_world_frame_keeps_the_measured_triangle_closest_to_the_robot_points():
     measured = [np.linalg.norm(c[0] - c[1]), np.linalg.norm(c[1] - c[2]), np.linalg.norm(c[2] - c[0])]
     np.testing.assert_allclose(measured, sides, atol=1e-9)
     assert 0 < fit["rms_mm"] < 0.3
+
+
+def test_published_54_poses_is_the_orientation_rule_just_above_30_degrees():
+    # No two poses are within 30° and 50 mm: the default rule keeps all 72; the closest
+    # orientations are 30.2° apart with centres 148 mm apart (18 disjoint pairs), so a rule just
+    # above 30° that ignores position leaves the published 54.
+    assert len(hexapod.enumerate_poses(angle_deg=30.0, distance_mm=50.0)) == 72
+    assert len(hexapod.enumerate_poses(angle_deg=31.0, distance_mm=150.0)) == 54
+    assert len(hexapod.enumerate_poses(angle_deg=30.0, distance_mm=1e6)) == 72

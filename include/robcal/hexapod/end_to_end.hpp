@@ -30,6 +30,9 @@ struct EndToEndOptions {
   double tracker_sigma_mm = 0.022;  ///< METHOD §7, laser tracker
   int threads = 2;                  ///< all-pairs statistics
   bool leg_fit = true;              ///< also fit from the raw readings
+  /// Hold the base in the pose fits (the published relative model): the fit then keeps the error
+  /// of the world frame the uncalibrated robot gave the base cups.
+  bool relative_pose_fit = false;
 };
 
 /// Accuracy of one model on the validation configurations.
@@ -53,6 +56,9 @@ struct EndToEndReport {
   int retried = 0;         ///< out of range at first, re-planned with the preliminary model
   int measured_after_replan = 0;
   double world_frame_rms_mm = 0;
+  /// The fitted world frame against the true base fixture frame (translation, rotation): the
+  /// uncalibrated robot's error where it placed the cups.
+  double world_frame_error_mm = 0, world_frame_error_deg = 0;
   ValidationFigures nominal;
   CalibrationStage preliminary, final_pose_fit, leg_fit;
   double leg_fit_offset_mm = 0;

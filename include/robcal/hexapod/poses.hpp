@@ -7,6 +7,7 @@
 /// redundant and pruned.
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,16 @@ std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry);
 /// `max_distance_mm` between the tool-fixture centroids (METHOD §8 defaults: 30°, 50 mm).
 std::vector<HexapodPose> prune_redundant(const std::vector<HexapodPose>& poses,
                                          double max_angle_rad, double max_distance_mm);
+
+/// The physical tool cups (base fixture frame) of the pose with every leg at `leg_mm`, for the
+/// physical cups `base` and `tool` (fixture frames), a leg design and an assembly mode; nullopt
+/// when that mode has no real solution.
+std::optional<Cups<double>> planned_tool_cups(const Cups<double>& base, const Cups<double>& tool,
+                                              const LegDesign& design, int mode, double leg_mm);
+
+/// The leg design a pose's six physical legs (measurement order) follow, or nullopt when they do
+/// not follow design 1^12 2^123 3^1 with one cup per role.
+std::optional<LegDesign> design_of_legs(const std::array<PhysicalLeg, 6>& legs);
 
 /// Physical tool cups (base fixture frame) from a DKP solution in design roles.
 Cups<double> physical_tool_cups(const LegDesign& design, const Cups<double>& design_tool);

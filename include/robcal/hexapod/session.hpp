@@ -27,6 +27,7 @@ struct SessionConfiguration {
   int id = 0;                       ///< 1-based, as shown to the operator
   std::string pose;                 ///< pose label ("P07")
   std::string labels;               ///< "front/up/no-flip" (may be empty)
+  int mode = 0;                     ///< planned assembly mode 1..4 (0: not given)
   std::vector<double> joints_deg;   ///< controller joints (may be empty: pose-only plans)
   std::array<PhysicalLeg, 6> legs;  ///< in measurement order
 };
@@ -38,6 +39,14 @@ struct SessionPlan {
   double range_mm = 1.0;         ///< the ballbar reads only within ±range of its set-up length
   int recheck_every = 5;         ///< configurations between calibrator re-checks (0: never)
   std::vector<SessionConfiguration> configurations;
+  /// The cell as planned, for calibrating from the session (absent from hand-written plans):
+  /// where the robot put the setting ball for B1..B3 (robot frame, mm) and the tool fixture frame
+  /// in the flange frame.
+  std::optional<Cups<double>> setting_points;
+  std::optional<Pose<double>> flange_T_tool;
+  /// Fixture sides measured in an earlier session of the same cell (a re-plan): not asked again.
+  std::optional<TriangleSides> tool_sides;
+  std::optional<TriangleSides> base_sides;
 };
 
 /// Reads a plan file (JSON written by `robcal hexapod plan`); errors name the file and key.
@@ -110,6 +119,10 @@ class SessionJournal {
   /// line cut short by a crash is ignored (and removed); a key that does not match the script
   /// is an InputError (the journal belongs to another plan).
   int replay(Session& session);
+
+  /// The same replay without opening the journal for writing (a cut-short last line is ignored
+  /// and left in place): for reading a session's data.
+  static int replay_read_only(const std::filesystem::path& path, Session& session);
 
   /// Appends one entry and flushes it to the disk before returning.
   void append(const std::string& key, const std::optional<double>& reading);

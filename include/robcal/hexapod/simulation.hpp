@@ -14,6 +14,7 @@
 
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
+#include "robcal/hexapod/session.hpp"
 #include "robcal/hexapod/world_frame.hpp"
 #include "robcal/sim/true_robot.hpp"
 
@@ -44,6 +45,11 @@ struct SimulatedHexapodCell {
   Pose<double> world_T_sim;       ///< true base fixture frame ← simulation world
 };
 
+/// A true robot with random errors (sim/true_robot.hpp) levelled on its table: base tilts zero,
+/// so gravity is along its base z as the relative model assumes; it carries `payload`.
+TrueRobot levelled_random_truth(const RobotModel& model, const PointMass& payload,
+                                const ErrorBounds& errors, std::mt19937_64& rng);
+
 /// Places the base cups with the true robot (nominal inverse kinematics of the setting-ball
 /// points, the configuration nearest the joints' zero), measures the fixture sides and fits the
 /// world frame. Throws InputError when a setting point cannot be reached.
@@ -53,6 +59,29 @@ SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotMo
 /// Readings of the six legs of `pose` with the true robot at `joints` (controller, rad), in
 /// measurement order, or nullopt with `out_of_range` set to the first leg the ballbar cannot
 /// read (0..5).
+/// One leg's reading with the true robot at `joints`, or nullopt when out of the ballbar's range.
+std::optional<double> simulate_leg(const SimulatedHexapodCell& cell, const PhysicalLeg& leg,
+                                   const Vector6d& joints, std::mt19937_64& rng);
+
+/// What the operator reads at a session step in this cell: the fixture sides measured at set-up,
+/// a leg (nullopt: out of range) with the true robot at the configuration's planned joints, or
+/// the ballbar on its calibrator (its set-up length within σ). Throws InputError when a leg step's
+/// configuration has no joints.
+std::optional<double> simulate_session_reading(const SimulatedHexapodCell& cell,
+                                               const SessionPlan& plan, const SessionStep& step,
+                                               std::mt19937_64& rng);
+
+/// Laser-tracker validation readings (METHOD §9): random configurations in the published joint
+/// box (sim/simulator.hpp), the tracker (σ per axis) reading a point of the tool given in the
+/// flange frame of the true robot, registered on the base cups: base fixture frame.
+struct TrackerValidation {
+  std::vector<Vector6d> joints;  ///< controller, rad
+  Eigen::Matrix3Xd measured;     ///< base fixture frame, mm
+};
+TrackerValidation simulate_tracker_validation(const SimulatedHexapodCell& cell,
+                                              const Eigen::Vector3d& point_flange, int count,
+                                              double sigma_mm, std::mt19937_64& rng);
+
 std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell,
                                                 const HexapodPose& pose, const Vector6d& joints,
                                                 std::mt19937_64& rng, int* out_of_range = nullptr);

@@ -119,11 +119,32 @@ struct OrthoParallelGeometry {
 std::optional<OrthoParallelGeometry> analyze_ortho_parallel(const RobotModel& model,
                                                             std::string* why_not = nullptr);
 
+/// Mask of every configuration branch for nominal_ik; branch i is bit 1 << ArmConfig::index().
+inline constexpr unsigned kAllBranches = 0xFFu;
+
 /// All solutions for the flange pose `world_T_flange` (nominal robot, base at the world
-/// origin). `seed` (controller joints, rad) supplies θ4 at a wrist singularity and θ1 at a
-/// shoulder singularity.
+/// origin), of the branches in `branch_mask`. `seed` (controller joints, rad) supplies θ4 at a
+/// wrist singularity and θ1 at a shoulder singularity. Where two branches coincide (wrist
+/// singular: flip and no-flip; stretched elbow: up and down) the one solution is returned, with
+/// the label its angles give, when either branch is in the mask.
 IkResult nominal_ik(const OrthoParallelGeometry& geometry, const Pose<double>& world_T_flange,
-                    const Vector6d& seed = Vector6d::Zero());
+                    const Vector6d& seed = Vector6d::Zero(), unsigned branch_mask = kAllBranches);
+
+/// The solution of one configuration branch, computed without the others.
+struct IkBranchResult {
+  /// Solved; Unreachable when this branch does not reach the pose; OutsideLimits when its
+  /// solution violates a joint limit.
+  IkStatus status = IkStatus::Unreachable;
+  IkSolution solution;  ///< valid when status == Solved
+};
+
+/// The branch `config` of nominal_ik: of its equivalent turns (joints whose range exceeds one
+/// turn), the one nearest `seed` (each joint independently, so nearest in every norm). `seed`
+/// also plays its singular-case role as in nominal_ik; at a wrist singularity or stretched
+/// elbow the coinciding solution is returned with the label its angles give (see nominal_ik).
+IkBranchResult nominal_ik_branch(const OrthoParallelGeometry& geometry,
+                                 const Pose<double>& world_T_flange, const ArmConfig& config,
+                                 const Vector6d& seed);
 
 /// The solution nearest to `joints` (max-norm over joints), or nullptr when there is none.
 const IkSolution* nearest_solution(const IkResult& result, const Vector6d& joints);

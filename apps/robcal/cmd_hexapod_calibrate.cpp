@@ -1,0 +1,498 @@
+/// `robcal hexapod calibrate | export-poses | replan | simulate-readings`: from measurement
+/// sessions of the ballbar hexapod to a calibrated model (METHOD §8, published procedure), the
+/// two-stage way: calibrate on what was measurable, re-plan the configurations that were out of
+/// the ballbar's range on that preliminary model, measure them, calibrate on everything.
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "cli_common.hpp"
+#include "command_registry.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/hexapod/end_to_end.hpp"
+#include "robcal/hexapod/leg_fit.hpp"
+#include "robcal/hexapod/session_data.hpp"
+#include "robcal/hexapod/simulation.hpp"
+#include "robcal/identify/identification.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/io/measurement_file.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/kinematics/numeric_ik.hpp"
+#include "robcal/sim/true_robot.hpp"
+
+namespace robcal::cli {
+namespace {
+
+using namespace robcal::hexapod;
+
+/// The sessions to read: directories (plan.json + journal.jsonl) or one journal with --plan.
+struct SessionOptions {
+  std::vector<std::string> sessions;
+  std::string plan;
+  std::string tool;  ///< payload source
+
+  void add_to(CLI::App* cmd) {
+    cmd->add_option("--session", sessions,
+                    "Session directory (plan.json + journal.jsonl) or journal file; repeat for the "
+                    "first pass and the re-measurement of its retries")
+        ->required();
+    cmd->add_option("--plan", plan, "Plan of a journal file given as --session");
+    cmd->add_option("--tool", tool,
+                    "Tool file whose payload (mass, CoG) the robot carried (default: none); its "
+                    "targets are replaced by the tool fixture's cups");
+  }
+  [[nodiscard]] SessionData load() const {
+    if (!plan.empty() && sessions.size() != 1)
+      throw InputError({"", 0, 0, "--plan"},
+                       "--plan goes with one journal; give several sessions as directories");
+    std::vector<SessionData> all;
+    for (const std::string& s : sessions) all.push_back(load_session_data(s, plan));
+    return merge_sessions(all);
+  }
+  [[nodiscard]] Tool hexapod_tool_of(const SessionData& data) const {
+    const PointMass payload = tool.empty() ? PointMass{} : load_tool(tool).payload;
+    return hexapod_tool(payload, data.flange_T_tool, data.tool_sides);
+  }
+};
+
+nlohmann::json session_summary(const SessionData& data, const WorldFrameFit& world) {
+  nlohmann::json retry = nlohmann::json::array();
+  for (const RetryConfiguration& r : data.retry) retry.push_back(r.config);
+  return {{"sessions", data.source},
+          {"configurations_measured", data.readings.size()},
+          {"configurations_to_retry", retry},
+          {"configurations_pending", data.pending},
+          {"tool_sides_mm", data.tool_sides.as_array()},
+          {"base_sides_mm", data.base_sides.as_array()},
+          {"world_frame_rms_mm", tidy(world.rms_mm)}};
+}
+
+void print_session_summary(const SessionData& data, const WorldFrameFit& world) {
+  fmt::print(
+      "sessions {}: {} configurations measured, {} to retry, {} not reached; world frame from the "
+      "base cups rms {:.4f} mm\n",
+      data.source, data.readings.size(), data.retry.size(), data.pending, world.rms_mm);
+}
+
+void write_exports(const SessionData& data, const Tool& tool, const std::string& poses_out,
+                   const std::string& legs_out, const std::string& tool_out) {
+  const std::string comment = fmt::format(
+      "tool fixture poses of {} by the ballbar hexapod's direct kinematics, robot frame through "
+      "the world frame of the base cups",
+      data.source);
+  if (!poses_out.empty())
+    write_file_atomically(poses_out,
+                          write_measurements_csv(session_pose_measurements(data), tool, comment));
+  if (!legs_out.empty()) write_file_atomically(legs_out, session_legs_csv(data));
+  if (!tool_out.empty()) write_file_atomically(tool_out, tool_to_yaml(tool));
+}
+
+nlohmann::json read_plan_json(const std::string& path) {
+  try {
+    return nlohmann::json::parse(read_text_file(path));
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError({path, 0, 0, ""}, fmt::format("not valid JSON: {}", e.what()));
+  }
+}
+
+// ---- calibrate -------------------------------------------------------------------------------
+
+struct CalibrateOptions {
+  SessionOptions session;
+  std::string robot = "fanuc-lrmate200ic";
+  std::string level = "full";
+  std::string fit = "poses";
+  bool relative = false;
+  double orientation_weight = kDefaultOrientationWeightMm;
+  uint64_t seed = 1;
+  std::string out, poses_out, legs_out, tool_out;
+  bool json = false;
+};
+
+/// The fit from the raw legs (leg_fit.hpp): the level's link and compliance parameters, the cups
+/// and the ballbar's offset; written in the frame of the pose fit.
+void run_leg_calibrate(const CalibrateOptions& o, const RobotModel& model, const SessionData& data,
+                       const WorldFrameFit& world, const Tool& tool) {
+  LegFitOptions options;
+  for (int i : level_parameters(parse_calibration_level(o.level)))
+    if (i >= kBaseParamCount) options.free_parameters.push_back(i);
+  const LegFitResult fit =
+      fit_from_legs(model, tool.payload, data.base_sides, data.tool_sides, data.readings,
+                    model.nominal(), world.robot_T_fixture, data.flange_T_tool, options);
+  CalibratedRobot robot = leg_fit_robot(model, tool.payload, fit, world.robot_T_fixture);
+  robot.level = level_name(parse_calibration_level(o.level));
+  YAML::Node stats;
+  stats["leg_fit"]["residuals"] = fit.residuals;
+  stats["leg_fit"]["initial_rms_mm"] = fit.initial_rms_mm;
+  stats["leg_fit"]["rms_mm"] = fit.rms_mm;
+  stats["leg_fit"]["iterations"] = fit.iterations;
+  stats["leg_fit"]["converged"] = fit.converged;
+  stats["leg_fit"]["ballbar_length_offset_mm"] = fit.length_offset_mm;
+  for (const std::string& h : fit.held) stats["leg_fit"]["held"].push_back(h);
+  YAML::Emitter emitter;
+  emitter.SetDoublePrecision(9);
+  emitter << stats;
+  write_file_atomically(o.out, calibrated_robot_to_yaml(robot, emitter.c_str()));
+  write_exports(data, tool, o.poses_out, o.legs_out, o.tool_out);
+  if (o.json) {
+    nlohmann::json out = session_summary(data, world);
+    out["robot"] = model.name;
+    out["level"] = robot.level;
+    out["fit"] = "legs";
+    out["rows"] = data.readings.size();
+    out["residuals"] = fit.residuals;
+    out["converged"] = fit.converged;
+    out["iterations"] = fit.iterations;
+    out["identified"] = fit.identified.size();
+    out["held"] = fit.held;
+    out["initial_rms_mm"] = tidy(fit.initial_rms_mm);
+    out["rms_mm"] = tidy(fit.rms_mm);
+    out["ballbar_length_offset_mm"] = tidy(fit.length_offset_mm);
+    out["output"] = o.out;
+    print_json(out);
+    return;
+  }
+  print_session_summary(data, world);
+  fmt::print(
+      "calibrated {} at level {} from the raw legs of {} configurations ({} distances): {} after "
+      "{} iterations, rms {:.5f} mm (start {:.4f}); ballbar offset {:+.5f} mm; {} model "
+      "parameters identified\nwritten {}\n",
+      model.name, robot.level, data.readings.size(), fit.residuals,
+      fit.converged ? "converged" : "DID NOT CONVERGE", fit.iterations, fit.rms_mm,
+      fit.initial_rms_mm, fit.length_offset_mm, fit.identified.size(), o.out);
+  for (const std::string& h : fit.held) fmt::print("  held {}\n", h);
+}
+
+void run_calibrate(const CalibrateOptions& o) {
+  const RobotModel model = load_robot(o.robot);
+  const SessionData data = o.session.load();
+  const WorldFrameFit world = session_world_frame(data);
+  const Tool tool = o.session.hexapod_tool_of(data);
+  if (o.fit != "poses" && o.fit != "legs")
+    throw InputError({"", 0, 0, "--fit"},
+                     fmt::format("unknown fit '{}': expected poses or legs", o.fit));
+  if (o.fit == "legs") {
+    if (o.relative)
+      throw InputError({"", 0, 0, "--relative"}, "the leg fit always identifies the base cups");
+    run_leg_calibrate(o, model, data, world, tool);
+    return;
+  }
+  IdentifyOptions options;
+  options.level = parse_calibration_level(o.level);
+  if (o.relative) options.fix = {"base.*"};
+  options.orientation_weight_mm = o.orientation_weight;
+  options.seed = o.seed;
+  const MeasurementSet poses = session_pose_measurements(data);
+  if (!o.json && stdout_is_terminal()) fmt::print("calibrating ({} poses)…\n", poses.size());
+  IdentificationResult r = calibrate(model, tool, poses, options);
+  // The poses are in the robot frame of the world the base cups define: the model's frame is that
+  // world even when its base is held (the relative model).
+  r.robot.base_fitted = true;
+  write_file_atomically(o.out, calibrated_robot_to_yaml(r.robot, statistics_yaml(r)));
+  write_exports(data, tool, o.poses_out, o.legs_out, o.tool_out);
+  if (o.json) {
+    nlohmann::json out = session_summary(data, world);
+    out["robot"] = model.name;
+    out["level"] = r.robot.level;
+    out["relative"] = o.relative;
+    out["rows"] = poses.size();
+    out["converged"] = r.status.converged;
+    out["iterations"] = r.status.iterations;
+    out["identified"] = r.identified_count;
+    out["initial_rms_mm"] = tidy(r.status.initial_rms_mm);
+    out["rms_mm"] = tidy(r.rms_mm);
+    out["max_mm"] = tidy(r.max_mm);
+    out["sigma_mm"] = tidy(r.sigma_mm);
+    out["predicted_mean_mm"] = tidy(r.predicted.mean_mm);
+    out["output"] = o.out;
+    print_json(out);
+    return;
+  }
+  print_session_summary(data, world);
+  fmt::print(
+      "calibrated {} at level {}{} from {} poses: {} after {} iterations, residual rms {:.4f} mm "
+      "(max {:.4f}, start {:.4f}), {} unknowns identified\nwritten {}\n",
+      model.name, r.robot.level, o.relative ? " (relative: base held)" : "", poses.size(),
+      r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations, r.rms_mm,
+      r.max_mm, r.status.initial_rms_mm, r.identified_count, o.out);
+  if (!data.retry.empty())
+    fmt::print(
+        "{} configurations were out of the ballbar's range: re-plan them on this model with "
+        "`robcal hexapod replan --session … --model {} --out PLAN`, measure them in a new session "
+        "and calibrate on all sessions\n",
+        data.retry.size(), o.out);
+}
+
+// ---- export-poses ----------------------------------------------------------------------------
+
+void run_export(const SessionOptions& s, const std::string& out, const std::string& legs_out,
+                const std::string& tool_out, bool json) {
+  const SessionData data = s.load();
+  const WorldFrameFit world = session_world_frame(data);
+  write_exports(data, s.hexapod_tool_of(data), out, legs_out, tool_out);
+  if (json) {
+    nlohmann::json summary = session_summary(data, world);
+    summary["poses"] = out;
+    summary["legs"] = legs_out;
+    summary["tool"] = tool_out;
+    print_json(summary);
+    return;
+  }
+  print_session_summary(data, world);
+  fmt::print("written {}{}{}\n", out, legs_out.empty() ? "" : ", " + legs_out,
+             tool_out.empty() ? "" : ", " + tool_out);
+}
+
+// ---- replan ----------------------------------------------------------------------------------
+
+nlohmann::json joints_deg_json(const Vector6d& q) {
+  nlohmann::json out = nlohmann::json::array();
+  for (int i = 0; i < kJointCount; ++i) out.push_back(tidy(rad2deg(q[i]), 6));
+  return out;
+}
+
+void run_replan(const SessionOptions& s, const std::string& model_path, const std::string& out,
+                bool json) {
+  const SessionData data = s.load();
+  const CalibratedRobot robot = load_calibrated_robot(model_path);
+  const WorldFrameFit world = session_world_frame(data);
+  nlohmann::json plan = read_plan_json(data.plan_file.string());
+  plan["configurations"] = nlohmann::json::array();
+  plan["measured_sides"] = {{"tool_mm", data.tool_sides.as_array()},
+                            {"base_mm", data.base_sides.as_array()}};
+  plan["replanned"] = {{"sessions", data.source}, {"model", model_path}};
+  nlohmann::json failed = nlohmann::json::array();
+  for (const RetryConfiguration& r : data.retry) {
+    // Newton from the planned joints on the preliminary model, for the flange pose that puts every
+    // leg at the ballbar's length.
+    const NumericIkResult ik = numeric_ik(robot.model, robot.tool.payload, robot.params,
+                                          required_flange_pose(data, world, r), r.joints);
+    if (ik.status != NumericIkStatus::Converged || !ik.within_limits) {
+      failed.push_back({{"config", r.config},
+                        {"why", ik.status != NumericIkStatus::Converged ? to_string(ik.status)
+                                                                        : "outside joint limits"}});
+      continue;
+    }
+    nlohmann::json legs = nlohmann::json::array();
+    for (const PhysicalLeg& l : r.legs)
+      legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
+    plan["configurations"].push_back({{"pose", r.pose},
+                                      {"mode", r.mode},
+                                      {"labels", r.labels},
+                                      {"joints_deg", joints_deg_json(ik.joints)},
+                                      {"planned_joints_deg", joints_deg_json(r.joints)},
+                                      {"legs", legs}});
+  }
+  write_file_atomically(out, plan.dump(2) + "\n");
+  if (json) {
+    print_json({{"sessions", data.source},
+                {"model", model_path},
+                {"retry", data.retry.size()},
+                {"replanned", plan["configurations"].size()},
+                {"failed", failed},
+                {"plan", out}});
+    return;
+  }
+  fmt::print("{} of {} configurations to retry re-planned on {}; plan written to {}\n",
+             plan["configurations"].size(), data.retry.size(), model_path, out);
+  for (const nlohmann::json& f : failed)
+    fmt::print("  {}: {}\n", f["config"].get<std::string>(), f["why"].get<std::string>());
+}
+
+// ---- simulate-readings -----------------------------------------------------------------------
+
+template <typename T>
+T plan_value(const nlohmann::json& plan, const std::string& key, const std::string& file) {
+  if (!plan.contains(key))
+    throw InputError({file, 0, 0, key}, "the simulator needs this field of the plan");
+  try {
+    return plan[key].get<T>();
+  } catch (const nlohmann::json::exception&) {
+    throw InputError({file, 0, 0, key}, "unexpected type");
+  }
+}
+
+struct SimulateReadingsOptions {
+  std::string plan, robot = "fanuc-lrmate200ic", out, validation_out, tool_out, payload;
+  uint64_t seed = 1;
+  int validation = 1000;
+  bool json = false;
+};
+
+/// The simulated cell of a plan: the true robot and fixtures drawn from the seed, so plans of the
+/// same cell (a first pass and its re-plan) see the same robot and cups.
+SimulatedHexapodCell cell_of_plan(const SimulateReadingsOptions& o, const RobotModel& model,
+                                  const PointMass& payload, std::mt19937_64& rng) {
+  const nlohmann::json plan = read_plan_json(o.plan);
+  HexapodCellOptions cell;
+  const auto geometry = plan_value<nlohmann::json>(plan, "geometry", o.plan);
+  const auto sides = [&](const char* key) {
+    const auto v = geometry.value(key, std::vector<double>{});
+    if (v.size() != 3)
+      throw InputError({o.plan, 0, 0, std::string("geometry.") + key}, "expected three sides");
+    return TriangleSides{v[0], v[1], v[2]};
+  };
+  cell.design = {sides("base_sides_mm"), sides("tool_sides_mm"),
+                 plan_value<nlohmann::json>(plan, "ballbar", o.plan).value("leg_mm", 300.0)};
+  const std::vector<double> placement =
+      parse_numbers(plan_value<std::string>(plan, "placement", o.plan), 4, "placement");
+  cell.placement.R =
+      Eigen::AngleAxisd(deg2rad(placement[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  cell.placement.p = Eigen::Vector3d(placement[0], placement[1], placement[2]);
+  cell.tool_offset_mm = plan_value<double>(plan, "tool_offset_mm", o.plan);
+  cell.ball_offset_mm = plan_value<double>(plan, "ball_offset_mm", o.plan);
+  const TrueRobot truth = levelled_random_truth(model, payload, EndToEndOptions{}.errors, rng);
+  return set_up_simulated_cell(truth, model, cell, rng);
+}
+
+void run_simulate_readings(const SimulateReadingsOptions& o) {
+  if (o.validation < 0)
+    throw InputError({"", 0, 0, "--validation"}, "expected a non-negative count");
+  const RobotModel model = load_robot(o.robot);
+  const PointMass payload = o.payload.empty() ? PointMass{2.6, Eigen::Vector3d(50, 25, 100)}
+                                              : load_tool(o.payload).payload;
+  std::mt19937_64 rng(o.seed);
+  const SimulatedHexapodCell cell = cell_of_plan(o, model, payload, rng);
+  const SessionPlan plan = load_session_plan(o.plan);
+  // Drive the session script itself, so the readings come in the order the session asks.
+  Session session(plan);
+  std::string text;
+  int readings = 0, out_of_range = 0;
+  while (const std::optional<SessionStep> step = session.next_step()) {
+    const std::optional<double> r = simulate_session_reading(cell, plan, *step, rng);
+    text += r ? fmt::format("{}\n", *r) : std::string("out\n");
+    session.record(r);
+    ++readings;
+    out_of_range += r ? 0 : 1;
+  }
+  write_file_atomically(o.out, text);
+  const Pose<double> flange_T_tool =
+      plan.flange_T_tool ? *plan.flange_T_tool : cell.cell.flange_T_tool;
+  const Tool tool = hexapod_tool(payload, flange_T_tool, cell.tool_sides);
+  if (!o.tool_out.empty()) write_file_atomically(o.tool_out, tool_to_yaml(tool));
+  if (!o.validation_out.empty() && o.validation > 0) {
+    // The tracker reads the SMR in tool cup T1; its points go to the robot frame of the hexapod's
+    // world (the frame of the poses file) through the world frame of the base cups.
+    const TrackerValidation v =
+        simulate_tracker_validation(cell, cell.tool_cups_flange[0], o.validation, 0.022, rng);
+    MeasurementSet set;
+    set.kind = MeasurementKind::Points;
+    for (size_t k = 0; k < v.joints.size(); ++k)
+      set.points.push_back({fmt::format("v{}", k + 1), 0, v.joints[k],
+                            cell.world.robot_T_fixture * Eigen::Vector3d(v.measured.col(k)), 0});
+    write_file_atomically(
+        o.validation_out,
+        write_measurements_csv(
+            set, tool,
+            fmt::format("simulated laser tracker (0.022 mm) on tool cup T1, seed {}", o.seed)));
+  }
+  if (o.json) {
+    print_json({{"seed", o.seed},
+                {"readings", readings},
+                {"legs_out_of_range", out_of_range},
+                {"out", o.out},
+                {"tool", o.tool_out},
+                {"validation", o.validation_out}});
+    return;
+  }
+  fmt::print("{} readings ({} legs out of range) for {} written to {} (seed {})\n", readings,
+             out_of_range, o.plan, o.out, o.seed);
+}
+
+const bool registered = register_command(61, [](CLI::App& app) {
+  CLI::App* hex = app.get_subcommand("hexapod");
+  {
+    auto* cmd = hex->add_subcommand(
+        "calibrate",
+        "Calibrate from measurement sessions: tool fixture poses by the direct kinematics, world "
+        "frame from the base cups, identification (`robcal calibrate`)");
+    auto o = std::make_shared<CalibrateOptions>();
+    o->session.add_to(cmd);
+    cmd->add_option("--robot", o->robot, "Built-in robot name or robot file")
+        ->capture_default_str();
+    cmd->add_option("--level", o->level, "base, joints, kinematic or full")->capture_default_str();
+    cmd->add_option("--fit", o->fit,
+                    "poses: identification (`robcal calibrate`) on the tool fixture poses; legs: "
+                    "straight from the raw leg lengths, with the cups and the ballbar offset")
+        ->capture_default_str();
+    cmd->add_flag("--relative", o->relative,
+                  "Hold the base parameters (the published relative model): keeps the error of "
+                  "the world frame the uncalibrated robot gave the base cups");
+    cmd->add_option("--orientation-weight", o->orientation_weight,
+                    "mm per rad of orientation error")
+        ->capture_default_str();
+    cmd->add_option("--seed", o->seed, "Seed of the predicted-accuracy samples")
+        ->capture_default_str();
+    cmd->add_option("--out", o->out, "Calibrated model file to write (YAML)")->required();
+    cmd->add_option("--poses-out", o->poses_out, "Also write the poses measurement CSV");
+    cmd->add_option("--legs-out", o->legs_out, "Also write the raw legs CSV");
+    cmd->add_option("--tool-out", o->tool_out, "Also write the tool file (fixture cups, TCP)");
+    cmd->add_flag("--json", o->json, "Machine-readable summary");
+    cmd->callback([o] { run_calibrate(*o); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "export-poses",
+        "Write a session's readings as a poses measurement CSV (for `robcal calibrate`), the raw "
+        "legs CSV and the tool file");
+    auto s = std::make_shared<SessionOptions>();
+    auto out = std::make_shared<std::string>();
+    auto legs = std::make_shared<std::string>();
+    auto tool = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    s->add_to(cmd);
+    cmd->add_option("--out", *out, "Poses CSV: config,j1..j6,x,y,z,qw,qx,qy,qz")->required();
+    cmd->add_option("--legs-out", *legs, "Raw legs CSV");
+    cmd->add_option("--tool-out", *tool, "Tool file: payload, cups T1..T3, TCP = tool fixture");
+    cmd->add_flag("--json", *json, "Machine-readable summary");
+    cmd->callback([=] { run_export(*s, *out, *legs, *tool, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "replan",
+        "Re-plan the configurations that were out of the ballbar's range on a preliminary model "
+        "(the plan of the second session)");
+    auto s = std::make_shared<SessionOptions>();
+    auto model = std::make_shared<std::string>();
+    auto out = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    s->add_to(cmd);
+    cmd->add_option("--model", *model, "Preliminary model from `robcal hexapod calibrate`")
+        ->required();
+    cmd->add_option("--out", *out, "Plan file to write (JSON)")->required();
+    cmd->add_flag("--json", *json, "Machine-readable summary");
+    cmd->callback([=] { run_replan(*s, *model, *out, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "simulate-readings",
+        "The readings a session over a plan would get in a simulated cell (random true robot and "
+        "fixtures from --seed), one per line for `robcal hexapod session`");
+    auto o = std::make_shared<SimulateReadingsOptions>();
+    cmd->add_option("--plan", o->plan, "Plan file (from `robcal hexapod plan` or `replan`)")
+        ->required();
+    cmd->add_option("--robot", o->robot, "Built-in robot name or robot file")
+        ->capture_default_str();
+    cmd->add_option("--seed", o->seed, "Seed of the true robot, the fixtures and the readings")
+        ->capture_default_str();
+    cmd->add_option("--payload", o->payload,
+                    "Tool file whose payload the true robot carries (default 2.6 kg at "
+                    "(50, 25, 100) mm)");
+    cmd->add_option("--out", o->out, "Readings file to write")->required();
+    cmd->add_option("--tool-out", o->tool_out, "Write the tool file (payload, cups, TCP)");
+    cmd->add_option("--validation-out", o->validation_out,
+                    "Write laser-tracker validation points (robot frame of the base cups' world)");
+    cmd->add_option("--validation", o->validation, "Validation configurations")
+        ->capture_default_str();
+    cmd->add_flag("--json", o->json, "Machine-readable summary");
+    cmd->callback([o] { run_simulate_readings(*o); });
+  }
+});
+
+}  // namespace
+}  // namespace robcal::cli

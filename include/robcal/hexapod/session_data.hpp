@@ -1,0 +1,75 @@
+#pragma once
+/// \file
+/// A measurement session's readings as the calibration uses them (METHOD §8, published
+/// procedure): the journal replayed over its plan gives the fixture sides and, per configuration,
+/// the six legs or a "retry"; the plan gives the joints, the leg design and assembly mode of each
+/// configuration, where the robot put the base cups and the tool fixture mount.
+///
+/// From there: the world frame from the base cups (world_frame.hpp), each configuration's tool
+/// fixture pose by the direct kinematics, expressed in the robot frame through that world frame
+/// (the standard poses measurement file), the raw legs as a CSV, and the flange poses the
+/// configurations to retry need (for re-planning them on a preliminary model).
+///
+/// Several sessions of one cell combine: the first pass and the re-measurement of its retries.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "robcal/hexapod/measurement.hpp"
+#include "robcal/hexapod/session.hpp"
+#include "robcal/hexapod/world_frame.hpp"
+
+namespace robcal::hexapod {
+
+/// A configuration a leg of which was out of the ballbar's range.
+struct RetryConfiguration {
+  std::string config;  ///< label, as in the poses file
+  std::string pose;    ///< pose label ("P07")
+  std::string labels;  ///< arm configuration labels
+  int mode = 1;
+  LegDesign design;
+  std::array<PhysicalLeg, 6> legs;
+  Vector6d joints = Vector6d::Zero();  ///< as planned, controller, rad
+};
+
+struct SessionData {
+  std::string source;               ///< the session(s), for messages
+  std::filesystem::path plan_file;  ///< the (first) session's plan file
+  SessionPlan plan;                 ///< … and its contents: ballbar set-up and cell
+  TriangleSides tool_sides, base_sides;
+  Cups<double> setting_points;        ///< where the robot put the setting ball, robot frame
+  Pose<double> flange_T_tool;         ///< tool fixture frame in the flange frame
+  std::vector<LegReadings> readings;  ///< configurations with all six legs read
+  std::vector<RetryConfiguration> retry;
+  int pending = 0;  ///< configurations the session has not reached yet
+};
+
+/// Loads a session: `session` is a directory holding plan.json and journal.jsonl, or a journal
+/// file whose plan is `plan`. Throws InputError naming the file and key when the plan lacks what
+/// the calibration needs (setting-ball points, tool mount, assembly modes: plans written by
+/// `robcal hexapod plan` have them) or the fixture sides were never read.
+SessionData load_session_data(const std::filesystem::path& session,
+                              const std::filesystem::path& plan = {});
+
+/// Sessions of one cell in order: readings and retries of all (a retry measured by a later
+/// session is no longer a retry), sides, cups and mount of the first. Throws InputError when a
+/// later session's setting points or tool mount differ from the first one's.
+SessionData merge_sessions(const std::vector<SessionData>& sessions);
+
+/// World frame from the planned setting-ball points and the measured base sides.
+WorldFrameFit session_world_frame(const SessionData& data);
+
+/// The poses MeasurementSet of the readings (robot frame through the world frame).
+MeasurementSet session_pose_measurements(const SessionData& data);
+
+/// The raw legs as CSV: `config,pose,mode,j1..j6,leg,base_cup,tool_cup,length` (deg, mm), one
+/// row per leg, the fixture sides and the frame in `#` comment lines.
+std::string session_legs_csv(const SessionData& data);
+
+/// Where the flange must be, robot frame, for a configuration's pose with every leg at the
+/// ballbar's length, given the world frame of the base cups.
+Pose<double> required_flange_pose(const SessionData& data, const WorldFrameFit& world,
+                                  const RetryConfiguration& retry);
+
+}  // namespace robcal::hexapod
