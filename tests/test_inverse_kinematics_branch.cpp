@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -220,6 +221,30 @@ TEST(IkBranch, StatusesAndSingularCases) {
     const Pose<double> back = nominal_fk(model, r.solution.joints);
     EXPECT_LT((back.p - target.p).norm(), 1e-9);
     EXPECT_LT(rotation_distance(back.R, target.R), 1e-12);
+  }
+}
+
+// A pose with NaN entries (R or p) yields a status and no NaN joints, in both solvers.
+TEST(IkBranch, NanPoseGivesNoNanSolution) {
+  const RobotModel model = load_robot("abb-irb120");
+  const auto geometry = analyze_ortho_parallel(model);
+  ASSERT_TRUE(geometry);
+  Vector6d q;
+  q << deg2rad(10), deg2rad(20), deg2rad(-30), deg2rad(40), deg2rad(50), deg2rad(60);
+  const Pose<double> good = nominal_fk(model, q);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int entry = 0; entry < 12; ++entry) {
+    Pose<double> bad = good;
+    if (entry < 9)
+      bad.R.data()[entry] = nan;
+    else
+      bad.p[entry - 9] = nan;
+    const IkResult all = nominal_ik(*geometry, bad, q);
+    for (const IkSolution& s : all) EXPECT_TRUE(s.joints.allFinite()) << "entry " << entry;
+    for (int index = 0; index < 8; ++index) {
+      const IkBranchResult r = nominal_ik_branch(*geometry, bad, config_of(index), q);
+      if (r.status == IkStatus::Solved) EXPECT_TRUE(r.solution.joints.allFinite());
+    }
   }
 }
 

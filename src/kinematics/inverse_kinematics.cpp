@@ -295,8 +295,9 @@ class Solver {
           copy = s;
           copy.joints[i] += kTwoPi * k;
         }
-        const int turns = 1 + static_cast<int>(turns_below(g_.upper_tolerant[i] - s.joints[i]));
-        out_.count += inside[m] ? turns : 0;
+        // Converted only when inside: an outside candidate may hold NaN (from a NaN pose).
+        const double further = turns_below(g_.upper_tolerant[i] - s.joints[i]);
+        out_.count += inside[m] ? 1 + static_cast<int>(further) : 0;
         continue;
       }
       if (!inside[m]) continue;
