@@ -86,6 +86,22 @@ TEST(HexapodLegFit, NoiseFreeFitReproducesTheTrueToolCupsAndTheOffset) {
             worst, (fit_f * fit.tool_cups_flange[j] - true_f * f.cell.tool_cups_flange[j]).norm());
     }
     EXPECT_LT(worst, 1e-4);
+    // As a calibrated robot in the pose fit's frame (through the world frame of the cups): the
+    // same tool cups, moved by the rigid transform between the two frames.
+    const CalibratedRobot robot =
+        leg_fit_robot(f.model, f.cell.truth.robot.tool.payload, fit, f.cell.world.robot_T_fixture);
+    const Pose<double> T =
+        f.cell.world.robot_T_fixture * frame_from_cups(fit.base_cups_robot).inverse();
+    double worst_frame = 0;
+    for (int k = 0; k < 20; ++k) {
+      Vector6d q;
+      q << 1.2 * u(rng), 0.3 + 0.6 * u(rng), 0.3 * u(rng), 2 * u(rng), 1.5 * u(rng), 3 * u(rng);
+      const Pose<double> a = flange_pose(robot.model, robot.tool.payload, robot.params, q);
+      const Pose<double> b = T * flange_pose(f.model, robot.tool.payload, fit.params, q);
+      for (const Target& t : robot.tool.targets)
+        worst_frame = std::max(worst_frame, (a * t.position_mm - b * t.position_mm).norm());
+    }
+    EXPECT_LT(worst_frame, 1e-9);
     std::printf(
         "leg fit (offset %.3f mm): %zu configurations, %d residuals, rms %.2g -> %.2g mm, "
         "offset %.6f mm, worst tool-cup prediction error %.2g mm\n",

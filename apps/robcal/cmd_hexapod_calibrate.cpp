@@ -4,6 +4,7 @@
 /// the ballbar's range on that preliminary model, measure them, calibrate on everything.
 
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,7 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
+#include "robcal/hexapod/leg_fit.hpp"
 #include "robcal/hexapod/session_data.hpp"
 #include "robcal/hexapod/simulation.hpp"
 #include "robcal/identify/identification.hpp"
@@ -104,6 +106,7 @@ struct CalibrateOptions {
   SessionOptions session;
   std::string robot = "fanuc-lrmate200ic";
   std::string level = "full";
+  std::string fit = "poses";
   bool relative = false;
   double orientation_weight = kDefaultOrientationWeightMm;
   uint64_t seed = 1;
@@ -111,11 +114,74 @@ struct CalibrateOptions {
   bool json = false;
 };
 
+/// The fit from the raw legs (leg_fit.hpp): the level's link and compliance parameters, the cups
+/// and the ballbar's offset; written in the frame of the pose fit.
+void run_leg_calibrate(const CalibrateOptions& o, const RobotModel& model, const SessionData& data,
+                       const WorldFrameFit& world, const Tool& tool) {
+  LegFitOptions options;
+  for (int i : level_parameters(parse_calibration_level(o.level)))
+    if (i >= kBaseParamCount) options.free_parameters.push_back(i);
+  const LegFitResult fit =
+      fit_from_legs(model, tool.payload, data.base_sides, data.tool_sides, data.readings,
+                    model.nominal(), world.robot_T_fixture, data.flange_T_tool, options);
+  CalibratedRobot robot = leg_fit_robot(model, tool.payload, fit, world.robot_T_fixture);
+  robot.level = level_name(parse_calibration_level(o.level));
+  YAML::Node stats;
+  stats["leg_fit"]["residuals"] = fit.residuals;
+  stats["leg_fit"]["initial_rms_mm"] = fit.initial_rms_mm;
+  stats["leg_fit"]["rms_mm"] = fit.rms_mm;
+  stats["leg_fit"]["iterations"] = fit.iterations;
+  stats["leg_fit"]["converged"] = fit.converged;
+  stats["leg_fit"]["ballbar_length_offset_mm"] = fit.length_offset_mm;
+  for (const std::string& h : fit.held) stats["leg_fit"]["held"].push_back(h);
+  YAML::Emitter emitter;
+  emitter.SetDoublePrecision(9);
+  emitter << stats;
+  write_file_atomically(o.out, calibrated_robot_to_yaml(robot, emitter.c_str()));
+  write_exports(data, tool, o.poses_out, o.legs_out, o.tool_out);
+  if (o.json) {
+    nlohmann::json out = session_summary(data, world);
+    out["robot"] = model.name;
+    out["level"] = robot.level;
+    out["fit"] = "legs";
+    out["rows"] = data.readings.size();
+    out["residuals"] = fit.residuals;
+    out["converged"] = fit.converged;
+    out["iterations"] = fit.iterations;
+    out["identified"] = fit.identified.size();
+    out["held"] = fit.held;
+    out["initial_rms_mm"] = tidy(fit.initial_rms_mm);
+    out["rms_mm"] = tidy(fit.rms_mm);
+    out["ballbar_length_offset_mm"] = tidy(fit.length_offset_mm);
+    out["output"] = o.out;
+    print_json(out);
+    return;
+  }
+  print_session_summary(data, world);
+  fmt::print(
+      "calibrated {} at level {} from the raw legs of {} configurations ({} distances): {} after "
+      "{} iterations, rms {:.5f} mm (start {:.4f}); ballbar offset {:+.5f} mm; {} model "
+      "parameters identified\nwritten {}\n",
+      model.name, robot.level, data.readings.size(), fit.residuals,
+      fit.converged ? "converged" : "DID NOT CONVERGE", fit.iterations, fit.rms_mm,
+      fit.initial_rms_mm, fit.length_offset_mm, fit.identified.size(), o.out);
+  for (const std::string& h : fit.held) fmt::print("  held {}\n", h);
+}
+
 void run_calibrate(const CalibrateOptions& o) {
   const RobotModel model = load_robot(o.robot);
   const SessionData data = o.session.load();
   const WorldFrameFit world = session_world_frame(data);
   const Tool tool = o.session.hexapod_tool_of(data);
+  if (o.fit != "poses" && o.fit != "legs")
+    throw InputError({"", 0, 0, "--fit"},
+                     fmt::format("unknown fit '{}': expected poses or legs", o.fit));
+  if (o.fit == "legs") {
+    if (o.relative)
+      throw InputError({"", 0, 0, "--relative"}, "the leg fit always identifies the base cups");
+    run_leg_calibrate(o, model, data, world, tool);
+    return;
+  }
   IdentifyOptions options;
   options.level = parse_calibration_level(o.level);
   if (o.relative) options.fix = {"base.*"};
@@ -350,6 +416,10 @@ const bool registered = register_command(61, [](CLI::App& app) {
     cmd->add_option("--robot", o->robot, "Built-in robot name or robot file")
         ->capture_default_str();
     cmd->add_option("--level", o->level, "base, joints, kinematic or full")->capture_default_str();
+    cmd->add_option("--fit", o->fit,
+                    "poses: identification (`robcal calibrate`) on the tool fixture poses; legs: "
+                    "straight from the raw leg lengths, with the cups and the ballbar offset")
+        ->capture_default_str();
     cmd->add_flag("--relative", o->relative,
                   "Hold the base parameters (the published relative model): keeps the error of "
                   "the world frame the uncalibrated robot gave the base cups");

@@ -200,4 +200,44 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
   return result;
 }
 
+CalibratedRobot leg_fit_robot(const RobotModel& model, const PointMass& payload,
+                              const LegFitResult& fit, const Pose<double>& robot_T_world) {
+  CalibratedRobot robot;
+  robot.model = model;
+  robot.params = fit.params;
+  robot.level = "full";
+  robot.base_fitted = true;
+  robot.status.fill(ParameterStatus::Fixed);
+  for (int i : fit.identified) robot.status[i] = ParameterStatus::Identified;
+  for (const std::string& held : fit.held) {
+    const std::string name = held.substr(0, held.find(':'));
+    for (int i = 0; i < kParameterCount; ++i)
+      if (parameter_table()[i].name == name) {
+        robot.status[i] = ParameterStatus::Dropped;
+        robot.reason[i] = held.substr(held.find(':') + 2);
+      }
+  }
+  // The fit's robot frame in the pose fit's one: T = robot_T_world · (fit robot_T_world)⁻¹.
+  const Pose<double> T = robot_T_world * frame_from_cups(fit.base_cups_robot).inverse();
+  const double d1 = model.mdh[0].d;
+  const Eigen::Vector3d origin = T.p + T.R * Eigen::Vector3d(0, 0, d1);
+  // T.R = Rx(α) Ry(β) Rz(γ).
+  robot.params[0] = origin.x();
+  robot.params[1] = origin.y();
+  robot.params[2] = origin.z() - d1;
+  robot.params[3] = std::atan2(-T.R(1, 2), T.R(2, 2));
+  robot.params[4] = std::asin(std::clamp(T.R(0, 2), -1.0, 1.0));
+  robot.params[5] = std::atan2(-T.R(0, 1), T.R(0, 0));
+  for (int i = 0; i < kBaseParamCount; ++i) robot.status[i] = ParameterStatus::Identified;
+  // Gravity was along the fit's robot z: seen from the new world it is tilted by T.
+  robot.model.gravity_m_s2 = T.R * model.gravity_m_s2;
+  robot.tool.payload = payload;
+  const Pose<double> flange_T_tool = frame_from_cups(fit.tool_cups_flange);
+  robot.tool.flange_T_tcp.linear() = flange_T_tool.R;
+  robot.tool.flange_T_tcp.translation() = flange_T_tool.p;
+  for (int j = 0; j < 3; ++j)
+    robot.tool.targets.push_back({"T" + std::to_string(j + 1), fit.tool_cups_flange[j], true});
+  return robot;
+}
+
 }  // namespace robcal::hexapod

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "robcal/hexapod/measurement.hpp"
+#include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/model/robot_model.hpp"
 
 namespace robcal::hexapod {
@@ -47,5 +48,14 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
                            const std::vector<LegReadings>& readings,
                            const ParameterVector& start_params, const Pose<double>& robot_T_world,
                            const Pose<double>& flange_T_tool, const LegFitOptions& options);
+
+/// The leg fit as a calibrated robot in the frame of the pose fit: the world frame the base cups
+/// define seen from the robot frame through `robot_T_world` (world_frame.hpp). The fitted base
+/// cups give that world frame in the fit's own robot frame; the six base parameters carry the
+/// difference, written exactly as world_A_1 = Trans(x, y, d1 + z) · Rx Ry Rz(γ + θ1), and the
+/// gravity vector is turned with them (the compliance sees the same torques). Its tool: the
+/// fitted tool cups as targets T1..T3, the tool fixture frame they define as TCP.
+CalibratedRobot leg_fit_robot(const RobotModel& model, const PointMass& payload,
+                              const LegFitResult& fit, const Pose<double>& robot_T_world);
 
 }  // namespace robcal::hexapod
