@@ -36,13 +36,13 @@ void BM_MonteCarlo1000Calibrations(benchmark::State& state) {
   const MonteCarloBench& bench = monte_carlo_bench();
   MonteCarloOptions options = bench.options;
   options.threads = static_cast<int>(state.range(0));
-  double ratio = 0;
+  MonteCarloResult result;
   for (auto _ : state) {
-    const MonteCarloResult result = run_monte_carlo(bench.setup, options);
-    ratio = result.ratio;
-    benchmark::DoNotOptimize(ratio);
+    result = run_monte_carlo(bench.setup, options);
+    benchmark::DoNotOptimize(result.ratio);
   }
-  state.counters["ratio"] = ratio;
+  state.counters["ratio"] = result.ratio;
+  state.counters["failed"] = result.failed;
   state.counters["poses"] = static_cast<double>(bench.setup.template_set.size());
 }
 BENCHMARK(BM_MonteCarlo1000Calibrations)

@@ -13,6 +13,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/validate/ballbar_error.hpp"
 #include "robcal/validate/base_fit.hpp"
 #include "robcal/validate/validation.hpp"
 #include "test_support.hpp"
@@ -356,6 +357,64 @@ TEST(ValidatePoses, PositionAndOrientationErrors) {
   }
   EXPECT_NEAR(e.orientation_deg.mean, 0.625, 1e-9);
   EXPECT_TRUE(e.per_target.empty());
+  // Pose error with a weight of 40 mm/rad: √(1.3² + (40·θ)²), θ = 0.25°·(r + 1), by hand.
+  const PositionErrors w = position_errors(robot, set, 40.0);
+  EXPECT_EQ(w.orientation_weight_mm, 40.0);
+  for (int r = 0; r < 4; ++r) {
+    const double theta = 0.25 * (r + 1) * std::numbers::pi / 180;
+    EXPECT_NEAR(w.pose_error_mm[static_cast<size_t>(r)],
+                std::sqrt(1.3 * 1.3 + 40 * theta * 40 * theta), 1e-9);
+  }
+  EXPECT_GT(e.pose_mm.mean, w.pose_mm.mean);  // the default 100 mm/rad weighs more
+}
+
+/// Ballbar rows of `robot` around `centre`: lengths from the model itself plus `offsets`.
+MeasurementSet ballbar_rows(const CalibratedRobot& robot, const Eigen::Vector3d& centre,
+                            const std::vector<double>& offsets) {
+  MeasurementSet set;
+  set.kind = MeasurementKind::Distances;
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> angle(-1.2, 1.2);
+  for (size_t r = 0; r < offsets.size(); ++r) {
+    DistanceMeasurement m;
+    m.config = std::to_string(r);
+    m.target = static_cast<int>(r % robot.tool.targets.size());
+    for (int j = 0; j < 6; ++j) m.joints[j] = angle(rng);
+    const Eigen::Vector3d p = flange_pose(robot.model, robot.tool.payload, robot.params, m.joints) *
+                              robot.tool.targets[static_cast<size_t>(m.target)].position_mm;
+    m.length_mm = (p - centre).norm() + offsets[r];
+    set.distances.push_back(m);
+  }
+  return set;
+}
+
+TEST(ValidateBallbar, GivenCentreGivesTheLengthOffsetsBack) {
+  const CalibratedRobot robot = reference_robot();
+  const Eigen::Vector3d centre(400, -50, 300);
+  const std::vector<double> offsets = {0.01, -0.02, 0.03, 0.0, -0.01, 0.02, 0.005, -0.005};
+  const BallbarErrors e = ballbar_errors(robot, ballbar_rows(robot, centre, offsets), centre);
+  EXPECT_FALSE(e.centre_fitted);
+  for (size_t r = 0; r < offsets.size(); ++r) EXPECT_NEAR(e.length_error_mm[r], offsets[r], 1e-9);
+  EXPECT_NEAR(e.absolute_mm.max, 0.03, 1e-9);
+  EXPECT_NEAR(e.absolute_mm.mean, 0.0125, 1e-9);  // (1+2+3+0+1+2+0.5+0.5)/8 · 0.01
+  EXPECT_NEAR(e.signed_mean_mm, 0.00375, 1e-9);
+  int rows = 0;
+  for (const TargetErrorStatistics& t : e.per_target) rows += static_cast<int>(t.position_mm.count);
+  EXPECT_EQ(rows, 8);
+}
+
+TEST(ValidateBallbar, IdentifiedCentreIsTheTrueOneForExactLengths) {
+  const CalibratedRobot robot = reference_robot();
+  const Eigen::Vector3d centre(400, -50, 300);
+  const MeasurementSet set = ballbar_rows(robot, centre, std::vector<double>(30, 0.0));
+  const BallbarErrors e = ballbar_errors(robot, set, std::nullopt);
+  EXPECT_TRUE(e.centre_fitted);
+  EXPECT_LT((e.centre_mm - centre).norm(), 1e-7);
+  EXPECT_LT(e.absolute_mm.max, 1e-8);
+  // Too few rows to locate a centre: an InputError naming the way out.
+  MeasurementSet three = set;
+  three.distances.resize(3);
+  EXPECT_THROW((void)ballbar_errors(robot, three, std::nullopt), InputError);
 }
 
 TEST(ValidatePositions, TargetWithoutCoordinatesIsNamed) {

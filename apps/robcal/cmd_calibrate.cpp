@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <iostream>
 
 #include "cli_common.hpp"
@@ -34,7 +35,7 @@ const char* status_text(ParameterStatus s) {
 }
 
 nlohmann::json to_json(const IdentificationResult& r, const CrossValidation* cv,
-                       const CalibrateArgs& args, size_t rows) {
+                       const CalibrateArgs& args, size_t rows, MeasurementKind kind) {
   nlohmann::json out;
   out["robot"] = r.robot.model.name;
   out["level"] = r.robot.level;
@@ -44,6 +45,8 @@ nlohmann::json to_json(const IdentificationResult& r, const CrossValidation* cv,
   out["solver_message"] = r.status.message;
   out["residuals"] = r.residual_count;
   out["identified"] = r.identified_count;
+  if (kind == MeasurementKind::Poses)
+    out["orientation_weight_mm_per_rad"] = args.orientation_weight;
   out["initial_rms_mm"] = tidy(r.status.initial_rms_mm);
   out["rms_mm"] = tidy(r.rms_mm);
   out["max_mm"] = tidy(r.max_mm);
@@ -108,6 +111,9 @@ void print_report(const IdentificationResult& r, const CrossValidation* cv,
       "σ {:.4f} mm per residual ({} residuals, {} unknowns)\n",
       r.rms_mm, r.max_mm, r.status.initial_rms_mm, r.sigma_mm, r.residual_count,
       r.identified_count);
+  if (data.kind == MeasurementKind::Poses)
+    fmt::print("orientation residuals weighted {:g} mm per rad (--orientation-weight)\n",
+               args.orientation_weight);
   for (const auto& t : r.by_target)
     fmt::print("  target {:<8} {:>4} rows  rms {:.4f}  max {:.4f} mm\n", t.target, t.rows, t.rms_mm,
                t.max_mm);
@@ -156,6 +162,10 @@ void print_report(const IdentificationResult& r, const CrossValidation* cv,
 }
 
 void run_calibrate(const CalibrateArgs& args) {
+  if (!(args.orientation_weight > 0) || !std::isfinite(args.orientation_weight))
+    throw InputError(
+        {"", 0, 0, "--orientation-weight"},
+        fmt::format("must be a positive number of mm per rad, not {}", args.orientation_weight));
   const RobotModel model = load_robot(args.robot);
   const Tool tool = load_tool(args.tool);
   const MeasurementFile file = read_measurements_csv(args.measurements, tool);
@@ -194,7 +204,8 @@ void run_calibrate(const CalibrateArgs& args) {
   if (!result.status.converged)
     std::cerr << "warning: the solver did not converge: " << result.status.message << "\n";
   if (args.json)
-    print_json(to_json(result, args.kfold ? &cv : nullptr, args, file.measurements.size()));
+    print_json(to_json(result, args.kfold ? &cv : nullptr, args, file.measurements.size(),
+                       file.measurements.kind));
   else
     print_report(result, args.kfold ? &cv : nullptr, args, file.measurements);
 }
@@ -219,7 +230,9 @@ const bool registered = register_command(30, [](CLI::App& app) {
   cmd->add_option("--huber-scale", args->huber_scale,
                   "Huber threshold in mm (default: 3 × the robust σ of a least-squares pass)");
   cmd->add_option("--orientation-weight", args->orientation_weight,
-                  "Pose measurements: mm per rad of orientation error (default 100)");
+                  "Poses files: mm per rad of orientation residual, the instrument's ratio of "
+                  "position to orientation noise (validate takes the same option)")
+      ->capture_default_str();
   cmd->add_option("--kfold", args->kfold, "Estimate accuracy by K-fold cross-validation");
   cmd->add_option("--seed", args->seed,
                   "Seed of the cross-validation folds and predicted-accuracy samples (default 1)");

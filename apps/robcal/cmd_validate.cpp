@@ -3,8 +3,10 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
@@ -12,6 +14,7 @@
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/validate/ballbar_error.hpp"
 #include "robcal/validate/base_fit.hpp"
 #include "robcal/validate/validation.hpp"
 
@@ -26,6 +29,8 @@ struct ValidateOptions {
   bool fit_base = false;
   bool json = false;
   int threads = 2;
+  double orientation_weight = kDefaultOrientationWeightMm;
+  std::vector<double> ballbar_centre;  ///< empty: identified from the rows
 };
 
 nlohmann::json statistics_json(const ErrorStatistics& s) {
@@ -45,7 +50,65 @@ void print_statistics_row(const std::string& label, const ErrorStatistics& s) {
              s.std, s.mean_plus_3std(), s.max);
 }
 
+/// Ballbar rows (METHOD §9): length errors against a given or identified centre; distances
+/// need no world frame when the centre is identified.
+void run_ballbar_validation(const ValidateOptions& options, const RobotModel& model,
+                            const CalibratedRobot& robot, const MeasurementSet& set) {
+  std::optional<Eigen::Vector3d> centre;
+  if (!options.ballbar_centre.empty())
+    centre = Eigen::Vector3d(options.ballbar_centre[0], options.ballbar_centre[1],
+                             options.ballbar_centre[2]);
+  const BallbarErrors errors = ballbar_errors(robot, set, centre);
+  std::vector<double> absolute;
+  for (double e : errors.length_error_mm) absolute.push_back(std::abs(e));
+  const double top = std::max(errors.absolute_mm.max * (1 + 1e-9), 1e-9);
+  const Histogram histogram = make_histogram(absolute, kPositionHistogramBins, 0.0, top);
+  const std::string centre_text =
+      errors.centre_fitted ? "identified from these rows (3 parameters fitted)" : "given";
+  if (options.json) {
+    nlohmann::json out;
+    out["rows"] = set.size();
+    out["kind"] = measurement_kind_name(set.kind);
+    out["length_error_mm"] = statistics_json(errors.absolute_mm);
+    out["length_error_mm"]["signed_mean"] = errors.signed_mean_mm;
+    out["length_error_mm"]["signed_std"] = errors.signed_std_mm;
+    out["length_error_histogram_mm"] = histogram_json(histogram);
+    out["ballbar_centre_mm"] = {errors.centre_mm.x(), errors.centre_mm.y(), errors.centre_mm.z()};
+    out["ballbar_centre"] = errors.centre_fitted ? "identified" : "given";
+    out["per_target"] = nlohmann::json::array();
+    for (const TargetErrorStatistics& t : errors.per_target) {
+      nlohmann::json entry = statistics_json(t.position_mm);
+      entry["target"] = t.target;
+      entry["rows"] = t.position_mm.count;
+      out["per_target"].push_back(entry);
+    }
+    out["robot"] = model.name;
+    out["level"] = robot.level;
+    out["measurements"] = options.measurements;
+    print_json(out);
+    return;
+  }
+  fmt::print("ballbar validation of {} ({} model) against {}: {} distances\n", model.name,
+             robot.level, options.measurements, set.size());
+  fmt::print("centre {} at ({:.4f}, {:.4f}, {:.4f}) mm in the model's frame\n\n", centre_text,
+             errors.centre_mm.x(), errors.centre_mm.y(), errors.centre_mm.z());
+  fmt::print("length error (mm): |measured − modelled length|\n");
+  fmt::print("  {:<10} {:>8} {:>10} {:>10} {:>10} {:>10}\n", "target", "rows", "mean", "std",
+             "mean+3std", "max");
+  if (errors.per_target.size() > 1)
+    for (const TargetErrorStatistics& t : errors.per_target)
+      print_statistics_row(t.target, t.position_mm);
+  print_statistics_row("all", errors.absolute_mm);
+  fmt::print("signed (measured − modelled): mean {:+.4f}  std {:.4f} mm\n", errors.signed_mean_mm,
+             errors.signed_std_mm);
+  fmt::print("\nlength error histogram\n{}", histogram_text(histogram, "mm"));
+}
+
 void run_validate(const ValidateOptions& options) {
+  if (!(options.orientation_weight > 0) || !std::isfinite(options.orientation_weight))
+    throw InputError(
+        {"", 0, 0, "--orientation-weight"},
+        fmt::format("must be a positive number of mm per rad, not {}", options.orientation_weight));
   const RobotModel model = load_robot(options.robot);
   const Tool tool = load_tool(options.tool);
   CalibratedRobot robot = CalibratedRobot::nominal(model, tool);
@@ -58,10 +121,24 @@ void run_validate(const ValidateOptions& options) {
     // The model's tool holds the identified target coordinates; an older file may have none.
     if (robot.tool.targets.empty()) robot.tool = tool;
   }
-  MeasurementFile file = read_measurements_csv(options.measurements, robot.tool,
-                                               {MeasurementKind::Points, MeasurementKind::Poses});
+  MeasurementFile file = read_measurements_csv(
+      options.measurements, robot.tool,
+      {MeasurementKind::Points, MeasurementKind::Poses, MeasurementKind::Distances});
   for (const std::string& warning : file.warnings) std::cerr << "warning: " << warning << "\n";
   const MeasurementSet& set = file.measurements;
+  if (!options.ballbar_centre.empty() && set.kind != MeasurementKind::Distances)
+    throw InputError({options.measurements, 0, 0, "--ballbar-centre"},
+                     fmt::format("--ballbar-centre is for distances (ballbar) files; this is a "
+                                 "{} file",
+                                 measurement_kind_name(set.kind)));
+  if (set.kind == MeasurementKind::Distances) {
+    if (options.fit_base)
+      throw InputError({options.measurements, 0, 0, "--fit-base"},
+                       "a distances (ballbar) file has no positions to fit a world frame to; "
+                       "without --ballbar-centre the centre is identified, so no frame is needed");
+    run_ballbar_validation(options, model, robot, set);
+    return;
+  }
   std::string frame = "the model's world frame";
   if (!robot.base_fitted) {
     if (!options.fit_base)
@@ -77,7 +154,8 @@ void run_validate(const ValidateOptions& options) {
     frame = "base fitted to these measurements (6 parameters, rigid best fit)";
   }
 
-  const ValidationReport report = validate_model(robot, set, options.threads);
+  const ValidationReport report =
+      validate_model(robot, set, options.threads, options.orientation_weight);
   const PositionErrors& positions = report.positions;
   const PairwiseDistanceErrors& distances = report.distances;
 
@@ -96,8 +174,11 @@ void run_validate(const ValidateOptions& options) {
       entry["rows"] = t.position_mm.count;
       out["per_target"].push_back(entry);
     }
-    if (set.kind == MeasurementKind::Poses)
+    if (set.kind == MeasurementKind::Poses) {
       out["orientation_error_deg"] = statistics_json(positions.orientation_deg);
+      out["pose_error_mm"] = statistics_json(positions.pose_mm);
+      out["orientation_weight_mm_per_rad"] = positions.orientation_weight_mm;
+    }
     out["kind"] = measurement_kind_name(set.kind);
     out["robot"] = model.name;
     out["level"] = robot.level;
@@ -120,6 +201,11 @@ void run_validate(const ValidateOptions& options) {
   if (set.kind == MeasurementKind::Poses) {
     fmt::print("\norientation error (deg)\n");
     print_statistics_row("TCP", positions.orientation_deg);
+    fmt::print(
+        "\npose error (mm): √(position² + ({:g} mm/rad × orientation)²), weighted as "
+        "calibrate weighs them (--orientation-weight)\n",
+        positions.orientation_weight_mm);
+    print_statistics_row("TCP", positions.pose_mm);
   }
   fmt::print("\nposition error histogram\n{}", histogram_text(report.position_histogram, "mm"));
   fmt::print("\ndistance error over all {} pairs of rows (mm): | |m_i − m_j| − |p_i − p_j| |\n",
@@ -144,8 +230,18 @@ const bool registered = register_command(60, [](CLI::App& app) {
   cmd->add_option("--model", options->model,
                   "Calibrated model written by `robcal calibrate` (default: the nominal robot)");
   cmd->add_option("--measurements", options->measurements,
-                  "Validation measurements: points or poses CSV (mm, degrees)")
+                  "Validation measurements: points, poses or distances (ballbar) CSV (mm, "
+                  "degrees)")
       ->required();
+  cmd->add_option("--orientation-weight", options->orientation_weight,
+                  "Poses files: mm per rad of orientation error in the combined pose error "
+                  "(as calibrate --orientation-weight)")
+      ->capture_default_str();
+  cmd->add_option("--ballbar-centre", options->ballbar_centre,
+                  "Distances (ballbar) files: the fixed centre X,Y,Z in mm in the model's frame "
+                  "(default: identified from the rows)")
+      ->delimiter(',')
+      ->expected(3);
   cmd->add_flag("--fit-base", options->fit_base,
                 "For a model without a world frame (the nominal robot): first fit its 6 base "
                 "parameters to these measurements (rigid best fit)");

@@ -11,8 +11,6 @@ Eigen::Vector3d target_coordinates(const ResidualContext& context, const Eigen::
                   : Eigen::Vector3d(unknowns.segment<3>(slot));
 }
 
-namespace {
-
 const Vector6d& row_joints(const MeasurementSet& data, size_t row) {
   switch (data.kind) {
     case MeasurementKind::Points:
@@ -25,16 +23,21 @@ const Vector6d& row_joints(const MeasurementSet& data, size_t row) {
   return data.points[row].joints;
 }
 
-}  // namespace
-
 void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
                    double* residuals, Eigen::MatrixXd* jacobian) {
-  const MeasurementSet& data = *context.data;
   const ParameterVector params = unknowns.head<kParameterCount>();
-  Pose<double> flange;
-  TwistJacobian twist;
-  flange_twist_jacobian(*context.model, context.tool->payload, params, row_joints(data, row),
-                        &flange, jacobian ? &twist : nullptr);
+  row_residuals(context, unknowns, row, parameter_trig(params),
+                prepare_configuration(*context.model, params, row_joints(*context.data, row)),
+                residuals, jacobian);
+}
+
+void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
+                   const ParameterTrig& trig, const PreparedConfiguration& configuration,
+                   double* residuals, Eigen::MatrixXd* jacobian) {
+  const MeasurementSet& data = *context.data;
+  const FlangeRegressor regressor(*context.model, context.tool->payload,
+                                  unknowns.head<kParameterCount>(), trig, configuration);
+  const Pose<double>& flange = regressor.flange();
   if (jacobian) jacobian->setZero(data.residuals_per_row(), context.layout->size());
 
   switch (data.kind) {
@@ -44,7 +47,9 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
       Eigen::Map<Eigen::Vector3d> r(residuals);
       r = p - m.position_mm;
       if (!jacobian) return;
-      jacobian->leftCols<kParameterCount>() = point_jacobian_from_twist(twist, p);
+      PositionJacobian J;
+      regressor.jacobian<3>(point_output_map(p), &J);
+      jacobian->leftCols<kParameterCount>() = J;
       const int slot = context.layout->target_slot[static_cast<size_t>(m.target)];
       if (slot >= 0) jacobian->block<3, 3>(0, slot) = flange.R;
       return;
@@ -60,17 +65,19 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
       r.tail<3>() =
           0.5 * w * Eigen::Vector3d(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
       if (!jacobian) return;
-      jacobian->block<3, kParameterCount>(0, 0) = point_jacobian_from_twist(twist, p);
       // R → exp([δφ]×)·R gives d(A − Aᵀ) = [δφ]×·A + Aᵀ·[δφ]×, column by column.
-      Eigen::Matrix3d D;
+      Eigen::Matrix<double, 6, 6> P = Eigen::Matrix<double, 6, 6>::Zero();
+      P.topRows<3>() = point_output_map(p);
       for (int k = 0; k < 3; ++k) {
         Eigen::Matrix3d E = Eigen::Matrix3d::Zero();
         const Eigen::Vector3d e = Eigen::Vector3d::Unit(k);
         E << 0, -e.z(), e.y(), e.z(), 0, -e.x(), -e.y(), e.x(), 0;
         const Eigen::Matrix3d S = E * A + A.transpose() * E;
-        D.col(k) = 0.5 * w * Eigen::Vector3d(S(2, 1), S(0, 2), S(1, 0));
+        P.block<3, 1>(3, 3 + k) = 0.5 * w * Eigen::Vector3d(S(2, 1), S(0, 2), S(1, 0));
       }
-      jacobian->block<3, kParameterCount>(3, 0) = D * twist.bottomRows<3>();
+      TwistJacobian J;
+      regressor.jacobian<6>(P, &J);
+      jacobian->leftCols<kParameterCount>() = J;
       return;
     }
     case MeasurementKind::Distances: {
@@ -83,7 +90,9 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
       if (!jacobian) return;
       const Eigen::RowVector3d u =
           length > 0 ? Eigen::RowVector3d(d.transpose() / length) : Eigen::RowVector3d::Zero();
-      jacobian->leftCols<kParameterCount>() = u * point_jacobian_from_twist(twist, p);
+      Eigen::Matrix<double, 1, kParameterCount> J;
+      regressor.jacobian<1>(u * point_output_map(p), &J);
+      jacobian->leftCols<kParameterCount>() = J;
       const int slot = context.layout->target_slot[static_cast<size_t>(m.target)];
       if (slot >= 0) jacobian->block<1, 3>(0, slot) = u * flange.R;
       jacobian->block<1, 3>(0, c) = -u;
@@ -115,8 +124,9 @@ Eigen::Vector3d modelled_position(const ResidualContext& context, const Eigen::V
                                   size_t row) {
   const MeasurementSet& data = *context.data;
   const ParameterVector params = unknowns.head<kParameterCount>();
-  const Vector6d& q = row_joints(data, row);
-  const Pose<double> flange = flange_pose(*context.model, context.tool->payload, params, q);
+  Pose<double> flange;
+  flange_twist_jacobian(*context.model, context.tool->payload, params, row_joints(data, row),
+                        &flange, nullptr);
   switch (data.kind) {
     case MeasurementKind::Points:
       return flange * target_coordinates(context, unknowns, data.points[row].target);

@@ -29,6 +29,18 @@ std::vector<int> all_parameters() {
 
 }  // namespace
 
+const char* validation_model_name(ValidationModel model) {
+  return model == ValidationModel::Exact ? "exact" : "first-order";
+}
+
+ValidationModel parse_validation_model(const std::string& text) {
+  if (text == "first-order") return ValidationModel::FirstOrder;
+  if (text == "exact") return ValidationModel::Exact;
+  throw InputError(
+      {"", 0, 0, "--validation-model"},
+      fmt::format("unknown validation model '{}': expected first-order or exact", text));
+}
+
 MonteCarloSetup prepare_monte_carlo(const TrueRobot& truth, const VirtualInstrument& instrument,
                                     const RobotModel& model, const Tool& tool,
                                     const MonteCarloOptions& options) {
@@ -87,7 +99,10 @@ MonteCarloSetup prepare_monte_carlo(const TrueRobot& truth, const VirtualInstrum
     const Eigen::Vector3d real = true_flange_pose(truth, joints[v]) * targets[v];
     setup.validation_jacobian.block<3, 1>(static_cast<Eigen::Index>(3 * v), kParameterCount) =
         modelled - real;
+    setup.validation_configurations.push_back(prepare_configuration(model, x_true, joints[v]));
+    setup.validation_true_positions.push_back(real);
   }
+  setup.validation_targets = targets;
 
   // Cramér–Rao: the covariance of the fitted parameters from the design at the truth.
   std::vector<int> free_parameters;
@@ -119,31 +134,49 @@ ParameterVector monte_carlo_fit(const MonteCarloSetup& setup, uint64_t seed, int
                               : ParameterVector::Constant(std::numeric_limits<double>::quiet_NaN());
 }
 
+MonteCarloRun validate_monte_carlo_run(const MonteCarloSetup& setup, const ParameterVector& fitted,
+                                       ValidationModel model) {
+  MonteCarloRun run;
+  run.converged = true;
+  const size_t count = setup.validation_true_positions.size();
+  Eigen::Matrix3Xd errors(3, static_cast<Eigen::Index>(count));
+  if (model == ValidationModel::FirstOrder) {
+    Eigen::VectorXd delta(kParameterCount + 1);
+    delta.head<kParameterCount>() = fitted - setup.truth.robot.params;
+    delta[kParameterCount] = 1.0;  // the model-error bias column
+    Eigen::Map<Eigen::VectorXd>(errors.data(), errors.size()).noalias() =
+        setup.validation_jacobian * delta;
+  } else {
+    const RobotModel& robot = setup.identification.model;
+    const PointMass& payload = setup.identification.tool.payload;
+    const ParameterTrig trig = parameter_trig(fitted);
+    for (size_t v = 0; v < count; ++v) {
+      const FlangeRegressor chain(robot, payload, fitted, trig, setup.validation_configurations[v]);
+      errors.col(static_cast<Eigen::Index>(v)) =
+          chain.flange() * setup.validation_targets[v] - setup.validation_true_positions[v];
+    }
+  }
+  double sum_sq = 0, sum = 0;
+  for (Eigen::Index v = 0; v < errors.cols(); ++v) {
+    const double n = errors.col(v).norm();
+    sum_sq += n * n;
+    sum += n;
+    run.max_mm = std::max(run.max_mm, n);
+  }
+  run.rms_mm = std::sqrt(sum_sq / static_cast<double>(count));
+  run.mean_mm = sum / static_cast<double>(count);
+  return run;
+}
+
 MonteCarloResult run_monte_carlo(const MonteCarloSetup& setup, const MonteCarloOptions& options) {
   MonteCarloResult result;
   result.runs.resize(static_cast<size_t>(options.runs));
-  const Eigen::Index rows = setup.validation_jacobian.rows();
   auto work = [&](int first, int stride) {
-    Eigen::VectorXd delta(kParameterCount + 1);
     for (int r = first; r < options.runs; r += stride) {
-      MonteCarloRun& run = result.runs[static_cast<size_t>(r)];
       const ParameterVector fitted = monte_carlo_fit(setup, options.seed, r);
-      run.converged = fitted.allFinite();
-      if (!run.converged) continue;
-      delta.head<kParameterCount>() = fitted - setup.truth.robot.params;
-      delta[kParameterCount] = 1.0;  // the model-error bias column
-      const Eigen::VectorXd e = setup.validation_jacobian * delta;
-      double sum_sq = 0, sum = 0, worst = 0;
-      for (Eigen::Index v = 0; v < rows / 3; ++v) {
-        const double n = e.segment<3>(3 * v).norm();
-        sum_sq += n * n;
-        sum += n;
-        worst = std::max(worst, n);
-      }
-      const double count = static_cast<double>(rows / 3);
-      run.rms_mm = std::sqrt(sum_sq / count);
-      run.mean_mm = sum / count;
-      run.max_mm = worst;
+      if (fitted.allFinite())
+        result.runs[static_cast<size_t>(r)] =
+            validate_monte_carlo_run(setup, fitted, options.validation_model);
     }
   };
   const int threads = std::min(options.threads, options.runs);

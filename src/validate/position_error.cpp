@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <stdexcept>
 
 #include "robcal/core/error.hpp"
@@ -58,7 +59,8 @@ Eigen::Matrix3Xd predicted_positions(const CalibratedRobot& robot, const Measure
   return predicted;
 }
 
-PositionErrors position_errors(const CalibratedRobot& robot, const MeasurementSet& set) {
+PositionErrors position_errors(const CalibratedRobot& robot, const MeasurementSet& set,
+                               double orientation_weight_mm) {
   if (set.kind == MeasurementKind::Distances)
     throw std::invalid_argument(
         "position_errors: a distances (ballbar) set has no positions to compare");
@@ -95,6 +97,12 @@ PositionErrors position_errors(const CalibratedRobot& robot, const MeasurementSe
           rad2deg(rotation_distance(set.poses[r].world_T_tcp.R, world_R_tcp));
     }
     out.orientation_deg = error_statistics(out.orientation_error_deg);
+    out.orientation_weight_mm = orientation_weight_mm;
+    out.pose_error_mm.resize(set.size());
+    for (size_t r = 0; r < set.size(); ++r)
+      out.pose_error_mm[r] = std::hypot(
+          out.position_error_mm[r], orientation_weight_mm * deg2rad(out.orientation_error_deg[r]));
+    out.pose_mm = error_statistics(out.pose_error_mm);
   }
   return out;
 }

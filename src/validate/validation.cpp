@@ -5,9 +5,9 @@
 namespace robcal {
 
 ValidationReport validate_model(const CalibratedRobot& robot, const MeasurementSet& set,
-                                int threads) {
+                                int threads, double orientation_weight_mm) {
   ValidationReport report;
-  report.positions = position_errors(robot, set);
+  report.positions = position_errors(robot, set, orientation_weight_mm);
   // The top edge sits just above the largest error so that it falls inside the last bin.
   const double top = std::max(report.positions.position_mm.max * (1 + 1e-9), 1e-9);
   report.position_histogram =

@@ -91,4 +91,30 @@ expect_error "missing file" "nonexistent.csv" calibrate --robot abb-irb120 --too
 # 4. The written model loads back (validate reads it); its base is fitted.
 grep -q "base_fitted: true" "$TMP/model.yaml" || fail "model has no fitted base"
 
+# 5. Poses: the orientation weight is settable, reported, and changes the fit; zero is refused.
+"$ROBCAL" simulate --instrument optical-cmm --truth published --random 30 --seed 5 \
+  --out "$TMP/cmm" >/dev/null
+for w in 100 50; do
+  "$ROBCAL" calibrate --robot abb-irb120 --tool "$TMP/cmm/tool.yaml" \
+    --measurements "$TMP/cmm/measurements.csv" --orientation-weight $w --out "$TMP/cmm$w.yaml" \
+    --json >"$TMP/cmm$w.json"
+done
+/usr/bin/python3 - "$TMP/cmm100.json" "$TMP/cmm50.json" <<'PY' || FAILED=1
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["orientation_weight_mm_per_rad"] == 100 and b["orientation_weight_mm_per_rad"] == 50
+assert a["converged"] and b["converged"]
+# Position residuals are weighted alike, orientation ones differently: a different solution.
+va = {p["name"]: p["value"] for p in a["parameters"]}
+vb = {p["name"]: p["value"] for p in b["parameters"]}
+assert any(abs(va[k] - vb[k]) > 1e-9 for k in va), "the weight changed nothing"
+PY
+"$ROBCAL" calibrate --robot abb-irb120 --tool "$TMP/cmm/tool.yaml" \
+  --measurements "$TMP/cmm/measurements.csv" --orientation-weight 50 --out "$TMP/cmm.yaml" \
+  >"$TMP/cmm.txt"
+grep -q "orientation residuals weighted 50 mm per rad" "$TMP/cmm.txt" || fail "weight not printed"
+expect_error "negative orientation weight" "--orientation-weight" calibrate --robot abb-irb120 \
+  --tool "$TMP/cmm/tool.yaml" --measurements "$TMP/cmm/measurements.csv" --orientation-weight -1 \
+  --out "$TMP/bad.yaml"
+
 exit $FAILED

@@ -62,14 +62,82 @@ set -e
 [ $rc -eq 2 ] || fail "bad value: exit $rc"
 grep -q "bad.csv:3:5 (j3): 'x' is not a number" "$tmp/err" || fail "message: $(cat "$tmp/err")"
 
-printf 'config,target,j1,j2,j3,j4,j5,j6,length\n1,1,0,0,0,0,0,0,300\n' >"$tmp/ballbar.csv"
+# Ballbar (distances) files: length errors against an identified centre (no world frame needed),
+# then against that centre given: the same errors.
+"$robcal" simulate --instrument ballbar --truth published --random 40 --seed 5 --out "$tmp/bb" \
+  >/dev/null
+"$robcal" validate --robot abb-irb120 --tool "$tmp/bb/tool.yaml" \
+  --measurements "$tmp/bb/measurements.csv" --json >"$tmp/bb.json"
+centre=$(python3 -c "import json,sys; print(','.join(repr(v) for v in json.load(open(sys.argv[1]))['ballbar_centre_mm']))" "$tmp/bb.json")
+"$robcal" validate --robot abb-irb120 --tool "$tmp/bb/tool.yaml" \
+  --measurements "$tmp/bb/measurements.csv" --ballbar-centre="$centre" --json >"$tmp/bb_given.json"
+python3 - "$tmp/bb.json" "$tmp/bb_given.json" "$tmp/bb/measurements.csv" <<'PY'
+import json, sys
+fitted, given = (json.load(open(p)) for p in sys.argv[1:3])
+rows = sum(1 for line in open(sys.argv[3]) if line[0].isalnum()) - 1
+assert fitted["kind"] == "distances" and fitted["rows"] == rows, (fitted["rows"], rows)
+assert fitted["ballbar_centre"] == "identified" and given["ballbar_centre"] == "given"
+le = fitted["length_error_mm"]
+for key in ("mean", "std", "mean_plus_3std", "max", "signed_mean", "signed_std"):
+    assert key in le, key
+# The nominal robot against the published truth: tenths of a millimetre, the least-squares centre
+# leaves no mean length error.
+assert 0.02 < le["mean"] < 1.0, le
+assert abs(le["signed_mean"]) < 0.1 * le["std"] + 1e-6, le
+assert sum(le_count for le_count in fitted["length_error_histogram_mm"]["counts"]) == rows
+for key in ("mean", "std", "max", "signed_mean"):
+    assert abs(given["length_error_mm"][key] - le[key]) < 1e-9, key
+PY
+"$robcal" validate --robot abb-irb120 --tool "$tmp/bb/tool.yaml" \
+  --measurements "$tmp/bb/measurements.csv" >"$tmp/bb.txt"
+grep -q "centre identified from these rows" "$tmp/bb.txt" || fail "ballbar centre not reported"
+grep -q "length error (mm)" "$tmp/bb.txt" || fail "no ballbar table"
 set +e
-"$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --measurements "$tmp/ballbar.csv" \
-  --fit-base 2>"$tmp/err"
+"$robcal" validate --robot abb-irb120 --tool "$tmp/bb/tool.yaml" \
+  --measurements "$tmp/bb/measurements.csv" --fit-base 2>"$tmp/err" >"$tmp/out"
 rc=$?
 set -e
-[ $rc -eq 2 ] || fail "distances file: exit $rc"
-grep -q "this is a distances file" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+[ $rc -eq 2 ] || fail "distances with --fit-base: exit $rc"
+grep -q "no positions to fit a world frame" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+[ ! -s "$tmp/out" ] || fail "output printed on error"
+set +e
+"$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --measurements $data/validation.csv \
+  --fit-base --ballbar-centre 1,2,3 2>"$tmp/err" >/dev/null
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "--ballbar-centre on points: exit $rc"
+grep -q "this is a points file" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+
+# Poses files: the orientation weight is settable, printed, and enters the pose error only.
+"$robcal" simulate --instrument optical-cmm --truth published --random 30 --seed 5 \
+  --out "$tmp/cmm" >/dev/null
+for w in 100 50; do
+  "$robcal" validate --robot abb-irb120 --tool "$tmp/cmm/tool.yaml" \
+    --measurements "$tmp/cmm/measurements.csv" --fit-base --orientation-weight $w --json \
+    >"$tmp/cmm$w.json"
+done
+python3 - "$tmp/cmm100.json" "$tmp/cmm50.json" <<'PY'
+import json, math, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["orientation_weight_mm_per_rad"] == 100 and b["orientation_weight_mm_per_rad"] == 50
+assert a["position_error_mm"] == b["position_error_mm"]
+assert a["orientation_error_deg"] == b["orientation_error_deg"]
+# Each row's pose error lies between its position error and the hypotenuse with the largest
+# orientation error; a heavier weight gives a larger pose error.
+assert a["pose_error_mm"]["mean"] > b["pose_error_mm"]["mean"] > b["position_error_mm"]["mean"]
+bound = math.hypot(a["position_error_mm"]["max"], 100 * math.radians(a["orientation_error_deg"]["max"]))
+assert a["pose_error_mm"]["max"] <= bound + 1e-12
+PY
+"$robcal" validate --robot abb-irb120 --tool "$tmp/cmm/tool.yaml" \
+  --measurements "$tmp/cmm/measurements.csv" --fit-base --orientation-weight 50 >"$tmp/cmm.txt"
+grep -q "50 mm/rad" "$tmp/cmm.txt" || fail "orientation weight not printed"
+set +e
+"$robcal" validate --robot abb-irb120 --tool "$tmp/cmm/tool.yaml" \
+  --measurements "$tmp/cmm/measurements.csv" --fit-base --orientation-weight 0 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "zero orientation weight: exit $rc"
+grep -q -- "--orientation-weight" "$tmp/err" || fail "message: $(cat "$tmp/err")"
 
 # Unused columns: a warning on stderr, results unchanged.
 sed '1s/$/,temperature/; 2,$s/$/,21.5/' $data/validation.csv >"$tmp/extra.csv"

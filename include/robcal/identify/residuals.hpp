@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "robcal/identify/unknowns.hpp"
+#include "robcal/kinematics/parameter_jacobian.hpp"
 #include "robcal/measure/measurements.hpp"
 #include "robcal/model/robot_model.hpp"
 #include "robcal/model/tool.hpp"
@@ -37,6 +38,16 @@ struct ResidualContext {
 /// fully overwritten).
 void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
                    double* residuals, Eigen::MatrixXd* jacobian);
+
+/// The same for the row's configuration prepared once (prepare_configuration, at parameters
+/// near `unknowns`) and the parameters' trig: the identification's inner loop, which then
+/// makes no trigonometric call and, once `jacobian` has its size, no allocation.
+void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
+                   const ParameterTrig& trig, const PreparedConfiguration& configuration,
+                   double* residuals, Eigen::MatrixXd* jacobian);
+
+/// The joint values (controller, rad) of a row of any kind.
+const Vector6d& row_joints(const MeasurementSet& data, size_t row);
 
 /// All residuals stacked row by row, and the Jacobian restricted to the `columns` unknowns
 /// (in that order) when `jacobian` is not null.

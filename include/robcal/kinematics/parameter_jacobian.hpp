@@ -8,6 +8,7 @@
 /// the regressor is checked against in the tests).
 
 #include <Eigen/Core>
+#include <array>
 
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/model/parameters.hpp"
@@ -37,12 +38,69 @@ void flange_twist_jacobian(const RobotModel& model, const PointMass& payload,
                            const ParameterVector& params, const Vector6d& joints,
                            Pose<double>* world_T_flange, TwistJacobian* jacobian);
 
+/// The sines and cosines that depend on the parameters alone (link twists α_2..α_6, base α and
+/// β): computed once per parameter vector, shared by every configuration.
+struct ParameterTrig {
+  std::array<double, kJointCount> ca{}, sa{};  ///< index k = link k+1 (k ≥ 1)
+  Eigen::Matrix3d R_base_xy;                   ///< Rot_x(α_b)·Rot_y(β_b)
+};
+ParameterTrig parameter_trig(const ParameterVector& params);
+
+/// A configuration prepared for many evaluations at nearby parameter vectors (the iterations of
+/// an identification): its model joint values and its link angles θ_1..θ_6 (θ_1 with the base
+/// γ) with their sines and cosines at reference parameters. Near the reference the link angles
+/// move by small shifts (joint offset and scale errors), whose sine and cosine follow from a
+/// short series: an evaluation makes no trigonometric call.
+struct PreparedConfiguration {
+  Vector6d q = Vector6d::Zero();  ///< model joint values (joint map applied)
+  std::array<double, kJointCount> theta{}, s{}, c{};
+};
+PreparedConfiguration prepare_configuration(const RobotModel& model,
+                                            const ParameterVector& reference,
+                                            const Vector6d& joints);
+
+/// The analytic regressor in two steps, for residuals whose derivative depends on the flange
+/// pose: construction evaluates the chain at a prepared configuration (the flange pose), then
+/// `jacobian(P)` gives the rows P·J of the flange twist Jacobian J for an output map P (K × 6):
+/// the derivative of any quantity that a flange twist ξ changes by P·ξ (P = I: the twist
+/// Jacobian; P = [I −[p]×]: a world point p carried by the flange; a distance or a pose
+/// residual). Projecting before the joint-coupling product Z·D costs K/6 of forming J.
+/// Same values as flange_twist_jacobian to rounding.
+class FlangeRegressor {
+ public:
+  FlangeRegressor(const RobotModel& model, const PointMass& payload, const ParameterVector& params,
+                  const ParameterTrig& trig, const PreparedConfiguration& configuration);
+  [[nodiscard]] const Pose<double>& flange() const { return deflected_[kJointCount - 1]; }
+  /// K = 1, 3 or 6.
+  template <int K>
+  void jacobian(const Eigen::Matrix<double, K, 6>& P,
+                Eigen::Matrix<double, K, kParameterCount>* out) const;
+
+ private:
+  Vector6d q_, c_;  ///< model joint values; compliances (c_[0] = 0)
+  bool compliant_ = false;
+  Eigen::Matrix3d R_base_xy_;
+  std::array<Pose<double>, kJointCount> undeflected_, deflected_;
+  /// Gravity torques of the undeflected chain and what their derivatives need (METHOD §3 in
+  /// world form): v_k = Σ_{j≥k} m_j (c_j − o_k), τ_k = z_k · (v_k × g),
+  /// a_k = z_k × (v_k × g) + v_k × (g × z_k), h_k = g × z_k; suffix first moments C_k and
+  /// masses M_k of the bodies carried by frame k.
+  std::array<double, kJointCount> tau_{};
+  Eigen::Matrix<double, 3, kJointCount> a_, h_;
+  std::array<Eigen::Vector3d, kJointCount + 1> C_;
+  std::array<double, kJointCount + 1> M_{};
+};
+
 /// World position of a flange-frame point and its derivative with respect to all parameters,
 /// from the analytic twist Jacobian: dp/dξ = v_ξ + ω_ξ × p.
 void target_position_jacobian(const RobotModel& model, const PointMass& payload,
                               const ParameterVector& params, const Vector6d& joints,
                               const Eigen::Vector3d& target_flange_mm, Eigen::Vector3d* position_mm,
                               PositionJacobian* jacobian);
+
+/// The output map [I −[p]×] of a world point p carried by the flange (its change under a
+/// flange twist), for FlangeRegressor::jacobian.
+Eigen::Matrix<double, 3, 6> point_output_map(const Eigen::Vector3d& p);
 
 /// Position rows of a twist Jacobian for the world point p: J_v − [p]× J_ω.
 PositionJacobian point_jacobian_from_twist(const TwistJacobian& twist, const Eigen::Vector3d& p);

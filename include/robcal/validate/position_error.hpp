@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/identify/residuals.hpp"
 #include "robcal/measure/measurements.hpp"
 #include "robcal/validate/error_statistics.hpp"
 
@@ -29,6 +30,11 @@ struct PositionErrors {
   std::vector<TargetErrorStatistics> per_target;
   std::vector<double> orientation_error_deg;  ///< poses files: rotation angle of R_meas^T R_model
   ErrorStatistics orientation_deg;            ///< poses files only
+  /// Poses files: √(|Δp|² + (w·θ)²), position and orientation weighted as the calibration
+  /// weighs them (w = orientation_weight_mm, mm per rad; θ the rotation angle).
+  double orientation_weight_mm = kDefaultOrientationWeightMm;
+  std::vector<double> pose_error_mm;
+  ErrorStatistics pose_mm;
 };
 
 /// Model predictions per row: world positions of the rows' targets (points, distances) or of
@@ -39,6 +45,7 @@ Eigen::Matrix3Xd predicted_positions(const CalibratedRobot& robot, const Measure
 
 /// Errors of every row of a points or poses set (std::invalid_argument for distances: a
 /// ballbar's length needs its centre, which only a calibration identifies).
-PositionErrors position_errors(const CalibratedRobot& robot, const MeasurementSet& set);
+PositionErrors position_errors(const CalibratedRobot& robot, const MeasurementSet& set,
+                               double orientation_weight_mm = kDefaultOrientationWeightMm);
 
 }  // namespace robcal

@@ -23,6 +23,7 @@ inline constexpr int kPositionHistogramBins = 16;
 /// Position errors of a robot whose base was never fitted compare frames that were never
 /// related: callers should refuse them (the distance errors remain meaningful).
 ValidationReport validate_model(const CalibratedRobot& robot, const MeasurementSet& set,
-                                int threads = 2);
+                                int threads = 2,
+                                double orientation_weight_mm = kDefaultOrientationWeightMm);
 
 }  // namespace robcal
