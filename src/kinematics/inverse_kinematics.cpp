@@ -77,6 +77,18 @@ class Solver {
     seed_theta1_ = q_seed[0] + g.theta_offset[0];
     seed_theta4_ = q_seed[3] + g.theta_offset[3];
     wrist_ = pose.p - g.d6 * pose.R.col(2);
+    // Derived here rather than stored in the geometry, so that a caller who edits its public
+    // limits (or lengths) gets them applied.
+    elbow_sum_sq_ = g.a3 * g.a3 + g.rho * g.rho;
+    elbow_inv_product_ = 1.0 / (2.0 * g.a3 * g.rho);
+    for (int i = 0; i < kJointCount; ++i) {
+      lower_[i] = g.limits[i].lower - kLimitTolerance;
+      upper_[i] = g.limits[i].upper + kLimitTolerance;
+      const double span = upper_[i] - lower_[i];
+      if (span < kTwoPi) continue;
+      wide_joints_[wide_count_++] = i;
+      wide_max_turns_ = std::max(wide_max_turns_, 1 + static_cast<int>(span / kTwoPi));
+    }
   }
 
   void run() {
@@ -106,7 +118,7 @@ class Solver {
       w_y[b] = g_.s_alpha2 * h;
       D[b] = w_x[b] * w_x[b] + w_y[b] * w_y[b];
       inv_D[b] = 1.0 / D[b];
-      const double k = (D[b] - g_.elbow_sum_sq) * g_.elbow_inv_product;
+      const double k = (D[b] - elbow_sum_sq_) * elbow_inv_product_;
       reach[b] = std::abs(k) <= 1.0 + kReachTolerance && (mask_ & shoulder_mask(b)) != 0;
       kappa[b] = std::clamp(k, -1.0, 1.0);
       sigma[b] = std::sqrt(1.0 - kappa[b] * kappa[b]);
@@ -263,8 +275,8 @@ class Solver {
     std::array<bool, 8> inside;
     inside.fill(true);
     for (int i = 0; i < kJointCount; ++i) {
-      const double offset = g_.theta_offset[i], lower = g_.lower_tolerant[i];
-      const double upper = g_.upper_tolerant[i];
+      const double offset = g_.theta_offset[i], lower = lower_[i];
+      const double upper = upper_[i];
 #pragma GCC unroll 8
       for (int m = 0; m < 8; ++m) {
         const double v = q[i][m] - offset;
@@ -275,8 +287,8 @@ class Solver {
     }
     // One wide joint (the usual case): every candidate written with all the turns the joint can
     // have, and counted with those it has, without branching on the pose.
-    const bool one_wide = g_.wide_count == 1 && !out_.nearest_turn_only &&
-                          out_.count + 8 * g_.wide_max_turns <= out_.capacity;
+    const bool one_wide = wide_count_ == 1 && !out_.nearest_turn_only &&
+                          out_.count + 8 * wide_max_turns_ <= out_.capacity;
     for (int m = 0; m < c.count; ++m) {
       if (out_.count == out_.capacity) {
         out_.truncated = true;
@@ -289,14 +301,15 @@ class Solver {
       s.wrist_singular = c.singular[m];
       s.shoulder_singular = shoulder_singular_;
       if (one_wide) {
-        const int i = g_.wide_joints[0];
-        for (int k = 1; k < g_.wide_max_turns; ++k) {
+        const int i = wide_joints_[0];
+        for (int k = 1; k < wide_max_turns_; ++k) {
           IkSolution& copy = out_.solutions[out_.count + k];
           copy = s;
           copy.joints[i] += kTwoPi * k;
         }
-        const int turns = 1 + static_cast<int>(turns_below(g_.upper_tolerant[i] - s.joints[i]));
-        out_.count += inside[m] ? turns : 0;
+        // Converted only when inside: an outside candidate may hold NaN (from a NaN pose).
+        const double further = turns_below(upper_[i] - s.joints[i]);
+        out_.count += inside[m] ? 1 + static_cast<int>(further) : 0;
         continue;
       }
       if (!inside[m]) continue;
@@ -310,9 +323,9 @@ class Solver {
 
   /// Moves each wide joint of `s` to its turn nearest the seed (joints are independent).
   void nearest_turn(IkSolution& s) const {
-    for (int w = 0; w < g_.wide_count; ++w) {
-      const int i = g_.wide_joints[w];
-      const double top = turns_below(g_.upper_tolerant[i] - s.joints[i]);
+    for (int w = 0; w < wide_count_; ++w) {
+      const int i = wide_joints_[w];
+      const double top = turns_below(upper_[i] - s.joints[i]);
       const double k = std::round((seed_[i] - s.joints[i]) * kInvTwoPi);
       s.joints[i] += kTwoPi * std::clamp(k, 0.0, top);
     }
@@ -322,9 +335,9 @@ class Solver {
   /// solutions so far copied once per turn. False when the capacity ran out.
   bool add_turns(const IkSolution& s) {
     const int first = out_.count - 1;
-    for (int w = 0; w < g_.wide_count; ++w) {
-      const int i = g_.wide_joints[w];
-      const int turns = 1 + static_cast<int>(turns_below(g_.upper_tolerant[i] - s.joints[i]));
+    for (int w = 0; w < wide_count_; ++w) {
+      const int i = wide_joints_[w];
+      const int turns = 1 + static_cast<int>(turns_below(upper_[i] - s.joints[i]));
       const int block = out_.count - first;
       for (int k = 1; k < turns; ++k)
         for (int m = 0; m < block; ++m) {
@@ -359,6 +372,12 @@ class Solver {
   Eigen::Vector3d wrist_;
   double seed_theta1_ = 0, seed_theta4_ = 0;
   bool shoulder_singular_ = false;
+  double elbow_sum_sq_ = 0, elbow_inv_product_ = 0;  ///< a3² + ρ², 1 / (2·a3·ρ)
+  /// The limits widened by the tolerance (as within_limits), and the joints whose range
+  /// exceeds one turn (they get every equivalent turn), with the most turns any of them has.
+  std::array<double, kJointCount> lower_, upper_;
+  std::array<int, kJointCount> wide_joints_;
+  int wide_count_ = 0, wide_max_turns_ = 1;
 };
 
 IkStatus status_of(const SolutionSink& sink) {
@@ -450,16 +469,6 @@ std::optional<OrthoParallelGeometry> analyze_ortho_parallel(const RobotModel& mo
   g.map_offset = model.joint_map.offset;
   g.map_identity = model.joint_map.is_identity();
   g.limits = model.limits;
-  g.elbow_sum_sq = g.a3 * g.a3 + g.rho * g.rho;
-  g.elbow_inv_product = 1.0 / (2.0 * g.a3 * g.rho);
-  for (int i = 0; i < kJointCount; ++i) {
-    g.lower_tolerant[i] = model.limits[i].lower - kLimitTolerance;
-    g.upper_tolerant[i] = model.limits[i].upper + kLimitTolerance;
-    const double span = g.upper_tolerant[i] - g.lower_tolerant[i];
-    if (span < kTwoPi) continue;
-    g.wide_joints[g.wide_count++] = i;
-    g.wide_max_turns = std::max(g.wide_max_turns, 1 + static_cast<int>(span / kTwoPi));
-  }
   return g;
 }
 

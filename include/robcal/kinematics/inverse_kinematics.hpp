@@ -112,14 +112,6 @@ struct OrthoParallelGeometry {
   Matrix6d map_matrix = Matrix6d::Identity();
   bool map_identity = true;
   std::array<JointLimit, kJointCount> limits{};
-  /// Elbow constants: a3² + ρ² and 1 / (2·a3·ρ).
-  double elbow_sum_sq = 0, elbow_inv_product = 0;
-  /// The limits widened by the solver's tolerance (1e-9 rad), as within_limits.
-  std::array<double, kJointCount> lower_tolerant{}, upper_tolerant{};
-  /// Joints whose range exceeds one turn (they get every equivalent turn), wide_count of them.
-  std::array<int, kJointCount> wide_joints{};
-  int wide_count = 0;
-  int wide_max_turns = 1;  ///< most turns any of them can have
 };
 
 /// The geometry when the model is ortho-parallel with a spherical wrist, else std::nullopt
