@@ -1,8 +1,8 @@
 // Kinematics speed (BENCHMARKS.md): ABB IRB 120, inputs generated here from fixed seeds.
 //   FK of the flange and 3 targets (goal ≤ 0.2 µs; error-model FK and the nominal chain), nominal
 //   closed-form IK with every solution (goal ≤ 0.40 µs median; opw_kinematics 0.52–0.85 µs on this
-//   machine), and the numeric (DLS) IK of a calibrated, compliant robot seeded with the nominal
-//   analytic solution.
+//   machine), one branch of it (nominal_ik_branch), and the numeric (DLS) IK of a calibrated,
+//   compliant robot seeded with the nominal analytic solution.
 // Run: build/robcal_bench --benchmark_filter=Kinematics --benchmark_repetitions=15
 
 #include <benchmark/benchmark.h>
@@ -91,6 +91,34 @@ void Kinematics_NominalIkAllSolutions(benchmark::State& state) {
       static_cast<double>(solutions) / static_cast<double>(state.iterations());
 }
 BENCHMARK(Kinematics_NominalIkAllSolutions);
+
+// One configuration branch (nominal_ik_branch): the pose's own branch, seeded with its joints,
+// as a compensation loop asks for it.
+void Kinematics_NominalIkOneBranch(benchmark::State& state) {
+  const RobotModel model = load_robot("abb-irb120");
+  const OrthoParallelGeometry geometry = *analyze_ortho_parallel(model);
+  std::mt19937_64 rng(kSeed);
+  struct Case {
+    Pose<double> pose;
+    ArmConfig config;
+    Vector6d seed;
+  };
+  std::vector<Case> cases;
+  for (const Vector6d& q : random_joints(model, rng, kInputs))
+    cases.push_back({flange_pose(model, PointMass{}, model.nominal(), q), arm_config(model, q), q});
+  size_t k = 0;
+  long solved = 0;
+  for (auto _ : state) {
+    const Case& c = cases[k];
+    const IkBranchResult result = nominal_ik_branch(geometry, c.pose, c.config, c.seed);
+    benchmark::DoNotOptimize(&result);
+    solved += result.status == IkStatus::Solved;
+    k = (k + 1) % cases.size();
+  }
+  state.counters["solved_fraction"] =
+      static_cast<double>(solved) / static_cast<double>(state.iterations());
+}
+BENCHMARK(Kinematics_NominalIkOneBranch);
 
 void Kinematics_NumericIkCalibrated(benchmark::State& state) {
   // A calibrated robot: seeded random errors of METHOD §3's size (0.5 mm, 0.05°) and gravity

@@ -88,62 +88,38 @@ TEST(CompensateChain, JacobianMatchesAutodiffAndFiniteDifferences) {
   }
 }
 
-/// Round trip over random reachable poses: for every configuration the nominal inverse offers
-/// for a pose, both iterations land on the same joints and the calibrated model reaches the
-/// pose within 1e-6 mm and 1e-6°. Counts per configuration are printed.
+/// The round trip of issue 7 in every configuration (test_compensate_support.hpp): both
+/// iterations converge on every pose, reach it within 1e-6 mm and 1e-6° by the calibrated
+/// model, agree with each other and return the drawn joints. 150 poses per configuration and
+/// robot here; the 100,000 of the issue are BM_RoundTrip100k in robcal_bench.
 TEST(CompensateIk, RoundTripEveryConfigurationBothIterationsAgree) {
-  constexpr int kPoses = 400;  // × up to 8 configurations × 3 robots; 100,000 in robcal_bench
+  constexpr long kPerConfig = 150;
   auto rng = test::seeded_rng(13);
   for (const char* name : kRobots) {
     SCOPED_TRACE(name);
     const CalibratedRobot robot = random_calibrated(name, rng);
     const Compensator comp = make_compensator(robot);
-    std::map<std::string, int> solved;
-    int max_newton = 0, max_shift = 0, drawn = 0;
-    double worst_mm = 0, worst_deg = 0, worst_agree = 0;
-    while (drawn < kPoses) {
-      const Vector6d q = random_joints(robot.model, rng);
-      if (near_singular(robot.model, q)) continue;
-      ++drawn;
-      const Pose<double> wanted = calibrated_tcp_pose(comp.chain, q);
-      const Pose<double> base_T_tcp = comp.world_T_base.inverse() * wanted;
-      const IkResult nominal =
-          nominal_ik(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), q);
-      std::map<int, const IkSolution*> one_per_config;
-      for (const IkSolution& s : nominal) one_per_config.emplace(s.config.index(), &s);
-      for (const auto& [index, s] : one_per_config) {
-        // The other configurations of a pose drawn 5° from a singularity may lie closer to
-        // one, or just outside the calibrated arm's reach: those need a wider margin.
-        if (near_singular(robot.model, s->joints, 10)) continue;
-        const CalibratedIkResult newton =
-            calibrated_ik(comp, wanted, s->config, s->joints, IkMethod::Newton);
-        const CalibratedIkResult shift =
-            calibrated_ik(comp, wanted, s->config, s->joints, IkMethod::PoseShift);
-        // A solution a hair outside the limits is a legitimate OutsideLimits; skip those.
-        if (!robot.model.within_limits(newton.joints, -1e-3)) continue;
-        ASSERT_EQ(newton.status, CalibratedIkStatus::Converged) << to_string(newton.status);
-        ASSERT_EQ(shift.status, CalibratedIkStatus::Converged) << to_string(shift.status);
-        for (const CalibratedIkResult* r : {&newton, &shift}) {
-          const Pose<double> reached = calibrated_tcp_pose(comp.chain, r->joints);
-          worst_mm = std::max(worst_mm, (reached.p - wanted.p).norm());
-          worst_deg = std::max(worst_deg, rad2deg(angle_between(reached.R, wanted.R)));
-        }
-        worst_agree = std::max(worst_agree, (newton.joints - shift.joints).cwiseAbs().maxCoeff());
-        max_newton = std::max(max_newton, newton.iterations);
-        max_shift = std::max(max_shift, shift.iterations);
-        ++solved[s->config.label()];
-      }
-    }
-    EXPECT_LT(worst_mm, 1e-6);
-    EXPECT_LT(worst_deg, 1e-6);
-    EXPECT_LT(worst_agree, 1e-8);  // rad: pose shift stops just inside 1e-7 mm
-    EXPECT_LE(max_newton, 4);
-    EXPECT_LE(max_shift, 10);
+    const test::RoundTripStats st = test::round_trip(robot, comp, kPerConfig, 2'000'000, rng);
     std::string counts;
-    for (const auto& [label, n] : solved) counts += " " + label + "=" + std::to_string(n);
-    std::printf("[%s] worst %.2e mm %.2e deg, Newton ≤ %d it, pose shift ≤ %d it;%s\n", name,
-                worst_mm, worst_deg, max_newton, max_shift, counts.c_str());
-    EXPECT_GE(solved.size(), 4u);
+    for (int i = 0; i < 8; ++i) {
+      const ArmConfig config{(i & 4) != 0, (i & 2) != 0, (i & 1) != 0};
+      EXPECT_EQ(st.poses[i], kPerConfig) << config.label();
+      EXPECT_EQ(st.failures[i], 0) << config.label();
+      counts += " " + config.label() + "=" + std::to_string(st.poses[i]);
+    }
+    EXPECT_TRUE(st.first_failure.empty()) << st.first_failure;
+    EXPECT_LT(st.worst_mm, 1e-6);
+    EXPECT_LT(st.worst_deg, 1e-6);
+    EXPECT_LT(st.worst_agreement_rad, 1e-7);  // both stop inside 5e-7 mm and 5e-7°
+    EXPECT_LT(st.worst_recovery_rad, 1e-7);
+    EXPECT_EQ(st.other_turn, 0);
+    EXPECT_LE(st.max_newton, 6);
+    EXPECT_LE(st.max_shift, 10);
+    std::printf(
+        "[%s] %ld draws; worst %.2e mm %.2e deg, agreement %.1e rad, Newton <= %d it, "
+        "pose shift <= %d it;%s\n",
+        name, st.draws, st.worst_mm, st.worst_deg, st.worst_agreement_rad, st.max_newton,
+        st.max_shift, counts.c_str());
   }
 }
 
@@ -162,8 +138,48 @@ TEST(CompensateIk, RecoversTheDrawnJoints) {
     if (!own || (own->joints - q).cwiseAbs().maxCoeff() > 0.2) continue;  // seed beyond a limit
     const CalibratedIkResult r = calibrated_ik(comp, wanted, own->config, q);
     ASSERT_TRUE(r.ok()) << to_string(r.status);
-    EXPECT_LT((r.joints - q).cwiseAbs().maxCoeff(), 1e-8);
+    EXPECT_LT((r.joints - q).cwiseAbs().maxCoeff(), 1e-7);
   }
+}
+
+/// Joint 5 of the IRB 120 set at or beyond its limits: beyond, both iterations report
+/// OutsideLimits, whether the nominal seed lies within kSeedLimitMarginRad (10°) of the limit (1°)
+/// or beyond it (15°); just inside (0.02°), the pose is solved at the drawn joints even when the
+/// nominal seed lies beyond the limit (the calibrated and nominal joint 5 differ by ~0.1°).
+TEST(CompensateIk, JointLimitsJudgedOnTheCalibratedJoints) {
+  auto rng = test::seeded_rng(17);
+  const CalibratedRobot robot = random_calibrated("abb-irb120", rng);
+  const Compensator comp = make_compensator(robot);
+  const JointLimit limit = robot.model.limits[4];
+  int beyond = 0, inside = 0, seeds_beyond = 0;
+  for (int k = 0; k < 200; ++k) {
+    Vector6d q = random_joints(robot.model, rng);
+    const double side = k % 2 == 0 ? 1.0 : -1.0;
+    const double edge = side > 0 ? limit.upper : limit.lower;
+    const double past_deg = std::array{15.0, 1.0, -0.02}[k % 3];
+    q[4] = edge + side * deg2rad(past_deg);
+    if (near_singular(robot.model, q)) continue;
+    const ArmConfig config = arm_config(robot.model, q);
+    const Pose<double> wanted = calibrated_tcp_pose(comp.chain, q);
+    for (const IkMethod method : {IkMethod::Newton, IkMethod::PoseShift}) {
+      const CalibratedIkResult r = calibrated_ik(comp, wanted, config, q, method);
+      if (past_deg > 0) {
+        EXPECT_EQ(r.status, CalibratedIkStatus::OutsideLimits) << to_string(r.status);
+        ++beyond;
+      } else {
+        ASSERT_EQ(r.status, CalibratedIkStatus::Converged) << to_string(r.status);
+        EXPECT_LT((r.joints - q).cwiseAbs().maxCoeff(), 1e-7);
+        ++inside;
+      }
+    }
+    if (past_deg < 0 && !nominal_solution(comp, comp.base_T_world * wanted, config, q))
+      ++seeds_beyond;
+  }
+  EXPECT_GT(beyond, 150);
+  EXPECT_GT(inside, 80);
+  EXPECT_GT(seeds_beyond, 5);  // the case the widened seed limits are for
+  std::printf("beyond a limit: %d refused; just inside: %d solved, %d from seeds beyond it\n",
+              beyond, inside, seeds_beyond);
 }
 
 TEST(CompensateIk, ArmConfigOfAgreesWithTheClosedFormLabels) {

@@ -1,11 +1,15 @@
 #pragma once
 // Shared by the compensation tests and bench/bench_compensate.cpp: a calibrated robot with
-// realistic errors, random joints, and the singular labels of BENCHMARKS.md.
+// realistic errors, random joints, the singular labels of BENCHMARKS.md, and the round trip of
+// issue 7.
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <random>
 #include <string>
 
+#include "robcal/compensate/calibrated_ik.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -68,6 +72,72 @@ inline bool near_singular(const RobotModel& model, const Vector6d& joints, doubl
     return true;
   const Eigen::Vector3d w = frames[4].p - frames[0].p;
   return std::hypot(w.x(), w.y()) < 50;
+}
+
+/// What the round trip found, per configuration index (ArmConfig::index()) and overall.
+struct RoundTripStats {
+  std::array<long, 8> poses{};         ///< poses solved by both iterations
+  std::array<long, 8> failures{};      ///< poses where either iteration did not converge
+  long draws = 0;                      ///< joint vectors drawn, singular ones included
+  double worst_mm = 0, worst_deg = 0;  ///< calibrated FK of the answers against the pose
+  double worst_agreement_rad = 0;      ///< Newton against pose shift
+  double worst_recovery_rad = 0;       ///< Newton against the drawn joints, same turn
+  long other_turn = 0;  ///< answers a full turn of a wide-range joint from the drawn joints
+  int max_newton = 0, max_shift = 0;  ///< iterations
+  std::string first_failure;
+  [[nodiscard]] bool complete(long per_config) const {
+    return std::all_of(poses.begin(), poses.end(), [&](long n) { return n >= per_config; });
+  }
+};
+
+/// Round trip calibrated FK(calibrated IK(pose)) = pose over `per_config` random reachable
+/// poses in each of the 8 configurations: joints drawn uniformly inside the limits (at most
+/// `max_draws`), ≥ 5° from the singular labels, their calibrated TCP pose solved by both
+/// iterations in the configuration of the drawn joints, seeded near them. Inside the limits
+/// and away from singularities the drawn joints are the answer.
+inline RoundTripStats round_trip(const CalibratedRobot& robot, const Compensator& comp,
+                                 long per_config, long max_draws, std::mt19937_64& rng) {
+  RoundTripStats st;
+  while (!st.complete(per_config) && st.draws < max_draws) {
+    const Vector6d q = random_joints(robot.model, rng);
+    ++st.draws;
+    if (near_singular(robot.model, q)) continue;
+    const ArmConfig config = arm_config(robot.model, q);
+    const int index = config.index();
+    if (st.poses[index] >= per_config) continue;
+    ++st.poses[index];
+    const Pose<double> wanted = calibrated_tcp_pose(comp.chain, q);
+    const CalibratedIkResult newton = calibrated_ik(comp, wanted, config, q, IkMethod::Newton);
+    const CalibratedIkResult shift = calibrated_ik(comp, wanted, config, q, IkMethod::PoseShift);
+    if (!newton.ok() || !shift.ok()) {
+      if (st.failures[index]++ == 0 && st.first_failure.empty())
+        st.first_failure = config.label() + ": Newton " + to_string(newton.status) +
+                           ", pose shift " + to_string(shift.status) + " at joints (rad) " + [&] {
+                             std::string j;
+                             for (int i = 0; i < kJointCount; ++i) j += std::to_string(q[i]) + " ";
+                             return j;
+                           }();
+      continue;
+    }
+    for (const CalibratedIkResult* r : {&newton, &shift}) {
+      const Pose<double> reached = calibrated_tcp_pose(comp.chain, r->joints);
+      st.worst_mm = std::max(st.worst_mm, (reached.p - wanted.p).norm());
+      st.worst_deg = std::max(st.worst_deg,
+                              rad2deg(Eigen::AngleAxisd(reached.R.transpose() * wanted.R).angle()));
+    }
+    st.worst_agreement_rad =
+        std::max(st.worst_agreement_rad, (newton.joints - shift.joints).cwiseAbs().maxCoeff());
+    // The drawn joints, or (near a limit of a joint of more than one turn) the same pose a
+    // turn away: with joint scales ≠ 1 the calibrated turn differs from 2π by a little.
+    const double recovery = (newton.joints - q).cwiseAbs().maxCoeff();
+    if (recovery > 3.0)
+      ++st.other_turn;
+    else
+      st.worst_recovery_rad = std::max(st.worst_recovery_rad, recovery);
+    st.max_newton = std::max(st.max_newton, newton.iterations);
+    st.max_shift = std::max(st.max_shift, shift.iterations);
+  }
+  return st;
 }
 
 }  // namespace robcal::test

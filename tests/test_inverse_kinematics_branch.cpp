@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -220,6 +221,59 @@ TEST(IkBranch, StatusesAndSingularCases) {
     const Pose<double> back = nominal_fk(model, r.solution.joints);
     EXPECT_LT((back.p - target.p).norm(), 1e-9);
     EXPECT_LT(rotation_distance(back.R, target.R), 1e-12);
+  }
+}
+
+// The solvers take the limits from the geometry's public `limits` at each call, so a caller
+// may widen or narrow them (compensation seeds on widened limits).
+TEST(IkBranch, EditedGeometryLimitsApply) {
+  const RobotModel model = load_robot("abb-irb120");
+  auto geometry = analyze_ortho_parallel(model);
+  ASSERT_TRUE(geometry);
+  Vector6d q;
+  q << deg2rad(10), deg2rad(20), deg2rad(-30), deg2rad(40), deg2rad(50), deg2rad(60);
+  const Pose<double> target = nominal_fk(model, q);
+  const ArmConfig config = arm_config(model, q);
+  auto turns_of_q = [&](const OrthoParallelGeometry& g) {
+    int n = 0;
+    for (const IkSolution& s : nominal_ik(g, target, q))
+      n += (s.joints.head<5>() - q.head<5>()).cwiseAbs().maxCoeff() < 1e-9;
+    return n;
+  };
+  EXPECT_EQ(turns_of_q(*geometry), 2);  // J6 ±400°: 60° and −300°
+  geometry->limits[5] = {-kPi, kPi};
+  EXPECT_EQ(turns_of_q(*geometry), 1);
+  Vector6d seed = q;
+  seed[5] = deg2rad(-290);  // nearer −300°, which the narrowed J6 no longer has
+  const IkBranchResult r = nominal_ik_branch(*geometry, target, config, seed);
+  ASSERT_EQ(r.status, IkStatus::Solved);
+  EXPECT_NEAR(rad2deg(r.solution.joints[5]), 60.0, 1e-9);
+  // J5 narrowed below q's 50°: the branch is now outside the limits.
+  geometry->limits[4] = {deg2rad(-45), deg2rad(45)};
+  EXPECT_EQ(nominal_ik_branch(*geometry, target, config, q).status, IkStatus::OutsideLimits);
+}
+
+// A pose with NaN entries (R or p) yields a status and no NaN joints, in both solvers.
+TEST(IkBranch, NanPoseGivesNoNanSolution) {
+  const RobotModel model = load_robot("abb-irb120");
+  const auto geometry = analyze_ortho_parallel(model);
+  ASSERT_TRUE(geometry);
+  Vector6d q;
+  q << deg2rad(10), deg2rad(20), deg2rad(-30), deg2rad(40), deg2rad(50), deg2rad(60);
+  const Pose<double> good = nominal_fk(model, q);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int entry = 0; entry < 12; ++entry) {
+    Pose<double> bad = good;
+    if (entry < 9)
+      bad.R.data()[entry] = nan;
+    else
+      bad.p[entry - 9] = nan;
+    const IkResult all = nominal_ik(*geometry, bad, q);
+    for (const IkSolution& s : all) EXPECT_TRUE(s.joints.allFinite()) << "entry " << entry;
+    for (int index = 0; index < 8; ++index) {
+      const IkBranchResult r = nominal_ik_branch(*geometry, bad, config_of(index), q);
+      if (r.status == IkStatus::Solved) EXPECT_TRUE(r.solution.joints.allFinite());
+    }
   }
 }
 

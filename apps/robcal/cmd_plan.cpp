@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
@@ -16,11 +17,13 @@
 #include "robcal/design/observability.hpp"
 #include "robcal/design/predicted_accuracy.hpp"
 #include "robcal/design/selection.hpp"
+#include "robcal/design/task_region.hpp"
 #include "robcal/identify/accuracy_prediction.hpp"
 #include "robcal/identify/unknowns.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
-#include "robcal/sim/simulator.hpp"
+#include "robcal/sim/calibration_plan.hpp"
+#include "robcal/sim/true_robot.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -38,6 +41,7 @@ struct PlanOptions {
   double noise_mm = 0;
   std::string method = "fast";
   std::string task_configs;
+  std::string task_box;
   int task_count = 1000;
   std::string out;
   bool json = false;
@@ -49,82 +53,6 @@ nlohmann::json indices_json(const ObservabilityIndices& o) {
           {"O3", tidy(o.O3)},
           {"O4", tidy(o.O4)},
           {"O5", tidy(o.O5)}};
-}
-
-double instrument_sigma(const VirtualInstrument& instrument) {
-  switch (instrument.kind) {
-    case InstrumentKind::LaserTracker:
-      return instrument.tracker.sigma_mm.maxCoeff();
-    case InstrumentKind::OpticalCmm:
-      return instrument.cmm.sigma_mm;
-    case InstrumentKind::Ballbar:
-      return instrument.ballbar.sigma_mm;
-  }
-  return 0;
-}
-
-/// The planning cell: the nominal robot placed as in the simulator's standard cell, so the
-/// instrument's placement and visibility are those `robcal simulate` uses.
-TrueRobot planning_cell(const RobotModel& model, const Tool& tool) {
-  TrueRobot cell;
-  cell.robot = CalibratedRobot::nominal(model, tool);
-  const std::array<double, 6> base = default_base_placement();
-  for (int i = 0; i < 3; ++i) cell.robot.params[i] = base[static_cast<size_t>(i)];
-  for (int i = 3; i < 6; ++i) cell.robot.params[i] = deg2rad(base[static_cast<size_t>(i)]);
-  cell.robot.base_fitted = true;
-  cell.origin = "nominal robot in the standard cell";
-  return cell;
-}
-
-std::vector<Candidate> plan_candidates(const PlanOptions& o, const TrueRobot& cell,
-                                       const VirtualInstrument& instrument,
-                                       const JointConstraints& constraints, std::mt19937_64& rng) {
-  const RobotModel& model = cell.robot.model;
-  const Tool& tool = cell.robot.tool;
-  if (instrument.kind == InstrumentKind::Ballbar) {
-    // Ballbar configurations must put the target on the bar's sphere (±1 mm): the simulator's
-    // generator moves each draw there, exactly as the measuring program will.
-    RandomConfigurationOptions options;
-    for (int j = 0; j < kJointCount; ++j)
-      options.box[static_cast<size_t>(j)] = {
-          std::max(model.limits[j].lower, constraints.range[j].lower),
-          std::min(model.limits[j].upper, constraints.range[j].upper)};
-    options.min_target_height_mm = o.floor_mm;
-    try {
-      std::vector<Candidate> out;
-      for (const PlannedConfiguration& c :
-           random_configurations(cell, instrument, o.candidates, rng, options))
-        out.push_back({c.joints, c.target});
-      return out;
-    } catch (const InputError& e) {
-      throw InputError({"", 0, 0, "--instrument"}, e.what());
-    }
-  }
-  CandidateOptions options;
-  options.constraints = constraints;
-  options.floor_z_mm = o.floor_mm;
-  options.count = o.candidates;
-  options.instrument_frame_params = cell.robot.params;
-  if (instrument.kind == InstrumentKind::LaserTracker) {
-    options.kind = MeasurementKind::Points;
-    options.visible = [&](const Pose<double>& world_T_flange, int target) {
-      const Eigen::Vector3d& t = tool.targets[static_cast<size_t>(target)].position_mm;
-      return smr_visible(instrument.tracker, world_T_flange * t,
-                         world_T_flange.R * smr_axis_flange(instrument.tracker, tool, target));
-    };
-  } else {
-    options.kind = MeasurementKind::Poses;
-    options.visible = [&](const Pose<double>& world_T_flange, int) {
-      return cmm_sees_tool(instrument.cmm, world_T_flange, tool);
-    };
-  }
-  const CandidateSet set = generate_candidates(model, tool, options, rng);
-  if (static_cast<int>(set.candidates.size()) < o.candidates && !o.json)
-    fmt::print(
-        "note: only {} of {} candidates found in {} draws ({} below the floor, {} not "
-        "seen by the instrument)\n",
-        set.candidates.size(), o.candidates, set.draws, set.below_floor, set.not_visible);
-  return set.candidates;
 }
 
 void run_plan(const PlanOptions& o) {
@@ -139,21 +67,35 @@ void run_plan(const PlanOptions& o) {
   const RobotModel model = load_robot(o.robot);
   const Tool tool = o.tool.empty() ? default_simulation_tool() : load_tool(o.tool);
   const InstrumentKind kind = parse_instrument_kind(o.instrument, "--instrument");
-  const JointConstraints constraints = joint_constraints_preset(o.constraints);
-  const std::vector<int> parameters = level_parameters(parse_calibration_level(o.level));
-  const TrueRobot cell = planning_cell(model, tool);
+  PlanSettings settings;
+  settings.level = parse_calibration_level(o.level);
+  settings.count = o.count;
+  settings.candidates = o.candidates;
+  settings.constraints = joint_constraints_preset(o.constraints);
+  settings.floor_mm = o.floor_mm;
+  const std::optional<TaskBox> task_box =
+      o.task_box.empty() ? std::nullopt : std::optional(parse_task_box(o.task_box, "--task-box"));
+  // The planning cell: the nominal robot placed as in the simulator's standard cell, so the
+  // instrument's placement and visibility are those `robcal simulate` uses.
+  Eigen::Matrix<double, 6, 1> base;
+  const std::array<double, 6> placement = default_base_placement();
+  for (int i = 0; i < 6; ++i)
+    base[i] =
+        i < 3 ? placement[static_cast<size_t>(i)] : deg2rad(placement[static_cast<size_t>(i)]);
+  const TrueRobot cell = planning_cell(model, tool, base);
   const VirtualInstrument instrument = standard_instrument(kind, cell, o.noise_mm);
   std::mt19937_64 rng(o.seed);
 
-  const std::vector<Candidate> candidates = plan_candidates(o, cell, instrument, constraints, rng);
-  DesignSettings settings;
-  settings.kind = kind == InstrumentKind::LaserTracker ? MeasurementKind::Points
-                  : kind == InstrumentKind::OpticalCmm ? MeasurementKind::Poses
-                                                       : MeasurementKind::Distances;
-  settings.parameters = parameters;
-  settings.linearisation = cell.robot.params;
-  settings.ballbar_centre_mm = instrument.ballbar.centre_mm;
-  const DesignMatrix design = build_design_matrix(model, tool, candidates, settings);
+  const CandidateSet candidate_set = instrument_candidates(cell, instrument, settings, rng);
+  const std::vector<Candidate>& candidates = candidate_set.candidates;
+  if (static_cast<int>(candidates.size()) < o.candidates && !o.json)
+    fmt::print(
+        "note: only {} of {} candidates found in {} draws ({} below the floor, {} not "
+        "seen by the instrument)\n",
+        candidates.size(), o.candidates, candidate_set.draws, candidate_set.below_floor,
+        candidate_set.not_visible);
+  const DesignMatrix design = build_design_matrix(
+      model, tool, candidates, plan_design_settings(cell, instrument, settings.level));
 
   const Selection chosen = o.method == "fast" ? select_d_optimal(design, o.count)
                                               : select_published_exchange(design, o.count, rng);
@@ -168,18 +110,24 @@ void run_plan(const PlanOptions& o) {
   const double eff_selected = d_efficiency(design, chosen.chosen, optimum);
   const double eff_random = d_efficiency(design, random, optimum);
 
-  // Predicted accuracy of the TCP over the task region: the given configurations, or random
-  // ones in the constrained joint box above the floor.
+  // Predicted accuracy of the TCP over the task region: the given configurations, a box of TCP
+  // positions, or random configurations in the constrained joint box above the floor.
   std::vector<Vector6d> task;
+  std::string region = "random configurations in the constrained joint box";
   if (!o.task_configs.empty()) {
     for (const PlannedConfiguration& c : read_configurations_csv(o.task_configs, tool))
       task.push_back(c.joints);
+    region = o.task_configs;
+  } else if (task_box) {
+    task = task_box_configurations(model, tool, cell.robot.params, settings.constraints, *task_box,
+                                   o.task_count, rng);
+    region = fmt::format("TCP box {} mm (world frame), tool pointing down", o.task_box);
   } else {
-    CandidateOptions region;
-    region.constraints = constraints;
-    region.floor_z_mm = o.floor_mm;
-    region.count = o.task_count;
-    for (const Candidate& c : generate_candidates(model, tool, region, rng).candidates)
+    CandidateOptions options;
+    options.constraints = settings.constraints;
+    options.floor_z_mm = o.floor_mm;
+    options.count = o.task_count;
+    for (const Candidate& c : generate_candidates(model, tool, options, rng).candidates)
       task.push_back(c.joints);
   }
   const double sigma = o.noise_mm > 0 ? o.noise_mm : instrument_sigma(instrument);
@@ -218,6 +166,7 @@ void run_plan(const PlanOptions& o) {
     out["sigma_mm"] = sigma;
     out["predicted_error_mm"] = {
         {"task_configurations", acc_selected.configurations},
+        {"task_region", region},
         {"selected",
          {{"mean", tidy(acc_selected.mean_mm, 6)}, {"max", tidy(acc_selected.max_mm, 6)}}},
         {"random", {{"mean", tidy(acc_random.mean_mm, 6)}, {"max", tidy(acc_random.max_mm, 6)}}}};
@@ -242,8 +191,8 @@ void run_plan(const PlanOptions& o) {
   row("O4", selected_o.O4, random_o.O4);
   row("O5", selected_o.O5, random_o.O5);
   row("D-eff", eff_selected, eff_random);
-  fmt::print("\npredicted TCP error after calibration (σ = {} mm, {} task configurations):\n",
-             sigma, acc_selected.configurations);
+  fmt::print("\npredicted TCP error after calibration (σ = {} mm, {} task configurations: {}):\n",
+             sigma, acc_selected.configurations, region);
   fmt::print("  selected: mean {:.4f} mm, max {:.4f} mm\n", acc_selected.mean_mm,
              acc_selected.max_mm);
   fmt::print("  random:   mean {:.4f} mm, max {:.4f} mm\n", acc_random.mean_mm, acc_random.max_mm);
@@ -278,7 +227,12 @@ const bool registered = register_command(60, [](CLI::App& app) {
   cmd->add_option("--task-configs", o->task_configs,
                   "Task region for the predicted accuracy: config,target,j1..j6 CSV (default: "
                   "random configurations in the constrained joint box)");
-  cmd->add_option("--task-count", o->task_count, "Random task configurations when no file")
+  cmd->add_option("--task-box", o->task_box,
+                  "Task region as a box of TCP positions in the world frame: "
+                  "\"xmin,xmax,ymin,ymax,zmin,zmax\" (mm), sampled by inverse kinematics with "
+                  "the tool pointing down");
+  cmd->add_option("--task-count", o->task_count,
+                  "Task configurations drawn (box or random) when no --task-configs file")
       ->capture_default_str();
   cmd->add_option("--out", o->out, "Output CSV: config,target,j1..j6 (deg)")->required();
   cmd->add_flag("--json", o->json, "Machine-readable output");

@@ -5,24 +5,52 @@
 namespace robcal {
 namespace {
 
-/// World frames Φ1..Φ6 for link angles θ1..θ6 (METHOD §2; θ1 without the base γ).
-void chain_frames(const CalibratedChain& c, const std::array<double, kJointCount>& theta,
-                  std::array<Pose<double>, kJointCount>& frames) {
-  const double g = c.base_gamma + theta[0];
-  const double cg = std::cos(g), sg = std::sin(g);
-  Eigen::Matrix3d Rz;
-  Rz << cg, -sg, 0, sg, cg, 0, 0, 0, 1;
-  frames[0].R = c.base_R_xy * Rz;
-  frames[0].p = c.base_p;
-  for (int i = 1; i < kJointCount; ++i) {
-    const double ct = std::cos(theta[i]), st = std::sin(theta[i]);
-    const double ca = c.cos_alpha[i], sa = c.sin_alpha[i];
-    Eigen::Matrix3d R;
-    R << ct, -st, 0, st * ca, ct * ca, -sa, st * sa, ct * sa, ca;
-    const Eigen::Vector3d p(c.a[i], -sa * c.d[i], ca * c.d[i]);
-    frames[i].p = frames[i - 1].R * p + frames[i - 1].p;
-    frames[i].R = frames[i - 1].R * R;
+/// Below this |δ| (rad) cos δ and sin δ (a compliance deflection, an iteration's step) come
+/// from their series truncated after δ⁶ and δ⁵ (remainders < δ⁸/40320 and δ⁷/5040, under
+/// 1e-16 at 0.02).
+constexpr double kSmallAngleRad = 0.02;
+
+/// (cos, sin) of θ + δ from those of θ; the series when δ is small, else cos and sin of δ.
+void rotate_by(double& c, double& s, double delta) {
+  double cd, sd;
+  if (std::abs(delta) < kSmallAngleRad) {
+    const double d2 = delta * delta;
+    cd = 1.0 - d2 * (1.0 / 2 - d2 * (1.0 / 24 - d2 * (1.0 / 720)));
+    sd = delta * (1.0 - d2 * (1.0 / 6 - d2 * (1.0 / 120)));
+  } else {
+    cd = std::cos(delta);
+    sd = std::sin(delta);
   }
+  const double c0 = c;
+  c = c0 * cd - s * sd;
+  s = s * cd + c0 * sd;
+}
+
+/// Φ_i = Φ_{i-1} · Rot_x(α)·Trans_x(a)·Rot_z(θ)·Trans_z(d) written on the columns r0, r1, r2 of
+/// Φ_{i-1}'s rotation: u = cα·r1 + sα·r2, z = cα·r2 − sα·r1, x = cθ·r0 + sθ·u, y = cθ·u − sθ·r0,
+/// p = p_{i-1} + a·r0 + d·z (the MDH product with its zeros left out).
+void next_frame(const Pose<double>& prev, double ca, double sa, double a, double d, double ct,
+                double st, Pose<double>& out) {
+  const auto r0 = prev.R.col(0), r1 = prev.R.col(1), r2 = prev.R.col(2);
+  const Eigen::Vector3d u = ca * r1 + sa * r2;
+  out.R.col(2) = ca * r2 - sa * r1;
+  out.R.col(0) = ct * r0 + st * u;
+  out.R.col(1) = ct * u - st * r0;
+  out.p = prev.p + a * r0 + d * out.R.col(2);
+}
+
+/// World frames Φ1..Φ6 (METHOD §2) from the cosines and sines of θ1 + γ_base and θ2..θ6.
+void chain_frames(const CalibratedChain& c, const std::array<double, kJointCount>& cos_t,
+                  const std::array<double, kJointCount>& sin_t,
+                  std::array<Pose<double>, kJointCount>& frames) {
+  const auto bx = c.base_R_xy.col(0), by = c.base_R_xy.col(1);
+  frames[0].R.col(0) = cos_t[0] * bx + sin_t[0] * by;
+  frames[0].R.col(1) = cos_t[0] * by - sin_t[0] * bx;
+  frames[0].R.col(2) = c.base_R_xy.col(2);
+  frames[0].p = c.base_p;
+  for (int i = 1; i < kJointCount; ++i)
+    next_frame(frames[i - 1], c.cos_alpha[i], c.sin_alpha[i], c.a[i], c.d[i], cos_t[i], sin_t[i],
+               frames[i]);
 }
 
 }  // namespace
@@ -62,54 +90,81 @@ CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVe
 }
 
 Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joints,
-                                 Matrix6d* jacobian) {
+                                 ChainState& state) {
   const Vector6d q = c.map_identity ? joints : Vector6d(c.joint_map * joints + c.joint_offset);
-  std::array<double, kJointCount> theta;
-  for (int i = 0; i < kJointCount; ++i) theta[i] = c.scale[i] * q[i] + c.theta_offset[i];
-  std::array<Pose<double>, kJointCount> frames;
-  // dθ/dθu = I + diag(c)·∂τ/∂θu (rows of joints 2..6), identity without compliance.
-  Matrix6d deflection = Matrix6d::Identity();
+  for (int i = 0; i < kJointCount; ++i) {
+    const double theta = c.scale[i] * q[i] + c.theta_offset[i] + (i == 0 ? c.base_gamma : 0.0);
+    const double step = theta - state.theta[i];
+    if (state.has_angles && std::abs(step) < kSmallAngleRad) {
+      rotate_by(state.cos_theta[i], state.sin_theta[i], step);
+    } else {
+      state.cos_theta[i] = std::cos(theta);
+      state.sin_theta[i] = std::sin(theta);
+    }
+    state.theta[i] = theta;
+  }
+  state.has_angles = true;
+  std::array<double, kJointCount> cos_t = state.cos_theta, sin_t = state.sin_theta;
+  auto& frames = state.frames;
+  chain_frames(c, cos_t, sin_t, frames);
   if (c.compliant) {
-    chain_frames(c, theta, frames);  // undeflected: the torques are taken there (METHOD §3)
-    // Mass and first moment of links i..6 (world), tip to base.
-    std::array<Eigen::Vector3d, kJointCount> V;
+    // The torques are taken on the undeflected chain (METHOD §3); mass and first moment of
+    // links i..6 (world) accumulate tip to base.
     double M = 0;
     Eigen::Vector3d C = Eigen::Vector3d::Zero();
     for (int i = kJointCount - 1; i >= 1; --i) {
       M += c.mass[i];
       C += c.mass[i] * frames[i].p + frames[i].R * c.moment[i];
-      V[i] = C - M * frames[i].p;
+      state.V[i] = C - M * frames[i].p;
     }
-    std::array<double, kJointCount> tau{};
+    for (int i = 0; i < kJointCount; ++i) state.z_undeflected[i] = frames[i].R.col(2);
     for (int i = 1; i < kJointCount; ++i) {
-      const Eigen::Vector3d z_i = frames[i].R.col(2);
-      tau[i] = z_i.dot(V[i].cross(c.gravity));
-      if (jacobian) {
-        for (int k = 0; k < kJointCount; ++k) {
-          const Eigen::Vector3d z_k = frames[k].R.col(2);
-          const double dtau = k <= i ? z_k.cross(z_i).dot(V[i].cross(c.gravity)) +
-                                           z_i.dot(z_k.cross(V[i]).cross(c.gravity))
-                                     : z_i.dot(z_k.cross(V[k]).cross(c.gravity));
-          deflection(i, k) += c.compliance[i] * dtau;
-        }
-      }
+      const double tau = state.z_undeflected[i].dot(state.V[i].cross(c.gravity));
+      rotate_by(cos_t[i], sin_t[i], c.compliance[i] * tau);
     }
-    for (int i = 1; i < kJointCount; ++i) theta[i] += c.compliance[i] * tau[i];
+    for (int i = 1; i < kJointCount; ++i)
+      next_frame(frames[i - 1], c.cos_alpha[i], c.sin_alpha[i], c.a[i], c.d[i], cos_t[i], sin_t[i],
+                 frames[i]);
   }
-  chain_frames(c, theta, frames);
   const Pose<double> tcp = frames[kJointCount - 1] * c.flange_T_tcp;
-  if (jacobian) {
-    Matrix6d J_theta;
-    for (int k = 0; k < kJointCount; ++k) {
-      const Eigen::Vector3d z_k = frames[k].R.col(2);
-      J_theta.block<3, 1>(0, k) = z_k.cross(tcp.p - frames[k].p);
-      J_theta.block<3, 1>(3, k) = z_k;
-    }
-    Matrix6d dtheta_dj =
-        deflection * Vector6d(Eigen::Map<const Vector6d>(c.scale.data())).asDiagonal();
-    if (!c.map_identity) dtheta_dj = dtheta_dj * c.joint_map;
-    *jacobian = J_theta * dtheta_dj;
+  state.tcp_p = tcp.p;
+  return tcp;
+}
+
+void calibrated_jacobian(const CalibratedChain& c, const ChainState& state, Matrix6d& J) {
+  Matrix6d J_theta;
+  for (int k = 0; k < kJointCount; ++k) {
+    const auto z_k = state.frames[k].R.col(2);
+    J_theta.block<3, 1>(0, k) = z_k.cross(state.tcp_p - state.frames[k].p);
+    J_theta.block<3, 1>(3, k) = z_k;
   }
+  J = J_theta;
+  if (c.compliant) {
+    // J_θ·(I + diag(c)·∂τ/∂θu), one dot product per entry (file comment).
+    const auto& z = state.z_undeflected;
+    const auto& V = state.V;
+    const Eigen::Vector3d& g = c.gravity;
+    std::array<Eigen::Vector3d, kJointCount> w, u, y;
+    for (int i = 1; i < kJointCount; ++i) {
+      w[i] = g.cross(z[i]);
+      u[i] = z[i].cross(V[i].cross(g)) + V[i].cross(w[i]);
+      y[i] = z[i].cross(V[i]);
+    }
+    for (int i = 1; i < kJointCount; ++i) {
+      const Vector6d column = c.compliance[i] * J_theta.col(i);
+      for (int k = 0; k < kJointCount; ++k)
+        J.col(k) += (k <= i ? z[k].dot(u[i]) : y[k].dot(w[i])) * column;
+    }
+  }
+  for (int k = 0; k < kJointCount; ++k) J.col(k) *= c.scale[k];
+  if (!c.map_identity) J = J * c.joint_map;
+}
+
+Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joints,
+                                 Matrix6d* jacobian) {
+  ChainState state;
+  const Pose<double> tcp = calibrated_tcp_pose(c, joints, state);
+  if (jacobian) calibrated_jacobian(c, state, *jacobian);
   return tcp;
 }
 

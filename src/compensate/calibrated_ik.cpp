@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "robcal/core/error.hpp"
+#include "robcal/kinematics/fast_atan2.hpp"
 
 namespace robcal {
 namespace {
@@ -22,7 +23,7 @@ PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
   const Eigen::Vector3d w(E(2, 1) - E(1, 2), E(0, 2) - E(2, 0), E(1, 0) - E(0, 1));
   const double s = 0.5 * w.norm();           // sin of the angle
   const double c = 0.5 * (E.trace() - 1.0);  // cos of the angle
-  const double angle = std::atan2(s, c);
+  const double angle = fast_atan2(s, c);
   // log map: axis·angle; the ratio angle/sin tends to 1 as the rotation vanishes.
   out.e.tail<3>() = s > 1e-12 ? Eigen::Vector3d(w * (0.5 * angle / s)) : Eigen::Vector3d(0.5 * w);
   out.position_mm = out.e.head<3>().norm();
@@ -35,21 +36,60 @@ PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
 constexpr double kBranchCheckRad = 0.05;
 constexpr double kMaxStepRad = 0.25;
 
+/// |det| of a 3×3 block below this fraction of its largest column norm cubed (about the
+/// smallest LU pivot relative to the largest) counts as lost rank.
+constexpr double kRankRatio = 1e-10;
+
+/// Inverse of a 3×3 block, false when it has (nearly) lost rank.
+bool invert_block(const Eigen::Matrix3d& m, Eigen::Matrix3d& inverse) {
+  double det;
+  bool invertible;
+  m.computeInverseAndDetWithCheck(inverse, det, invertible, 0.0);
+  const double largest = m.colwise().norm().maxCoeff();
+  return invertible && std::abs(det) > kRankRatio * largest * largest * largest;
+}
+
+/// Solves J·x = e through the spherical wrist's decoupling (Pieper): with the linear rows taken
+/// at the wrist centre (`r` = TCP − wrist centre, rows J_v + r × J_ω and e_v + r × e_ω, the
+/// same system), J = [[A, B], [C, D]] has A the arm's position block and D the wrist's
+/// orientation block (B vanishes on the nominal robot), and the Schur complement
+/// S = D − C·A⁻¹·B gives x_w = S⁻¹·(e_ω − C·A⁻¹·e_v), x_a = A⁻¹·(e_v − B·x_w): exact, with
+/// 3×3 inverses only. False at (or near) an arm or wrist singularity, where A or S loses rank.
+bool wrist_partitioned_solve(const Matrix6d& J, const Vector6d& e, const Eigen::Vector3d& r,
+                             Vector6d& x) {
+  Eigen::Matrix3d A, B;
+  for (int k = 0; k < 3; ++k) {
+    A.col(k) = J.block<3, 1>(0, k) + r.cross(J.block<3, 1>(3, k));
+    B.col(k) = J.block<3, 1>(0, k + 3) + r.cross(J.block<3, 1>(3, k + 3));
+  }
+  const auto C = J.block<3, 3>(3, 0), D = J.block<3, 3>(3, 3);
+  Eigen::Matrix3d A_inv, S_inv;
+  if (!invert_block(A, A_inv)) return false;
+  const Eigen::Matrix3d A_inv_B = A_inv * B;
+  if (!invert_block(D - C * A_inv_B, S_inv)) return false;
+  const Eigen::Vector3d A_inv_e = A_inv * (e.head<3>() + r.cross(e.tail<3>()));
+  x.tail<3>() = S_inv * (e.tail<3>() - C * A_inv_e);
+  x.head<3>() = A_inv_e - A_inv_B * x.tail<3>();
+  return true;
+}
+
 bool within(const PoseError& err, const CalibratedIkOptions& options) {
   return err.position_mm <= options.position_tolerance_mm &&
          err.orientation_rad <= options.orientation_tolerance_rad;
 }
 
 /// Final verdict of a converged iterate: still in the seed's configuration, then the limits.
-CalibratedIkResult finish(const Compensator& comp, const Vector6d& seed, const Vector6d& joints,
-                          const PoseError& err, int iterations) {
+/// `expected` is the configuration asked for, or null for the seed's.
+CalibratedIkResult finish(const Compensator& comp, const Vector6d& seed, const ArmConfig* expected,
+                          const Vector6d& joints, const PoseError& err, int iterations) {
   CalibratedIkResult r;
   r.joints = joints;
   r.iterations = iterations;
   r.position_error_mm = err.position_mm;
   r.orientation_error_rad = err.orientation_rad;
   if ((joints - seed).cwiseAbs().maxCoeff() > kBranchCheckRad &&
-      !(arm_config_of(comp.model, joints) == arm_config_of(comp.model, seed)))
+      !(arm_config_of(comp.model, joints) ==
+        (expected ? *expected : arm_config_of(comp.model, seed))))
     r.status = CalibratedIkStatus::LeftConfiguration;
   else
     r.status = comp.model.within_limits(joints) ? CalibratedIkStatus::Converged
@@ -66,6 +106,25 @@ CalibratedIkResult failed(CalibratedIkStatus status, const Vector6d& joints, con
   r.position_error_mm = err.position_mm;
   r.orientation_error_rad = err.orientation_rad;
   return r;
+}
+
+/// The nominal branch `config` of `base_T_tcp` for the flange, of the turn nearest `near`, on
+/// `geometry`. Solved, or the status the calibrated inverse reports.
+struct Seed {
+  CalibratedIkStatus status;
+  Vector6d joints;
+};
+Seed seed_of(const OrthoParallelGeometry& geometry, const Pose<double>& base_T_flange,
+             const ArmConfig& config, const Vector6d& near) {
+  const IkBranchResult r = nominal_ik_branch(geometry, base_T_flange, config, near);
+  switch (r.status) {
+    case IkStatus::Solved:
+      return {CalibratedIkStatus::Converged, r.solution.joints};
+    case IkStatus::OutsideLimits:
+      return {CalibratedIkStatus::OutsideLimits, Vector6d::Zero()};
+    default:
+      return {CalibratedIkStatus::NoNominalSolution, Vector6d::Zero()};
+  }
 }
 
 }  // namespace
@@ -113,6 +172,12 @@ Compensator make_compensator(const CalibratedRobot& robot,
                      "with a spherical wrist): " +
                          why_not);
   comp.geometry = *geometry;
+  RobotModel widened = robot.model;
+  for (JointLimit& limit : widened.limits) {
+    limit.lower -= kSeedLimitMarginRad;
+    limit.upper += kSeedLimitMarginRad;
+  }
+  comp.seed_geometry = *analyze_ortho_parallel(widened);
   for (int i = 0; i < kParameterCount; ++i)
     if (!std::isfinite(robot.params[i]))
       throw InputError(SourceLocation{"", 0, 0, parameter_table()[i].name},
@@ -128,46 +193,40 @@ Compensator make_compensator(const CalibratedRobot& robot,
   Rz << cg, -sg, 0, sg, cg, 0, 0, 0, 1;
   comp.world_T_base.R = c.base_R_xy * Rz;
   comp.world_T_base.p = c.base_p - robot.model.mdh[0].d * c.base_R_xy.col(2);
+  comp.base_T_world = comp.world_T_base.inverse();
+  comp.tcp_T_flange = comp.flange_T_tcp.inverse();
   return comp;
 }
 
 std::optional<Vector6d> nominal_solution(const Compensator& comp, const Pose<double>& base_T_tcp,
                                          const ArmConfig& config, const Vector6d& near) {
-  const IkResult result = nominal_ik(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), near);
-  const IkSolution* best = nullptr;
-  double best_distance = 0;
-  for (const IkSolution& s : result) {
-    if (!(s.config == config)) continue;
-    const double distance = (s.joints - near).squaredNorm();
-    if (!best || distance < best_distance) {
-      best = &s;
-      best_distance = distance;
-    }
-  }
-  if (!best) return std::nullopt;
-  return best->joints;
+  const IkBranchResult r =
+      nominal_ik_branch(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), config, near);
+  if (r.status != IkStatus::Solved) return std::nullopt;
+  return r.solution.joints;
 }
 
 Pose<double> nominal_tcp_pose(const Compensator& comp, const Vector6d& joints) {
   return flange_pose(comp.model, PointMass{}, comp.model.nominal(), joints) * comp.flange_T_tcp;
 }
 
-CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<double>& world_T_tcp,
-                                        const Vector6d& seed, const CalibratedIkOptions& options) {
+namespace {
+
+CalibratedIkResult newton(const Compensator& comp, const Pose<double>& world_T_tcp,
+                          const Vector6d& seed, const ArmConfig* expected,
+                          const CalibratedIkOptions& options) {
   Vector6d joints = seed;
+  ChainState state;
   Matrix6d J;
   for (int it = 0;; ++it) {
-    const PoseError err = pose_error(world_T_tcp, calibrated_tcp_pose(comp.chain, joints, &J));
-    if (within(err, options)) return finish(comp, seed, joints, err, it);
+    const PoseError err = pose_error(world_T_tcp, calibrated_tcp_pose(comp.chain, joints, state));
+    if (within(err, options)) return finish(comp, seed, expected, joints, err, it);
     if (it == options.max_iterations)
       return failed(CalibratedIkStatus::NotConverged, joints, err, it);
-    const Eigen::PartialPivLU<Matrix6d> lu(J);
-    // A vanishing pivot (relative to the largest) means the Jacobian lost rank.
-    const auto& U = lu.matrixLU();
-    const double largest = U.diagonal().cwiseAbs().maxCoeff();
-    if (!(U.diagonal().cwiseAbs().minCoeff() > 1e-10 * largest))
+    calibrated_jacobian(comp.chain, state, J);
+    Vector6d step;
+    if (!wrist_partitioned_solve(J, err.e, state.tcp_p - state.frames[4].p, step))
       return failed(CalibratedIkStatus::Singular, joints, err, it);
-    Vector6d step = lu.solve(err.e);
     const double largest_step = step.cwiseAbs().maxCoeff();
     if (!std::isfinite(largest_step)) return failed(CalibratedIkStatus::Singular, seed, err, it);
     if (largest_step > kMaxStepRad) step *= kMaxStepRad / largest_step;
@@ -175,6 +234,13 @@ CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<doub
     if ((joints - seed).cwiseAbs().maxCoeff() > options.max_joint_change_rad)
       return failed(CalibratedIkStatus::LeftConfiguration, joints, err, it + 1);
   }
+}
+
+}  // namespace
+
+CalibratedIkResult calibrated_ik_newton(const Compensator& comp, const Pose<double>& world_T_tcp,
+                                        const Vector6d& seed, const CalibratedIkOptions& options) {
+  return newton(comp, world_T_tcp, seed, nullptr, options);
 }
 
 CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
@@ -187,13 +253,14 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
   for (int it = 0;; ++it) {
     const Pose<double> reached = calibrated_tcp_pose(comp.chain, joints);
     const PoseError err = pose_error(world_T_tcp, reached);
-    if (within(err, options)) return finish(comp, seed, joints, err, it);
+    if (within(err, options)) return finish(comp, seed, &config, joints, err, it);
     if (it == options.max_iterations)
       return failed(CalibratedIkStatus::NotConverged, joints, err, it);
     command = command * (reached.inverse() * world_T_tcp);
-    const std::optional<Vector6d> next = nominal_solution(comp, command, config, joints);
-    if (!next) return failed(CalibratedIkStatus::NoNominalSolution, joints, err, it + 1);
-    joints = *next;
+    const Seed next = seed_of(comp.seed_geometry, command * comp.tcp_T_flange, config, joints);
+    if (next.status != CalibratedIkStatus::Converged)
+      return failed(next.status, joints, err, it + 1);
+    joints = next.joints;
     if ((joints - seed).cwiseAbs().maxCoeff() > options.max_joint_change_rad)
       return failed(CalibratedIkStatus::LeftConfiguration, joints, err, it + 1);
   }
@@ -202,16 +269,38 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
 CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& world_T_tcp,
                                  const ArmConfig& config, const Vector6d& near, IkMethod method,
                                  const CalibratedIkOptions& options) {
-  const std::optional<Vector6d> seed =
-      nominal_solution(comp, comp.world_T_base.inverse() * world_T_tcp, config, near);
-  if (!seed) {
+  const Pose<double> base_T_flange = comp.base_T_world * world_T_tcp * comp.tcp_T_flange;
+  auto iterate = [&](const Vector6d& seed) {
+    return method == IkMethod::Newton
+               ? newton(comp, world_T_tcp, seed, &config, options)
+               : calibrated_ik_pose_shift(comp, world_T_tcp, config, seed, options);
+  };
+  // The turn nearest `near` on the widened limits first: near a limit the calibrated answer
+  // may lie inside while the nominal seed does not.
+  Seed seed = seed_of(comp.seed_geometry, base_T_flange, config, near);
+  // Near full stretch (or fold) of the elbow the calibrated arm may reach a little further
+  // (or closer) than the nominal one: seed from the pose pulled in towards the shoulder (or
+  // pushed out), by as little as will do (the joints move fast there); the iteration takes it
+  // back.
+  for (const double pull_mm : {1.0, 3.0, 10.0, -1.0, -3.0, -10.0}) {
+    if (seed.status != CalibratedIkStatus::NoNominalSolution) break;
+    Pose<double> moved = base_T_flange;
+    const Eigen::Vector3d out = moved.p - Eigen::Vector3d(0, 0, comp.geometry.d1);
+    moved.p -= pull_mm * out.normalized();
+    seed = seed_of(comp.seed_geometry, moved, config, near);
+  }
+  if (seed.status != CalibratedIkStatus::Converged) {
     CalibratedIkResult r;
-    r.status = CalibratedIkStatus::NoNominalSolution;
+    r.status = seed.status;
     return r;
   }
-  return method == IkMethod::Newton
-             ? calibrated_ik_newton(comp, world_T_tcp, *seed, options)
-             : calibrated_ik_pose_shift(comp, world_T_tcp, config, *seed, options);
+  const CalibratedIkResult r = iterate(seed.joints);
+  if (r.status != CalibratedIkStatus::OutsideLimits) return r;
+  // Beyond a limit: another turn of a wide-range joint may be inside.
+  const Seed inside = seed_of(comp.geometry, base_T_flange, config, near);
+  if (inside.status != CalibratedIkStatus::Converged || inside.joints == seed.joints) return r;
+  const CalibratedIkResult other = iterate(inside.joints);
+  return other.ok() ? other : r;
 }
 
 }  // namespace robcal

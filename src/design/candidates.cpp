@@ -30,6 +30,24 @@ JointConstraints published_joint_constraints() {
   return c;
 }
 
+std::array<JointLimit, kJointCount> constrained_joint_box(const RobotModel& model,
+                                                          const JointConstraints& constraints) {
+  std::array<JointLimit, kJointCount> box{};
+  for (int i = 0; i < kJointCount; ++i) {
+    const double lo = std::max(model.limits[i].lower, constraints.range[i].lower);
+    const double hi = std::min(model.limits[i].upper, constraints.range[i].upper);
+    if (!(lo <= hi))
+      throw InputError(
+          {"", 0, 0, "--constraints"},
+          fmt::format("joint {} has no feasible range: robot limits [{:.1f}, {:.1f}] "
+                      "deg, constraint [{:.1f}, {:.1f}] deg",
+                      i + 1, rad2deg(model.limits[i].lower), rad2deg(model.limits[i].upper),
+                      rad2deg(constraints.range[i].lower), rad2deg(constraints.range[i].upper)));
+    box[static_cast<size_t>(i)] = {lo, hi};
+  }
+  return box;
+}
+
 JointConstraints joint_constraints_preset(std::string_view name, std::string_view flag) {
   if (name == "published") return published_joint_constraints();
   if (name == "none") return unconstrained_joints();
@@ -60,20 +78,10 @@ CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
         fmt::format("expected a positive number of candidates, got {}", options.count));
   if (options.kind != MeasurementKind::Poses && tool.targets.empty())
     throw InputError({"", 0, 0, "--tool"}, "the tool has no targets to measure");
+  const std::array<JointLimit, kJointCount> box = constrained_joint_box(model, options.constraints);
   std::array<std::uniform_real_distribution<double>, kJointCount> joint;
-  for (int i = 0; i < kJointCount; ++i) {
-    const double lo = std::max(model.limits[i].lower, options.constraints.range[i].lower);
-    const double hi = std::min(model.limits[i].upper, options.constraints.range[i].upper);
-    if (!(lo <= hi))
-      throw InputError(
-          {"", 0, 0, "--constraints"},
-          fmt::format("joint {} has no feasible range: robot limits [{:.1f}, {:.1f}] "
-                      "deg, constraint [{:.1f}, {:.1f}] deg",
-                      i + 1, rad2deg(model.limits[i].lower), rad2deg(model.limits[i].upper),
-                      rad2deg(options.constraints.range[i].lower),
-                      rad2deg(options.constraints.range[i].upper)));
-    joint[i] = std::uniform_real_distribution<double>(lo, hi);
-  }
+  for (size_t i = 0; i < kJointCount; ++i)
+    joint[i] = std::uniform_real_distribution<double>(box[i].lower, box[i].upper);
 
   const ParameterVector nominal = model.nominal();
   const ParameterVector placed = options.instrument_frame_params.value_or(nominal);

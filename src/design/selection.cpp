@@ -8,9 +8,9 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
-#include <thread>
 
 #include "robcal/core/error.hpp"
+#include "robcal/design/leverage_cache.hpp"
 #include "robcal/design/observability.hpp"
 
 namespace robcal {
@@ -192,19 +192,8 @@ class DOptimalSearch {
       : A_(design.rows),
         n_(design.candidates()),
         info_(design.columns(), ridge),
-        G_(A_.rows(), R),
-        in_set_(static_cast<size_t>(n_), 0) {
-    for (int i = 0; i < n_; ++i)
-      G_.template middleRows<R>(i * R).noalias() = block(i) * block(i).transpose() / ridge;
-  }
-
-  /// Every candidate's G_i = A_i M⁻¹ A_iᵀ from the current inverse (O(N r m²)).
-  void recompute_cache() {
-    const Eigen::MatrixXd B = product(info_.inverse());
-    for (int i = 0; i < n_; ++i)
-      G_.template middleRows<R>(i * R).noalias() = B.middleRows(i * R, R) * block(i).transpose();
-    updates_since_refresh_ = 0;
-  }
+        cache_(design, ridge),
+        in_set_(static_cast<size_t>(n_), 0) {}
 
   /// Greedy step: adds the candidate of largest det(I + G_i), the largest gain in log det M.
   void add_best() {
@@ -215,13 +204,12 @@ class DOptimalSearch {
       const double d = (Block::Identity() + G(i)).determinant();
       if (d > best_det) best_det = d, best = i;
     }
-    const auto u = info_.factor(block(best), +1.0);
-    commit(best, +1.0, u, product(u.W));
+    commit(best, +1.0, info_.factor(block(best), +1.0));
   }
 
   /// Removes the chosen configuration that loses least and adds the best candidate, when
   /// that increases log det M. Candidates are scored against the inverse after the removal,
-  /// G_i + B_i B_iᵀ with B = A W, without applying anything until the move is accepted.
+  /// G_i + b_i b_iᵀ with b_i = A_i W, without applying anything until the move is accepted.
   bool remove_then_add() {
     int j = -1;
     double best_det = 0;
@@ -231,24 +219,23 @@ class DOptimalSearch {
     }
     if (j < 0) return false;
     const auto removal = info_.factor(block(j), -1.0);
-    const Eigen::MatrixXd B = product(removal.W);
+    cache_.project(removal.W);
     int i = -1;
     double best_gain = 0;
     for (int k = 0; k < n_; ++k) {
       if (in_set_[static_cast<size_t>(k)] && k != j) continue;
-      const auto b = B.middleRows(k * R, R);
+      const Block& b = cache_.projection(k);
       const double d = (Block::Identity() + G(k) + b * b.transpose()).determinant();
       if (d > best_gain) best_gain = d, i = k;
     }
     if (i == j || removal.log_det_change + std::log(best_gain) <= kMinImprovement) return false;
-    commit(j, -1.0, removal, B);
-    const auto addition = info_.factor(block(i), +1.0);
-    commit(i, +1.0, addition, product(addition.W));
+    commit(j, -1.0, removal, /*projected=*/true);
+    commit(i, +1.0, info_.factor(block(i), +1.0));
     return true;
   }
 
   /// Adds the best candidate and removes the configuration that then loses least, when that
-  /// increases log det M (scored on G_k − B_k B_kᵀ before applying).
+  /// increases log det M (scored on G_k − b_k b_kᵀ for the chosen rows only, before applying).
   bool add_then_remove() {
     int i = -1;
     double best_det = 0;
@@ -260,7 +247,7 @@ class DOptimalSearch {
     const auto addition = info_.factor(block(i), +1.0);
     int j = -1;
     double best_keep = 0;
-    const auto score = [&](int k) {  // only the chosen rows of A W are needed here
+    const auto score = [&](int k) {
       const Block b = block(k) * addition.W;
       const double d = (Block::Identity() - G(k) + b * b.transpose()).determinant();
       if (d > best_keep) best_keep = d, j = k;
@@ -269,19 +256,9 @@ class DOptimalSearch {
     score(i);
     if (j < 0 || j == i || addition.log_det_change + std::log(best_keep) <= kMinImprovement)
       return false;
-    commit(i, +1.0, addition, product(addition.W));
-    const auto removal = info_.factor(block(j), -1.0);
-    commit(j, -1.0, removal, product(removal.W));
+    commit(i, +1.0, addition);
+    commit(j, -1.0, info_.factor(block(j), -1.0));
     return true;
-  }
-
-  /// Replaces the ridge by the exact information of the chosen set (once it has full rank).
-  void drop_ridge() {
-    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(A_.cols(), A_.cols());
-    for (int i : chosen_) M.noalias() += block(i).transpose() * block(i);
-    if (log_det_spd(M) == kMinusInf) return;
-    info_ = InformationMatrix(M);
-    recompute_cache();
   }
 
   [[nodiscard]] const std::vector<int>& chosen() const { return chosen_; }
@@ -290,44 +267,18 @@ class DOptimalSearch {
  private:
   static constexpr double kMinImprovement = 1e-12;
   static constexpr int kRefreshEvery = 256;
-  static constexpr int kParallelCandidates = 2000;
 
   [[nodiscard]] auto block(int i) const { return A_.middleRows(i * R, R); }
+  [[nodiscard]] const Block& G(int i) const { return cache_.block(i); }
 
-  // Work over the candidates split in two halves on two threads (the machine has two cores);
-  // small designs stay on one.
-  template <typename F>
-  void in_halves(F&& f) const {
-    if (n_ < kParallelCandidates) {
-      f(0, n_);
-      return;
-    }
-    std::thread other([&] { f(n_ / 2, n_); });
-    f(0, n_ / 2);
-    other.join();
-  }
-
-  /// A W for every candidate: the (N r × m)·(m × c) product behind every update.
-  [[nodiscard]] Eigen::MatrixXd product(const Eigen::MatrixXd& W) const {
-    Eigen::MatrixXd B(A_.rows(), W.cols());
-    in_halves([&](int begin, int end) {
-      B.middleRows(begin * R, (end - begin) * R).noalias() =
-          A_.middleRows(begin * R, (end - begin) * R) * W;
-    });
-    return B;
-  }
-  [[nodiscard]] auto G(int i) const { return G_.template middleRows<R>(i * R); }
-
-  // Applies M += sign·A_iᵀA_i, given its factor and B = A W: G_k −= sign·B_k B_kᵀ for every
-  // candidate (one (N r × m)·(m × r) product, done by the caller).
-  void commit(int i, double sign, const InformationMatrix::Update& u, const Eigen::MatrixXd& B) {
+  // Applies M += sign·A_iᵀA_i given its factor; `projected`: the cache already holds the
+  // projections of u.W (computed to score the move).
+  void commit(int i, double sign, const InformationMatrix::Update& u, bool projected = false) {
     info_.apply(block(i), sign, u);
-    in_halves([&](int begin, int end) {
-      for (int k = begin; k < end; ++k) {
-        const auto b = B.middleRows(k * R, R);
-        G_.template middleRows<R>(k * R).noalias() -= sign * (b * b.transpose());
-      }
-    });
+    if (projected)
+      cache_.apply(sign);
+    else
+      cache_.update(u.W, sign);
     if (sign > 0) {
       in_set_[static_cast<size_t>(i)] = 1;
       chosen_.push_back(i);
@@ -337,14 +288,15 @@ class DOptimalSearch {
     }
     if (++updates_since_refresh_ >= kRefreshEvery) {
       info_.refresh();
-      recompute_cache();
+      cache_.recompute(info_.inverse());
+      updates_since_refresh_ = 0;
     }
   }
 
   const Eigen::MatrixXd& A_;
   int n_;
   InformationMatrix info_;
-  Eigen::Matrix<double, Eigen::Dynamic, R> G_;
+  LeverageCache<R> cache_;
   std::vector<char> in_set_;
   std::vector<int> chosen_;
   int updates_since_refresh_ = 0;
@@ -352,12 +304,12 @@ class DOptimalSearch {
 
 template <int R>
 Selection run_d_optimal(const DesignMatrix& design, int count) {
-  // The ridge only orders the first picks while M has fewer than m rows; it is replaced by the
-  // exact information before the exchanges. Columns have unit RMS norm per candidate, so
-  // 1e-6 is far below any real eigenvalue of a full-rank design.
+  // The ridge orders the first picks while M has fewer than m rows and is kept afterwards:
+  // columns have unit RMS norm per candidate, so the eigenvalues of a full-rank design are
+  // O(1) and more, and a ridge of 1e-6 moves log det by about 1e-5 (the reported log det is
+  // the exact one of the chosen set).
   DOptimalSearch<R> search(design, 1e-6);
   while (static_cast<int>(search.chosen().size()) < count) search.add_best();
-  search.drop_ridge();
   Selection out;
   const int max_exchanges = 50 * count;
   bool improved = true;

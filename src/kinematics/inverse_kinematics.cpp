@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 #include "robcal/core/units.hpp"
@@ -76,6 +77,18 @@ class Solver {
     seed_theta1_ = q_seed[0] + g.theta_offset[0];
     seed_theta4_ = q_seed[3] + g.theta_offset[3];
     wrist_ = pose.p - g.d6 * pose.R.col(2);
+    // Derived here rather than stored in the geometry, so that a caller who edits its public
+    // limits (or lengths) gets them applied.
+    elbow_sum_sq_ = g.a3 * g.a3 + g.rho * g.rho;
+    elbow_inv_product_ = 1.0 / (2.0 * g.a3 * g.rho);
+    for (int i = 0; i < kJointCount; ++i) {
+      lower_[i] = g.limits[i].lower - kLimitTolerance;
+      upper_[i] = g.limits[i].upper + kLimitTolerance;
+      const double span = upper_[i] - lower_[i];
+      if (span < kTwoPi) continue;
+      wide_joints_[wide_count_++] = i;
+      wide_max_turns_ = std::max(wide_max_turns_, 1 + static_cast<int>(span / kTwoPi));
+    }
   }
 
   void run() {
@@ -90,20 +103,22 @@ class Solver {
       shoulder_singular_ = true;
     } else {
       theta1 = fast_atan2(wy, wx);
-      c1 = wx / rxy;
-      s1 = wy / rxy;
+      const double inv = 1.0 / rxy;  // one division: the divider is the IK's bottleneck
+      c1 = wx * inv;
+      s1 = wy * inv;
     }
     // Planar arm for front (r = +|W_xy|) and back (r = −|W_xy|): W at (r, 0, h) in frame 1,
     // w = W − shoulder in frame 2's plane, w = Rz(θ2)·v (see the header).
     const double h = wrist_.z() - g_.d1;
-    std::array<double, 2> w_x, w_y, D, kappa, sigma, phi;
+    std::array<double, 2> w_x, w_y, D, inv_D, kappa, sigma, phi;
     std::array<bool, 2> reach;
     for (int b = 0; b < 2; ++b) {
       const double r = b == 0 ? rxy : -rxy;
       w_x[b] = r - g_.a2;
       w_y[b] = g_.s_alpha2 * h;
       D[b] = w_x[b] * w_x[b] + w_y[b] * w_y[b];
-      const double k = (D[b] - g_.a3 * g_.a3 - g_.rho * g_.rho) / (2.0 * g_.a3 * g_.rho);
+      inv_D[b] = 1.0 / D[b];
+      const double k = (D[b] - elbow_sum_sq_) * elbow_inv_product_;
       reach[b] = std::abs(k) <= 1.0 + kReachTolerance && (mask_ & shoulder_mask(b)) != 0;
       kappa[b] = std::clamp(k, -1.0, 1.0);
       sigma[b] = std::sqrt(1.0 - kappa[b] * kappa[b]);
@@ -155,7 +170,8 @@ class Solver {
     for (int i = 0; i < n; ++i) {
       ArmSolution& arm = arms[i];
       const double D_b = D[arm.shoulder];
-      const double c2 = D_b > 0 ? dot[i] / D_b : 1.0, s2 = D_b > 0 ? cross[i] / D_b : 0.0;
+      const double c2 = D_b > 0 ? dot[i] * inv_D[arm.shoulder] : 1.0;
+      const double s2 = D_b > 0 ? cross[i] * inv_D[arm.shoulder] : 0.0;
       arm.c23 = c2 * c3[i] - s2 * s3[i];
       arm.s23 = s2 * c3[i] + c2 * s3[i];
       const Eigen::Matrix3d& X = X_[arm.shoulder];
@@ -173,8 +189,10 @@ class Solver {
       ax[3 * i + 2] = g_.s_alpha5 * m20;
     }
     for (int i = 0; i < 3 * n; ++i) angle[i] = fast_atan2(ay[i], ax[i]);
+    Candidates c;
     for (int i = 0; i < n; ++i)
-      wrist(arms[i], s5[i], angle[3 * i + 1], angle[3 * i], angle[3 * i + 2]);
+      wrist(arms[i], s5[i], angle[3 * i + 1], angle[3 * i], angle[3 * i + 2], c);
+    emit(c);
   }
 
  private:
@@ -182,9 +200,30 @@ class Solver {
   static unsigned shoulder_mask(int b) { return b == 0 ? 0x0Fu : 0xF0u; }
   static unsigned elbow_mask(int b, bool down) { return 3u << (4 * b + (down ? 2 : 0)); }
 
-  /// Emits the wrist solution and its flip (θ4 + π, −θ5, θ6 + π) for one arm; near the wrist
+  /// Up to 8 solutions in link angles, one column each, before the joint limits.
+  struct Candidates {
+    std::array<std::array<double, 8>, kJointCount> theta{};
+    std::array<ArmConfig, 8> config;
+    std::array<bool, 8> singular;
+    int count = 0;
+    void add(const ArmSolution& arm, double theta4, double theta5, double theta6, bool flip,
+             bool is_singular) {
+      theta[0][count] = arm.theta1;
+      theta[1][count] = arm.theta2;
+      theta[2][count] = arm.theta3;
+      theta[3][count] = theta4;
+      theta[4][count] = theta5;
+      theta[5][count] = theta6;
+      config[count] = ArmConfig{arm.back, arm.down, flip};
+      singular[count] = is_singular;
+      ++count;
+    }
+  };
+
+  /// The wrist solution and its flip (θ4 + π, −θ5, θ6 + π) for one arm; near the wrist
   /// singularity θ4 comes from the seed and θ6 from the residual rotation.
-  void wrist(const ArmSolution& arm, double s5, double theta4, double theta5, double theta6) {
+  void wrist(const ArmSolution& arm, double s5, double theta4, double theta5, double theta6,
+             Candidates& c) {
     const bool singular = s5 < kWristSingularSin;
     if (s5 < kWristNearSingularSin) {
       if (singular) theta4 = seed_theta4_;
@@ -193,14 +232,11 @@ class Solver {
     // Bit 0 of a branch index is the flip. At the singularity the flip is the same pose with
     // θ4 off the seed: one solution stands for both.
     constexpr unsigned kNoFlipBits = 0x55u, kFlipBits = 0xAAu;
-    if (mask_ & arm.labels & (singular ? ~0u : kNoFlipBits)) {
-      emit(arm, theta4, theta5, theta6, false, singular);
-      ++out_.branches_reached;
-    }
+    if (mask_ & arm.labels & (singular ? ~0u : kNoFlipBits))
+      c.add(arm, theta4, theta5, theta6, false, singular);
     if (singular || !(mask_ & arm.labels & kFlipBits)) return;
-    ++out_.branches_reached;
-    emit(arm, theta4 > 0 ? theta4 - kPi : theta4 + kPi, -theta5,
-         theta6 > 0 ? theta6 - kPi : theta6 + kPi, true, false);
+    c.add(arm, theta4 - std::copysign(kPi, theta4), -theta5, theta6 - std::copysign(kPi, theta6),
+          true, false);
   }
 
   /// θ6 from Rz(θ6) = (Rz(θ4)·Rx(α5)·Rz(θ5)·Rx(α6))ᵀ·M, exact for any θ4, θ5.
@@ -221,56 +257,110 @@ class Solver {
     return std::atan2(Rz6(1, 0), Rz6(0, 0));
   }
 
-  /// Converts link angles to controller joints and emits every turn inside the limits (or the
-  /// turn nearest the seed).
-  void emit(const ArmSolution& arm, double theta4, double theta5, double theta6, bool flip,
-            bool singular) {
-    const std::array<double, kJointCount> theta{arm.theta1, arm.theta2, arm.theta3,
-                                                theta4,     theta5,     theta6};
-    const Vector6d j = controller_from_link_angles(g_, theta);
-    // Lowest equivalent value of each joint at or above its lower limit, and how many turns fit.
-    std::array<double, kJointCount> first;
-    std::array<int, kJointCount> turns;
-    int total = 1;
-    for (int i = 0; i < kJointCount; ++i) {
-      const double lower = g_.limits[i].lower - kLimitTolerance;
-      const double upper = g_.limits[i].upper + kLimitTolerance;
-      double v = j[i];
-      if (v < lower || v >= lower + kTwoPi) v -= kTwoPi * std::floor((v - lower) * kInvTwoPi);
-      if (v > upper) return;
-      first[i] = v;
-      turns[i] = upper - v < kTwoPi ? 1 : 1 + static_cast<int>((upper - v) * kInvTwoPi);
-      total *= turns[i];
-    }
-    const ArmConfig config{arm.back, arm.down, flip};
-    if (out_.nearest_turn_only) {  // per joint, the turn nearest the seed
-      IkSolution& s = out_.solutions[0];
-      for (int i = 0; i < kJointCount; ++i) {
-        const double k = std::round((seed_[i] - first[i]) * kInvTwoPi);
-        s.joints[i] = first[i] + kTwoPi * std::clamp(k, 0.0, static_cast<double>(turns[i] - 1));
+  /// Converts the candidates to controller joints and emits every turn inside the limits (or
+  /// the turn nearest the seed). Joint by joint over all 8 columns (unused ones hold zeros),
+  /// without branches, up to the limit test.
+  void emit(Candidates& c) {
+    out_.branches_reached += c.count;
+    auto& q = c.theta;  // becomes controller joints in place
+    if (!g_.map_identity)
+      for (int m = 0; m < c.count; ++m) {
+        Vector6d v;
+        for (int i = 0; i < kJointCount; ++i) v[i] = q[i][m] - g_.theta_offset[i];
+        v = g_.map_inverse * (v - g_.map_offset);
+        for (int i = 0; i < kJointCount; ++i) q[i][m] = v[i] + g_.theta_offset[i];
       }
-      s.config = config;
-      s.wrist_singular = singular;
-      s.shoulder_singular = shoulder_singular_;
-      out_.count = 1;
-      return;
+    // Each joint moved by whole turns to the lowest value at or above its lower limit. (The
+    // unroll pragmas matter: the project's -O2 unrolls no loops.)
+    std::array<bool, 8> inside;
+    inside.fill(true);
+    for (int i = 0; i < kJointCount; ++i) {
+      const double offset = g_.theta_offset[i], lower = lower_[i];
+      const double upper = upper_[i];
+#pragma GCC unroll 8
+      for (int m = 0; m < 8; ++m) {
+        const double v = q[i][m] - offset;
+        const double w = v - kTwoPi * turns_below(v - lower);
+        inside[m] &= w <= upper;
+        q[i][m] = w;
+      }
     }
-    std::array<int, kJointCount> k{};
-    for (int n = 0; n < total; ++n) {
+    // One wide joint (the usual case): every candidate written with all the turns the joint can
+    // have, and counted with those it has, without branching on the pose.
+    const bool one_wide = wide_count_ == 1 && !out_.nearest_turn_only &&
+                          out_.count + 8 * wide_max_turns_ <= out_.capacity;
+    for (int m = 0; m < c.count; ++m) {
       if (out_.count == out_.capacity) {
         out_.truncated = true;
         return;
       }
-      IkSolution& s = out_.solutions[out_.count++];
-      for (int i = 0; i < kJointCount; ++i) s.joints[i] = first[i] + kTwoPi * k[i];
-      s.config = config;
-      s.wrist_singular = singular;
+      IkSolution& s = out_.solutions[out_.count];
+#pragma GCC unroll 6
+      for (int i = 0; i < kJointCount; ++i) s.joints[i] = q[i][m];
+      s.config = c.config[m];
+      s.wrist_singular = c.singular[m];
       s.shoulder_singular = shoulder_singular_;
-      for (int i = kJointCount - 1; i >= 0; --i) {  // odometer over the turns
-        if (++k[i] < turns[i]) break;
-        k[i] = 0;
+      if (one_wide) {
+        const int i = wide_joints_[0];
+        for (int k = 1; k < wide_max_turns_; ++k) {
+          IkSolution& copy = out_.solutions[out_.count + k];
+          copy = s;
+          copy.joints[i] += kTwoPi * k;
+        }
+        // Converted only when inside: an outside candidate may hold NaN (from a NaN pose).
+        const double further = turns_below(upper_[i] - s.joints[i]);
+        out_.count += inside[m] ? 1 + static_cast<int>(further) : 0;
+        continue;
       }
+      if (!inside[m]) continue;
+      ++out_.count;
+      if (out_.nearest_turn_only)
+        nearest_turn(s);
+      else if (!add_turns(s))
+        return;
     }
+  }
+
+  /// Moves each wide joint of `s` to its turn nearest the seed (joints are independent).
+  void nearest_turn(IkSolution& s) const {
+    for (int w = 0; w < wide_count_; ++w) {
+      const int i = wide_joints_[w];
+      const double top = turns_below(upper_[i] - s.joints[i]);
+      const double k = std::round((seed_[i] - s.joints[i]) * kInvTwoPi);
+      s.joints[i] += kTwoPi * std::clamp(k, 0.0, top);
+    }
+  }
+
+  /// Appends every further turn of the wide joints of `s`, the last solution emitted: the
+  /// solutions so far copied once per turn. False when the capacity ran out.
+  bool add_turns(const IkSolution& s) {
+    const int first = out_.count - 1;
+    for (int w = 0; w < wide_count_; ++w) {
+      const int i = wide_joints_[w];
+      const int turns = 1 + static_cast<int>(turns_below(upper_[i] - s.joints[i]));
+      const int block = out_.count - first;
+      for (int k = 1; k < turns; ++k)
+        for (int m = 0; m < block; ++m) {
+          if (out_.count == out_.capacity) {
+            out_.truncated = true;
+            return false;
+          }
+          IkSolution& copy = out_.solutions[out_.count++];
+          copy = out_.solutions[first + m];
+          copy.joints[i] += kTwoPi * k;
+        }
+    }
+    return true;
+  }
+
+  /// floor(x / 2π), branch-free and defined for every input: adding and subtracting 1.5·2⁵²
+  /// rounds t = x / 2π to the nearest integer r (|t| < 2⁵¹); one less when r > t, i.e. when
+  /// t − r < 0 (t = r gives +0). NaN and ±∞ give NaN, which the limit test rejects.
+  static double turns_below(double x) {
+    constexpr double kRound = 6755399441055744.0;  // 1.5·2⁵²
+    const double t = x * kInvTwoPi;
+    const double r = (t + kRound) - kRound;
+    return r - (0.5 - std::copysign(0.5, t - r));
   }
 
   const OrthoParallelGeometry& g_;
@@ -282,6 +372,12 @@ class Solver {
   Eigen::Vector3d wrist_;
   double seed_theta1_ = 0, seed_theta4_ = 0;
   bool shoulder_singular_ = false;
+  double elbow_sum_sq_ = 0, elbow_inv_product_ = 0;  ///< a3² + ρ², 1 / (2·a3·ρ)
+  /// The limits widened by the tolerance (as within_limits), and the joints whose range
+  /// exceeds one turn (they get every equivalent turn), with the most turns any of them has.
+  std::array<double, kJointCount> lower_, upper_;
+  std::array<int, kJointCount> wide_joints_;
+  int wide_count_ = 0, wide_max_turns_ = 1;
 };
 
 IkStatus status_of(const SolutionSink& sink) {

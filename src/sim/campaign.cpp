@@ -1,12 +1,5 @@
 #include "robcal/sim/campaign.hpp"
 
-#include <fmt/format.h>
-
-#include <algorithm>
-
-#include "robcal/design/candidates.hpp"
-#include "robcal/design/design_matrix.hpp"
-#include "robcal/design/selection.hpp"
 #include "robcal/validate/base_fit.hpp"
 
 namespace robcal {
@@ -18,52 +11,12 @@ std::vector<PlannedConfiguration> plan_calibration(const TrueRobot& truth,
                                                    int candidates, std::mt19937_64& rng) {
   // The planner knows the nominal robot and roughly where it stands in the instrument's frame
   // (the truth's placement); it never sees the truth's errors.
-  ParameterVector placed = model.nominal();
-  placed.head<kBaseParamCount>() = truth.robot.params.head<kBaseParamCount>();
-  std::vector<Candidate> pool;
-  MeasurementKind kind = MeasurementKind::Distances;
-  if (instrument.kind == InstrumentKind::Ballbar) {
-    // Ballbar configurations must put the cup on the bar's sphere: the simulator's generator
-    // moves each draw there with the nominal geometry, as the measuring program does.
-    TrueRobot cell;
-    cell.robot = CalibratedRobot::nominal(model, tool);
-    cell.robot.params = placed;
-    RandomConfigurationOptions options;
-    options.box = published_joint_box(model);
-    for (const PlannedConfiguration& c :
-         random_configurations(cell, instrument, candidates, rng, options))
-      pool.push_back({c.joints, c.target});
-  } else {
-    CandidateOptions options;
-    options.count = candidates;
-    options.instrument_frame_params = placed;
-    if (instrument.kind == InstrumentKind::LaserTracker) {
-      kind = options.kind = MeasurementKind::Points;
-      options.visible = [&](const Pose<double>& world_T_flange, int target) {
-        const std::vector<int> visible = visible_targets(instrument.tracker, world_T_flange, tool);
-        return std::find(visible.begin(), visible.end(), target) != visible.end();
-      };
-    } else {
-      kind = options.kind = MeasurementKind::Poses;
-      options.visible = [&](const Pose<double>& world_T_flange, int) {
-        return cmm_sees_tool(instrument.cmm, world_T_flange, tool);
-      };
-    }
-    pool = generate_candidates(model, tool, options, rng).candidates;
-  }
-  DesignSettings settings;
-  settings.kind = kind;
-  settings.parameters = level_parameters(level);
-  settings.linearisation = placed;
-  settings.ballbar_centre_mm = instrument.ballbar.centre_mm;
-  const DesignMatrix design = build_design_matrix(model, tool, pool, settings);
-  const Selection selection = select_d_optimal(design, count);
-  std::vector<PlannedConfiguration> plan;
-  for (size_t k = 0; k < selection.chosen.size(); ++k) {
-    const Candidate& c = pool[static_cast<size_t>(selection.chosen[k])];
-    plan.push_back({fmt::format("C{}", k + 1), c.joints, c.target});
-  }
-  return plan;
+  const TrueRobot cell = planning_cell(model, tool, truth.robot.params.head<kBaseParamCount>());
+  PlanSettings settings;
+  settings.level = level;
+  settings.count = count;
+  settings.candidates = candidates;
+  return plan_calibration(cell, instrument, settings, rng).configurations;
 }
 
 CampaignResult run_campaign(const TrueRobot& truth, const VirtualInstrument& instrument,

@@ -215,16 +215,6 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
   return result;
 }
 
-std::array<JointLimit, kJointCount> published_joint_box(const RobotModel& model) {
-  const double published[kJointCount][2] = {{-90, 90},   {0, 180},  {-80, 180},
-                                            {-150, 150}, {-90, 90}, {-180, 180}};
-  std::array<JointLimit, kJointCount> box{};
-  for (size_t i = 0; i < kJointCount; ++i)
-    box[i] = {std::max(model.limits[i].lower, deg2rad(published[i][0])),
-              std::min(model.limits[i].upper, deg2rad(published[i][1]))};
-  return box;
-}
-
 namespace {
 
 /// Moves `joints` so that `target` sits `length` from `centre` on the nominal robot placed

@@ -60,7 +60,39 @@ cmp -s "$TMP/configs.csv" "$TMP/again.csv" || fail "same seed gave a different p
 grep -q "^O1" "$TMP/cmm.txt" || fail "cmm plan: no O1 line"
 grep -q "predicted TCP error" "$TMP/cmm.txt" || fail "cmm plan: no prediction"
 
-# 4. Bad input.
+# 4. Task box: the prediction is over TCP positions in the box.
+"$ROBCAL" plan --count 20 --candidates 600 --task-count 50 --json \
+  --task-box "-500,-300,1100,1300,150,350" --out "$TMP/box.csv" >"$TMP/box.json" ||
+  fail "plan with --task-box failed: $(cat "$TMP/box.json")"
+/usr/bin/python3 - "$TMP/box.json" <<'PY' || FAILED=1
+import json, sys
+p = json.load(open(sys.argv[1]))["predicted_error_mm"]
+ok = p["task_configurations"] == 50 and "box" in p["task_region"] and 0 < p["selected"]["mean"] <= p["selected"]["max"]
+if not ok: print("FAIL: task box prediction", p)
+sys.exit(0 if ok else 1)
+PY
+
+# 5. plan-study: seeded JSON, every planned configuration measured, optimal beats random.
+"$ROBCAL" plan-study --counts 15,40 --seeds 2 --candidates 500 --task-count 40 --json \
+  >"$TMP/study.json" || fail "plan-study failed: $(cat "$TMP/study.json")"
+/usr/bin/python3 - "$TMP/study.json" <<'PY' || FAILED=1
+import json, sys
+d = json.load(open(sys.argv[1]))
+errors = []
+if d["seeds"] != [1, 11]: errors.append(f"seeds {d['seeds']}")
+for r in d["rows"]:
+    for k in ("optimal", "random"):
+        for p in r[k]["per_seed"]:
+            if p["measured"] != r["count"]: errors.append(f"count {r['count']} {k}: measured {p['measured']}")
+    if not r["optimal"]["O1"] > r["random"]["O1"]: errors.append(f"O1 at {r['count']}")
+    if not 0 < r["optimal"]["achieved_mean_mm"] < d["nominal_mean_mm"]: errors.append("no gain over nominal")
+for e in errors: print("FAIL:", e)
+sys.exit(1 if errors else 0)
+PY
+expect_error "bad counts" "--counts" plan-study --counts 15,x
+expect_error "bad task box" "--task-box" plan --task-box 1,2,3 --out "$TMP/bad.csv"
+
+# 6. Bad input.
 expect_error "count too small" "at least 10 configurations" plan --count 5 --candidates 300 \
   --out "$TMP/bad.csv"
 expect_error "floor above the robot" "no feasible candidate" plan --floor-mm 5000 \

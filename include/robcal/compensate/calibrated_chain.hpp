@@ -1,17 +1,21 @@
 #pragma once
 /// \file
 /// The calibrated robot prepared for inverse kinematics: constants of the error model
-/// (METHOD §2–§3) precomputed once, then the TCP pose and its exact joint Jacobian in one pass.
+/// (METHOD §2–§3) precomputed once in an immutable CalibratedChain; a solve evaluates the TCP
+/// pose into a per-call ChainState and, only when it needs a step, the exact joint Jacobian
+/// from what that evaluation left there.
 ///
 /// Jacobian (world frame, rows v then ω, columns = controller joints, mm/rad and rad/rad):
 ///   with θu the undeflected link angles (θu = scale·q + offset), θ = θu + c·τ(θu) the
 ///   deflected ones and q = M·j + offset the model angles from controller joints j,
 ///   J = J_θ · (I + diag(c)·∂τ/∂θu) · diag(scale) · M,
 /// J_θ the geometric Jacobian of the deflected chain (column k: [z_k × (p_tcp − o_k); z_k]).
-/// The gravity torque τ_i = z_i · ((C_i − M_i·o_i) × g), with M_i, C_i the mass and first
-/// moment of links i..6 and the payload (world frame), gives in closed form, V_i = C_i − M_i·o_i:
-///   ∂τ_i/∂θu_k = (z_k × z_i)·(V_i × g) + z_i·((z_k × V_i) × g)   for k ≤ i,
-///   ∂τ_i/∂θu_k = z_i·((z_k × V_k) × g)                            for k > i.
+/// The gravity torque τ_i = z_i · (V_i × g), with M_i, C_i the mass and first moment of links
+/// i..6 and the payload (world frame) and V_i = C_i − M_i·o_i, has the derivatives
+///   ∂τ_i/∂θu_k = z_k · u_i,  u_i = z_i × (V_i × g) + V_i × (g × z_i)    for k ≤ i,
+///   ∂τ_i/∂θu_k = (z_k × V_k) · (g × z_i)                              for k > i
+/// (the triple products of d z_i = z_k × z_i, d V_i = z_k × V_i for k ≤ i, d V_i = z_k × V_k
+/// for k > i, rearranged so that each entry is one dot product).
 /// Checked against ceres::Jet autodiff of `flange_pose<T>` and finite differences in the tests.
 
 #include <Eigen/Core>
@@ -44,12 +48,31 @@ struct CalibratedChain {
   Pose<double> flange_T_tcp;
 };
 
+/// Per-call workspace: what one pose evaluation leaves for the Jacobian at the same joints,
+/// and the undeflected link angles with their cosines and sines, from which the next
+/// evaluation of an iteration (a small step away) gets its own by the angle-addition formulas
+/// instead of calling cos and sin. A default-constructed state starts afresh.
+struct ChainState {
+  std::array<Pose<double>, kJointCount> frames;               ///< deflected world frames Φ1..Φ6
+  std::array<Eigen::Vector3d, kJointCount> z_undeflected, V;  ///< axes and V_i before deflection
+  Eigen::Vector3d tcp_p;
+  bool has_angles = false;
+  std::array<double, kJointCount> theta{}, cos_theta{}, sin_theta{};  ///< θu (θ1 with γ_base)
+};
+
 /// Precomputes the chain for `params` (METHOD §3 layout), the payload carried and the tool.
 CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& params,
                                       const PointMass& payload, const Pose<double>& flange_T_tcp);
 
-/// World pose of the TCP for controller joints (rad); the Jacobian too when `jacobian` is not
-/// null. Equals flange_pose(model, payload, params, joints) · flange_T_tcp.
+/// World pose of the TCP for controller joints (rad), recording in `state` what
+/// calibrated_jacobian needs. Equals flange_pose(model, payload, params, joints) · flange_T_tcp.
+Pose<double> calibrated_tcp_pose(const CalibratedChain& chain, const Vector6d& joints,
+                                 ChainState& state);
+
+/// The joint Jacobian at the joints of the last calibrated_tcp_pose into `state`.
+void calibrated_jacobian(const CalibratedChain& chain, const ChainState& state, Matrix6d& jacobian);
+
+/// Convenience: the pose, and the Jacobian too when `jacobian` is not null.
 Pose<double> calibrated_tcp_pose(const CalibratedChain& chain, const Vector6d& joints,
                                  Matrix6d* jacobian = nullptr);
 

@@ -25,10 +25,11 @@
 
 namespace robcal {
 
+/// Half the accuracy asked of compensation (1e-6 mm and 1e-6°, issue 7), as a margin.
 struct CalibratedIkOptions {
   int max_iterations = 12;
-  double position_tolerance_mm = 1e-7;
-  double orientation_tolerance_rad = 1e-9;  ///< ≈ 6e-8°
+  double position_tolerance_mm = 5e-7;
+  double orientation_tolerance_rad = 8.7e-9;  ///< ≈ 5e-7°
   /// An iterate further than this from its nominal seed (any joint, rad) is abandoned: it is
   /// heading for another turn or branch. Converged answers are also checked to keep the
   /// seed's arm configuration.
@@ -37,11 +38,12 @@ struct CalibratedIkOptions {
 
 enum class CalibratedIkStatus : std::uint8_t {
   Converged,          ///< within tolerance, inside the joint limits
-  NoNominalSolution,  ///< the nominal inverse has no solution in the configuration asked for
+  NoNominalSolution,  ///< the configuration asked for does not reach the pose (nominal model)
   Singular,           ///< the Jacobian (or the step) degenerated: at or near a singularity
   LeftConfiguration,  ///< drifted beyond max_joint_change_rad, or converged in another branch
   NotConverged,       ///< max_iterations reached
-  OutsideLimits,      ///< reaches the pose, but a joint is outside its limits
+  OutsideLimits,      ///< reaches the pose, but a joint is outside its limits (already the
+                      ///< nominal seed when it lies beyond a limit by kSeedLimitMarginRad)
 };
 
 const char* to_string(CalibratedIkStatus status);
@@ -55,16 +57,25 @@ struct CalibratedIkResult {
   [[nodiscard]] bool ok() const { return status == CalibratedIkStatus::Converged; }
 };
 
+/// How far (rad) the nominal seed may lie beyond a joint limit and still be iterated: the
+/// calibrated solution differs from the nominal one by a fraction of a degree, and by a few
+/// degrees in θ4, θ6 near the wrist singularity and θ1 near axis 1, so a seed beyond a limit
+/// can have its answer inside; the verdict is taken on the calibrated joints.
+inline constexpr double kSeedLimitMarginRad = 0.175;  // 10°
+
 /// Everything the calibrated inverse needs for one robot, payload and tool. Immutable.
 struct Compensator {
   RobotModel model;
   CalibratedChain chain;
-  OrthoParallelGeometry geometry;  ///< the nominal robot's closed form
+  OrthoParallelGeometry geometry;       ///< the nominal robot's closed form
+  OrthoParallelGeometry seed_geometry;  ///< the same, limits widened by kSeedLimitMarginRad
   /// The controller's base frame in the world: where the nominal base sits when frame Φ1 is
   /// where the calibrated model puts it, world_T_base = world_A_1(q1=0) · base_A_1(q1=0)⁻¹.
   Pose<double> world_T_base;
+  Pose<double> base_T_world;  ///< its inverse
   Pose<double> flange_T_tcp;
-  PointMass payload;  ///< the payload the compliance is computed for
+  Pose<double> tcp_T_flange;  ///< its inverse
+  PointMass payload;          ///< the payload the compliance is computed for
 };
 
 /// Builds the compensator of a calibrated robot; `payload` overrides the tool's (the
@@ -74,7 +85,7 @@ Compensator make_compensator(const CalibratedRobot& robot,
                              const std::optional<PointMass>& payload = std::nullopt);
 
 /// The nominal solution (controller joints, rad) of `base_T_tcp` in configuration `config`
-/// nearest to `near` (Euclidean; `near` picks the turn of wide-range joints), or nullopt.
+/// inside the limits, of the turn nearest to `near` (wide-range joints), or nullopt.
 std::optional<Vector6d> nominal_solution(const Compensator& comp, const Pose<double>& base_T_tcp,
                                          const ArmConfig& config, const Vector6d& near);
 

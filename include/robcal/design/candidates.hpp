@@ -31,6 +31,11 @@ JointConstraints unconstrained_joints();
 /// so the linear spring model holds), |θ1| ≤ 90°, |θ4| ≤ 150°, |θ5| ≤ 90°, |θ6| ≤ 180°.
 JointConstraints published_joint_constraints();
 
+/// The robot's limits intersected with `constraints` (controller values, rad). Throws
+/// InputError (key `--constraints`) naming the joint when a range is empty.
+std::array<JointLimit, kJointCount> constrained_joint_box(const RobotModel& model,
+                                                          const JointConstraints& constraints);
+
 /// A preset by name: "published" or "none". Throws InputError (key `flag`) for other names.
 JointConstraints joint_constraints_preset(std::string_view name,
                                           std::string_view flag = "--constraints");

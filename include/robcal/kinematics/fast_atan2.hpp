@@ -2,15 +2,17 @@
 /// \file
 /// atan2 for the closed-form IK's hot path: within 5e-16 rad of std::atan2 (checked in
 /// tests/test_inverse_kinematics.cpp) at a fraction of glibc's cost, which is dominated by its
-/// correctly-rounded slow paths. Branch-free: one division and a degree-13 odd polynomial.
+/// correctly-rounded slow paths. Branch-free: two divisions and a degree-13 odd polynomial.
 ///
 /// Method: with lo = min(|x|,|y|), hi = max(|x|,|y|), t = lo/hi ∈ [0, 1] and c = k/8 the
-/// nearest eighth (k found by comparisons, no division), atan t = atan c + atan u with
+/// nearest eighth, atan t = atan c + atan u with
 /// u = (lo − c·hi)/(hi + c·lo), |u| ≤ 1/16, and atan u by its Taylor series to u¹³ (remainder
 /// u¹⁵/15 < 6e-20); then the octant is restored and the sign of y applied.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace robcal {
@@ -37,19 +39,17 @@ inline constexpr std::array<double, 9> kAtanEighths = [] {
 }();
 }  // namespace detail
 
-/// atan2(y, x) in [−π, π]; ±0 for (±0, 0).
+/// atan2(y, x) in [−π, π]; ±0 for (±0, +0), ±π for (±0, −0).
 inline double fast_atan2(double y, double x) {
   constexpr const std::array<double, 9>& table = detail::kAtanEighths;
+  constexpr double kTiny = std::numeric_limits<double>::denorm_min();  // keeps 0/0 at 0
   const double ax = std::abs(x), ay = std::abs(y);
-  const bool steep = ay > ax;
-  const double hi = steep ? ay : ax, lo = steep ? ax : ay;
-  // k = round(8·lo/hi): count the midpoints (2m − 1)/16 that t exceeds.
-  const double lo16 = 16.0 * lo;
-  const int k = (lo16 > hi) + (lo16 > 3 * hi) + (lo16 > 5 * hi) + (lo16 > 7 * hi) +
-                (lo16 > 9 * hi) + (lo16 > 11 * hi) + (lo16 > 13 * hi) + (lo16 > 15 * hi);
+  const double hi = std::max(ax, ay), lo = std::min(ax, ay);
+  // k = round(8·lo/hi); min(1, ·) also maps the NaN of ∞/∞ to a valid index.
+  const double t = std::min(1.0, lo / std::max(hi, kTiny));
+  const int k = static_cast<int>(8.0 * t + 0.5);
   const double c = 0.125 * k;
-  const double den = hi + c * lo;
-  const double u = den > 0 ? (lo - c * hi) / den : 0.0;
+  const double u = (lo - c * hi) / std::max(hi + c * lo, kTiny);
   const double u2 = u * u;
   // Taylor series of atan u: u − u³/3 + u⁵/5 − u⁷/7 + u⁹/9 − u¹¹/11 + u¹³/13, Horner form.
   double p = 1.0 / 13;
@@ -59,8 +59,12 @@ inline double fast_atan2(double y, double x) {
   p = p * u2 + 1.0 / 5;
   p = p * u2 - 1.0 / 3;
   const double r = table[k] + (u + u * u2 * p);
-  const double r1 = steep ? std::numbers::pi / 2 - r : r;
-  const double r2 = x < 0 ? std::numbers::pi - r1 : r1;
+  // Octant restored by arithmetic on ±1 factors rather than selects, which compilers turn into
+  // branches that random inputs mispredict: r → π/2 − r when steep, r → π − r when x < 0.
+  const double steep = std::copysign(1.0, ax - ay);  // −1 when |y| > |x|
+  const double r1 = steep * r + (1.0 - steep) * (std::numbers::pi / 4);
+  const double west = std::copysign(1.0, x);  // −1 when x < 0 (or −0)
+  const double r2 = west * r1 + (1.0 - west) * (std::numbers::pi / 2);
   return std::copysign(r2, y);
 }
 

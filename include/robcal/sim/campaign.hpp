@@ -10,15 +10,16 @@
 
 #include "robcal/identify/identification.hpp"
 #include "robcal/report/report.hpp"
+#include "robcal/sim/calibration_plan.hpp"
 #include "robcal/sim/simulator.hpp"
 
 namespace robcal {
 
-/// `count` calibration configurations chosen D-optimally (design/selection.hpp) among
+/// `count` calibration configurations chosen D-optimally (sim/calibration_plan.hpp) among
 /// `candidates` feasible ones (published joint box, above the floor, visible to the
-/// instrument), for the parameters of `level`, planned on the nominal robot placed like the
-/// truth (where the instrument stands relative to the robot is known roughly, its errors are
-/// not). Names "C1", "C2", …
+/// instrument with the planning margins), for the parameters of `level`, planned on the
+/// nominal robot placed like the truth (where the instrument stands relative to the robot is
+/// known roughly, its errors are not). Names "C1", "C2", …
 std::vector<PlannedConfiguration> plan_calibration(const TrueRobot& truth,
                                                    const VirtualInstrument& instrument,
                                                    const RobotModel& model, const Tool& tool,

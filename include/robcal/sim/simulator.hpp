@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "robcal/design/candidates.hpp"
 #include "robcal/measure/instrument.hpp"
 #include "robcal/measure/measurements.hpp"
 #include "robcal/sim/true_robot.hpp"
@@ -69,9 +70,11 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
                                        const std::vector<PlannedConfiguration>& configs,
                                        std::mt19937_64& rng, const SimulationOptions& options = {});
 
-/// Joint ranges of the published tests (METHOD §6): θ2 ≥ 0°, θ3 ≥ −80°, |θ1| ≤ 90°,
-/// |θ4| ≤ 150°, |θ5| ≤ 90°, |θ6| ≤ 180°, intersected with the robot's limits (controller values).
-std::array<JointLimit, kJointCount> published_joint_box(const RobotModel& model);
+/// Joint ranges of the published tests (design/candidates.hpp: published_joint_constraints),
+/// intersected with the robot's limits (controller values).
+inline std::array<JointLimit, kJointCount> published_joint_box(const RobotModel& model) {
+  return constrained_joint_box(model, published_joint_constraints());
+}
 
 struct RandomConfigurationOptions {
   std::array<JointLimit, kJointCount> box{};  ///< controller joint ranges, rad

@@ -1,0 +1,74 @@
+#pragma once
+/// \file
+/// Closing the loop on configuration design (METHOD §6, issue 5 items 5–6): for several random
+/// true robots, plan → simulate → calibrate → compare with the truth over a task region, for
+/// D-optimal configurations and for the same number of random feasible ones, at several counts
+/// (the accuracy-against-count curve), beside the accuracy predicted before measuring from the
+/// design's parameter covariance.
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "robcal/design/task_region.hpp"
+#include "robcal/sim/calibration_plan.hpp"
+#include "robcal/sim/true_robot.hpp"
+
+namespace robcal {
+
+struct PlanStudyOptions {
+  std::vector<int> counts{15, 20, 30, 40, 60};
+  int seeds = 4;  ///< true robots; robot k draws from seeds seed + 10k + 0…4
+  uint64_t seed = 1;
+  PlanSettings plan;  ///< level, candidates, constraints, floor (count comes from `counts`)
+  InstrumentKind instrument = InstrumentKind::LaserTracker;
+  double noise_mm = 0;  ///< > 0 replaces the instrument's σ
+  ErrorBounds bounds;   ///< of the random true robots
+  /// Task region: a box of TCP positions (world frame), else random configurations in the
+  /// constrained joint box above the floor.
+  std::optional<TaskBox> task_box;
+  int task_count = 200;
+};
+
+/// Position error of the TCP over the task region, mm.
+struct RegionError {
+  double mean_mm = 0, rms_mm = 0, max_mm = 0;
+};
+
+/// One design (optimal or random) at one count for one true robot.
+struct StudyOutcome {
+  RegionError achieved;   ///< calibrated model against the truth
+  RegionError predicted;  ///< before measuring: √tr(J_v C J_vᵀ) with C from the design
+  double O1 = 0;
+  int measured = 0;  ///< configurations the simulator measured (every planned one)
+  bool converged = false;
+};
+
+struct StudyRow {
+  int count = 0;
+  std::vector<StudyOutcome> optimal, random;  ///< one per seed
+};
+
+struct PlanStudyResult {
+  std::vector<uint64_t> seeds;       ///< s of each true robot
+  std::vector<RegionError> nominal;  ///< nominal robot (placed like the truth), per seed
+  double sigma_mm = 0;
+  int candidates = 0;  ///< feasible candidates per seed (the smallest)
+  int task_configurations = 0;
+  std::vector<StudyRow> rows;
+};
+
+/// Runs the study on `model` with `tool`. True robot k uses s = seed + 10k: the truth from
+/// seed s, candidates s + 1, random subsets s + 2, task region s + 3, measurement noise
+/// s + 4 (one stream per robot, drawn in row order). `progress`, when set, is called after
+/// each true robot.
+PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
+                               const PlanStudyOptions& options,
+                               const std::function<void(int done, int total)>& progress = {});
+
+/// Mean over seeds of a field of the outcomes.
+double mean_over_seeds(const std::vector<StudyOutcome>& outcomes,
+                       double (*field)(const StudyOutcome&));
+
+}  // namespace robcal
