@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <random>
 
 #include "robcal/core/units.hpp"
@@ -36,6 +37,16 @@ Vector6d random_joints(const RobotModel& model, std::mt19937_64& rng) {
 ArmConfig config_of(int index) {
   return ArmConfig{(index & 4) != 0, (index & 2) != 0, (index & 1) != 0};
 }
+
+/// The IRB 120 at joints (10°, 20°, −30°, 40°, 50°, 60°): one general pose, its closed form.
+struct Irb120AtOnePose {
+  RobotModel model = load_robot("abb-irb120");
+  std::optional<OrthoParallelGeometry> geometry = analyze_ortho_parallel(model);
+  Vector6d q =
+      (Vector6d() << deg2rad(10), deg2rad(20), deg2rad(-30), deg2rad(40), deg2rad(50), deg2rad(60))
+          .finished();
+  Pose<double> target = nominal_fk(model, q);
+};
 
 class IkBranch : public ::testing::TestWithParam<std::string> {};
 
@@ -169,12 +180,12 @@ TEST(IkBranch, EveryLabelAtAPoseReachingAllEight) {
 
 // J6 of the IRB 120 spans ±400°: J6 = 60° is also −300°; the seed picks the nearer turn.
 TEST(IkBranch, SeedPicksTheNearestTurn) {
-  const RobotModel model = load_robot("abb-irb120");
-  const auto geometry = analyze_ortho_parallel(model);
-  ASSERT_TRUE(geometry);
-  Vector6d q;
-  q << deg2rad(10), deg2rad(20), deg2rad(-30), deg2rad(40), deg2rad(50), deg2rad(60);
-  const Pose<double> target = nominal_fk(model, q);
+  const Irb120AtOnePose f;
+  ASSERT_TRUE(f.geometry);
+  const RobotModel& model = f.model;
+  const auto& geometry = f.geometry;
+  const Vector6d& q = f.q;
+  const Pose<double>& target = f.target;
   const ArmConfig config = arm_config(model, q);
   for (const auto& [seed_j6, expected_j6] :
        {std::pair{60.0, 60.0}, {-100.0, 60.0}, {-130.0, -300.0}, {-390.0, -300.0}, {390.0, 60.0}}) {
@@ -227,12 +238,12 @@ TEST(IkBranch, StatusesAndSingularCases) {
 // The solvers take the limits from the geometry's public `limits` at each call, so a caller
 // may widen or narrow them (compensation seeds on widened limits).
 TEST(IkBranch, EditedGeometryLimitsApply) {
-  const RobotModel model = load_robot("abb-irb120");
-  auto geometry = analyze_ortho_parallel(model);
-  ASSERT_TRUE(geometry);
-  Vector6d q;
-  q << deg2rad(10), deg2rad(20), deg2rad(-30), deg2rad(40), deg2rad(50), deg2rad(60);
-  const Pose<double> target = nominal_fk(model, q);
+  Irb120AtOnePose f;
+  ASSERT_TRUE(f.geometry);
+  const RobotModel& model = f.model;
+  auto& geometry = f.geometry;
+  const Vector6d& q = f.q;
+  const Pose<double>& target = f.target;
   const ArmConfig config = arm_config(model, q);
   auto turns_of_q = [&](const OrthoParallelGeometry& g) {
     int n = 0;
@@ -255,12 +266,11 @@ TEST(IkBranch, EditedGeometryLimitsApply) {
 
 // A pose with NaN entries (R or p) yields a status and no NaN joints, in both solvers.
 TEST(IkBranch, NanPoseGivesNoNanSolution) {
-  const RobotModel model = load_robot("abb-irb120");
-  const auto geometry = analyze_ortho_parallel(model);
-  ASSERT_TRUE(geometry);
-  Vector6d q;
-  q << deg2rad(10), deg2rad(20), deg2rad(-30), deg2rad(40), deg2rad(50), deg2rad(60);
-  const Pose<double> good = nominal_fk(model, q);
+  const Irb120AtOnePose f;
+  ASSERT_TRUE(f.geometry);
+  const auto& geometry = f.geometry;
+  const Vector6d& q = f.q;
+  const Pose<double>& good = f.target;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (int entry = 0; entry < 12; ++entry) {
     Pose<double> bad = good;
