@@ -104,7 +104,7 @@ const bool registered = register_bindings(70, [](py::module_& m) {
       .def(
           "config_of",
           [](const PyCompensator& c, const Vector6d& joints_deg) {
-            return arm_config_of(c.comp.model, joints_deg * kDegToRad).label();
+            return arm_config(c.comp.model, joints_deg * kDegToRad).label();
           },
           py::arg("joints_deg"), "Arm configuration label of controller joints")
       .def(

@@ -59,7 +59,7 @@ std::vector<WantedTarget> wanted_poses(const Compensator& comp, const TrueRobot&
     WantedTarget w;
     w.name = "w" + std::to_string(k);
     w.world_T_tcp = true_flange_pose(truth, j) * comp.flange_T_tcp;
-    w.config = arm_config_of(truth.robot.model, j);
+    w.config = arm_config(truth.robot.model, j);
     out.push_back(w);
   }
   return out;

@@ -195,7 +195,7 @@ TEST(CompensateIk, ArmConfigOfAgreesWithTheClosedFormLabels) {
           nominal_ik(*geometry, flange_pose(model, PointMass{}, model.nominal(), q), q);
       for (const IkSolution& s : all) {
         if (near_singular(model, s.joints, 1)) continue;
-        EXPECT_EQ(arm_config_of(model, s.joints).label(), s.config.label()) << name;
+        EXPECT_EQ(arm_config(model, s.joints).label(), s.config.label()) << name;
         ++checked;
       }
     }

@@ -88,8 +88,7 @@ CalibratedIkResult finish(const Compensator& comp, const Vector6d& seed, const A
   r.position_error_mm = err.position_mm;
   r.orientation_error_rad = err.orientation_rad;
   if ((joints - seed).cwiseAbs().maxCoeff() > kBranchCheckRad &&
-      !(arm_config_of(comp.model, joints) ==
-        (expected ? *expected : arm_config_of(comp.model, seed))))
+      !(arm_config(comp.model, joints) == (expected ? *expected : arm_config(comp.model, seed))))
     r.status = CalibratedIkStatus::LeftConfiguration;
   else
     r.status = comp.model.within_limits(joints) ? CalibratedIkStatus::Converged
@@ -128,19 +127,6 @@ Seed seed_of(const OrthoParallelGeometry& geometry, const Pose<double>& base_T_f
 }
 
 }  // namespace
-
-ArmConfig arm_config_of(const RobotModel& model, const Vector6d& joints) {
-  const auto frames = link_frames(model, PointMass{}, model.nominal().data(), joints.data());
-  const auto q = model_joint_angles(model, joints.data());
-  const Eigen::Vector3d x1 = frames[0].R.col(0), y1 = frames[0].R.col(1);
-  const Eigen::Vector3d S = frames[1].p, E = frames[2].p, W = frames[4].p;
-  const double front = (W - frames[0].p).dot(x1);
-  ArmConfig config;
-  config.back = front < 0;
-  config.down = !((front < 0 ? -1.0 : 1.0) * (W - S).cross(E - S).dot(-y1) > 0);
-  config.flip = std::sin(q[4] + model.mdh[4].theta_offset) < 0;
-  return config;
-}
 
 const char* to_string(CalibratedIkStatus status) {
   switch (status) {

@@ -196,7 +196,7 @@ std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows,
 
 std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
                                      const Vector6d& joints) {
-  const ArmConfig config = arm_config_of(comp.model, joints);
+  const ArmConfig config = arm_config(comp.model, joints);
   if (language == ProgramLanguage::Rapid) {
     // Quadrant of a joint; the tolerance keeps an exact 0° (or 90°...) that the closed form
     // returns as −1e-14 in the quadrant above, as it was written.
@@ -257,7 +257,7 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
       near = best->joints;
     }
     const CalibratedIkResult r =
-        calibrated_ik(comp, comp.world_T_base * base_T_tcp, arm_config_of(comp.model, near), near);
+        calibrated_ik(comp, comp.world_T_base * base_T_tcp, arm_config(comp.model, near), near);
     if (!r.ok()) {
       out.failure = fmt::format("cannot correct: {} ({:.3g} mm from the pose)", to_string(r.status),
                                 r.position_error_mm);

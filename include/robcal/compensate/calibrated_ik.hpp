@@ -89,10 +89,6 @@ Compensator make_compensator(const CalibratedRobot& robot,
 std::optional<Vector6d> nominal_solution(const Compensator& comp, const Pose<double>& base_T_tcp,
                                          const ArmConfig& config, const Vector6d& near);
 
-/// The arm configuration of controller joints (rad): the definitions of
-/// kinematics/inverse_kinematics.hpp applied to the nominal robot's frames.
-ArmConfig arm_config_of(const RobotModel& model, const Vector6d& joints);
-
 /// TCP pose (controller base frame) of the nominal model: what the controller displays.
 Pose<double> nominal_tcp_pose(const Compensator& comp, const Vector6d& joints);
 
