@@ -214,6 +214,36 @@ TEST(CompensateIk, NominalRobotNeedsNoIteration) {
   EXPECT_LT((r.joints - q).cwiseAbs().maxCoeff(), 1e-8);
 }
 
+// The IRB 120 of BM_RoundTrip100k (seed 2026) at a front-down-noflip pose 6° from elbow
+// stretch, where the nominal seed lies midway between the calibrated down and up answers
+// (θ3 −1.344 against −1.452 and −1.237): Newton from it converges on front-up; calibrated_ik
+// then solves by pose shift on the branch asked for and returns the drawn joints.
+TEST(CompensateIk, NewtonLeavingTheBranchFallsBackToPoseShift) {
+  std::mt19937_64 rng(2026);
+  const CalibratedRobot robot = random_calibrated("abb-irb120", rng);
+  const Compensator comp = make_compensator(robot);
+  const Vector6d q = (Vector6d() << 2.3365673313435376, 1.4675256321385368, -1.4521344270119614,
+                      2.0860184723621891, 0.78585504611751178, -2.719941382468134)
+                         .finished();
+  const ArmConfig config = arm_config(robot.model, q);
+  ASSERT_EQ(config.label(), "front-down-noflip");
+  ASSERT_FALSE(near_singular(robot.model, q));
+  const Pose<double> wanted = calibrated_tcp_pose(comp.chain, q);
+  const std::optional<Vector6d> seed =
+      nominal_solution(comp, comp.base_T_world * wanted, config, q);
+  ASSERT_TRUE(seed);
+  const CalibratedIkResult plain = calibrated_ik_newton(comp, wanted, *seed);
+  EXPECT_EQ(plain.status, CalibratedIkStatus::LeftConfiguration);
+  EXPECT_EQ(arm_config(robot.model, plain.joints).label(), "front-up-noflip");
+  const CalibratedIkResult r = calibrated_ik(comp, wanted, config, q, IkMethod::Newton);
+  ASSERT_TRUE(r.ok()) << to_string(r.status);
+  EXPECT_EQ(arm_config(robot.model, r.joints), config);
+  EXPECT_LT((r.joints - q).cwiseAbs().maxCoeff(), 1e-7);
+  const Pose<double> reached = calibrated_tcp_pose(comp.chain, r.joints);
+  EXPECT_LT((reached.p - wanted.p).norm(), 1e-6);
+  EXPECT_LT(rad2deg(angle_between(reached.R, wanted.R)), 1e-6);
+}
+
 TEST(CompensateIk, ReportsWhatItCannotSolve) {
   auto rng = test::seeded_rng(15);
   const CalibratedRobot robot = random_calibrated("abb-irb120", rng);

@@ -257,9 +257,14 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
                                  const CalibratedIkOptions& options) {
   const Pose<double> base_T_flange = comp.base_T_world * world_T_tcp * comp.tcp_T_flange;
   auto iterate = [&](const Vector6d& seed) {
-    return method == IkMethod::Newton
-               ? newton(comp, world_T_tcp, seed, &config, options)
-               : calibrated_ik_pose_shift(comp, world_T_tcp, config, seed, options);
+    if (method == IkMethod::Newton) {
+      const CalibratedIkResult r = newton(comp, world_T_tcp, seed, &config, options);
+      // Near a branch boundary (elbow close to stretch, the nominal seed midway between the
+      // calibrated up and down answers) Newton may converge on the other branch; pose shift
+      // solves each step on the branch asked for.
+      if (r.status != CalibratedIkStatus::LeftConfiguration) return r;
+    }
+    return calibrated_ik_pose_shift(comp, world_T_tcp, config, seed, options);
   };
   // The turn nearest `near` on the widened limits first: near a limit the calibrated answer
   // may lie inside while the nominal seed does not.

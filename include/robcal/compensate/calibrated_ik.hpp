@@ -106,7 +106,8 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
 
 enum class IkMethod { Newton, PoseShift };
 
-/// Seeds from the nominal solution (world pose taken into the base frame) and iterates.
+/// Seeds from the nominal solution (world pose taken into the base frame) and iterates; when
+/// Newton leaves the configuration asked for, pose shift from the same seed.
 CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& world_T_tcp,
                                  const ArmConfig& config, const Vector6d& near,
                                  IkMethod method = IkMethod::Newton,
