@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <map>
 
 #include "robcal/compensate/calibrated_ik.hpp"
 #include "test_compensate_support.hpp"
@@ -215,27 +214,6 @@ TEST(CompensateIk, JointLimitsJudgedOnTheCalibratedJoints) {
               beyond, inside, seeds_beyond);
 }
 
-TEST(CompensateIk, ArmConfigOfAgreesWithTheClosedFormLabels) {
-  auto rng = test::seeded_rng(16);
-  for (const char* name : kRobots) {
-    const RobotModel model = load_robot(name);
-    const auto geometry = analyze_ortho_parallel(model);
-    ASSERT_TRUE(geometry);
-    int checked = 0;
-    for (int k = 0; k < 200; ++k) {
-      const Vector6d q = random_joints(model, rng);
-      const IkResult all =
-          nominal_ik(*geometry, flange_pose(model, PointMass{}, model.nominal(), q), q);
-      for (const IkSolution& s : all) {
-        if (near_singular(model, s.joints, 1)) continue;
-        EXPECT_EQ(arm_config(model, s.joints).label(), s.config.label()) << name;
-        ++checked;
-      }
-    }
-    EXPECT_GT(checked, 400) << name;
-  }
-}
-
 TEST(CompensateIk, NominalRobotNeedsNoIteration) {
   const RobotModel model = load_robot("abb-irb120");
   const Compensator comp = make_compensator(CalibratedRobot::nominal(model, Tool{}));
@@ -286,7 +264,7 @@ TEST(CompensateIk, ReportsWhatItCannotSolve) {
   far.p += comp.world_T_base.R * Eigen::Vector3d(2000, 0, 300);
   EXPECT_EQ(calibrated_ik(comp, far, ArmConfig{}, Vector6d::Zero()).status,
             CalibratedIkStatus::NoNominalSolution);
-  // Near the wrist singularity: whatever the status, a Converged answer reaches the pose.
+  // Near the wrist singularity: a Converged answer reaches the pose, a refused one has no NaN.
   int converged = 0, refused = 0;
   for (int k = 0; k < 200; ++k) {
     Vector6d q = random_joints(robot.model, rng);
@@ -301,13 +279,14 @@ TEST(CompensateIk, ReportsWhatItCannotSolve) {
         EXPECT_LT(rad2deg(angle_between(reached.R, wanted.R)), 1e-6);
         ++converged;
       } else {
-        EXPECT_NE(r.status, CalibratedIkStatus::Converged);
+        EXPECT_TRUE(r.joints.allFinite()) << to_string(r.status);
         ++refused;
       }
     }
   }
   std::printf("within 0.5° of the wrist singularity: %d converged (verified), %d refused\n",
               converged, refused);
+  EXPECT_GT(converged, 150);  // of 400 solves (226 with this seed)
   // A robot without a closed-form nominal inverse is refused up front.
   RobotModel bent = robot.model;
   bent.mdh[2].alpha = deg2rad(10);
