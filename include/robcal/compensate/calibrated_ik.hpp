@@ -31,8 +31,8 @@ struct CalibratedIkOptions {
   double position_tolerance_mm = 5e-7;
   double orientation_tolerance_rad = 8.7e-9;  ///< ≈ 5e-7°
   /// An iterate further than this from its nominal seed (any joint, rad) is abandoned: it is
-  /// heading for another turn or branch. Converged answers are also checked to keep the
-  /// seed's arm configuration.
+  /// heading for another turn or branch. Converged answers are also checked to be in the arm
+  /// configuration asked for (calibrated_ik_newton: the seed's).
   double max_joint_change_rad = 1.0;
 };
 
