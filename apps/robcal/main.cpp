@@ -45,7 +45,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help prints and succeeds; every malformed command line is bad input: exit code 2, as
+    // for bad files (CLI11's own codes, 104 for a non-numeric value, would surprise scripts).
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
   } catch (const robcal::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;

@@ -20,5 +20,8 @@ assert c["kinematic_vs_measurements"]["mean_mm"] > 3 * c["full_vs_measurements"]
 PY
 
 # A bad seed is refused with exit code 2 and no output.
-if "$robcal" experiments --seed x --out "$out/bad" 2> "$out/err"; then exit 1; fi
+rc=0
+"$robcal" experiments --seed x --out "$out/bad" 2> "$out/err" || rc=$?
+test "$rc" -eq 2 || { echo "exit code $rc, expected 2"; exit 1; }
+grep -q -- '--seed' "$out/err" || { echo "error does not name --seed: $(cat "$out/err")"; exit 1; }
 test ! -e "$out/bad"
