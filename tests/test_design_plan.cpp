@@ -99,16 +99,21 @@ TEST(DesignPlan, TaskBoxConfigurationsPutTheTcpInTheBox) {
   }
 }
 
-double achieved_mean(const StudyOutcome& o) {
-  return o.achieved.mean_mm;
-}
-// Mean squares: E[RMS²] over the region is what the covariance predicts, tr(J_v C J_vᵀ)
-// averaged over v; averaging RMS itself over few true robots would be biased low (Jensen).
-double achieved_ms(const StudyOutcome& o) {
-  return o.achieved.rms_mm * o.achieved.rms_mm;
-}
-double predicted_ms(const StudyOutcome& o) {
-  return o.predicted.rms_mm * o.predicted.rms_mm;
+TEST(DesignPlan, SummaryTakesMeansOfMeansAndQuadraticMeansOfRms) {
+  std::vector<StudyOutcome> outcomes(2);
+  outcomes[0].achieved = {1.0, 3.0, 5.0};
+  outcomes[1].achieved = {2.0, 4.0, 9.0};
+  outcomes[0].predicted = {0.5, 1.0, 2.0};
+  outcomes[1].predicted = {1.5, 7.0, 8.0};
+  outcomes[0].O1 = 0.2;
+  outcomes[1].O1 = 0.4;
+  const StudySummary s = summarize(outcomes);
+  EXPECT_DOUBLE_EQ(s.achieved_mean_mm, 1.5);
+  EXPECT_DOUBLE_EQ(s.achieved_rms_mm, std::sqrt(12.5));  // √((9 + 16) / 2)
+  EXPECT_DOUBLE_EQ(s.achieved_max_mm, 7.0);
+  EXPECT_DOUBLE_EQ(s.predicted_mean_mm, 1.0);
+  EXPECT_DOUBLE_EQ(s.predicted_rms_mm, 5.0);  // √((1 + 49) / 2)
+  EXPECT_DOUBLE_EQ(s.O1, 0.3);
 }
 
 void expect_closed_loop_properties(const PlanStudyResult& r, const char* region) {
@@ -120,14 +125,12 @@ void expect_closed_loop_properties(const PlanStudyResult& r, const char* region)
         EXPECT_EQ(o.measured, row.count);
         EXPECT_TRUE(o.converged);
       }
-    const double opt = mean_over_seeds(row.optimal, achieved_mean);
-    const double rnd = mean_over_seeds(row.random, achieved_mean);
+    const StudySummary optimal = summarize(row.optimal), random = summarize(row.random);
+    const double opt = optimal.achieved_mean_mm, rnd = random.achieved_mean_mm;
     // Prediction before measuring (Cramér–Rao, σ²(JᵀJ)⁻¹) against the closed loop: the RMS
     // TCP error over the region (quadratic mean over the true robots) within 30 %.
-    const double ratio_opt = std::sqrt(mean_over_seeds(row.optimal, achieved_ms) /
-                                       mean_over_seeds(row.optimal, predicted_ms));
-    const double ratio_rnd = std::sqrt(mean_over_seeds(row.random, achieved_ms) /
-                                       mean_over_seeds(row.random, predicted_ms));
+    const double ratio_opt = optimal.achieved_rms_mm / optimal.predicted_rms_mm;
+    const double ratio_rnd = random.achieved_rms_mm / random.predicted_rms_mm;
     std::printf(
         "[ study ] %s, %d configurations: D-optimal %.4f mm, random %.4f mm (gain %.2f); "
         "achieved/predicted RMS %.3f and %.3f\n",
@@ -137,10 +140,10 @@ void expect_closed_loop_properties(const PlanStudyResult& r, const char* region)
     EXPECT_NEAR(ratio_rnd, 1.0, 0.3);
   }
   // More configurations, better accuracy.
-  EXPECT_LT(mean_over_seeds(r.rows[1].optimal, achieved_mean),
-            mean_over_seeds(r.rows[0].optimal, achieved_mean));
+  EXPECT_LT(summarize(r.rows[1].optimal).achieved_mean_mm,
+            summarize(r.rows[0].optimal).achieved_mean_mm);
   // Calibration pays: far below the nominal robot's error.
-  EXPECT_LT(mean_over_seeds(r.rows[1].optimal, achieved_mean), 0.05 * r.nominal[0].mean_mm);
+  EXPECT_LT(summarize(r.rows[1].optimal).achieved_mean_mm, 0.05 * r.nominal[0].mean_mm);
 }
 
 TEST(DesignPlan, ClosedLoopStudyOptimalBeatsRandomAndMatchesThePrediction) {

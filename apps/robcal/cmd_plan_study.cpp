@@ -33,31 +33,6 @@ struct StudyOptions {
   bool json = false;
 };
 
-double achieved_mean(const StudyOutcome& o) {
-  return o.achieved.mean_mm;
-}
-// Mean squares: the covariance predicts E[RMS²]; their quadratic mean over the true robots is
-// the fair comparison (a plain mean of RMS is biased low over few robots).
-double achieved_ms(const StudyOutcome& o) {
-  return o.achieved.rms_mm * o.achieved.rms_mm;
-}
-double predicted_ms(const StudyOutcome& o) {
-  return o.predicted.rms_mm * o.predicted.rms_mm;
-}
-double quadratic_mean(const std::vector<StudyOutcome>& outcomes,
-                      double (*field)(const StudyOutcome&)) {
-  return std::sqrt(mean_over_seeds(outcomes, field));
-}
-double achieved_max(const StudyOutcome& o) {
-  return o.achieved.max_mm;
-}
-double predicted_mean(const StudyOutcome& o) {
-  return o.predicted.mean_mm;
-}
-double index_o1(const StudyOutcome& o) {
-  return o.O1;
-}
-
 nlohmann::json design_json(const std::vector<StudyOutcome>& outcomes) {
   nlohmann::json per_seed = nlohmann::json::array();
   for (const StudyOutcome& o : outcomes)
@@ -70,12 +45,13 @@ nlohmann::json design_json(const std::vector<StudyOutcome>& outcomes) {
                         {"O1", tidy(o.O1, 6)},
                         {"measured", o.measured},
                         {"converged", o.converged}});
-  return {{"achieved_mean_mm", tidy(mean_over_seeds(outcomes, achieved_mean), 6)},
-          {"achieved_rms_mm", tidy(quadratic_mean(outcomes, achieved_ms), 6)},
-          {"achieved_max_mm", tidy(mean_over_seeds(outcomes, achieved_max), 6)},
-          {"predicted_mean_mm", tidy(mean_over_seeds(outcomes, predicted_mean), 6)},
-          {"predicted_rms_mm", tidy(quadratic_mean(outcomes, predicted_ms), 6)},
-          {"O1", tidy(mean_over_seeds(outcomes, index_o1), 6)},
+  const StudySummary s = summarize(outcomes);
+  return {{"achieved_mean_mm", tidy(s.achieved_mean_mm, 6)},
+          {"achieved_rms_mm", tidy(s.achieved_rms_mm, 6)},
+          {"achieved_max_mm", tidy(s.achieved_max_mm, 6)},
+          {"predicted_mean_mm", tidy(s.predicted_mean_mm, 6)},
+          {"predicted_rms_mm", tidy(s.predicted_rms_mm, 6)},
+          {"O1", tidy(s.O1, 6)},
           {"per_seed", per_seed}};
 }
 
@@ -133,8 +109,8 @@ void run_study(const StudyOptions& o) {
       out["rows"].push_back({{"count", row.count},
                              {"optimal", design_json(row.optimal)},
                              {"random", design_json(row.random)},
-                             {"gain", tidy(mean_over_seeds(row.random, achieved_mean) /
-                                               mean_over_seeds(row.optimal, achieved_mean),
+                             {"gain", tidy(summarize(row.random).achieved_mean_mm /
+                                               summarize(row.optimal).achieved_mean_mm,
                                            4)}});
     print_json(out);
     return;
@@ -150,16 +126,15 @@ void run_study(const StudyOptions& o) {
   fmt::print("{:>5} | {:^39} | {:^39} | {:>5}\n", "", "D-optimal", "random", "gain");
   fmt::print("{:>5} | {:>9} {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9} | {:>5}\n", "count", "mean",
              "rms", "pred.rms", "max", "mean", "rms", "pred.rms", "max", "");
-  for (const StudyRow& row : r.rows)
+  for (const StudyRow& row : r.rows) {
+    const StudySummary opt = summarize(row.optimal), rnd = summarize(row.random);
     fmt::print(
         "{:>5} | {:>9.4f} {:>9.4f} {:>9.4f} {:>9.4f} | {:>9.4f} {:>9.4f} {:>9.4f} {:>9.4f} | "
         "{:>5.2f}\n",
-        row.count, mean_over_seeds(row.optimal, achieved_mean),
-        quadratic_mean(row.optimal, achieved_ms), quadratic_mean(row.optimal, predicted_ms),
-        mean_over_seeds(row.optimal, achieved_max), mean_over_seeds(row.random, achieved_mean),
-        quadratic_mean(row.random, achieved_ms), quadratic_mean(row.random, predicted_ms),
-        mean_over_seeds(row.random, achieved_max),
-        mean_over_seeds(row.random, achieved_mean) / mean_over_seeds(row.optimal, achieved_mean));
+        row.count, opt.achieved_mean_mm, opt.achieved_rms_mm, opt.predicted_rms_mm,
+        opt.achieved_max_mm, rnd.achieved_mean_mm, rnd.achieved_rms_mm, rnd.predicted_rms_mm,
+        rnd.achieved_max_mm, rnd.achieved_mean_mm / opt.achieved_mean_mm);
+  }
   fmt::print(
       "\nmean, max: achieved, averaged over the true robots; rms: achieved, quadratic mean over "
       "them; pred.rms: predicted before measuring from the design's parameter covariance "

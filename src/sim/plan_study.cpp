@@ -42,11 +42,21 @@ RegionError error_against_truth(const TrueRobot& truth, const ParameterVector& p
 
 }  // namespace
 
-double mean_over_seeds(const std::vector<StudyOutcome>& outcomes,
-                       double (*field)(const StudyOutcome&)) {
-  double sum = 0;
-  for (const StudyOutcome& o : outcomes) sum += field(o);
-  return outcomes.empty() ? 0 : sum / static_cast<double>(outcomes.size());
+StudySummary summarize(const std::vector<StudyOutcome>& outcomes) {
+  StudySummary s;
+  if (outcomes.empty()) return s;
+  const double n = static_cast<double>(outcomes.size());
+  for (const StudyOutcome& o : outcomes) {
+    s.achieved_mean_mm += o.achieved.mean_mm / n;
+    s.achieved_rms_mm += o.achieved.rms_mm * o.achieved.rms_mm / n;
+    s.achieved_max_mm += o.achieved.max_mm / n;
+    s.predicted_mean_mm += o.predicted.mean_mm / n;
+    s.predicted_rms_mm += o.predicted.rms_mm * o.predicted.rms_mm / n;
+    s.O1 += o.O1 / n;
+  }
+  s.achieved_rms_mm = std::sqrt(s.achieved_rms_mm);
+  s.predicted_rms_mm = std::sqrt(s.predicted_rms_mm);
+  return s;
 }
 
 PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,

@@ -67,8 +67,15 @@ PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
                                const PlanStudyOptions& options,
                                const std::function<void(int done, int total)>& progress = {});
 
-/// Mean over seeds of a field of the outcomes.
-double mean_over_seeds(const std::vector<StudyOutcome>& outcomes,
-                       double (*field)(const StudyOutcome&));
+/// One design's outcomes at one count, over the true robots: means of the mean and max TCP
+/// errors, quadratic means of the RMS ones (the covariance predicts E[RMS²], and a plain mean
+/// of RMS over few robots is biased low).
+struct StudySummary {
+  double achieved_mean_mm = 0, achieved_rms_mm = 0, achieved_max_mm = 0;
+  double predicted_mean_mm = 0, predicted_rms_mm = 0;
+  double O1 = 0;
+};
+
+StudySummary summarize(const std::vector<StudyOutcome>& outcomes);
 
 }  // namespace robcal
