@@ -78,6 +78,24 @@ set +e
 rc=$?
 set -e
 [ "$rc" = 2 ] && grep -q "configurations\[0\].mode" "$tmp/err" && [ ! -e "$tmp/x.yaml" ]
+# A plan the simulator cannot read: the file and key are named, exit 2, no readings file.
+while IFS='|' read -r key edit; do
+  python3 -c "import json,sys; p=json.load(open(sys.argv[1])); $edit; json.dump(p, open(sys.argv[2],'w'))" \
+    "$tmp/s1/plan.json" "$tmp/badplan.json"
+  set +e
+  "$ROBCAL" hexapod simulate-readings --plan "$tmp/badplan.json" --out "$tmp/x.txt" \
+    --tool-out "$tmp/x.yaml" 2> "$tmp/err"
+  rc=$?
+  set -e
+  [ "$rc" = 2 ] && grep -q "badplan.json" "$tmp/err" && grep -qF "($key)" "$tmp/err" \
+    && [ ! -e "$tmp/x.txt" ] && [ ! -e "$tmp/x.yaml" ] || { echo "bad plan ($edit):"; cat "$tmp/err"; exit 1; }
+done <<'EDITS'
+placement|p['placement'] = '450,0'
+geometry.base_sides_mm|p['geometry']['base_sides_mm'] = 'x'
+geometry.tool_sides_mm|p['geometry']['tool_sides_mm'] = [150, 150]
+ballbar.leg_mm|p['ballbar']['leg_mm'] = -1
+tool_offset_mm|p.pop('tool_offset_mm')
+EDITS
 python3 - "$tmp" <<'PY'
 import json, sys
 t = sys.argv[1]
