@@ -195,6 +195,7 @@ void run_calibrate(const CalibrateOptions& o) {
                      fmt::format("unknown fit '{}': expected poses or legs", o.fit));
   if (o.fit == "legs" && o.relative)
     throw InputError({"", 0, 0, "--relative"}, "the leg fit always identifies the base cups");
+  check_orientation_weight(o.orientation_weight);
   const RobotModel model = load_robot(o.robot);
   const SessionData data = o.session.load();
   const WorldFrameFit world = session_world_frame(data);
@@ -223,6 +224,7 @@ void run_calibrate(const CalibrateOptions& o) {
     out["robot"] = model.name;
     out["level"] = r.robot.level;
     out["relative"] = o.relative;
+    out["orientation_weight_mm_per_rad"] = o.orientation_weight;
     out["rows"] = poses.size();
     out["converged"] = r.status.converged;
     out["iterations"] = r.status.iterations;
@@ -465,7 +467,8 @@ const bool registered = register_command(61, [](CLI::App& app) {
                   "Hold the base parameters (the published relative model): keeps the error of "
                   "the world frame the uncalibrated robot gave the base cups");
     cmd->add_option("--orientation-weight", o->orientation_weight,
-                    "mm per rad of orientation error")
+                    "Poses fit: mm per rad of orientation residual (as calibrate "
+                    "--orientation-weight)")
         ->capture_default_str();
     cmd->add_option("--seed", o->seed, "Seed of the predicted-accuracy samples")
         ->capture_default_str();

@@ -78,6 +78,17 @@ set +e
 rc=$?
 set -e
 [ "$rc" = 2 ] && grep -q "configurations\[0\].mode" "$tmp/err" && [ ! -e "$tmp/x.yaml" ]
+set +e
+"$ROBCAL" hexapod calibrate --session "$tmp/s1" --orientation-weight -1 --out "$tmp/x.yaml" \
+  --poses-out "$tmp/x.csv" 2> "$tmp/err"
+rc=$?
+set -e
+[ "$rc" = 2 ] && grep -q -- "--orientation-weight" "$tmp/err" && [ ! -e "$tmp/x.yaml" ] && [ ! -e "$tmp/x.csv" ]
+set +e
+"$ROBCAL" hexapod calibrate --session "$tmp/none" --out "$tmp/x.yaml" 2> "$tmp/err"
+rc=$?
+set -e
+[ "$rc" = 2 ] && grep -q "$tmp/none (--session): no such session" "$tmp/err" && [ ! -e "$tmp/x.yaml" ]
 # A plan the simulator cannot read: the file and key are named, exit 2, no readings file.
 while IFS='|' read -r key edit; do
   python3 -c "import json,sys; p=json.load(open(sys.argv[1])); $edit; json.dump(p, open(sys.argv[2],'w'))" \
