@@ -2,7 +2,8 @@
 # Calibration from hexapod measurement sessions, the two-stage way, on a simulated cell: plan →
 # simulated readings piped into the session → preliminary calibration → re-plan of the legs that
 # were out of range → second session → final calibration on both → validation against simulated
-# laser-tracker points (sub-0.1 mm, while the nominal model is off by about 1 mm).
+# laser-tracker points (at the tracker-noise floor, 0.035 mm mean, while the nominal model is off by
+# about 1 mm).
 set -euo pipefail
 ROBCAL="$1"
 tmp=$(mktemp -d)
@@ -55,11 +56,12 @@ PY
   --fit legs --out "$tmp/legs.yaml" --json > "$tmp/legs.json"
 [ "$(json "$tmp/legs.json" "d['converged'] and d['rms_mm'] < 0.005")" = True ]
 
-# Validation: calibrated models within 0.1 mm mean and 0.2 mm max; the nominal one is not.
+# Validation: calibrated models within 20% of the tracker-noise floor (mean of |N(0, 0.022² I)|
+# = 0.022·√(8/π) = 0.0351 mm) and 0.15 mm max; the nominal one is off by about 1 mm.
 for m in prelim final legs; do
   "$ROBCAL" validate --robot fanuc-lrmate200ic --tool "$tmp/tool.yaml" --model "$tmp/$m.yaml" \
     --measurements "$tmp/val.csv" --json > "$tmp/val_$m.json"
-  [ "$(json "$tmp/val_$m.json" "d['position_error_mm']['mean'] < 0.1 and d['position_error_mm']['max'] < 0.2")" = True ]
+  [ "$(json "$tmp/val_$m.json" "d['position_error_mm']['mean'] < 1.2 * 0.0351 and d['position_error_mm']['max'] < 0.15")" = True ]
 done
 "$ROBCAL" validate --robot fanuc-lrmate200ic --tool "$tmp/tool.yaml" --fit-base \
   --measurements "$tmp/val.csv" --json > "$tmp/val_nominal.json"
