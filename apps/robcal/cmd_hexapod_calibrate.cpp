@@ -36,15 +36,17 @@ struct SessionOptions {
   std::string plan;
   std::string tool;  ///< payload source
 
-  void add_to(CLI::App* cmd) {
+  /// `with_tool`: the command takes the payload from --tool (replan takes it from the model).
+  void add_to(CLI::App* cmd, bool with_tool = true) {
     cmd->add_option("--session", sessions,
                     "Session directory (plan.json + journal.jsonl) or journal file; repeat for the "
                     "first pass and the re-measurement of its retries")
         ->required();
     cmd->add_option("--plan", plan, "Plan of a journal file given as --session");
-    cmd->add_option("--tool", tool,
-                    "Tool file whose payload (mass, CoG) the robot carried (default: none); its "
-                    "targets are replaced by the tool fixture's cups");
+    if (with_tool)
+      cmd->add_option("--tool", tool,
+                      "Tool file whose payload (mass, CoG) the robot carried (default: none); its "
+                      "targets are replaced by the tool fixture's cups");
   }
   [[nodiscard]] SessionData load() const {
     if (!plan.empty() && sessions.size() != 1)
@@ -505,7 +507,7 @@ const bool registered = register_command(61, [](CLI::App& app) {
     auto model = std::make_shared<std::string>();
     auto out = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
-    s->add_to(cmd);
+    s->add_to(cmd, false);
     cmd->add_option("--model", *model, "Preliminary model from `robcal hexapod calibrate`")
         ->required();
     cmd->add_option("--out", *out, "Plan file to write (JSON)")->required();

@@ -39,7 +39,7 @@ PY
 
 # Stage 2: re-plan the retries on the preliminary model, measure them (fixture sides are not asked
 # again), calibrate on both sessions.
-"$ROBCAL" hexapod replan --session "$tmp/s1" --tool "$tmp/tool.yaml" --model "$tmp/prelim.yaml" \
+"$ROBCAL" hexapod replan --session "$tmp/s1" --model "$tmp/prelim.yaml" \
   --out "$tmp/s2/plan.json" --json > "$tmp/replan.json"
 [ "$(json "$tmp/replan.json" "d['replanned']")" = "$retry" ]
 "$ROBCAL" hexapod simulate-readings --plan "$tmp/s2/plan.json" --seed 5 --out "$tmp/r2.txt" --json > "$tmp/sim2.json"
