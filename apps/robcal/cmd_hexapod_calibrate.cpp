@@ -36,15 +36,17 @@ struct SessionOptions {
   std::string plan;
   std::string tool;  ///< payload source
 
-  void add_to(CLI::App* cmd) {
+  /// `with_tool`: the command takes the payload from --tool (replan takes it from the model).
+  void add_to(CLI::App* cmd, bool with_tool = true) {
     cmd->add_option("--session", sessions,
                     "Session directory (plan.json + journal.jsonl) or journal file; repeat for the "
                     "first pass and the re-measurement of its retries")
         ->required();
     cmd->add_option("--plan", plan, "Plan of a journal file given as --session");
-    cmd->add_option("--tool", tool,
-                    "Tool file whose payload (mass, CoG) the robot carried (default: none); its "
-                    "targets are replaced by the tool fixture's cups");
+    if (with_tool)
+      cmd->add_option("--tool", tool,
+                      "Tool file whose payload (mass, CoG) the robot carried (default: none); its "
+                      "targets are replaced by the tool fixture's cups");
   }
   [[nodiscard]] SessionData load() const {
     if (!plan.empty() && sessions.size() != 1)
@@ -79,17 +81,36 @@ void print_session_summary(const SessionData& data, const WorldFrameFit& world) 
       data.source, data.readings.size(), data.retry.size(), data.pending, world.rms_mm);
 }
 
-void write_exports(const SessionData& data, const Tool& tool, const std::string& poses_out,
-                   const std::string& legs_out, const std::string& tool_out) {
-  const std::string comment = fmt::format(
-      "tool fixture poses of {} by the ballbar hexapod's direct kinematics, robot frame through "
-      "the world frame of the base cups",
-      data.source);
-  if (!poses_out.empty())
-    write_file_atomically(poses_out,
-                          write_measurements_csv(session_pose_measurements(data), tool, comment));
-  if (!legs_out.empty()) write_file_atomically(legs_out, session_legs_csv(data));
-  if (!tool_out.empty()) write_file_atomically(tool_out, tool_to_yaml(tool));
+/// The files a command writes, all rendered before any is written: an error on the way (a
+/// configuration without a direct-kinematics solution, say) leaves no file behind.
+class OutputFiles {
+ public:
+  void add(const std::string& path, std::string text) {
+    if (!path.empty()) files_.emplace_back(path, std::move(text));
+  }
+  void write() const {
+    for (const auto& [path, text] : files_) write_file_atomically(path, text);
+  }
+
+ private:
+  std::vector<std::pair<std::string, std::string>> files_;
+};
+
+/// The poses CSV (the tool fixture poses `poses`, or the session's when not given), the raw legs
+/// CSV and the tool file, for those of the paths given.
+void add_exports(OutputFiles& files, const SessionData& data, const Tool& tool,
+                 const MeasurementSet* poses, const std::string& poses_out,
+                 const std::string& legs_out, const std::string& tool_out) {
+  if (!poses_out.empty()) {
+    const std::string comment = fmt::format(
+        "tool fixture poses of {} by the ballbar hexapod's direct kinematics, robot frame through "
+        "the world frame of the base cups",
+        data.source);
+    files.add(poses_out, write_measurements_csv(poses ? *poses : session_pose_measurements(data),
+                                                tool, comment));
+  }
+  if (!legs_out.empty()) files.add(legs_out, session_legs_csv(data));
+  if (!tool_out.empty()) files.add(tool_out, tool_to_yaml(tool));
 }
 
 nlohmann::json read_plan_json(const std::string& path) {
@@ -137,8 +158,10 @@ void run_leg_calibrate(const CalibrateOptions& o, const RobotModel& model, const
   YAML::Emitter emitter;
   emitter.SetDoublePrecision(9);
   emitter << stats;
-  write_file_atomically(o.out, calibrated_robot_to_yaml(robot, emitter.c_str()));
-  write_exports(data, tool, o.poses_out, o.legs_out, o.tool_out);
+  OutputFiles files;
+  files.add(o.out, calibrated_robot_to_yaml(robot, emitter.c_str()));
+  add_exports(files, data, tool, nullptr, o.poses_out, o.legs_out, o.tool_out);
+  files.write();
   if (o.json) {
     nlohmann::json out = session_summary(data, world);
     out["robot"] = model.name;
@@ -169,16 +192,17 @@ void run_leg_calibrate(const CalibrateOptions& o, const RobotModel& model, const
 }
 
 void run_calibrate(const CalibrateOptions& o) {
+  if (o.fit != "poses" && o.fit != "legs")
+    throw InputError({"", 0, 0, "--fit"},
+                     fmt::format("unknown fit '{}': expected poses or legs", o.fit));
+  if (o.fit == "legs" && o.relative)
+    throw InputError({"", 0, 0, "--relative"}, "the leg fit always identifies the base cups");
+  check_orientation_weight(o.orientation_weight);
   const RobotModel model = load_robot(o.robot);
   const SessionData data = o.session.load();
   const WorldFrameFit world = session_world_frame(data);
   const Tool tool = o.session.hexapod_tool_of(data);
-  if (o.fit != "poses" && o.fit != "legs")
-    throw InputError({"", 0, 0, "--fit"},
-                     fmt::format("unknown fit '{}': expected poses or legs", o.fit));
   if (o.fit == "legs") {
-    if (o.relative)
-      throw InputError({"", 0, 0, "--relative"}, "the leg fit always identifies the base cups");
     run_leg_calibrate(o, model, data, world, tool);
     return;
   }
@@ -193,13 +217,16 @@ void run_calibrate(const CalibrateOptions& o) {
   // The poses are in the robot frame of the world the base cups define: the model's frame is that
   // world even when its base is held (the relative model).
   r.robot.base_fitted = true;
-  write_file_atomically(o.out, calibrated_robot_to_yaml(r.robot, statistics_yaml(r)));
-  write_exports(data, tool, o.poses_out, o.legs_out, o.tool_out);
+  OutputFiles files;
+  files.add(o.out, calibrated_robot_to_yaml(r.robot, statistics_yaml(r)));
+  add_exports(files, data, tool, &poses, o.poses_out, o.legs_out, o.tool_out);
+  files.write();
   if (o.json) {
     nlohmann::json out = session_summary(data, world);
     out["robot"] = model.name;
     out["level"] = r.robot.level;
     out["relative"] = o.relative;
+    out["orientation_weight_mm_per_rad"] = o.orientation_weight;
     out["rows"] = poses.size();
     out["converged"] = r.status.converged;
     out["iterations"] = r.status.iterations;
@@ -234,7 +261,9 @@ void run_export(const SessionOptions& s, const std::string& out, const std::stri
                 const std::string& tool_out, bool json) {
   const SessionData data = s.load();
   const WorldFrameFit world = session_world_frame(data);
-  write_exports(data, s.hexapod_tool_of(data), out, legs_out, tool_out);
+  OutputFiles files;
+  add_exports(files, data, s.hexapod_tool_of(data), nullptr, out, legs_out, tool_out);
+  files.write();
   if (json) {
     nlohmann::json summary = session_summary(data, world);
     summary["poses"] = out;
@@ -306,14 +335,18 @@ void run_replan(const SessionOptions& s, const std::string& model_path, const st
 
 // ---- simulate-readings -----------------------------------------------------------------------
 
+/// A field of a plan written by `robcal hexapod plan` that the simulator needs: `node[key]`, named
+/// `parent.key` in errors, which say what was `expected`.
 template <typename T>
-T plan_value(const nlohmann::json& plan, const std::string& key, const std::string& file) {
-  if (!plan.contains(key))
-    throw InputError({file, 0, 0, key}, "the simulator needs this field of the plan");
+T plan_value(const nlohmann::json& node, const std::string& key, const std::string& file,
+             const std::string& expected, const std::string& parent = "") {
+  const SourceLocation where{file, 0, 0, parent.empty() ? key : parent + "." + key};
+  if (!node.is_object() || !node.contains(key))
+    throw InputError(where, "the simulator needs this field of the plan: " + expected);
   try {
-    return plan[key].get<T>();
+    return node[key].get<T>();
   } catch (const nlohmann::json::exception&) {
-    throw InputError({file, 0, 0, key}, "unexpected type");
+    throw InputError(where, "expected " + expected);
   }
 }
 
@@ -326,26 +359,36 @@ struct SimulateReadingsOptions {
 
 /// The simulated cell of a plan: the true robot and fixtures drawn from the seed, so plans of the
 /// same cell (a first pass and its re-plan) see the same robot and cups.
-SimulatedHexapodCell cell_of_plan(const SimulateReadingsOptions& o, const RobotModel& model,
-                                  const PointMass& payload, std::mt19937_64& rng) {
+SimulatedHexapodCell cell_of_plan(const SimulateReadingsOptions& o, const SessionPlan& session,
+                                  const RobotModel& model, const PointMass& payload,
+                                  std::mt19937_64& rng) {
   const nlohmann::json plan = read_plan_json(o.plan);
   HexapodCellOptions cell;
-  const auto geometry = plan_value<nlohmann::json>(plan, "geometry", o.plan);
+  const auto geometry =
+      plan_value<nlohmann::json>(plan, "geometry", o.plan, "the fixtures' design sides");
   const auto sides = [&](const char* key) {
-    const auto v = geometry.value(key, std::vector<double>{});
+    const auto v = plan_value<std::vector<double>>(geometry, key, o.plan, "three side lengths (mm)",
+                                                   "geometry");
     if (v.size() != 3)
-      throw InputError({o.plan, 0, 0, std::string("geometry.") + key}, "expected three sides");
+      throw InputError({o.plan, 0, 0, std::string("geometry.") + key},
+                       "expected three side lengths (mm)");
     return TriangleSides{v[0], v[1], v[2]};
   };
-  cell.design = {sides("base_sides_mm"), sides("tool_sides_mm"),
-                 plan_value<nlohmann::json>(plan, "ballbar", o.plan).value("leg_mm", 300.0)};
-  const std::vector<double> placement =
-      parse_numbers(plan_value<std::string>(plan, "placement", o.plan), 4, "placement");
+  cell.design = {sides("base_sides_mm"), sides("tool_sides_mm"), session.leg_mm};
+  const std::string placement_text =
+      plan_value<std::string>(plan, "placement", o.plan, "the placement \"x,y,z,yaw\" (mm, deg)");
+  std::vector<double> placement;
+  try {
+    placement = parse_numbers(placement_text, 4, "placement");
+  } catch (const InputError&) {
+    throw InputError({o.plan, 0, 0, "placement"},
+                     fmt::format("'{}': expected \"x,y,z,yaw\" (mm, deg)", placement_text));
+  }
   cell.placement.R =
       Eigen::AngleAxisd(deg2rad(placement[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
   cell.placement.p = Eigen::Vector3d(placement[0], placement[1], placement[2]);
-  cell.tool_offset_mm = plan_value<double>(plan, "tool_offset_mm", o.plan);
-  cell.ball_offset_mm = plan_value<double>(plan, "ball_offset_mm", o.plan);
+  cell.tool_offset_mm = plan_value<double>(plan, "tool_offset_mm", o.plan, "a number (mm)");
+  cell.ball_offset_mm = plan_value<double>(plan, "ball_offset_mm", o.plan, "a number (mm)");
   const TrueRobot truth = levelled_random_truth(model, payload, EndToEndOptions{}.errors, rng);
   return set_up_simulated_cell(truth, model, cell, rng);
 }
@@ -356,9 +399,9 @@ void run_simulate_readings(const SimulateReadingsOptions& o) {
   const RobotModel model = load_robot(o.robot);
   const PointMass payload = o.payload.empty() ? PointMass{2.6, Eigen::Vector3d(50, 25, 100)}
                                               : load_tool(o.payload).payload;
-  std::mt19937_64 rng(o.seed);
-  const SimulatedHexapodCell cell = cell_of_plan(o, model, payload, rng);
   const SessionPlan plan = load_session_plan(o.plan);
+  std::mt19937_64 rng(o.seed);
+  const SimulatedHexapodCell cell = cell_of_plan(o, plan, model, payload, rng);
   // Drive the session script itself, so the readings come in the order the session asks.
   Session session(plan);
   std::string text;
@@ -370,11 +413,12 @@ void run_simulate_readings(const SimulateReadingsOptions& o) {
     ++readings;
     out_of_range += r ? 0 : 1;
   }
-  write_file_atomically(o.out, text);
+  OutputFiles files;
+  files.add(o.out, text);
   const Pose<double> flange_T_tool =
       plan.flange_T_tool ? *plan.flange_T_tool : cell.cell.flange_T_tool;
   const Tool tool = hexapod_tool(payload, flange_T_tool, cell.tool_sides);
-  if (!o.tool_out.empty()) write_file_atomically(o.tool_out, tool_to_yaml(tool));
+  files.add(o.tool_out, tool_to_yaml(tool));
   if (!o.validation_out.empty() && o.validation > 0) {
     // The tracker reads the SMR in tool cup T1; its points go to the robot frame of the hexapod's
     // world (the frame of the poses file) through the world frame of the base cups.
@@ -385,12 +429,13 @@ void run_simulate_readings(const SimulateReadingsOptions& o) {
     for (size_t k = 0; k < v.joints.size(); ++k)
       set.points.push_back({fmt::format("v{}", k + 1), 0, v.joints[k],
                             cell.world.robot_T_fixture * Eigen::Vector3d(v.measured.col(k)), 0});
-    write_file_atomically(
+    files.add(
         o.validation_out,
         write_measurements_csv(
             set, tool,
             fmt::format("simulated laser tracker (0.022 mm) on tool cup T1, seed {}", o.seed)));
   }
+  files.write();
   if (o.json) {
     print_json({{"seed", o.seed},
                 {"readings", readings},
@@ -424,7 +469,8 @@ const bool registered = register_command(61, [](CLI::App& app) {
                   "Hold the base parameters (the published relative model): keeps the error of "
                   "the world frame the uncalibrated robot gave the base cups");
     cmd->add_option("--orientation-weight", o->orientation_weight,
-                    "mm per rad of orientation error")
+                    "Poses fit: mm per rad of orientation residual (as calibrate "
+                    "--orientation-weight)")
         ->capture_default_str();
     cmd->add_option("--seed", o->seed, "Seed of the predicted-accuracy samples")
         ->capture_default_str();
@@ -461,7 +507,7 @@ const bool registered = register_command(61, [](CLI::App& app) {
     auto model = std::make_shared<std::string>();
     auto out = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
-    s->add_to(cmd);
+    s->add_to(cmd, false);
     cmd->add_option("--model", *model, "Preliminary model from `robcal hexapod calibrate`")
         ->required();
     cmd->add_option("--out", *out, "Plan file to write (JSON)")->required();

@@ -5,7 +5,7 @@
 namespace robcal::hexapod {
 
 Pose<double> measured_tool_pose(const TriangleSides& base_sides, const TriangleSides& tool_sides,
-                                const LegReadings& r) {
+                                const LegReadings& r, const std::string& file) {
   const Cups<double> base = fixture_cups(base_sides, "base fixture sides");
   const Cups<double> tool = fixture_cups(tool_sides, "tool fixture sides");
   const DkpResult dkp = solve_dkp(design_base_cups(r.design, base), Eigen::Vector3d::UnitZ(),
@@ -13,7 +13,7 @@ Pose<double> measured_tool_pose(const TriangleSides& base_sides, const TriangleS
   const AssemblyModeSolution* solution = dkp.mode(r.mode);
   if (solution == nullptr)
     throw InputError(
-        {"", 0, 0, r.config},
+        {file, 0, 0, r.config},
         "configuration " + r.config + ": " +
             (dkp.status == DkpStatus::Ok
                  ? "the legs have no solution in assembly mode " + std::to_string(r.mode)
@@ -31,7 +31,7 @@ MeasurementSet pose_measurements(const TriangleSides& base_sides, const Triangle
     PoseMeasurement m;
     m.config = r.config;
     m.joints = r.joints;
-    m.world_T_tcp = robot_T_world * measured_tool_pose(base_sides, tool_sides, r);
+    m.world_T_tcp = robot_T_world * measured_tool_pose(base_sides, tool_sides, r, file);
     set.poses.push_back(m);
   }
   return set;

@@ -36,18 +36,24 @@ double positive(const nlohmann::json& node, const SourceLocation& where) {
   return node.get<double>();
 }
 
-Eigen::Vector3d point3(const nlohmann::json& node, const SourceLocation& where) {
+/// A list of three numbers, else an InputError saying what was `expected`.
+std::array<double, 3> three_numbers(const nlohmann::json& node, const SourceLocation& where,
+                                    const char* expected) {
   if (!node.is_array() || node.size() != 3 || !node[0].is_number() || !node[1].is_number() ||
       !node[2].is_number())
-    throw InputError(where, "expected three numbers [x, y, z] (mm)");
+    throw InputError(where, std::string("expected ") + expected);
   return {node[0].get<double>(), node[1].get<double>(), node[2].get<double>()};
 }
 
+Eigen::Vector3d point3(const nlohmann::json& node, const SourceLocation& where) {
+  const std::array<double, 3> v = three_numbers(node, where, "three numbers [x, y, z] (mm)");
+  return {v[0], v[1], v[2]};
+}
+
 TriangleSides sides(const nlohmann::json& node, const SourceLocation& where) {
-  if (!node.is_array() || node.size() != 3 || !node[0].is_number() || !node[1].is_number() ||
-      !node[2].is_number())
-    throw InputError(where, "expected three side lengths [d12, d23, d31] (mm)");
-  const TriangleSides s{node[0].get<double>(), node[1].get<double>(), node[2].get<double>()};
+  const std::array<double, 3> v =
+      three_numbers(node, where, "three side lengths [d12, d23, d31] (mm)");
+  const TriangleSides s{v[0], v[1], v[2]};
   if (const std::string problem = triangle_problem(s); !problem.empty())
     throw InputError(where, problem);
   return s;

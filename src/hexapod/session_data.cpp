@@ -22,6 +22,9 @@ std::string config_label(const SessionConfiguration& c) {
 SessionData load_session_data(const std::filesystem::path& session,
                               const std::filesystem::path& plan_path) {
   std::filesystem::path journal = session, plan_file = plan_path;
+  if (!std::filesystem::exists(session))
+    throw InputError({session.string(), 0, 0, "--session"},
+                     "no such session directory (plan.json + journal.jsonl) or journal file");
   if (std::filesystem::is_directory(session)) {
     journal = session / "journal.jsonl";
     if (plan_file.empty()) plan_file = session / "plan.json";

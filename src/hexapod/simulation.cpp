@@ -29,6 +29,14 @@ TriangleSides measure_sides(const Cups<double>& cups, double nominal, const Hexa
   return {d[0], d[1], d[2]};
 }
 
+/// One leg's reading with the true flange at `sim_T_flange`.
+std::optional<double> read_leg(const SimulatedHexapodCell& cell, const PhysicalLeg& leg,
+                               const Pose<double>& sim_T_flange, std::mt19937_64& rng) {
+  const Ballbar bar{cell.base_cups_sim[leg.base], cell.options.design.leg_mm, cell.options.sigma_mm,
+                    cell.options.range_mm};
+  return read_length(bar, sim_T_flange * cell.tool_cups_flange[leg.tool], rng);
+}
+
 }  // namespace
 
 TrueRobot levelled_random_truth(const RobotModel& model, const PointMass& payload,
@@ -88,10 +96,7 @@ SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotMo
 
 std::optional<double> simulate_leg(const SimulatedHexapodCell& cell, const PhysicalLeg& leg,
                                    const Vector6d& joints, std::mt19937_64& rng) {
-  const Ballbar bar{cell.base_cups_sim[leg.base], cell.options.design.leg_mm, cell.options.sigma_mm,
-                    cell.options.range_mm};
-  return read_length(bar, true_flange_pose(cell.truth, joints) * cell.tool_cups_flange[leg.tool],
-                     rng);
+  return read_leg(cell, leg, true_flange_pose(cell.truth, joints), rng);
 }
 
 std::optional<double> simulate_session_reading(const SimulatedHexapodCell& cell,
@@ -138,9 +143,10 @@ TrackerValidation simulate_tracker_validation(const SimulatedHexapodCell& cell,
 std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell,
                                                 const HexapodPose& pose, const Vector6d& joints,
                                                 std::mt19937_64& rng, int* out_of_range) {
+  const Pose<double> sim_T_flange = true_flange_pose(cell.truth, joints);  // once for six legs
   LegLengths<double> legs{};
   for (size_t i = 0; i < pose.legs.size(); ++i) {
-    const std::optional<double> r = simulate_leg(cell, pose.legs[i], joints, rng);
+    const std::optional<double> r = read_leg(cell, pose.legs[i], sim_T_flange, rng);
     if (!r) {
       if (out_of_range != nullptr) *out_of_range = static_cast<int>(i);
       return std::nullopt;

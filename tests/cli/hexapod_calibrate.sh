@@ -2,7 +2,8 @@
 # Calibration from hexapod measurement sessions, the two-stage way, on a simulated cell: plan →
 # simulated readings piped into the session → preliminary calibration → re-plan of the legs that
 # were out of range → second session → final calibration on both → validation against simulated
-# laser-tracker points (sub-0.1 mm, while the nominal model is off by about 1 mm).
+# laser-tracker points (at the tracker-noise floor, 0.035 mm mean, while the nominal model is off by
+# about 1 mm).
 set -euo pipefail
 ROBCAL="$1"
 tmp=$(mktemp -d)
@@ -38,7 +39,7 @@ PY
 
 # Stage 2: re-plan the retries on the preliminary model, measure them (fixture sides are not asked
 # again), calibrate on both sessions.
-"$ROBCAL" hexapod replan --session "$tmp/s1" --tool "$tmp/tool.yaml" --model "$tmp/prelim.yaml" \
+"$ROBCAL" hexapod replan --session "$tmp/s1" --model "$tmp/prelim.yaml" \
   --out "$tmp/s2/plan.json" --json > "$tmp/replan.json"
 [ "$(json "$tmp/replan.json" "d['replanned']")" = "$retry" ]
 "$ROBCAL" hexapod simulate-readings --plan "$tmp/s2/plan.json" --seed 5 --out "$tmp/r2.txt" --json > "$tmp/sim2.json"
@@ -55,11 +56,12 @@ PY
   --fit legs --out "$tmp/legs.yaml" --json > "$tmp/legs.json"
 [ "$(json "$tmp/legs.json" "d['converged'] and d['rms_mm'] < 0.005")" = True ]
 
-# Validation: calibrated models within 0.1 mm mean and 0.2 mm max; the nominal one is not.
+# Validation: calibrated models within 20% of the tracker-noise floor (mean of |N(0, 0.022² I)|
+# = 0.022·√(8/π) = 0.0351 mm) and 0.15 mm max; the nominal one is off by about 1 mm.
 for m in prelim final legs; do
   "$ROBCAL" validate --robot fanuc-lrmate200ic --tool "$tmp/tool.yaml" --model "$tmp/$m.yaml" \
     --measurements "$tmp/val.csv" --json > "$tmp/val_$m.json"
-  [ "$(json "$tmp/val_$m.json" "d['position_error_mm']['mean'] < 0.1 and d['position_error_mm']['max'] < 0.2")" = True ]
+  [ "$(json "$tmp/val_$m.json" "d['position_error_mm']['mean'] < 1.2 * 0.0351 and d['position_error_mm']['max'] < 0.15")" = True ]
 done
 "$ROBCAL" validate --robot fanuc-lrmate200ic --tool "$tmp/tool.yaml" --fit-base \
   --measurements "$tmp/val.csv" --json > "$tmp/val_nominal.json"
@@ -78,6 +80,35 @@ set +e
 rc=$?
 set -e
 [ "$rc" = 2 ] && grep -q "configurations\[0\].mode" "$tmp/err" && [ ! -e "$tmp/x.yaml" ]
+set +e
+"$ROBCAL" hexapod calibrate --session "$tmp/s1" --orientation-weight -1 --out "$tmp/x.yaml" \
+  --poses-out "$tmp/x.csv" 2> "$tmp/err"
+rc=$?
+set -e
+[ "$rc" = 2 ] && grep -q -- "--orientation-weight" "$tmp/err" && [ ! -e "$tmp/x.yaml" ] && [ ! -e "$tmp/x.csv" ]
+set +e
+"$ROBCAL" hexapod calibrate --session "$tmp/none" --out "$tmp/x.yaml" 2> "$tmp/err"
+rc=$?
+set -e
+[ "$rc" = 2 ] && grep -q "$tmp/none (--session): no such session" "$tmp/err" && [ ! -e "$tmp/x.yaml" ]
+# A plan the simulator cannot read: the file and key are named, exit 2, no readings file.
+while IFS='|' read -r key edit; do
+  python3 -c "import json,sys; p=json.load(open(sys.argv[1])); $edit; json.dump(p, open(sys.argv[2],'w'))" \
+    "$tmp/s1/plan.json" "$tmp/badplan.json"
+  set +e
+  "$ROBCAL" hexapod simulate-readings --plan "$tmp/badplan.json" --out "$tmp/x.txt" \
+    --tool-out "$tmp/x.yaml" 2> "$tmp/err"
+  rc=$?
+  set -e
+  [ "$rc" = 2 ] && grep -q "badplan.json" "$tmp/err" && grep -qF "($key)" "$tmp/err" \
+    && [ ! -e "$tmp/x.txt" ] && [ ! -e "$tmp/x.yaml" ] || { echo "bad plan ($edit):"; cat "$tmp/err"; exit 1; }
+done <<'EDITS'
+placement|p['placement'] = '450,0'
+geometry.base_sides_mm|p['geometry']['base_sides_mm'] = 'x'
+geometry.tool_sides_mm|p['geometry']['tool_sides_mm'] = [150, 150]
+ballbar.leg_mm|p['ballbar']['leg_mm'] = -1
+tool_offset_mm|p.pop('tool_offset_mm')
+EDITS
 python3 - "$tmp" <<'PY'
 import json, sys
 t = sys.argv[1]

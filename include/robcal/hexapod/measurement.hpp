@@ -28,9 +28,9 @@ struct LegReadings {
 };
 
 /// The tool fixture frame in the base fixture frame from one configuration's readings, or an
-/// InputError naming the configuration when the distances have no solution in its mode.
+/// InputError naming `file` and the configuration when the distances have no solution in its mode.
 Pose<double> measured_tool_pose(const TriangleSides& base_sides, const TriangleSides& tool_sides,
-                                const LegReadings& readings);
+                                const LegReadings& readings, const std::string& file = "");
 
 /// Poses MeasurementSet (world_T_tcp expressed in the robot frame through `robot_T_world`) from
 /// every configuration's readings; `file` names the source in messages.

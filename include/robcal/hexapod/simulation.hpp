@@ -56,9 +56,6 @@ TrueRobot levelled_random_truth(const RobotModel& model, const PointMass& payloa
 SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotModel& nominal,
                                            const HexapodCellOptions& options, std::mt19937_64& rng);
 
-/// Readings of the six legs of `pose` with the true robot at `joints` (controller, rad), in
-/// measurement order, or nullopt with `out_of_range` set to the first leg the ballbar cannot
-/// read (0..5).
 /// One leg's reading with the true robot at `joints`, or nullopt when out of the ballbar's range.
 std::optional<double> simulate_leg(const SimulatedHexapodCell& cell, const PhysicalLeg& leg,
                                    const Vector6d& joints, std::mt19937_64& rng);
@@ -82,6 +79,9 @@ TrackerValidation simulate_tracker_validation(const SimulatedHexapodCell& cell,
                                               const Eigen::Vector3d& point_flange, int count,
                                               double sigma_mm, std::mt19937_64& rng);
 
+/// Readings of the six legs of `pose` with the true robot at `joints` (controller, rad), in
+/// measurement order, or nullopt with `out_of_range` set to the first leg the ballbar cannot
+/// read (0..5).
 std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell,
                                                 const HexapodPose& pose, const Vector6d& joints,
                                                 std::mt19937_64& rng, int* out_of_range = nullptr);
