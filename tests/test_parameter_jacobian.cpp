@@ -145,5 +145,55 @@ TEST(ParameterJacobian, TwistJacobianRotatesTheFlangeLikeFiniteDifferences) {
   }
 }
 
+TEST(ParameterJacobian, ShiftedSineAndCosineAreExactOnBothSidesOfTheSeriesLimit) {
+  // Against long double sin and cos of θ + δ: the series (|δ| < 0.01) and the direct branch
+  // within a few ulp. Leaving out the δ⁶/720 term would err by 1.4e-15 at δ = 0.01.
+  for (const double theta : {0.3, 2.5, -1.7, 3.1}) {
+    for (const double delta :
+         {1e-7, 1e-3, 5e-3, 9.999e-3, 1.0001e-2, 0.02, 0.3, 3.0, -1e-3, -9.999e-3, -0.5}) {
+      double s = 0, c = 0;
+      sin_cos_shifted(std::sin(theta), std::cos(theta), delta, &s, &c);
+      const long double angle = static_cast<long double>(theta) + delta;
+      EXPECT_NEAR(s, static_cast<double>(std::sin(angle)), 5e-16) << theta << " + " << delta;
+      EXPECT_NEAR(c, static_cast<double>(std::cos(angle)), 5e-16) << theta << " + " << delta;
+    }
+  }
+}
+
+TEST(ParameterJacobian, ConfigurationPreparedAtOtherParametersGivesTheSameChain) {
+  // The identification prepares each configuration at its start parameters and evaluates at
+  // the iterates: link angles moved a little (series) and far (joint offsets by 5°, a scale by
+  // 2 %: the direct branch) must give the chain and the regressor of a fresh preparation.
+  const RobotModel model = load_robot("abb-irb120");
+  const PointMass payload{2.6, Eigen::Vector3d(-23, 0, 100)};
+  auto rng = test::seeded_rng(21);
+  const ParameterVector x0 = perturbed(model, rng, true);
+  ParameterVector x1 = x0;
+  x1[5] += deg2rad(0.2);                   // base γ: θ_1 by 0.2° (series)
+  x1[link_param(2, 2)] += deg2rad(5.0);    // θ_2 by 5° (direct)
+  x1[link_param(3, 2)] -= deg2rad(0.3);    // series
+  x1[link_param(5, 2)] += deg2rad(-40.0);  // a large move
+  x1[scale_param(4)] += 2e-3;              // 2e-3·q_4: series
+  x1[scale_param(6)] += 2e-2;              // 2e-2·q_6: direct for |q_6| > 0.5 rad
+  x1[compliance_param(3)] *= 1.5;
+  const ParameterTrig trig = parameter_trig(x1);
+  for (int trial = 0; trial < 10; ++trial) {
+    const Vector6d q = random_joints(model, rng);
+    const FlangeRegressor moved(model, payload, x1, trig, prepare_configuration(model, x0, q));
+    const FlangeRegressor fresh(model, payload, x1, trig, prepare_configuration(model, x1, q));
+    const Pose<double> reference = flange_pose(model, payload, x1, q);  // templated FK
+    EXPECT_LT((moved.flange().p - reference.p).norm(), 1e-9);
+    EXPECT_LT((moved.flange().R - reference.R).norm(), 1e-12);
+    EXPECT_LT((moved.flange().p - fresh.flange().p).norm(), 1e-10);
+    TwistJacobian J_moved, J_fresh;
+    moved.jacobian<6>(Eigen::Matrix<double, 6, 6>::Identity(), &J_moved);
+    fresh.jacobian<6>(Eigen::Matrix<double, 6, 6>::Identity(), &J_fresh);
+    for (int i = 0; i < kParameterCount; ++i)
+      EXPECT_LT((J_moved.col(i) - J_fresh.col(i)).norm(),
+                1e-10 * std::max(1.0, J_fresh.col(i).norm()))
+          << parameter_table()[i].name;
+  }
+}
+
 }  // namespace
 }  // namespace robcal

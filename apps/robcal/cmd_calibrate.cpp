@@ -4,7 +4,6 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
-#include <cmath>
 #include <iostream>
 
 #include "cli_common.hpp"
@@ -162,10 +161,7 @@ void print_report(const IdentificationResult& r, const CrossValidation* cv,
 }
 
 void run_calibrate(const CalibrateArgs& args) {
-  if (!(args.orientation_weight > 0) || !std::isfinite(args.orientation_weight))
-    throw InputError(
-        {"", 0, 0, "--orientation-weight"},
-        fmt::format("must be a positive number of mm per rad, not {}", args.orientation_weight));
+  check_orientation_weight(args.orientation_weight);
   const RobotModel model = load_robot(args.robot);
   const Tool tool = load_tool(args.tool);
   const MeasurementFile file = read_measurements_csv(args.measurements, tool);

@@ -30,7 +30,7 @@ struct ValidateOptions {
   bool json = false;
   int threads = 2;
   double orientation_weight = kDefaultOrientationWeightMm;
-  std::vector<double> ballbar_centre;  ///< empty: identified from the rows
+  std::string ballbar_centre;  ///< X,Y,Z mm; empty: identified from the rows
 };
 
 nlohmann::json statistics_json(const ErrorStatistics& s) {
@@ -39,6 +39,17 @@ nlohmann::json statistics_json(const ErrorStatistics& s) {
           {"mean_plus_3std", s.mean_plus_3std()},
           {"min", s.min},
           {"max", s.max}};
+}
+
+nlohmann::json per_target_json(const std::vector<TargetErrorStatistics>& targets) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const TargetErrorStatistics& t : targets) {
+    nlohmann::json entry = statistics_json(t.position_mm);
+    entry["target"] = t.target;
+    entry["rows"] = t.position_mm.count;
+    out.push_back(entry);
+  }
+  return out;
 }
 
 nlohmann::json histogram_json(const Histogram& h) {
@@ -55,9 +66,10 @@ void print_statistics_row(const std::string& label, const ErrorStatistics& s) {
 void run_ballbar_validation(const ValidateOptions& options, const RobotModel& model,
                             const CalibratedRobot& robot, const MeasurementSet& set) {
   std::optional<Eigen::Vector3d> centre;
-  if (!options.ballbar_centre.empty())
-    centre = Eigen::Vector3d(options.ballbar_centre[0], options.ballbar_centre[1],
-                             options.ballbar_centre[2]);
+  if (!options.ballbar_centre.empty()) {
+    const std::vector<double> c = parse_numbers(options.ballbar_centre, 3, "--ballbar-centre");
+    centre = Eigen::Vector3d(c[0], c[1], c[2]);
+  }
   const BallbarErrors errors = ballbar_errors(robot, set, centre);
   std::vector<double> absolute;
   for (double e : errors.length_error_mm) absolute.push_back(std::abs(e));
@@ -75,13 +87,7 @@ void run_ballbar_validation(const ValidateOptions& options, const RobotModel& mo
     out["length_error_histogram_mm"] = histogram_json(histogram);
     out["ballbar_centre_mm"] = {errors.centre_mm.x(), errors.centre_mm.y(), errors.centre_mm.z()};
     out["ballbar_centre"] = errors.centre_fitted ? "identified" : "given";
-    out["per_target"] = nlohmann::json::array();
-    for (const TargetErrorStatistics& t : errors.per_target) {
-      nlohmann::json entry = statistics_json(t.position_mm);
-      entry["target"] = t.target;
-      entry["rows"] = t.position_mm.count;
-      out["per_target"].push_back(entry);
-    }
+    out["per_target"] = per_target_json(errors.per_target);
     out["robot"] = model.name;
     out["level"] = robot.level;
     out["measurements"] = options.measurements;
@@ -105,10 +111,7 @@ void run_ballbar_validation(const ValidateOptions& options, const RobotModel& mo
 }
 
 void run_validate(const ValidateOptions& options) {
-  if (!(options.orientation_weight > 0) || !std::isfinite(options.orientation_weight))
-    throw InputError(
-        {"", 0, 0, "--orientation-weight"},
-        fmt::format("must be a positive number of mm per rad, not {}", options.orientation_weight));
+  check_orientation_weight(options.orientation_weight);
   const RobotModel model = load_robot(options.robot);
   const Tool tool = load_tool(options.tool);
   CalibratedRobot robot = CalibratedRobot::nominal(model, tool);
@@ -167,13 +170,7 @@ void run_validate(const ValidateOptions& options) {
     out["distance_error_mm"]["pairs"] = distances.stats.count;
     out["distance_error_mm"]["histogram"] = histogram_json(distances.histogram);
     out["position_histogram_mm"] = histogram_json(report.position_histogram);
-    out["per_target"] = nlohmann::json::array();
-    for (const TargetErrorStatistics& t : positions.per_target) {
-      nlohmann::json entry = statistics_json(t.position_mm);
-      entry["target"] = t.target;
-      entry["rows"] = t.position_mm.count;
-      out["per_target"].push_back(entry);
-    }
+    out["per_target"] = per_target_json(positions.per_target);
     if (set.kind == MeasurementKind::Poses) {
       out["orientation_error_deg"] = statistics_json(positions.orientation_deg);
       out["pose_error_mm"] = statistics_json(positions.pose_mm);
@@ -239,9 +236,7 @@ const bool registered = register_command(60, [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--ballbar-centre", options->ballbar_centre,
                   "Distances (ballbar) files: the fixed centre X,Y,Z in mm in the model's frame "
-                  "(default: identified from the rows)")
-      ->delimiter(',')
-      ->expected(3);
+                  "(default: identified from the rows)");
   cmd->add_flag("--fit-base", options->fit_base,
                 "For a model without a world frame (the nominal robot): first fit its 6 base "
                 "parameters to these measurements (rigid best fit)");

@@ -14,36 +14,28 @@
 namespace robcal {
 namespace {
 
-/// Tells the costs whether Ceres evaluates at the point of its previous evaluation: after a
-/// successful step it asks for the Jacobian where it has just evaluated the residuals, and the
-/// rows' chains (the flange poses and what their derivatives need) are then reused.
-class SamePoint final : public ceres::EvaluationCallback {
- public:
-  void PrepareForEvaluation(bool /*evaluate_jacobians*/, bool new_evaluation_point) override {
-    same = !new_evaluation_point;
-  }
-  bool same = false;
-};
-
 /// The rows [begin, end) of a measurement set as one Ceres cost on the scaled unknowns z:
 /// unknowns = start + scales ⊙ z over the free indices (column scaling makes mm, rad and
 /// rad/N·mm comparable; z starts at 0). The rows' configurations are prepared once, at the
 /// start, and the scratch is kept: an evaluation computes the parameters' sines and cosines
-/// once, no joint's, and allocates nothing. Ceres evaluates it on one thread (num_threads = 1).
+/// once, no joint's, and allocates nothing. After a successful step Ceres asks for the Jacobian
+/// where it has just evaluated the residuals: the rows' chains (the flange poses and what their
+/// derivatives need) of the last point evaluated are kept and reused when z is that point again,
+/// compared value by value (so whatever order Ceres evaluates in). Ceres evaluates it on one
+/// thread (num_threads = 1).
 class RowsCost final : public ceres::CostFunction {
  public:
   RowsCost(const ResidualContext& context, const std::vector<int>& free,
            const Eigen::VectorXd& scales, const Eigen::VectorXd& start,
-           const std::vector<PreparedConfiguration>& configurations, const SamePoint& same_point,
-           size_t begin, size_t end)
+           const std::vector<PreparedConfiguration>& configurations, size_t begin, size_t end)
       : context_(context),
         free_(free),
         scales_(scales),
         start_(start),
         configurations_(configurations),
-        same_point_(same_point),
         begin_(begin),
         end_(end),
+        z_(free.size()),
         unknowns_(start),
         row_jacobian_(context.data->residuals_per_row(), context.layout->size()) {
     chains_.reserve(end - begin);
@@ -53,7 +45,8 @@ class RowsCost final : public ceres::CostFunction {
 
   bool Evaluate(double const* const* z, double* residuals, double** jacobians) const override {
     const auto n = free_.size();
-    if (!same_point_.same || chains_.empty()) {
+    if (chains_.empty() || !std::equal(z_.begin(), z_.end(), z[0])) {
+      std::copy(z[0], z[0] + n, z_.begin());
       unknowns_ = start_;
       for (size_t i = 0; i < n; ++i)
         unknowns_[free_[i]] += scales_[static_cast<Eigen::Index>(i)] * z[0][i];
@@ -88,9 +81,9 @@ class RowsCost final : public ceres::CostFunction {
   const Eigen::VectorXd& scales_;
   const Eigen::VectorXd& start_;
   const std::vector<PreparedConfiguration>& configurations_;
-  const SamePoint& same_point_;
   size_t begin_, end_;
-  mutable std::vector<FlangeRegressor> chains_;  ///< of the last evaluation point
+  mutable std::vector<FlangeRegressor> chains_;  ///< of the last evaluation point, z_
+  mutable std::vector<double> z_;
   mutable Eigen::VectorXd unknowns_;
   mutable Eigen::MatrixXd row_jacobian_;
 };
@@ -107,19 +100,15 @@ SolverStatus solve(const ResidualContext& context, const std::vector<int>& free,
     configurations[row] =
         prepare_configuration(*context.model, start_params, row_joints(*context.data, row));
   std::vector<double> z(free.size(), 0.0);
-  SamePoint same_point;
-  ceres::Problem::Options problem_options;
-  problem_options.evaluation_callback = &same_point;
-  ceres::Problem problem(problem_options);
+  ceres::Problem problem;
   if (huber_scale > 0) {
     for (size_t row = 0; row < rows; ++row)
       problem.AddResidualBlock(
-          new RowsCost(context, free, scales, start, configurations, same_point, row, row + 1),
+          new RowsCost(context, free, scales, start, configurations, row, row + 1),
           new ceres::HuberLoss(huber_scale), z.data());
   } else {
-    problem.AddResidualBlock(
-        new RowsCost(context, free, scales, start, configurations, same_point, 0, rows), nullptr,
-        z.data());
+    problem.AddResidualBlock(new RowsCost(context, free, scales, start, configurations, 0, rows),
+                             nullptr, z.data());
   }
   ceres::Solver::Options options;
   options.minimizer_type = ceres::TRUST_REGION;
@@ -239,6 +228,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
                                            const MeasurementSet& data,
                                            const IdentifyOptions& options) {
   check_data(tool, data);
+  check_orientation_weight(options.orientation_weight_mm);
   IdentificationSetup setup;
   setup.model = model;
   setup.tool = tool;

@@ -1,5 +1,10 @@
 #include "robcal/identify/residuals.hpp"
 
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "robcal/core/error.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
 
 namespace robcal {
@@ -9,6 +14,12 @@ Eigen::Vector3d target_coordinates(const ResidualContext& context, const Eigen::
   const int slot = context.layout->target_slot[static_cast<size_t>(target)];
   return slot < 0 ? context.tool->targets[static_cast<size_t>(target)].position_mm
                   : Eigen::Vector3d(unknowns.segment<3>(slot));
+}
+
+void check_orientation_weight(double weight_mm) {
+  if (!(weight_mm > 0) || !std::isfinite(weight_mm))
+    throw InputError({"", 0, 0, "--orientation-weight"},
+                     fmt::format("must be a positive number of mm per rad, not {}", weight_mm));
 }
 
 const Vector6d& row_joints(const MeasurementSet& data, size_t row) {

@@ -13,22 +13,6 @@ void sin_cos(double angle, double* s, double* c) {
   *c = std::cos(angle);
 }
 
-/// sin and cos of θ + δ from those of θ; for the small gearbox deflections δ (< 0.01 rad) by
-/// their series, whose next terms (δ⁷/5040, δ⁸/40320) are below double rounding.
-void sin_cos_shifted(double s0, double c0, double delta, double* s, double* c) {
-  double sd, cd;
-  if (std::abs(delta) < 1e-2) {
-    // Horner with the factorials' reciprocals: multiplications only (no division latency).
-    const double d2 = delta * delta;
-    sd = delta * (1 - d2 * (1.0 / 6 - d2 * (1.0 / 120 - d2 * (1.0 / 5040))));
-    cd = 1 - d2 * (0.5 - d2 * (1.0 / 24 - d2 * (1.0 / 720)));
-  } else {
-    sin_cos(delta, &sd, &cd);
-  }
-  *s = s0 * cd + c0 * sd;
-  *c = c0 * cd - s0 * sd;
-}
-
 /// World frames Φ1..Φ6 for link angles given by their sin and cos, composed column by column:
 /// Rot_x(α)·Trans_x(a) mixes the previous y, z axes and moves along the previous x;
 /// Rot_z(θ)·Trans_z(d) mixes the new x, y and moves along the new z (METHOD §2).
@@ -65,6 +49,20 @@ std::array<double, kJointCount> undeflected_angles(const RobotModel& model, cons
 }
 
 }  // namespace
+
+void sin_cos_shifted(double s0, double c0, double delta, double* s, double* c) {
+  double sd, cd;
+  if (std::abs(delta) < 1e-2) {
+    // Horner with the factorials' reciprocals: multiplications only (no division latency).
+    const double d2 = delta * delta;
+    sd = delta * (1 - d2 * (1.0 / 6 - d2 * (1.0 / 120 - d2 * (1.0 / 5040))));
+    cd = 1 - d2 * (0.5 - d2 * (1.0 / 24 - d2 * (1.0 / 720)));
+  } else {
+    sin_cos(delta, &sd, &cd);
+  }
+  *s = s0 * cd + c0 * sd;
+  *c = c0 * cd - s0 * sd;
+}
 
 ParameterTrig parameter_trig(const ParameterVector& params) {
   const double* x = params.data();

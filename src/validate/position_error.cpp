@@ -61,6 +61,7 @@ Eigen::Matrix3Xd predicted_positions(const CalibratedRobot& robot, const Measure
 
 PositionErrors position_errors(const CalibratedRobot& robot, const MeasurementSet& set,
                                double orientation_weight_mm) {
+  check_orientation_weight(orientation_weight_mm);
   if (set.kind == MeasurementKind::Distances)
     throw std::invalid_argument(
         "position_errors: a distances (ballbar) set has no positions to compare");

@@ -107,6 +107,16 @@ rc=$?
 set -e
 [ $rc -eq 2 ] || fail "--ballbar-centre on points: exit $rc"
 grep -q "this is a points file" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+for centre in "nan,0,0" "1,2" "1,2,x"; do
+  set +e
+  "$robcal" validate --robot abb-irb120 --tool "$tmp/bb/tool.yaml" \
+    --measurements "$tmp/bb/measurements.csv" --ballbar-centre="$centre" 2>"$tmp/err" >"$tmp/out"
+  rc=$?
+  set -e
+  [ $rc -eq 2 ] || fail "--ballbar-centre $centre: exit $rc"
+  grep -q -- "--ballbar-centre" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+  [ ! -s "$tmp/out" ] || fail "output printed for --ballbar-centre $centre"
+done
 
 # Poses files: the orientation weight is settable, printed, and enters the pose error only.
 "$robcal" simulate --instrument optical-cmm --truth published --random 30 --seed 5 \

@@ -24,6 +24,9 @@ namespace robcal {
 /// sees it).
 inline constexpr double kDefaultOrientationWeightMm = 100.0;
 
+/// InputError (key `--orientation-weight`) unless the weight is a positive finite number.
+void check_orientation_weight(double weight_mm);
+
 /// Everything a residual needs besides the unknowns (not owned; must outlive the context).
 struct ResidualContext {
   const RobotModel* model = nullptr;

@@ -44,7 +44,8 @@ struct PositionErrors {
 Eigen::Matrix3Xd predicted_positions(const CalibratedRobot& robot, const MeasurementSet& set);
 
 /// Errors of every row of a points or poses set (std::invalid_argument for distances: a
-/// ballbar's length needs its centre, which only a calibration identifies).
+/// ballbar's lengths are compared with its centre, validate/ballbar_error.hpp).
+/// \throws InputError for a weight that is not positive and finite
 PositionErrors position_errors(const CalibratedRobot& robot, const MeasurementSet& set,
                                double orientation_weight_mm = kDefaultOrientationWeightMm);
 
