@@ -17,9 +17,8 @@
 
 namespace robcal::test {
 
-inline std::string data_path(const std::string& relative) {
-  return std::string(ROBCAL_TEST_DATA_DIR) + "/" + relative;
-}
+/// A file of the test data folder (tests/data/), by its path inside it.
+std::string data_path(const std::string& relative);
 
 /// A numeric CSV table with a header row; '#' lines are skipped.
 struct CsvTable {
