@@ -52,7 +52,7 @@ TEST(CompensateChain, CarriedAnglesMatchAFreshEvaluation) {
       ChainState state;
       double worst_mm = 0, worst_R = 0, worst_J = 0;
       for (int step = 0; step < 30; ++step) {
-        // Steps of 1e-9 to 0.05 rad: below kSmallAngleRad mostly, above it sometimes.
+        // Steps of 1e-9 to 0.05 rad: below kSeriesShiftLimitRad mostly, above it sometimes.
         const double size = std::pow(10.0, std::uniform_real_distribution<double>(-9, -1.3)(rng));
         for (int i = 0; i < kJointCount; ++i)
           j[i] += size * std::uniform_real_distribution<double>(-1, 1)(rng);

@@ -5,6 +5,7 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
+#include "robcal/kinematics/angle_shift.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
 #include "test_support.hpp"
@@ -146,11 +147,11 @@ TEST(ParameterJacobian, TwistJacobianRotatesTheFlangeLikeFiniteDifferences) {
 }
 
 TEST(ParameterJacobian, ShiftedSineAndCosineAreExactOnBothSidesOfTheSeriesLimit) {
-  // Against long double sin and cos of θ + δ: the series (|δ| < 0.01) and the direct branch
-  // within a few ulp. Leaving out the δ⁶/720 term would err by 1.4e-15 at δ = 0.01.
+  // Against long double sin and cos of θ + δ: the series (|δ| < kSeriesShiftLimitRad) and the
+  // direct branch within a few ulp. Leaving out the δ⁶/720 term would err by 9e-14 at δ = 0.02.
   for (const double theta : {0.3, 2.5, -1.7, 3.1}) {
     for (const double delta :
-         {1e-7, 1e-3, 5e-3, 9.999e-3, 1.0001e-2, 0.02, 0.3, 3.0, -1e-3, -9.999e-3, -0.5}) {
+         {1e-7, 1e-3, 1e-2, 1.9999e-2, 2.0001e-2, 0.05, 0.3, 3.0, -1e-3, -1.9999e-2, -0.5}) {
       double s = 0, c = 0;
       sin_cos_shifted(std::sin(theta), std::cos(theta), delta, &s, &c);
       const long double angle = static_cast<long double>(theta) + delta;

@@ -46,12 +46,6 @@ Vector6d parse_joints_deg(const std::string& text, const std::string& what) {
   return q;
 }
 
-void check_orientation_weight(double mm_per_rad) {
-  if (!(mm_per_rad > 0) || !std::isfinite(mm_per_rad))
-    throw InputError({"", 0, 0, "--orientation-weight"},
-                     fmt::format("must be a positive number of mm per rad, not {}", mm_per_rad));
-}
-
 void print_json(const nlohmann::json& value) {
   std::cout << value.dump(2) << std::endl;
 }

@@ -18,10 +18,6 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
 /// Six controller joint values given in degrees → radians.
 Vector6d parse_joints_deg(const std::string& text, const std::string& what = "--joints");
 
-/// Throws InputError (--orientation-weight) unless `mm_per_rad` is a positive finite number: the
-/// weight of orientation residuals of poses files (calibrate, validate, hexapod calibrate).
-void check_orientation_weight(double mm_per_rad);
-
 /// Prints JSON (2-space indent) to stdout.
 void print_json(const nlohmann::json& value);
 

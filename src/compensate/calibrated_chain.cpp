@@ -2,29 +2,10 @@
 
 #include <cmath>
 
+#include "robcal/kinematics/angle_shift.hpp"
+
 namespace robcal {
 namespace {
-
-/// Below this |δ| (rad) cos δ and sin δ (a compliance deflection, an iteration's step) come
-/// from their Taylor series truncated after δ⁶ and δ⁷ (remainders < δ⁸/8! and δ⁹/9!, under
-/// 1e-18 at 0.02: far below the rounding of the products they enter).
-constexpr double kSmallAngleRad = 0.02;
-
-/// (cos, sin) of θ + δ from those of θ; the series when δ is small, else cos and sin of δ.
-void rotate_by(double& c, double& s, double delta) {
-  double cd, sd;
-  if (std::abs(delta) < kSmallAngleRad) {
-    const double d2 = delta * delta;
-    cd = 1.0 - d2 * (1.0 / 2 - d2 * (1.0 / 24 - d2 * (1.0 / 720)));
-    sd = delta * (1.0 - d2 * (1.0 / 6 - d2 * (1.0 / 120 - d2 * (1.0 / 5040))));
-  } else {
-    cd = std::cos(delta);
-    sd = std::sin(delta);
-  }
-  const double c0 = c;
-  c = c0 * cd - s * sd;
-  s = s * cd + c0 * sd;
-}
 
 /// Φ_i = Φ_{i-1} · Rot_x(α)·Trans_x(a)·Rot_z(θ)·Trans_z(d) written on the columns r0, r1, r2 of
 /// Φ_{i-1}'s rotation: u = cα·r1 + sα·r2, z = cα·r2 − sα·r1, x = cθ·r0 + sθ·u, y = cθ·u − sθ·r0,
@@ -95,8 +76,9 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
   for (int i = 0; i < kJointCount; ++i) {
     const double theta = c.scale[i] * q[i] + c.theta_offset[i] + (i == 0 ? c.base_gamma : 0.0);
     const double step = theta - state.theta[i];
-    if (state.has_angles && std::abs(step) < kSmallAngleRad) {
-      rotate_by(state.cos_theta[i], state.sin_theta[i], step);
+    if (state.has_angles && std::abs(step) < kSeriesShiftLimitRad) {
+      sin_cos_shifted(state.sin_theta[i], state.cos_theta[i], step, &state.sin_theta[i],
+                      &state.cos_theta[i]);
     } else {
       state.cos_theta[i] = std::cos(theta);
       state.sin_theta[i] = std::sin(theta);
@@ -120,7 +102,7 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
     for (int i = 0; i < kJointCount; ++i) state.z_undeflected[i] = frames[i].R.col(2);
     for (int i = 1; i < kJointCount; ++i) {
       const double tau = state.z_undeflected[i].dot(state.V[i].cross(c.gravity));
-      rotate_by(cos_t[i], sin_t[i], c.compliance[i] * tau);
+      sin_cos_shifted(sin_t[i], cos_t[i], c.compliance[i] * tau, &sin_t[i], &cos_t[i]);
     }
     for (int i = 1; i < kJointCount; ++i)
       next_frame(frames[i - 1], c.cos_alpha[i], c.sin_alpha[i], c.a[i], c.d[i], cos_t[i], sin_t[i],

@@ -2,6 +2,8 @@
 
 #include "robcal/kinematics/parameter_jacobian.hpp"
 
+#include "robcal/kinematics/angle_shift.hpp"
+
 namespace robcal {
 namespace {
 
@@ -49,20 +51,6 @@ std::array<double, kJointCount> undeflected_angles(const RobotModel& model, cons
 }
 
 }  // namespace
-
-void sin_cos_shifted(double s0, double c0, double delta, double* s, double* c) {
-  double sd, cd;
-  if (std::abs(delta) < 1e-2) {
-    // Horner with the factorials' reciprocals: multiplications only (no division latency).
-    const double d2 = delta * delta;
-    sd = delta * (1 - d2 * (1.0 / 6 - d2 * (1.0 / 120 - d2 * (1.0 / 5040))));
-    cd = 1 - d2 * (0.5 - d2 * (1.0 / 24 - d2 * (1.0 / 720)));
-  } else {
-    sin_cos(delta, &sd, &cd);
-  }
-  *s = s0 * cd + c0 * sd;
-  *c = c0 * cd - s0 * sd;
-}
 
 ParameterTrig parameter_trig(const ParameterVector& params) {
   const double* x = params.data();

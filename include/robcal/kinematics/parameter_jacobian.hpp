@@ -38,13 +38,6 @@ void flange_twist_jacobian(const RobotModel& model, const PointMass& payload,
                            const ParameterVector& params, const Vector6d& joints,
                            Pose<double>* world_T_flange, TwistJacobian* jacobian);
 
-/// sin(θ + δ) and cos(θ + δ) from s0 = sin θ, c0 = cos θ. For |δ| < 0.01 rad (gearbox
-/// deflections; the small moves of the link angles during a fit) sin δ and cos δ come from their
-/// series to δ⁷ and δ⁶: the first terms left out, δ⁹/9! and δ⁸/8!, are below 3e-21 there, far
-/// under double rounding. Larger shifts (a joint angle moved far from where its configuration was
-/// prepared) take std::sin and std::cos of δ: exact either way, the series only saves time.
-void sin_cos_shifted(double s0, double c0, double delta, double* s, double* c);
-
 /// The sines and cosines that depend on the parameters alone (link twists α_2..α_6, base α and
 /// β): computed once per parameter vector, shared by every configuration.
 struct ParameterTrig {
