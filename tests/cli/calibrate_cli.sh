@@ -7,21 +7,8 @@ set -u
 ROBCAL=${1:?usage: calibrate_cli.sh path/to/robcal}
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
-FAILED=0
+source "$(dirname "$0")/lib/checks.sh"
 REF=tests/data/irb120-published
-
-fail() { echo "FAIL: $*"; FAILED=1; }
-
-# expect_error "<description>" "<substring of stderr>" robcal-args... (all write $TMP/bad.yaml)
-expect_error() {
-  local what=$1 needle=$2
-  shift 2
-  "$ROBCAL" "$@" >"$TMP/out" 2>"$TMP/err"
-  local rc=$?
-  [[ $rc -eq 2 ]] || fail "$what: exit code $rc (expected 2) for: $*"
-  grep -qF -- "$needle" "$TMP/err" || fail "$what: stderr lacks '$needle': $(cat "$TMP/err")"
-  [[ ! -e "$TMP/bad.yaml" ]] || fail "$what: an output file was written"
-}
 
 # 1. Full calibration with JSON output and 5-fold cross-validation.
 "$ROBCAL" calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
@@ -117,4 +104,4 @@ expect_error "negative orientation weight" "--orientation-weight" calibrate --ro
   --tool "$TMP/cmm/tool.yaml" --measurements "$TMP/cmm/measurements.csv" --orientation-weight -1 \
   --out "$TMP/bad.yaml"
 
-exit $FAILED
+finish calibrate_cli

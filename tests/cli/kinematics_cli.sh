@@ -6,22 +6,7 @@ set -u
 ROBCAL=${1:?usage: kinematics_cli.sh path/to/robcal}
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
-FAILED=0
-
-fail() { echo "FAIL: $*"; FAILED=1; }
-
-# expect_error "<description>" "<substring of stderr>" robcal-args...
-expect_error() {
-  local what=$1 needle=$2
-  shift 2
-  "$ROBCAL" "$@" >"$TMP/out" 2>"$TMP/err"
-  local rc=$?
-  [[ $rc -ne 0 ]] || fail "$what: exit code 0 for: $*"
-  [[ $rc -eq 2 ]] || fail "$what: exit code $rc (expected 2) for: $*"
-  grep -qF -- "$needle" "$TMP/err" || fail "$what: stderr lacks '$needle': $(cat "$TMP/err")"
-  [[ ! -s "$TMP/out" ]] || fail "$what: wrote to stdout: $(cat "$TMP/out")"
-}
-
+source "$(dirname "$0")/lib/checks.sh"
 
 # 1. fk → ik round trip with negative joint values: the input joints are among the solutions.
 JOINTS="-10,20,-30,40,-50,60"
@@ -74,8 +59,4 @@ expect_error "malformed robot file key" "mdh" fk --robot "$TMP/bad-robot.yaml" -
 grep -v "^joint_limits_deg\|^  - \[-1[0-9][0-9], \|^  - \[-400" data/robots/abb-irb120.yaml >"$TMP/no-limits.yaml"
 expect_error "robot file without limits" "joint_limits_deg" fk --robot "$TMP/no-limits.yaml" --joints 0,0,0,0,0,0
 
-if [[ $FAILED -ne 0 ]]; then
-  echo "kinematics_cli: FAILED"
-  exit 1
-fi
-echo "kinematics_cli: all checks passed"
+finish kinematics_cli
