@@ -36,19 +36,22 @@ void setup_commands(CLI::App& app) {
 }  // namespace robcal::cli
 
 int main(int argc, char** argv) {
-  CLI::App app{
-      "robcal — absolute calibration of six-axis industrial robots.\n"
-      "Units: millimetres and degrees in every file, flag and printout."};
-  app.require_subcommand(1);
-  app.set_help_all_flag("--help-all", "Show help for every command");
-  robcal::cli::setup_commands(app);
+  // Everything inside the try: building the command set can throw too, and nothing may escape.
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    // --help prints and succeeds; every malformed command line is bad input: exit code 2, as
-    // for bad files (CLI11's own codes, 104 for a non-numeric value, would surprise scripts).
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    CLI::App app{
+        "robcal — absolute calibration of six-axis industrial robots.\n"
+        "Units: millimetres and degrees in every file, flag and printout."};
+    app.require_subcommand(1);
+    app.set_help_all_flag("--help-all", "Show help for every command");
+    robcal::cli::setup_commands(app);
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      // --help prints and succeeds; every malformed command line is bad input: exit code 2, as
+      // for bad files (CLI11's own codes, 104 for a non-numeric value, would surprise scripts).
+      const int code = app.exit(e);
+      return code == 0 ? 0 : 2;
+    }
   } catch (const robcal::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;

@@ -28,7 +28,7 @@ WorldFrameFit fit_world_frame(const Cups<double>& p, const TriangleSides& measur
     R << c, -s, s, c;
     dR << -s, -c, c, -s;
     Eigen::Matrix<double, 6, 1> r;
-    for (int i = 0; i < 3; ++i) {
+    for (Eigen::Index i = 0; i < 3; ++i) {
       r.segment<2>(2 * i) = a[i] - (R * q2[i] + t.head<2>());
       if (J) {
         J->block<2, 2>(2 * i, 0) = -Eigen::Matrix2d::Identity();

@@ -74,6 +74,7 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
     out << YAML::EndSeq << YAML::Key << "matrix" << YAML::Value << YAML::BeginSeq;
     for (int i : identified) {
       std::vector<double> row;
+      row.reserve(identified.size());
       for (int j : identified)
         row.push_back(robot.covariance(i, j) * table[i].to_external() * table[j].to_external());
       out << YAML::Flow << row;

@@ -144,6 +144,7 @@ MeasurementKind detect_kind(const std::map<std::string, int>& columns, const std
 
 std::string kinds_text(const std::vector<MeasurementKind>& kinds) {
   std::vector<std::string> names;
+  names.reserve(kinds.size());
   for (MeasurementKind k : kinds) names.emplace_back(measurement_kind_name(k));
   return join(names, " or ");
 }

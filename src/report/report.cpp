@@ -51,7 +51,7 @@ nlohmann::json yaml_node_to_json(const YAML::Node& node) {
       return out;
     }
     case YAML::NodeType::Scalar: {
-      const std::string text = node.Scalar();
+      const std::string& text = node.Scalar();
       char* end = nullptr;
       const double value = std::strtod(text.c_str(), &end);
       if (!text.empty() && end == text.c_str() + text.size() && std::isfinite(value)) return value;
@@ -150,7 +150,7 @@ std::string parameters_html(const nlohmann::json& parameters) {
 void flatten(const nlohmann::json& value, const std::string& prefix, std::string& rows) {
   if (value.is_object()) {
     for (const auto& [key, child] : value.items())
-      flatten(child, prefix.empty() ? key : prefix + "." + key, rows);
+      flatten(child, prefix.empty() ? key : fmt::format("{}.{}", prefix, key), rows);
     return;
   }
   std::string text;
