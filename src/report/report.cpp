@@ -1,6 +1,7 @@
 #include "robcal/report/report.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -147,20 +148,37 @@ std::string parameters_html(const nlohmann::json& parameters) {
   return rows;
 }
 
+/// A JSON value as a line of text for the diagnostics table: numbers to 6 significant digits,
+/// lists joined by "; " (lists of scalars in parentheses), objects as "key value" pairs.
+std::string plain_text(const nlohmann::json& value) {
+  if (value.is_number()) return fmt::format("{:.6g}", value.get<double>());
+  if (value.is_string()) return value.get<std::string>();
+  if (value.is_object()) {
+    std::vector<std::string> parts;
+    for (const auto& [key, child] : value.items())
+      parts.push_back(fmt::format("{} {}", key, plain_text(child)));
+    return fmt::format("{}", fmt::join(parts, ", "));
+  }
+  if (value.is_array()) {
+    if (value.empty()) return "none";
+    std::vector<std::string> parts;
+    for (const auto& item : value) parts.push_back(plain_text(item));
+    const bool scalars =
+        std::none_of(value.begin(), value.end(), [](const auto& v) { return v.is_structured(); });
+    return scalars ? fmt::format("({})", fmt::join(parts, ", "))
+                   : fmt::format("{}", fmt::join(parts, "; "));
+  }
+  return value.dump();
+}
+
 void flatten(const nlohmann::json& value, const std::string& prefix, std::string& rows) {
   if (value.is_object()) {
     for (const auto& [key, child] : value.items())
       flatten(child, prefix.empty() ? key : fmt::format("{}.{}", prefix, key), rows);
     return;
   }
-  std::string text;
-  if (value.is_number())
-    text = fmt::format("{:.6g}", value.get<double>());
-  else if (value.is_string())
-    text = value.get<std::string>();
-  else
-    text = value.dump();
-  rows += fmt::format("<tr><td>{}</td><td>{}</td></tr>\n", html_escape(prefix), html_escape(text));
+  rows += fmt::format("<tr><td>{}</td><td>{}</td></tr>\n", html_escape(prefix),
+                      html_escape(plain_text(value)));
 }
 
 // The page. Tables are static HTML (readable even without scripts); the charts are drawn by
@@ -176,7 +194,8 @@ constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
  h1 { font-size: 1.5em; margin-bottom: 0.2em; } h2 { font-size: 1.15em; margin-top: 1.6em; }
  .sub { color: #666; margin-top: 0; }
  table { border-collapse: collapse; font-size: 0.9em; }
- th, td { border-bottom: 1px solid #ddd; padding: 3px 10px; text-align: right; }
+ th, td { border-bottom: 1px solid #ddd; padding: 3px 10px; text-align: right; white-space: nowrap; }
+ #parameters td:last-child, #diagnostics td:last-child { white-space: normal; text-align: left; }
  th:first-child, td:first-child, td.l { text-align: left; }
  .charts { display: grid; grid-template-columns: repeat(auto-fit, minmax(320px, 1fr)); gap: 1em; }
  .chart { position: relative; height: 260px; }
@@ -199,11 +218,11 @@ constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
 <tbody>
 @TARGETS@</tbody></table>
 <h2>Parameters (± one standard deviation)</h2>
-<table><thead><tr><th>parameter</th><th class="l">unit</th><th>nominal</th><th>value</th><th>std dev</th><th class="l">status</th><th class="l">reason</th></tr></thead>
+<table id="parameters"><thead><tr><th>parameter</th><th class="l">unit</th><th>nominal</th><th>value</th><th>std dev</th><th class="l">status</th><th class="l">reason</th></tr></thead>
 <tbody>
 @PARAMETERS@</tbody></table>
 <h2>Fit diagnostics</h2>
-<table><tbody>
+<table id="diagnostics"><tbody>
 @DIAGNOSTICS@</tbody></table>
 @NOTES@
 <p id="render-status" data-status="pending">pending</p>
