@@ -91,7 +91,7 @@ struct Coordinates {
 ROBCAL_PAIR_KERNEL
 void pair_errors(const Coordinates& c, int i, int begin, int count, double scale, int bins,
                  double* __restrict e, int32_t* __restrict bin) {
-  const int32_t last_bin = bins - 1;
+  const double last_bin = bins - 1;
   const size_t row = static_cast<size_t>(i), first = static_cast<size_t>(begin);
   const double mxi = c.m[0][row], myi = c.m[1][row], mzi = c.m[2][row];
   const double pxi = c.p[0][row], pyi = c.p[1][row], pzi = c.p[2][row];
@@ -120,10 +120,8 @@ void pair_errors(const Coordinates& c, int i, int begin, int count, double scale
     const float inverse = 1.0F / (sum > 0 ? sum : 1.0F);
     const double error = std::fabs(difference) * static_cast<double>(inverse);
     e[k] = error;
-    // histogram_bin for lower = 0 without branches; the clamp is on the integer, whose range
-    // error ≤ bound·(1 + 3e-7) keeps within int32_t.
-    const auto position = static_cast<int32_t>(error * scale);
-    bin[k] = std::min(position, last_bin);
+    // histogram_bin for error ≥ 0 and lower = 0, without branches (std::min is one vminpd).
+    bin[k] = static_cast<int32_t>(std::min(error * scale, last_bin));
   }
 }
 
