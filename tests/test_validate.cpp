@@ -115,17 +115,21 @@ struct RandomPositions {
   }
 };
 
-TEST(ValidatePairwise, MatchesNaiveDoubleLoop) {
-  const RandomPositions data(500, 11);
+/// 500 rows: every row's pairs in one piece of work; 1100: the first rows' pairs in several.
+class ValidatePairwiseNaive : public ::testing::TestWithParam<int> {};
+
+TEST_P(ValidatePairwiseNaive, MatchesNaiveDoubleLoop) {
+  const int n = GetParam();
+  const RandomPositions data(n, 11);
   const PairwiseDistanceErrors r = pairwise_distance_errors(data.measured, data.modelled, 2);
   std::vector<double> errors;
-  for (int i = 0; i < 500; ++i)
-    for (int j = i + 1; j < 500; ++j)
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
       errors.push_back(std::abs((data.measured.col(i) - data.measured.col(j)).norm() -
                                 (data.modelled.col(i) - data.modelled.col(j)).norm()));
   const ErrorStatistics naive = error_statistics(errors);
   EXPECT_EQ(r.stats.count, naive.count);
-  EXPECT_EQ(r.stats.count, 500u * 499u / 2);
+  EXPECT_EQ(r.stats.count, static_cast<uint64_t>(n) * static_cast<uint64_t>(n - 1) / 2);
   // Each pair error carries a relative kPairErrorRelativeAccuracy (the naive one ~1e-13 mm).
   EXPECT_NEAR(r.stats.mean, naive.mean, kPairErrorRelativeAccuracy * naive.mean);
   EXPECT_NEAR(r.stats.std, naive.std, 2 * kPairErrorRelativeAccuracy * naive.mean);
@@ -152,6 +156,7 @@ TEST(ValidatePairwise, MatchesNaiveDoubleLoop) {
   // The bound is r1 + r2 after the rigid fit: not far above the largest error.
   EXPECT_LT(r.histogram.upper, 4 * naive.max);
 }
+INSTANTIATE_TEST_SUITE_P(Rows, ValidatePairwiseNaive, ::testing::Values(500, 1100));
 
 TEST(ValidatePairwise, AccurateWhereTheNaiveFormulaIsNot) {
   // Long double reference on pairs whose lengths (~1 m) dwarf their errors (~1e-9 mm): the
