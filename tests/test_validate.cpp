@@ -160,34 +160,44 @@ INSTANTIATE_TEST_SUITE_P(Rows, ValidatePairwiseNaive, ::testing::Values(500, 110
 
 TEST(ValidatePairwise, AccurateWhereTheNaiveFormulaIsNot) {
   // Long double reference on pairs whose lengths (~1 m) dwarf their errors (~1e-9 mm): the
-  // naive difference of lengths would be off by ~1e-13 mm, a relative 1e-4.
-  Eigen::Matrix3Xd measured(3, 40), modelled(3, 40);
-  auto rng = test::seeded_rng(5);
-  std::uniform_real_distribution<double> coord(-900, 900), tiny(-1e-9, 1e-9);
-  for (int i = 0; i < 40; ++i) {
-    measured.col(i) << coord(rng), coord(rng), coord(rng);
-    modelled.col(i) = measured.col(i) + Eigen::Vector3d(tiny(rng), tiny(rng), tiny(rng));
-  }
-  const PairwiseDistanceErrors r = pairwise_distance_errors(measured, modelled, 1);
-  long double sum = 0, max = 0;
-  for (int i = 0; i < 40; ++i)
-    for (int j = i + 1; j < 40; ++j) {
-      long double dm = 0, dp = 0;
-      for (int k = 0; k < 3; ++k) {
-        const long double a = static_cast<long double>(measured(k, i)) - measured(k, j);
-        const long double b = static_cast<long double>(modelled(k, i)) - modelled(k, j);
-        dm += a * a;
-        dp += b * b;
-      }
-      const long double e = std::fabs(std::sqrt(dm) - std::sqrt(dp));
-      sum += e;
-      max = std::max(max, e);
+  // naive difference of lengths would be off by ~1e-13 mm, a relative 1e-4. Once in the
+  // instrument's frame, once with the model in a frame 0.6 m away, where the rounded residuals
+  // m − p add their absolute floor (here 2e-6 of these tiny errors).
+  for (const Eigen::Vector3d& offset :
+       {Eigen::Vector3d::Zero().eval(), Eigen::Vector3d(300.123, -250.456, 500.789)}) {
+    SCOPED_TRACE(offset.transpose());
+    Eigen::Matrix3Xd measured(3, 40), modelled(3, 40);
+    auto rng = test::seeded_rng(5);
+    std::uniform_real_distribution<double> coord(-900, 900), tiny(-1e-9, 1e-9);
+    for (int i = 0; i < 40; ++i) {
+      measured.col(i) << coord(rng), coord(rng), coord(rng);
+      modelled.col(i) = measured.col(i) + offset + Eigen::Vector3d(tiny(rng), tiny(rng), tiny(rng));
     }
-  const double mean = static_cast<double>(sum / (40 * 39 / 2));
-  // Long double itself carries ~1e-16 mm here, a relative 1e-7.
-  EXPECT_NEAR(r.stats.mean, mean, (kPairErrorRelativeAccuracy + 1e-7) * mean);
-  EXPECT_NEAR(r.stats.max, static_cast<double>(max),
-              (kPairErrorRelativeAccuracy + 1e-7) * static_cast<double>(max));
+    const PairwiseDistanceErrors r = pairwise_distance_errors(measured, modelled, 1);
+    long double sum = 0, max = 0;
+    double residuals = 0;  // the largest |m_i − p_i| + |m_j − p_j|
+    for (int i = 0; i < 40; ++i)
+      for (int j = i + 1; j < 40; ++j) {
+        long double dm = 0, dp = 0;
+        for (int k = 0; k < 3; ++k) {
+          const long double a = static_cast<long double>(measured(k, i)) - measured(k, j);
+          const long double b = static_cast<long double>(modelled(k, i)) - modelled(k, j);
+          dm += a * a;
+          dp += b * b;
+        }
+        const long double e = std::fabs(std::sqrt(dm) - std::sqrt(dp));
+        sum += e;
+        max = std::max(max, e);
+        residuals = std::max(residuals, (measured.col(i) - modelled.col(i)).norm() +
+                                            (measured.col(j) - modelled.col(j)).norm());
+      }
+    const double mean = static_cast<double>(sum / (40 * 39 / 2));
+    // Long double itself carries ~1e-16 mm here, a relative 1e-7.
+    const double floor = kPairErrorResidualRounding * residuals;
+    EXPECT_NEAR(r.stats.mean, mean, (kPairErrorRelativeAccuracy + 1e-7) * mean + floor);
+    EXPECT_NEAR(r.stats.max, static_cast<double>(max),
+                (kPairErrorRelativeAccuracy + 1e-7) * static_cast<double>(max) + floor);
+  }
 }
 
 TEST(ValidatePairwise, BitIdenticalForAnyThreadCount) {
