@@ -27,9 +27,11 @@ namespace {
 #define ROBCAL_PAIR_KERNEL
 #endif
 
-constexpr int kRowsPerBlock = 16;    ///< fixed work unit; blocks are combined in this order
-constexpr int kChunk = 512;          ///< pairs computed at once (a multiple of kLanes)
-constexpr int kLanes = 8;            ///< independent partial sums (vector lanes)
+constexpr int kRowsPerBlock = 16;  ///< fixed work unit; blocks are combined in this order
+constexpr int kChunk = 512;        ///< pairs computed at once (a multiple of kLanes)
+constexpr int kLanes = 8;          ///< independent partial sums (vector lanes)
+constexpr int kVector = 16;        ///< pairs per iteration of the vectorised pair loop
+static_assert(kChunk % (2 * kLanes) == 0 && kChunk % kVector == 0);
 constexpr int kHistogramCopies = 4;  ///< interleaved copies break store-to-load chains
 
 /// Count, mean and sum of squared deviations; merged with Chan et al.'s pairwise formula.
@@ -87,7 +89,7 @@ struct Coordinates {
 /// worse for tiny errors. This file is built with -fno-math-errno -fno-trapping-math
 /// (CMakeLists.txt) so that this loop vectorises.
 ROBCAL_PAIR_KERNEL
-void pair_errors(const Coordinates& c, int i, int begin, double scale, int bins,
+void pair_errors(const Coordinates& c, int i, int begin, int count, double scale, int bins,
                  double* __restrict e, int32_t* __restrict bin) {
   const double last_bin = bins - 1;
   const size_t row = static_cast<size_t>(i), first = static_cast<size_t>(begin);
@@ -103,7 +105,9 @@ void pair_errors(const Coordinates& c, int i, int begin, double scale, int bins,
   const double* __restrict rx = c.r[0].data() + first;
   const double* __restrict ry = c.r[1].data() + first;
   const double* __restrict rz = c.r[2].data() + first;
-  for (int k = 0; k < kChunk; ++k) {
+  // Whole vectors only (padding lies beyond the last row), so no scalar epilogue runs.
+  const int end = (count + kVector - 1) / kVector * kVector;
+  for (int k = 0; k < end; ++k) {
     const double ax = mxi - mx[k], ay = myi - my[k], az = mzi - mz[k];
     const double bx = pxi - px[k], by = pyi - py[k], bz = pzi - pz[k];
     const auto s = static_cast<float>(ax * ax + ay * ay + az * az);  // |a|²
@@ -114,11 +118,10 @@ void pair_errors(const Coordinates& c, int i, int begin, double scale, int bins,
     // sum is 0 only for |a|, |b| < 1e-19 mm, where the numerator is below 1e-19 mm too:
     // dividing by 1 instead keeps e finite and that small.
     const float inverse = 1.0F / (sum > 0 ? sum : 1.0F);
-    const double error = (difference < 0 ? -difference : difference) * static_cast<double>(inverse);
+    const double error = std::fabs(difference) * static_cast<double>(inverse);
     e[k] = error;
-    // histogram_bin for error ≥ 0 and lower = 0, without branches.
-    const double position = error * scale;
-    bin[k] = static_cast<int32_t>(position < last_bin ? position : last_bin);
+    // histogram_bin for error ≥ 0 and lower = 0, without branches (std::min is one vminpd).
+    bin[k] = static_cast<int32_t>(std::min(error * scale, last_bin));
   }
 }
 
@@ -130,26 +133,40 @@ struct RowSums {
 };
 
 /// Adds the first `count` errors to the row's lanes and their bins to the histogram copies.
-/// Chunks start at multiples of kLanes within the row, so pair k of a row always goes to lane
-/// k mod kLanes: the order of additions depends only on the data.
+/// Chunks start at multiples of kChunk within the row and hold whole pairs of lane groups, so
+/// pair k of a row always goes to lane k mod kLanes of set (k / kLanes) mod 2: the order of
+/// additions depends only on the data.
 ROBCAL_PAIR_KERNEL
 void accumulate(const double* __restrict e, const int32_t* __restrict bin, int count, int bins,
                 RowSums& sums, uint64_t* __restrict histogram) {
-  std::array<double, kLanes> sum = sums.sum, squares = sums.squares, min = sums.min, max = sums.max;
-  const auto add = [&](int l, double v) {
-    sum[l] += v;
-    squares[l] += v * v;
-    min[l] = v < min[l] ? v : min[l];
-    max[l] = v > max[l] ? v : max[l];
+  // Two sets of lanes, even and odd groups of kLanes, so that the multiply-add chains of the
+  // squares overlap; merged at the end of the chunk.
+  RowSums even = sums, odd;
+  const auto add = [](RowSums& to, int l, double v) {
+    to.sum[l] += v;
+    to.squares[l] += v * v;
+    to.min[l] = v < to.min[l] ? v : to.min[l];
+    to.max[l] = v > to.max[l] ? v : to.max[l];
   };
   int k = 0;
-  for (; k + kLanes <= count; k += kLanes)
-    for (int l = 0; l < kLanes; ++l) add(l, e[k + l]);
-  for (int l = 0; k + l < count; ++l) add(l, e[k + l]);
-  sums.sum = sum;
-  sums.squares = squares;
-  sums.min = min;
-  sums.max = max;
+  for (; k + 2 * kLanes <= count; k += 2 * kLanes)
+    for (int l = 0; l < kLanes; ++l) {
+      add(even, l, e[k + l]);
+      add(odd, l, e[k + kLanes + l]);
+    }
+  if (k + kLanes <= count) {
+    for (int l = 0; l < kLanes; ++l) add(even, l, e[k + l]);
+    k += kLanes;
+  }
+  for (int l = 0; l < kLanes; ++l)  // constant lane indices keep the lanes in registers
+    if (k + l < count) add(even, l, e[k + l]);
+  for (int l = 0; l < kLanes; ++l) {
+    even.sum[l] += odd.sum[l];
+    even.squares[l] += odd.squares[l];
+    even.min[l] = std::min(even.min[l], odd.min[l]);
+    even.max[l] = std::max(even.max[l], odd.max[l]);
+  }
+  sums = even;
   static_assert(kHistogramCopies == 4);
   uint64_t* __restrict copy0 = histogram;
   uint64_t* __restrict copy1 = histogram + bins;
@@ -174,7 +191,7 @@ BlockResult process_block(const Coordinates& c, int block, int rows, double scal
     RowSums sums;
     for (int begin = i + 1; begin < rows; begin += kChunk) {
       const int count = std::min(kChunk, rows - begin);
-      pair_errors(c, i, begin, scale, bins, e, bin);
+      pair_errors(c, i, begin, count, scale, bins, e, bin);
       accumulate(e, bin, count, bins, sums, histogram);
     }
     const double n = rows - 1 - i;

@@ -6,7 +6,8 @@
 /// fitted. 10,000 rows give 50 million pairs; the work is spread over threads in fixed blocks of
 /// rows and the block results are combined in a fixed order, so the statistics and the
 /// histogram are bit-identical for any number of threads. Memory is O(N). Each e_ij is
-/// computed to a relative kPairErrorRelativeAccuracy whatever the lengths (see the kernel).
+/// computed to a relative kPairErrorRelativeAccuracy whatever the lengths (see the kernel),
+/// plus an absolute kPairErrorResidualRounding·(|m_i − p_i| + |m_j − p_j|).
 
 #include <Eigen/Core>
 
@@ -18,6 +19,11 @@ namespace robcal {
 /// Bound on the relative error of each pair error e_ij: three single-precision roundings in
 /// the denominator of (|a|² − |b|²)/(|a| + |b|), the numerator being exact to double rounding.
 inline constexpr double kPairErrorRelativeAccuracy = 3e-7;
+
+/// Absolute error of e_ij per mm of |m_i − p_i| + |m_j − p_j|: the residuals r = m − p are
+/// rounded to double (2⁻⁵³ relative) before r_i − r_j enters the numerator. Nothing when the
+/// model's frame agrees with the instrument's; 2e-13 mm when they are a metre apart.
+inline constexpr double kPairErrorResidualRounding = 2.3e-16;
 
 struct PairwiseDistanceErrors {
   ErrorStatistics stats;  ///< over all N(N−1)/2 pairs (count = pairs)
