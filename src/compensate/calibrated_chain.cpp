@@ -1,10 +1,50 @@
 #include "robcal/compensate/calibrated_chain.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <numbers>
 
 #include "robcal/kinematics/angle_shift.hpp"
 
 namespace robcal {
+namespace {
+
+constexpr int kTableSize = 256;  // a power of two: k mod 256 is k & 255, negative k included
+
+/// The table's step 2π/256 split Cody–Waite style: kStepHigh has its low 12 bits zero, so k ·
+/// kStepHigh is exact for |k| < 4096 (|θ| < 100 rad), and kStepLow carries the rest of the
+/// exact step, so that θ − k·2π/256 loses nothing to the step's rounding.
+const long double kStep = 2 * std::numbers::pi_v<long double> / kTableSize;
+const double kStepHigh = [] {
+  double high = static_cast<double>(kStep);
+  std::uint64_t bits;
+  std::memcpy(&bits, &high, sizeof bits);
+  bits &= ~std::uint64_t{0xfff};
+  std::memcpy(&high, &bits, sizeof bits);
+  return high;
+}();
+const double kStepLow = static_cast<double>(kStep - kStepHigh);
+
+/// sin and cos of k·2π/256, each correctly rounded (long double).
+const std::array<std::array<double, 2>, kTableSize> kSinCosTable = [] {
+  std::array<std::array<double, 2>, kTableSize> table{};
+  for (int k = 0; k < kTableSize; ++k)
+    table[k] = {static_cast<double>(std::sin(k * kStep)), static_cast<double>(std::cos(k * kStep))};
+  return table;
+}();
+
+}  // namespace
+
+void table_sin_cos(double theta, double* s, double* c) {
+  // Nearest multiple by truncation (no libm call without SSE4.1's roundsd).
+  const double x = theta * static_cast<double>(1 / kStep);
+  const auto k = static_cast<std::int64_t>(x + (x >= 0 ? 0.5 : -0.5));
+  const double kd = static_cast<double>(k);
+  const auto& entry = kSinCosTable[static_cast<std::size_t>(k & (kTableSize - 1))];
+  sin_cos_shifted(entry[0], entry[1], (theta - kd * kStepHigh) - kd * kStepLow, s, c);
+}
+
 namespace {
 
 /// Φ_i = Φ_{i-1} · Rot_x(α)·Trans_x(a)·Rot_z(θ)·Trans_z(d) written on the columns r0, r1, r2 of
@@ -80,8 +120,7 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
       sin_cos_shifted(state.sin_theta[i], state.cos_theta[i], step, &state.sin_theta[i],
                       &state.cos_theta[i]);
     } else {
-      state.cos_theta[i] = std::cos(theta);
-      state.sin_theta[i] = std::sin(theta);
+      table_sin_cos(theta, &state.sin_theta[i], &state.cos_theta[i]);
     }
     state.theta[i] = theta;
   }
@@ -114,32 +153,55 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
 }
 
 void calibrated_jacobian(const CalibratedChain& c, const ChainState& state, Matrix6d& J) {
-  Matrix6d J_theta;
   for (int k = 0; k < kJointCount; ++k) {
     const auto z_k = state.frames[k].R.col(2);
-    J_theta.block<3, 1>(0, k) = z_k.cross(state.tcp_p - state.frames[k].p);
-    J_theta.block<3, 1>(3, k) = z_k;
+    J.block<3, 1>(0, k) = z_k.cross(state.tcp_p - state.frames[k].p);
+    J.block<3, 1>(3, k) = z_k;
   }
-  J = J_theta;
   if (c.compliant) {
-    // J_θ·(I + diag(c)·∂τ/∂θu), one dot product per entry (file comment).
+    // J_θ + J_θ·diag(c)·∂τ/∂θu, ∂τ_i/∂θu_k = y_max(i,k) · w_min(i,k) (file comment).
     const auto& z = state.z_undeflected;
-    const auto& V = state.V;
-    const Eigen::Vector3d& g = c.gravity;
-    std::array<Eigen::Vector3d, kJointCount> w, u, y;
-    for (int i = 1; i < kJointCount; ++i) {
-      w[i] = g.cross(z[i]);
-      u[i] = z[i].cross(V[i].cross(g)) + V[i].cross(w[i]);
-      y[i] = z[i].cross(V[i]);
+    std::array<Eigen::Vector3d, kJointCount> w, y;
+    Eigen::Matrix<double, 6, kJointCount - 1> J_c;
+    for (int i = 0; i < kJointCount; ++i) {
+      w[i] = c.gravity.cross(z[i]);
+      if (i == 0) continue;
+      y[i] = z[i].cross(state.V[i]);
+      J_c.col(i - 1) = c.compliance[i] * J.col(i);
     }
-    for (int i = 1; i < kJointCount; ++i) {
-      const Vector6d column = c.compliance[i] * J_theta.col(i);
+    Eigen::Matrix<double, kJointCount - 1, kJointCount> dtau;
+    for (int i = 1; i < kJointCount; ++i)
       for (int k = 0; k < kJointCount; ++k)
-        J.col(k) += (k <= i ? z[k].dot(u[i]) : y[k].dot(w[i])) * column;
-    }
+        dtau(i - 1, k) = k <= i ? y[i].dot(w[k]) : y[k].dot(w[i]);
+    J.noalias() += J_c * dtau;
   }
   for (int k = 0; k < kJointCount; ++k) J.col(k) *= c.scale[k];
   if (!c.map_identity) J = J * c.joint_map;
+}
+
+Vector6d calibrated_jacobian_derivative(const CalibratedChain& c, const ChainState& state,
+                                        const Vector6d& along, const Vector6d& v) {
+  const Vector6d du = c.map_identity ? along : Vector6d(c.joint_map * along);
+  const Vector6d dv = c.map_identity ? v : Vector6d(c.joint_map * v);
+  // Σ_k ν_k·z_k × (ṗ − ȯ_k) = ω_v × ṗ − Σ_k ν_k·z_k × ȯ_k, ω_v = Σ_k ν_k·z_k: one pass.
+  Eigen::Vector3d omega = Eigen::Vector3d::Zero(), o_dot = Eigen::Vector3d::Zero(),
+                  omega_v = Eigen::Vector3d::Zero(), linear = Eigen::Vector3d::Zero(),
+                  angular = Eigen::Vector3d::Zero();
+  for (int k = 0; k < kJointCount; ++k) {
+    const Pose<double>& f = state.frames[k];
+    if (k > 0) o_dot += omega.cross(f.p - state.frames[k - 1].p);
+    const auto z = f.R.col(2);
+    const Eigen::Vector3d z_dot = omega.cross(z);
+    const double nu = c.scale[k] * dv[k];
+    linear += nu * (z_dot.cross(state.tcp_p - f.p) - z.cross(o_dot));
+    angular += nu * z_dot;
+    omega_v += nu * z;
+    omega += (c.scale[k] * du[k]) * z;
+  }
+  const Eigen::Vector3d p_dot = o_dot + omega.cross(state.tcp_p - state.frames[kJointCount - 1].p);
+  Vector6d out;
+  out << linear + omega_v.cross(p_dot), angular;
+  return out;
 }
 
 Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joints,
