@@ -1,6 +1,7 @@
 #include "robcal/compensate/calibrated_ik.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "robcal/core/error.hpp"
@@ -23,11 +24,17 @@ PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
   PoseError out;
   out.e.head<3>() = wanted.p - reached.p;
   out.position_sq = out.e.head<3>().squaredNorm();
-  const Eigen::Matrix3d E = wanted.R * reached.R.transpose();
-  const Eigen::Vector3d w(E(2, 1) - E(1, 2), E(0, 2) - E(2, 0), E(1, 0) - E(0, 1));
+  // E = R*·Rᵀ = Σ_k a_k·b_kᵀ over the columns a_k of R*, b_k of R: the vector of its skew part
+  // E − Eᵀ is w = Σ_k b_k × a_k (2·sin·axis) and its trace Σ_k a_k · b_k (1 + 2·cos).
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();
+  double trace = 0;
+  for (int k = 0; k < 3; ++k) {
+    w += reached.R.col(k).cross(wanted.R.col(k));
+    trace += wanted.R.col(k).dot(reached.R.col(k));
+  }
   const double sin_sq = 0.25 * w.squaredNorm();
   out.sin_angle = std::sqrt(sin_sq);
-  out.cos_angle = 0.5 * (E.trace() - 1.0);
+  out.cos_angle = 0.5 * (trace - 1.0);
   // log map: ½w·angle/sin. Within 0.01 rad (all but the first errors of a solve) angle/sin =
   // asin(s)/s by its series to s⁴, the next term 5s⁶/112 < 5e-14; beyond, by atan2. The ratio
   // tends to 1 as the rotation vanishes.
@@ -53,19 +60,18 @@ constexpr double kCurvatureStepRad = 0.1;
 /// smallest LU pivot relative to the largest) counts as lost rank.
 constexpr double kRankRatio = 1e-10;
 
-/// Inverse of a 3×3 block by the cross products of its columns (rows b×c, c×a, a×b over the
+using Columns3 = std::array<Eigen::Vector3d, 3>;
+
+/// Rows of the inverse of the 3×3 matrix with columns a, b, c (b×c, c×a, a×b over the
 /// determinant), false when it has (nearly) lost rank.
-bool invert_block(const Eigen::Matrix3d& m, Eigen::Matrix3d& inverse) {
-  const auto a = m.col(0), b = m.col(1), c = m.col(2);
-  const Eigen::Vector3d bc = b.cross(c), ca = c.cross(a), ab = a.cross(b);
-  const double det = a.dot(bc);
-  const double largest_sq = std::max({a.squaredNorm(), b.squaredNorm(), c.squaredNorm()});
+bool invert_block(const Columns3& m, Columns3& inverse_rows) {
+  const Eigen::Vector3d bc = m[1].cross(m[2]), ca = m[2].cross(m[0]), ab = m[0].cross(m[1]);
+  const double det = m[0].dot(bc);
+  const double largest_sq = std::max({m[0].squaredNorm(), m[1].squaredNorm(), m[2].squaredNorm()});
   if (!(det * det > kRankRatio * kRankRatio * largest_sq * largest_sq * largest_sq))
     return false;  // NaN included
   const double inv_det = 1.0 / det;
-  inverse.row(0) = inv_det * bc;
-  inverse.row(1) = inv_det * ca;
-  inverse.row(2) = inv_det * ab;
+  inverse_rows = {inv_det * bc, inv_det * ca, inv_det * ab};
   return true;
 }
 
@@ -74,32 +80,43 @@ bool invert_block(const Eigen::Matrix3d& m, Eigen::Matrix3d& inverse) {
 /// same system), J = [[A, B], [C, D]] has A the arm's position block and D the wrist's
 /// orientation block (B vanishes on the nominal robot), and the Schur complement
 /// S = D − C·A⁻¹·B gives x_w = S⁻¹·(e_ω − C·A⁻¹·e_v), x_a = A⁻¹·(e_v − B·x_w): exact, with
-/// 3×3 inverses only, factored once per Jacobian for the two right-hand sides of a step.
+/// 3×3 inverses only, factored once per Jacobian for the two right-hand sides of a step. In
+/// columns, rows, cross and dot products of 3-vectors, which the compiler keeps inline.
 class WristPartitionedSolver {
  public:
   /// False at (or near) an arm or wrist singularity, where A or S loses rank.
   bool factor(const Matrix6d& J, const Eigen::Vector3d& r) {
-    Eigen::Matrix3d A, B;
+    Columns3 A, S;
     for (int k = 0; k < 3; ++k) {
-      A.col(k) = J.block<3, 1>(0, k) + r.cross(J.block<3, 1>(3, k));
-      B.col(k) = J.block<3, 1>(0, k + 3) + r.cross(J.block<3, 1>(3, k + 3));
+      A[k] = J.block<3, 1>(0, k) + r.cross(J.block<3, 1>(3, k));
+      C_[k] = J.block<3, 1>(3, k);
     }
-    C_ = J.block<3, 3>(3, 0);
     r_ = r;
-    if (!invert_block(A, A_inv_)) return false;
-    A_inv_B_ = A_inv_ * B;
-    return invert_block(J.block<3, 3>(3, 3) - C_ * A_inv_B_, S_inv_);
+    if (!invert_block(A, A_inv_rows_)) return false;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d B_k = J.block<3, 1>(0, k + 3) + r.cross(J.block<3, 1>(3, k + 3));
+      A_inv_B_[k] = apply_rows(A_inv_rows_, B_k);
+      S[k] = J.block<3, 1>(3, k + 3) - combine(C_, A_inv_B_[k]);
+    }
+    return invert_block(S, S_inv_rows_);
   }
   [[nodiscard]] Vector6d solve(const Vector6d& e) const {
+    const Eigen::Vector3d e_w = e.tail<3>();
+    const Eigen::Vector3d A_inv_e = apply_rows(A_inv_rows_, e.head<3>() + r_.cross(e_w));
+    const Eigen::Vector3d x_w = apply_rows(S_inv_rows_, e_w - combine(C_, A_inv_e));
     Vector6d x;
-    const Eigen::Vector3d A_inv_e = A_inv_ * (e.head<3>() + r_.cross(e.tail<3>()));
-    x.tail<3>() = S_inv_ * (e.tail<3>() - C_ * A_inv_e);
-    x.head<3>() = A_inv_e - A_inv_B_ * x.tail<3>();
+    x << A_inv_e - combine(A_inv_B_, x_w), x_w;
     return x;
   }
 
  private:
-  Eigen::Matrix3d A_inv_, A_inv_B_, C_, S_inv_;
+  static Eigen::Vector3d apply_rows(const Columns3& rows, const Eigen::Vector3d& v) {
+    return {rows[0].dot(v), rows[1].dot(v), rows[2].dot(v)};
+  }
+  static Eigen::Vector3d combine(const Columns3& columns, const Eigen::Vector3d& v) {
+    return v[0] * columns[0] + v[1] * columns[1] + v[2] * columns[2];
+  }
+  Columns3 A_inv_rows_, A_inv_B_, C_, S_inv_rows_;
   Eigen::Vector3d r_;
 };
 
