@@ -50,11 +50,16 @@ enum class CalibratedIkStatus : std::uint8_t {
 
 const char* to_string(CalibratedIkStatus status);
 
+enum class IkMethod : std::uint8_t { Newton, PoseShift };
+
 struct CalibratedIkResult {
   CalibratedIkStatus status = CalibratedIkStatus::NoNominalSolution;
   Vector6d joints = Vector6d::Zero();  ///< controller joints, rad
-  int iterations = 0;                  ///< forward-model evaluations after the seed
-  double position_error_mm = 0;        ///< at `joints`, calibrated model
+  /// The iteration that produced `joints`: calibrated_ik with Newton hands over to pose shift
+  /// when Newton leaves the configuration.
+  IkMethod method = IkMethod::Newton;
+  int iterations = 0;            ///< forward-model evaluations after the seed
+  double position_error_mm = 0;  ///< at `joints`, calibrated model
   double orientation_error_rad = 0;
   [[nodiscard]] bool ok() const { return status == CalibratedIkStatus::Converged; }
 };
@@ -105,8 +110,6 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
                                             const Pose<double>& world_T_tcp,
                                             const ArmConfig& config, const Vector6d& seed,
                                             const CalibratedIkOptions& options = {});
-
-enum class IkMethod { Newton, PoseShift };
 
 /// Seeds from the nominal solution (world pose taken into the base frame) and iterates; when
 /// Newton leaves the configuration asked for, pose shift from the same seed.
