@@ -141,7 +141,8 @@ CalibratedIkResult finish(const Compensator& comp, const Vector6d& seed, const A
   r.orientation_error_rad = err.orientation_rad();
   // The labels depend on model joints 1–3 and 5 only: the large moves of 4 and 6 near the
   // wrist singularity need no check.
-  const Vector6d moved = comp.chain.joint_map * (joints - seed);
+  const Vector6d moved = comp.chain.map_identity ? Vector6d(joints - seed)
+                                                 : Vector6d(comp.chain.joint_map * (joints - seed));
   if (std::max({std::abs(moved[0]), std::abs(moved[1]), std::abs(moved[2]), std::abs(moved[4])}) >
           kBranchCheckRad &&
       !(arm_config(comp.model, joints) == (expected ? *expected : arm_config(comp.model, seed))))
