@@ -183,14 +183,16 @@ Vector6d calibrated_jacobian_derivative(const CalibratedChain& c, const ChainSta
                                         const Vector6d& along, const Vector6d& v) {
   const Vector6d du = c.map_identity ? along : Vector6d(c.joint_map * along);
   const Vector6d dv = c.map_identity ? v : Vector6d(c.joint_map * v);
-  // Σ_k ν_k·z_k × (ṗ − ȯ_k) = ω_v × ṗ − Σ_k ν_k·z_k × ȯ_k, ω_v = Σ_k ν_k·z_k: one pass.
-  Eigen::Vector3d omega = Eigen::Vector3d::Zero(), o_dot = Eigen::Vector3d::Zero(),
-                  omega_v = Eigen::Vector3d::Zero(), linear = Eigen::Vector3d::Zero(),
+  // Σ_k ν_k·z_k × (ṗ − ȯ_k) = ω_v × ṗ − Σ_k ν_k·z_k × ȯ_k, ω_v = Σ_k ν_k·z_k: one pass. Link
+  // 0 is still (ż_1 = ȯ_1 = 0) and only starts ω and ω_v.
+  const Eigen::Vector3d z_1 = state.frames[0].R.col(2);
+  Eigen::Vector3d omega = (c.scale[0] * du[0]) * z_1, omega_v = (c.scale[0] * dv[0]) * z_1,
+                  o_dot = Eigen::Vector3d::Zero(), linear = Eigen::Vector3d::Zero(),
                   angular = Eigen::Vector3d::Zero();
-  for (int k = 0; k < kJointCount; ++k) {
+  for (int k = 1; k < kJointCount; ++k) {
     const Pose<double>& f = state.frames[k];
-    if (k > 0) o_dot += omega.cross(f.p - state.frames[k - 1].p);
-    const auto z = f.R.col(2);
+    o_dot += omega.cross(f.p - state.frames[k - 1].p);
+    const Eigen::Vector3d z = f.R.col(2);
     const Eigen::Vector3d z_dot = omega.cross(z);
     const double nu = c.scale[k] * dv[k];
     linear += nu * (z_dot.cross(state.tcp_p - f.p) - z.cross(o_dot));
