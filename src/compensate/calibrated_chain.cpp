@@ -52,12 +52,13 @@ namespace {
 /// p = p_{i-1} + a·r0 + d·z (the MDH product with its zeros left out).
 void next_frame(const Pose<double>& prev, double ca, double sa, double a, double d, double ct,
                 double st, Pose<double>& out) {
-  const auto r0 = prev.R.col(0), r1 = prev.R.col(1), r2 = prev.R.col(2);
-  const Eigen::Vector3d u = ca * r1 + sa * r2;
-  out.R.col(2) = ca * r2 - sa * r1;
+  // Columns copied out (an Eigen Block operand costs here, as in the Jacobians).
+  const Eigen::Vector3d r0 = prev.R.col(0), r1 = prev.R.col(1), r2 = prev.R.col(2);
+  const Eigen::Vector3d u = ca * r1 + sa * r2, z = ca * r2 - sa * r1;
   out.R.col(0) = ct * r0 + st * u;
   out.R.col(1) = ct * u - st * r0;
-  out.p = prev.p + a * r0 + d * out.R.col(2);
+  out.R.col(2) = z;
+  out.p = prev.p + a * r0 + d * z;
 }
 
 /// World frames Φ1..Φ6 (METHOD §2) from the cosines and sines of θ1 + γ_base and θ2..θ6.
@@ -134,9 +135,12 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
     double M = 0;
     Eigen::Vector3d C = Eigen::Vector3d::Zero();
     for (int i = kJointCount - 1; i >= 1; --i) {
+      const Eigen::Vector3d p = frames[i].p, m = c.moment[i];
       M += c.mass[i];
-      C += c.mass[i] * frames[i].p + frames[i].R * c.moment[i];
-      state.V[i] = C - M * frames[i].p;
+      C += c.mass[i] * p + m.x() * Eigen::Vector3d(frames[i].R.col(0)) +
+           m.y() * Eigen::Vector3d(frames[i].R.col(1)) +
+           m.z() * Eigen::Vector3d(frames[i].R.col(2));
+      state.V[i] = C - M * p;
     }
     for (int i = 0; i < kJointCount; ++i) state.z_undeflected[i] = frames[i].R.col(2);
     for (int i = 1; i < kJointCount; ++i) {
@@ -147,14 +151,22 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
       next_frame(frames[i - 1], c.cos_alpha[i], c.sin_alpha[i], c.a[i], c.d[i], cos_t[i], sin_t[i],
                  frames[i]);
   }
-  const Pose<double> tcp = frames[kJointCount - 1] * c.flange_T_tcp;
+  // frames[5] · flange_T_tcp on copied columns (as in next_frame).
+  const Eigen::Vector3d x = frames[kJointCount - 1].R.col(0), y = frames[kJointCount - 1].R.col(1),
+                        z = frames[kJointCount - 1].R.col(2);
+  Pose<double> tcp;
+  for (int j = 0; j < 3; ++j)
+    tcp.R.col(j) =
+        x * c.flange_T_tcp.R(0, j) + y * c.flange_T_tcp.R(1, j) + z * c.flange_T_tcp.R(2, j);
+  tcp.p = frames[kJointCount - 1].p + x * c.flange_T_tcp.p.x() + y * c.flange_T_tcp.p.y() +
+          z * c.flange_T_tcp.p.z();
   state.tcp_p = tcp.p;
   return tcp;
 }
 
 void calibrated_jacobian(const CalibratedChain& c, const ChainState& state, Matrix6d& J) {
   for (int k = 0; k < kJointCount; ++k) {
-    const auto z_k = state.frames[k].R.col(2);
+    const Eigen::Vector3d z_k = state.frames[k].R.col(2);
     J.block<3, 1>(0, k) = z_k.cross(state.tcp_p - state.frames[k].p);
     J.block<3, 1>(3, k) = z_k;
   }
