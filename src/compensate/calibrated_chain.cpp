@@ -214,7 +214,8 @@ Vector6d calibrated_jacobian_derivative(const CalibratedChain& c, const ChainSta
   }
   const Eigen::Vector3d p_dot = o_dot + omega.cross(state.tcp_p - state.frames[kJointCount - 1].p);
   Vector6d out;
-  out << linear + omega_v.cross(p_dot), angular;
+  out.head<3>() = linear + omega_v.cross(p_dot);
+  out.tail<3>() = angular;
   return out;
 }
 

@@ -108,10 +108,12 @@ class WristPartitionedSolver {
   }
   [[nodiscard]] Vector6d solve(const Vector6d& e) const {
     const Eigen::Vector3d e_w = e.tail<3>();
-    const Eigen::Vector3d A_inv_e = apply_rows(A_inv_rows_, e.head<3>() + r_.cross(e_w));
+    const Eigen::Vector3d e_v = e.head<3>();
+    const Eigen::Vector3d A_inv_e = apply_rows(A_inv_rows_, e_v + r_.cross(e_w));
     const Eigen::Vector3d x_w = apply_rows(S_inv_rows_, e_w - combine(C_, A_inv_e));
     Vector6d x;
-    x << A_inv_e - combine(A_inv_B_, x_w), x_w;
+    x.head<3>() = A_inv_e - combine(A_inv_B_, x_w);
+    x.tail<3>() = x_w;
     return x;
   }
 
