@@ -85,8 +85,8 @@ void calibrated_jacobian(const CalibratedChain& chain, const ChainState& state, 
 /// turning at ω_{k−1} = Σ_{i<k} δ_i·z_i and origin o_k moving at ȯ_k = ȯ_{k−1} + ω_{k−1} ×
 /// (o_k − o_{k−1}), the axes turn at ż_k = ω_{k−1} × z_k and, ṗ being the TCP's velocity,
 ///   d(J·v)/dt = Σ_k ν_k·(ż_k × (p − o_k) + z_k × (ṗ − ȯ_k), ż_k).
-/// The compliance's own change (the deflection varying along the motion, ~1 % of the whole) is
-/// left out: this serves Newton steps, whose answers the forward model verifies.
+/// The compliance's own change (the deflection varying along the motion, up to ~3 % of the
+/// whole) is left out: this serves Newton steps, whose answers the forward model verifies.
 Vector6d calibrated_jacobian_derivative(const CalibratedChain& chain, const ChainState& state,
                                         const Vector6d& along, const Vector6d& v);
 
