@@ -170,6 +170,16 @@ TEST(CompensateChain, TableSinCosMatchesLibm) {
     worst = std::max({worst, std::abs(s - std::sin(theta)), std::abs(c - std::cos(theta))});
   }
   EXPECT_LT(worst, 5e-16);
+  // Beyond ±100 rad, and for a NaN, libm itself.
+  for (const double theta : {150.0, -1e4, 1e10}) {
+    double s, c;
+    table_sin_cos(theta, &s, &c);
+    EXPECT_EQ(s, std::sin(theta));
+    EXPECT_EQ(c, std::cos(theta));
+  }
+  double s, c;
+  table_sin_cos(std::nan(""), &s, &c);
+  EXPECT_TRUE(std::isnan(s) && std::isnan(c));
 }
 
 /// The round trip of issue 7 in every configuration (test_compensate_support.hpp): both

@@ -1,8 +1,8 @@
 #include "robcal/compensate/calibrated_chain.hpp"
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <numbers>
 
 #include "robcal/kinematics/angle_shift.hpp"
@@ -12,36 +12,39 @@ namespace {
 
 constexpr int kTableSize = 256;  // a power of two: k mod 256 is k & 255, negative k included
 
-/// The table's step 2π/256 split Cody–Waite style: kStepHigh has its low 12 bits zero, so k ·
-/// kStepHigh is exact for |k| < 4096 (|θ| < 100 rad), and kStepLow carries the rest of the
+/// The table's step 2π/256 split Cody–Waite style: kStepHigh has its low 12 bits zero, so
+/// k·kStepHigh is exact for |k| < 4096 (|θ| < 100 rad), and kStepLow carries the rest of the
 /// exact step, so that θ − k·2π/256 loses nothing to the step's rounding.
-const long double kStep = 2 * std::numbers::pi_v<long double> / kTableSize;
-const double kStepHigh = [] {
-  double high = static_cast<double>(kStep);
-  std::uint64_t bits;
-  std::memcpy(&bits, &high, sizeof bits);
-  bits &= ~std::uint64_t{0xfff};
-  std::memcpy(&high, &bits, sizeof bits);
-  return high;
-}();
-const double kStepLow = static_cast<double>(kStep - kStepHigh);
+constexpr long double kStep = 2 * std::numbers::pi_v<long double> / kTableSize;
+constexpr double kStepHigh = std::bit_cast<double>(
+    std::bit_cast<std::uint64_t>(static_cast<double>(kStep)) & ~std::uint64_t{0xfff});
+constexpr double kStepLow = static_cast<double>(kStep - kStepHigh);
 
-/// sin and cos of k·2π/256, each correctly rounded (long double).
-const std::array<std::array<double, 2>, kTableSize> kSinCosTable = [] {
-  std::array<std::array<double, 2>, kTableSize> table{};
-  for (int k = 0; k < kTableSize; ++k)
-    table[k] = {static_cast<double>(std::sin(k * kStep)), static_cast<double>(std::cos(k * kStep))};
+/// sin and cos of k·2π/256, each correctly rounded (long double); built on first use, so that
+/// no other static initialiser can see it empty.
+const std::array<std::array<double, 2>, kTableSize>& sin_cos_table() {
+  static const auto table = [] {
+    std::array<std::array<double, 2>, kTableSize> t{};
+    for (int k = 0; k < kTableSize; ++k)
+      t[k] = {static_cast<double>(std::sin(k * kStep)), static_cast<double>(std::cos(k * kStep))};
+    return t;
+  }();
   return table;
-}();
+}
 
 }  // namespace
 
 void table_sin_cos(double theta, double* s, double* c) {
-  // Nearest multiple by truncation (no libm call without SSE4.1's roundsd).
   const double x = theta * static_cast<double>(1 / kStep);
+  if (!(std::abs(x) < 4096)) {  // beyond the reduction's range, or not a number
+    *s = std::sin(theta);
+    *c = std::cos(theta);
+    return;
+  }
+  // Nearest multiple by truncation (no libm call without SSE4.1's roundsd).
   const auto k = static_cast<std::int64_t>(x + (x >= 0 ? 0.5 : -0.5));
   const double kd = static_cast<double>(k);
-  const auto& entry = kSinCosTable[static_cast<std::size_t>(k & (kTableSize - 1))];
+  const auto& entry = sin_cos_table()[static_cast<std::size_t>(k & (kTableSize - 1))];
   sin_cos_shifted(entry[0], entry[1], (theta - kd * kStepHigh) - kd * kStepLow, s, c);
 }
 
