@@ -136,8 +136,11 @@ void BM_CalibratedIkNearSingular(benchmark::State& state) {
 BENCHMARK(BM_CalibratedIkNearSingular)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 /// The round trip of issue 7 (test_compensate_support.hpp) over 100,000 random reachable poses
-/// per configuration of one robot (≥ 5° from singularities), both iterations; counters:
-/// poses and failures per configuration, worst errors, agreement and recovery, iterations.
+/// per configuration of one robot (≥ 5° from singularities), both iterations; counters per
+/// configuration: poses, failures (either iteration), hand-overs (Newton left the
+/// configuration, pose shift answered), disagreements (Newton and pose shift joints more than
+/// test::kAgreementRad apart) and the worst agreement (rad); overall: worst errors, recovery
+/// of the drawn joints, iterations. The label names the first failure or hand-over.
 void BM_RoundTrip100k(benchmark::State& state) {
   const std::string robot = test::kRobots[state.range(0)];
   constexpr long kPerConfig = 100000;
@@ -147,23 +150,35 @@ void BM_RoundTrip100k(benchmark::State& state) {
     const Compensator comp = make_compensator(calibrated);
     const test::RoundTripStats st =
         test::round_trip(calibrated, comp, kPerConfig, 100'000'000, rng);
-    long failures = 0;
+    long failures = 0, handovers = 0, disagreements = 0;
+    double worst_agreement = 0;
     for (int i = 0; i < 8; ++i) {
       const std::string label = ArmConfig{(i & 4) != 0, (i & 2) != 0, (i & 1) != 0}.label();
       state.counters[label] = static_cast<double>(st.poses[i]);
       state.counters[label + "_failed"] = static_cast<double>(st.failures[i]);
+      state.counters[label + "_handover"] = static_cast<double>(st.handovers[i]);
+      state.counters[label + "_disagree"] = static_cast<double>(st.disagreements[i]);
+      state.counters[label + "_agreement_rad"] = st.worst_agreement_rad[i];
       failures += st.failures[i];
+      handovers += st.handovers[i];
+      disagreements += st.disagreements[i];
+      worst_agreement = std::max(worst_agreement, st.worst_agreement_rad[i]);
     }
     state.counters["draws"] = static_cast<double>(st.draws);
     state.counters["failures"] = static_cast<double>(failures);
+    state.counters["handovers"] = static_cast<double>(handovers);
+    state.counters["disagreements"] = static_cast<double>(disagreements);
     state.counters["worst_mm"] = st.worst_mm;
     state.counters["worst_deg"] = st.worst_deg;
-    state.counters["worst_agreement_rad"] = st.worst_agreement_rad;
+    state.counters["worst_agreement_rad"] = worst_agreement;
     state.counters["worst_recovery_rad"] = st.worst_recovery_rad;
     state.counters["other_turn"] = static_cast<double>(st.other_turn);
     state.counters["max_newton_iterations"] = st.max_newton;
     state.counters["max_shift_iterations"] = st.max_shift;
-    if (!st.first_failure.empty()) state.SetLabel(st.first_failure);
+    state.SetLabel(st.first_failure.empty() ? st.first_handover.empty()
+                                                  ? std::string()
+                                                  : "first hand-over: " + st.first_handover
+                                            : "first failure: " + st.first_failure);
   }
 }
 BENCHMARK(BM_RoundTrip100k)

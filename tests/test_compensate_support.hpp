@@ -74,17 +74,27 @@ inline bool near_singular(const RobotModel& model, const Vector6d& joints, doubl
   return std::hypot(w.x(), w.y()) < 50;
 }
 
+/// Newton and pose-shift joints further apart than this are different solutions: those of one
+/// pose lie ≥ 0.1 rad apart, while two answers within the tolerance of one solution (≥ 5° from
+/// singularities) differ by up to 5e-7 rad (BM_RoundTrip100k, Fanuc LR Mate 200iC: pose shift
+/// converges linearly and stops just inside the tolerance, Newton far inside).
+inline constexpr double kAgreementRad = 1e-6;
+
 /// What the round trip found, per configuration index (ArmConfig::index()) and overall.
 struct RoundTripStats {
-  std::array<long, 8> poses{};         ///< poses solved by both iterations
-  std::array<long, 8> failures{};      ///< poses where either iteration did not converge
-  long draws = 0;                      ///< joint vectors drawn, singular ones included
-  double worst_mm = 0, worst_deg = 0;  ///< calibrated FK of the answers against the pose
-  double worst_agreement_rad = 0;      ///< Newton against pose shift
-  double worst_recovery_rad = 0;       ///< Newton against the drawn joints, same turn
+  std::array<long, 8> poses{};     ///< poses drawn and solved by both iterations
+  std::array<long, 8> failures{};  ///< poses where either iteration did not converge
+  /// Poses where Newton left the configuration and calibrated_ik handed over to pose shift:
+  /// no Newton answer of its own to compare.
+  std::array<long, 8> handovers{};
+  std::array<long, 8> disagreements{};          ///< Newton and pose shift > kAgreementRad apart
+  std::array<double, 8> worst_agreement_rad{};  ///< Newton against pose shift, own answers
+  long draws = 0;                               ///< joint vectors drawn, singular ones included
+  double worst_mm = 0, worst_deg = 0;           ///< calibrated FK of the answers against the pose
+  double worst_recovery_rad = 0;                ///< Newton against the drawn joints, same turn
   long other_turn = 0;  ///< answers a full turn of a wide-range joint from the drawn joints
   int max_newton = 0, max_shift = 0;  ///< iterations
-  std::string first_failure;
+  std::string first_failure, first_handover;
   [[nodiscard]] bool complete(long per_config) const {
     return std::all_of(poses.begin(), poses.end(), [&](long n) { return n >= per_config; });
   }
@@ -93,8 +103,8 @@ struct RoundTripStats {
 /// Round trip calibrated FK(calibrated IK(pose)) = pose over `per_config` random reachable
 /// poses in each of the 8 configurations: joints drawn uniformly inside the limits (at most
 /// `max_draws`), ≥ 5° from the singular labels, their calibrated TCP pose solved by both
-/// iterations in the configuration of the drawn joints, seeded near them. Inside the limits
-/// and away from singularities the drawn joints are the answer.
+/// iterations in the configuration of the drawn joints, seeded near them, and the two answers
+/// compared. Inside the limits and away from singularities the drawn joints are the answer.
 inline RoundTripStats round_trip(const CalibratedRobot& robot, const Compensator& comp,
                                  long per_config, long max_draws, std::mt19937_64& rng) {
   RoundTripStats st;
@@ -109,14 +119,15 @@ inline RoundTripStats round_trip(const CalibratedRobot& robot, const Compensator
     const Pose<double> wanted = calibrated_tcp_pose(comp.chain, q);
     const CalibratedIkResult newton = calibrated_ik(comp, wanted, config, q, IkMethod::Newton);
     const CalibratedIkResult shift = calibrated_ik(comp, wanted, config, q, IkMethod::PoseShift);
+    const auto where = [&] {
+      std::string j = config.label() + " at joints (rad)";
+      for (int i = 0; i < kJointCount; ++i) j += " " + std::to_string(q[i]);
+      return j;
+    };
     if (!newton.ok() || !shift.ok()) {
       if (st.failures[index]++ == 0 && st.first_failure.empty())
-        st.first_failure = config.label() + ": Newton " + to_string(newton.status) +
-                           ", pose shift " + to_string(shift.status) + " at joints (rad) " + [&] {
-                             std::string j;
-                             for (int i = 0; i < kJointCount; ++i) j += std::to_string(q[i]) + " ";
-                             return j;
-                           }();
+        st.first_failure = std::string("Newton ") + to_string(newton.status) + ", pose shift " +
+                           to_string(shift.status) + ": " + where();
       continue;
     }
     for (const CalibratedIkResult* r : {&newton, &shift}) {
@@ -125,8 +136,14 @@ inline RoundTripStats round_trip(const CalibratedRobot& robot, const Compensator
       st.worst_deg = std::max(st.worst_deg,
                               rad2deg(Eigen::AngleAxisd(reached.R.transpose() * wanted.R).angle()));
     }
-    st.worst_agreement_rad =
-        std::max(st.worst_agreement_rad, (newton.joints - shift.joints).cwiseAbs().maxCoeff());
+    if (newton.method != IkMethod::Newton) {
+      if (st.handovers[index]++ == 0 && st.first_handover.empty()) st.first_handover = where();
+    } else {
+      const double agreement = (newton.joints - shift.joints).cwiseAbs().maxCoeff();
+      st.worst_agreement_rad[index] = std::max(st.worst_agreement_rad[index], agreement);
+      st.disagreements[index] += agreement > kAgreementRad;
+      st.max_newton = std::max(st.max_newton, newton.iterations);
+    }
     // The drawn joints, or (near a limit of a joint of more than one turn) the same pose a
     // turn away: with joint scales ≠ 1 the calibrated turn differs from 2π by a little.
     const double recovery = (newton.joints - q).cwiseAbs().maxCoeff();
@@ -134,7 +151,6 @@ inline RoundTripStats round_trip(const CalibratedRobot& robot, const Compensator
       ++st.other_turn;
     else
       st.worst_recovery_rad = std::max(st.worst_recovery_rad, recovery);
-    st.max_newton = std::max(st.max_newton, newton.iterations);
     st.max_shift = std::max(st.max_shift, shift.iterations);
   }
   return st;

@@ -1,10 +1,53 @@
 #include "robcal/compensate/calibrated_chain.hpp"
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <numbers>
 
 #include "robcal/kinematics/angle_shift.hpp"
 
 namespace robcal {
+namespace {
+
+constexpr int kTableSize = 256;  // a power of two: k mod 256 is k & 255, negative k included
+
+/// The table's step 2π/256 split Cody–Waite style: kStepHigh has its low 12 bits zero, so
+/// k·kStepHigh is exact for |k| < 4096 (|θ| < 100 rad), and kStepLow carries the rest of the
+/// exact step, so that θ − k·2π/256 loses nothing to the step's rounding.
+constexpr long double kStep = 2 * std::numbers::pi_v<long double> / kTableSize;
+constexpr double kStepHigh = std::bit_cast<double>(
+    std::bit_cast<std::uint64_t>(static_cast<double>(kStep)) & ~std::uint64_t{0xfff});
+constexpr double kStepLow = static_cast<double>(kStep - kStepHigh);
+
+/// sin and cos of k·2π/256, each correctly rounded (long double); built on first use, so that
+/// no other static initialiser can see it empty.
+const std::array<std::array<double, 2>, kTableSize>& sin_cos_table() {
+  static const auto table = [] {
+    std::array<std::array<double, 2>, kTableSize> t{};
+    for (int k = 0; k < kTableSize; ++k)
+      t[k] = {static_cast<double>(std::sin(k * kStep)), static_cast<double>(std::cos(k * kStep))};
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
+void table_sin_cos(double theta, double* s, double* c) {
+  const double x = theta * static_cast<double>(1 / kStep);
+  if (!(std::abs(x) < 4096)) {  // beyond the reduction's range, or not a number
+    *s = std::sin(theta);
+    *c = std::cos(theta);
+    return;
+  }
+  // Nearest multiple by truncation (no libm call without SSE4.1's roundsd).
+  const auto k = static_cast<std::int64_t>(x + (x >= 0 ? 0.5 : -0.5));
+  const double kd = static_cast<double>(k);
+  const auto& entry = sin_cos_table()[static_cast<std::size_t>(k & (kTableSize - 1))];
+  sin_cos_shifted(entry[0], entry[1], (theta - kd * kStepHigh) - kd * kStepLow, s, c);
+}
+
 namespace {
 
 /// Φ_i = Φ_{i-1} · Rot_x(α)·Trans_x(a)·Rot_z(θ)·Trans_z(d) written on the columns r0, r1, r2 of
@@ -12,12 +55,13 @@ namespace {
 /// p = p_{i-1} + a·r0 + d·z (the MDH product with its zeros left out).
 void next_frame(const Pose<double>& prev, double ca, double sa, double a, double d, double ct,
                 double st, Pose<double>& out) {
-  const auto r0 = prev.R.col(0), r1 = prev.R.col(1), r2 = prev.R.col(2);
-  const Eigen::Vector3d u = ca * r1 + sa * r2;
-  out.R.col(2) = ca * r2 - sa * r1;
+  // Columns copied out (an Eigen Block operand costs here, as in the Jacobians).
+  const Eigen::Vector3d r0 = prev.R.col(0), r1 = prev.R.col(1), r2 = prev.R.col(2);
+  const Eigen::Vector3d u = ca * r1 + sa * r2, z = ca * r2 - sa * r1;
   out.R.col(0) = ct * r0 + st * u;
   out.R.col(1) = ct * u - st * r0;
-  out.p = prev.p + a * r0 + d * out.R.col(2);
+  out.R.col(2) = z;
+  out.p = prev.p + a * r0 + d * z;
 }
 
 /// World frames Φ1..Φ6 (METHOD §2) from the cosines and sines of θ1 + γ_base and θ2..θ6.
@@ -80,8 +124,7 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
       sin_cos_shifted(state.sin_theta[i], state.cos_theta[i], step, &state.sin_theta[i],
                       &state.cos_theta[i]);
     } else {
-      state.cos_theta[i] = std::cos(theta);
-      state.sin_theta[i] = std::sin(theta);
+      table_sin_cos(theta, &state.sin_theta[i], &state.cos_theta[i]);
     }
     state.theta[i] = theta;
   }
@@ -95,9 +138,12 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
     double M = 0;
     Eigen::Vector3d C = Eigen::Vector3d::Zero();
     for (int i = kJointCount - 1; i >= 1; --i) {
+      const Eigen::Vector3d p = frames[i].p, m = c.moment[i];
       M += c.mass[i];
-      C += c.mass[i] * frames[i].p + frames[i].R * c.moment[i];
-      state.V[i] = C - M * frames[i].p;
+      C += c.mass[i] * p + m.x() * Eigen::Vector3d(frames[i].R.col(0)) +
+           m.y() * Eigen::Vector3d(frames[i].R.col(1)) +
+           m.z() * Eigen::Vector3d(frames[i].R.col(2));
+      state.V[i] = C - M * p;
     }
     for (int i = 0; i < kJointCount; ++i) state.z_undeflected[i] = frames[i].R.col(2);
     for (int i = 1; i < kJointCount; ++i) {
@@ -108,38 +154,72 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
       next_frame(frames[i - 1], c.cos_alpha[i], c.sin_alpha[i], c.a[i], c.d[i], cos_t[i], sin_t[i],
                  frames[i]);
   }
-  const Pose<double> tcp = frames[kJointCount - 1] * c.flange_T_tcp;
+  // frames[5] · flange_T_tcp on copied columns (as in next_frame).
+  const Eigen::Vector3d x = frames[kJointCount - 1].R.col(0), y = frames[kJointCount - 1].R.col(1),
+                        z = frames[kJointCount - 1].R.col(2);
+  Pose<double> tcp;
+  for (int j = 0; j < 3; ++j)
+    tcp.R.col(j) =
+        x * c.flange_T_tcp.R(0, j) + y * c.flange_T_tcp.R(1, j) + z * c.flange_T_tcp.R(2, j);
+  tcp.p = frames[kJointCount - 1].p + x * c.flange_T_tcp.p.x() + y * c.flange_T_tcp.p.y() +
+          z * c.flange_T_tcp.p.z();
   state.tcp_p = tcp.p;
   return tcp;
 }
 
 void calibrated_jacobian(const CalibratedChain& c, const ChainState& state, Matrix6d& J) {
-  Matrix6d J_theta;
   for (int k = 0; k < kJointCount; ++k) {
-    const auto z_k = state.frames[k].R.col(2);
-    J_theta.block<3, 1>(0, k) = z_k.cross(state.tcp_p - state.frames[k].p);
-    J_theta.block<3, 1>(3, k) = z_k;
+    const Eigen::Vector3d z_k = state.frames[k].R.col(2);
+    J.block<3, 1>(0, k) = z_k.cross(state.tcp_p - state.frames[k].p);
+    J.block<3, 1>(3, k) = z_k;
   }
-  J = J_theta;
   if (c.compliant) {
-    // J_θ·(I + diag(c)·∂τ/∂θu), one dot product per entry (file comment).
+    // J_θ + J_θ·diag(c)·∂τ/∂θu, ∂τ_i/∂θu_k = y_max(i,k) · w_min(i,k) (file comment).
     const auto& z = state.z_undeflected;
-    const auto& V = state.V;
-    const Eigen::Vector3d& g = c.gravity;
-    std::array<Eigen::Vector3d, kJointCount> w, u, y;
-    for (int i = 1; i < kJointCount; ++i) {
-      w[i] = g.cross(z[i]);
-      u[i] = z[i].cross(V[i].cross(g)) + V[i].cross(w[i]);
-      y[i] = z[i].cross(V[i]);
+    std::array<Eigen::Vector3d, kJointCount> w, y;
+    Eigen::Matrix<double, 6, kJointCount - 1> J_c;
+    for (int i = 0; i < kJointCount; ++i) {
+      w[i] = c.gravity.cross(z[i]);
+      if (i == 0) continue;
+      y[i] = z[i].cross(state.V[i]);
+      J_c.col(i - 1) = c.compliance[i] * J.col(i);
     }
-    for (int i = 1; i < kJointCount; ++i) {
-      const Vector6d column = c.compliance[i] * J_theta.col(i);
+    Eigen::Matrix<double, kJointCount - 1, kJointCount> dtau;
+    for (int i = 1; i < kJointCount; ++i)
       for (int k = 0; k < kJointCount; ++k)
-        J.col(k) += (k <= i ? z[k].dot(u[i]) : y[k].dot(w[i])) * column;
-    }
+        dtau(i - 1, k) = k <= i ? y[i].dot(w[k]) : y[k].dot(w[i]);
+    J.noalias() += J_c * dtau;
   }
   for (int k = 0; k < kJointCount; ++k) J.col(k) *= c.scale[k];
   if (!c.map_identity) J = J * c.joint_map;
+}
+
+Vector6d calibrated_jacobian_derivative(const CalibratedChain& c, const ChainState& state,
+                                        const Vector6d& along, const Vector6d& v) {
+  const Vector6d du = c.map_identity ? along : Vector6d(c.joint_map * along);
+  const Vector6d dv = c.map_identity ? v : Vector6d(c.joint_map * v);
+  // Σ_k ν_k·z_k × (ṗ − ȯ_k) = ω_v × ṗ − Σ_k ν_k·z_k × ȯ_k, ω_v = Σ_k ν_k·z_k: one pass. Link
+  // 0 is still (ż_1 = ȯ_1 = 0) and only starts ω and ω_v.
+  const Eigen::Vector3d z_1 = state.frames[0].R.col(2);
+  Eigen::Vector3d omega = (c.scale[0] * du[0]) * z_1, omega_v = (c.scale[0] * dv[0]) * z_1,
+                  o_dot = Eigen::Vector3d::Zero(), linear = Eigen::Vector3d::Zero(),
+                  angular = Eigen::Vector3d::Zero();
+  for (int k = 1; k < kJointCount; ++k) {
+    const Pose<double>& f = state.frames[k];
+    o_dot += omega.cross(f.p - state.frames[k - 1].p);
+    const Eigen::Vector3d z = f.R.col(2);
+    const Eigen::Vector3d z_dot = omega.cross(z);
+    const double nu = c.scale[k] * dv[k];
+    linear += nu * (z_dot.cross(state.tcp_p - f.p) - z.cross(o_dot));
+    angular += nu * z_dot;
+    omega_v += nu * z;
+    omega += (c.scale[k] * du[k]) * z;
+  }
+  const Eigen::Vector3d p_dot = o_dot + omega.cross(state.tcp_p - state.frames[kJointCount - 1].p);
+  Vector6d out;
+  out.head<3>() = linear + omega_v.cross(p_dot);
+  out.tail<3>() = angular;
+  return out;
 }
 
 Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joints,

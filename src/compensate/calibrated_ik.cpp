@@ -1,6 +1,7 @@
 #include "robcal/compensate/calibrated_ik.hpp"
 
-#include <Eigen/LU>
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "robcal/core/error.hpp"
@@ -9,25 +10,41 @@
 namespace robcal {
 namespace {
 
-/// World pose error (p* − p, log(R*·Rᵀ)) and its two magnitudes.
+/// World pose error e = (p* − p, log(R*·Rᵀ)), with the squared distance and the sine and
+/// cosine of the rotation angle for the tolerance check; the angle itself only for the result.
 struct PoseError {
   Vector6d e;
-  double position_mm;
-  double orientation_rad;
+  double position_sq;
+  double sin_angle, cos_angle;
+  [[nodiscard]] double position_mm() const { return std::sqrt(position_sq); }
+  [[nodiscard]] double orientation_rad() const { return fast_atan2(sin_angle, cos_angle); }
 };
 
 PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
   PoseError out;
   out.e.head<3>() = wanted.p - reached.p;
-  const Eigen::Matrix3d E = wanted.R * reached.R.transpose();
-  const Eigen::Vector3d w(E(2, 1) - E(1, 2), E(0, 2) - E(2, 0), E(1, 0) - E(0, 1));
-  const double s = 0.5 * w.norm();           // sin of the angle
-  const double c = 0.5 * (E.trace() - 1.0);  // cos of the angle
-  const double angle = fast_atan2(s, c);
-  // log map: axis·angle; the ratio angle/sin tends to 1 as the rotation vanishes.
-  out.e.tail<3>() = s > 1e-12 ? Eigen::Vector3d(w * (0.5 * angle / s)) : Eigen::Vector3d(0.5 * w);
-  out.position_mm = out.e.head<3>().norm();
-  out.orientation_rad = angle;
+  out.position_sq = out.e.head<3>().squaredNorm();
+  // E = R*·Rᵀ = Σ_k a_k·b_kᵀ over the columns a_k of R*, b_k of R: the vector of its skew part
+  // E − Eᵀ is w = Σ_k b_k × a_k (2·sin·axis) and its trace Σ_k a_k · b_k (1 + 2·cos).
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();
+  double trace = 0;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d a = wanted.R.col(k), b = reached.R.col(k);  // copies, not Blocks: faster
+    w += b.cross(a);
+    trace += a.dot(b);
+  }
+  const double sin_sq = 0.25 * w.squaredNorm();
+  out.sin_angle = std::sqrt(sin_sq);
+  out.cos_angle = 0.5 * (trace - 1.0);
+  // log map: ½w·angle/sin. Within 0.01 rad (all but the first errors of a solve) angle/sin =
+  // asin(s)/s by its series to s⁴, the next term 5s⁶/112 < 5e-14; beyond, by atan2. The ratio
+  // tends to 1 as the rotation vanishes.
+  double ratio = 1;
+  if (sin_sq < 1e-4 && out.cos_angle > 0)
+    ratio = 1 + sin_sq * (1.0 / 6 + sin_sq * (3.0 / 40));
+  else if (out.sin_angle > 1e-12)
+    ratio = out.orientation_rad() / out.sin_angle;
+  out.e.tail<3>() = (0.5 * ratio) * w;
   return out;
 }
 
@@ -36,17 +53,31 @@ PoseError pose_error(const Pose<double>& wanted, const Pose<double>& reached) {
 constexpr double kBranchCheckRad = 0.05;
 constexpr double kMaxStepRad = 0.25;
 
+/// A Newton step gets the chain's second-order correction when its largest joint move lies
+/// between kCurvatureMinStepRad (below, the curvature leaves < 3e-8 mm: nothing to correct)
+/// and kCurvatureMaxStepRad, and the correction changes it by less than the step itself: near a
+/// singularity (elbow close to stretch) the expansion no longer describes the chain and the
+/// corrected step could turn back towards the other branch.
+constexpr double kCurvatureMinStepRad = 1e-5;
+constexpr double kCurvatureMaxStepRad = 0.1;
+
 /// |det| of a 3×3 block below this fraction of its largest column norm cubed (about the
 /// smallest LU pivot relative to the largest) counts as lost rank.
 constexpr double kRankRatio = 1e-10;
 
-/// Inverse of a 3×3 block, false when it has (nearly) lost rank.
-bool invert_block(const Eigen::Matrix3d& m, Eigen::Matrix3d& inverse) {
-  double det;
-  bool invertible;
-  m.computeInverseAndDetWithCheck(inverse, det, invertible, 0.0);
-  const double largest = m.colwise().norm().maxCoeff();
-  return invertible && std::abs(det) > kRankRatio * largest * largest * largest;
+using Columns3 = std::array<Eigen::Vector3d, 3>;
+
+/// Rows of the inverse of the 3×3 matrix with columns a, b, c (b×c, c×a, a×b over the
+/// determinant), false when it has (nearly) lost rank.
+bool invert_block(const Columns3& m, Columns3& inverse_rows) {
+  const Eigen::Vector3d bc = m[1].cross(m[2]), ca = m[2].cross(m[0]), ab = m[0].cross(m[1]);
+  const double det = m[0].dot(bc);
+  const double largest_sq = std::max({m[0].squaredNorm(), m[1].squaredNorm(), m[2].squaredNorm()});
+  if (!(det * det > kRankRatio * kRankRatio * largest_sq * largest_sq * largest_sq))
+    return false;  // NaN included
+  const double inv_det = 1.0 / det;
+  inverse_rows = {inv_det * bc, inv_det * ca, inv_det * ab};
+  return true;
 }
 
 /// Solves J·x = e through the spherical wrist's decoupling (Pieper): with the linear rows taken
@@ -54,28 +85,53 @@ bool invert_block(const Eigen::Matrix3d& m, Eigen::Matrix3d& inverse) {
 /// same system), J = [[A, B], [C, D]] has A the arm's position block and D the wrist's
 /// orientation block (B vanishes on the nominal robot), and the Schur complement
 /// S = D − C·A⁻¹·B gives x_w = S⁻¹·(e_ω − C·A⁻¹·e_v), x_a = A⁻¹·(e_v − B·x_w): exact, with
-/// 3×3 inverses only. False at (or near) an arm or wrist singularity, where A or S loses rank.
-bool wrist_partitioned_solve(const Matrix6d& J, const Vector6d& e, const Eigen::Vector3d& r,
-                             Vector6d& x) {
-  Eigen::Matrix3d A, B;
-  for (int k = 0; k < 3; ++k) {
-    A.col(k) = J.block<3, 1>(0, k) + r.cross(J.block<3, 1>(3, k));
-    B.col(k) = J.block<3, 1>(0, k + 3) + r.cross(J.block<3, 1>(3, k + 3));
+/// 3×3 inverses only, factored once per Jacobian for the two right-hand sides of a step. In
+/// columns, rows, cross and dot products of 3-vectors, which the compiler keeps inline.
+class WristPartitionedSolver {
+ public:
+  /// False at (or near) an arm or wrist singularity, where A or S loses rank.
+  bool factor(const Matrix6d& J, const Eigen::Vector3d& r) {
+    Columns3 A, S;
+    for (int k = 0; k < 3; ++k) {
+      C_[k] = J.block<3, 1>(3, k);
+      A[k] = J.block<3, 1>(0, k) + r.cross(C_[k]);
+    }
+    r_ = r;
+    if (!invert_block(A, A_inv_rows_)) return false;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d D_k = J.block<3, 1>(3, k + 3);
+      const Eigen::Vector3d B_k = J.block<3, 1>(0, k + 3) + r.cross(D_k);
+      A_inv_B_[k] = apply_rows(A_inv_rows_, B_k);
+      S[k] = D_k - combine(C_, A_inv_B_[k]);
+    }
+    return invert_block(S, S_inv_rows_);
   }
-  const auto C = J.block<3, 3>(3, 0), D = J.block<3, 3>(3, 3);
-  Eigen::Matrix3d A_inv, S_inv;
-  if (!invert_block(A, A_inv)) return false;
-  const Eigen::Matrix3d A_inv_B = A_inv * B;
-  if (!invert_block(D - C * A_inv_B, S_inv)) return false;
-  const Eigen::Vector3d A_inv_e = A_inv * (e.head<3>() + r.cross(e.tail<3>()));
-  x.tail<3>() = S_inv * (e.tail<3>() - C * A_inv_e);
-  x.head<3>() = A_inv_e - A_inv_B * x.tail<3>();
-  return true;
-}
+  [[nodiscard]] Vector6d solve(const Vector6d& e) const {
+    const Eigen::Vector3d e_w = e.tail<3>();
+    const Eigen::Vector3d e_v = e.head<3>();
+    const Eigen::Vector3d A_inv_e = apply_rows(A_inv_rows_, e_v + r_.cross(e_w));
+    const Eigen::Vector3d x_w = apply_rows(S_inv_rows_, e_w - combine(C_, A_inv_e));
+    Vector6d x;
+    x.head<3>() = A_inv_e - combine(A_inv_B_, x_w);
+    x.tail<3>() = x_w;
+    return x;
+  }
 
+ private:
+  static Eigen::Vector3d apply_rows(const Columns3& rows, const Eigen::Vector3d& v) {
+    return {rows[0].dot(v), rows[1].dot(v), rows[2].dot(v)};
+  }
+  static Eigen::Vector3d combine(const Columns3& columns, const Eigen::Vector3d& v) {
+    return v[0] * columns[0] + v[1] * columns[1] + v[2] * columns[2];
+  }
+  Columns3 A_inv_rows_, A_inv_B_, C_, S_inv_rows_;
+  Eigen::Vector3d r_;
+};
+
+/// The angle is within tolerance when sin ≤ cos·tolerance (atan x ≤ x: never looser).
 bool within(const PoseError& err, const CalibratedIkOptions& options) {
-  return err.position_mm <= options.position_tolerance_mm &&
-         err.orientation_rad <= options.orientation_tolerance_rad;
+  return err.position_sq <= options.position_tolerance_mm * options.position_tolerance_mm &&
+         err.cos_angle > 0 && err.sin_angle <= err.cos_angle * options.orientation_tolerance_rad;
 }
 
 /// Final verdict of a converged iterate: still in the seed's configuration, then the limits.
@@ -85,9 +141,14 @@ CalibratedIkResult finish(const Compensator& comp, const Vector6d& seed, const A
   CalibratedIkResult r;
   r.joints = joints;
   r.iterations = iterations;
-  r.position_error_mm = err.position_mm;
-  r.orientation_error_rad = err.orientation_rad;
-  if ((joints - seed).cwiseAbs().maxCoeff() > kBranchCheckRad &&
+  r.position_error_mm = err.position_mm();
+  r.orientation_error_rad = err.orientation_rad();
+  // The labels depend on model joints 1–3 and 5 only: the large moves of 4 and 6 near the
+  // wrist singularity need no check.
+  const Vector6d moved = comp.chain.map_identity ? Vector6d(joints - seed)
+                                                 : Vector6d(comp.chain.joint_map * (joints - seed));
+  if (std::max({std::abs(moved[0]), std::abs(moved[1]), std::abs(moved[2]), std::abs(moved[4])}) >
+          kBranchCheckRad &&
       !(arm_config(comp.model, joints) == (expected ? *expected : arm_config(comp.model, seed))))
     r.status = CalibratedIkStatus::LeftConfiguration;
   else
@@ -102,8 +163,8 @@ CalibratedIkResult failed(CalibratedIkStatus status, const Vector6d& joints, con
   r.status = status;
   r.joints = joints;
   r.iterations = iterations;
-  r.position_error_mm = err.position_mm;
-  r.orientation_error_rad = err.orientation_rad;
+  r.position_error_mm = err.position_mm();
+  r.orientation_error_rad = err.orientation_rad();
   return r;
 }
 
@@ -204,19 +265,55 @@ CalibratedIkResult newton(const Compensator& comp, const Pose<double>& world_T_t
   Vector6d joints = seed;
   ChainState state;
   Matrix6d J;
+  WristPartitionedSolver solver;
   for (int it = 0;; ++it) {
     const PoseError err = pose_error(world_T_tcp, calibrated_tcp_pose(comp.chain, joints, state));
     if (within(err, options)) return finish(comp, seed, expected, joints, err, it);
     if (it == options.max_iterations)
       return failed(CalibratedIkStatus::NotConverged, joints, err, it);
     calibrated_jacobian(comp.chain, state, J);
-    Vector6d step;
-    if (!wrist_partitioned_solve(J, err.e, state.tcp_p - state.frames[4].p, step))
+    if (!solver.factor(J, state.tcp_p - state.frames[4].p))
       return failed(CalibratedIkStatus::Singular, joints, err, it);
-    const double largest_step = step.cwiseAbs().maxCoeff();
+    Vector6d step = solver.solve(err.e);
+    double largest_step = step.cwiseAbs().maxCoeff();
+    // The chain's curvature along the step, ½·(p̈, ω̇), is what a plain Newton step leaves as
+    // the next error (~1e-2 mm from a seed ~2 mm off: in a third of the cases too much for one
+    // more step to reach the tolerance); taken out of the right-hand side, the step is exact to
+    // second order and the next error ~1e-4 mm, after which a plain step suffices.
+    if (largest_step > kCurvatureMinStepRad && largest_step < kCurvatureMaxStepRad) {
+      const Vector6d corrected =
+          solver.solve(err.e - 0.5 * calibrated_jacobian_derivative(comp.chain, state, step, step));
+      if ((corrected - step).cwiseAbs().maxCoeff() < largest_step) {
+        step = corrected;
+        largest_step = step.cwiseAbs().maxCoeff();
+      }
+    }
     if (!std::isfinite(largest_step)) return failed(CalibratedIkStatus::Singular, seed, err, it);
     if (largest_step > kMaxStepRad) step *= kMaxStepRad / largest_step;
     joints += step;
+    if ((joints - seed).cwiseAbs().maxCoeff() > options.max_joint_change_rad)
+      return failed(CalibratedIkStatus::LeftConfiguration, joints, err, it + 1);
+  }
+}
+
+CalibratedIkResult pose_shift(const Compensator& comp, const Pose<double>& world_T_tcp,
+                              const ArmConfig& config, const Vector6d& seed,
+                              const CalibratedIkOptions& options) {
+  Vector6d joints = seed;
+  // The command starts as the nominal pose of the seed (the base-frame image of the wanted).
+  Pose<double> command = nominal_tcp_pose(comp, seed);
+  ChainState state;
+  for (int it = 0;; ++it) {
+    const Pose<double> reached = calibrated_tcp_pose(comp.chain, joints, state);
+    const PoseError err = pose_error(world_T_tcp, reached);
+    if (within(err, options)) return finish(comp, seed, &config, joints, err, it);
+    if (it == options.max_iterations)
+      return failed(CalibratedIkStatus::NotConverged, joints, err, it);
+    command = command * (reached.inverse() * world_T_tcp);
+    const Seed next = seed_of(comp.seed_geometry, command * comp.tcp_T_flange, config, joints);
+    if (next.status != CalibratedIkStatus::Converged)
+      return failed(next.status, joints, err, it + 1);
+    joints = next.joints;
     if ((joints - seed).cwiseAbs().maxCoeff() > options.max_joint_change_rad)
       return failed(CalibratedIkStatus::LeftConfiguration, joints, err, it + 1);
   }
@@ -233,23 +330,9 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
                                             const Pose<double>& world_T_tcp,
                                             const ArmConfig& config, const Vector6d& seed,
                                             const CalibratedIkOptions& options) {
-  Vector6d joints = seed;
-  // The command starts as the nominal pose of the seed (the base-frame image of the wanted).
-  Pose<double> command = nominal_tcp_pose(comp, seed);
-  for (int it = 0;; ++it) {
-    const Pose<double> reached = calibrated_tcp_pose(comp.chain, joints);
-    const PoseError err = pose_error(world_T_tcp, reached);
-    if (within(err, options)) return finish(comp, seed, &config, joints, err, it);
-    if (it == options.max_iterations)
-      return failed(CalibratedIkStatus::NotConverged, joints, err, it);
-    command = command * (reached.inverse() * world_T_tcp);
-    const Seed next = seed_of(comp.seed_geometry, command * comp.tcp_T_flange, config, joints);
-    if (next.status != CalibratedIkStatus::Converged)
-      return failed(next.status, joints, err, it + 1);
-    joints = next.joints;
-    if ((joints - seed).cwiseAbs().maxCoeff() > options.max_joint_change_rad)
-      return failed(CalibratedIkStatus::LeftConfiguration, joints, err, it + 1);
-  }
+  CalibratedIkResult r = pose_shift(comp, world_T_tcp, config, seed, options);
+  r.method = IkMethod::PoseShift;
+  return r;
 }
 
 CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& world_T_tcp,

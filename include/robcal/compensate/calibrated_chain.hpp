@@ -12,10 +12,10 @@
 /// J_θ the geometric Jacobian of the deflected chain (column k: [z_k × (p_tcp − o_k); z_k]).
 /// The gravity torque τ_i = z_i · (V_i × g), with M_i, C_i the mass and first moment of links
 /// i..6 and the payload (world frame) and V_i = C_i − M_i·o_i, has the derivatives
-///   ∂τ_i/∂θu_k = z_k · u_i,  u_i = z_i × (V_i × g) + V_i × (g × z_i)    for k ≤ i,
-///   ∂τ_i/∂θu_k = (z_k × V_k) · (g × z_i)                              for k > i
-/// (the triple products of d z_i = z_k × z_i, d V_i = z_k × V_i for k ≤ i, d V_i = z_k × V_k
-/// for k > i, rearranged so that each entry is one dot product).
+///   ∂τ_i/∂θu_k = y_m · w_n,  m = max(i, k), n = min(i, k),  y = z × V,  w = g × z
+/// (from d z_i = z_k × z_i, d V_i = z_k × V_i for k ≤ i, d V_i = z_k × V_k for k > i: for
+/// k ≤ i the triple products sum to z_k · (y_i × g) by the Jacobi identity, for k > i to
+/// y_k · w_i; one dot product per entry).
 /// Checked against ceres::Jet autodiff of `flange_pose<T>` and finite differences in the tests.
 
 #include <Eigen/Core>
@@ -60,6 +60,11 @@ struct ChainState {
   std::array<double, kJointCount> theta{}, cos_theta{}, sin_theta{};  ///< θu (θ1 with γ_base)
 };
 
+/// sin θ and cos θ from a table at the multiples of 2π/256 and the angle-addition series for
+/// the rest (|δ| ≤ π/256, inside sin_cos_shifted's series range): within a few ulp of
+/// std::sin and std::cos, without their calls, which took ~40 % of a fresh chain evaluation.
+void table_sin_cos(double theta, double* s, double* c);
+
 /// Precomputes the chain for `params` (METHOD §3 layout), the payload carried and the tool.
 CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& params,
                                       const PointMass& payload, const Pose<double>& flange_T_tcp);
@@ -71,6 +76,19 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& chain, const Vector6d& j
 
 /// The joint Jacobian at the joints of the last calibrated_tcp_pose into `state`.
 void calibrated_jacobian(const CalibratedChain& chain, const ChainState& state, Matrix6d& jacobian);
+
+/// The change of the joint Jacobian along a joint motion `along` (rad), applied to `v`:
+/// d/dt [J(j + t·along)·v] at t = 0, at the joints j of the last calibrated_tcp_pose into
+/// `state`; with v = along, the second derivative (p̈, ω̇) of the TCP's motion, so that the pose
+/// at j + along is the one at j moved by J·along + ½·(p̈, ω̇) to second order. For the rigid
+/// deflected chain: with link angle rates δ = scale·(M·along), ν = scale·(M·v), link k − 1
+/// turning at ω_{k−1} = Σ_{i<k} δ_i·z_i and origin o_k moving at ȯ_k = ȯ_{k−1} + ω_{k−1} ×
+/// (o_k − o_{k−1}), the axes turn at ż_k = ω_{k−1} × z_k and, ṗ being the TCP's velocity,
+///   d(J·v)/dt = Σ_k ν_k·(ż_k × (p − o_k) + z_k × (ṗ − ȯ_k), ż_k).
+/// The compliance's own change (the deflection varying along the motion, up to ~3 % of the
+/// whole) is left out: this serves Newton steps, whose answers the forward model verifies.
+Vector6d calibrated_jacobian_derivative(const CalibratedChain& chain, const ChainState& state,
+                                        const Vector6d& along, const Vector6d& v);
 
 /// Convenience: the pose, and the Jacobian too when `jacobian` is not null.
 Pose<double> calibrated_tcp_pose(const CalibratedChain& chain, const Vector6d& joints,
