@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <thread>
 
 #include "robcal/core/error.hpp"
 #include "robcal/design/leverage_cache.hpp"
@@ -193,13 +194,13 @@ namespace {
 
 constexpr double kMinImprovement = 1e-12;
 // Restarts: greedy from a few random candidates, then the same descent. Local optima differ
-// by a few configurations; a restart costs about as much as the first descent, which grows
-// with the candidates (≈ 3 ms for 500, 25 ms for 5000 here). Up to 4 restarts below 1000
-// candidates, where a single descent ended below the published exchange about once in twenty
-// trials (by ≤ 0.01 % of O1) and four made it none in 85, fewer above, and none from 4000 on
-// to keep 40 of 5000 within 50 ms (a single descent there beats the published exchange by
-// 0.7 % of O1).
-constexpr int kMaxRestarts = 4;
+// by a few configurations; a descent costs about as much as the first one, which grows with
+// the candidates (≈ 3 ms for 500, 20–25 ms for 5000 here, on one thread). Up to 5 restarts
+// (six descents, three per thread) below 800 candidates, where the local optima are closest:
+// one descent ended below the published exchange about once in twenty trials (by ≤ 0.01 % of
+// O1) and six did in none of 111; fewer above, and none from 4000 candidates on, to keep 40 of
+// 5000 within 50 ms (there one descent beats the published exchange by 0.5–0.8 % of O1).
+constexpr int kMaxRestarts = 5;
 constexpr int kRestartCandidates = 4000;
 constexpr int kRestartStart = 5;
 
@@ -397,40 +398,64 @@ class DOptimalSearch {
 // one of the chosen set).
 constexpr double kRidge = 1e-6;
 
-/// Greedy from `start` random candidates (none: from the ridge alone) up to `count`, then to a
-/// local optimum: the cheap exchanges first (a few sweeps each), then Fedorov's best swap
-/// until no single swap improves. Counts the accepted exchanges in `exchanges`.
+/// One descent: greedy from `start` random candidates (none: from the ridge alone) up to
+/// `count`, then to a local optimum: the cheap exchanges first (a few sweeps each), then
+/// Fedorov's best swap until no single swap improves.
+struct Descent {
+  std::vector<int> chosen;
+  double log_det = 0;
+  int exchanges = 0;
+};
+
 template <int R>
-DOptimalSearch<R> descend(const DesignMatrix& design, int count, int start, std::mt19937_64& rng,
-                          int& exchanges) {
+Descent descend(const DesignMatrix& design, int count, int start, std::mt19937_64& rng) {
   DOptimalSearch<R> search(design, kRidge);
   search.add_random(start, rng);
   while (static_cast<int>(search.chosen().size()) < count) search.add_best();
-  const int max_exchanges = exchanges + 50 * count;
+  Descent out;
+  const int max_exchanges = 50 * count;
   bool improved = true;
-  while (improved && exchanges < max_exchanges) {
+  while (improved && out.exchanges < max_exchanges) {
     improved = false;
-    if (search.remove_then_add()) improved = true, ++exchanges;
-    if (search.add_then_remove()) improved = true, ++exchanges;
+    if (search.remove_then_add()) improved = true, ++out.exchanges;
+    if (search.add_then_remove()) improved = true, ++out.exchanges;
   }
-  while (exchanges < max_exchanges && search.best_swap()) ++exchanges;
-  return search;
+  while (out.exchanges < max_exchanges && search.best_swap()) ++out.exchanges;
+  out.chosen = search.chosen();
+  out.log_det = search.log_det();
+  return out;
 }
 
 template <int R>
 Selection run_d_optimal(const DesignMatrix& design, int count, const DOptimalOptions& options) {
   Selection out;
-  std::mt19937_64 rng(options.seed);
-  const DOptimalSearch<R> first = descend<R>(design, count, 0, rng, out.exchanges);
-  out.chosen = first.chosen();
-  double best = first.log_det();
   out.restarts = options.restarts >= 0
                      ? options.restarts
                      : std::min(kMaxRestarts, kRestartCandidates / design.candidates());
-  for (int r = 0; r < out.restarts; ++r) {
-    const DOptimalSearch<R> again = descend<R>(design, count, kRestartStart, rng, out.exchanges);
-    if (again.log_det() > best + kMinImprovement) out.chosen = again.chosen(), best = again.log_det();
+  // Descent 0 is the plain greedy start, descent r > 0 draws from its own generator seeded by
+  // (seed, r), so the result does not depend on which thread runs which. The descents are
+  // independent: two threads take every other one.
+  std::vector<Descent> descents(static_cast<size_t>(out.restarts) + 1);
+  const auto run = [&](size_t first) {
+    for (size_t r = first; r < descents.size(); r += 2) {
+      std::seed_seq seeds{options.seed, static_cast<uint64_t>(r)};
+      std::mt19937_64 rng(seeds);
+      descents[r] = descend<R>(design, count, r == 0 ? 0 : kRestartStart, rng);
+    }
+  };
+  if (descents.size() > 1) {
+    std::thread other(run, 1);
+    run(0);
+    other.join();
+  } else {
+    run(0);
   }
+  size_t best = 0;
+  for (size_t r = 0; r < descents.size(); ++r) {
+    out.exchanges += descents[r].exchanges;
+    if (descents[r].log_det > descents[best].log_det + kMinImprovement) best = r;
+  }
+  out.chosen = std::move(descents[best].chosen);
   out.log_det = information_log_det(design, out.chosen);
   return out;
 }

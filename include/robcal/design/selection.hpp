@@ -3,7 +3,8 @@
 /// Choosing `count` calibration configurations among the candidates (METHOD §6):
 /// - the published exchange: a random start of 11, then remove/add single configurations
 ///   while the observability index O1 improves, O1 recomputed by SVD for every trial;
-/// - a fast D-optimal greedy + exchange: the information matrix M = Σ A_iᵀA_i of the chosen
+/// - a fast D-optimal greedy + exchange (+ Fedorov's exchange and restarts, see
+///   select_d_optimal): the information matrix M = Σ A_iᵀA_i of the chosen
 ///   set is kept with its inverse through rank-r updates (Woodbury) and every candidate's
 ///   r×r matrix A_i M⁻¹ A_iᵀ is kept current by one product with the update factor, so the
 ///   gain of adding candidate i, log det(I + A_i M⁻¹ A_iᵀ) (matrix determinant lemma), costs
@@ -68,10 +69,10 @@ struct Selection {
 };
 
 struct DOptimalOptions {
-  /// Perturbed restarts after the first descent; negative: by candidate count (4 up to 1000
-  /// candidates, 4000 / candidates above, none from 4000 on: each costs about one descent).
+  /// Restarts after the first descent; negative: by candidate count (5 up to 800 candidates,
+  /// ⌊4000 / candidates⌋ above, none from 4000 on: each costs about one descent).
   int restarts = -1;
-  uint64_t seed = 1;  ///< of the restarts' random draws
+  uint64_t seed = 1;  ///< of the restarts' random starts
 };
 
 /// The published exchange algorithm on O1 (METHOD §6): start from `start_size` random
@@ -87,9 +88,9 @@ Selection select_published_exchange(const DesignMatrix& design, int count, std::
 /// optimum: cheap exchanges (remove the least-informative chosen configuration and add the
 /// best candidate; add the best candidate and remove the least-informative) while det M
 /// increases, then Fedorov's exchange (the best swap over all chosen × candidate pairs, pairs
-/// pruned by a bound) until no single swap increases det M. Then `restarts` times: replace a
-/// third of the chosen configurations by random candidates and descend again; the best set
-/// found is returned. Deterministic for a given seed.
+/// pruned by a bound) until no single swap increases det M. Then `restarts` more descents,
+/// each greedy from a few random candidates; the best set found is returned. The descents are
+/// shared between two threads; the result is deterministic for a given seed.
 Selection select_d_optimal(const DesignMatrix& design, int count,
                            const DOptimalOptions& options = {});
 
