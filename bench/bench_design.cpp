@@ -73,7 +73,8 @@ std::map<SetKey, double>& published_o1() {
 void report(benchmark::State& state, const DesignMatrix& d, const Selection& s) {
   const SetKey key = set_key(state);
   auto& published = published_o1();
-  if (!published.count(key)) published[key] = observability_indices(d, published_exchange(d).chosen).O1;
+  if (!published.count(key))
+    published[key] = observability_indices(d, published_exchange(d).chosen).O1;
   const double o1 = observability_indices(d, s.chosen).O1;
   state.counters["O1"] = o1;
   state.counters["O1_published"] = published[key];

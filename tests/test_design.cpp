@@ -381,9 +381,9 @@ TEST(DesignSelection, FastMatchesOrBeatsThePublishedExchangeOnTheSameCandidates)
     for (uint64_t p : {7u, 8u, 9u}) cases.push_back({150, 25, c, p});
   for (uint64_t c : {105u, 108u, 109u, 208u}) cases.push_back({300, 40, c, 8});
   for (const Case& k : cases) {
-    SCOPED_TRACE(::testing::Message() << k.count << " of " << k.candidates << ", candidate seed "
-                                      << k.candidate_seed << ", published seed "
-                                      << k.published_seed);
+    SCOPED_TRACE(::testing::Message()
+                 << k.count << " of " << k.candidates << ", candidate seed " << k.candidate_seed
+                 << ", published seed " << k.published_seed);
     const Irb120Design d(k.candidates, k.candidate_seed);
     auto rng = test::seeded_rng(k.published_seed);
     const Selection published = select_published_exchange(d.design, k.count, rng);

@@ -194,8 +194,8 @@ TEST(DesignPlan, TaskPoseOutOfReachNamesFileLineAndReason) {
   // θ2 = −20° is inside the robot's limits but outside the published constraints (θ2 ≥ 0).
   Vector6d q;
   q << deg2rad(10.0), deg2rad(-20.0), deg2rad(10.0), deg2rad(30.0), deg2rad(40.0), deg2rad(50.0);
-  const ListedPose outside{"low", flange_pose(model, tool.payload, cell.robot.params, q) *
-                                      flange_T_tcp,
+  const ListedPose outside{"low",
+                           flange_pose(model, tool.payload, cell.robot.params, q) * flange_T_tcp,
                            arm_config(model, q), 4};
   ListedPose far = outside;
   far.name = "far";

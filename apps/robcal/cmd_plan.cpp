@@ -107,9 +107,8 @@ void run_plan(const PlanOptions& o) {
   const DesignMatrix design = build_design_matrix(
       model, tool, candidates, plan_design_settings(cell, instrument, settings.level));
 
-  const Selection chosen = o.method == "fast"
-                               ? select_d_optimal(design, o.count, {.seed = o.seed})
-                               : select_published_exchange(design, o.count, rng);
+  const Selection chosen = o.method == "fast" ? select_d_optimal(design, o.count, {.seed = o.seed})
+                                              : select_published_exchange(design, o.count, rng);
   std::vector<int> random(static_cast<size_t>(design.candidates()));
   std::iota(random.begin(), random.end(), 0);
   std::shuffle(random.begin(), random.end(), rng);

@@ -284,12 +284,12 @@ class DOptimalSearch {
 
   /// Fedorov's exchange step: the swap (chosen j out, candidate i in) of largest gain over
   /// all pairs, made when it increases log det M. With (I − G_j)⁻¹ = L_j L_jᵀ and
-  /// b_ij = A_i M⁻¹ A_jᵀ L_j, the gain of a pair is log det(I − G_j) + log det(I + G_i + b_ij b_ijᵀ)
-  /// (Woodbury for the removal, then the determinant lemma). Since A_i (M − A_jᵀA_j)⁻¹ A_iᵀ ≼
-  /// G_i / (1 − λmax(G_j)) and det(I + X) ≤ (1 + tr X / r)^r, a pair can beat a gain g only
-  /// when tr G_i > r·(exp((g − log det(I − G_j)) / r) − 1)·(1 − λmax(G_j)): b_ij is computed
-  /// for those pairs only (about one in five at the end of the exchange), candidates taken in
-  /// decreasing tr G_i so that the bar rises early.
+  /// b_ij = A_i M⁻¹ A_jᵀ L_j, the gain of a pair is log det(I − G_j) + log det(I + G_i + b_ij
+  /// b_ijᵀ) (Woodbury for the removal, then the determinant lemma). Since A_i (M − A_jᵀA_j)⁻¹ A_iᵀ
+  /// ≼ G_i / (1 − λmax(G_j)) and det(I + X) ≤ (1 + tr X / r)^r, a pair can beat a gain g only when
+  /// tr G_i > r·(exp((g − log det(I − G_j)) / r) − 1)·(1 − λmax(G_j)): b_ij is computed for those
+  /// pairs only (about one in five at the end of the exchange), candidates taken in decreasing tr
+  /// G_i so that the bar rises early.
   bool best_swap() {
     const auto n_chosen = static_cast<int>(chosen_.size());
     std::vector<double> keep(static_cast<size_t>(n_chosen)), shrink(keep.size()),
@@ -303,8 +303,8 @@ class DOptimalSearch {
       shrink[static_cast<size_t>(k)] =
           Eigen::SelfAdjointEigenSolver<Block>(rest, Eigen::EigenvaluesOnly).eigenvalues()[0];
       // L_jᵀ from (I − G_j)⁻¹ = L_j L_jᵀ: L_jᵀ = (chol(I − G_j))⁻¹ with the upper factor.
-      partners.middleRows(k * R, R) = llt.matrixU().solve(Block::Identity()).transpose() *
-                                      block(j) * info_.inverse();
+      partners.middleRows(k * R, R) =
+          llt.matrixU().solve(Block::Identity()).transpose() * block(j) * info_.inverse();
     }
     cache_.set_partners(partners);
     double best = kMinImprovement, lowest = 0;

@@ -72,7 +72,8 @@ class TcpPoseSolver {
     // so world_T_base = world_A_1(params, θ1 = 0) · Trans_z(−d1).
     Pose<double> lower_d1;
     lower_d1.p.z() = -model.mdh[0].d;
-    base_T_world_ = (detail::base_transform(params.data(), model.mdh[0].d, 0.0) * lower_d1).inverse();
+    base_T_world_ =
+        (detail::base_transform(params.data(), model.mdh[0].d, 0.0) * lower_d1).inverse();
     tcp_T_flange_.R = tool.flange_T_tcp.linear().transpose();
     tcp_T_flange_.p = -(tcp_T_flange_.R * tool.flange_T_tcp.translation());
   }

@@ -31,7 +31,6 @@ std::optional<ArmConfig> parse_config_cell(const std::string& cell) {
 
 }  // namespace
 
-
 std::vector<ListedPose> read_pose_list(const std::string& path) {
   return parse_pose_list(read_text_file(path), path);
 }

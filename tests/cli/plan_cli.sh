@@ -21,6 +21,18 @@ expect_error() {
   [[ ! -e "$TMP/bad.csv" ]] || fail "$what: wrote an output file"
 }
 
+# expect_region <plan JSON> <task configurations> "<substring of the task region>": the
+# prediction is over that region, with 0 < mean ≤ max.
+expect_region() {
+  /usr/bin/python3 - "$@" <<'PY' || FAILED=1
+import json, sys
+p = json.load(open(sys.argv[1]))["predicted_error_mm"]
+ok = p["task_configurations"] == int(sys.argv[2]) and sys.argv[3] in p["task_region"] and 0 < p["selected"]["mean"] <= p["selected"]["max"]
+if not ok: print("FAIL: task region prediction", sys.argv[1], p)
+sys.exit(0 if ok else 1)
+PY
+}
+
 # 1. Laser tracker, full level: 40 rows, selected indices above the random ones.
 "$ROBCAL" plan --robot abb-irb120 --instrument laser-tracker --level full --count 40 \
   --candidates 1500 --seed 3 --task-count 200 --json --out "$TMP/configs.csv" >"$TMP/plan.json" ||
@@ -64,13 +76,7 @@ grep -q "predicted TCP error" "$TMP/cmm.txt" || fail "cmm plan: no prediction"
 "$ROBCAL" plan --count 20 --candidates 600 --task-count 50 --json \
   --task-box "-500,-300,1100,1300,150,350" --out "$TMP/box.csv" >"$TMP/box.json" ||
   fail "plan with --task-box failed: $(cat "$TMP/box.json")"
-/usr/bin/python3 - "$TMP/box.json" <<'PY' || FAILED=1
-import json, sys
-p = json.load(open(sys.argv[1]))["predicted_error_mm"]
-ok = p["task_configurations"] == 50 and "box" in p["task_region"] and 0 < p["selected"]["mean"] <= p["selected"]["max"]
-if not ok: print("FAIL: task box prediction", p)
-sys.exit(0 if ok else 1)
-PY
+expect_region "$TMP/box.json" 50 "box"
 
 # 4b. Task poses (the file `robcal compensate` reads): the prediction is over their IK
 # solutions; a pose out of reach or a malformed cell names file:line; one task region only.
@@ -84,13 +90,7 @@ CSV
 "$ROBCAL" plan --count 20 --candidates 600 --json --task-poses "$TMP/poses.csv" \
   --out "$TMP/poses_plan.csv" >"$TMP/poses.json" ||
   fail "plan with --task-poses failed: $(cat "$TMP/poses.json")"
-/usr/bin/python3 - "$TMP/poses.json" <<'PY' || FAILED=1
-import json, sys
-p = json.load(open(sys.argv[1]))["predicted_error_mm"]
-ok = p["task_configurations"] == 3 and "poses.csv" in p["task_region"] and 0 < p["selected"]["mean"] <= p["selected"]["max"]
-if not ok: print("FAIL: task poses prediction", p)
-sys.exit(0 if ok else 1)
-PY
+expect_region "$TMP/poses.json" 3 "poses.csv"
 printf 'name,x,y,z,qw,qx,qy,qz\np1,-400,1200,250,0,1,0,0\nfar,5000,0,0,0,1,0,0\n' >"$TMP/far.csv"
 expect_error "task pose out of reach" "far.csv:3 (far): task pose" plan --count 20 \
   --candidates 300 --task-poses "$TMP/far.csv" --out "$TMP/bad.csv"

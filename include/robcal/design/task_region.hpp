@@ -29,8 +29,9 @@ TaskBox parse_task_box(const std::string& text, const std::string& flag);
 /// Configurations that put the TCP at `count` points drawn uniformly in the box, the tool
 /// axis (TCP z) pointing down (world −z) and turned about it by a uniform angle: the closed-form
 /// nominal inverse kinematics of the robot placed by `params`' base parameters, the solution
-/// reaching the pose inside the constrained joint box nearest to its middle. Points no solution reaches are
-/// drawn again; InputError (key `flag`) when fewer than one in `draws_per_point` is reachable.
+/// reaching the pose inside the constrained joint box nearest to its middle. Points no solution
+/// reaches are drawn again; InputError (key `flag`) when fewer than one in `draws_per_point` is
+/// reachable.
 std::vector<Vector6d> task_box_configurations(const RobotModel& model, const Tool& tool,
                                               const ParameterVector& params,
                                               const JointConstraints& constraints,
