@@ -197,9 +197,10 @@ constexpr double kMinImprovement = 1e-12;
 // by a few configurations; a descent costs about as much as the first one, which grows with
 // the candidates (≈ 3 ms for 500, 20–25 ms for 5000 here, on one thread). Up to 5 restarts
 // (six descents, three per thread) below 800 candidates, where the local optima are closest:
-// one descent ended below the published exchange about once in twenty trials (by ≤ 0.01 % of
-// O1) and six did in none of 111; fewer above, and none from 4000 candidates on, to keep 40 of
-// 5000 within 50 ms (there one descent beats the published exchange by 0.5–0.8 % of O1).
+// one descent ended below the published exchange in 6 of 117 trials (by up to 0.11 % of O1),
+// six descents in 1 (by 0.004 %), three in 2; fewer above, and none from 4000 candidates on,
+// to keep 40 of 5000 within 50 ms (there one descent beats the published exchange by
+// 0.5–0.8 % of O1).
 constexpr int kMaxRestarts = 5;
 constexpr int kRestartCandidates = 4000;
 constexpr int kRestartStart = 5;
@@ -284,12 +285,14 @@ class DOptimalSearch {
 
   /// Fedorov's exchange step: the swap (chosen j out, candidate i in) of largest gain over
   /// all pairs, made when it increases log det M. With (I − G_j)⁻¹ = L_j L_jᵀ and
-  /// b_ij = A_i M⁻¹ A_jᵀ L_j, the gain of a pair is log det(I − G_j) + log det(I + G_i + b_ij
-  /// b_ijᵀ) (Woodbury for the removal, then the determinant lemma). Since A_i (M − A_jᵀA_j)⁻¹ A_iᵀ
-  /// ≼ G_i / (1 − λmax(G_j)) and det(I + X) ≤ (1 + tr X / r)^r, a pair can beat a gain g only when
-  /// tr G_i > r·(exp((g − log det(I − G_j)) / r) − 1)·(1 − λmax(G_j)): b_ij is computed for those
-  /// pairs only (about one in five at the end of the exchange), candidates taken in decreasing tr
-  /// G_i so that the bar rises early.
+  /// b_ij = A_i M⁻¹ A_jᵀ L_j, the gain of a pair is
+  ///   log det(I − G_j) + log det(I + G_i + b_ij b_ijᵀ)
+  /// (Woodbury for the removal, then the determinant lemma). Since
+  ///   A_i (M − A_jᵀA_j)⁻¹ A_iᵀ ≼ G_i / (1 − λmax(G_j))  and  det(I + X) ≤ (1 + tr X / r)^r,
+  /// a pair can beat a gain g only when
+  ///   tr G_i > r·(exp((g − log det(I − G_j)) / r) − 1)·(1 − λmax(G_j)):
+  /// b_ij is computed for those pairs only (about one in five at the end of the exchange),
+  /// candidates taken in decreasing tr G_i so that the bar rises early.
   bool best_swap() {
     const auto n_chosen = static_cast<int>(chosen_.size());
     std::vector<double> keep(static_cast<size_t>(n_chosen)), shrink(keep.size()),
@@ -340,8 +343,6 @@ class DOptimalSearch {
     return true;
   }
 
-  /// Replaces `replaced` chosen configurations, drawn at random, by random candidates (a
-  /// restart's perturbation; the removed ones may be drawn back).
   /// Adds `count` random candidates (a restart's start).
   void add_random(int count, std::mt19937_64& rng) {
     std::uniform_int_distribution<int> candidate(0, n_ - 1);
