@@ -197,8 +197,8 @@ constexpr double kMinImprovement = 1e-12;
 // by a few configurations; a descent costs about as much as the first one, which grows with
 // the candidates (≈ 3 ms for 500, 20–25 ms for 5000 here, on one thread). Up to 5 restarts
 // (six descents, three per thread) below 800 candidates, where the local optima are closest:
-// one descent ended below the published exchange in 6 of 117 trials (by up to 0.11 % of O1),
-// six descents in 1 (by 0.004 %), three in 2; fewer above, and none from 4000 candidates on,
+// one descent ended below the published exchange in 8 of 117 trials (by up to 0.11 % of O1),
+// six descents in 1 (by 0.004 %); fewer above, and none from 4000 candidates on,
 // to keep 40 of 5000 within 50 ms (there one descent beats the published exchange by
 // 0.5–0.8 % of O1).
 constexpr int kMaxRestarts = 5;
