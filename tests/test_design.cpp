@@ -181,8 +181,8 @@ struct Irb120Design {
   std::vector<Candidate> candidates;
   DesignMatrix design;
 
-  explicit Irb120Design(int count) {
-    auto rng = test::seeded_rng(1);
+  explicit Irb120Design(int count, uint64_t seed = 1) {
+    auto rng = test::seeded_rng(seed);
     CandidateOptions options;
     options.count = count;
     candidates = generate_candidates(model, tool, options, rng).candidates;
@@ -365,6 +365,53 @@ TEST(DesignSelection, PublishedExchangeImprovesOnItsStart) {
       o1_published, o1_fast, best_random);
   EXPECT_GT(o1_published, best_random);
   EXPECT_GE(o1_fast, 0.98 * o1_published);
+}
+
+TEST(DesignSelection, FastMatchesOrBeatsThePublishedExchangeOnTheSameCandidates) {
+  // O1 = det(JᵀJ)^(1/2m)/√n: at a fixed count the larger log det is the larger O1. Small
+  // candidate sets, where local optima are closest: every candidate seed 100–114 at 25 of 150
+  // with three published starts, and at 40 of 300 the five sets (of 20 tried, two starts each)
+  // where a single descent, without restarts, ended below a published run (it did in 8 of 117
+  // such trials, by up to 0.11 % of O1).
+  // With the restarts the fast selection is at least as good in all but one case (40 of 300,
+  // seed 105, published start 8: 0.0042 % lower, a different local optimum 6 configurations
+  // away), so the bound checked is "never more than 0.01 % of O1 below", and the strict
+  // losses are counted.
+  struct Case {
+    int candidates, count;
+    uint64_t candidate_seed, published_seed;
+  };
+  std::vector<Case> cases;
+  for (uint64_t c = 100; c < 115; ++c)
+    for (uint64_t p : {7u, 8u, 9u}) cases.push_back({150, 25, c, p});
+  for (uint64_t c : {105u, 108u, 109u, 202u, 208u}) cases.push_back({300, 40, c, 8});
+  int strictly_below = 0;
+  for (const Case& k : cases) {
+    SCOPED_TRACE(::testing::Message()
+                 << k.count << " of " << k.candidates << ", candidate seed " << k.candidate_seed
+                 << ", published seed " << k.published_seed);
+    const Irb120Design d(k.candidates, k.candidate_seed);
+    auto rng = test::seeded_rng(k.published_seed);
+    const Selection published = select_published_exchange(d.design, k.count, rng);
+    const Selection fast = select_d_optimal(d.design, k.count);
+    ASSERT_EQ(published.chosen.size(), static_cast<size_t>(k.count));
+    ASSERT_EQ(fast.chosen.size(), static_cast<size_t>(k.count));
+    EXPECT_EQ(fast.restarts, 5);
+    // Both indices recomputed here from the chosen rows.
+    const double o1_fast = observability_indices(d.design, fast.chosen).O1;
+    const double o1_published = observability_indices(d.design, published.chosen).O1;
+    EXPECT_GE(o1_fast, o1_published * (1 - 1e-4));
+    if (information_log_det(d.design, fast.chosen) <
+        information_log_det(d.design, published.chosen) - 1e-9) {
+      ++strictly_below;
+      std::printf("[ design ] %d of %d, seeds %d/%d: fast O1 %.6f below published %.6f\n", k.count,
+                  k.candidates, static_cast<int>(k.candidate_seed),
+                  static_cast<int>(k.published_seed), o1_fast, o1_published);
+    }
+  }
+  std::printf("[ design ] fast below the published exchange in %d of %zu cases\n", strictly_below,
+              cases.size());
+  EXPECT_LE(strictly_below, 1);
 }
 
 TEST(DesignSelection, RidgeKeptThroughTheExchangeLeavesTheExactLogDetAndNoBetterSwap) {

@@ -4,9 +4,19 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
+#include <filesystem>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/design/predicted_accuracy.hpp"
+#include "robcal/design/selection.hpp"
+#include "robcal/design/task_region.hpp"
+#include "robcal/identify/accuracy_prediction.hpp"
+#include "robcal/identify/unknowns.hpp"
+#include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/campaign.hpp"
 #include "robcal/sim/plan_study.hpp"
@@ -97,6 +107,124 @@ TEST(DesignPlan, TaskBoxConfigurationsPutTheTcpInTheBox) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().key, "--task-box");
   }
+}
+
+TEST(DesignPlan, TaskPosesGiveBackTheConfigurationsThatMadeThem) {
+  const RobotModel model = load_robot("abb-irb120");
+  const Tool tool = default_simulation_tool();
+  const TrueRobot truth = published_irb120_truth(model, tool);
+  const TrueRobot cell = planning_cell(model, tool, truth.robot.params.head<kBaseParamCount>());
+  const JointConstraints constraints = published_joint_constraints();
+  Pose<double> flange_T_tcp;
+  flange_T_tcp.R = tool.flange_T_tcp.linear();
+  flange_T_tcp.p = tool.flange_T_tcp.translation();
+  const auto world_T_tcp = [&](const Vector6d& q) {
+    return flange_pose(model, tool.payload, cell.robot.params, q) * flange_T_tcp;
+  };
+  // Known configurations inside the constraints, away from the wrist singularity (θ5 = 0,
+  // where only θ4 + θ6 follows from the pose); their TCP poses by forward kinematics, each with
+  // its configuration branch, as a pose-list file would give them.
+  CandidateOptions options;
+  options.constraints = constraints;
+  options.count = 40;
+  std::mt19937_64 rng(8);
+  std::vector<Vector6d> known;
+  std::vector<ListedPose> poses;
+  for (const Candidate& c : generate_candidates(model, tool, options, rng).candidates) {
+    if (std::abs(c.joints[4]) < deg2rad(5.0)) continue;
+    known.push_back(c.joints);
+    poses.push_back({fmt::format("P{}", poses.size() + 1), world_T_tcp(c.joints),
+                     arm_config(model, c.joints), static_cast<int>(poses.size()) + 2});
+  }
+  ASSERT_GE(known.size(), 30u);
+  const std::vector<Vector6d> task =
+      task_pose_configurations(model, tool, cell.robot.params, constraints, poses, "poses.csv");
+  ASSERT_EQ(task.size(), known.size());
+  for (size_t k = 0; k < known.size(); ++k)
+    EXPECT_LT((task[k] - known[k]).cwiseAbs().maxCoeff(), 1e-9) << poses[k].name;
+
+  // The prediction over them is the one over the same configurations given as a
+  // configurations file (--task-configs: degrees with 6 decimals).
+  std::vector<PlannedConfiguration> listed;
+  for (size_t k = 0; k < known.size(); ++k) listed.push_back({poses[k].name, known[k], 0});
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "robcal_task_configs_test.csv").string();
+  write_file_atomically(path, write_configurations_csv(listed, tool));
+  std::vector<Vector6d> from_file;
+  for (const PlannedConfiguration& c : read_configurations_csv(path, tool))
+    from_file.push_back(c.joints);
+  std::filesystem::remove(path);
+  std::mt19937_64 candidate_rng(9);
+  CandidateOptions pool;
+  pool.constraints = constraints;
+  pool.count = 300;
+  DesignSettings settings;
+  settings.parameters = level_parameters(CalibrationLevel::Full);
+  const DesignMatrix design = build_design_matrix(
+      model, tool, generate_candidates(model, tool, pool, candidate_rng).candidates, settings);
+  const Eigen::MatrixXd covariance =
+      design_parameter_covariance(design, select_d_optimal(design, 30).chosen, 0.02);
+  const auto predict = [&](const std::vector<Vector6d>& region) {
+    return predict_position_error(model, tool.payload, cell.robot.params, design.parameters,
+                                  covariance, region, {tool.flange_T_tcp.translation()}, 0.02);
+  };
+  const PredictedAccuracy by_poses = predict(task), by_configs = predict(from_file);
+  EXPECT_EQ(by_poses.configurations, static_cast<int>(known.size()));
+  EXPECT_GT(by_poses.mean_mm, 0);
+  EXPECT_NEAR(by_poses.mean_mm, by_configs.mean_mm, 1e-6 * by_configs.mean_mm);
+  EXPECT_NEAR(by_poses.max_mm, by_configs.max_mm, 1e-6 * by_configs.max_mm);
+
+  // Without a branch: a solution inside the constraints that reaches the pose.
+  std::vector<ListedPose> any = poses;
+  for (ListedPose& p : any) p.config.reset();
+  const std::vector<Vector6d> any_task =
+      task_pose_configurations(model, tool, cell.robot.params, constraints, any, "poses.csv");
+  for (size_t k = 0; k < any.size(); ++k)
+    EXPECT_LT((world_T_tcp(any_task[k]).p - any[k].world_T_tcp.p).norm(), 1e-6);
+}
+
+TEST(DesignPlan, TaskPoseOutOfReachNamesFileLineAndReason) {
+  const RobotModel model = load_robot("abb-irb120");
+  const Tool tool = default_simulation_tool();
+  const TrueRobot truth = published_irb120_truth(model, tool);
+  const TrueRobot cell = planning_cell(model, tool, truth.robot.params.head<kBaseParamCount>());
+  Pose<double> flange_T_tcp;
+  flange_T_tcp.R = tool.flange_T_tcp.linear();
+  flange_T_tcp.p = tool.flange_T_tcp.translation();
+  // θ2 = −20° is inside the robot's limits but outside the published constraints (θ2 ≥ 0).
+  Vector6d q;
+  q << deg2rad(10.0), deg2rad(-20.0), deg2rad(10.0), deg2rad(30.0), deg2rad(40.0), deg2rad(50.0);
+  const ListedPose outside{"low",
+                           flange_pose(model, tool.payload, cell.robot.params, q) * flange_T_tcp,
+                           arm_config(model, q), 4};
+  ListedPose far = outside;
+  far.name = "far";
+  far.world_T_tcp.p.x() += 5000;
+  far.line = 7;
+  ListedPose wrong_branch = outside;
+  wrong_branch.config = ArmConfig{!outside.config->back, outside.config->down, false};
+  wrong_branch.line = 9;
+  const auto error = [&](const ListedPose& pose) {
+    try {
+      task_pose_configurations(model, tool, cell.robot.params, published_joint_constraints(),
+                               {pose}, "poses.csv");
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.where().file, "poses.csv");
+      EXPECT_EQ(e.where().line, pose.line);
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error(far).find("poses.csv:7 (far): task pose"), std::string::npos) << error(far);
+  EXPECT_NE(error(far).find("no configuration reaches it"), std::string::npos) << error(far);
+  EXPECT_NE(error(outside).find("outside the joint constraints"), std::string::npos)
+      << error(outside);
+  EXPECT_NE(error(wrong_branch).find("does not reach it"), std::string::npos)
+      << error(wrong_branch);
+  // Without the constraints the same configuration is found.
+  const std::vector<Vector6d> free = task_pose_configurations(
+      model, tool, cell.robot.params, unconstrained_joints(), {outside}, "poses.csv");
+  EXPECT_LT((free[0] - q).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 TEST(DesignPlan, SummaryTakesMeansOfMeansAndQuadraticMeansOfRms) {

@@ -73,7 +73,7 @@ void run_compensate(const ModelOptions& o, const std::string& targets, const std
   const CalibratedRobot robot = load_model(o, payload);
   const IkMethod method = parse_method(o.method);
   const Compensator comp = make_compensator(robot, payload);
-  const std::vector<WantedTarget> wanted = read_wanted_targets(targets);
+  const std::vector<WantedTarget> wanted = read_pose_list(targets);
   const std::vector<CorrectedTarget> rows = correct_targets(comp, robot, wanted, targets, method);
   std::optional<ClosedLoopReport> loop;
   if (!check_truth.empty()) loop = closed_loop_check(comp, load_truth(check_truth), wanted, rows);

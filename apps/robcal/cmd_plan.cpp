@@ -21,6 +21,7 @@
 #include "robcal/identify/accuracy_prediction.hpp"
 #include "robcal/identify/unknowns.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/calibration_plan.hpp"
 #include "robcal/sim/true_robot.hpp"
@@ -42,6 +43,7 @@ struct PlanOptions {
   std::string method = "fast";
   std::string task_configs;
   std::string task_box;
+  std::string task_poses;
   int task_count = 1000;
   std::string out;
   bool json = false;
@@ -75,6 +77,8 @@ void run_plan(const PlanOptions& o) {
   settings.floor_mm = o.floor_mm;
   const std::optional<TaskBox> task_box =
       o.task_box.empty() ? std::nullopt : std::optional(parse_task_box(o.task_box, "--task-box"));
+  const std::vector<ListedPose> task_poses =
+      o.task_poses.empty() ? std::vector<ListedPose>{} : read_pose_list(o.task_poses);
   // The planning cell: the nominal robot placed as in the simulator's standard cell, so the
   // instrument's placement and visibility are those `robcal simulate` uses.
   Eigen::Matrix<double, 6, 1> base;
@@ -84,6 +88,12 @@ void run_plan(const PlanOptions& o) {
         i < 3 ? placement[static_cast<size_t>(i)] : deg2rad(placement[static_cast<size_t>(i)]);
   const TrueRobot cell = planning_cell(model, tool, base);
   const VirtualInstrument instrument = standard_instrument(kind, cell, o.noise_mm);
+  // Listed task poses are solved before the selection so that a pose out of reach stops the
+  // run early.
+  std::vector<Vector6d> task;
+  if (!task_poses.empty())
+    task = task_pose_configurations(model, tool, cell.robot.params, settings.constraints,
+                                    task_poses, o.task_poses);
   std::mt19937_64 rng(o.seed);
 
   const CandidateSet candidate_set = instrument_candidates(cell, instrument, settings, rng);
@@ -97,7 +107,7 @@ void run_plan(const PlanOptions& o) {
   const DesignMatrix design = build_design_matrix(
       model, tool, candidates, plan_design_settings(cell, instrument, settings.level));
 
-  const Selection chosen = o.method == "fast" ? select_d_optimal(design, o.count)
+  const Selection chosen = o.method == "fast" ? select_d_optimal(design, o.count, {.seed = o.seed})
                                               : select_published_exchange(design, o.count, rng);
   std::vector<int> random(static_cast<size_t>(design.candidates()));
   std::iota(random.begin(), random.end(), 0);
@@ -110,11 +120,13 @@ void run_plan(const PlanOptions& o) {
   const double eff_selected = d_efficiency(design, chosen.chosen, optimum);
   const double eff_random = d_efficiency(design, random, optimum);
 
-  // Predicted accuracy of the TCP over the task region: the given configurations, a box of TCP
-  // positions, or random configurations in the constrained joint box above the floor.
-  std::vector<Vector6d> task;
+  // Predicted accuracy of the TCP over the task region: the given configurations or TCP poses,
+  // a box of TCP positions, or random configurations in the constrained joint box above the
+  // floor.
   std::string region = "random configurations in the constrained joint box";
-  if (!o.task_configs.empty()) {
+  if (!task_poses.empty()) {
+    region = fmt::format("TCP poses of {}", o.task_poses);
+  } else if (!o.task_configs.empty()) {
     for (const PlannedConfiguration& c : read_configurations_csv(o.task_configs, tool))
       task.push_back(c.joints);
     region = o.task_configs;
@@ -160,6 +172,8 @@ void run_plan(const PlanOptions& o) {
     out["parameters"] = design.columns();
     out["dropped"] = dropped;
     out["method"] = o.method;
+    out["exchanges"] = chosen.exchanges;
+    out["restarts"] = chosen.restarts;
     out["seed"] = o.seed;
     out["instrument"] = instrument_name(kind);
     out["level"] = o.level;
@@ -179,8 +193,9 @@ void run_plan(const PlanOptions& o) {
       instrument_name(kind), o.level, design.columns(),
       dropped.empty() ? "" : fmt::format("; dropped as dependent: {}", fmt::join(dropped, ", ")),
       o.seed);
-  fmt::print("chose {} of {} feasible candidates ({} method, {} exchanges)\n\n", o.count,
-             design.candidates(), o.method, chosen.exchanges);
+  fmt::print("chose {} of {} feasible candidates ({} method, {} exchanges{})\n\n", o.count,
+             design.candidates(), o.method, chosen.exchanges,
+             o.method == "fast" ? fmt::format(", {} restarts", chosen.restarts) : "");
   fmt::print("index      selected        random\n");
   const auto row = [](const char* name, double a, double b) {
     fmt::print("{:<6} {:>12.6g}  {:>12.6g}\n", name, a, b);
@@ -222,17 +237,29 @@ const bool registered = register_command(60, [](CLI::App& app) {
   cmd->add_option("--noise-mm", o->noise_mm,
                   "Instrument σ for the predicted accuracy (default: the instrument's own)");
   cmd->add_option("--method", o->method,
-                  "fast (D-optimal, rank-r updates) or published (exchange on O1)")
+                  "fast (D-optimal: greedy, exchanges and Fedorov's best swap with rank-r updates, "
+                  "seeded restarts below 4000 candidates) or published (exchange on O1)")
       ->capture_default_str();
-  cmd->add_option("--task-configs", o->task_configs,
-                  "Task region for the predicted accuracy: config,target,j1..j6 CSV (default: "
-                  "random configurations in the constrained joint box)");
-  cmd->add_option("--task-box", o->task_box,
-                  "Task region as a box of TCP positions in the world frame: "
-                  "\"xmin,xmax,ymin,ymax,zmin,zmax\" (mm), sampled by inverse kinematics with "
-                  "the tool pointing down");
+  auto* configs_option = cmd->add_option(
+      "--task-configs", o->task_configs,
+      "Task region for the predicted accuracy: config,target,j1..j6 CSV (default: random "
+      "configurations in the constrained joint box)");
+  auto* box_option =
+      cmd->add_option("--task-box", o->task_box,
+                      "Task region as a box of TCP positions in the world frame: "
+                      "\"xmin,xmax,ymin,ymax,zmin,zmax\" (mm), sampled by inverse kinematics "
+                      "with the tool pointing down");
+  cmd->add_option("--task-poses", o->task_poses,
+                  "Task region as TCP poses in the world frame: name,x,y,z,qw,qx,qy,qz[,config] "
+                  "CSV (mm; the file `robcal compensate` reads), each solved by inverse "
+                  "kinematics in its config branch if given, else the solution nearest the middle "
+                  "of the constrained joint box")
+      ->excludes(configs_option)
+      ->excludes(box_option);
+  configs_option->excludes(box_option);
   cmd->add_option("--task-count", o->task_count,
-                  "Task configurations drawn (box or random) when no --task-configs file")
+                  "Task configurations drawn (box or random) when no --task-configs or "
+                  "--task-poses file")
       ->capture_default_str();
   cmd->add_option("--out", o->out, "Output CSV: config,target,j1..j6 (deg)")->required();
   cmd->add_flag("--json", o->json, "Machine-readable output");

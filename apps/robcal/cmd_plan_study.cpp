@@ -10,6 +10,7 @@
 #include "cli_common.hpp"
 #include "command_registry.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/plan_study.hpp"
 
@@ -29,6 +30,7 @@ struct StudyOptions {
   double floor_mm = 50;
   double noise_mm = 0;
   std::string task_box;
+  std::string task_poses;
   int task_count = 200;
   bool json = false;
 };
@@ -79,6 +81,10 @@ void run_study(const StudyOptions& o) {
   options.instrument = parse_instrument_kind(o.instrument, "--instrument");
   options.noise_mm = o.noise_mm;
   if (!o.task_box.empty()) options.task_box = parse_task_box(o.task_box, "--task-box");
+  if (!o.task_poses.empty()) {
+    options.task_poses = read_pose_list(o.task_poses);
+    options.task_poses_file = o.task_poses;
+  }
   options.task_count = o.task_count;
   const RobotModel model = load_robot(o.robot);
   const Tool tool = o.tool.empty() ? default_simulation_tool() : load_tool(o.tool);
@@ -88,7 +94,8 @@ void run_study(const StudyOptions& o) {
     if (progress) fmt::print("true robot {}/{} done\n", done, total);
   });
   const std::string region =
-      o.task_box.empty()
+      !o.task_poses.empty() ? fmt::format("TCP poses of {}", o.task_poses)
+      : o.task_box.empty()
           ? "random configurations in the constrained joint box"
           : fmt::format("TCP box {} mm (world frame), tool pointing down", o.task_box);
   double nominal = 0;
@@ -165,10 +172,16 @@ const bool registered = register_command(62, [](CLI::App& app) {
                   "Targets, flange and wrist above this height over the robot's base plane")
       ->capture_default_str();
   cmd->add_option("--noise-mm", o->noise_mm, "Instrument σ (default: the instrument's own)");
-  cmd->add_option("--task-box", o->task_box,
-                  "Task region: \"xmin,xmax,ymin,ymax,zmin,zmax\" of TCP positions (mm, world "
-                  "frame); default: random configurations in the constrained joint box");
-  cmd->add_option("--task-count", o->task_count, "Task configurations")->capture_default_str();
+  auto* box_option =
+      cmd->add_option("--task-box", o->task_box,
+                      "Task region: \"xmin,xmax,ymin,ymax,zmin,zmax\" of TCP positions (mm, "
+                      "world frame); default: random configurations in the constrained joint box");
+  cmd->add_option("--task-poses", o->task_poses,
+                  "Task region: TCP poses in the world frame, name,x,y,z,qw,qx,qy,qz[,config] "
+                  "CSV (mm), solved by inverse kinematics for each true robot's placement")
+      ->excludes(box_option);
+  cmd->add_option("--task-count", o->task_count, "Task configurations (box or random)")
+      ->capture_default_str();
   cmd->add_flag("--json", o->json, "Machine-readable output");
   cmd->callback([o] { run_study(*o); });
 });

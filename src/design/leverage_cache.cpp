@@ -131,6 +131,18 @@ void LeverageCache<R>::update(const Eigen::MatrixXd& W, double sign) {
   });
 }
 
+template <int R>
+void LeverageCache<R>::set_partners(const Eigen::MatrixXd& X) {
+  partners_ = RowMajorMatrix::Zero(X.rows(), A_.cols());
+  partners_.leftCols(m_) = X;
+}
+
+template <int R>
+typename LeverageCache<R>::Block LeverageCache<R>::cross(int i, int k) const {
+  return block_product<R>(rows(i), partners_.data() + static_cast<Eigen::Index>(k) * R * A_.cols(),
+                          A_.cols());
+}
+
 template class LeverageCache<1>;
 template class LeverageCache<3>;
 template class LeverageCache<6>;

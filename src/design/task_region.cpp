@@ -1,9 +1,12 @@
 #include "robcal/design/task_region.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "robcal/core/error.hpp"
@@ -49,27 +52,96 @@ TaskBox parse_task_box(const std::string& text, const std::string& flag) {
   return box;
 }
 
+namespace {
+
+/// The placed robot's TCP poses to joints by the closed-form nominal inverse kinematics, the
+/// solutions kept inside the constrained joint box (the task box and the task poses share it).
+class TcpPoseSolver {
+ public:
+  TcpPoseSolver(const RobotModel& model, const Tool& tool, const ParameterVector& params,
+                const JointConstraints& constraints)
+      : model_(model),
+        tool_(tool),
+        params_(params),
+        joint_box_(constrained_joint_box(model, constraints)) {
+    for (int j = 0; j < kJointCount; ++j)
+      middle_[j] = 0.5 * (joint_box_[static_cast<size_t>(j)].lower +
+                          joint_box_[static_cast<size_t>(j)].upper);
+    // The placement taking the nominal robot (base at the origin, which the closed-form IK
+    // solves) onto the placed one: the base offset d1 is applied along world z (METHOD §2),
+    // so world_T_base = world_A_1(params, θ1 = 0) · Trans_z(−d1).
+    Pose<double> lower_d1;
+    lower_d1.p.z() = -model.mdh[0].d;
+    base_T_world_ =
+        (detail::base_transform(params.data(), model.mdh[0].d, 0.0) * lower_d1).inverse();
+    tcp_T_flange_.R = tool.flange_T_tcp.linear().transpose();
+    tcp_T_flange_.p = -(tcp_T_flange_.R * tool.flange_T_tcp.translation());
+  }
+
+  /// The solution reaching `world_T_tcp` inside the constrained joint box (in branch `config`
+  /// when given) nearest the box's middle; std::nullopt with the reason in `why_not` (if given).
+  std::optional<Vector6d> solve(const Pose<double>& world_T_tcp,
+                                const std::optional<ArmConfig>& config = std::nullopt,
+                                std::string* why_not = nullptr) const {
+    const Pose<double> world_T_flange = world_T_tcp * tcp_T_flange_;
+    const AnyIkResult ik = solve_ik(model_, base_T_world_ * world_T_flange, middle_);
+    const IkSolution* best = nullptr;
+    double best_distance = 0;
+    std::vector<std::string> reaching, in_branch_outside;
+    for (const IkSolution& s : ik.solutions) {
+      // Only solutions that reach the pose on the placed robot (a singular wrist or a numeric
+      // fallback may not).
+      const Pose<double> reached = flange_pose(model_, tool_.payload, params_, s.joints);
+      if ((reached.p - world_T_flange.p).norm() >= kReachToleranceMm) continue;
+      reaching.push_back(s.config.label());
+      if (config && !(s.config == *config)) continue;
+      bool inside = true;
+      for (int j = 0; j < kJointCount; ++j)
+        inside = inside && s.joints[j] >= joint_box_[static_cast<size_t>(j)].lower &&
+                 s.joints[j] <= joint_box_[static_cast<size_t>(j)].upper;
+      if (!inside) {
+        in_branch_outside.push_back(s.config.label());
+        continue;
+      }
+      const double distance = (s.joints - middle_).cwiseAbs().maxCoeff();
+      if (!best || distance < best_distance) best = &s, best_distance = distance;
+    }
+    if (best) return best->joints;
+    if (why_not) {
+      const auto unique = [](std::vector<std::string> v) {
+        std::sort(v.begin(), v.end());
+        v.erase(std::unique(v.begin(), v.end()), v.end());
+        return fmt::format("{}", fmt::join(v, ", "));
+      };
+      if (reaching.empty())
+        *why_not = fmt::format("no configuration reaches it ({})", to_string(ik.status));
+      else if (in_branch_outside.empty())
+        *why_not = fmt::format("configuration {} does not reach it (reached in: {})",
+                               config->label(), unique(reaching));
+      else
+        *why_not = fmt::format("reached in {} but outside the joint constraints",
+                               unique(in_branch_outside));
+    }
+    return std::nullopt;
+  }
+
+ private:
+  const RobotModel& model_;
+  const Tool& tool_;
+  const ParameterVector& params_;
+  std::array<JointLimit, kJointCount> joint_box_;
+  Vector6d middle_;
+  Pose<double> base_T_world_, tcp_T_flange_;
+};
+
+}  // namespace
+
 std::vector<Vector6d> task_box_configurations(const RobotModel& model, const Tool& tool,
                                               const ParameterVector& params,
                                               const JointConstraints& constraints,
                                               const TaskBox& box, int count, std::mt19937_64& rng,
                                               const std::string& flag, int draws_per_point) {
-  const std::array<JointLimit, kJointCount> joint_box = constrained_joint_box(model, constraints);
-  Vector6d middle;
-  for (int j = 0; j < kJointCount; ++j)
-    middle[j] =
-        0.5 * (joint_box[static_cast<size_t>(j)].lower + joint_box[static_cast<size_t>(j)].upper);
-  // The placement taking the nominal robot (base at the origin, which the closed-form IK
-  // solves) onto the placed one: the base offset d1 is applied along world z (METHOD §2), so
-  // world_T_base = world_A_1(params, θ1 = 0) · Trans_z(−d1).
-  Pose<double> lower_d1;
-  lower_d1.p.z() = -model.mdh[0].d;
-  const Pose<double> world_T_base =
-      detail::base_transform(params.data(), model.mdh[0].d, 0.0) * lower_d1;
-  const Pose<double> base_T_world = world_T_base.inverse();
-  Pose<double> tcp_T_flange;
-  tcp_T_flange.R = tool.flange_T_tcp.linear().transpose();
-  tcp_T_flange.p = -(tcp_T_flange.R * tool.flange_T_tcp.translation());
+  const TcpPoseSolver solver(model, tool, params, constraints);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<Vector6d> out;
   const long budget = static_cast<long>(count) * draws_per_point;
@@ -82,22 +154,7 @@ std::vector<Vector6d> task_box_configurations(const RobotModel& model, const Too
     world_T_tcp.R = (Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()) *
                      Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()))
                         .toRotationMatrix();
-    const Pose<double> world_T_flange = world_T_tcp * tcp_T_flange;
-    const AnyIkResult ik = solve_ik(model, base_T_world * world_T_flange, middle);
-    const IkSolution* best = nullptr;
-    double best_distance = 0;
-    for (const IkSolution& s : ik.solutions) {
-      // Keep only solutions that reach the pose on the placed robot (a singular wrist or a
-      // numeric fallback may not).
-      const Pose<double> reached = flange_pose(model, tool.payload, params, s.joints);
-      bool inside = (reached.p - world_T_flange.p).norm() < kReachToleranceMm;
-      for (int j = 0; j < kJointCount; ++j)
-        inside = inside && s.joints[j] >= joint_box[static_cast<size_t>(j)].lower &&
-                 s.joints[j] <= joint_box[static_cast<size_t>(j)].upper;
-      const double distance = (s.joints - middle).cwiseAbs().maxCoeff();
-      if (inside && (!best || distance < best_distance)) best = &s, best_distance = distance;
-    }
-    if (best) out.push_back(best->joints);
+    if (const auto joints = solver.solve(world_T_tcp)) out.push_back(*joints);
   }
   if (static_cast<int>(out.size()) < count)
     throw InputError(
@@ -107,6 +164,27 @@ std::vector<Vector6d> task_box_configurations(const RobotModel& model, const Too
                     "[{}, {}], z [{}, {}] mm in the world frame",
                     out.size(), count, budget, box.min_mm.x(), box.max_mm.x(), box.min_mm.y(),
                     box.max_mm.y(), box.min_mm.z(), box.max_mm.z()));
+  return out;
+}
+
+std::vector<Vector6d> task_pose_configurations(const RobotModel& model, const Tool& tool,
+                                               const ParameterVector& params,
+                                               const JointConstraints& constraints,
+                                               const std::vector<ListedPose>& poses,
+                                               const std::string& file) {
+  const TcpPoseSolver solver(model, tool, params, constraints);
+  std::vector<Vector6d> out;
+  for (const ListedPose& pose : poses) {
+    std::string why_not;
+    const auto joints = solver.solve(pose.world_T_tcp, pose.config, &why_not);
+    if (!joints) {
+      const Eigen::Vector3d& p = pose.world_T_tcp.p;
+      throw InputError({file, pose.line, 0, pose.name},
+                       fmt::format("task pose ({:.3f}, {:.3f}, {:.3f}) mm in the world frame: {}",
+                                   p.x(), p.y(), p.z(), why_not));
+    }
+    out.push_back(*joints);
+  }
   return out;
 }
 

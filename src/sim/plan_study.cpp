@@ -89,7 +89,10 @@ PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
         k == 0 ? design.candidates() : std::min(result.candidates, design.candidates());
 
     std::vector<Vector6d> task;
-    if (options.task_box) {
+    if (!options.task_poses.empty()) {
+      task = task_pose_configurations(model, tool, cell.robot.params, options.plan.constraints,
+                                      options.task_poses, options.task_poses_file);
+    } else if (options.task_box) {
       task = task_box_configurations(model, tool, cell.robot.params, options.plan.constraints,
                                      *options.task_box, options.task_count, task_rng);
     } else {

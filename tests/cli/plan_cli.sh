@@ -21,6 +21,18 @@ expect_error() {
   [[ ! -e "$TMP/bad.csv" ]] || fail "$what: wrote an output file"
 }
 
+# expect_region <plan JSON> <task configurations> "<substring of the task region>": the
+# prediction is over that region, with 0 < mean ≤ max.
+expect_region() {
+  /usr/bin/python3 - "$@" <<'PY' || FAILED=1
+import json, sys
+p = json.load(open(sys.argv[1]))["predicted_error_mm"]
+ok = p["task_configurations"] == int(sys.argv[2]) and sys.argv[3] in p["task_region"] and 0 < p["selected"]["mean"] <= p["selected"]["max"]
+if not ok: print("FAIL: task region prediction", sys.argv[1], p)
+sys.exit(0 if ok else 1)
+PY
+}
+
 # 1. Laser tracker, full level: 40 rows, selected indices above the random ones.
 "$ROBCAL" plan --robot abb-irb120 --instrument laser-tracker --level full --count 40 \
   --candidates 1500 --seed 3 --task-count 200 --json --out "$TMP/configs.csv" >"$TMP/plan.json" ||
@@ -64,13 +76,38 @@ grep -q "predicted TCP error" "$TMP/cmm.txt" || fail "cmm plan: no prediction"
 "$ROBCAL" plan --count 20 --candidates 600 --task-count 50 --json \
   --task-box "-500,-300,1100,1300,150,350" --out "$TMP/box.csv" >"$TMP/box.json" ||
   fail "plan with --task-box failed: $(cat "$TMP/box.json")"
-/usr/bin/python3 - "$TMP/box.json" <<'PY' || FAILED=1
-import json, sys
-p = json.load(open(sys.argv[1]))["predicted_error_mm"]
-ok = p["task_configurations"] == 50 and "box" in p["task_region"] and 0 < p["selected"]["mean"] <= p["selected"]["max"]
-if not ok: print("FAIL: task box prediction", p)
-sys.exit(0 if ok else 1)
-PY
+expect_region "$TMP/box.json" 50 "box"
+
+# 4b. Task poses (the file `robcal compensate` reads): the prediction is over their IK
+# solutions; a pose out of reach or a malformed cell names file:line; one task region only.
+cat >"$TMP/poses.csv" <<'CSV'
+# TCP poses in the world frame, tool pointing down
+name,x,y,z,qw,qx,qy,qz,config
+p1,-400,1200,250,0,1,0,0,
+p2,-450,1150,200,0,1,0,0,front-up-noflip
+p3,-350,1250,300,0,0.7071067811865476,0.7071067811865476,0,
+CSV
+"$ROBCAL" plan --count 20 --candidates 600 --json --task-poses "$TMP/poses.csv" \
+  --out "$TMP/poses_plan.csv" >"$TMP/poses.json" ||
+  fail "plan with --task-poses failed: $(cat "$TMP/poses.json")"
+expect_region "$TMP/poses.json" 3 "poses.csv"
+printf 'name,x,y,z,qw,qx,qy,qz\np1,-400,1200,250,0,1,0,0\nfar,5000,0,0,0,1,0,0\n' >"$TMP/far.csv"
+expect_error "task pose out of reach" "far.csv:3 (far): task pose" plan --count 20 \
+  --candidates 300 --task-poses "$TMP/far.csv" --out "$TMP/bad.csv"
+printf 'name,x,y,z,qw,qx,qy,qz,config\np1,-400,1200,250,0,1,0,0,back-down-flip\n' >"$TMP/branch.csv"
+expect_error "task pose in a branch that does not reach it" \
+  "branch.csv:2 (p1): task pose (-400.000, 1200.000, 250.000) mm in the world frame: configuration back-down-flip does not reach it" \
+  plan --count 20 --candidates 300 --task-poses "$TMP/branch.csv" --out "$TMP/bad.csv"
+printf 'name,x,y,z,qw,qx,qy,qz\np1,-400,1200,oops,0,1,0,0\n' >"$TMP/malformed.csv"
+expect_error "malformed task poses" "malformed.csv:2:14 (z): expected a number, found 'oops'" \
+  plan --task-poses "$TMP/malformed.csv" --out "$TMP/bad.csv"
+printf 'name,x,y,z\np1,1,2,3\n' >"$TMP/header.csv"
+expect_error "task poses without quaternion columns" "header.csv:1" plan --task-poses \
+  "$TMP/header.csv" --out "$TMP/bad.csv"
+expect_error "missing task poses file" "nowhere.csv" plan --task-poses "$TMP/nowhere.csv" \
+  --out "$TMP/bad.csv"
+expect_error "two task regions" "excludes" plan --task-poses "$TMP/poses.csv" \
+  --task-box "-500,-300,1100,1300,150,350" --out "$TMP/bad.csv"
 
 # 5. plan-study: seeded JSON, every planned configuration measured, optimal beats random.
 "$ROBCAL" plan-study --counts 15,40 --seeds 2 --candidates 500 --task-count 40 --json \
@@ -89,6 +126,17 @@ for r in d["rows"]:
 for e in errors: print("FAIL:", e)
 sys.exit(1 if errors else 0)
 PY
+"$ROBCAL" plan-study --counts 15 --seeds 1 --candidates 300 --task-poses "$TMP/poses.csv" \
+  --json >"$TMP/study_poses.json" || fail "plan-study --task-poses failed"
+/usr/bin/python3 - "$TMP/study_poses.json" <<'PY' || FAILED=1
+import json, sys
+d = json.load(open(sys.argv[1]))
+ok = d["task_configurations"] == 3 and "poses.csv" in d["task_region"]
+if not ok: print("FAIL: plan-study task poses", d["task_configurations"], d["task_region"])
+sys.exit(0 if ok else 1)
+PY
+expect_error "plan-study task pose out of reach" "far.csv:3 (far)" plan-study --counts 15 \
+  --seeds 1 --candidates 300 --task-poses "$TMP/far.csv"
 expect_error "bad counts" "--counts" plan-study --counts 15,x
 expect_error "bad task box" "--task-box" plan --task-box 1,2,3 --out "$TMP/bad.csv"
 

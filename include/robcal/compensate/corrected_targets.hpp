@@ -12,23 +12,13 @@
 
 #include "robcal/compensate/calibrated_ik.hpp"
 #include "robcal/compensate/program_filter.hpp"
+#include "robcal/io/pose_list_file.hpp"
 
 namespace robcal {
 
-/// One row of a wanted-targets file `name,x,y,z,qw,qx,qy,qz[,config]` (mm, unit quaternion;
-/// config: an ArmConfig label such as "front-up-noflip", or its index 0..7, which is ABB's
-/// cfx; empty or absent: the branch nearest the previous row's joints, home for the first).
-struct WantedTarget {
-  std::string name;
-  Pose<double> world_T_tcp;
-  std::optional<ArmConfig> config;
-  int line = 0;  ///< in the file, for messages
-};
-
-/// Reads a wanted-targets CSV (header row required; '#' lines skipped). Errors name the file,
-/// line, column and what was expected.
-std::vector<WantedTarget> read_wanted_targets(const std::string& path);
-std::vector<WantedTarget> parse_wanted_targets(const std::string& text, const std::string& file);
+/// A wanted TCP pose: one row of a pose-list file (io/pose_list_file.hpp); without a
+/// configuration, the branch nearest the previous row's joints (home for the first).
+using WantedTarget = ListedPose;
 
 struct CorrectedTarget {
   std::string name;

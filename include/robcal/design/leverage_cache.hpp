@@ -40,6 +40,12 @@ class LeverageCache {
   /// G_i −= sign·(A_i W)(A_i W)ᵀ in one sweep, without keeping the projections.
   void update(const Eigen::MatrixXd& W, double sign);
 
+  /// Keeps the R-row blocks X_k of X (k·R rows × m) for cross(); with X_k = A_j M⁻¹ of the
+  /// chosen configurations j, cross(i, k) is C_ij = A_i M⁻¹ A_jᵀ.
+  void set_partners(const Eigen::MatrixXd& X);
+  /// A_i X_kᵀ (R × R) with the blocks of the last set_partners.
+  [[nodiscard]] Block cross(int i, int k) const;
+
   [[nodiscard]] int candidates() const { return n_; }
   [[nodiscard]] const Block& block(int i) const { return G_[static_cast<size_t>(i)]; }
   [[nodiscard]] const Block& projection(int i) const { return B_[static_cast<size_t>(i)]; }
@@ -60,6 +66,7 @@ class LeverageCache {
   /// Scaled rows, row-major so that every candidate's r × m block is contiguous, columns
   /// zero-padded to whole SIMD packets.
   RowMajorMatrix A_;
+  RowMajorMatrix partners_;  ///< X of set_partners, padded like A_
   Blocks G_, B_;
 };
 

@@ -3,7 +3,8 @@
 /// Choosing `count` calibration configurations among the candidates (METHOD §6):
 /// - the published exchange: a random start of 11, then remove/add single configurations
 ///   while the observability index O1 improves, O1 recomputed by SVD for every trial;
-/// - a fast D-optimal greedy + exchange: the information matrix M = Σ A_iᵀA_i of the chosen
+/// - a fast D-optimal greedy + exchange (+ Fedorov's exchange and restarts, see
+///   select_d_optimal): the information matrix M = Σ A_iᵀA_i of the chosen
 ///   set is kept with its inverse through rank-r updates (Woodbury) and every candidate's
 ///   r×r matrix A_i M⁻¹ A_iᵀ is kept current by one product with the update factor, so the
 ///   gain of adding candidate i, log det(I + A_i M⁻¹ A_iᵀ) (matrix determinant lemma), costs
@@ -11,6 +12,7 @@
 /// At a fixed count, maximising det M maximises O1 = det(M)^(1/2m)/√n.
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -63,6 +65,14 @@ struct Selection {
   std::vector<int> chosen;  ///< candidate indices
   double log_det = 0;       ///< log det of the scaled information matrix of the chosen set
   int exchanges = 0;        ///< accepted exchange (or remove/add) steps after the first fill
+  int restarts = 0;         ///< fast D-optimal: perturbed restarts made
+};
+
+struct DOptimalOptions {
+  /// Restarts after the first descent; negative: by candidate count (5 up to 800 candidates,
+  /// ⌊4000 / candidates⌋ above, none from 4000 on: each costs about one descent).
+  int restarts = -1;
+  uint64_t seed = 1;  ///< of the restarts' random starts
 };
 
 /// The published exchange algorithm on O1 (METHOD §6): start from `start_size` random
@@ -74,10 +84,15 @@ struct Selection {
 Selection select_published_exchange(const DesignMatrix& design, int count, std::mt19937_64& rng,
                                     int start_size = 11);
 
-/// Fast D-optimal design: greedy additions from a small ridge, then exchanges (remove the
-/// least-informative chosen configuration and add the best candidate; add the best candidate
-/// and remove the least-informative) while det M increases. Deterministic.
-Selection select_d_optimal(const DesignMatrix& design, int count);
+/// Fast D-optimal design: greedy additions from a small ridge, then a descent to a local
+/// optimum: cheap exchanges (remove the least-informative chosen configuration and add the
+/// best candidate; add the best candidate and remove the least-informative) while det M
+/// increases, then Fedorov's exchange (the best swap over all chosen × candidate pairs, pairs
+/// pruned by a bound) until no single swap increases det M. Then `restarts` more descents,
+/// each greedy from a few random candidates; the best set found is returned. The descents are
+/// shared between two threads; the result is deterministic for a given seed.
+Selection select_d_optimal(const DesignMatrix& design, int count,
+                           const DOptimalOptions& options = {});
 
 /// The D-optimal continuous design (weights on candidates) by the multiplicative algorithm
 /// (Titterington 1976; Silvey, Titterington & Torsney 1978) with the Harman–Pronzato (2007)

@@ -25,8 +25,11 @@ struct PlanStudyOptions {
   InstrumentKind instrument = InstrumentKind::LaserTracker;
   double noise_mm = 0;  ///< > 0 replaces the instrument's σ
   ErrorBounds bounds;   ///< of the random true robots
-  /// Task region: a box of TCP positions (world frame), else random configurations in the
-  /// constrained joint box above the floor.
+  /// Task region: TCP poses (world frame, solved for each true robot's placement; read from
+  /// `task_poses_file`), else a box of TCP positions (world frame), else random
+  /// configurations in the constrained joint box above the floor.
+  std::vector<ListedPose> task_poses;
+  std::string task_poses_file;
   std::optional<TaskBox> task_box;
   int task_count = 200;
 };

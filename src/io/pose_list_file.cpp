@@ -1,0 +1,114 @@
+#include "robcal/io/pose_list_file.hpp"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+#include <string_view>
+
+#include "robcal/core/error.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/kinematics/orientation.hpp"
+
+namespace robcal {
+namespace {
+
+std::string trim(std::string_view s) {
+  const size_t a = s.find_first_not_of(" \t\r");
+  if (a == std::string_view::npos) return "";
+  const size_t b = s.find_last_not_of(" \t\r");
+  return std::string(s.substr(a, b - a + 1));
+}
+
+std::optional<ArmConfig> parse_config_cell(const std::string& cell) {
+  if (cell.size() == 1 && cell[0] >= '0' && cell[0] <= '7') {
+    const int index = cell[0] - '0';
+    return ArmConfig{(index & 4) != 0, (index & 2) != 0, (index & 1) != 0};
+  }
+  return parse_arm_config(cell);
+}
+
+}  // namespace
+
+std::vector<ListedPose> read_pose_list(const std::string& path) {
+  return parse_pose_list(read_text_file(path), path);
+}
+
+std::vector<ListedPose> parse_pose_list(const std::string& text, const std::string& file) {
+  static const char* const kColumns[] = {"name", "x", "y", "z", "qw", "qx", "qy", "qz"};
+  std::vector<ListedPose> out;
+  std::istringstream in(text);
+  std::string line;
+  int number = 0;
+  bool header = false;
+  bool has_config = false;
+  while (std::getline(in, line)) {
+    ++number;
+    const std::string stripped = trim(line);
+    if (stripped.empty() || stripped[0] == '#') continue;
+    // Cells with their 1-based columns.
+    std::vector<std::pair<std::string, int>> cells;
+    size_t start = 0;
+    for (;;) {
+      const size_t comma = line.find(',', start);
+      cells.emplace_back(trim(std::string_view(line).substr(start, comma - start)),
+                         static_cast<int>(start) + 1);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    if (!header) {
+      for (int k = 0; k < 8; ++k)
+        if (static_cast<int>(cells.size()) <= k || cells[k].first != kColumns[k])
+          throw InputError(
+              SourceLocation{file, number, k < static_cast<int>(cells.size()) ? cells[k].second : 0,
+                             ""},
+              fmt::format("expected the header name,x,y,z,qw,qx,qy,qz[,config]; column "
+                          "{} should be '{}'",
+                          k + 1, kColumns[k]));
+      has_config = cells.size() > 8 && cells[8].first == "config";
+      if (cells.size() > (has_config ? 9u : 8u))
+        throw InputError(SourceLocation{file, number, cells[has_config ? 9 : 8].second, ""},
+                         "unexpected column after the header's last (config)");
+      header = true;
+      continue;
+    }
+    const size_t expected = has_config ? 9 : 8;
+    if (cells.size() != expected && !(has_config && cells.size() == 8))
+      throw InputError(SourceLocation{file, number, 0, ""},
+                       fmt::format("expected {} cells, found {}", expected, cells.size()));
+    ListedPose t;
+    t.line = number;
+    t.name = cells[0].first;
+    if (t.name.empty()) throw InputError(SourceLocation{file, number, 1, "name"}, "empty name");
+    double v[7];
+    for (int k = 0; k < 7; ++k) {
+      const std::string& cell = cells[k + 1].first;
+      const auto [ptr, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), v[k]);
+      if (ec != std::errc() || ptr != cell.data() + cell.size() || !std::isfinite(v[k]))
+        throw InputError(SourceLocation{file, number, cells[k + 1].second, kColumns[k + 1]},
+                         fmt::format("expected a number, found '{}'", cell));
+    }
+    try {
+      t.world_T_tcp = pose_from_position_quaternion(Eigen::Vector3d(v[0], v[1], v[2]),
+                                                    Eigen::Vector4d(v[3], v[4], v[5], v[6]));
+    } catch (const InputError& e) {
+      throw InputError(SourceLocation{file, number, cells[4].second, "qw..qz"}, e.what());
+    }
+    if (cells.size() == 9 && !cells[8].first.empty()) {
+      t.config = parse_config_cell(cells[8].first);
+      if (!t.config)
+        throw InputError(SourceLocation{file, number, cells[8].second, "config"},
+                         fmt::format("expected a configuration such as front-up-noflip or its "
+                                     "index 0..7, found '{}'",
+                                     cells[8].first));
+    }
+    out.push_back(std::move(t));
+  }
+  if (!header)
+    throw InputError(SourceLocation{file, 0, 0, ""}, "no header row name,x,y,z,qw,qx,qy,qz");
+  if (out.empty()) throw InputError(SourceLocation{file, 0, 0, ""}, "no poses");
+  return out;
+}
+
+}  // namespace robcal
