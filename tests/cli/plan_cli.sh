@@ -6,20 +6,7 @@ set -u
 ROBCAL=${1:?usage: plan_cli.sh path/to/robcal}
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
-FAILED=0
-
-fail() { echo "FAIL: $*"; FAILED=1; }
-
-# expect_error "<description>" "<substring of stderr>" robcal-args...
-expect_error() {
-  local what=$1 needle=$2
-  shift 2
-  "$ROBCAL" "$@" >"$TMP/out" 2>"$TMP/err"
-  local rc=$?
-  [[ $rc -eq 2 ]] || fail "$what: exit code $rc (expected 2) for: $*"
-  grep -qF -- "$needle" "$TMP/err" || fail "$what: stderr lacks '$needle': $(cat "$TMP/err")"
-  [[ ! -e "$TMP/bad.csv" ]] || fail "$what: wrote an output file"
-}
+source "$(dirname "$0")/lib/checks.sh"
 
 # expect_region <plan JSON> <task configurations> "<substring of the task region>": the
 # prediction is over that region, with 0 < mean ≤ max.
@@ -153,4 +140,4 @@ printf 'payload: {mass_kg: 1, cog_mm: [0, 0, 50]}\ntargets: {}\n' >"$TMP/empty_t
 expect_error "tool without targets" "no targets" plan --tool "$TMP/empty_tool.yaml" \
   --candidates 50 --out "$TMP/bad.csv"
 
-exit $FAILED
+finish plan_cli
