@@ -225,7 +225,7 @@ Vector6d calibrated_jacobian_derivative(const CalibratedChain& c, const ChainSta
 Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joints,
                                  Matrix6d* jacobian) {
   ChainState state;
-  const Pose<double> tcp = calibrated_tcp_pose(c, joints, state);
+  Pose<double> tcp = calibrated_tcp_pose(c, joints, state);
   if (jacobian) calibrated_jacobian(c, state, *jacobian);
   return tcp;
 }

@@ -341,7 +341,7 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
   const Pose<double> base_T_flange = comp.base_T_world * world_T_tcp * comp.tcp_T_flange;
   auto iterate = [&](const Vector6d& seed) {
     if (method == IkMethod::Newton) {
-      const CalibratedIkResult r = newton(comp, world_T_tcp, seed, &config, options);
+      CalibratedIkResult r = newton(comp, world_T_tcp, seed, &config, options);
       // Near a branch boundary (elbow close to stretch, the nominal seed midway between the
       // calibrated up and down answers) Newton may converge on the other branch; pose shift
       // solves each step on the branch asked for.
@@ -368,7 +368,7 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
     r.status = seed.status;
     return r;
   }
-  const CalibratedIkResult r = iterate(seed.joints);
+  CalibratedIkResult r = iterate(seed.joints);
   if (r.status != CalibratedIkStatus::OutsideLimits) return r;
   // Beyond a limit: another turn of a wide-range joint may be inside.
   const Seed inside = seed_of(comp.geometry, base_T_flange, config, near);

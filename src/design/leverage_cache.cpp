@@ -12,7 +12,7 @@ constexpr int kParallelCandidates = 2000;
 using Packet = Eigen::internal::packet_traits<double>::type;
 constexpr int kLanes = Eigen::internal::packet_traits<double>::size;
 
-Eigen::Index padded_columns(int m) {
+Eigen::Index padded_columns(Eigen::Index m) {
   return (m + kLanes - 1) / kLanes * kLanes;
 }
 

@@ -306,7 +306,7 @@ class DOptimalSearch {
       shrink[static_cast<size_t>(k)] =
           Eigen::SelfAdjointEigenSolver<Block>(rest, Eigen::EigenvaluesOnly).eigenvalues()[0];
       // L_jᵀ from (I − G_j)⁻¹ = L_j L_jᵀ: L_jᵀ = (chol(I − G_j))⁻¹ with the upper factor.
-      partners.middleRows(k * R, R) =
+      partners.middleRows(Eigen::Index{k} * R, R) =
           llt.matrixU().solve(Block::Identity()).transpose() * block(j) * info_.inverse();
     }
     cache_.set_partners(partners);
@@ -359,7 +359,7 @@ class DOptimalSearch {
  private:
   static constexpr int kRefreshEvery = 256;
 
-  [[nodiscard]] auto block(int i) const { return A_.middleRows(i * R, R); }
+  [[nodiscard]] auto block(int i) const { return A_.middleRows(Eigen::Index{i} * R, R); }
   [[nodiscard]] const Block& G(int i) const { return cache_.block(i); }
 
   // Applies M += sign·A_iᵀA_i given its factor; `projected`: the cache already holds the

@@ -43,8 +43,8 @@ TaskBox parse_task_box(const std::string& text, const std::string& flag) {
                                  values.size(), text));
   TaskBox box;
   for (int k = 0; k < 3; ++k) {
-    box.min_mm[k] = values[static_cast<size_t>(2 * k)];
-    box.max_mm[k] = values[static_cast<size_t>(2 * k + 1)];
+    box.min_mm[k] = values[2 * static_cast<size_t>(k)];
+    box.max_mm[k] = values[2 * static_cast<size_t>(k) + 1];
     if (box.min_mm[k] > box.max_mm[k])
       throw InputError({"", 0, 0, flag}, fmt::format("{} range [{}, {}] has min > max", "xyz"[k],
                                                      box.min_mm[k], box.max_mm[k]));

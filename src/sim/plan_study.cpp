@@ -33,6 +33,7 @@ RegionError error_against_truth(const TrueRobot& truth, const ParameterVector& p
   const RobotModel& model = truth.robot.model;
   const Eigen::Vector3d tcp = truth.robot.tool.flange_T_tcp.translation();
   std::vector<double> errors;
+  errors.reserve(task.size());
   for (const Vector6d& q : task)
     errors.push_back((flange_pose(model, truth.robot.tool.payload, params, q) * tcp -
                       true_flange_pose(truth, q) * tcp)
