@@ -51,11 +51,15 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "O1…O5 (METHOD §6) of a column-scaled identification Jacobian of n configurations");
   m.def(
       "select_d_optimal",
-      [](const Eigen::MatrixXd& rows, int rows_per_candidate, int count) {
-        return select_d_optimal(design_from(rows, rows_per_candidate), count).chosen;
+      [](const Eigen::MatrixXd& rows, int rows_per_candidate, int count, int restarts,
+         uint64_t seed) {
+        return select_d_optimal(design_from(rows, rows_per_candidate), count, {restarts, seed})
+            .chosen;
       },
-      py::arg("rows"), py::arg("rows_per_candidate"), py::arg("count"),
-      "Indices of `count` candidates chosen by the fast D-optimal greedy + exchange");
+      py::arg("rows"), py::arg("rows_per_candidate"), py::arg("count"), py::arg("restarts") = -1,
+      py::arg("seed") = 1,
+      "Indices of `count` candidates chosen by the fast D-optimal greedy + exchange; `restarts`\n"
+      "more seeded descents (negative: by candidate count, as robcal plan)");
   m.def(
       "select_published_exchange",
       [](const Eigen::MatrixXd& rows, int rows_per_candidate, int count, uint64_t seed) {
