@@ -47,7 +47,8 @@ inline Eigen::Vector3d rx90_transpose_times(double sigma, const Eigen::Vector3d&
 /// One arm solution (θ1, θ2, θ3) with what the wrist needs.
 struct ArmSolution {
   double theta1, theta2, theta3;
-  double c23, s23;
+  double elbow_sign;  ///< θ3 + ψ = elbow_sign·φ
+  double c23, s23, s5;
   int shoulder;  ///< 0 front, 1 back: which X of the solver
   bool back, down;
   unsigned labels;  ///< mask bits of the branches this arm stands for (both elbows if stretched)
@@ -62,6 +63,27 @@ struct SolutionSink {
   int count = 0;
   int branches_reached = 0;
   bool truncated = false;
+};
+
+/// The arguments of every atan2 of a solve, evaluated together so that the compiler packs them
+/// into vector lanes: θ1 and φ of both shoulders, then a group of four per arm.
+constexpr int kLaneGroup = 4;
+constexpr int kTheta1Lane = 0, kPhiLane = 1, kArmLane = kLaneGroup;
+constexpr int kTheta2 = 0, kTheta4 = 1, kTheta5 = 2, kTheta6 = 3;  // within an arm's group
+constexpr int kLaneCount = kLaneGroup * 5;
+
+struct Lanes {
+  // Unused lanes are zeros (atan2 0): every lane is evaluated.
+  alignas(32) std::array<double, kLaneCount> y{}, x{}, angle;
+  void set(int lane, double y_value, double x_value) {
+    y[lane] = y_value;
+    x[lane] = x_value;
+  }
+  /// atan2 of the first `count` lanes.
+  const std::array<double, kLaneCount>& atan2(int count) {
+    for (int i = 0; i < count; ++i) angle[i] = fast_atan2(y[i], x[i]);
+    return angle;
+  }
 };
 
 /// Solves in stages so that the independent atan2 evaluations of all branches sit in short
@@ -91,18 +113,18 @@ class Solver {
     }
   }
 
-  void run() {
+  __attribute__((target_clones("avx2", "default"), flatten)) void run() {
     // θ1: W lies in the x1–z1 plane.
     const double wx = wrist_.x(), wy = wrist_.y();
     const double rxy = std::sqrt(wx * wx + wy * wy);
-    double theta1, c1, s1;
+    double c1, s1;
+    Lanes lanes;
+    lanes.set(kTheta1Lane, wy, wx);
     if (rxy < kShoulderSingularMm) {
-      theta1 = seed_theta1_;
-      c1 = std::cos(theta1);
-      s1 = std::sin(theta1);
+      c1 = std::cos(seed_theta1_);
+      s1 = std::sin(seed_theta1_);
       shoulder_singular_ = true;
     } else {
-      theta1 = fast_atan2(wy, wx);
       const double inv = 1.0 / rxy;  // one division: the divider is the IK's bottleneck
       c1 = wx * inv;
       s1 = wy * inv;
@@ -110,7 +132,7 @@ class Solver {
     // Planar arm for front (r = +|W_xy|) and back (r = −|W_xy|): W at (r, 0, h) in frame 1,
     // w = W − shoulder in frame 2's plane, w = Rz(θ2)·v (see the header).
     const double h = wrist_.z() - g_.d1;
-    std::array<double, 2> w_x, w_y, D, inv_D, kappa, sigma, phi;
+    std::array<double, 2> w_x, w_y, D, inv_D, kappa, sigma;
     std::array<bool, 2> reach;
     for (int b = 0; b < 2; ++b) {
       const double r = b == 0 ? rxy : -rxy;
@@ -122,8 +144,8 @@ class Solver {
       reach[b] = std::abs(k) <= 1.0 + kReachTolerance && (mask_ & shoulder_mask(b)) != 0;
       kappa[b] = std::clamp(k, -1.0, 1.0);
       sigma[b] = std::sqrt(1.0 - kappa[b] * kappa[b]);
+      lanes.set(kPhiLane + b, sigma[b], kappa[b]);
     }
-    for (int b = 0; b < 2; ++b) phi[b] = reach[b] ? fast_atan2(sigma[b], kappa[b]) : 0.0;
     // Wrist-side rotations X_b = Rx(α2)ᵀ·Rz(θ1_b)ᵀ·R (rows of R rotated), one per shoulder.
     for (int b = 0; b < 2; ++b) {
       const double c = b == 0 ? c1 : -c1, s = b == 0 ? s1 : -s1;
@@ -131,9 +153,9 @@ class Solver {
       X_[b].row(1) = g_.s_alpha2 * R_.row(2);
       X_[b].row(2) = -g_.s_alpha2 * (-s * R_.row(0) + c * R_.row(1));
     }
-    // Elbows: φ = θ3 + ψ = ±φ_b; v = (a3, 0) + ρ(cos φ, sin φ); θ2 turns v onto w.
+    // Elbows: φ = θ3 + ψ = ±φ_b; v = (a3, 0) + ρ(cos φ, sin φ); θ2 turns v onto w (c2, s2 by
+    // division, θ2 by atan2 below).
     std::array<ArmSolution, 4> arms;
-    std::array<double, 4> dot, cross, c3, s3;
     int n = 0;
     for (int b = 0; b < 2; ++b) {
       if (!reach[b]) continue;
@@ -147,51 +169,51 @@ class Solver {
         // A stretched elbow stands for both labels.
         const unsigned labels = stretched ? shoulder_mask(b) : elbow_mask(b, down);
         if ((mask_ & labels) == 0) continue;
-        c3[n] = kappa[b] * g_.cos_psi + sphi * g_.sin_psi;
-        s3[n] = sphi * g_.cos_psi - kappa[b] * g_.sin_psi;
+        const double c3 = kappa[b] * g_.cos_psi + sphi * g_.sin_psi;
+        const double s3 = sphi * g_.cos_psi - kappa[b] * g_.sin_psi;
         const double vx = g_.a3 + g_.rho * kappa[b], vy = g_.rho * sphi;
-        dot[n] = vx * w_x[b] + vy * w_y[b];
-        cross[n] = vx * w_y[b] - vy * w_x[b];
+        const double dot = vx * w_x[b] + vy * w_y[b];
+        const double cross = vx * w_y[b] - vy * w_x[b];
+        const double c2 = D[b] > 0 ? dot * inv_D[b] : 1.0;
+        const double s2 = D[b] > 0 ? cross * inv_D[b] : 0.0;
         ArmSolution& arm = arms[n];
-        arm.theta1 = b == 0 ? theta1 : theta1 + kPi;
-        arm.theta3 = sign * phi[b] - g_.psi;
+        arm.elbow_sign = sign;
+        arm.c23 = c2 * c3 - s2 * s3;
+        arm.s23 = s2 * c3 + c2 * s3;
         arm.shoulder = b;
         arm.back = b == 1;
         arm.down = down;
         arm.labels = labels;
+        // Wrist: Y = Rz(θ23)ᵀ·X, M = Rx(α4)ᵀ·Y = Rz(θ4)·Rx(α5)·Rz(θ5)·Rx(α6)·Rz(θ6), whose
+        // third column is σ6·s5·(c4, s4, ·) and third row σ5·s5·(c6, −s6, ·),
+        // c5 = −σ5σ6·M22.
+        const Eigen::Matrix3d& X = X_[b];
+        const double m02 = arm.c23 * X(0, 2) + arm.s23 * X(1, 2);
+        const double m12 = g_.s_alpha4 * X(2, 2);
+        const double m20 = g_.s_alpha4 * (arm.s23 * X(0, 0) - arm.c23 * X(1, 0));
+        const double m21 = g_.s_alpha4 * (arm.s23 * X(0, 1) - arm.c23 * X(1, 1));
+        const double m22 = g_.s_alpha4 * (arm.s23 * X(0, 2) - arm.c23 * X(1, 2));
+        arm.s5 = std::sqrt(m02 * m02 + m12 * m12);
+        const int lane = kArmLane + kLaneGroup * n;
+        lanes.set(lane + kTheta2, cross, dot);
+        lanes.set(lane + kTheta4, g_.s_alpha6 * m12, g_.s_alpha6 * m02);
+        lanes.set(lane + kTheta5, arm.s5, -g_.s_alpha5 * g_.s_alpha6 * m22);
+        lanes.set(lane + kTheta6, -g_.s_alpha5 * m21, g_.s_alpha5 * m20);
         ++n;
       }
     }
-    for (int i = 0; i < n; ++i) arms[i].theta2 = fast_atan2(cross[i], dot[i]);
-    // Wrist: Y = Rz(θ23)ᵀ·X, M = Rx(α4)ᵀ·Y = Rz(θ4)·Rx(α5)·Rz(θ5)·Rx(α6)·Rz(θ6), whose third
-    // column is σ6·s5·(c4, s4, ·) and third row σ5·s5·(c6, −s6, ·), c5 = −σ5σ6·M22.
-    std::array<double, 12> ay, ax, angle;
-    std::array<double, 4> s5;
+    // Every angle of every branch in one pass of vector lanes.
+    const std::array<double, kLaneCount>& angle = lanes.atan2(kLaneGroup * (1 + n));
+    const double theta1 = shoulder_singular_ ? seed_theta1_ : angle[kTheta1Lane];
+    Candidates c;
     for (int i = 0; i < n; ++i) {
       ArmSolution& arm = arms[i];
-      const double D_b = D[arm.shoulder];
-      const double c2 = D_b > 0 ? dot[i] * inv_D[arm.shoulder] : 1.0;
-      const double s2 = D_b > 0 ? cross[i] * inv_D[arm.shoulder] : 0.0;
-      arm.c23 = c2 * c3[i] - s2 * s3[i];
-      arm.s23 = s2 * c3[i] + c2 * s3[i];
-      const Eigen::Matrix3d& X = X_[arm.shoulder];
-      const double m02 = arm.c23 * X(0, 2) + arm.s23 * X(1, 2);
-      const double m12 = g_.s_alpha4 * X(2, 2);
-      const double m20 = g_.s_alpha4 * (arm.s23 * X(0, 0) - arm.c23 * X(1, 0));
-      const double m21 = g_.s_alpha4 * (arm.s23 * X(0, 1) - arm.c23 * X(1, 1));
-      const double m22 = g_.s_alpha4 * (arm.s23 * X(0, 2) - arm.c23 * X(1, 2));
-      s5[i] = std::sqrt(m02 * m02 + m12 * m12);
-      ay[3 * i] = s5[i];
-      ax[3 * i] = -g_.s_alpha5 * g_.s_alpha6 * m22;
-      ay[3 * i + 1] = g_.s_alpha6 * m12;
-      ax[3 * i + 1] = g_.s_alpha6 * m02;
-      ay[3 * i + 2] = -g_.s_alpha5 * m21;
-      ax[3 * i + 2] = g_.s_alpha5 * m20;
+      const int lane = kArmLane + kLaneGroup * i;
+      arm.theta1 = arm.back ? theta1 + kPi : theta1;
+      arm.theta2 = angle[lane + kTheta2];
+      arm.theta3 = arm.elbow_sign * angle[kPhiLane + arm.shoulder] - g_.psi;
+      wrist(arm, angle[lane + kTheta4], angle[lane + kTheta5], angle[lane + kTheta6], c);
     }
-    for (int i = 0; i < 3 * n; ++i) angle[i] = fast_atan2(ay[i], ax[i]);
-    Candidates c;
-    for (int i = 0; i < n; ++i)
-      wrist(arms[i], s5[i], angle[3 * i + 1], angle[3 * i], angle[3 * i + 2], c);
     emit(c);
   }
 
@@ -222,10 +244,9 @@ class Solver {
 
   /// The wrist solution and its flip (θ4 + π, −θ5, θ6 + π) for one arm; near the wrist
   /// singularity θ4 comes from the seed and θ6 from the residual rotation.
-  void wrist(const ArmSolution& arm, double s5, double theta4, double theta5, double theta6,
-             Candidates& c) {
-    const bool singular = s5 < kWristSingularSin;
-    if (s5 < kWristNearSingularSin) {
+  void wrist(const ArmSolution& arm, double theta4, double theta5, double theta6, Candidates& c) {
+    const bool singular = arm.s5 < kWristSingularSin;
+    if (arm.s5 < kWristNearSingularSin) {
       if (singular) theta4 = seed_theta4_;
       theta6 = residual_theta6(arm, X_[arm.shoulder], theta4, theta5);
     }

@@ -39,17 +39,19 @@ inline constexpr std::array<double, 9> kAtanEighths = [] {
 }();
 }  // namespace detail
 
-/// atan2(y, x) in [−π, π]; ±0 for (±0, +0), ±π for (±0, −0).
+/// atan2(y, x) in [−π, π], with std::atan2's values at ±0, ±∞ and NaN.
 inline double fast_atan2(double y, double x) {
   constexpr const std::array<double, 9>& table = detail::kAtanEighths;
   constexpr double kTiny = std::numeric_limits<double>::denorm_min();  // keeps 0/0 at 0
+  constexpr double kMax = std::numeric_limits<double>::max();          // ∞/∞ taken as 1
   const double ax = std::abs(x), ay = std::abs(y);
-  const double hi = std::max(ax, ay), lo = std::min(ax, ay);
-  // k = round(8·lo/hi); min(1, ·) also maps the NaN of ∞/∞ to a valid index.
-  const double t = std::min(1.0, lo / std::max(hi, kTiny));
-  const int k = static_cast<int>(8.0 * t + 0.5);
+  // Operand order makes a NaN x reach lo and a NaN y reach hi, so t is NaN for either.
+  const double lo = std::min(std::min(ax, ay), kMax), hi = std::min(std::max(ay, ax), kMax);
+  const double t = lo / std::max(hi, kTiny);
+  // k = round(8t); min(8.5, ·) also maps the NaN to a valid index.
+  const int k = static_cast<int>(std::min(8.5, 8.0 * t + 0.5));
   const double c = 0.125 * k;
-  const double u = (lo - c * hi) / std::max(hi + c * lo, kTiny);
+  const double u = (t - c) / (1.0 + c * t);
   const double u2 = u * u;
   // Taylor series of atan u: u − u³/3 + u⁵/5 − u⁷/7 + u⁹/9 − u¹¹/11 + u¹³/13, Horner form.
   double p = 1.0 / 13;
@@ -58,7 +60,11 @@ inline double fast_atan2(double y, double x) {
   p = p * u2 - 1.0 / 7;
   p = p * u2 + 1.0 / 5;
   p = p * u2 - 1.0 / 3;
-  const double r = table[k] + (u + u * u2 * p);
+  // atan(k/8) by selects rather than an indexed load, which vector units without a gather
+  // (SSE2) cannot do.
+  double atan_c = table[0];
+  for (int j = 1; j <= 8; ++j) atan_c = c >= 0.125 * j ? table[j] : atan_c;
+  const double r = atan_c + (u + u * u2 * p);
   // Octant restored by arithmetic on ±1 factors rather than selects, which compilers turn into
   // branches that random inputs mispredict: r → π/2 − r when steep, r → π − r when x < 0.
   const double steep = std::copysign(1.0, ax - ay);  // −1 when |y| > |x|
