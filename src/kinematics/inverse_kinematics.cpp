@@ -289,7 +289,6 @@ class Solver {
     const bool one_wide = wide_count_ == 1 && !out_.nearest_turn_only &&
                           out_.count + 2 * kArms * wide_max_turns_ <= out_.capacity;
     alignas(32) std::array<double, 2 * kArms> turns{};  // solutions per candidate, if one_wide
-    Vector6d shift = Vector6d::Constant(-0.0);  // x + (−0) = x, also for x = −0
     if (one_wide) {
       const int i = wide_joints_[0];
       for (int m = 0; m < 2 * kArms; ++m)
@@ -315,12 +314,13 @@ class Solver {
       const ArmConfig config{arm.back, arm.down, flip};
       s = {joints, config, singular && !flip, shoulder_singular_};
       if (one_wide) {
-        // Written from registers: a copy of `s` changed in one place would be a wide load of a
-        // narrow store, which stalls.
+        // Stores only: reading back `s` or a vector just changed in one place would be a wide
+        // load of a narrow store, which stalls.
+        const int i = wide_joints_[0];
         for (int k = 1; k < wide_max_turns_; ++k) {
-          shift[wide_joints_[0]] = kTwoPi * k;
-          out_.solutions[out_.count + k] = {joints + shift, config, singular && !flip,
-                                            shoulder_singular_};
+          IkSolution& copy = out_.solutions[out_.count + k];
+          copy = {joints, config, singular && !flip, shoulder_singular_};
+          copy.joints[i] = q[i][column] + kTwoPi * k;
         }
         out_.count += static_cast<int>(turns[column]);
         continue;
