@@ -15,6 +15,9 @@
 namespace robcal {
 namespace {
 
+// The solver is compiled twice, for AVX2 (4 lanes) and for any x86-64 (SSE2, 2 lanes), and
+// the copy the processor runs is picked at load time; flatten keeps every helper inside the
+// copy (a helper left in the SSE2 encoding measured twice as slow, called from the AVX2 one).
 #if defined(__x86_64__) && defined(__GNUC__)
 #define ROBCAL_VECTOR_CLONES __attribute__((target_clones("avx2", "default"), flatten))
 #else
@@ -50,7 +53,8 @@ inline Eigen::Vector3d rx90_transpose_times(double sigma, const Eigen::Vector3d&
   return {v[0], sigma * v[2], -sigma * v[1]};
 }
 
-/// One arm solution (θ1, θ2, θ3) with what the wrist needs.
+/// What the emission and the wrist-singular case need of one arm (shoulder and elbow); its
+/// angles live in the solver's lanes.
 struct ArmSolution {
   double c23, s23, s5;
   int shoulder;  ///< 0 front, 1 back: which X of the solver
@@ -69,9 +73,9 @@ struct SolutionSink {
   bool truncated = false;
 };
 
-/// Up to four arms (shoulder × elbow) are solved side by side in slots 0..3, as the lanes of
-/// one vector: the atan2 arguments of a solve are laid out so that a compiler packs them into
-/// vector lanes (2 or 4), and the angles come out per kind with one lane per arm.
+/// Up to four arms (shoulder × elbow) are solved side by side in slots 0..3: the atan2
+/// arguments of a solve are laid out for vector lanes (2 or 4 doubles), θ1 and the two
+/// shoulders' φ first, then each kind of angle with one lane per arm slot.
 constexpr int kArms = 4;
 constexpr int kTheta1Lane = 0, kPhiLane = 1;  // φ of the front and back shoulder
 constexpr int kTheta2Lanes = 4, kTheta4Lanes = 8, kTheta5Lanes = 12, kTheta6Lanes = 16;
@@ -109,14 +113,13 @@ class Solver {
     }
   }
 
-  // Compiled twice, for AVX2 (4 lanes) and for any x86-64 (SSE2, 2 lanes), and picked at load
-  // time; flatten keeps every helper inside the chosen copy.
   ROBCAL_VECTOR_CLONES void run() {
     // θ1: W lies in the x1–z1 plane.
     const double wx = wrist_.x(), wy = wrist_.y();
     const double rxy = std::sqrt(wx * wx + wy * wy);
     double c1, s1;
-    // Unused lanes give atan2(0, 1): (0, 0) would divide by a subnormal, which is very slow.
+    // Unused lanes are atan2(0, 1): (0, 0) takes the 0/0 path of fast_atan2, whose discarded
+    // NaN division measured slower.
     alignas(32) std::array<double, kLaneCount> y{}, x;
     x.fill(1.0);
     y[kTheta1Lane] = wy;
