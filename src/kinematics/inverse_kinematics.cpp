@@ -15,6 +15,15 @@
 namespace robcal {
 namespace {
 
+// The solver is compiled twice, for AVX2 (4 lanes) and for any x86-64 (SSE2, 2 lanes), and
+// the copy the processor runs is picked at load time; flatten keeps every helper inside the
+// copy (a helper left in the SSE2 encoding measured twice as slow, called from the AVX2 one).
+#if defined(__x86_64__) && defined(__GNUC__)
+#define ROBCAL_VECTOR_CLONES __attribute__((target_clones("avx2", "default"), flatten))
+#else
+#define ROBCAL_VECTOR_CLONES
+#endif
+
 constexpr double kPi = std::numbers::pi;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kInvTwoPi = 0.5 / std::numbers::pi;
@@ -44,10 +53,10 @@ inline Eigen::Vector3d rx90_transpose_times(double sigma, const Eigen::Vector3d&
   return {v[0], sigma * v[2], -sigma * v[1]};
 }
 
-/// One arm solution (θ1, θ2, θ3) with what the wrist needs.
+/// What the emission and the wrist-singular case need of one arm (shoulder and elbow); its
+/// angles live in the solver's lanes.
 struct ArmSolution {
-  double theta1, theta2, theta3;
-  double c23, s23;
+  double c23, s23, s5;
   int shoulder;  ///< 0 front, 1 back: which X of the solver
   bool back, down;
   unsigned labels;  ///< mask bits of the branches this arm stands for (both elbows if stretched)
@@ -64,9 +73,22 @@ struct SolutionSink {
   bool truncated = false;
 };
 
-/// Solves in stages so that the independent atan2 evaluations of all branches sit in short
-/// loops the processor can overlap: θ1 → both elbow angles → four θ2 → twelve wrist angles.
-/// Only the branches whose bit (1 << ArmConfig::index()) is set in `mask` are solved.
+/// Up to four arms (shoulder × elbow) are solved side by side in slots 0..3: the atan2
+/// arguments of a solve are laid out for vector lanes (2 or 4 doubles), θ1 and the two
+/// shoulders' φ first, then each kind of angle with one lane per arm slot.
+constexpr int kArms = 4;
+constexpr int kTheta1Lane = 0, kPhiLane = 1;  // φ of the front and back shoulder
+constexpr int kTheta2Lanes = 4, kTheta4Lanes = 8, kTheta5Lanes = 12, kTheta6Lanes = 16;
+constexpr int kLaneCount = 20;
+
+/// Candidate solutions in link angles before the joint limits, one column each: arm slot a
+/// in column a, its wrist flip in column kArms + a.
+using Columns = std::array<std::array<double, 2 * kArms>, kJointCount>;
+
+/// Solves in stages, each over all arms at once so that the compiler can use vector lanes:
+/// the arms' atan2 arguments → every atan2 → the candidates' columns → the joint turns within
+/// the limits → the solutions written out. Only the branches whose bit
+/// (1 << ArmConfig::index()) is set in `mask` are solved.
 class Solver {
  public:
   Solver(const OrthoParallelGeometry& g, const Pose<double>& pose, const Vector6d& seed,
@@ -91,18 +113,22 @@ class Solver {
     }
   }
 
-  void run() {
+  ROBCAL_VECTOR_CLONES void run() {
     // θ1: W lies in the x1–z1 plane.
     const double wx = wrist_.x(), wy = wrist_.y();
     const double rxy = std::sqrt(wx * wx + wy * wy);
-    double theta1, c1, s1;
+    double c1, s1;
+    // Unused lanes are atan2(0, 1): (0, 0) takes the 0/0 path of fast_atan2, whose discarded
+    // NaN division measured slower.
+    alignas(32) std::array<double, kLaneCount> y{}, x;
+    x.fill(1.0);
+    y[kTheta1Lane] = wy;
+    x[kTheta1Lane] = wx;
     if (rxy < kShoulderSingularMm) {
-      theta1 = seed_theta1_;
-      c1 = std::cos(theta1);
-      s1 = std::sin(theta1);
+      c1 = std::cos(seed_theta1_);
+      s1 = std::sin(seed_theta1_);
       shoulder_singular_ = true;
     } else {
-      theta1 = fast_atan2(wy, wx);
       const double inv = 1.0 / rxy;  // one division: the divider is the IK's bottleneck
       c1 = wx * inv;
       s1 = wy * inv;
@@ -110,7 +136,7 @@ class Solver {
     // Planar arm for front (r = +|W_xy|) and back (r = −|W_xy|): W at (r, 0, h) in frame 1,
     // w = W − shoulder in frame 2's plane, w = Rz(θ2)·v (see the header).
     const double h = wrist_.z() - g_.d1;
-    std::array<double, 2> w_x, w_y, D, inv_D, kappa, sigma, phi;
+    std::array<double, 2> w_x, w_y, D, inv_D, kappa, sigma;
     std::array<bool, 2> reach;
     for (int b = 0; b < 2; ++b) {
       const double r = b == 0 ? rxy : -rxy;
@@ -122,8 +148,9 @@ class Solver {
       reach[b] = std::abs(k) <= 1.0 + kReachTolerance && (mask_ & shoulder_mask(b)) != 0;
       kappa[b] = std::clamp(k, -1.0, 1.0);
       sigma[b] = std::sqrt(1.0 - kappa[b] * kappa[b]);
+      y[kPhiLane + b] = sigma[b];
+      x[kPhiLane + b] = kappa[b];
     }
-    for (int b = 0; b < 2; ++b) phi[b] = reach[b] ? fast_atan2(sigma[b], kappa[b]) : 0.0;
     // Wrist-side rotations X_b = Rx(α2)ᵀ·Rz(θ1_b)ᵀ·R (rows of R rotated), one per shoulder.
     for (int b = 0; b < 2; ++b) {
       const double c = b == 0 ? c1 : -c1, s = b == 0 ? s1 : -s1;
@@ -131,9 +158,10 @@ class Solver {
       X_[b].row(1) = g_.s_alpha2 * R_.row(2);
       X_[b].row(2) = -g_.s_alpha2 * (-s * R_.row(0) + c * R_.row(1));
     }
-    // Elbows: φ = θ3 + ψ = ±φ_b; v = (a3, 0) + ρ(cos φ, sin φ); θ2 turns v onto w.
-    std::array<ArmSolution, 4> arms;
-    std::array<double, 4> dot, cross, c3, s3;
+    // Elbows: φ = θ3 + ψ = ±φ_b; v = (a3, 0) + ρ(cos φ, sin φ); θ2 turns v onto w (c2, s2 by
+    // division, θ2 by atan2 with the others).
+    std::array<ArmSolution, kArms> arms;
+    alignas(32) std::array<double, kArms> back{}, elbow_sign{};  // per slot, 0 when unused
     int n = 0;
     for (int b = 0; b < 2; ++b) {
       if (!reach[b]) continue;
@@ -147,52 +175,71 @@ class Solver {
         // A stretched elbow stands for both labels.
         const unsigned labels = stretched ? shoulder_mask(b) : elbow_mask(b, down);
         if ((mask_ & labels) == 0) continue;
-        c3[n] = kappa[b] * g_.cos_psi + sphi * g_.sin_psi;
-        s3[n] = sphi * g_.cos_psi - kappa[b] * g_.sin_psi;
+        const double c3 = kappa[b] * g_.cos_psi + sphi * g_.sin_psi;
+        const double s3 = sphi * g_.cos_psi - kappa[b] * g_.sin_psi;
         const double vx = g_.a3 + g_.rho * kappa[b], vy = g_.rho * sphi;
-        dot[n] = vx * w_x[b] + vy * w_y[b];
-        cross[n] = vx * w_y[b] - vy * w_x[b];
+        const double dot = vx * w_x[b] + vy * w_y[b];
+        const double cross = vx * w_y[b] - vy * w_x[b];
+        const double c2 = D[b] > 0 ? dot * inv_D[b] : 1.0;
+        const double s2 = D[b] > 0 ? cross * inv_D[b] : 0.0;
         ArmSolution& arm = arms[n];
-        arm.theta1 = b == 0 ? theta1 : theta1 + kPi;
-        arm.theta3 = sign * phi[b] - g_.psi;
+        arm.c23 = c2 * c3 - s2 * s3;
+        arm.s23 = s2 * c3 + c2 * s3;
         arm.shoulder = b;
         arm.back = b == 1;
         arm.down = down;
         arm.labels = labels;
+        back[n] = b;
+        elbow_sign[n] = sign;
+        // Wrist: Y = Rz(θ23)ᵀ·X, M = Rx(α4)ᵀ·Y = Rz(θ4)·Rx(α5)·Rz(θ5)·Rx(α6)·Rz(θ6), whose
+        // third column is σ6·s5·(c4, s4, ·) and third row σ5·s5·(c6, −s6, ·),
+        // c5 = −σ5σ6·M22.
+        const Eigen::Matrix3d& X = X_[b];
+        const double m02 = arm.c23 * X(0, 2) + arm.s23 * X(1, 2);
+        const double m12 = g_.s_alpha4 * X(2, 2);
+        const double m20 = g_.s_alpha4 * (arm.s23 * X(0, 0) - arm.c23 * X(1, 0));
+        const double m21 = g_.s_alpha4 * (arm.s23 * X(0, 1) - arm.c23 * X(1, 1));
+        const double m22 = g_.s_alpha4 * (arm.s23 * X(0, 2) - arm.c23 * X(1, 2));
+        arm.s5 = std::sqrt(m02 * m02 + m12 * m12);
+        y[kTheta2Lanes + n] = cross;
+        x[kTheta2Lanes + n] = dot;
+        y[kTheta4Lanes + n] = g_.s_alpha6 * m12;
+        x[kTheta4Lanes + n] = g_.s_alpha6 * m02;
+        y[kTheta5Lanes + n] = arm.s5;
+        x[kTheta5Lanes + n] = -g_.s_alpha5 * g_.s_alpha6 * m22;
+        y[kTheta6Lanes + n] = -g_.s_alpha5 * m21;
+        x[kTheta6Lanes + n] = g_.s_alpha5 * m20;
         ++n;
       }
     }
-    for (int i = 0; i < n; ++i) arms[i].theta2 = fast_atan2(cross[i], dot[i]);
-    // Wrist: Y = Rz(θ23)ᵀ·X, M = Rx(α4)ᵀ·Y = Rz(θ4)·Rx(α5)·Rz(θ5)·Rx(α6)·Rz(θ6), whose third
-    // column is σ6·s5·(c4, s4, ·) and third row σ5·s5·(c6, −s6, ·), c5 = −σ5σ6·M22.
-    std::array<double, 12> ay, ax, angle;
-    std::array<double, 4> s5;
-    for (int i = 0; i < n; ++i) {
-      ArmSolution& arm = arms[i];
-      const double D_b = D[arm.shoulder];
-      const double c2 = D_b > 0 ? dot[i] * inv_D[arm.shoulder] : 1.0;
-      const double s2 = D_b > 0 ? cross[i] * inv_D[arm.shoulder] : 0.0;
-      arm.c23 = c2 * c3[i] - s2 * s3[i];
-      arm.s23 = s2 * c3[i] + c2 * s3[i];
-      const Eigen::Matrix3d& X = X_[arm.shoulder];
-      const double m02 = arm.c23 * X(0, 2) + arm.s23 * X(1, 2);
-      const double m12 = g_.s_alpha4 * X(2, 2);
-      const double m20 = g_.s_alpha4 * (arm.s23 * X(0, 0) - arm.c23 * X(1, 0));
-      const double m21 = g_.s_alpha4 * (arm.s23 * X(0, 1) - arm.c23 * X(1, 1));
-      const double m22 = g_.s_alpha4 * (arm.s23 * X(0, 2) - arm.c23 * X(1, 2));
-      s5[i] = std::sqrt(m02 * m02 + m12 * m12);
-      ay[3 * i] = s5[i];
-      ax[3 * i] = -g_.s_alpha5 * g_.s_alpha6 * m22;
-      ay[3 * i + 1] = g_.s_alpha6 * m12;
-      ax[3 * i + 1] = g_.s_alpha6 * m02;
-      ay[3 * i + 2] = -g_.s_alpha5 * m21;
-      ax[3 * i + 2] = g_.s_alpha5 * m20;
+    // Every angle of every arm in one pass over the lanes.
+    alignas(32) std::array<double, kLaneCount> angle;
+    for (int i = 0; i < kLaneCount; ++i) angle[i] = fast_atan2(y[i], x[i]);
+    // Near the wrist singularity θ4 comes from the seed and θ6 from the residual rotation (rare:
+    // the only per-arm branch).
+    for (int a = 0; a < n; ++a) {
+      if (arms[a].s5 >= kWristNearSingularSin) continue;
+      double& theta4 = angle[kTheta4Lanes + a];
+      if (arms[a].s5 < kWristSingularSin) theta4 = seed_theta4_;
+      angle[kTheta6Lanes + a] = residual_theta6(arms[a], theta4, angle[kTheta5Lanes + a]);
     }
-    for (int i = 0; i < 3 * n; ++i) angle[i] = fast_atan2(ay[i], ax[i]);
-    Candidates c;
-    for (int i = 0; i < n; ++i)
-      wrist(arms[i], s5[i], angle[3 * i + 1], angle[3 * i], angle[3 * i + 2], c);
-    emit(c);
+    // The candidates: each arm and its wrist flip (θ4 + π, −θ5, θ6 + π), in every slot.
+    const double theta1 = shoulder_singular_ ? seed_theta1_ : angle[kTheta1Lane];
+    const double phi_front = angle[kPhiLane], phi_back = angle[kPhiLane + 1];
+    alignas(32) Columns q;
+    for (int a = 0; a < kArms; ++a) {
+      const double theta4 = angle[kTheta4Lanes + a], theta6 = angle[kTheta6Lanes + a];
+      q[0][a] = q[0][kArms + a] = back[a] != 0 ? theta1 + kPi : theta1;
+      q[1][a] = q[1][kArms + a] = angle[kTheta2Lanes + a];
+      q[2][a] = q[2][kArms + a] = elbow_sign[a] * (back[a] != 0 ? phi_back : phi_front) - g_.psi;
+      q[3][a] = theta4;
+      q[3][kArms + a] = theta4 - std::copysign(kPi, theta4);
+      q[4][a] = angle[kTheta5Lanes + a];
+      q[4][kArms + a] = -angle[kTheta5Lanes + a];
+      q[5][a] = theta6;
+      q[5][kArms + a] = theta6 - std::copysign(kPi, theta6);
+    }
+    emit(arms, n, q);
   }
 
  private:
@@ -200,48 +247,9 @@ class Solver {
   static unsigned shoulder_mask(int b) { return b == 0 ? 0x0Fu : 0xF0u; }
   static unsigned elbow_mask(int b, bool down) { return 3u << (4 * b + (down ? 2 : 0)); }
 
-  /// Up to 8 solutions in link angles, one column each, before the joint limits.
-  struct Candidates {
-    std::array<std::array<double, 8>, kJointCount> theta{};
-    std::array<ArmConfig, 8> config;
-    std::array<bool, 8> singular;
-    int count = 0;
-    void add(const ArmSolution& arm, double theta4, double theta5, double theta6, bool flip,
-             bool is_singular) {
-      theta[0][count] = arm.theta1;
-      theta[1][count] = arm.theta2;
-      theta[2][count] = arm.theta3;
-      theta[3][count] = theta4;
-      theta[4][count] = theta5;
-      theta[5][count] = theta6;
-      config[count] = ArmConfig{arm.back, arm.down, flip};
-      singular[count] = is_singular;
-      ++count;
-    }
-  };
-
-  /// The wrist solution and its flip (θ4 + π, −θ5, θ6 + π) for one arm; near the wrist
-  /// singularity θ4 comes from the seed and θ6 from the residual rotation.
-  void wrist(const ArmSolution& arm, double s5, double theta4, double theta5, double theta6,
-             Candidates& c) {
-    const bool singular = s5 < kWristSingularSin;
-    if (s5 < kWristNearSingularSin) {
-      if (singular) theta4 = seed_theta4_;
-      theta6 = residual_theta6(arm, X_[arm.shoulder], theta4, theta5);
-    }
-    // Bit 0 of a branch index is the flip. At the singularity the flip is the same pose with
-    // θ4 off the seed: one solution stands for both.
-    constexpr unsigned kNoFlipBits = 0x55u, kFlipBits = 0xAAu;
-    if (mask_ & arm.labels & (singular ? ~0u : kNoFlipBits))
-      c.add(arm, theta4, theta5, theta6, false, singular);
-    if (singular || !(mask_ & arm.labels & kFlipBits)) return;
-    c.add(arm, theta4 - std::copysign(kPi, theta4), -theta5, theta6 - std::copysign(kPi, theta6),
-          true, false);
-  }
-
   /// θ6 from Rz(θ6) = (Rz(θ4)·Rx(α5)·Rz(θ5)·Rx(α6))ᵀ·M, exact for any θ4, θ5.
-  double residual_theta6(const ArmSolution& arm, const Eigen::Matrix3d& X, double theta4,
-                         double theta5) const {
+  double residual_theta6(const ArmSolution& arm, double theta4, double theta5) const {
+    const Eigen::Matrix3d& X = X_[arm.shoulder];
     Eigen::Matrix3d Y;
     Y.row(0) = arm.c23 * X.row(0) + arm.s23 * X.row(1);
     Y.row(1) = -arm.s23 * X.row(0) + arm.c23 * X.row(1);
@@ -258,61 +266,69 @@ class Solver {
   }
 
   /// Converts the candidates to controller joints and emits every turn inside the limits (or
-  /// the turn nearest the seed). Joint by joint over all 8 columns (unused ones hold zeros),
-  /// without branches, up to the limit test.
-  void emit(Candidates& c) {
-    out_.branches_reached += c.count;
-    auto& q = c.theta;  // becomes controller joints in place
+  /// the turn nearest the seed). Joint by joint over all 8 columns (unused ones hold finite
+  /// values), without branches, up to the limit test.
+  void emit(const std::array<ArmSolution, kArms>& arms, int n, Columns& q) {
     if (!g_.map_identity)
-      for (int m = 0; m < c.count; ++m) {
+      for (int m = 0; m < 2 * kArms; ++m) {
         Vector6d v;
         for (int i = 0; i < kJointCount; ++i) v[i] = q[i][m] - g_.theta_offset[i];
         v = g_.map_inverse * (v - g_.map_offset);
         for (int i = 0; i < kJointCount; ++i) q[i][m] = v[i] + g_.theta_offset[i];
       }
-    // Each joint moved by whole turns to the lowest value at or above its lower limit. (The
-    // unroll pragmas matter: the project's -O2 unrolls no loops.)
-    std::array<bool, 8> inside;
-    inside.fill(true);
+    // Each joint moved by whole turns to the lowest value at or above its lower limit.
+    alignas(32) std::array<double, 2 * kArms> outside{};  // 1 where a joint is above its limit
     for (int i = 0; i < kJointCount; ++i) {
-      const double offset = g_.theta_offset[i], lower = lower_[i];
-      const double upper = upper_[i];
-#pragma GCC unroll 8
-      for (int m = 0; m < 8; ++m) {
+      const double offset = g_.theta_offset[i], lower = lower_[i], upper = upper_[i];
+      for (int m = 0; m < 2 * kArms; ++m) {
         const double v = q[i][m] - offset;
         const double w = v - kTwoPi * turns_below(v - lower);
-        inside[m] &= w <= upper;
+        outside[m] = w <= upper ? outside[m] : 1.0;  // NaN is outside
         q[i][m] = w;
       }
     }
     // One wide joint (the usual case): every candidate written with all the turns the joint can
     // have, and counted with those it has, without branching on the pose.
     const bool one_wide = wide_count_ == 1 && !out_.nearest_turn_only &&
-                          out_.count + 8 * wide_max_turns_ <= out_.capacity;
-    for (int m = 0; m < c.count; ++m) {
+                          out_.count + 2 * kArms * wide_max_turns_ <= out_.capacity;
+    alignas(32) std::array<double, 2 * kArms> turns{};  // solutions per candidate, if one_wide
+    if (one_wide) {
+      const int i = wide_joints_[0];
+      for (int m = 0; m < 2 * kArms; ++m)
+        turns[m] = outside[m] == 0 ? 1 + turns_below(upper_[i] - q[i][m]) : 0.0;
+    }
+    // Bit 0 of a branch index is the flip. At the wrist singularity the flip is the same pose
+    // with θ4 off the seed: one solution stands for both.
+    constexpr unsigned kNoFlipBits = 0x55u, kFlipBits = 0xAAu;
+    for (int m = 0; m < 2 * n; ++m) {  // each arm, then its flip
+      const int a = m / 2, column = a + (m % 2) * kArms;
+      const ArmSolution& arm = arms[a];
+      const bool flip = m % 2 == 1, singular = arm.s5 < kWristSingularSin;
+      if (!(mask_ & arm.labels & (flip ? kFlipBits : singular ? ~0u : kNoFlipBits))) continue;
+      if (flip && singular) continue;
+      ++out_.branches_reached;
       if (out_.count == out_.capacity) {
         out_.truncated = true;
         return;
       }
       IkSolution& s = out_.solutions[out_.count];
-#pragma GCC unroll 6
-      for (int i = 0; i < kJointCount; ++i) s.joints[i] = q[i][m];
-      s.config = c.config[m];
-      s.wrist_singular = c.singular[m];
-      s.shoulder_singular = shoulder_singular_;
+      Vector6d joints;
+      for (int i = 0; i < kJointCount; ++i) joints[i] = q[i][column];
+      const ArmConfig config{arm.back, arm.down, flip};
+      s = {joints, config, singular && !flip, shoulder_singular_};
       if (one_wide) {
+        // Stores only: reading back `s` or a vector just changed in one place would be a wide
+        // load of a narrow store, which stalls.
         const int i = wide_joints_[0];
         for (int k = 1; k < wide_max_turns_; ++k) {
           IkSolution& copy = out_.solutions[out_.count + k];
-          copy = s;
-          copy.joints[i] += kTwoPi * k;
+          copy = {joints, config, singular && !flip, shoulder_singular_};
+          copy.joints[i] = q[i][column] + kTwoPi * k;
         }
-        // Converted only when inside: an outside candidate may hold NaN (from a NaN pose).
-        const double further = turns_below(upper_[i] - s.joints[i]);
-        out_.count += inside[m] ? 1 + static_cast<int>(further) : 0;
+        out_.count += static_cast<int>(turns[column]);
         continue;
       }
-      if (!inside[m]) continue;
+      if (outside[column] != 0) continue;
       ++out_.count;
       if (out_.nearest_turn_only)
         nearest_turn(s);
