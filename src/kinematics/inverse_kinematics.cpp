@@ -77,13 +77,14 @@ struct SolutionSink {
 /// arguments of a solve are laid out for vector lanes (2 or 4 doubles), θ1 and the two
 /// shoulders' φ first, then each kind of angle with one lane per arm slot.
 constexpr int kArms = 4;
+constexpr int kColumns = 2 * kArms;           // each arm and its wrist flip
 constexpr int kTheta1Lane = 0, kPhiLane = 1;  // φ of the front and back shoulder
 constexpr int kTheta2Lanes = 4, kTheta4Lanes = 8, kTheta5Lanes = 12, kTheta6Lanes = 16;
 constexpr int kLaneCount = 20;
 
 /// Candidate solutions in link angles before the joint limits, one column each: arm slot a
 /// in column a, its wrist flip in column kArms + a.
-using Columns = std::array<std::array<double, 2 * kArms>, kJointCount>;
+using Columns = std::array<std::array<double, kColumns>, kJointCount>;
 
 /// Solves in stages, each over all arms at once so that the compiler can use vector lanes:
 /// the arms' atan2 arguments → every atan2 → the candidates' columns → the joint turns within
@@ -270,17 +271,17 @@ class Solver {
   /// values), without branches, up to the limit test.
   void emit(const std::array<ArmSolution, kArms>& arms, int n, Columns& q) {
     if (!g_.map_identity)
-      for (int m = 0; m < 2 * kArms; ++m) {
+      for (int m = 0; m < kColumns; ++m) {
         Vector6d v;
         for (int i = 0; i < kJointCount; ++i) v[i] = q[i][m] - g_.theta_offset[i];
         v = g_.map_inverse * (v - g_.map_offset);
         for (int i = 0; i < kJointCount; ++i) q[i][m] = v[i] + g_.theta_offset[i];
       }
     // Each joint moved by whole turns to the lowest value at or above its lower limit.
-    alignas(32) std::array<double, 2 * kArms> outside{};  // 1 where a joint is above its limit
+    alignas(32) std::array<double, kColumns> outside{};  // 1 where a joint is above its limit
     for (int i = 0; i < kJointCount; ++i) {
       const double offset = g_.theta_offset[i], lower = lower_[i], upper = upper_[i];
-      for (int m = 0; m < 2 * kArms; ++m) {
+      for (int m = 0; m < kColumns; ++m) {
         const double v = q[i][m] - offset;
         const double w = v - kTwoPi * turns_below(v - lower);
         outside[m] = w <= upper ? outside[m] : 1.0;  // NaN is outside
@@ -290,11 +291,11 @@ class Solver {
     // One wide joint (the usual case): every candidate written with all the turns the joint can
     // have, and counted with those it has, without branching on the pose.
     const bool one_wide = wide_count_ == 1 && !out_.nearest_turn_only &&
-                          out_.count + 2 * kArms * wide_max_turns_ <= out_.capacity;
-    alignas(32) std::array<double, 2 * kArms> turns{};  // solutions per candidate, if one_wide
+                          out_.count + kColumns * wide_max_turns_ <= out_.capacity;
+    alignas(32) std::array<double, kColumns> turns{};  // solutions per candidate, if one_wide
     if (one_wide) {
       const int i = wide_joints_[0];
-      for (int m = 0; m < 2 * kArms; ++m)
+      for (int m = 0; m < kColumns; ++m)
         turns[m] = outside[m] == 0 ? 1 + turns_below(upper_[i] - q[i][m]) : 0.0;
     }
     // Bit 0 of a branch index is the flip. At the wrist singularity the flip is the same pose
