@@ -114,6 +114,26 @@ void BM_NominalSeed(benchmark::State& state) {
 }
 BENCHMARK(BM_NominalSeed);
 
+/// Forward kinematics of the calibrated robot (31 parameters, gravity compliance) for the TCP
+/// and 3 targets, each call from a fresh workspace (no angles carried from a previous pose):
+/// issue 2's FK goal (≤ 0.2 µs) on the error model rather than the nominal chain.
+void BM_CalibratedFkTcpAnd3Targets(benchmark::State& state) {
+  const IkFixture& f = irb120_fixture();
+  const std::array<Eigen::Vector3d, 3> targets{
+      Eigen::Vector3d(50, 0, 100), Eigen::Vector3d(-40, 60, 90), Eigen::Vector3d(0, -70, 120)};
+  size_t i = 0;
+  for (auto _ : state) {
+    ChainState fresh;
+    const Pose<double> tcp = calibrated_tcp_pose(f.comp.chain, f.cases[i].near, fresh);
+    for (const Eigen::Vector3d& t : targets) {
+      Eigen::Vector3d p = tcp * t;
+      benchmark::DoNotOptimize(p);
+    }
+    i = (i + 1) % f.cases.size();
+  }
+}
+BENCHMARK(BM_CalibratedFkTcpAnd3Targets);
+
 /// Within 5° of a singularity (untimed): the share converged, every converged answer
 /// checked by the calibrated forward model (`wrong` counts misses beyond 1e-6 mm or 1e-6°),
 /// the rest refused with a status.
