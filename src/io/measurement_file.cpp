@@ -10,6 +10,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "csv_fields.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -32,25 +33,6 @@ std::vector<std::string> columns_of(MeasurementKind kind) {
   if (kind == MeasurementKind::Poses)
     for (const char* c : {"qw", "qx", "qy", "qz"}) columns.emplace_back(c);
   return columns;
-}
-
-std::string_view trim(std::string_view s) {
-  const auto first = s.find_first_not_of(" \t\r");
-  if (first == std::string_view::npos) return {};
-  const auto last = s.find_last_not_of(" \t\r");
-  return s.substr(first, last - first + 1);
-}
-
-std::vector<std::string_view> split_fields(std::string_view line) {
-  std::vector<std::string_view> fields;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = line.find(',', start);
-    fields.push_back(trim(line.substr(start, comma - start)));
-    if (comma == std::string_view::npos) break;
-    start = comma + 1;
-  }
-  return fields;
 }
 
 std::string join(const std::vector<std::string>& items, std::string_view separator) {
@@ -201,13 +183,13 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
         start, newline == std::string_view::npos ? std::string_view::npos : newline - start);
     ++line_number;
     start = newline == std::string_view::npos ? text.size() + 1 : newline + 1;
-    const std::string_view content = trim(line);
+    const std::string_view content = csv::trim(line);
     if (content.empty() || content.front() == '#') continue;
     if (header_line == 0) {
       header_line = line_number;
-      header = split_fields(content);
+      header = csv::split_fields(content);
     } else {
-      rows.push_back({line_number, split_fields(content)});
+      rows.push_back({line_number, csv::split_fields(content)});
     }
   }
   if (header_line == 0)

@@ -7,19 +7,13 @@
 #include <sstream>
 #include <string_view>
 
+#include "csv_fields.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal {
 namespace {
-
-std::string trim(std::string_view s) {
-  const size_t a = s.find_first_not_of(" \t\r");
-  if (a == std::string_view::npos) return "";
-  const size_t b = s.find_last_not_of(" \t\r");
-  return std::string(s.substr(a, b - a + 1));
-}
 
 std::optional<ArmConfig> parse_config_cell(const std::string& cell) {
   if (cell.size() == 1 && cell[0] >= '0' && cell[0] <= '7') {
@@ -45,18 +39,11 @@ std::vector<ListedPose> parse_pose_list(const std::string& text, const std::stri
   bool has_config = false;
   while (std::getline(in, line)) {
     ++number;
-    const std::string stripped = trim(line);
-    if (stripped.empty() || stripped[0] == '#') continue;
-    // Cells with their 1-based columns.
+    if (csv::trim(line).empty() || csv::trim(line)[0] == '#') continue;
+    std::vector<int> columns;  // 1-based character column of each cell
+    const std::vector<std::string_view> fields = csv::split_fields(line, &columns);
     std::vector<std::pair<std::string, int>> cells;
-    size_t start = 0;
-    for (;;) {
-      const size_t comma = line.find(',', start);
-      cells.emplace_back(trim(std::string_view(line).substr(start, comma - start)),
-                         static_cast<int>(start) + 1);
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
+    for (size_t k = 0; k < fields.size(); ++k) cells.emplace_back(fields[k], columns[k]);
     if (!header) {
       for (int k = 0; k < 8; ++k)
         if (static_cast<int>(cells.size()) <= k || cells[k].first != kColumns[k])
