@@ -57,6 +57,16 @@ nlohmann::json indices_json(const ObservabilityIndices& o) {
           {"O5", tidy(o.O5)}};
 }
 
+/// The world the task region is given in: the planning cell's, where the robot stands as in the
+/// simulator's standard cell (and its instruments see it).
+std::string planning_world_help() {
+  const std::array<double, 6> b = default_base_placement();
+  return fmt::format(
+      "World frame: the planning cell's, as `robcal simulate` (robot base at x {} y {} z {} mm, "
+      "α β γ {} {} {} deg, METHOD §2)",
+      b[0], b[1], b[2], b[3], b[4], b[5]);
+}
+
 void run_plan(const PlanOptions& o) {
   if (o.out.empty()) throw InputError({"", 0, 0, "--out"}, "expected an output file");
   if (o.count <= 0)
@@ -248,12 +258,14 @@ const bool registered = register_command(60, [](CLI::App& app) {
       cmd->add_option("--task-box", o->task_box,
                       "Task region as a box of TCP positions in the world frame: "
                       "\"xmin,xmax,ymin,ymax,zmin,zmax\" (mm), sampled by inverse kinematics "
-                      "with the tool pointing down");
+                      "with the tool pointing down. " +
+                          planning_world_help());
   cmd->add_option("--task-poses", o->task_poses,
                   "Task region as TCP poses in the world frame: name,x,y,z,qw,qx,qy,qz[,config] "
                   "CSV (mm; the file `robcal compensate` reads), each solved by inverse "
                   "kinematics in its config branch if given, else the solution nearest the middle "
-                  "of the constrained joint box")
+                  "of the constrained joint box. " +
+                      planning_world_help())
       ->excludes(configs_option)
       ->excludes(box_option);
   configs_option->excludes(box_option);
