@@ -7,10 +7,10 @@
 #include <cmath>
 #include <numeric>
 
+#include "../src/design/leverage_cache.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/design/candidates.hpp"
 #include "robcal/design/design_matrix.hpp"
-#include "robcal/design/leverage_cache.hpp"
 #include "robcal/design/observability.hpp"
 #include "robcal/design/selection.hpp"
 #include "robcal/identify/unknowns.hpp"

@@ -10,9 +10,9 @@
 #include <numbers>
 #include <random>
 
+#include "../src/kinematics/fast_atan2.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
-#include "robcal/kinematics/fast_atan2.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/kinematics/nominal_chain.hpp"

@@ -5,7 +5,7 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
-#include "robcal/kinematics/angle_shift.hpp"
+#include "../src/kinematics/angle_shift.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
 #include "test_support.hpp"

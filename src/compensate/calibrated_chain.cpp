@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <numbers>
 
-#include "robcal/kinematics/angle_shift.hpp"
+#include "../kinematics/angle_shift.hpp"
 
 namespace robcal {
 namespace {

@@ -4,8 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "../kinematics/fast_atan2.hpp"
 #include "robcal/core/error.hpp"
-#include "robcal/kinematics/fast_atan2.hpp"
 
 namespace robcal {
 namespace {

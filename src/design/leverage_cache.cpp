@@ -1,4 +1,4 @@
-#include "robcal/design/leverage_cache.hpp"
+#include "leverage_cache.hpp"
 
 #include <thread>
 

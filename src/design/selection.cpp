@@ -10,8 +10,8 @@
 #include <numeric>
 #include <thread>
 
+#include "leverage_cache.hpp"
 #include "robcal/core/error.hpp"
-#include "robcal/design/leverage_cache.hpp"
 #include "robcal/design/observability.hpp"
 
 namespace robcal {

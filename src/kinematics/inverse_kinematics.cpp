@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <numbers>
 
+#include "fast_atan2.hpp"
 #include "robcal/core/units.hpp"
-#include "robcal/kinematics/fast_atan2.hpp"
 #include "robcal/kinematics/numeric_ik.hpp"
 
 namespace robcal {

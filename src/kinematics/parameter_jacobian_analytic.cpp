@@ -2,7 +2,7 @@
 
 #include "robcal/kinematics/parameter_jacobian.hpp"
 
-#include "robcal/kinematics/angle_shift.hpp"
+#include "angle_shift.hpp"
 
 namespace robcal {
 namespace {
