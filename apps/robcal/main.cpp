@@ -5,12 +5,16 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "command_registry.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/core/progress.hpp"
+#include "robcal/io/atomic_file.hpp"
 
 namespace robcal::cli {
 
@@ -26,11 +30,88 @@ bool register_command(int order, CommandSetup setup) {
   return true;
 }
 
+namespace {
+/// The headings of --help, in pipeline order, and the commands under each.
+struct Stage {
+  const char* heading;
+  std::vector<std::string> commands;
+};
+const std::vector<Stage>& stages() {
+  static const std::vector<Stage> list = {
+      {"1. Model", {"robots", "robot", "fk", "ik"}},
+      {"2. Plan", {"plan", "plan-study"}},
+      {"3. Measure", {"simulate"}},
+      {"4. Identify", {"calibrate"}},
+      {"5. Validate", {"validate"}},
+      {"6. Compensate", {"compensate", "compensate-program"}},
+      {"Ballbar hexapod (every stage)", {"hexapod"}},
+      {"Reports", {"report"}},
+      {"Simulation studies", {"demo", "montecarlo", "experiments"}}};
+  return list;
+}
+
+/// Index of the stage of `command` in stages(); unknown commands come last, under "Other".
+size_t stage_index(const std::string& command) {
+  const auto& list = stages();
+  for (size_t i = 0; i < list.size(); ++i)
+    if (std::find(list[i].commands.begin(), list[i].commands.end(), command) !=
+        list[i].commands.end())
+      return i;
+  return list.size();
+}
+
+/// The stage of the commands a setup adds (set up on a scratch application to learn their
+/// names): CLI11 lists the groups in the order their first command was added. A setup that
+/// extends another command (`hexapod calibrate`) fails on the empty application and runs last.
+size_t stage_of_setup(const CommandSetup& setup) {
+  CLI::App scratch;
+  try {
+    setup(scratch);
+  } catch (const CLI::Error&) {
+    return stages().size();
+  }
+  size_t stage = stages().size();
+  for (const CLI::App* command : scratch.get_subcommands({}))
+    stage = std::min(stage, stage_index(command->get_name()));
+  return stage;
+}
+
+/// The outputs (--out, --*-out) of the command line never overwrite its inputs: every other
+/// option value or argument naming an existing file is an input.
+void refuse_outputs_over_inputs(const CLI::App& app) {
+  std::vector<std::pair<std::string, std::string>> outputs;  // flag, path
+  std::vector<std::filesystem::path> inputs;
+  for (const CLI::App* command = &app; command != nullptr;) {
+    for (const CLI::Option* option : command->get_options()) {
+      const std::string flag = option->get_name();
+      const bool output = flag.size() > 3 && flag.compare(flag.size() - 3, 3, "out") == 0;
+      for (const std::string& value : option->results()) {
+        std::error_code ec;
+        if (output)
+          outputs.emplace_back(flag, value);
+        else if (std::filesystem::is_regular_file(value, ec))
+          inputs.emplace_back(value);
+      }
+    }
+    const auto chosen = command->get_subcommands();
+    command = chosen.empty() ? nullptr : chosen.front();
+  }
+  for (const auto& [flag, path] : outputs) robcal::refuse_overwriting_inputs(path, inputs, flag);
+}
+}  // namespace
+
 void setup_commands(CLI::App& app) {
-  auto& commands = registry();
-  std::stable_sort(commands.begin(), commands.end(),
+  // Sorted by stage, then by each command's order.
+  std::vector<std::pair<std::pair<size_t, int>, CommandSetup*>> sorted;
+  for (auto& [order, setup] : registry())
+    sorted.push_back({{stage_of_setup(setup), order}, &setup});
+  std::stable_sort(sorted.begin(), sorted.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (auto& [order, setup] : commands) setup(app);
+  for (auto& [key, setup] : sorted) (*setup)(app);
+  for (CLI::App* command : app.get_subcommands({})) {
+    const size_t stage = stage_index(command->get_name());
+    command->group(stage < stages().size() ? stages()[stage].heading : "Other");
+  }
 }
 
 }  // namespace robcal::cli
@@ -43,6 +124,15 @@ int main(int argc, char** argv) {
         "Units: millimetres and degrees in every file, flag and printout."};
     app.require_subcommand(1);
     app.set_help_all_flag("--help-all", "Show help for every command");
+    app.set_version_flag("--version", "robcal " ROBCAL_VERSION, "Print the version and exit");
+    app.footer(
+        "Commands are listed by pipeline stage: model → plan → measure → identify → validate → "
+        "compensate.\nA file argument '-' reads standard input; --out - writes standard "
+        "output.\n`robcal COMMAND --help` for a command's flags.");
+    // Long computations show their progress on stderr when it is a terminal.
+    robcal::enable_terminal_progress(true);
+    // Runs after parsing, before the command's callback.
+    app.parse_complete_callback([&app] { robcal::cli::refuse_outputs_over_inputs(app); });
     robcal::cli::setup_commands(app);
     try {
       app.parse(argc, argv);

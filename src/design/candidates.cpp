@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/progress.hpp"
 #include "robcal/core/units.hpp"
 
 namespace robcal {
@@ -90,6 +91,7 @@ CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
   out.candidates.reserve(static_cast<size_t>(options.count));
   const long budget = static_cast<long>(options.count) * options.draws_per_candidate;
   std::vector<int> visible_targets;
+  Progress progress("drawing feasible candidate configurations", options.count);
   while (static_cast<int>(out.candidates.size()) < options.count && out.draws < budget) {
     ++out.draws;
     Candidate c;
@@ -122,6 +124,7 @@ CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
           0, visible_targets.size() - 1)(rng)];
     }
     out.candidates.push_back(c);
+    progress.advance();
   }
   if (out.candidates.empty())
     throw InputError(

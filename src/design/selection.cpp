@@ -12,6 +12,7 @@
 
 #include "leverage_cache.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/core/progress.hpp"
 #include "robcal/design/observability.hpp"
 
 namespace robcal {
@@ -437,11 +438,14 @@ Selection run_d_optimal(const DesignMatrix& design, int count, const DOptimalOpt
   // (seed, r), so the result does not depend on which thread runs which. The descents are
   // independent: two threads take every other one.
   std::vector<Descent> descents(static_cast<size_t>(out.restarts) + 1);
+  Progress progress("choosing configurations (D-optimal descents)",
+                    static_cast<std::int64_t>(descents.size()));
   const auto run = [&](size_t first) {
     for (size_t r = first; r < descents.size(); r += 2) {
       std::seed_seq seeds{options.seed, static_cast<uint64_t>(r)};
       std::mt19937_64 rng(seeds);
       descents[r] = descend<R>(design, count, r == 0 ? 0 : kRestartStart, rng);
+      progress.advance();
     }
   };
   if (descents.size() > 1) {

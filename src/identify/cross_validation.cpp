@@ -7,6 +7,7 @@
 #include <random>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/progress.hpp"
 
 namespace robcal {
 namespace {
@@ -61,6 +62,7 @@ CrossValidation cross_validate(const RobotModel& model, const Tool& tool,
   out.seed = seed;
   out.errors_mm.assign(data.size(), 0.0);
   const int k = data.residuals_per_row();
+  Progress progress("cross-validation folds", folds);
   for (int fold = 0; fold < folds; ++fold) {
     std::vector<bool> train(data.size());
     for (size_t row = 0; row < data.size(); ++row)
@@ -86,6 +88,7 @@ CrossValidation cross_validate(const RobotModel& model, const Tool& tool,
       row_residuals(context, fit.unknowns, h++, r.data(), nullptr);
       out.errors_mm[row] = k == 1 ? std::abs(r[0]) : r.head<3>().norm();
     }
+    progress.advance();
   }
   const double n = static_cast<double>(out.errors_mm.size());
   for (double e : out.errors_mm) {

@@ -1,8 +1,11 @@
 #include "robcal/io/atomic_file.hpp"
 
+#include <fmt/format.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <system_error>
 
@@ -10,39 +13,96 @@
 
 namespace robcal {
 
-void write_file_atomically(const std::filesystem::path& path, std::string_view content) {
-  namespace fs = std::filesystem;
+namespace fs = std::filesystem;
+
+namespace {
+
+InputError write_error(const fs::path& path, const std::string& what) {
+  return InputError(SourceLocation{path.string(), 0, 0, ""}, what);
+}
+
+/// Writes into an existing non-regular file (device, pipe) or standard output, in place.
+void write_in_place(std::ostream& out, const fs::path& path, std::string_view content) {
+  out.write(content.data(), static_cast<std::streamsize>(content.size()));
+  out.flush();
+  if (!out) throw write_error(path, "write failed");
+}
+
+}  // namespace
+
+void write_file_atomically(const fs::path& path, std::string_view content) {
+  if (path == "-") return write_in_place(std::cout, path, content);
   std::error_code ec;
-  if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
-  fs::path tmp = path;
-  tmp += ".tmp-" + std::to_string(::getpid());
+  // A link is followed to the file it names (which may not exist yet), so the rename replaces
+  // that file, not the link.
+  fs::path target = path;
+  for (int hops = 0; fs::is_symlink(fs::symlink_status(target, ec)); ++hops) {
+    const fs::path next = fs::read_symlink(target, ec);
+    if (ec || hops == 40) throw write_error(path, "cannot resolve the symbolic link");
+    target = next.is_absolute() ? next : target.parent_path() / next;
+  }
+  const fs::file_status status = fs::status(target, ec);
+  if (fs::exists(status)) {
+    if (fs::is_directory(status)) throw write_error(path, "is a directory, not a file");
+    if (!fs::is_regular_file(status)) {
+      std::ofstream out(target, std::ios::binary);
+      if (!out) throw write_error(path, "cannot open for writing");
+      return write_in_place(out, path, content);
+    }
+  }
+  if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
+  // Unique per process and call: two threads writing beside each other never share one.
+  static std::atomic<unsigned> counter{0};
+  fs::path tmp = target;
+  tmp += fmt::format(".tmp-{}-{}", ::getpid(), counter++);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(SourceLocation{path.string(), 0, 0, ""}, "cannot open for writing");
+    if (!out) throw write_error(path, "cannot open for writing");
     out.write(content.data(), static_cast<std::streamsize>(content.size()));
     out.flush();
     if (!out) {
       out.close();
       fs::remove(tmp, ec);
-      throw InputError(SourceLocation{path.string(), 0, 0, ""}, "write failed (disk full?)");
+      throw write_error(path, "write failed (disk full?)");
     }
   }
-  fs::rename(tmp, path, ec);
+  // A replaced file keeps its permissions.
+  if (fs::is_regular_file(status)) fs::permissions(tmp, status.permissions(), ec);
+  fs::rename(tmp, target, ec);
   if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(SourceLocation{path.string(), 0, 0, ""},
-                     "cannot replace the file: " + ec.message());
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw write_error(path, "cannot replace the file: " + ec.message());
   }
 }
 
-std::string read_text_file(const std::filesystem::path& path) {
+std::string read_text_file(const fs::path& path) {
+  std::ostringstream ss;
+  if (path == "-") {
+    ss << std::cin.rdbuf();
+    return ss.str();
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw InputError(SourceLocation{path.string(), 0, 0, ""},
                      "cannot open for reading (does it exist?)");
-  std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+void refuse_overwriting_inputs(const fs::path& out, const std::vector<fs::path>& inputs,
+                               std::string_view flag) {
+  if (out == "-") return;
+  std::error_code ec;
+  for (const fs::path& input : inputs) {
+    if (input == "-") continue;
+    if (fs::equivalent(out, input, ec) && !ec)
+      throw InputError(
+          SourceLocation{"", 0, 0, std::string(flag)},
+          fmt::format("'{}' is the input file '{}': refusing to overwrite it; write the output "
+                      "to another path",
+                      out.string(), input.string()));
+  }
 }
 
 }  // namespace robcal

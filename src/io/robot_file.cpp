@@ -1,10 +1,12 @@
 #include "robcal/io/robot_file.hpp"
 
+#include <dlfcn.h>
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdlib>
+#include <optional>
 
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -13,30 +15,64 @@ namespace robcal {
 
 namespace fs = std::filesystem;
 
+namespace {
+/// The first `share/robcal/data` in `start`'s folder or one of its parents (a few levels: an
+/// executable in <prefix>/bin, a library in <prefix>/lib/<multiarch>, a Python module in
+/// <prefix>/lib/python3/dist-packages/robcal, a build tree with its share/robcal/data link).
+std::optional<fs::path> data_beside(const fs::path& start) {
+  std::error_code ec;
+  const fs::path file = fs::canonical(start, ec);
+  if (ec) return std::nullopt;
+  fs::path dir = file.parent_path();
+  for (int level = 0; level < 5 && !dir.empty(); ++level, dir = dir.parent_path()) {
+    const fs::path candidate = dir / "share" / "robcal" / "data";
+    if (fs::is_directory(candidate / "robots", ec)) return candidate;
+    if (dir == dir.root_path()) break;
+  }
+  return std::nullopt;
+}
+
+/// The data folder, or nothing when there is none (see data_directory()).
+std::optional<fs::path> find_data_directory() {
+  if (const char* env = std::getenv("ROBCAL_DATA_DIR"); env && *env) return fs::path(env);
+  // The file holding this code: the shared library, or the program or Python module the static
+  // library was linked into; then the running program itself.
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&find_data_directory), &info) != 0 && info.dli_fname)
+    if (auto found = data_beside(info.dli_fname)) return found;
+  return data_beside("/proc/self/exe");
+}
+}  // namespace
+
 fs::path data_directory() {
-  if (const char* env = std::getenv("ROBCAL_DATA_DIR"); env && *env) return env;
-  return ROBCAL_DATA_DIR;
+  if (auto found = find_data_directory()) return *found;
+  throw InputError({"", 0, 0, "ROBCAL_DATA_DIR"},
+                   "cannot find the robot library (share/robcal/data beside the installed program "
+                   "or library): set ROBCAL_DATA_DIR to the folder holding robots/");
 }
 
 std::vector<std::string> builtin_robot_names() {
   std::vector<std::string> names;
+  const auto data = find_data_directory();
+  if (!data) return names;
   std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(data_directory() / "robots", ec))
+  for (const auto& entry : fs::directory_iterator(*data / "robots", ec))
     if (entry.path().extension() == ".yaml") names.push_back(entry.path().stem().string());
   std::sort(names.begin(), names.end());
   return names;
 }
 
 RobotModel load_robot(const std::string& name_or_path) {
-  const fs::path builtin = data_directory() / "robots" / (name_or_path + ".yaml");
-  if (name_or_path.find('/') == std::string::npos && fs::exists(builtin))
-    return parse_robot(yaml::load_file(builtin.string()));
+  if (const auto data = find_data_directory(); data && name_or_path.find('/') == std::string::npos)
+    if (const fs::path builtin = *data / "robots" / (name_or_path + ".yaml"); fs::exists(builtin))
+      return parse_robot(yaml::load_file(builtin.string()));
   if (fs::exists(name_or_path)) return parse_robot(yaml::load_file(name_or_path));
   std::string known;
   for (const auto& n : builtin_robot_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError(
       {"", 0, 0, "--robot"},
-      fmt::format("unknown robot '{}': not a built-in robot ({}) nor a file", name_or_path, known));
+      fmt::format("unknown robot '{}': not a built-in robot ({}) nor a file", name_or_path,
+                  known.empty() ? "no robot library found: set ROBCAL_DATA_DIR" : known));
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/progress.hpp"
 #include "robcal/sim/campaign.hpp"
 
 namespace robcal {
@@ -171,12 +172,14 @@ MonteCarloRun validate_monte_carlo_run(const MonteCarloSetup& setup, const Param
 MonteCarloResult run_monte_carlo(const MonteCarloSetup& setup, const MonteCarloOptions& options) {
   MonteCarloResult result;
   result.runs.resize(static_cast<size_t>(options.runs));
+  Progress progress("Monte Carlo runs", options.runs);
   auto work = [&](int first, int stride) {
     for (int r = first; r < options.runs; r += stride) {
       const ParameterVector fitted = monte_carlo_fit(setup, options.seed, r);
       if (fitted.allFinite())
         result.runs[static_cast<size_t>(r)] =
             validate_monte_carlo_run(setup, fitted, options.validation_model);
+      progress.advance();
     }
   };
   const int threads = std::min(options.threads, options.runs);

@@ -1,18 +1,30 @@
 #pragma once
 /// \file
 /// Output files are written whole or not at all: to a temporary file beside the target, then
-/// renamed over it, so a crash or a bad input never leaves a partial file.
+/// renamed over it, so a crash or a bad input never leaves a partial file. The rename happens
+/// only onto a regular file or a new path: a symbolic link is followed to the file it names
+/// (the link stays), a device or pipe (/dev/stdout, /dev/null, a FIFO) is written into, never
+/// replaced. "-" is standard output for writing and standard input for reading.
 
 #include <filesystem>
 #include <string_view>
+#include <vector>
 
 namespace robcal {
 
-/// Writes `content` to `path` atomically (temporary file + rename). Creates missing parent
-/// directories. Throws InputError naming the path when it cannot be written.
+/// Writes `content` to `path` atomically (temporary file + rename, see above). Creates missing
+/// parent directories. Throws InputError naming the path when it cannot be written.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
 
-/// Reads a whole file; throws InputError naming the path when it cannot be read.
+/// Reads a whole file ("-": standard input); throws InputError naming the path when it cannot
+/// be read.
 std::string read_text_file(const std::filesystem::path& path);
+
+/// Throws InputError naming `flag` when `out` is, or resolves (links, "..", hard links) to,
+/// one of `inputs`: writing it would destroy the data the output is computed from. "-" and
+/// paths that do not exist yet never clash.
+void refuse_overwriting_inputs(const std::filesystem::path& out,
+                               const std::vector<std::filesystem::path>& inputs,
+                               std::string_view flag = "--out");
 
 }  // namespace robcal

@@ -13,7 +13,10 @@
 
 namespace robcal {
 
-/// The folder with the built-in data: $ROBCAL_DATA_DIR if set, else the source tree's data/.
+/// The folder with the built-in data: $ROBCAL_DATA_DIR if set, else the first share/robcal/data
+/// found beside (or a few folders above) the file holding the library's code or the running
+/// program: <prefix>/share/robcal/data once installed, <build>/share/robcal/data (a link to the
+/// source data/) in a build tree. Throws InputError saying to set ROBCAL_DATA_DIR if none.
 std::filesystem::path data_directory();
 
 /// Names of the built-in robots (file stems under data/robots/), sorted.
