@@ -33,7 +33,9 @@ grep -Eq '^robcal [0-9]+\.[0-9]+\.[0-9]+$' <<<"$version" || fail "robcal --versi
 
 if command -v pkg-config >/dev/null; then
   flags=$(PKG_CONFIG_PATH=$libdir/pkgconfig pkg-config --cflags --libs robcal)
-  grep -q -- "-I$prefix/include" <<<"$flags" || fail "pkg-config flags: $flags"
+  include=$(grep -oE -- '-I[^ ]*/include( |$)' <<<"$flags" | head -1 | sed 's/^-I//; s/ $//')
+  [[ -n $include && $(realpath "$include") == $(realpath "$prefix/include") ]] ||
+    fail "pkg-config's include folder is not the installed one: $flags"
   grep -q -- "-DEIGEN_MAX_ALIGN_BYTES=16" <<<"$flags" || fail "pkg-config lacks the ABI defines: $flags"
 fi
 
