@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/progress.hpp"
 #include "robcal/identify/identifiability.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
 
@@ -61,11 +62,13 @@ DesignMatrix build_design_matrix(const RobotModel& model, const Tool& tool,
   const auto m = static_cast<Eigen::Index>(settings.parameters.size());
 
   Eigen::MatrixXd raw(n * r, m);
+  Progress progress("identification Jacobians of the candidates", n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::MatrixXd full =
         candidate_jacobian(model, tool, params, candidates[static_cast<size_t>(i)], settings);
     for (Eigen::Index j = 0; j < m; ++j)
       raw.block(i * r, j, r, 1) = full.col(settings.parameters[static_cast<size_t>(j)]);
+    progress.advance();
   }
 
   // Unit RMS column norm per candidate (see the file comment); a column with no effect at all
