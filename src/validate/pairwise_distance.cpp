@@ -13,6 +13,8 @@
 #include <thread>
 #include <vector>
 
+#include "robcal/core/progress.hpp"
+
 namespace robcal {
 namespace {
 
@@ -267,10 +269,17 @@ PairwiseDistanceErrors pairwise_distance_errors(const Eigen::Matrix3Xd& measured
       static_cast<size_t>(workers),
       std::vector<uint64_t>(static_cast<size_t>(bins) * kHistogramCopies, 0));
   std::atomic<int> next_block{0};
+  Progress progress("distance errors over every pair of rows",
+                    static_cast<std::int64_t>(rows) * (rows - 1) / 2);
   const auto work = [&](int worker) {
-    for (int block = next_block++; block < blocks; block = next_block++)
+    for (int block = next_block++; block < blocks; block = next_block++) {
       results[static_cast<size_t>(block)] = process_block(
           coordinates, block, rows, scale, bins, histograms[static_cast<size_t>(worker)].data());
+      // Block b holds the pairs of rows 16b … 16b + 15 with every later row.
+      const auto first = static_cast<std::int64_t>(block) * kRowsPerBlock;
+      const auto last = std::min<std::int64_t>(rows, first + kRowsPerBlock);
+      progress.advance((last - first) * (2 * rows - first - last - 1) / 2);
+    }
   };
   std::vector<std::thread> pool;
   for (int worker = 1; worker < workers; ++worker) pool.emplace_back(work, worker);
