@@ -14,6 +14,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
+#include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/session.hpp"
@@ -287,95 +288,27 @@ struct CellOptions {
                     "… and closer in position (tool-fixture centroid)")
         ->capture_default_str();
   }
+  [[nodiscard]] HexapodPlanRequest request(const HexapodGeometry& geometry) const {
+    HexapodPlanRequest r;
+    r.robot = robot;
+    r.geometry = geometry;
+    r.placement = parse_placement(placement, {"", 0, 0, "--placement"});
+    r.tool_offset_mm = tool_offset_mm;
+    r.ball_offset_mm = ball_offset_mm;
+    r.table_z_mm = table_z_mm;
+    r.angle_deg = angle_deg;
+    r.distance_mm = distance_mm;
+    return r;
+  }
   [[nodiscard]] Pose<double> rough_placement() const {
-    const std::vector<double> v = parse_numbers(placement, 4, "--placement");
-    Pose<double> pose;
-    pose.R = Eigen::AngleAxisd(deg2rad(v[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    pose.p = Eigen::Vector3d(v[0], v[1], v[2]);
-    return pose;
+    return placement_pose(parse_placement(placement, {"", 0, 0, "--placement"}));
   }
 };
 
-/// The base fixture frame (B1 origin, B2 on x) for a rough placement of its cup centroid.
-Pose<double> fixture_frame_at(const Pose<double>& placement, const Cups<double>& cups) {
-  Pose<double> centroid_T_base;
-  centroid_T_base.p = -centroid(cups);
-  return placement * centroid_T_base;
-}
-
-nlohmann::json joints_json(const Vector6d& q) {
-  nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < kJointCount; ++i) out.push_back(tidy(rad2deg(q[i]), 6));
-  return out;
-}
-
-/// The setting-ball points and the robot configurations that reach them, ball pointing down.
-nlohmann::json setup_json(const RobotModel& model, const Pose<double>& placement, double side_mm,
-                          double ball_offset_mm) {
-  const Cups<double> points = setting_ball_points(placement, side_mm);
-  const auto geometry = analyze_ortho_parallel(model);
-  nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < 3; ++i) {
-    // Flange z pointing down, the ball ball_offset_mm below the flange.
-    Pose<double> robot_T_flange;
-    robot_T_flange.R =
-        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix() * placement.R;
-    robot_T_flange.p = points[i] + Eigen::Vector3d(0, 0, ball_offset_mm);
-    nlohmann::json entry{{"cup", fmt::format("B{}", i + 1)},
-                         {"ball_position_mm", vec_json(points[i])}};
-    entry["configurations"] = nlohmann::json::array();
-    if (geometry)
-      for (const IkSolution& s : nominal_ik(*geometry, robot_T_flange))
-        entry["configurations"].push_back(
-            {{"labels", s.config.label()}, {"joints_deg", joints_json(s.joints)}});
-    out.push_back(entry);
-  }
-  return out;
-}
-
-nlohmann::json plan_json(const RobotModel& model, const HexapodGeometry& g, const CellOptions& o,
-                         const PlanSummary& summary, size_t enumerated) {
-  nlohmann::json out;
-  out["robot"] = o.robot;
-  out["ballbar"] = {
-      {"tool_mm", g.tool.d12}, {"leg_mm", g.leg_mm}, {"range_mm", 1.0}, {"recheck_every", 5}};
-  out["geometry"] = {{"base_sides_mm", g.base.as_array()}, {"tool_sides_mm", g.tool.as_array()}};
-  out["placement"] = o.placement;
-  out["tool_offset_mm"] = o.tool_offset_mm;
-  out["ball_offset_mm"] = o.ball_offset_mm;
-  out["table_z_mm"] = o.table_z_mm;
-  out["tool_mount"] = pose_json(default_tool_mount(g.tool, o.tool_offset_mm));
-  out["setting_ball"] = setup_json(model, o.rough_placement(), g.leg_mm, o.ball_offset_mm);
-  out["poses_enumerated"] = enumerated;
-  out["poses_kept"] = summary.poses.size();
-  out["poses_measurable"] = summary.measurable_poses;
-  out["configurations_measurable"] = summary.configurations;
-  out["configurations"] = nlohmann::json::array();
-  out["poses"] = nlohmann::json::array();
-  for (const PosePlan& p : summary.poses) {
-    nlohmann::json legs = nlohmann::json::array();
-    for (const PhysicalLeg& l : p.pose.legs)
-      legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
-    out["poses"].push_back({{"label", p.pose.label},
-                            {"description", p.pose.description()},
-                            {"ik", to_string(p.ik_status)},
-                            {"configurations", p.configurations.size()},
-                            {"rejected_table", p.rejected_table},
-                            {"rejected_fixture", p.rejected_fixture}});
-    for (const PoseConfiguration& c : p.configurations)
-      out["configurations"].push_back({{"pose", p.pose.label},
-                                       {"mode", p.pose.mode},
-                                       {"labels", c.config.label()},
-                                       {"joints_deg", joints_json(c.joints)},
-                                       {"legs", legs}});
-  }
-  return out;
-}
-
 void run_setup(const CellOptions& o, double side_mm, bool json) {
-  if (!(side_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
   const RobotModel model = load_robot(o.robot);
-  const nlohmann::json points = setup_json(model, o.rough_placement(), side_mm, o.ball_offset_mm);
+  const nlohmann::json points = setting_ball_json(
+      plan_setting_ball(model, o.rough_placement(), side_mm, o.ball_offset_mm));
   if (json) {
     print_json({{"robot", o.robot}, {"side_mm", side_mm}, {"setting_ball", points}});
     return;
@@ -395,31 +328,26 @@ void run_setup(const CellOptions& o, double side_mm, bool json) {
 
 void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
               const std::string& out_path, bool json) {
-  const HexapodGeometry g = geometry_options.geometry();
+  const HexapodPlanRequest request = o.request(geometry_options.geometry());
   const RobotModel model = load_robot(o.robot);
-  const std::vector<HexapodPose> all = enumerate_poses(g);
-  const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(o.angle_deg), o.distance_mm);
-  const Cups<double> base_cups = fixture_cups(g.base, "--base-mm");
-  CellSetup cell;
-  cell.robot_T_base = fixture_frame_at(o.rough_placement(), base_cups);
-  cell.flange_T_tool = default_tool_mount(g.tool, o.tool_offset_mm);
-  cell.table_z_mm = o.table_z_mm;
-  const PlanSummary summary = plan_poses(model, cell, base_cups, kept);
-  const nlohmann::json plan = plan_json(model, g, o, summary, all.size());
-  if (!out_path.empty()) write_file_atomically(out_path, plan.dump(2) + "\n");
+  const HexapodPlan plan = plan_hexapod(model, request);
+  if (!out_path.empty()) write_hexapod_plan(out_path, plan);
   if (json) {
-    print_json(plan);
+    print_json(hexapod_plan_json(plan));
     return;
   }
+  const PlanOutcome& outcome = *plan.outcome;
   fmt::print(
       "{}: {} poses enumerated, {} kept after pruning, {} measurable with {} configurations\n",
-      model.name, all.size(), kept.size(), summary.measurable_poses, summary.configurations);
-  for (const PosePlan& p : summary.poses) {
+      model.name, outcome.poses_enumerated, outcome.poses_kept, outcome.poses_measurable,
+      outcome.configurations_measurable);
+  for (const PlannedPose& p : outcome.poses) {
     std::vector<std::string> labels;
-    for (const auto& c : p.configurations) labels.push_back(c.config.label());
-    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {})\n",
-               p.pose.label, p.pose.description(), to_string(p.ik_status), p.configurations.size(),
-               fmt::join(labels, " "), p.rejected_table, p.rejected_fixture);
+    for (const SessionConfiguration& c : plan.session.configurations)
+      if (c.pose == p.label) labels.push_back(c.labels);
+    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {})\n", p.label,
+               p.description, p.ik, p.configurations, fmt::join(labels, " "), p.rejected_table,
+               p.rejected_fixture);
   }
   if (!out_path.empty()) fmt::print("plan written to {}\n", out_path);
 }
@@ -449,7 +377,7 @@ Answer parse_answer(const std::string& line) {
 
 void run_session(const std::string& plan_path, const std::string& journal_path, bool resume,
                  const std::string& out_path, bool json) {
-  Session session(load_session_plan(plan_path));
+  Session session(read_hexapod_plan(plan_path).session);
   SessionJournal journal =
       resume ? SessionJournal::open_for_resume(journal_path) : SessionJournal::create(journal_path);
   std::FILE* talk = json ? stderr : stdout;  // prompts never mix with the JSON result

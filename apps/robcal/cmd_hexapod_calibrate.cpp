@@ -16,6 +16,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/leg_fit.hpp"
+#include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/session_data.hpp"
 #include "robcal/hexapod/simulation.hpp"
 #include "robcal/identify/identification.hpp"
@@ -111,14 +112,6 @@ void add_exports(OutputFiles& files, const SessionData& data, const Tool& tool,
   }
   if (!legs_out.empty()) files.add(legs_out, session_legs_csv(data));
   if (!tool_out.empty()) files.add(tool_out, tool_to_yaml(tool));
-}
-
-nlohmann::json read_plan_json(const std::string& path) {
-  try {
-    return nlohmann::json::parse(read_text_file(path));
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError({path, 0, 0, ""}, fmt::format("not valid JSON: {}", e.what()));
-  }
 }
 
 // ---- calibrate -------------------------------------------------------------------------------
@@ -279,22 +272,16 @@ void run_export(const SessionOptions& s, const std::string& out, const std::stri
 
 // ---- replan ----------------------------------------------------------------------------------
 
-nlohmann::json joints_deg_json(const Vector6d& q) {
-  nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < kJointCount; ++i) out.push_back(tidy(rad2deg(q[i]), 6));
-  return out;
-}
-
 void run_replan(const SessionOptions& s, const std::string& model_path, const std::string& out,
                 bool json) {
   const SessionData data = s.load();
   const CalibratedRobot robot = load_calibrated_robot(model_path);
   const WorldFrameFit world = session_world_frame(data);
-  nlohmann::json plan = read_plan_json(data.plan_file.string());
-  plan["configurations"] = nlohmann::json::array();
-  plan["measured_sides"] = {{"tool_mm", data.tool_sides.as_array()},
-                            {"base_mm", data.base_sides.as_array()}};
-  plan["replanned"] = {{"sessions", data.source}, {"model", model_path}};
+  HexapodPlan plan = read_hexapod_plan(data.plan_file);
+  plan.session.configurations.clear();
+  plan.session.tool_sides = data.tool_sides;
+  plan.session.base_sides = data.base_sides;
+  plan.replanned = Replanned{data.source, model_path, {}};
   nlohmann::json failed = nlohmann::json::array();
   for (const RetryConfiguration& r : data.retry) {
     // Newton from the planned joints on the preliminary model, for the flange pose that puts every
@@ -307,48 +294,38 @@ void run_replan(const SessionOptions& s, const std::string& model_path, const st
                                                                         : "outside joint limits"}});
       continue;
     }
-    nlohmann::json legs = nlohmann::json::array();
-    for (const PhysicalLeg& l : r.legs)
-      legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
-    plan["configurations"].push_back({{"pose", r.pose},
-                                      {"mode", r.mode},
-                                      {"labels", r.labels},
-                                      {"joints_deg", joints_deg_json(ik.joints)},
-                                      {"planned_joints_deg", joints_deg_json(r.joints)},
-                                      {"legs", legs}});
+    SessionConfiguration config;
+    config.id = static_cast<int>(plan.session.configurations.size()) + 1;
+    config.pose = r.pose;
+    config.mode = r.mode;
+    config.labels = r.labels;
+    config.legs = r.legs;
+    std::vector<double> planned;
+    for (int i = 0; i < kJointCount; ++i) {
+      config.joints_deg.push_back(rad2deg(ik.joints[i]));
+      planned.push_back(rad2deg(r.joints[i]));
+    }
+    plan.session.configurations.push_back(config);
+    plan.replanned->planned_joints_deg.push_back(planned);
   }
-  write_file_atomically(out, plan.dump(2) + "\n");
+  write_hexapod_plan(out, plan);
+  const size_t replanned = plan.session.configurations.size();
   if (json) {
     print_json({{"sessions", data.source},
                 {"model", model_path},
                 {"retry", data.retry.size()},
-                {"replanned", plan["configurations"].size()},
+                {"replanned", replanned},
                 {"failed", failed},
                 {"plan", out}});
     return;
   }
-  fmt::print("{} of {} configurations to retry re-planned on {}; plan written to {}\n",
-             plan["configurations"].size(), data.retry.size(), model_path, out);
+  fmt::print("{} of {} configurations to retry re-planned on {}; plan written to {}\n", replanned,
+             data.retry.size(), model_path, out);
   for (const nlohmann::json& f : failed)
     fmt::print("  {}: {}\n", f["config"].get<std::string>(), f["why"].get<std::string>());
 }
 
 // ---- simulate-readings -----------------------------------------------------------------------
-
-/// A field of a plan written by `robcal hexapod plan` that the simulator needs: `node[key]`, named
-/// `parent.key` in errors, which say what was `expected`.
-template <typename T>
-T plan_value(const nlohmann::json& node, const std::string& key, const std::string& file,
-             const std::string& expected, const std::string& parent = "") {
-  const SourceLocation where{file, 0, 0, parent.empty() ? key : parent + "." + key};
-  if (!node.is_object() || !node.contains(key))
-    throw InputError(where, "the simulator needs this field of the plan: " + expected);
-  try {
-    return node[key].get<T>();
-  } catch (const nlohmann::json::exception&) {
-    throw InputError(where, "expected " + expected);
-  }
-}
 
 struct SimulateReadingsOptions {
   std::string plan, robot = "fanuc-lrmate200ic", out, validation_out, tool_out, payload;
@@ -359,36 +336,18 @@ struct SimulateReadingsOptions {
 
 /// The simulated cell of a plan: the true robot and fixtures drawn from the seed, so plans of the
 /// same cell (a first pass and its re-plan) see the same robot and cups.
-SimulatedHexapodCell cell_of_plan(const SimulateReadingsOptions& o, const SessionPlan& session,
+SimulatedHexapodCell cell_of_plan(const std::string& file, const HexapodPlan& plan,
                                   const RobotModel& model, const PointMass& payload,
                                   std::mt19937_64& rng) {
-  const nlohmann::json plan = read_plan_json(o.plan);
+  if (!plan.cell)
+    throw InputError({file, 0, 0, "geometry"},
+                     "the simulator needs the cell of a plan written by `robcal hexapod plan` "
+                     "(geometry, placement, tool and ball offsets)");
   HexapodCellOptions cell;
-  const auto geometry =
-      plan_value<nlohmann::json>(plan, "geometry", o.plan, "the fixtures' design sides");
-  const auto sides = [&](const char* key) {
-    const auto v = plan_value<std::vector<double>>(geometry, key, o.plan, "three side lengths (mm)",
-                                                   "geometry");
-    if (v.size() != 3)
-      throw InputError({o.plan, 0, 0, std::string("geometry.") + key},
-                       "expected three side lengths (mm)");
-    return TriangleSides{v[0], v[1], v[2]};
-  };
-  cell.design = {sides("base_sides_mm"), sides("tool_sides_mm"), session.leg_mm};
-  const std::string placement_text =
-      plan_value<std::string>(plan, "placement", o.plan, "the placement \"x,y,z,yaw\" (mm, deg)");
-  std::vector<double> placement;
-  try {
-    placement = parse_numbers(placement_text, 4, "placement");
-  } catch (const InputError&) {
-    throw InputError({o.plan, 0, 0, "placement"},
-                     fmt::format("'{}': expected \"x,y,z,yaw\" (mm, deg)", placement_text));
-  }
-  cell.placement.R =
-      Eigen::AngleAxisd(deg2rad(placement[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  cell.placement.p = Eigen::Vector3d(placement[0], placement[1], placement[2]);
-  cell.tool_offset_mm = plan_value<double>(plan, "tool_offset_mm", o.plan, "a number (mm)");
-  cell.ball_offset_mm = plan_value<double>(plan, "ball_offset_mm", o.plan, "a number (mm)");
+  cell.design = plan.cell->geometry;
+  cell.placement = placement_pose(plan.cell->placement);
+  cell.tool_offset_mm = plan.cell->tool_offset_mm;
+  cell.ball_offset_mm = plan.cell->ball_offset_mm;
   const TrueRobot truth = levelled_random_truth(model, payload, EndToEndOptions{}.errors, rng);
   return set_up_simulated_cell(truth, model, cell, rng);
 }
@@ -399,9 +358,10 @@ void run_simulate_readings(const SimulateReadingsOptions& o) {
   const RobotModel model = load_robot(o.robot);
   const PointMass payload = o.payload.empty() ? PointMass{2.6, Eigen::Vector3d(50, 25, 100)}
                                               : load_tool(o.payload).payload;
-  const SessionPlan plan = load_session_plan(o.plan);
+  const HexapodPlan file = read_hexapod_plan(o.plan);
+  const SessionPlan& plan = file.session;
   std::mt19937_64 rng(o.seed);
-  const SimulatedHexapodCell cell = cell_of_plan(o, plan, model, payload, rng);
+  const SimulatedHexapodCell cell = cell_of_plan(o.plan, file, model, payload, rng);
   // Drive the session script itself, so the readings come in the order the session asks.
   Session session(plan);
   std::string text;
