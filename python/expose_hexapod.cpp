@@ -43,7 +43,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
   h.def(
       "triangle_from_sides",
       [](const std::array<double, 3>& d) {
-        return checked([&] { return rows_from_cups(fixture_cups(sides(d), "sides")); });
+        return [&] { return rows_from_cups(fixture_cups(sides(d), "sides")); }();
       },
       py::arg("sides_mm"),
       "Cup positions (rows) from d12, d23, d31: c1 at the origin, c2 on x, c3 in the xy plane");
@@ -80,9 +80,9 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "enumerate_poses",
       [](const std::array<double, 3>& base, const std::array<double, 3>& tool, double leg_mm,
          double angle_deg, double distance_mm) {
-        const std::vector<HexapodPose> all = checked([&] {
+        const std::vector<HexapodPose> all = [&] {
           return enumerate_poses({sides(base), sides(tool), leg_mm});
-        });
+        }();
         py::list out;
         for (const HexapodPose& p : prune_redundant(all, deg2rad(angle_deg), distance_mm)) {
           py::dict d;
@@ -136,8 +136,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
   h.def(
       "fit_world_frame",
       [](const Eigen::MatrixXd& points, const std::array<double, 3>& measured) {
-        const WorldFrameFit fit = checked(
-            [&] { return fit_world_frame(cups_from_rows(points, "points"), sides(measured)); });
+        const WorldFrameFit fit = 
+            [&] { return fit_world_frame(cups_from_rows(points, "points"), sides(measured)); }();
         py::dict d;
         d["corrected"] = rows_from_cups(fit.corrected);
         d["rotation"] = fit.robot_T_fixture.R;

@@ -168,10 +168,10 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       .def(
           "save",
           [](const IdentificationResult& r, const std::string& path) {
-            checked([&] {
+            [&] {
               write_file_atomically(path, calibrated_robot_to_yaml(r.robot, statistics_yaml(r)));
               return 0;
-            });
+            }();
           },
           py::arg("path"), "Writes the calibrated model file (YAML), whole or not at all");
 
@@ -180,13 +180,13 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       [](const std::string& robot, const std::string& tool, const std::string& measurements,
          const std::string& level, const std::vector<std::string>& identify,
          const std::vector<std::string>& fix, const std::string& loss, uint64_t seed) {
-        return checked([&] {
+        return [&] {
           const RobotModel model = load_robot(robot);
           const Tool t = load_tool(tool);
           const MeasurementFile file = read_measurements_csv(measurements, t);
           return calibrate(model, t, file.measurements,
                            make_options(level, identify, fix, loss, seed));
-        });
+        }();
       },
       py::arg("robot"), py::arg("tool"), py::arg("measurements"), py::arg("level") = "full",
       py::arg("identify") = std::vector<std::string>{}, py::arg("fix") = std::vector<std::string>{},
@@ -199,12 +199,12 @@ const bool registered = register_bindings(30, [](py::module_& m) {
          const std::vector<std::string>& targets, const Eigen::MatrixXd& positions_mm,
          const std::string& level, const std::vector<std::string>& identify,
          const std::vector<std::string>& fix, const std::string& loss, uint64_t seed) {
-        return checked([&] {
+        return [&] {
           const RobotModel model = load_robot(robot);
           const Tool t = load_tool(tool);
           return calibrate(model, t, points_from_arrays(t, joints_deg, targets, positions_mm),
                            make_options(level, identify, fix, loss, seed));
-        });
+        }();
       },
       py::arg("robot"), py::arg("tool"), py::arg("joints_deg"), py::arg("targets"),
       py::arg("positions_mm"), py::arg("level") = "full",
@@ -216,7 +216,7 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       "cross_validate",
       [](const std::string& robot, const std::string& tool, const std::string& measurements,
          int folds, const std::string& level, uint64_t seed) {
-        return checked([&] {
+        return [&] {
           const RobotModel model = load_robot(robot);
           const Tool t = load_tool(tool);
           const MeasurementFile file = read_measurements_csv(measurements, t);
@@ -229,7 +229,7 @@ const bool registered = register_bindings(30, [](py::module_& m) {
           out["std_mm"] = cv.std_mm;
           out["max_mm"] = cv.max_mm;
           return out;
-        });
+        }();
       },
       py::arg("robot"), py::arg("tool"), py::arg("measurements"), py::arg("folds"),
       py::arg("level") = "full", py::arg("seed") = 1,
@@ -237,7 +237,7 @@ const bool registered = register_bindings(30, [](py::module_& m) {
 
   m.def(
       "load_calibrated_robot",
-      [](const std::string& path) { return checked([&] { return load_calibrated_robot(path); }); },
+      [](const std::string& path) { return [&] { return load_calibrated_robot(path); }(); },
       py::arg("path"), "Loads a calibrated model file written by calibrate");
 });
 

@@ -61,11 +61,7 @@ const bool registered = register_bindings(10, [](py::module_& m) {
   m.def(
       "load_robot",
       [](const std::string& name_or_path) {
-        try {
-          return load_robot(name_or_path);
-        } catch (const InputError& e) {
-          throw py::value_error(e.what());
-        }
+        return load_robot(name_or_path);
       },
       py::arg("name_or_path"), "A built-in robot by name or a robot file by path");
 
@@ -88,11 +84,7 @@ const bool registered = register_bindings(10, [](py::module_& m) {
       [](const RobotModel& robot, const Eigen::Vector3d& position_mm,
          const Eigen::Vector4d& quaternion_wxyz, std::optional<Eigen::VectorXd> seed_deg) {
         Pose<double> target;
-        try {
-          target = pose_from_position_quaternion(position_mm, quaternion_wxyz);
-        } catch (const InputError& e) {
-          throw py::value_error(e.what());
-        }
+        target = pose_from_position_quaternion(position_mm, quaternion_wxyz);
         const Vector6d seed = seed_deg ? joints_from_deg(*seed_deg, "ik seed") : Vector6d::Zero();
         const AnyIkResult result = solve_ik(robot, target, seed);
         py::list solutions;

@@ -97,10 +97,10 @@ const bool registered = register_bindings(60, [](py::module_& m) {
   m.def(
       "read_measurements",
       [](const std::string& path, const std::string& tool_file) {
-        return checked([&] {
+        return [&] {
           const Tool tool = load_tool(tool_file);
           return measurements_dict(read_measurements_csv(path, tool), tool);
-        });
+        }();
       },
       py::arg("path"), py::arg("tool_file"),
       "Reads a measurement CSV (points, poses or distances). Returns a dict: kind, config, "
@@ -138,7 +138,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::string& robot_name, const std::string& tool_file,
          const std::string& measurements, const std::string& model_file, bool fit_base_first,
          int threads) {
-        return checked([&] {
+        return [&] {
           const Tool tool = load_tool(tool_file);
           CalibratedRobot robot = model_file.empty()
                                       ? CalibratedRobot::nominal(load_robot(robot_name), tool)
@@ -170,7 +170,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
           distances["histogram"] = histogram_dict(report.distances.histogram);
           d["distance_error_mm"] = distances;
           return d;
-        });
+        }();
       },
       py::arg("robot"), py::arg("tool_file"), py::arg("measurements"), py::arg("model") = "",
       py::arg("fit_base") = false, py::arg("threads") = 2,

@@ -4,19 +4,8 @@
 
 #include <functional>
 
-#include "robcal/core/error.hpp"
-
 namespace robcal::python {
 using ExposeFunction = std::function<void(pybind11::module_&)>;
 bool register_bindings(int order, ExposeFunction expose);
 
-/// Runs `f`, turning bad input (InputError) into Python's ValueError.
-template <typename F>
-auto checked(F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const InputError& e) {
-    throw pybind11::value_error(e.what());
-  }
-}
 }  // namespace robcal::python
