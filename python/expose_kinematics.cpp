@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "module_registry.hpp"
+#include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -55,7 +56,16 @@ const bool registered = register_bindings(10, [](py::module_& m) {
           "is_ortho_parallel",
           [](const RobotModel& r) { return analyze_ortho_parallel(r).has_value(); },
           "True when the closed-form IK applies (otherwise ik() is numeric)")
-      .def("__repr__", [](const RobotModel& r) { return "<RobotModel " + r.name + ">"; });
+      .def_static("from_file", &load_robot, py::arg("name_or_path"),
+                  "A built-in robot by name or a robot file (YAML) by path")
+      .def_static(
+          "from_dict", [](const py::dict& d) { return parse_robot(dict_as_file(d)); },
+          py::arg("d"), "A robot from a dict with the robot file's fields (errors name the key)")
+      .def("to_yaml", &robot_to_yaml, "The robot file's text")
+      .def("__repr__", [](const RobotModel& r) {
+        return "<RobotModel " + r.name + " (" + r.manufacturer + "), " +
+               (analyze_ortho_parallel(r) ? "closed-form IK" : "numeric IK") + ">";
+      });
 
   m.def("builtin_robots", &builtin_robot_names, "Names of the built-in robots");
   m.def(
@@ -78,6 +88,29 @@ const bool registered = register_bindings(10, [](py::module_& m) {
       },
       py::arg("robot"), py::arg("joints_deg"),
       "Flange pose of the nominal robot: {'position_mm': [x,y,z], 'quaternion_wxyz': [w,x,y,z]}");
+
+  m.def(
+      "fk_batch",
+      [](const RobotModel& robot, const Eigen::MatrixXd& joints_deg) {
+        if (joints_deg.cols() != kJointCount)
+          throw InputError({"<arrays>", 0, 0, "joints_deg"}, "expected N×6 joints (deg)");
+        const auto n = joints_deg.rows();
+        Eigen::MatrixXd position(n, 3), quaternion(n, 4);
+        for (Eigen::Index r = 0; r < n; ++r) {
+          const Pose<double> pose =
+              flange_pose(robot, PointMass{}, robot.nominal(),
+                          joints_from_deg(joints_deg.row(r).transpose(), "fk_batch"));
+          const Eigen::Quaterniond q = to_quaternion(pose.R);
+          position.row(r) = pose.p.transpose();
+          quaternion.row(r) << q.w(), q.x(), q.y(), q.z();
+        }
+        py::dict out;
+        out["position_mm"] = position;
+        out["quaternion_wxyz"] = quaternion;
+        return out;
+      },
+      py::arg("robot"), py::arg("joints_deg"),
+      "fk over the rows of an N×6 array: {'position_mm': N×3, 'quaternion_wxyz': N×4}");
 
   m.def(
       "ik",

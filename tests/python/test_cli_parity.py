@@ -1,0 +1,86 @@
+"""The CLI and Python on the same inputs give the same numbers: both call the same library
+functions, so the comparisons are exact up to the CLI's printed precision."""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import robcal
+
+ROOT = os.path.join(os.path.dirname(__file__), "..", "..")
+REF = os.path.join(ROOT, "tests", "data", "irb120-published")
+TOOL = os.path.join(REF, "tool.yaml")
+CLI = os.environ.get("ROBCAL_CLI")
+pytestmark = pytest.mark.skipif(not CLI, reason="ROBCAL_CLI names the robcal program")
+
+
+def cli_json(*args):
+    out = subprocess.run([CLI, *args, "--json"], check=True, capture_output=True, text=True)
+    return json.loads(out.stdout)
+
+
+def test_fk_and_ik():
+    robot = robcal.load_robot("abb-irb120")
+    q = [10, 20, 30, 40, 50, 60]
+    c = cli_json("fk", "--robot", "abb-irb120", "--joints", ",".join(map(str, q)))
+    p = robcal.fk(robot, q)
+    np.testing.assert_allclose(c["position_mm"], p["position_mm"], rtol=0, atol=1e-8)
+    np.testing.assert_allclose(c["quaternion_wxyz"], p["quaternion_wxyz"], rtol=0, atol=1e-11)
+    pose = [300, 100, 400, 0, 0, 1, 0]
+    c = cli_json("ik", "--robot", "abb-irb120", "--pose", ",".join(map(str, pose)))
+    p = robcal.ik(robot, pose[:3], pose[3:])
+    assert c["method"] == p["method"]
+    assert [s["config"] for s in c["solutions"]] == [s["config"] for s in p["solutions"]]
+    for a, b in zip(c["solutions"], p["solutions"]):
+        np.testing.assert_allclose(a["joints_deg"], b["joints_deg"], rtol=0, atol=1e-8)
+
+
+def test_calibrate_and_validate(tmp_path):
+    model = str(tmp_path / "model.yaml")
+    c = cli_json("calibrate", "--robot", "abb-irb120", "--tool", TOOL, "--measurements",
+                 os.path.join(REF, "calibration.csv"), "--out", model)
+    p = robcal.calibrate("abb-irb120", TOOL, os.path.join(REF, "calibration.csv"))
+    # The CLI prints these to 1e-9 mm.
+    assert c["rms_mm"] == pytest.approx(p.rms_mm, rel=0, abs=5.1e-10)
+    assert c["sigma_mm"] == pytest.approx(p.sigma_mm, rel=0, abs=5.1e-10)
+    table = p.parameter_table
+    assert [x["name"] for x in c["parameters"]] == table["name"]
+    np.testing.assert_allclose([x["value"] for x in c["parameters"]], table["value"], rtol=1e-12,
+                               atol=1e-12)
+    np.testing.assert_allclose([x["std"] for x in c["parameters"]], table["std"], rtol=1e-12,
+                               atol=1e-15)
+    validation = os.path.join(REF, "validation.csv")
+    c = cli_json("validate", "--robot", "abb-irb120", "--tool", TOOL, "--model", model,
+                 "--measurements", validation)
+    p = robcal.validate("abb-irb120", TOOL, validation, model=model)
+    for key in ("mean", "std", "max", "min"):
+        assert c["position_error_mm"][key] == pytest.approx(p["position_error_mm"][key], rel=1e-12)
+        assert c["distance_error_mm"][key] == pytest.approx(p["distance_error_mm"][key], rel=1e-12)
+
+
+def test_hexapod_plan_is_the_same_file(tmp_path):
+    out = str(tmp_path / "plan.json")
+    c = cli_json("hexapod", "plan", "--robot", "fanuc-lrmate200ic", "--placement", "450,0,300,15",
+                 "--table-z-mm", "-10", "--out", out)
+    plan = robcal.hexapod.plan("fanuc-lrmate200ic", placement=(450, 0, 300, 15), table_z_mm=-10)
+    assert json.loads(plan.to_json()) == c
+    assert open(out).read() == plan.to_json()
+    read = robcal.hexapod.read_plan(out)
+    assert read.to_json() == plan.to_json()
+    assert len(plan) == c["configurations_measurable"] == plan.joints_deg.shape[0]
+    np.testing.assert_allclose(plan.joints_deg, [x["joints_deg"] for x in c["configurations"]],
+                               rtol=0, atol=5e-7)
+    assert "hexapod.Plan" in repr(plan)
+
+
+def test_hexapod_setup_and_dkp():
+    c = cli_json("hexapod", "setup", "--robot", "fanuc-lrmate200ic", "--placement", "450,0,300,0")
+    p = robcal.hexapod.setup("fanuc-lrmate200ic", placement=(450, 0, 300, 0))
+    for a, b in zip(c["setting_ball"], p):
+        assert a["cup"] == b["cup"]
+        np.testing.assert_allclose(a["ball_position_mm"], b["ball_position_mm"], rtol=0, atol=1e-9)
+        assert [x["labels"] for x in a["configurations"]] == b["labels"]
+        np.testing.assert_allclose([x["joints_deg"] for x in a["configurations"]],
+                                   b["joints_deg"], rtol=0, atol=5e-7)
