@@ -12,4 +12,5 @@ if _os.path.isdir(_DATA):
     _os.environ.setdefault("ROBCAL_DATA_DIR", _DATA)
 
 from ._robcal import *  # noqa: E402,F401,F403
-from ._robcal import __version__, InputError, hexapod  # noqa: E402,F401
+from ._robcal import __version__, InputError  # noqa: E402,F401
+from . import hexapod  # noqa: E402,F401
