@@ -35,7 +35,8 @@ print(result)
 table = result.parameter_table
 identified = np.array(table["status"]) == "identified"
 changed = np.abs(table["value"] - table["nominal"])
-for i in np.argsort(-changed * identified)[:5]:
+is_base = np.array([n.startswith("base.") for n in table["name"]])
+for i in np.argsort(-changed * (identified & ~is_base))[:5]:
     print(f"  {table['name'][i]:<20} {table['value'][i]:12.5f} ± {table['std'][i]:.5f} "
           f"{table['unit'][i]}")
 print("predicted mean position error:", round(result.predicted.mean_mm, 4), "mm")

@@ -2,9 +2,9 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "robcal/core/rounding.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/world_frame.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -14,13 +14,6 @@ namespace robcal::hexapod {
 namespace {
 
 using nlohmann::json;
-
-/// Rounded for the file: readable numbers, no -0 (joints to 1e-6°, positions to 1e-9 mm).
-double rounded(double value, int decimals) {
-  const double scale = std::pow(10.0, decimals);
-  const double r = std::round(value * scale) / scale;
-  return r == 0.0 ? 0.0 : r;
-}
 
 json vec_json(const Eigen::Vector3d& v) {
   return {rounded(v.x(), 9), rounded(v.y(), 9), rounded(v.z(), 9)};
