@@ -11,6 +11,7 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
+#include "robcal/hexapod/end_to_end_report.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
@@ -232,6 +233,39 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("table_z_mm") = 0.0, py::arg("angle_deg") = 30.0, py::arg("distance_mm") = 50.0,
       "Plans a hexapod measurement (`robcal hexapod plan`): placement = (x, y, z mm, yaw deg) of "
       "the base cups' centroid in the robot frame");
+  h.def(
+      "simulate",
+      [](const std::string& robot, const std::array<double, 4>& placement, double tool_offset_mm,
+         double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
+         uint64_t seed, int validation, int threads, bool leg_fit, bool relative) {
+        const RobotModel model = load_robot(robot);
+        EndToEndOptions o;
+        o.cell.placement = placement_pose(placement);
+        o.cell.tool_offset_mm = tool_offset_mm;
+        o.cell.ball_offset_mm = ball_offset_mm;
+        o.cell.table_z_mm = table_z_mm;
+        o.angle_deg = angle_deg;
+        o.distance_mm = distance_mm;
+        o.validation_configurations = validation;
+        o.threads = threads;
+        o.leg_fit = leg_fit;
+        o.relative_pose_fit = relative;
+        std::mt19937_64 rng(seed);
+        EndToEndReport report;
+        {
+          py::gil_scoped_release release;
+          report = run_end_to_end(model, o, rng);
+        }
+        return json_to_python(end_to_end_json(report, o, seed));
+      },
+      py::arg("robot") = "fanuc-lrmate200ic",
+      py::arg("placement") = std::array<double, 4>{450, 0, 300, 0},
+      py::arg("tool_offset_mm") = 100.0, py::arg("ball_offset_mm") = 100.0,
+      py::arg("table_z_mm") = 0.0, py::arg("angle_deg") = 30.0, py::arg("distance_mm") = 50.0,
+      py::arg("seed") = 1, py::arg("validation") = 10000, py::arg("threads") = 2,
+      py::arg("leg_fit") = true, py::arg("relative") = false,
+      "Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings, "
+      "preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict");
   h.def(
       "read_plan", [](const std::string& path) { return read_hexapod_plan(path); }, py::arg("path"),
         "Reads a plan file (written by `robcal hexapod plan` or `replan`, or by hand)");

@@ -14,6 +14,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
+#include "robcal/hexapod/end_to_end_report.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
@@ -430,30 +431,8 @@ void run_session(const std::string& plan_path, const std::string& journal_path, 
 
 // ---- simulate ------------------------------------------------------------------------------
 
-nlohmann::json figures_json(const ValidationFigures& f) {
-  const auto stats = [](const ErrorStatistics& s) {
-    return nlohmann::json{{"count", s.count},
-                          {"mean_mm", tidy(s.mean, 6)},
-                          {"std_mm", tidy(s.std, 6)},
-                          {"mean_plus_3std_mm", tidy(s.mean_plus_3std(), 6)},
-                          {"max_mm", tidy(s.max, 6)}};
-  };
-  return {{"absolute", stats(f.absolute)}, {"pairs", stats(f.pairs)}};
-}
-
-nlohmann::json stage_json(const CalibrationStage& s) {
-  return {{"configurations", s.configurations},
-          {"rms_mm", tidy(s.rms_mm, 6)},
-          {"iterations", s.iterations},
-          {"converged", s.converged},
-          {"validation", figures_json(s.validation)}};
-}
-
 void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation, int threads,
                   bool leg_fit, bool relative, bool json) {
-  if (validation < 2)
-    throw InputError({"", 0, 0, "--validation"}, "expected at least 2 configurations");
-  if (threads < 1) throw InputError({"", 0, 0, "--threads"}, "expected at least 1 thread");
   const RobotModel model = load_robot(cell_options.robot);
   EndToEndOptions o;
   o.cell.placement = cell_options.rough_placement();
@@ -468,35 +447,7 @@ void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation
   o.relative_pose_fit = relative;
   std::mt19937_64 rng(seed);
   const EndToEndReport r = run_end_to_end(model, o, rng);
-  nlohmann::json out{{"robot", r.robot},
-                     {"seed", seed},
-                     {"poses_enumerated", r.poses_enumerated},
-                     {"poses_kept", r.poses_kept},
-                     {"poses_measurable", r.poses_measurable},
-                     {"configurations_planned", r.configurations_planned},
-                     {"measured_first_pass", r.measured_first},
-                     {"out_of_range_first_pass", r.retried},
-                     {"measured_after_replanning", r.measured_after_replan},
-                     {"world_frame_rms_mm", tidy(r.world_frame_rms_mm, 6)},
-                     {"world_frame_error_mm", tidy(r.world_frame_error_mm, 6)},
-                     {"world_frame_error_deg", tidy(r.world_frame_error_deg, 6)},
-                     {"relative_pose_fit", relative},
-                     {"validation_configurations", r.validation_configurations},
-                     {"nominal", figures_json(r.nominal)},
-                     {"preliminary", stage_json(r.preliminary)},
-                     {"final", stage_json(r.final_pose_fit)}};
-  if (leg_fit) {
-    out["leg_fit"] = stage_json(r.leg_fit);
-    out["leg_fit"]["length_offset_mm"] = tidy(r.leg_fit_offset_mm, 6);
-  }
-  out["published"] = {{"poses", 46},
-                      {"configurations", 124},
-                      {"nominal_mean_mm", 1.355},
-                      {"front_up_46_mean_max_mm", {0.517, 1.223}},
-                      {"all_61_mean_max_mm", {0.796, 1.630}},
-                      {"pairs_before_mean_mm", 1.062},
-                      {"pairs_after_mean_max_mm", {0.400, 1.666}},
-                      {"laser_tracker_50_mean_max_mm", {0.156, 0.490}}};
+  const nlohmann::json out = end_to_end_json(r, o, seed);
   if (json) {
     print_json(out);
     return;

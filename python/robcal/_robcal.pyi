@@ -446,3 +446,25 @@ def simulate(instrument: str = "laser-tracker", truth: str = "published", count:
 
 def read_program_points(text: str, language: str, joints: bool = False) -> List[Dict[str, Any]]:
     """Every point of a RAPID ('rapid') or KRL ('krl') program, in file order."""
+
+
+def experiments(seed: int = 1) -> Dict[str, Any]:
+    """The published simulation experiments (METHOD §10, `robcal experiments`): {seed,
+    calibration_configurations, validation_configurations, experiments: {a, b, c}}."""
+
+
+def montecarlo(runs: int = 1000, poses: int = 50, validation: int = 1000, threads: int = 2,
+               seed: int = 1, noise_mm: float = 0.022, level: str = "full",
+               optimal_plan: bool = True, validation_model: str = "first-order") -> Dict[str, Any]:
+    """Repeated simulated calibrations of the published IRB 120 against the Cramér–Rao
+    prediction (`robcal montecarlo`): observed and predicted errors (mm), their ratio."""
+
+
+def plan_study(robot: str = "abb-irb120", tool: Optional[str] = None,
+               instrument: str = "laser-tracker", level: str = "full",
+               counts: Sequence[int] = ..., seeds: int = 4, seed: int = 1,
+               candidates: int = 2000, constraints: str = "published", floor_mm: float = 50.0,
+               noise_mm: float = 0.0, task_box: Optional[str] = None,
+               task_poses: Optional[str] = None, task_count: int = 200) -> Dict[str, Any]:
+    """D-optimal against random configurations at several counts over random true robots
+    (`robcal plan-study`); task_box or task_poses set the task region."""

@@ -85,3 +85,12 @@ def read_plan(path: str) -> Plan:
 def setup(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, float, float] = ...,
           side_mm: float = 300.0, ball_offset_mm: float = 100.0) -> List[Dict[str, Any]]:
     """Where to put the setting ball for each base cup (`robcal hexapod setup`)."""
+
+
+def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, float, float] = ...,
+             tool_offset_mm: float = 100.0, ball_offset_mm: float = 100.0,
+             table_z_mm: float = 0.0, angle_deg: float = 30.0, distance_mm: float = 50.0,
+             seed: int = 1, validation: int = 10000, threads: int = 2, leg_fit: bool = True,
+             relative: bool = False) -> Dict[str, Any]:
+    """Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings,
+    preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict."""

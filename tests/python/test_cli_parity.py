@@ -84,3 +84,32 @@ def test_hexapod_setup_and_dkp():
         assert [x["labels"] for x in a["configurations"]] == b["labels"]
         np.testing.assert_allclose([x["joints_deg"] for x in a["configurations"]],
                                    b["joints_deg"], rtol=0, atol=5e-7)
+
+
+def without_seconds(d):
+    return {k: v for k, v in d.items() if k != "seconds"}
+
+
+def test_simulation_studies(tmp_path):
+    c = cli_json("montecarlo", "--runs", "30", "--validation", "150", "--seed", "4")
+    p = robcal.montecarlo(runs=30, validation=150, seed=4)
+    assert without_seconds(c) == p
+    assert p["failed"] == 0 and 0.5 < p["ratio"] < 1.5
+    c = cli_json("plan-study", "--counts", "15", "--seeds", "1", "--candidates", "200",
+                 "--task-count", "30")
+    p = robcal.plan_study(counts=[15], seeds=1, candidates=200, task_count=30)
+    assert c == p
+    c = cli_json("experiments", "--seed", "2", "--out", str(tmp_path))
+    p = robcal.experiments(seed=2)
+    assert without_seconds(c) == p
+    with pytest.raises(robcal.InputError, match="--counts"):
+        robcal.plan_study(counts=[0])
+
+
+def test_hexapod_simulate():
+    c = cli_json("hexapod", "simulate", "--seed", "3", "--validation", "300", "--no-leg-fit")
+    p = robcal.hexapod.simulate(seed=3, validation=300, leg_fit=False)
+    assert c == p
+    assert p["final"]["validation"]["absolute"]["mean_mm"] < p["nominal"]["absolute"]["mean_mm"]
+    with pytest.raises(robcal.InputError, match="--validation"):
+        robcal.hexapod.simulate(validation=1)
