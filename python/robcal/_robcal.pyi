@@ -468,3 +468,11 @@ def plan_study(robot: str = "abb-irb120", tool: Optional[str] = None,
                task_poses: Optional[str] = None, task_count: int = 200) -> Dict[str, Any]:
     """D-optimal against random configurations at several counts over random true robots
     (`robcal plan-study`); task_box or task_poses set the task region."""
+
+
+def report(model: str, measurements: Sequence[str], calibration: Optional[str] = None,
+           before: Optional[str] = None, title: str = "robcal calibration report",
+           out: Optional[str] = None) -> Dict[str, Any]:
+    """A calibrated model validated on measurement files beside the nominal robot (or `before`)
+    (`robcal report`): the report's JSON as a dict plus `warnings`; with `out` (.html) also the
+    self-contained page and the JSON beside it."""

@@ -113,3 +113,25 @@ def test_hexapod_simulate():
     assert p["final"]["validation"]["absolute"]["mean_mm"] < p["nominal"]["absolute"]["mean_mm"]
     with pytest.raises(robcal.InputError, match="--validation"):
         robcal.hexapod.simulate(validation=1)
+
+
+def test_report(tmp_path):
+    model = str(tmp_path / "model.yaml")
+    robcal.calibrate("abb-irb120", TOOL, os.path.join(REF, "calibration.csv")).save(model)
+    validation = os.path.join(REF, "validation.csv")
+    calibration = os.path.join(REF, "calibration.csv")
+    try:
+        c = cli_json("report", "--model", model, "--measurements", validation, "--calibration",
+                     calibration, "--out", str(tmp_path / "cli.html"))
+    except subprocess.CalledProcessError as e:
+        if "Chart.js" in e.stderr:
+            pytest.skip("Chart.js (libjs-chart.js) is not installed")
+        raise
+    p = robcal.report(model, [validation], calibration=calibration,
+                      out=str(tmp_path / "py.html"))
+    assert p.pop("warnings") == []
+    assert c == p
+    assert json.load(open(tmp_path / "py.json")) == c
+    assert (tmp_path / "py.html").read_text() == (tmp_path / "cli.html").read_text()
+    with pytest.raises(robcal.InputError, match="--out"):
+        robcal.report(model, [validation], out=str(tmp_path / "x.txt"))
