@@ -121,7 +121,8 @@ const bool registered = register_bindings(70, [](py::module_& m) {
           [](const PyCompensator& c, const Eigen::MatrixXd& positions_mm,
              const Eigen::MatrixXd& quaternions_wxyz, const std::string& config) {
             const auto arm = parse_arm_config(config);
-            if (!arm) throw InputError({"", 0, 0, "config"}, "unknown configuration '" + config + "'");
+            if (!arm)
+              throw InputError({"", 0, 0, "config"}, "unknown configuration '" + config + "'");
             const auto n = positions_mm.rows();
             if (positions_mm.cols() != 3 || quaternions_wxyz.cols() != 4 ||
                 quaternions_wxyz.rows() != n)

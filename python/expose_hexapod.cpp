@@ -191,16 +191,17 @@ const bool registered = register_bindings(60, [](py::module_& m) {
             return rows_from_cups(*p.session.setting_points);
           },
           "Where the robot puts the setting ball for B1..B3 (3×3, robot frame, mm), or None")
-      .def("to_json", [](const HexapodPlan& p) { return hexapod_plan_json(p).dump(2) + "\n"; },
-           "The plan file's text (what `robcal hexapod plan --out` writes)")
+      .def(
+          "to_json", [](const HexapodPlan& p) { return hexapod_plan_json(p).dump(2) + "\n"; },
+          "The plan file's text (what `robcal hexapod plan --out` writes)")
       .def(
           "save",
           [](const HexapodPlan& p, const std::string& path) { write_hexapod_plan(path, p); },
           py::arg("path"), "Writes the plan file, whole or not at all")
       .def("__len__", [](const HexapodPlan& p) { return p.session.configurations.size(); })
       .def("__repr__", [](const HexapodPlan& p) {
-        std::string text = "<hexapod.Plan " + std::to_string(p.session.configurations.size()) +
-                           " configurations";
+        std::string text =
+            "<hexapod.Plan " + std::to_string(p.session.configurations.size()) + " configurations";
         if (p.outcome)
           text += " of " + std::to_string(p.outcome->poses_measurable) + " measurable poses (" +
                   std::to_string(p.outcome->poses_kept) + " kept of " +
@@ -268,13 +269,13 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict");
   h.def(
       "read_plan", [](const std::string& path) { return read_hexapod_plan(path); }, py::arg("path"),
-        "Reads a plan file (written by `robcal hexapod plan` or `replan`, or by hand)");
+      "Reads a plan file (written by `robcal hexapod plan` or `replan`, or by hand)");
   h.def(
       "setup",
       [](const std::string& robot, const std::array<double, 4>& placement, double side_mm,
          double ball_offset_mm) {
-        const auto points = plan_setting_ball(load_robot(robot), placement_pose(placement),
-                                              side_mm, ball_offset_mm);
+        const auto points = plan_setting_ball(load_robot(robot), placement_pose(placement), side_mm,
+                                              ball_offset_mm);
         py::list out;
         for (int i = 0; i < 3; ++i) {
           Eigen::MatrixXd joints(static_cast<Eigen::Index>(points[i].configurations.size()),

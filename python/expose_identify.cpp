@@ -132,8 +132,9 @@ const bool registered = register_bindings(30, [](py::module_& m) {
           },
           py::arg("model"), py::arg("tool") = py::none(),
           "The nominal robot as a model with no world frame (validate with fit_base=True)")
-      .def("to_yaml", [](const CalibratedRobot& r) { return calibrated_robot_to_yaml(r); },
-           "The calibrated model file's text")
+      .def(
+          "to_yaml", [](const CalibratedRobot& r) { return calibrated_robot_to_yaml(r); },
+          "The calibrated model file's text")
       .def("__repr__", [](const CalibratedRobot& r) {
         return "<CalibratedRobot " + r.model.name + ", level " + r.level +
                (r.base_fitted ? ", world frame fitted>" : ", no world frame>");
@@ -304,8 +305,7 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       "K-fold cross-validation: held-out position error per row and its statistics (mm)");
 
   m.def(
-      "load_calibrated_robot",
-      [](const std::string& path) { return load_calibrated_robot(path); },
+      "load_calibrated_robot", [](const std::string& path) { return load_calibrated_robot(path); },
       py::arg("path"), "Loads a calibrated model file written by calibrate");
 });
 

@@ -59,8 +59,8 @@ const bool registered = register_bindings(10, [](py::module_& m) {
       .def_static("from_file", &load_robot, py::arg("name_or_path"),
                   "A built-in robot by name or a robot file (YAML) by path")
       .def_static(
-          "from_dict", [](const py::dict& d) { return parse_robot(dict_as_file(d)); },
-          py::arg("d"), "A robot from a dict with the robot file's fields (errors name the key)")
+          "from_dict", [](const py::dict& d) { return parse_robot(dict_as_file(d)); }, py::arg("d"),
+          "A robot from a dict with the robot file's fields (errors name the key)")
       .def("to_yaml", &robot_to_yaml, "The robot file's text")
       .def("__repr__", [](const RobotModel& r) {
         return "<RobotModel " + r.name + " (" + r.manufacturer + "), " +
@@ -69,10 +69,7 @@ const bool registered = register_bindings(10, [](py::module_& m) {
 
   m.def("builtin_robots", &builtin_robot_names, "Names of the built-in robots");
   m.def(
-      "load_robot",
-      [](const std::string& name_or_path) {
-        return load_robot(name_or_path);
-      },
+      "load_robot", [](const std::string& name_or_path) { return load_robot(name_or_path); },
       py::arg("name_or_path"), "A built-in robot by name or a robot file by path");
 
   m.def(

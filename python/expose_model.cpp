@@ -200,7 +200,8 @@ const bool registered = register_bindings(5, [](py::module_& m) {
           },
           py::arg("d"), py::arg("tool"), "Rows from a dict as to_dict() returns it")
       .def_property_readonly(
-          "kind", [](const Measurements& s) { return std::string(measurement_kind_name(s.set.kind)); },
+          "kind",
+          [](const Measurements& s) { return std::string(measurement_kind_name(s.set.kind)); },
           "'points', 'poses' or 'distances'")
       .def_readonly("tool", &Measurements::tool, "The tool the targets refer to")
       .def_readonly("warnings", &Measurements::warnings, "Ignored columns of the file")
@@ -237,8 +238,8 @@ Measurements points_from_arrays(const Tool& tool, const Eigen::MatrixXd& joints_
     if (target < 0)
       throw InputError({"<arrays>", static_cast<int>(r) + 1, 0, "targets"},
                        "the tool has no target '" + name + "'");
-    out.set.points.push_back(
-        {std::to_string(r + 1), target, row_joints(joints_deg, r), positions_mm.row(r).transpose(), 0});
+    out.set.points.push_back({std::to_string(r + 1), target, row_joints(joints_deg, r),
+                              positions_mm.row(r).transpose(), 0});
   }
   return out;
 }

@@ -67,8 +67,8 @@ const bool registered = register_bindings(80, [](py::module_& m) {
       "plan_study",
       [](const std::string& robot, const std::optional<std::string>& tool,
          const std::string& instrument, const std::string& level, const std::vector<int>& counts,
-         int seeds, uint64_t seed, int candidates, const std::string& constraints,
-         double floor_mm, double noise_mm, const std::optional<std::string>& task_box,
+         int seeds, uint64_t seed, int candidates, const std::string& constraints, double floor_mm,
+         double noise_mm, const std::optional<std::string>& task_box,
          const std::optional<std::string>& task_poses, int task_count) {
         PlanStudyOptions options;
         options.counts = counts;

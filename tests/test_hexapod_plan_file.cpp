@@ -41,8 +41,8 @@ TEST(HexapodPlanFile, PlannedConfigurationsPutTheToolFixtureInTheirPoses) {
     ASSERT_NE(pose, poses.end());
     Vector6d q;
     for (int j = 0; j < kJointCount; ++j) q[j] = deg2rad(c.joints_deg[j]);
-    const Pose<double> tool = flange_pose(model, PointMass{}, model.nominal(), q) *
-                              *plan.session.flange_T_tool;
+    const Pose<double> tool =
+        flange_pose(model, PointMass{}, model.nominal(), q) * *plan.session.flange_T_tool;
     const Pose<double> expected = robot_T_base * pose->base_T_tool;
     EXPECT_LT((tool.p - expected.p).norm(), 1e-6) << c.pose << " " << c.labels;
     EXPECT_LT((tool.R - expected.R).norm(), 1e-9) << c.pose << " " << c.labels;
@@ -97,8 +97,11 @@ TEST(HexapodPlanFile, BadCellNamesFileAndKey) {
   };
   expect_error([](nlohmann::json& p) { p["placement"] = "450,0"; }, "placement");
   expect_error([](nlohmann::json& p) { p["placement"] = "450,0,300,0,1"; }, "placement");
-  expect_error([](nlohmann::json& p) { p["geometry"]["tool_sides_mm"] = {150, 150}; },
-               "geometry.tool_sides_mm");
+  expect_error(
+      [](nlohmann::json& p) {
+        p["geometry"]["tool_sides_mm"] = {150, 150};
+      },
+      "geometry.tool_sides_mm");
   expect_error([](nlohmann::json& p) { p.erase("ball_offset_mm"); }, "ball_offset_mm");
   expect_error([](nlohmann::json& p) { p["setting_ball"][1]["configurations"][0]["labels"] = "x"; },
                "setting_ball[1].configurations.labels");

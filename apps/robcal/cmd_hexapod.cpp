@@ -308,8 +308,8 @@ struct CellOptions {
 
 void run_setup(const CellOptions& o, double side_mm, bool json) {
   const RobotModel model = load_robot(o.robot);
-  const nlohmann::json points = setting_ball_json(
-      plan_setting_ball(model, o.rough_placement(), side_mm, o.ball_offset_mm));
+  const nlohmann::json points =
+      setting_ball_json(plan_setting_ball(model, o.rough_placement(), side_mm, o.ball_offset_mm));
   if (json) {
     print_json({{"robot", o.robot}, {"side_mm", side_mm}, {"setting_ball", points}});
     return;

@@ -41,7 +41,8 @@ const bool registered = register_command(85, [](CLI::App& app) {
   auto o = std::make_shared<ReportOptions>();
   auto* cmd = app.add_subcommand(
       "report", "Self-contained HTML report (and JSON) of a calibrated model's validation");
-  cmd->add_option("--model", o->request.model, "Calibrated model file (from calibrate)")->required();
+  cmd->add_option("--model", o->request.model, "Calibrated model file (from calibrate)")
+      ->required();
   cmd->add_option("--measurements", o->request.measurements,
                   "Validation measurement files (points or poses), one or more")
       ->required();

@@ -100,8 +100,7 @@ PlanOutcome parse_outcome(const json& root, const std::string& file) {
   o.poses_enumerated = cell_value<int>(root, "poses_enumerated", file, "a count");
   o.poses_kept = cell_value<int>(root, "poses_kept", file, "a count");
   o.poses_measurable = cell_value<int>(root, "poses_measurable", file, "a count");
-  o.configurations_measurable =
-      cell_value<int>(root, "configurations_measurable", file, "a count");
+  o.configurations_measurable = cell_value<int>(root, "configurations_measurable", file, "a count");
   if (!root.contains("poses")) return o;
   if (!root["poses"].is_array()) throw InputError({file, 0, 0, "poses"}, "expected a list");
   for (size_t i = 0; i < root["poses"].size(); ++i) {
@@ -132,7 +131,8 @@ void parse_setting_configurations(const json& root, const std::string& file, Hex
       if (!config)
         throw InputError({file, 0, 0, key + ".labels"},
                          fmt::format("'{}': expected a label like front/up/no-flip", labels));
-      const std::vector<double> deg = joint_list(c["joints_deg"], {file, 0, 0, key + ".joints_deg"});
+      const std::vector<double> deg =
+          joint_list(c["joints_deg"], {file, 0, 0, key + ".joints_deg"});
       PoseConfiguration pc;
       pc.config = *config;
       for (int j = 0; j < kJointCount; ++j) pc.joints[j] = deg2rad(deg[j]);
@@ -175,8 +175,7 @@ std::array<double, 4> parse_placement(const std::string& text, const SourceLocat
         ok = false;
       }
     }
-    if (!ok)
-      throw InputError(where, fmt::format("'{}': expected \"x,y,z,yaw\" (mm, deg)", text));
+    if (!ok) throw InputError(where, fmt::format("'{}': expected \"x,y,z,yaw\" (mm, deg)", text));
     start = end + 1;
   }
   return v;
@@ -252,9 +251,9 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   plan.session.tool_nominal_mm = g.tool.d12;
   plan.session.leg_mm = g.leg_mm;
   plan.session.flange_T_tool = cell.flange_T_tool;
-  plan.session.setting_points = Cups<double>{
-      plan.setting[0].ball_position_mm, plan.setting[1].ball_position_mm,
-      plan.setting[2].ball_position_mm};
+  plan.session.setting_points =
+      Cups<double>{plan.setting[0].ball_position_mm, plan.setting[1].ball_position_mm,
+                   plan.setting[2].ball_position_mm};
   PlanOutcome outcome;
   outcome.poses_enumerated = static_cast<int>(all.size());
   outcome.poses_kept = static_cast<int>(kept.size());

@@ -77,8 +77,8 @@ std::string mm(double value) {
 
 std::string md_row(const std::string& id, const std::string& setting, const ErrorFigures& f,
                    const std::string& against, const std::string& published) {
-  return fmt::format("| {} | {} | {} | {} | {} | {} |\n", id, setting, mm(f.mean_mm),
-                     mm(f.max_mm), against, published);
+  return fmt::format("| {} | {} | {} | {} | {} | {} |\n", id, setting, mm(f.mean_mm), mm(f.max_mm),
+                     against, published);
 }
 
 }  // namespace
@@ -187,8 +187,8 @@ std::string published_experiments_markdown(const PublishedExperiments& e) {
       "|---|---|---|---|---|---|\n",
       e.seed, e.calibration_configurations, e.validation_configurations);
   md += md_row("a", "nominal (rigid base fit)", e.a.nominal_vs_truth, "truth", "up to 5 mm");
-  md += md_row("a", fmt::format("full, {} parameters, no noise", e.a.identified),
-               e.a.full_vs_truth, "truth", "≈0.004 mm");
+  md += md_row("a", fmt::format("full, {} parameters, no noise", e.a.identified), e.a.full_vs_truth,
+               "truth", "≈0.004 mm");
   md += md_row("b", "full, σ 0.070 mm, masses ±10 %", e.b.full_vs_truth, "truth",
                "0.05–0.10 mm mean/max");
   md += md_row("b", "same", e.b.full_vs_measurements, "new measurements (σ 0.070)", "–");

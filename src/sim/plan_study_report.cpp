@@ -55,9 +55,8 @@ std::string task_region_description(const PlanStudyOptions& options) {
     return fmt::format("TCP poses of {}", options.task_poses_file);
   if (!options.task_box) return "random configurations in the constrained joint box";
   const TaskBox& b = *options.task_box;
-  return fmt::format("TCP box {},{},{},{},{},{} mm (world frame), tool pointing down",
-                     b.min_mm.x(), b.max_mm.x(), b.min_mm.y(), b.max_mm.y(), b.min_mm.z(),
-                     b.max_mm.z());
+  return fmt::format("TCP box {},{},{},{},{},{} mm (world frame), tool pointing down", b.min_mm.x(),
+                     b.max_mm.x(), b.min_mm.y(), b.max_mm.y(), b.min_mm.z(), b.max_mm.z());
 }
 
 double nominal_mean_mm(const PlanStudyResult& result) {
@@ -79,13 +78,12 @@ nlohmann::json plan_study_json(const PlanStudyResult& r, const PlanStudyOptions&
   out["nominal_mean_mm"] = rounded(nominal_mean_mm(r), 6);
   out["rows"] = nlohmann::json::array();
   for (const StudyRow& row : r.rows)
-    out["rows"].push_back(
-        {{"count", row.count},
-         {"optimal", design_json(row.optimal)},
-         {"random", design_json(row.random)},
-         {"gain", rounded(summarize(row.random).achieved_mean_mm /
-                              summarize(row.optimal).achieved_mean_mm,
-                          4)}});
+    out["rows"].push_back({{"count", row.count},
+                           {"optimal", design_json(row.optimal)},
+                           {"random", design_json(row.random)},
+                           {"gain", rounded(summarize(row.random).achieved_mean_mm /
+                                                summarize(row.optimal).achieved_mean_mm,
+                                            4)}});
   return out;
 }
 

@@ -73,7 +73,7 @@ struct PlanOutcome {
 /// A re-plan of the configurations to retry on a preliminary model (`robcal hexapod replan`).
 struct Replanned {
   std::string sessions;  ///< the session(s) whose retries were re-planned
-  std::string model;                  ///< the calibrated model file
+  std::string model;     ///< the calibrated model file
   /// Per configuration of the plan: the joints first planned (deg) that the re-plan replaced.
   std::vector<std::vector<double>> planned_joints_deg;
 };
