@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "module_registry.hpp"
+#include "py_measurements.hpp"
 #include "robcal/compensate/corrected_targets.hpp"
 #include "robcal/compensate/program_filter.hpp"
 #include "robcal/core/error.hpp"
@@ -101,18 +102,10 @@ const bool registered = register_bindings(70, [](py::module_& m) {
           [](const PyCompensator& c, const Eigen::MatrixXd& joints_deg) {
             if (joints_deg.cols() != kJointCount)
               throw InputError({"<arrays>", 0, 0, "joints_deg"}, "expected N×6 joints (deg)");
-            Eigen::MatrixXd position(joints_deg.rows(), 3), quaternion(joints_deg.rows(), 4);
-            for (Eigen::Index r = 0; r < joints_deg.rows(); ++r) {
-              const Pose<double> pose = calibrated_tcp_pose(
-                  c.comp.chain, Vector6d(joints_deg.row(r).transpose() * kDegToRad));
-              const Eigen::Quaterniond q = to_quaternion(pose.R);
-              position.row(r) = pose.p.transpose();
-              quaternion.row(r) << q.w(), q.x(), q.y(), q.z();
-            }
-            py::dict d;
-            d["position_mm"] = position;
-            d["quaternion_wxyz"] = quaternion;
-            return d;
+            return pose_arrays(joints_deg.rows(), [&](Eigen::Index r) {
+              return calibrated_tcp_pose(c.comp.chain,
+                                         Vector6d(joints_deg.row(r).transpose() * kDegToRad));
+            });
           },
           py::arg("joints_deg"),
           "tcp_pose over the rows of an N×6 array: {'position_mm': N×3, 'quaternion_wxyz': N×4}")

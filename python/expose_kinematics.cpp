@@ -91,20 +91,10 @@ const bool registered = register_bindings(10, [](py::module_& m) {
       [](const RobotModel& robot, const Eigen::MatrixXd& joints_deg) {
         if (joints_deg.cols() != kJointCount)
           throw InputError({"<arrays>", 0, 0, "joints_deg"}, "expected N×6 joints (deg)");
-        const auto n = joints_deg.rows();
-        Eigen::MatrixXd position(n, 3), quaternion(n, 4);
-        for (Eigen::Index r = 0; r < n; ++r) {
-          const Pose<double> pose =
-              flange_pose(robot, PointMass{}, robot.nominal(),
-                          joints_from_deg(joints_deg.row(r).transpose(), "fk_batch"));
-          const Eigen::Quaterniond q = to_quaternion(pose.R);
-          position.row(r) = pose.p.transpose();
-          quaternion.row(r) << q.w(), q.x(), q.y(), q.z();
-        }
-        py::dict out;
-        out["position_mm"] = position;
-        out["quaternion_wxyz"] = quaternion;
-        return out;
+        return pose_arrays(joints_deg.rows(), [&](Eigen::Index r) {
+          return flange_pose(robot, PointMass{}, robot.nominal(),
+                             joints_from_deg(joints_deg.row(r).transpose(), "fk_batch"));
+        });
       },
       py::arg("robot"), py::arg("joints_deg"),
       "fk over the rows of an N×6 array: {'position_mm': N×3, 'quaternion_wxyz': N×4}");

@@ -42,6 +42,24 @@ void check_rows(const Eigen::MatrixXd& joints_deg, Eigen::Index n, const char* w
     throw InputError({"<arrays>", 0, 0, "joints_deg"}, "expected finite joints");
 }
 
+/// No rows yet, of `kind`, from arrays.
+Measurements empty_rows(const Tool& tool, MeasurementKind kind) {
+  Measurements out{MeasurementSet{}, tool, {}};
+  out.set.kind = kind;
+  out.set.file = "<arrays>";
+  return out;
+}
+
+/// The tool's index of row r's target name; InputError naming the row otherwise.
+int target_of(const Tool& tool, const std::vector<std::string>& targets, Eigen::Index r) {
+  const std::string& name = targets[static_cast<size_t>(r)];
+  const int target = tool.target_index(name);
+  if (target < 0)
+    throw InputError({"<arrays>", static_cast<int>(r) + 1, 0, "targets"},
+                     "the tool has no target '" + name + "'");
+  return target;
+}
+
 Measurements poses_from_arrays(const Tool& tool, const Eigen::MatrixXd& joints_deg,
                                const Eigen::MatrixXd& positions_mm,
                                const Eigen::MatrixXd& quaternions_wxyz) {
@@ -50,9 +68,7 @@ Measurements poses_from_arrays(const Tool& tool, const Eigen::MatrixXd& joints_d
   if (positions_mm.cols() != 3 || quaternions_wxyz.cols() != 4 || quaternions_wxyz.rows() != n)
     throw InputError({"<arrays>", 0, 0, "quaternions_wxyz"},
                      "expected positions_mm N×3 and quaternions_wxyz N×4");
-  Measurements out{MeasurementSet{}, tool, {}};
-  out.set.kind = MeasurementKind::Poses;
-  out.set.file = "<arrays>";
+  Measurements out = empty_rows(tool, MeasurementKind::Poses);
   for (Eigen::Index r = 0; r < n; ++r) {
     PoseMeasurement m;
     m.config = std::to_string(r + 1);
@@ -71,16 +87,11 @@ Measurements distances_from_arrays(const Tool& tool, const Eigen::MatrixXd& join
   check_rows(joints_deg, n, "lengths_mm");
   if (static_cast<Eigen::Index>(targets.size()) != n || !lengths_mm.allFinite())
     throw InputError({"<arrays>", 0, 0, "lengths_mm"}, "expected N finite lengths and N targets");
-  Measurements out{MeasurementSet{}, tool, {}};
-  out.set.kind = MeasurementKind::Distances;
-  out.set.file = "<arrays>";
+  Measurements out = empty_rows(tool, MeasurementKind::Distances);
   for (Eigen::Index r = 0; r < n; ++r) {
     DistanceMeasurement m;
     m.config = std::to_string(r + 1);
-    m.target = tool.target_index(targets[static_cast<size_t>(r)]);
-    if (m.target < 0)
-      throw InputError({"<arrays>", static_cast<int>(r) + 1, 0, "targets"},
-                       "the tool has no target '" + targets[static_cast<size_t>(r)] + "'");
+    m.target = target_of(tool, targets, r);
     m.joints = row_joints(joints_deg, r);
     m.length_mm = lengths_mm[r];
     out.set.distances.push_back(m);
@@ -229,17 +240,10 @@ Measurements points_from_arrays(const Tool& tool, const Eigen::MatrixXd& joints_
       !positions_mm.allFinite())
     throw InputError({"<arrays>", 0, 0, "positions_mm"},
                      "expected N finite rows x, y, z (mm) and N target names");
-  Measurements out{MeasurementSet{}, tool, {}};
-  out.set.kind = MeasurementKind::Points;
-  out.set.file = "<arrays>";
+  Measurements out = empty_rows(tool, MeasurementKind::Points);
   for (Eigen::Index r = 0; r < n; ++r) {
-    const std::string& name = targets[static_cast<size_t>(r)];
-    const int target = tool.target_index(name);
-    if (target < 0)
-      throw InputError({"<arrays>", static_cast<int>(r) + 1, 0, "targets"},
-                       "the tool has no target '" + name + "'");
-    out.set.points.push_back({std::to_string(r + 1), target, row_joints(joints_deg, r),
-                              positions_mm.row(r).transpose(), 0});
+    out.set.points.push_back({std::to_string(r + 1), target_of(tool, targets, r),
+                              row_joints(joints_deg, r), positions_mm.row(r).transpose(), 0});
   }
   return out;
 }
