@@ -15,6 +15,7 @@
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/end_to_end_report.hpp"
+#include "robcal/hexapod/geometry_reports.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
@@ -65,17 +66,6 @@ struct GeometryOptions {
   }
 };
 
-nlohmann::json vec_json(const Eigen::Vector3d& v, int decimals = 9) {
-  return {tidy(v.x(), decimals), tidy(v.y(), decimals), tidy(v.z(), decimals)};
-}
-
-nlohmann::json pose_json(const Pose<double>& pose) {
-  const Eigen::Quaterniond q = to_quaternion(pose.R);
-  return {
-      {"position_mm", vec_json(pose.p)},
-      {"quaternion_wxyz", {tidy(q.w(), 12), tidy(q.x(), 12), tidy(q.y(), 12), tidy(q.z(), 12)}}};
-}
-
 // ---- dkp -------------------------------------------------------------------------------------
 
 void run_dkp(const std::string& base, const std::string& tool, const std::string& legs_text,
@@ -87,16 +77,7 @@ void run_dkp(const std::string& base, const std::string& tool, const std::string
   const DkpResult dkp = solve_dkp(bs, ts, legs);
   if (dkp.status != DkpStatus::Ok) throw InputError({"", 0, 0, "--legs"}, dkp.message);
   if (json) {
-    nlohmann::json out;
-    for (const AssemblyModeSolution& s : dkp.solutions) {
-      nlohmann::json cups = nlohmann::json::array();
-      for (const auto& c : s.tool) cups.push_back(vec_json(c));
-      out["solutions"].push_back({{"mode", s.mode},
-                                  {"signs", s.signs},
-                                  {"tool_cups_mm", cups},
-                                  {"base_T_tool", pose_json(frame_from_cups(s.tool))}});
-    }
-    print_json(out);
+    print_json(dkp_json(dkp));
     return;
   }
   fmt::print("tool cups in the base fixture frame (b1 origin, b2 on x), mm\n");
@@ -110,55 +91,18 @@ void run_dkp(const std::string& base, const std::string& tool, const std::string
 
 // ---- poses -----------------------------------------------------------------------------------
 
-nlohmann::json hexapod_pose_json(const HexapodPose& p) {
-  nlohmann::json legs = nlohmann::json::array();
-  for (const PhysicalLeg& l : p.legs)
-    legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
-  nlohmann::json cups = nlohmann::json::array();
-  for (const auto& c : p.tool_cups) cups.push_back(vec_json(c));
-  return {{"label", p.label},
-          {"mode", p.mode},
-          {"rotation_deg", p.rotation_deg},
-          {"base_roles", {p.design.base[0] + 1, p.design.base[1] + 1, p.design.base[2] + 1}},
-          {"legs", legs},
-          {"tool_cups_mm", cups},
-          {"base_T_tool", pose_json(p.base_T_tool)}};
-}
-
 void run_poses(const GeometryOptions& options, double angle_deg, double distance_mm, bool json) {
-  if (!(angle_deg >= 0) || !(distance_mm >= 0))
-    throw InputError({"", 0, 0, "--angle-deg/--distance-mm"}, "expected non-negative thresholds");
-  const std::vector<HexapodPose> all = enumerate_poses(options.geometry());
-  const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(angle_deg), distance_mm);
-  // The closest two poses in orientation, and their tool-fixture centres' distance: what the
-  // angle threshold must exceed for any pruning.
-  double closest_deg = 180, closest_mm = 0;
-  for (size_t i = 0; i < all.size(); ++i)
-    for (size_t j = i + 1; j < all.size(); ++j) {
-      const double a = rad2deg(rotation_distance(all[i].base_T_tool.R, all[j].base_T_tool.R));
-      if (a < closest_deg) {
-        closest_deg = a;
-        closest_mm = (centroid(all[i].tool_cups) - centroid(all[j].tool_cups)).norm();
-      }
-    }
+  const PoseSelection s = select_poses(options.geometry(), angle_deg, distance_mm);
   if (json) {
-    nlohmann::json out{{"enumerated", all.size()},
-                       {"kept", kept.size()},
-                       {"angle_deg", angle_deg},
-                       {"distance_mm", distance_mm},
-                       {"closest_orientation_deg", tidy(closest_deg, 6)},
-                       {"closest_orientation_centres_mm", tidy(closest_mm, 6)}};
-    out["poses"] = nlohmann::json::array();
-    for (const HexapodPose& p : kept) out["poses"].push_back(hexapod_pose_json(p));
-    print_json(out);
+    print_json(pose_selection_json(s));
     return;
   }
   fmt::print("{} poses enumerated, {} kept (redundant: within {}° and {} mm of a kept one)\n",
-             all.size(), kept.size(), angle_deg, distance_mm);
+             s.enumerated.size(), s.kept.size(), angle_deg, distance_mm);
   fmt::print(
       "closest two poses in orientation: {:.3f}° apart, tool-fixture centres {:.1f} mm apart\n",
-      closest_deg, closest_mm);
-  for (const HexapodPose& p : kept) {
+      s.closest_orientation_deg, s.closest_centres_mm);
+  for (const HexapodPose& p : s.kept) {
     const Eigen::Vector3d c = centroid(p.tool_cups);
     fmt::print("{}  {:<32} centroid {:8.2f} {:8.2f} {:8.2f} mm\n", p.label, p.description(), c.x(),
                c.y(), c.z());
@@ -169,44 +113,14 @@ void run_poses(const GeometryOptions& options, double angle_deg, double distance
 
 void run_uncertainty(const GeometryOptions& options, double sigma_um, uint64_t seed, int samples,
                      bool json) {
-  if (!(sigma_um > 0)) throw InputError({"", 0, 0, "--sigma-um"}, "expected a positive σ");
-  if (samples < 100) throw InputError({"", 0, 0, "--samples"}, "expected at least 100 samples");
-  const HexapodGeometry g = options.geometry();
-  std::mt19937_64 rng(seed);
-  const std::vector<ModeUncertainty> analytic = dkp_uncertainty(g);
-  const std::vector<ModeUncertainty> mc =
-      dkp_uncertainty_monte_carlo(g, sigma_um * 1e-3, samples, rng);
-  double worst = 0, worst_disagreement = 0;
-  nlohmann::json modes = nlohmann::json::array();
-  for (size_t m = 0; m < analytic.size(); ++m) {
-    nlohmann::json cups = nlohmann::json::array();
-    for (int j = 0; j < 3; ++j) {
-      const CupUncertainty& a = analytic[m].cups[j];
-      const CupUncertainty& b = mc[m].cups[j];
-      worst = std::max(worst, a.norm);
-      worst_disagreement = std::max(worst_disagreement, std::abs(b.norm / a.norm - 1));
-      cups.push_back({{"cup", a.cup},
-                      {"per_axis_sigma", vec_json(a.per_axis, 4)},
-                      {"norm_sigma", tidy(a.norm, 4)},
-                      {"per_axis_um", vec_json(a.per_axis * sigma_um, 4)},
-                      {"norm_um", tidy(a.norm * sigma_um, 4)},
-                      {"monte_carlo_per_axis_sigma", vec_json(b.per_axis, 4)},
-                      {"monte_carlo_norm_sigma", tidy(b.norm, 4)}});
-    }
-    modes.push_back({{"mode", analytic[m].mode}, {"cups", cups}});
-  }
+  const UncertaintyStudy study = uncertainty_study(options.geometry(), sigma_um, seed, samples);
+  const nlohmann::json out = uncertainty_study_json(study);
   if (json) {
-    print_json({{"sigma_um", sigma_um},
-                {"seed", seed},
-                {"samples", samples},
-                {"modes", modes},
-                {"worst_norm_sigma", tidy(worst, 4)},
-                {"worst_norm_um", tidy(worst * sigma_um, 4)},
-                {"worst_norm_um_95", tidy(2 * worst * sigma_um, 4)},
-                {"monte_carlo_max_relative_difference", tidy(worst_disagreement, 5)},
-                {"published_worst_sigma", 3.2}});
+    print_json(out);
     return;
   }
+  const nlohmann::json& modes = out["modes"];
+  const double worst = study.worst_norm_sigma;
   fmt::print("σ = {} µm per distance; Monte Carlo {} samples, seed {}\n", sigma_um, samples, seed);
   fmt::print("mode cup   σx/σ    σy/σ    σz/σ   |σ|/σ   |σ| µm  (MC |σ|/σ)\n");
   for (const nlohmann::json& m : modes)
@@ -232,17 +146,7 @@ void run_world_frame(const std::string& points, const std::string& sides, bool j
   const WorldFrameFit fit =
       fit_world_frame(parse_points(points, "--points"), parse_sides(sides, "--sides"));
   if (json) {
-    nlohmann::json corrected = nlohmann::json::array();
-    for (const auto& c : fit.corrected) corrected.push_back(vec_json(c));
-    print_json({{"robot_T_world", pose_json(fit.robot_T_fixture)},
-                {"corrected_cups_mm", corrected},
-                {"planar",
-                 {{"x_mm", tidy(fit.planar[0])},
-                  {"y_mm", tidy(fit.planar[1])},
-                  {"phi_deg", tidy(rad2deg(fit.planar[2]), 12)}}},
-                {"rms_mm", tidy(fit.rms_mm)},
-                {"iterations", fit.iterations},
-                {"converged", fit.converged}});
+    print_json(world_frame_json(fit));
     return;
   }
   fmt::print(

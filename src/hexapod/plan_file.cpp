@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "json_fields.hpp"
 #include "robcal/core/rounding.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/world_frame.hpp"
@@ -15,10 +16,6 @@ namespace {
 
 using nlohmann::json;
 
-json vec_json(const Eigen::Vector3d& v) {
-  return {rounded(v.x(), 9), rounded(v.y(), 9), rounded(v.z(), 9)};
-}
-
 json joints_json(const Vector6d& q) {
   json out = json::array();
   for (int i = 0; i < kJointCount; ++i) out.push_back(rounded(rad2deg(q[i]), 6));
@@ -29,13 +26,6 @@ json joints_json(const std::vector<double>& deg) {
   json out = json::array();
   for (const double v : deg) out.push_back(rounded(v, 6));
   return out;
-}
-
-json pose_json(const Pose<double>& pose) {
-  const Eigen::Quaterniond q = to_quaternion(pose.R);
-  return {{"position_mm", vec_json(pose.p)},
-          {"quaternion_wxyz",
-           {rounded(q.w(), 12), rounded(q.x(), 12), rounded(q.y(), 12), rounded(q.z(), 12)}}};
 }
 
 std::string leg_name(const PhysicalLeg& leg) {
