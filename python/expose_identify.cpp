@@ -2,6 +2,7 @@
 // from arrays, the calibration result, the calibrated model file. Millimetres and degrees in and
 // out; InputError becomes ValueError.
 
+#include <fmt/format.h>
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
@@ -223,6 +224,24 @@ const bool registered = register_bindings(30, [](py::module_& m) {
           },
           "Covariance of the identified unknowns (order of identified_names), external units "
           "(mm, deg, rad/N·mm)")
+      .def(
+          "_repr_html_",
+          [](const IdentificationResult& r) {
+            std::string html = fmt::format(
+                "<p><b>{}</b>: {} of {} unknowns identified from {} residuals, rms {:.4f} mm, "
+                "{}</p><table><tr><th>parameter</th><th>value</th><th>± std</th><th>unit</th>"
+                "<th>status</th></tr>",
+                r.robot.model.name, r.identified_count, r.unknowns.size(), r.residual_count,
+                r.rms_mm, r.status.converged ? "converged" : "<b>not converged</b>");
+            for (const UnknownEstimate& u : r.unknowns)
+              html += fmt::format(
+                  "<tr><td>{}</td><td>{:.6g}</td><td>{:.3g}</td><td>{}</td><td>{}</td></tr>",
+                  u.name, u.value, u.std_dev, u.unit,
+                  u.reason.empty() ? status_name(u.status)
+                                   : std::string(status_name(u.status)) + ": " + u.reason);
+            return html + "</table>";
+          },
+          "The result as an HTML table (Jupyter shows it)")
       .def("__repr__",
            [](const IdentificationResult& r) {
              return "<IdentificationResult " + r.robot.model.name + ": " +

@@ -251,6 +251,9 @@ class IdentificationResult:
     def save(self, path: str) -> None:
         """Writes the calibrated model file (YAML), whole or not at all."""
 
+    def _repr_html_(self) -> str:
+        """The result as an HTML table (Jupyter shows it)."""
+
 
 class Compensator:
     """Calibrated inverse kinematics and corrected targets for one calibrated robot and tool."""

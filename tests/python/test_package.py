@@ -88,6 +88,8 @@ def test_calibration_from_objects_equals_calibration_from_files():
     assert a.rms_mm == b.rms_mm
     np.testing.assert_array_equal(a.parameter_table["value"], b.parameter_table["value"])
     assert "IdentificationResult" in repr(a) and "converged" in repr(a)
+    html = a._repr_html_()
+    assert html.count("<tr>") == len(a.parameters) + 1 and "link3.d" in html
 
 
 def test_covariance_and_parameter_table_agree():
