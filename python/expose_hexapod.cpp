@@ -14,6 +14,7 @@
 #include "robcal/hexapod/end_to_end_report.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/poses.hpp"
+#include "robcal/hexapod/replan.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/world_frame.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -267,6 +268,18 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("leg_fit") = true, py::arg("relative") = false,
       "Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings, "
       "preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict");
+  h.def(
+      "replan",
+      [](const std::vector<std::string>& sessions, const std::string& model, const std::string& out,
+         const std::optional<std::string>& plan) {
+        const Replan r = replan_retries(load_sessions(sessions, plan.value_or("")),
+                                        load_calibrated_robot(model), model);
+        write_hexapod_plan(out, r.plan);
+        return json_to_python(replan_json(r, out));
+      },
+      py::arg("sessions"), py::arg("model"), py::arg("out"), py::arg("plan") = py::none(),
+      "Re-plans the configurations to retry of measured sessions on a preliminary calibrated "
+      "model (`robcal hexapod replan`), writes the new plan to `out`, returns the CLI's JSON");
   h.def(
       "read_plan", [](const std::string& path) { return read_hexapod_plan(path); }, py::arg("path"),
       "Reads a plan file (written by `robcal hexapod plan` or `replan`, or by hand)");

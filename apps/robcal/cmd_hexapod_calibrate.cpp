@@ -17,13 +17,13 @@
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/leg_fit.hpp"
 #include "robcal/hexapod/plan_file.hpp"
+#include "robcal/hexapod/replan.hpp"
 #include "robcal/hexapod/session_data.hpp"
 #include "robcal/hexapod/simulation.hpp"
 #include "robcal/identify/identification.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
-#include "robcal/kinematics/numeric_ik.hpp"
 #include "robcal/sim/true_robot.hpp"
 
 namespace robcal::cli {
@@ -49,14 +49,7 @@ struct SessionOptions {
                       "Tool file whose payload (mass, CoG) the robot carried (default: none); its "
                       "targets are replaced by the tool fixture's cups");
   }
-  [[nodiscard]] SessionData load() const {
-    if (!plan.empty() && sessions.size() != 1)
-      throw InputError({"", 0, 0, "--plan"},
-                       "--plan goes with one journal; give several sessions as directories");
-    std::vector<SessionData> all;
-    for (const std::string& s : sessions) all.push_back(load_session_data(s, plan));
-    return merge_sessions(all);
-  }
+  [[nodiscard]] SessionData load() const { return load_sessions(sessions, plan); }
   [[nodiscard]] Tool hexapod_tool_of(const SessionData& data) const {
     const PointMass payload = tool.empty() ? PointMass{} : load_tool(tool).payload;
     return hexapod_tool(payload, data.flange_T_tool, data.tool_sides);
@@ -274,55 +267,15 @@ void run_export(const SessionOptions& s, const std::string& out, const std::stri
 
 void run_replan(const SessionOptions& s, const std::string& model_path, const std::string& out,
                 bool json) {
-  const SessionData data = s.load();
-  const CalibratedRobot robot = load_calibrated_robot(model_path);
-  const WorldFrameFit world = session_world_frame(data);
-  HexapodPlan plan = read_hexapod_plan(data.plan_file);
-  plan.session.configurations.clear();
-  plan.session.tool_sides = data.tool_sides;
-  plan.session.base_sides = data.base_sides;
-  plan.replanned = Replanned{data.source, model_path, {}};
-  nlohmann::json failed = nlohmann::json::array();
-  for (const RetryConfiguration& r : data.retry) {
-    // Newton from the planned joints on the preliminary model, for the flange pose that puts every
-    // leg at the ballbar's length.
-    const NumericIkResult ik = numeric_ik(robot.model, robot.tool.payload, robot.params,
-                                          required_flange_pose(data, world, r), r.joints);
-    if (ik.status != NumericIkStatus::Converged || !ik.within_limits) {
-      failed.push_back({{"config", r.config},
-                        {"why", ik.status != NumericIkStatus::Converged ? to_string(ik.status)
-                                                                        : "outside joint limits"}});
-      continue;
-    }
-    SessionConfiguration config;
-    config.id = static_cast<int>(plan.session.configurations.size()) + 1;
-    config.pose = r.pose;
-    config.mode = r.mode;
-    config.labels = r.labels;
-    config.legs = r.legs;
-    std::vector<double> planned;
-    for (int i = 0; i < kJointCount; ++i) {
-      config.joints_deg.push_back(rad2deg(ik.joints[i]));
-      planned.push_back(rad2deg(r.joints[i]));
-    }
-    plan.session.configurations.push_back(config);
-    plan.replanned->planned_joints_deg.push_back(planned);
-  }
-  write_hexapod_plan(out, plan);
-  const size_t replanned = plan.session.configurations.size();
+  const Replan r = replan_retries(s.load(), load_calibrated_robot(model_path), model_path);
+  write_hexapod_plan(out, r.plan);
   if (json) {
-    print_json({{"sessions", data.source},
-                {"model", model_path},
-                {"retry", data.retry.size()},
-                {"replanned", replanned},
-                {"failed", failed},
-                {"plan", out}});
+    print_json(replan_json(r, out));
     return;
   }
-  fmt::print("{} of {} configurations to retry re-planned on {}; plan written to {}\n", replanned,
-             data.retry.size(), model_path, out);
-  for (const nlohmann::json& f : failed)
-    fmt::print("  {}: {}\n", f["config"].get<std::string>(), f["why"].get<std::string>());
+  fmt::print("{} of {} configurations to retry re-planned on {}; plan written to {}\n",
+             r.plan.session.configurations.size(), r.retry, model_path, out);
+  for (const ReplanFailure& f : r.failed) fmt::print("  {}: {}\n", f.config, f.why);
 }
 
 // ---- simulate-readings -----------------------------------------------------------------------

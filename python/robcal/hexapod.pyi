@@ -94,3 +94,9 @@ def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, fl
              relative: bool = False) -> Dict[str, Any]:
     """Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings,
     preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict."""
+
+
+def replan(sessions: Sequence[str], model: str, out: str,
+           plan: Optional[str] = None) -> Dict[str, Any]:
+    """Re-plans the configurations to retry of measured sessions on a preliminary calibrated
+    model (`robcal hexapod replan`), writes the new plan to `out`, returns the CLI's JSON."""

@@ -135,3 +135,26 @@ def test_report(tmp_path):
     assert (tmp_path / "py.html").read_text() == (tmp_path / "cli.html").read_text()
     with pytest.raises(robcal.InputError, match="--out"):
         robcal.report(model, [validation], out=str(tmp_path / "x.txt"))
+
+
+def test_hexapod_replan(tmp_path):
+    s1 = tmp_path / "s1"
+    s1.mkdir()
+    run = lambda *a: subprocess.run([CLI, *a], check=True, capture_output=True, text=True)  # noqa
+    plan = robcal.hexapod.plan("fanuc-lrmate200ic", placement=(450, 0, 300, 0))
+    plan.save(str(s1 / "plan.json"))
+    run("hexapod", "simulate-readings", "--plan", str(s1 / "plan.json"), "--seed", "5", "--out",
+        str(tmp_path / "r1.txt"), "--tool-out", str(tmp_path / "tool.yaml"))
+    with open(tmp_path / "r1.txt") as readings:
+        subprocess.run([CLI, "hexapod", "session", "--plan", str(s1 / "plan.json"), "--journal",
+                        str(s1 / "journal.jsonl")], stdin=readings, check=True,
+                       capture_output=True)
+    run("hexapod", "calibrate", "--session", str(s1), "--tool", str(tmp_path / "tool.yaml"),
+        "--out", str(tmp_path / "prelim.yaml"))
+    c = cli_json("hexapod", "replan", "--session", str(s1), "--model",
+                 str(tmp_path / "prelim.yaml"), "--out", str(tmp_path / "cli.json"))
+    p = robcal.hexapod.replan([str(s1)], str(tmp_path / "prelim.yaml"), str(tmp_path / "py.json"))
+    assert c["replanned"] > 10 and c["replanned"] == p["replanned"]
+    assert {k: v for k, v in c.items() if k != "plan"} == {k: v for k, v in p.items() if k != "plan"}
+    assert open(tmp_path / "cli.json").read() == open(tmp_path / "py.json").read()
+    assert len(robcal.hexapod.read_plan(str(tmp_path / "py.json"))) == p["replanned"]
