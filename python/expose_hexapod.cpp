@@ -8,6 +8,7 @@
 #include <random>
 
 #include "module_registry.hpp"
+#include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
@@ -15,8 +16,10 @@
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/replan.hpp"
+#include "robcal/hexapod/simulated_readings.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/world_frame.hpp"
+#include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 
 namespace py = pybind11;
@@ -280,6 +283,27 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("sessions"), py::arg("model"), py::arg("out"), py::arg("plan") = py::none(),
       "Re-plans the configurations to retry of measured sessions on a preliminary calibrated "
       "model (`robcal hexapod replan`), writes the new plan to `out`, returns the CLI's JSON");
+  h.def(
+      "simulate_readings",
+      [](const HexapodPlan& plan, const std::string& robot, const std::optional<Tool>& payload,
+         uint64_t seed, int validation) {
+        const SimulatedReadings r = simulate_readings(
+            plan, "<plan>", load_robot(robot),
+            payload ? payload->payload : PointMass{2.6, {50, 25, 100}}, seed, validation);
+        py::dict d;
+        d["text"] = readings_text(r);
+        d["legs_out_of_range"] = r.out_of_range;
+        d["readings"] = r.readings.size();
+        d["tool"] = r.tool;
+        d["validation"] = Measurements{r.validation, r.tool, {}};
+        return d;
+      },
+      py::arg("plan"), py::arg("robot") = "fanuc-lrmate200ic", py::arg("payload") = py::none(),
+      py::arg("seed") = 1, py::arg("validation") = 1000,
+      "Simulated readings of a planned session (`robcal hexapod simulate-readings`): text (the "
+      "session's input), legs_out_of_range, readings, tool (the tool fixture as a Tool) and "
+      "validation (tracker Measurements on cup T1); `payload` is a Tool whose payload the robot "
+      "carries (default 2.6 kg)");
   h.def(
       "read_plan", [](const std::string& path) { return read_hexapod_plan(path); }, py::arg("path"),
       "Reads a plan file (written by `robcal hexapod plan` or `replan`, or by hand)");

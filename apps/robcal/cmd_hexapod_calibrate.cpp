@@ -8,23 +8,21 @@
 
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <random>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
-#include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/leg_fit.hpp"
+#include "robcal/hexapod/measurement.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/replan.hpp"
 #include "robcal/hexapod/session_data.hpp"
-#include "robcal/hexapod/simulation.hpp"
+#include "robcal/hexapod/simulated_readings.hpp"
 #include "robcal/identify/identification.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
-#include "robcal/sim/true_robot.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -287,79 +285,35 @@ struct SimulateReadingsOptions {
   bool json = false;
 };
 
-/// The simulated cell of a plan: the true robot and fixtures drawn from the seed, so plans of the
-/// same cell (a first pass and its re-plan) see the same robot and cups.
-SimulatedHexapodCell cell_of_plan(const std::string& file, const HexapodPlan& plan,
-                                  const RobotModel& model, const PointMass& payload,
-                                  std::mt19937_64& rng) {
-  if (!plan.cell)
-    throw InputError({file, 0, 0, "geometry"},
-                     "the simulator needs the cell of a plan written by `robcal hexapod plan` "
-                     "(geometry, placement, tool and ball offsets)");
-  HexapodCellOptions cell;
-  cell.design = plan.cell->geometry;
-  cell.placement = placement_pose(plan.cell->placement);
-  cell.tool_offset_mm = plan.cell->tool_offset_mm;
-  cell.ball_offset_mm = plan.cell->ball_offset_mm;
-  const TrueRobot truth = levelled_random_truth(model, payload, EndToEndOptions{}.errors, rng);
-  return set_up_simulated_cell(truth, model, cell, rng);
-}
-
 void run_simulate_readings(const SimulateReadingsOptions& o) {
-  if (o.validation < 0)
-    throw InputError({"", 0, 0, "--validation"}, "expected a non-negative count");
   const RobotModel model = load_robot(o.robot);
   const PointMass payload = o.payload.empty() ? PointMass{2.6, Eigen::Vector3d(50, 25, 100)}
                                               : load_tool(o.payload).payload;
-  const HexapodPlan file = read_hexapod_plan(o.plan);
-  const SessionPlan& plan = file.session;
-  std::mt19937_64 rng(o.seed);
-  const SimulatedHexapodCell cell = cell_of_plan(o.plan, file, model, payload, rng);
-  // Drive the session script itself, so the readings come in the order the session asks.
-  Session session(plan);
-  std::string text;
-  int readings = 0, out_of_range = 0;
-  while (const std::optional<SessionStep> step = session.next_step()) {
-    const std::optional<double> r = simulate_session_reading(cell, plan, *step, rng);
-    text += r ? fmt::format("{}\n", *r) : std::string("out\n");
-    session.record(r);
-    ++readings;
-    out_of_range += r ? 0 : 1;
-  }
+  const SimulatedReadings r =
+      simulate_readings(read_hexapod_plan(o.plan), o.plan, model, payload, o.seed,
+                        o.validation_out.empty() ? std::min(o.validation, 0) : o.validation);
   OutputFiles files;
-  files.add(o.out, text);
-  const Pose<double> flange_T_tool =
-      plan.flange_T_tool ? *plan.flange_T_tool : cell.cell.flange_T_tool;
-  const Tool tool = hexapod_tool(payload, flange_T_tool, cell.tool_sides);
-  files.add(o.tool_out, tool_to_yaml(tool));
-  if (!o.validation_out.empty() && o.validation > 0) {
-    // The tracker reads the SMR in tool cup T1; its points go to the robot frame of the hexapod's
-    // world (the frame of the poses file) through the world frame of the base cups.
-    const TrackerValidation v =
-        simulate_tracker_validation(cell, cell.tool_cups_flange[0], o.validation, 0.022, rng);
-    MeasurementSet set;
-    set.kind = MeasurementKind::Points;
-    for (size_t k = 0; k < v.joints.size(); ++k)
-      set.points.push_back({fmt::format("v{}", k + 1), 0, v.joints[k],
-                            cell.world.robot_T_fixture * Eigen::Vector3d(v.measured.col(k)), 0});
+  files.add(o.out, readings_text(r));
+  files.add(o.tool_out, tool_to_yaml(r.tool));
+  if (!r.validation.points.empty())
     files.add(
         o.validation_out,
         write_measurements_csv(
-            set, tool,
+            r.validation, r.tool,
             fmt::format("simulated laser tracker (0.022 mm) on tool cup T1, seed {}", o.seed)));
-  }
   files.write();
+  const int readings = static_cast<int>(r.readings.size());
   if (o.json) {
     print_json({{"seed", o.seed},
                 {"readings", readings},
-                {"legs_out_of_range", out_of_range},
+                {"legs_out_of_range", r.out_of_range},
                 {"out", o.out},
                 {"tool", o.tool_out},
                 {"validation", o.validation_out}});
     return;
   }
   fmt::print("{} readings ({} legs out of range) for {} written to {} (seed {})\n", readings,
-             out_of_range, o.plan, o.out, o.seed);
+             r.out_of_range, o.plan, o.out, o.seed);
 }
 
 const bool registered = register_command(61, [](CLI::App& app) {

@@ -100,3 +100,11 @@ def replan(sessions: Sequence[str], model: str, out: str,
            plan: Optional[str] = None) -> Dict[str, Any]:
     """Re-plans the configurations to retry of measured sessions on a preliminary calibrated
     model (`robcal hexapod replan`), writes the new plan to `out`, returns the CLI's JSON."""
+
+
+def simulate_readings(plan: Plan, robot: str = "fanuc-lrmate200ic", payload: Optional[Any] = None,
+                      seed: int = 1, validation: int = 1000) -> Dict[str, Any]:
+    """Simulated readings of a planned session (`robcal hexapod simulate-readings`): text (the
+    session's input), legs_out_of_range, readings, tool (the tool fixture as a Tool) and
+    validation (tracker Measurements on cup T1); `payload` is a Tool whose payload the robot
+    carries (default 2.6 kg)."""

@@ -145,6 +145,12 @@ def test_hexapod_replan(tmp_path):
     plan.save(str(s1 / "plan.json"))
     run("hexapod", "simulate-readings", "--plan", str(s1 / "plan.json"), "--seed", "5", "--out",
         str(tmp_path / "r1.txt"), "--tool-out", str(tmp_path / "tool.yaml"))
+    # The file's plan (joints to 1e-6°), as the CLI reads it.
+    sim = robcal.hexapod.simulate_readings(robcal.hexapod.read_plan(str(s1 / "plan.json")), seed=5,
+                                           validation=50)
+    assert sim["text"] == open(tmp_path / "r1.txt").read()
+    assert sim["tool"].to_yaml() == open(tmp_path / "tool.yaml").read()
+    assert len(sim["validation"]) == 50 and sim["legs_out_of_range"] > 10
     with open(tmp_path / "r1.txt") as readings:
         subprocess.run([CLI, "hexapod", "session", "--plan", str(s1 / "plan.json"), "--journal",
                         str(s1 / "journal.jsonl")], stdin=readings, check=True,
