@@ -16,9 +16,11 @@
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/replan.hpp"
+#include "robcal/hexapod/session_calibration.hpp"
 #include "robcal/hexapod/simulated_readings.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/world_frame.hpp"
+#include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 
@@ -271,6 +273,40 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("leg_fit") = true, py::arg("relative") = false,
       "Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings, "
       "preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict");
+  h.def(
+      "calibrate",
+      [](const std::vector<std::string>& sessions, const std::string& robot,
+         const std::optional<std::string>& tool, const std::string& level, const std::string& fit,
+         bool relative, double orientation_weight_mm, uint64_t seed,
+         const std::optional<std::string>& plan, const std::optional<std::string>& out) {
+        SessionCalibrationRequest request;
+        request.fit = parse_session_fit(fit);
+        request.level = parse_calibration_level(level);
+        request.relative = relative;
+        request.orientation_weight_mm = orientation_weight_mm;
+        request.seed = seed;
+        const RobotModel model = load_robot(robot);
+        const SessionData data = load_sessions(sessions, plan.value_or(""));
+        const PointMass payload = tool ? load_tool(*tool).payload : PointMass{};
+        SessionCalibration c;
+        {
+          py::gil_scoped_release release;
+          c = calibrate_sessions(data, model, payload, request);
+        }
+        if (out) write_file_atomically(*out, c.model_file);
+        py::object d = json_to_python(session_calibration_json(data, model, c, out.value_or("")));
+        d["model"] = c.robot;
+        d["tool"] = c.tool;
+        d["poses"] = Measurements{c.poses, c.tool, {}};
+        return d;
+      },
+      py::arg("sessions"), py::arg("robot") = "fanuc-lrmate200ic", py::arg("tool") = py::none(),
+      py::arg("level") = "full", py::arg("fit") = "poses", py::arg("relative") = false,
+      py::arg("orientation_weight_mm") = kDefaultOrientationWeightMm, py::arg("seed") = 1,
+      py::arg("plan") = py::none(), py::arg("out") = py::none(),
+      "Calibrates from measured sessions (`robcal hexapod calibrate`): the CLI's JSON as a dict "
+      "plus model (CalibratedRobot), tool (the tool fixture) and poses (Measurements); with `out` "
+      "the calibrated model file is written");
   h.def(
       "replan",
       [](const std::vector<std::string>& sessions, const std::string& model, const std::string& out,

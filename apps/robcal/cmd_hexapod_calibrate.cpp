@@ -4,7 +4,6 @@
 /// the ballbar's range on that preliminary model, measure them, calibrate on everything.
 
 #include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -13,13 +12,12 @@
 #include "command_registry.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
-#include "robcal/hexapod/leg_fit.hpp"
 #include "robcal/hexapod/measurement.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/replan.hpp"
+#include "robcal/hexapod/session_calibration.hpp"
 #include "robcal/hexapod/session_data.hpp"
 #include "robcal/hexapod/simulated_readings.hpp"
-#include "robcal/identify/identification.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -53,18 +51,6 @@ struct SessionOptions {
     return hexapod_tool(payload, data.flange_T_tool, data.tool_sides);
   }
 };
-
-nlohmann::json session_summary(const SessionData& data, const WorldFrameFit& world) {
-  nlohmann::json retry = nlohmann::json::array();
-  for (const RetryConfiguration& r : data.retry) retry.push_back(r.config);
-  return {{"sessions", data.source},
-          {"configurations_measured", data.readings.size()},
-          {"configurations_to_retry", retry},
-          {"configurations_pending", data.pending},
-          {"tool_sides_mm", data.tool_sides.as_array()},
-          {"base_sides_mm", data.base_sides.as_array()},
-          {"world_frame_rms_mm", tidy(world.rms_mm)}};
-}
 
 void print_session_summary(const SessionData& data, const WorldFrameFit& world) {
   fmt::print(
@@ -119,116 +105,46 @@ struct CalibrateOptions {
   bool json = false;
 };
 
-/// The fit from the raw legs (leg_fit.hpp): the level's link and compliance parameters, the cups
-/// and the ballbar's offset; written in the frame of the pose fit.
-void run_leg_calibrate(const CalibrateOptions& o, const RobotModel& model, const SessionData& data,
-                       const WorldFrameFit& world, const Tool& tool) {
-  LegFitOptions options;
-  for (int i : level_parameters(parse_calibration_level(o.level)))
-    if (i >= kBaseParamCount) options.free_parameters.push_back(i);
-  const LegFitResult fit =
-      fit_from_legs(model, tool.payload, data.base_sides, data.tool_sides, data.readings,
-                    model.nominal(), world.robot_T_fixture, data.flange_T_tool, options);
-  CalibratedRobot robot = leg_fit_robot(model, tool.payload, fit, world.robot_T_fixture);
-  robot.level = level_name(parse_calibration_level(o.level));
-  YAML::Node stats;
-  stats["leg_fit"]["residuals"] = fit.residuals;
-  stats["leg_fit"]["initial_rms_mm"] = fit.initial_rms_mm;
-  stats["leg_fit"]["rms_mm"] = fit.rms_mm;
-  stats["leg_fit"]["iterations"] = fit.iterations;
-  stats["leg_fit"]["converged"] = fit.converged;
-  stats["leg_fit"]["ballbar_length_offset_mm"] = fit.length_offset_mm;
-  for (const std::string& h : fit.held) stats["leg_fit"]["held"].push_back(h);
-  YAML::Emitter emitter;
-  emitter.SetDoublePrecision(9);
-  emitter << stats;
-  OutputFiles files;
-  files.add(o.out, calibrated_robot_to_yaml(robot, emitter.c_str()));
-  add_exports(files, data, tool, nullptr, o.poses_out, o.legs_out, o.tool_out);
-  files.write();
-  if (o.json) {
-    nlohmann::json out = session_summary(data, world);
-    out["robot"] = model.name;
-    out["level"] = robot.level;
-    out["fit"] = "legs";
-    out["rows"] = data.readings.size();
-    out["residuals"] = fit.residuals;
-    out["converged"] = fit.converged;
-    out["iterations"] = fit.iterations;
-    out["identified"] = fit.identified.size();
-    out["held"] = fit.held;
-    out["initial_rms_mm"] = tidy(fit.initial_rms_mm);
-    out["rms_mm"] = tidy(fit.rms_mm);
-    out["ballbar_length_offset_mm"] = tidy(fit.length_offset_mm);
-    out["output"] = o.out;
-    print_json(out);
-    return;
-  }
-  print_session_summary(data, world);
-  fmt::print(
-      "calibrated {} at level {} from the raw legs of {} configurations ({} distances): {} after "
-      "{} iterations, rms {:.5f} mm (start {:.4f}); ballbar offset {:+.5f} mm; {} model "
-      "parameters identified\nwritten {}\n",
-      model.name, robot.level, data.readings.size(), fit.residuals,
-      fit.converged ? "converged" : "DID NOT CONVERGE", fit.iterations, fit.rms_mm,
-      fit.initial_rms_mm, fit.length_offset_mm, fit.identified.size(), o.out);
-  for (const std::string& h : fit.held) fmt::print("  held {}\n", h);
-}
-
 void run_calibrate(const CalibrateOptions& o) {
-  if (o.fit != "poses" && o.fit != "legs")
-    throw InputError({"", 0, 0, "--fit"},
-                     fmt::format("unknown fit '{}': expected poses or legs", o.fit));
-  if (o.fit == "legs" && o.relative)
-    throw InputError({"", 0, 0, "--relative"}, "the leg fit always identifies the base cups");
-  check_orientation_weight(o.orientation_weight);
+  SessionCalibrationRequest request;
+  request.fit = parse_session_fit(o.fit);
+  request.level = parse_calibration_level(o.level);
+  request.relative = o.relative;
+  request.orientation_weight_mm = o.orientation_weight;
+  request.seed = o.seed;
   const RobotModel model = load_robot(o.robot);
   const SessionData data = o.session.load();
-  const WorldFrameFit world = session_world_frame(data);
-  const Tool tool = o.session.hexapod_tool_of(data);
-  if (o.fit == "legs") {
-    run_leg_calibrate(o, model, data, world, tool);
-    return;
-  }
-  IdentifyOptions options;
-  options.level = parse_calibration_level(o.level);
-  if (o.relative) options.fix = {"base.*"};
-  options.orientation_weight_mm = o.orientation_weight;
-  options.seed = o.seed;
-  const MeasurementSet poses = session_pose_measurements(data);
-  if (!o.json && stdout_is_terminal()) fmt::print("calibrating ({} poses)…\n", poses.size());
-  IdentificationResult r = calibrate(model, tool, poses, options);
-  // The poses are in the robot frame of the world the base cups define: the model's frame is that
-  // world even when its base is held (the relative model).
-  r.robot.base_fitted = true;
+  const PointMass payload =
+      o.session.tool.empty() ? PointMass{} : load_tool(o.session.tool).payload;
+  if (request.fit == SessionFit::Poses && !o.json && stdout_is_terminal())
+    fmt::print("calibrating ({} poses)…\n", data.readings.size());
+  const SessionCalibration c = calibrate_sessions(data, model, payload, request);
   OutputFiles files;
-  files.add(o.out, calibrated_robot_to_yaml(r.robot, statistics_yaml(r)));
-  add_exports(files, data, tool, &poses, o.poses_out, o.legs_out, o.tool_out);
+  files.add(o.out, c.model_file);
+  add_exports(files, data, c.tool, &c.poses, o.poses_out, o.legs_out, o.tool_out);
   files.write();
   if (o.json) {
-    nlohmann::json out = session_summary(data, world);
-    out["robot"] = model.name;
-    out["level"] = r.robot.level;
-    out["relative"] = o.relative;
-    out["orientation_weight_mm_per_rad"] = o.orientation_weight;
-    out["rows"] = poses.size();
-    out["converged"] = r.status.converged;
-    out["iterations"] = r.status.iterations;
-    out["identified"] = r.identified_count;
-    out["initial_rms_mm"] = tidy(r.status.initial_rms_mm);
-    out["rms_mm"] = tidy(r.rms_mm);
-    out["max_mm"] = tidy(r.max_mm);
-    out["sigma_mm"] = tidy(r.sigma_mm);
-    out["predicted_mean_mm"] = tidy(r.predicted.mean_mm);
-    out["output"] = o.out;
-    print_json(out);
+    print_json(session_calibration_json(data, model, c, o.out));
     return;
   }
-  print_session_summary(data, world);
+  print_session_summary(data, c.world);
+  if (c.legs) {
+    const LegFitResult& fit = *c.legs;
+    fmt::print(
+        "calibrated {} at level {} from the raw legs of {} configurations ({} distances): {} "
+        "after {} iterations, rms {:.5f} mm (start {:.4f}); ballbar offset {:+.5f} mm; {} model "
+        "parameters identified\nwritten {}\n",
+        model.name, c.robot.level, data.readings.size(), fit.residuals,
+        fit.converged ? "converged" : "DID NOT CONVERGE", fit.iterations, fit.rms_mm,
+        fit.initial_rms_mm, fit.length_offset_mm, fit.identified.size(), o.out);
+    for (const std::string& h : fit.held) fmt::print("  held {}\n", h);
+    return;
+  }
+  const IdentificationResult& r = *c.identification;
   fmt::print(
       "calibrated {} at level {}{} from {} poses: {} after {} iterations, residual rms {:.4f} mm "
       "(max {:.4f}, start {:.4f}), {} unknowns identified\nwritten {}\n",
-      model.name, r.robot.level, o.relative ? " (relative: base held)" : "", poses.size(),
+      model.name, r.robot.level, o.relative ? " (relative: base held)" : "", c.poses.size(),
       r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations, r.rms_mm,
       r.max_mm, r.status.initial_rms_mm, r.identified_count, o.out);
   if (!data.retry.empty())
@@ -249,7 +165,7 @@ void run_export(const SessionOptions& s, const std::string& out, const std::stri
   add_exports(files, data, s.hexapod_tool_of(data), nullptr, out, legs_out, tool_out);
   files.write();
   if (json) {
-    nlohmann::json summary = session_summary(data, world);
+    nlohmann::json summary = session_summary_json(data, world);
     summary["poses"] = out;
     summary["legs"] = legs_out;
     summary["tool"] = tool_out;

@@ -108,3 +108,12 @@ def simulate_readings(plan: Plan, robot: str = "fanuc-lrmate200ic", payload: Opt
     session's input), legs_out_of_range, readings, tool (the tool fixture as a Tool) and
     validation (tracker Measurements on cup T1); `payload` is a Tool whose payload the robot
     carries (default 2.6 kg)."""
+
+
+def calibrate(sessions: Sequence[str], robot: str = "fanuc-lrmate200ic",
+              tool: Optional[str] = None, level: str = "full", fit: str = "poses",
+              relative: bool = False, orientation_weight_mm: float = 100.0, seed: int = 1,
+              plan: Optional[str] = None, out: Optional[str] = None) -> Dict[str, Any]:
+    """Calibrates from measured sessions (`robcal hexapod calibrate`): the CLI's JSON as a dict
+    plus model (CalibratedRobot), tool (the tool fixture) and poses (Measurements); with `out` the
+    calibrated model file is written."""

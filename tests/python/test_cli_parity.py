@@ -155,8 +155,19 @@ def test_hexapod_replan(tmp_path):
         subprocess.run([CLI, "hexapod", "session", "--plan", str(s1 / "plan.json"), "--journal",
                         str(s1 / "journal.jsonl")], stdin=readings, check=True,
                        capture_output=True)
-    run("hexapod", "calibrate", "--session", str(s1), "--tool", str(tmp_path / "tool.yaml"),
-        "--out", str(tmp_path / "prelim.yaml"))
+    c = cli_json("hexapod", "calibrate", "--session", str(s1), "--tool",
+                 str(tmp_path / "tool.yaml"), "--out", str(tmp_path / "prelim.yaml"))
+    p = robcal.hexapod.calibrate([str(s1)], tool=str(tmp_path / "tool.yaml"),
+                                 out=str(tmp_path / "py-prelim.yaml"))
+    assert p.pop("model").level == "full" and len(p.pop("poses")) == c["rows"]
+    assert "Tool" in repr(p.pop("tool"))
+    assert {k: v for k, v in c.items() if k != "output"} == {
+        k: v for k, v in p.items() if k != "output"}
+    assert open(tmp_path / "prelim.yaml").read() == open(tmp_path / "py-prelim.yaml").read()
+    legs = robcal.hexapod.calibrate([str(s1)], tool=str(tmp_path / "tool.yaml"), fit="legs")
+    assert legs["fit"] == "legs" and legs["converged"] and legs["rms_mm"] < 0.01
+    with pytest.raises(robcal.InputError, match="--fit"):
+        robcal.hexapod.calibrate([str(s1)], fit="lines")
     c = cli_json("hexapod", "replan", "--session", str(s1), "--model",
                  str(tmp_path / "prelim.yaml"), "--out", str(tmp_path / "cli.json"))
     p = robcal.hexapod.replan([str(s1)], str(tmp_path / "prelim.yaml"), str(tmp_path / "py.json"))
