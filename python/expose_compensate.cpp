@@ -5,8 +5,10 @@
 #include <pybind11/stl.h>
 
 #include "module_registry.hpp"
+#include "py_measurements.hpp"
 #include "robcal/compensate/corrected_targets.hpp"
 #include "robcal/compensate/program_filter.hpp"
+#include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -95,6 +97,56 @@ const bool registered = register_bindings(70, [](py::module_& m) {
             return pose_dict(calibrated_tcp_pose(c.comp.chain, joints_deg * kDegToRad));
           },
           py::arg("joints_deg"), "TCP pose in the world on the calibrated model")
+      .def(
+          "tcp_poses",
+          [](const PyCompensator& c, const Eigen::MatrixXd& joints_deg) {
+            if (joints_deg.cols() != kJointCount)
+              throw InputError({"<arrays>", 0, 0, "joints_deg"}, "expected N×6 joints (deg)");
+            return pose_arrays(joints_deg.rows(), [&](Eigen::Index r) {
+              return calibrated_tcp_pose(c.comp.chain,
+                                         Vector6d(joints_deg.row(r).transpose() * kDegToRad));
+            });
+          },
+          py::arg("joints_deg"),
+          "tcp_pose over the rows of an N×6 array: {'position_mm': N×3, 'quaternion_wxyz': N×4}")
+      .def(
+          "solve_batch",
+          [](const PyCompensator& c, const Eigen::MatrixXd& positions_mm,
+             const Eigen::MatrixXd& quaternions_wxyz, const std::string& config) {
+            const auto arm = parse_arm_config(config);
+            if (!arm)
+              throw InputError({"", 0, 0, "config"}, "unknown configuration '" + config + "'");
+            const auto n = positions_mm.rows();
+            if (positions_mm.cols() != 3 || quaternions_wxyz.cols() != 4 ||
+                quaternions_wxyz.rows() != n)
+              throw InputError({"<arrays>", 0, 0, "quaternions_wxyz"},
+                               "expected positions_mm N×3 and quaternions_wxyz N×4");
+            Eigen::MatrixXd joints(n, kJointCount), nominal(n, 3);
+            std::vector<std::string> status;
+            std::vector<bool> ok;
+            for (Eigen::Index r = 0; r < n; ++r) {
+              const CalibratedIkResult result = calibrated_ik(
+                  c.comp,
+                  pose_of(positions_mm.row(r).transpose(), quaternions_wxyz.row(r).transpose()),
+                  *arm, Vector6d::Zero(), IkMethod::Newton);
+              status.push_back(to_string(result.status));
+              ok.push_back(result.ok());
+              joints.row(r).setConstant(NAN);
+              nominal.row(r).setConstant(NAN);
+              if (!result.ok()) continue;
+              joints.row(r) = (result.joints * kRadToDeg).transpose();
+              nominal.row(r) = nominal_tcp_pose(c.comp, result.joints).p.transpose();
+            }
+            py::dict d;
+            d["joints_deg"] = joints;
+            d["status"] = status;
+            d["ok"] = ok;
+            d["nominal_position_mm"] = nominal;
+            return d;
+          },
+          py::arg("positions_mm"), py::arg("quaternions_wxyz"), py::arg("config"),
+          "solve() over N world TCP poses in one configuration: joints_deg N×6, status, ok, and "
+          "the nominal target positions to send (NaN rows where ok is False)")
       .def(
           "nominal_tcp_pose",
           [](const PyCompensator& c, const Vector6d& joints_deg) {

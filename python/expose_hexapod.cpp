@@ -4,15 +4,25 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "module_registry.hpp"
+#include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
+#include "robcal/hexapod/end_to_end_report.hpp"
+#include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/poses.hpp"
+#include "robcal/hexapod/replan.hpp"
+#include "robcal/hexapod/session_calibration.hpp"
+#include "robcal/hexapod/simulated_readings.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/world_frame.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/io/measurement_file.hpp"
+#include "robcal/io/robot_file.hpp"
 
 namespace py = pybind11;
 
@@ -43,7 +53,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
   h.def(
       "triangle_from_sides",
       [](const std::array<double, 3>& d) {
-        return checked([&] { return rows_from_cups(fixture_cups(sides(d), "sides")); });
+        return rows_from_cups(fixture_cups(sides(d), "sides"));
       },
       py::arg("sides_mm"),
       "Cup positions (rows) from d12, d23, d31: c1 at the origin, c2 on x, c3 in the xy plane");
@@ -80,9 +90,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "enumerate_poses",
       [](const std::array<double, 3>& base, const std::array<double, 3>& tool, double leg_mm,
          double angle_deg, double distance_mm) {
-        const std::vector<HexapodPose> all = checked([&] {
-          return enumerate_poses({sides(base), sides(tool), leg_mm});
-        });
+        const std::vector<HexapodPose> all = enumerate_poses({sides(base), sides(tool), leg_mm});
         py::list out;
         for (const HexapodPose& p : prune_redundant(all, deg2rad(angle_deg), distance_mm)) {
           py::dict d;
@@ -136,8 +144,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
   h.def(
       "fit_world_frame",
       [](const Eigen::MatrixXd& points, const std::array<double, 3>& measured) {
-        const WorldFrameFit fit = checked(
-            [&] { return fit_world_frame(cups_from_rows(points, "points"), sides(measured)); });
+        const WorldFrameFit fit =
+            fit_world_frame(cups_from_rows(points, "points"), sides(measured));
         py::dict d;
         d["corrected"] = rows_from_cups(fit.corrected);
         d["rotation"] = fit.robot_T_fixture.R;
@@ -150,6 +158,222 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("robot_points"), py::arg("measured_sides_mm"),
       "World frame from the base cups: planar least-squares correction; planar = (x mm, y mm, φ "
       "deg)");
+
+  py::class_<HexapodPlan>(h, "Plan",
+                          "A hexapod measurement plan (`robcal hexapod plan`): the session's "
+                          "configurations and, when planned here, the cell and the outcome")
+      .def_property_readonly(
+          "joints_deg",
+          [](const HexapodPlan& p) {
+            const auto& list = p.session.configurations;
+            Eigen::MatrixXd out(static_cast<Eigen::Index>(list.size()), kJointCount);
+            for (size_t r = 0; r < list.size(); ++r)
+              for (int j = 0; j < kJointCount; ++j)
+                out(static_cast<Eigen::Index>(r), j) =
+                    list[r].joints_deg.empty() ? NAN : list[r].joints_deg[static_cast<size_t>(j)];
+            return out;
+          },
+          "N×6 controller joints (deg) of the configurations (NaN rows: pose-only plan)")
+      .def_property_readonly(
+          "poses",
+          [](const HexapodPlan& p) {
+            std::vector<std::string> out;
+            for (const SessionConfiguration& c : p.session.configurations) out.push_back(c.pose);
+            return out;
+          },
+          "Pose label of each configuration")
+      .def_property_readonly(
+          "labels",
+          [](const HexapodPlan& p) {
+            std::vector<std::string> out;
+            for (const SessionConfiguration& c : p.session.configurations) out.push_back(c.labels);
+            return out;
+          },
+          "Arm configuration label of each configuration")
+      .def_property_readonly(
+          "setting_ball_mm",
+          [](const HexapodPlan& p) -> std::optional<Eigen::Matrix3d> {
+            if (!p.session.setting_points) return std::nullopt;
+            return rows_from_cups(*p.session.setting_points);
+          },
+          "Where the robot puts the setting ball for B1..B3 (3×3, robot frame, mm), or None")
+      .def(
+          "to_json", [](const HexapodPlan& p) { return hexapod_plan_json(p).dump(2) + "\n"; },
+          "The plan file's text (what `robcal hexapod plan --out` writes)")
+      .def(
+          "save",
+          [](const HexapodPlan& p, const std::string& path) { write_hexapod_plan(path, p); },
+          py::arg("path"), "Writes the plan file, whole or not at all")
+      .def("__len__", [](const HexapodPlan& p) { return p.session.configurations.size(); })
+      .def("__repr__", [](const HexapodPlan& p) {
+        std::string text =
+            "<hexapod.Plan " + std::to_string(p.session.configurations.size()) + " configurations";
+        if (p.outcome)
+          text += " of " + std::to_string(p.outcome->poses_measurable) + " measurable poses (" +
+                  std::to_string(p.outcome->poses_kept) + " kept of " +
+                  std::to_string(p.outcome->poses_enumerated) + ")";
+        if (p.cell) text += " for " + p.cell->robot;
+        return text + ">";
+      });
+  h.def(
+      "plan",
+      [](const std::string& robot, const std::array<double, 3>& base_sides_mm,
+         const std::array<double, 3>& tool_sides_mm, double leg_mm,
+         const std::array<double, 4>& placement, double tool_offset_mm, double ball_offset_mm,
+         double table_z_mm, double angle_deg, double distance_mm) {
+        HexapodPlanRequest r;
+        r.robot = robot;
+        r.geometry = {sides(base_sides_mm), sides(tool_sides_mm), leg_mm};
+        r.placement = placement;
+        r.tool_offset_mm = tool_offset_mm;
+        r.ball_offset_mm = ball_offset_mm;
+        r.table_z_mm = table_z_mm;
+        r.angle_deg = angle_deg;
+        r.distance_mm = distance_mm;
+        return plan_hexapod(load_robot(robot), r);
+      },
+      py::arg("robot") = "fanuc-lrmate200ic",
+      py::arg("base_sides_mm") = std::array<double, 3>{300, 300, 300},
+      py::arg("tool_sides_mm") = std::array<double, 3>{150, 150, 150}, py::arg("leg_mm") = 300.0,
+      py::arg("placement") = std::array<double, 4>{450, 0, 300, 0},
+      py::arg("tool_offset_mm") = 100.0, py::arg("ball_offset_mm") = 100.0,
+      py::arg("table_z_mm") = 0.0, py::arg("angle_deg") = 30.0, py::arg("distance_mm") = 50.0,
+      "Plans a hexapod measurement (`robcal hexapod plan`): placement = (x, y, z mm, yaw deg) of "
+      "the base cups' centroid in the robot frame");
+  h.def(
+      "simulate",
+      [](const std::string& robot, const std::array<double, 4>& placement, double tool_offset_mm,
+         double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
+         uint64_t seed, int validation, int threads, bool leg_fit, bool relative) {
+        const RobotModel model = load_robot(robot);
+        EndToEndOptions o;
+        o.cell.placement = placement_pose(placement);
+        o.cell.tool_offset_mm = tool_offset_mm;
+        o.cell.ball_offset_mm = ball_offset_mm;
+        o.cell.table_z_mm = table_z_mm;
+        o.angle_deg = angle_deg;
+        o.distance_mm = distance_mm;
+        o.validation_configurations = validation;
+        o.threads = threads;
+        o.leg_fit = leg_fit;
+        o.relative_pose_fit = relative;
+        std::mt19937_64 rng(seed);
+        EndToEndReport report;
+        {
+          py::gil_scoped_release release;
+          report = run_end_to_end(model, o, rng);
+        }
+        return json_to_python(end_to_end_json(report, o, seed));
+      },
+      py::arg("robot") = "fanuc-lrmate200ic",
+      py::arg("placement") = std::array<double, 4>{450, 0, 300, 0},
+      py::arg("tool_offset_mm") = 100.0, py::arg("ball_offset_mm") = 100.0,
+      py::arg("table_z_mm") = 0.0, py::arg("angle_deg") = 30.0, py::arg("distance_mm") = 50.0,
+      py::arg("seed") = 1, py::arg("validation") = 10000, py::arg("threads") = 2,
+      py::arg("leg_fit") = true, py::arg("relative") = false,
+      "Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings, "
+      "preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict");
+  h.def(
+      "calibrate",
+      [](const std::vector<std::string>& sessions, const std::string& robot,
+         const std::optional<std::string>& tool, const std::string& level, const std::string& fit,
+         bool relative, double orientation_weight_mm, uint64_t seed,
+         const std::optional<std::string>& plan, const std::optional<std::string>& out) {
+        SessionCalibrationRequest request;
+        request.fit = parse_session_fit(fit);
+        request.level = parse_calibration_level(level);
+        request.relative = relative;
+        request.orientation_weight_mm = orientation_weight_mm;
+        request.seed = seed;
+        const RobotModel model = load_robot(robot);
+        const SessionData data = load_sessions(sessions, plan.value_or(""));
+        const PointMass payload = tool ? load_tool(*tool).payload : PointMass{};
+        SessionCalibration c;
+        {
+          py::gil_scoped_release release;
+          c = calibrate_sessions(data, model, payload, request);
+        }
+        if (out) write_file_atomically(*out, c.model_file);
+        py::object d = json_to_python(session_calibration_json(data, model, c, out.value_or("")));
+        d["model"] = c.robot;
+        d["tool"] = c.tool;
+        d["poses"] = Measurements{c.poses, c.tool, {}};
+        return d;
+      },
+      py::arg("sessions"), py::arg("robot") = "fanuc-lrmate200ic", py::arg("tool") = py::none(),
+      py::arg("level") = "full", py::arg("fit") = "poses", py::arg("relative") = false,
+      py::arg("orientation_weight_mm") = kDefaultOrientationWeightMm, py::arg("seed") = 1,
+      py::arg("plan") = py::none(), py::arg("out") = py::none(),
+      "Calibrates from measured sessions (`robcal hexapod calibrate`): the CLI's JSON as a dict "
+      "plus model (CalibratedRobot), tool (the tool fixture) and poses (Measurements); with `out` "
+      "the calibrated model file is written");
+  h.def(
+      "replan",
+      [](const std::vector<std::string>& sessions, const std::string& model, const std::string& out,
+         const std::optional<std::string>& plan) {
+        const Replan r = replan_retries(load_sessions(sessions, plan.value_or("")),
+                                        load_calibrated_robot(model), model);
+        write_hexapod_plan(out, r.plan);
+        return json_to_python(replan_json(r, out));
+      },
+      py::arg("sessions"), py::arg("model"), py::arg("out"), py::arg("plan") = py::none(),
+      "Re-plans the configurations to retry of measured sessions on a preliminary calibrated "
+      "model (`robcal hexapod replan`), writes the new plan to `out`, returns the CLI's JSON");
+  h.def(
+      "simulate_readings",
+      [](const HexapodPlan& plan, const std::string& robot, const std::optional<Tool>& payload,
+         uint64_t seed, int validation) {
+        const SimulatedReadings r = simulate_readings(
+            plan, "<plan>", load_robot(robot),
+            payload ? payload->payload : PointMass{2.6, {50, 25, 100}}, seed, validation);
+        py::dict d;
+        d["text"] = readings_text(r);
+        d["legs_out_of_range"] = r.out_of_range;
+        d["readings"] = r.readings.size();
+        d["tool"] = r.tool;
+        d["validation"] = Measurements{r.validation, r.tool, {}};
+        return d;
+      },
+      py::arg("plan"), py::arg("robot") = "fanuc-lrmate200ic", py::arg("payload") = py::none(),
+      py::arg("seed") = 1, py::arg("validation") = 1000,
+      "Simulated readings of a planned session (`robcal hexapod simulate-readings`): text (the "
+      "session's input), legs_out_of_range, readings, tool (the tool fixture as a Tool) and "
+      "validation (tracker Measurements on cup T1); `payload` is a Tool whose payload the robot "
+      "carries (default 2.6 kg)");
+  h.def(
+      "read_plan", [](const std::string& path) { return read_hexapod_plan(path); }, py::arg("path"),
+      "Reads a plan file (written by `robcal hexapod plan` or `replan`, or by hand)");
+  h.def(
+      "setup",
+      [](const std::string& robot, const std::array<double, 4>& placement, double side_mm,
+         double ball_offset_mm) {
+        const auto points = plan_setting_ball(load_robot(robot), placement_pose(placement), side_mm,
+                                              ball_offset_mm);
+        py::list out;
+        for (int i = 0; i < 3; ++i) {
+          Eigen::MatrixXd joints(static_cast<Eigen::Index>(points[i].configurations.size()),
+                                 kJointCount);
+          std::vector<std::string> labels;
+          for (size_t c = 0; c < points[i].configurations.size(); ++c) {
+            labels.push_back(points[i].configurations[c].config.label());
+            for (int j = 0; j < kJointCount; ++j)
+              joints(static_cast<Eigen::Index>(c), j) =
+                  rad2deg(points[i].configurations[c].joints[j]);
+          }
+          py::dict d;
+          d["cup"] = "B" + std::to_string(i + 1);
+          d["ball_position_mm"] = points[i].ball_position_mm;
+          d["labels"] = labels;
+          d["joints_deg"] = joints;
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("robot") = "fanuc-lrmate200ic",
+      py::arg("placement") = std::array<double, 4>{450, 0, 300, 0}, py::arg("side_mm") = 300.0,
+      py::arg("ball_offset_mm") = 100.0,
+      "Where to put the setting ball for each base cup (`robcal hexapod setup`): per cup its "
+      "position (robot frame, mm) and the configurations reaching it (labels, joints_deg K×6)");
 });
 
 }  // namespace

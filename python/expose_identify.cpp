@@ -2,10 +2,12 @@
 // from arrays, the calibration result, the calibrated model file. Millimetres and degrees in and
 // out; InputError becomes ValueError.
 
+#include <fmt/format.h>
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
 #include "module_registry.hpp"
+#include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/identify/cross_validation.hpp"
@@ -33,31 +35,10 @@ IdentifyOptions make_options(const std::string& level, const std::vector<std::st
   return options;
 }
 
-/// Point measurements from arrays: joints (N×6, deg), target names (N), positions (N×3, mm).
-MeasurementSet points_from_arrays(const Tool& tool, const Eigen::MatrixXd& joints_deg,
-                                  const std::vector<std::string>& targets,
-                                  const Eigen::MatrixXd& positions_mm) {
-  const auto n = joints_deg.rows();
-  if (joints_deg.cols() != kJointCount || positions_mm.cols() != 3 || positions_mm.rows() != n ||
-      static_cast<Eigen::Index>(targets.size()) != n)
-    throw InputError("expected joints_deg N×6, targets of length N and positions_mm N×3");
-  if (!joints_deg.allFinite() || !positions_mm.allFinite())
-    throw InputError("joints_deg and positions_mm must be finite");
-  MeasurementSet set;
-  set.kind = MeasurementKind::Points;
-  set.file = "<arrays>";
-  for (Eigen::Index r = 0; r < n; ++r) {
-    PointMeasurement m;
-    m.config = std::to_string(r + 1);
-    m.target = tool.target_index(targets[static_cast<size_t>(r)]);
-    if (m.target < 0)
-      throw InputError("row " + std::to_string(r + 1) + ": the tool has no target '" +
-                       targets[static_cast<size_t>(r)] + "'");
-    for (int j = 0; j < kJointCount; ++j) m.joints[j] = deg2rad(joints_deg(r, j));
-    m.position_mm = positions_mm.row(r).transpose();
-    set.points.push_back(m);
-  }
-  return set;
+/// Factor from the internal unit of unknown `i` to its external one (parameters: mm or deg or
+/// rad/N·mm; the unknowns after them are coordinates, mm).
+double to_external(int i) {
+  return i < kParameterCount ? parameter_table()[static_cast<size_t>(i)].to_external() : 1.0;
 }
 
 const bool registered = register_bindings(30, [](py::module_& m) {
@@ -126,7 +107,39 @@ const bool registered = register_bindings(30, [](py::module_& m) {
           },
           py::arg("joints_deg"), py::arg("point_flange_mm"),
           "World position (mm) of a flange-frame point at controller joints (deg)")
-      .def("to_yaml", [](const CalibratedRobot& r) { return calibrated_robot_to_yaml(r); });
+      .def(
+          "positions",
+          [](const CalibratedRobot& r, const Eigen::MatrixXd& joints_deg,
+             const Eigen::Vector3d& point_flange_mm) {
+            if (joints_deg.cols() != kJointCount)
+              throw InputError({"<arrays>", 0, 0, "joints_deg"}, "expected N×6 joints (deg)");
+            Eigen::MatrixXd out(joints_deg.rows(), 3);
+            for (Eigen::Index row = 0; row < joints_deg.rows(); ++row) {
+              Vector6d q;
+              for (int i = 0; i < kJointCount; ++i) q[i] = deg2rad(joints_deg(row, i));
+              out.row(row) =
+                  (flange_pose(r.model, r.tool.payload, r.params, q) * point_flange_mm).transpose();
+            }
+            return out;
+          },
+          py::arg("joints_deg"), py::arg("point_flange_mm"),
+          "position() over the rows of an N×6 joints array (deg): N×3 world positions (mm)")
+      .def_static("from_file", &load_calibrated_robot, py::arg("path"),
+                  "Loads a calibrated model file written by calibrate")
+      .def_static(
+          "nominal",
+          [](const RobotModel& model, const std::optional<Tool>& tool) {
+            return CalibratedRobot::nominal(model, tool.value_or(Tool{}));
+          },
+          py::arg("model"), py::arg("tool") = py::none(),
+          "The nominal robot as a model with no world frame (validate with fit_base=True)")
+      .def(
+          "to_yaml", [](const CalibratedRobot& r) { return calibrated_robot_to_yaml(r); },
+          "The calibrated model file's text")
+      .def("__repr__", [](const CalibratedRobot& r) {
+        return "<CalibratedRobot " + r.model.name + ", level " + r.level +
+               (r.base_fitted ? ", world frame fitted>" : ", no world frame>");
+      });
 
   py::class_<IdentificationResult>(m, "IdentificationResult", "A calibration and its statistics")
       .def_readonly("robot", &IdentificationResult::robot)
@@ -165,13 +178,81 @@ const bool registered = register_bindings(30, [](py::module_& m) {
             return out;
           },
           "{target: (rows, rms_mm, max_mm)}")
+      .def_property_readonly(
+          "parameter_table",
+          [](const IdentificationResult& r) {
+            const auto n = static_cast<Eigen::Index>(r.unknowns.size());
+            std::vector<std::string> names, units, status;
+            Eigen::VectorXd nominal(n), value(n), std_dev(n);
+            for (Eigen::Index i = 0; i < n; ++i) {
+              const UnknownEstimate& u = r.unknowns[static_cast<size_t>(i)];
+              names.push_back(u.name);
+              units.push_back(u.unit);
+              status.push_back(status_name(u.status));
+              nominal[i] = u.nominal;
+              value[i] = u.value;
+              std_dev[i] = u.std_dev;
+            }
+            py::dict out;
+            out["name"] = names;
+            out["unit"] = units;
+            out["status"] = status;
+            out["nominal"] = nominal;
+            out["value"] = value;
+            out["std"] = std_dev;
+            return out;
+          },
+          "Every unknown as columns: name, unit, status (lists), nominal, value, std (arrays, "
+          "external units); `pandas.DataFrame(result.parameter_table)` makes a table of it")
+      .def_property_readonly(
+          "identified_names",
+          [](const IdentificationResult& r) {
+            std::vector<std::string> out;
+            for (const int i : r.free) out.push_back(r.unknowns[static_cast<size_t>(i)].name);
+            return out;
+          },
+          "Names of the identified unknowns: the rows and columns of `covariance`")
+      .def_property_readonly(
+          "covariance",
+          [](const IdentificationResult& r) {
+            Eigen::MatrixXd c = r.covariance;
+            for (Eigen::Index a = 0; a < c.rows(); ++a)
+              for (Eigen::Index b = 0; b < c.cols(); ++b)
+                c(a, b) *= to_external(r.free[static_cast<size_t>(a)]) *
+                           to_external(r.free[static_cast<size_t>(b)]);
+            return c;
+          },
+          "Covariance of the identified unknowns (order of identified_names), external units "
+          "(mm, deg, rad/N·mm)")
+      .def(
+          "_repr_html_",
+          [](const IdentificationResult& r) {
+            std::string html = fmt::format(
+                "<p><b>{}</b>: {} of {} unknowns identified from {} residuals, rms {:.4f} mm, "
+                "{}</p><table><tr><th>parameter</th><th>value</th><th>± std</th><th>unit</th>"
+                "<th>status</th></tr>",
+                r.robot.model.name, r.identified_count, r.unknowns.size(), r.residual_count,
+                r.rms_mm, r.status.converged ? "converged" : "<b>not converged</b>");
+            for (const UnknownEstimate& u : r.unknowns)
+              html += fmt::format(
+                  "<tr><td>{}</td><td>{:.6g}</td><td>{:.3g}</td><td>{}</td><td>{}</td></tr>",
+                  u.name, u.value, u.std_dev, u.unit,
+                  u.reason.empty() ? status_name(u.status)
+                                   : std::string(status_name(u.status)) + ": " + u.reason);
+            return html + "</table>";
+          },
+          "The result as an HTML table (Jupyter shows it)")
+      .def("__repr__",
+           [](const IdentificationResult& r) {
+             return "<IdentificationResult " + r.robot.model.name + ": " +
+                    std::to_string(r.identified_count) + " identified, rms " +
+                    std::to_string(r.rms_mm) + " mm, " +
+                    (r.status.converged ? "converged" : "NOT converged") + ">";
+           })
       .def(
           "save",
           [](const IdentificationResult& r, const std::string& path) {
-            checked([&] {
-              write_file_atomically(path, calibrated_robot_to_yaml(r.robot, statistics_yaml(r)));
-              return 0;
-            });
+            write_file_atomically(path, calibrated_robot_to_yaml(r.robot, statistics_yaml(r)));
           },
           py::arg("path"), "Writes the calibrated model file (YAML), whole or not at all");
 
@@ -180,13 +261,11 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       [](const std::string& robot, const std::string& tool, const std::string& measurements,
          const std::string& level, const std::vector<std::string>& identify,
          const std::vector<std::string>& fix, const std::string& loss, uint64_t seed) {
-        return checked([&] {
-          const RobotModel model = load_robot(robot);
-          const Tool t = load_tool(tool);
-          const MeasurementFile file = read_measurements_csv(measurements, t);
-          return calibrate(model, t, file.measurements,
-                           make_options(level, identify, fix, loss, seed));
-        });
+        const RobotModel model = load_robot(robot);
+        const Tool t = load_tool(tool);
+        const MeasurementFile file = read_measurements_csv(measurements, t);
+        return calibrate(model, t, file.measurements,
+                         make_options(level, identify, fix, loss, seed));
       },
       py::arg("robot"), py::arg("tool"), py::arg("measurements"), py::arg("level") = "full",
       py::arg("identify") = std::vector<std::string>{}, py::arg("fix") = std::vector<std::string>{},
@@ -194,17 +273,28 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       "Calibrate from files: robot name or file, tool file, measurement CSV");
 
   m.def(
+      "calibrate",
+      [](const RobotModel& robot, const Measurements& measurements, const std::string& level,
+         const std::vector<std::string>& identify, const std::vector<std::string>& fix,
+         const std::string& loss, uint64_t seed) {
+        return calibrate(robot, measurements.tool, measurements.set,
+                         make_options(level, identify, fix, loss, seed));
+      },
+      py::arg("robot"), py::arg("measurements"), py::arg("level") = "full",
+      py::arg("identify") = std::vector<std::string>{}, py::arg("fix") = std::vector<std::string>{},
+      py::arg("loss") = "none", py::arg("seed") = 1,
+      "Calibrate a RobotModel from Measurements (their tool included)");
+
+  m.def(
       "calibrate_points",
       [](const std::string& robot, const std::string& tool, const Eigen::MatrixXd& joints_deg,
          const std::vector<std::string>& targets, const Eigen::MatrixXd& positions_mm,
          const std::string& level, const std::vector<std::string>& identify,
          const std::vector<std::string>& fix, const std::string& loss, uint64_t seed) {
-        return checked([&] {
-          const RobotModel model = load_robot(robot);
-          const Tool t = load_tool(tool);
-          return calibrate(model, t, points_from_arrays(t, joints_deg, targets, positions_mm),
-                           make_options(level, identify, fix, loss, seed));
-        });
+        const Tool t = load_tool(tool);
+        return calibrate(load_robot(robot), t,
+                         points_from_arrays(t, joints_deg, targets, positions_mm).set,
+                         make_options(level, identify, fix, loss, seed));
       },
       py::arg("robot"), py::arg("tool"), py::arg("joints_deg"), py::arg("targets"),
       py::arg("positions_mm"), py::arg("level") = "full",
@@ -216,28 +306,25 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       "cross_validate",
       [](const std::string& robot, const std::string& tool, const std::string& measurements,
          int folds, const std::string& level, uint64_t seed) {
-        return checked([&] {
-          const RobotModel model = load_robot(robot);
-          const Tool t = load_tool(tool);
-          const MeasurementFile file = read_measurements_csv(measurements, t);
-          const CrossValidation cv = cross_validate(
-              model, t, file.measurements, make_options(level, {}, {}, "none", seed), folds, seed);
-          py::dict out;
-          out["folds"] = cv.folds;
-          out["errors_mm"] = cv.errors_mm;
-          out["mean_mm"] = cv.mean_mm;
-          out["std_mm"] = cv.std_mm;
-          out["max_mm"] = cv.max_mm;
-          return out;
-        });
+        const RobotModel model = load_robot(robot);
+        const Tool t = load_tool(tool);
+        const MeasurementFile file = read_measurements_csv(measurements, t);
+        const CrossValidation cv = cross_validate(
+            model, t, file.measurements, make_options(level, {}, {}, "none", seed), folds, seed);
+        py::dict out;
+        out["folds"] = cv.folds;
+        out["errors_mm"] = cv.errors_mm;
+        out["mean_mm"] = cv.mean_mm;
+        out["std_mm"] = cv.std_mm;
+        out["max_mm"] = cv.max_mm;
+        return out;
       },
       py::arg("robot"), py::arg("tool"), py::arg("measurements"), py::arg("folds"),
       py::arg("level") = "full", py::arg("seed") = 1,
       "K-fold cross-validation: held-out position error per row and its statistics (mm)");
 
   m.def(
-      "load_calibrated_robot",
-      [](const std::string& path) { return checked([&] { return load_calibrated_robot(path); }); },
+      "load_calibrated_robot", [](const std::string& path) { return load_calibrated_robot(path); },
       py::arg("path"), "Loads a calibrated model file written by calibrate");
 });
 

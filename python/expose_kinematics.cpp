@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "module_registry.hpp"
+#include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -55,18 +56,20 @@ const bool registered = register_bindings(10, [](py::module_& m) {
           "is_ortho_parallel",
           [](const RobotModel& r) { return analyze_ortho_parallel(r).has_value(); },
           "True when the closed-form IK applies (otherwise ik() is numeric)")
-      .def("__repr__", [](const RobotModel& r) { return "<RobotModel " + r.name + ">"; });
+      .def_static("from_file", &load_robot, py::arg("name_or_path"),
+                  "A built-in robot by name or a robot file (YAML) by path")
+      .def_static(
+          "from_dict", [](const py::dict& d) { return parse_robot(dict_as_file(d)); }, py::arg("d"),
+          "A robot from a dict with the robot file's fields (errors name the key)")
+      .def("to_yaml", &robot_to_yaml, "The robot file's text")
+      .def("__repr__", [](const RobotModel& r) {
+        return "<RobotModel " + r.name + " (" + r.manufacturer + "), " +
+               (analyze_ortho_parallel(r) ? "closed-form IK" : "numeric IK") + ">";
+      });
 
   m.def("builtin_robots", &builtin_robot_names, "Names of the built-in robots");
   m.def(
-      "load_robot",
-      [](const std::string& name_or_path) {
-        try {
-          return load_robot(name_or_path);
-        } catch (const InputError& e) {
-          throw py::value_error(e.what());
-        }
-      },
+      "load_robot", [](const std::string& name_or_path) { return load_robot(name_or_path); },
       py::arg("name_or_path"), "A built-in robot by name or a robot file by path");
 
   m.def(
@@ -84,15 +87,24 @@ const bool registered = register_bindings(10, [](py::module_& m) {
       "Flange pose of the nominal robot: {'position_mm': [x,y,z], 'quaternion_wxyz': [w,x,y,z]}");
 
   m.def(
+      "fk_batch",
+      [](const RobotModel& robot, const Eigen::MatrixXd& joints_deg) {
+        if (joints_deg.cols() != kJointCount)
+          throw InputError({"<arrays>", 0, 0, "joints_deg"}, "expected N×6 joints (deg)");
+        return pose_arrays(joints_deg.rows(), [&](Eigen::Index r) {
+          return flange_pose(robot, PointMass{}, robot.nominal(),
+                             joints_from_deg(joints_deg.row(r).transpose(), "fk_batch"));
+        });
+      },
+      py::arg("robot"), py::arg("joints_deg"),
+      "fk over the rows of an N×6 array: {'position_mm': N×3, 'quaternion_wxyz': N×4}");
+
+  m.def(
       "ik",
       [](const RobotModel& robot, const Eigen::Vector3d& position_mm,
          const Eigen::Vector4d& quaternion_wxyz, std::optional<Eigen::VectorXd> seed_deg) {
         Pose<double> target;
-        try {
-          target = pose_from_position_quaternion(position_mm, quaternion_wxyz);
-        } catch (const InputError& e) {
-          throw py::value_error(e.what());
-        }
+        target = pose_from_position_quaternion(position_mm, quaternion_wxyz);
         const Vector6d seed = seed_deg ? joints_from_deg(*seed_deg, "ik seed") : Vector6d::Zero();
         const AnyIkResult result = solve_ik(robot, target, seed);
         py::list solutions;

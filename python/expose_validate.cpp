@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "module_registry.hpp"
+#include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/measurement_file.hpp"
@@ -44,63 +45,13 @@ Eigen::Matrix3Xd positions_from_rows(const Eigen::MatrixXd& rows, const char* na
   return rows.transpose();
 }
 
-py::dict measurements_dict(const MeasurementFile& file, const Tool& tool) {
-  const MeasurementSet& set = file.measurements;
-  const auto n = static_cast<Eigen::Index>(set.size());
-  py::list configs, targets;
-  Eigen::MatrixXd joints(n, kJointCount);
-  py::dict d;
-  d["kind"] = std::string(measurement_kind_name(set.kind));
-  const auto add_row = [&](Eigen::Index r, const std::string& config, const Vector6d& q) {
-    configs.append(config);
-    for (int j = 0; j < kJointCount; ++j) joints(r, j) = rad2deg(q[j]);
-  };
-  if (set.kind == MeasurementKind::Poses) {
-    Eigen::MatrixXd position(n, 3), quaternion(n, 4);
-    for (Eigen::Index r = 0; r < n; ++r) {
-      const PoseMeasurement& m = set.poses[static_cast<size_t>(r)];
-      add_row(r, m.config, m.joints);
-      position.row(r) = m.world_T_tcp.p.transpose();
-      const Eigen::Quaterniond q = to_quaternion(m.world_T_tcp.R);
-      quaternion.row(r) << q.w(), q.x(), q.y(), q.z();
-    }
-    d["position_mm"] = position;
-    d["quaternion_wxyz"] = quaternion;
-  } else if (set.kind == MeasurementKind::Points) {
-    Eigen::MatrixXd position(n, 3);
-    for (Eigen::Index r = 0; r < n; ++r) {
-      const PointMeasurement& m = set.points[static_cast<size_t>(r)];
-      add_row(r, m.config, m.joints);
-      targets.append(tool.targets[static_cast<size_t>(m.target)].name);
-      position.row(r) = m.position_mm.transpose();
-    }
-    d["position_mm"] = position;
-    d["target"] = targets;
-  } else {
-    Eigen::VectorXd length(n);
-    for (Eigen::Index r = 0; r < n; ++r) {
-      const DistanceMeasurement& m = set.distances[static_cast<size_t>(r)];
-      add_row(r, m.config, m.joints);
-      targets.append(tool.targets[static_cast<size_t>(m.target)].name);
-      length[r] = m.length_mm;
-    }
-    d["length_mm"] = length;
-    d["target"] = targets;
-  }
-  d["config"] = configs;
-  d["joints_deg"] = joints;
-  d["warnings"] = file.warnings;
-  return d;
-}
-
 const bool registered = register_bindings(60, [](py::module_& m) {
   m.def(
       "read_measurements",
       [](const std::string& path, const std::string& tool_file) {
-        return checked([&] {
-          const Tool tool = load_tool(tool_file);
-          return measurements_dict(read_measurements_csv(path, tool), tool);
-        });
+        const Tool tool = load_tool(tool_file);
+        MeasurementFile file = read_measurements_csv(path, tool);
+        return measurements_dict({std::move(file.measurements), tool, std::move(file.warnings)});
       },
       py::arg("path"), py::arg("tool_file"),
       "Reads a measurement CSV (points, poses or distances). Returns a dict: kind, config, "
@@ -138,39 +89,37 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::string& robot_name, const std::string& tool_file,
          const std::string& measurements, const std::string& model_file, bool fit_base_first,
          int threads) {
-        return checked([&] {
-          const Tool tool = load_tool(tool_file);
-          CalibratedRobot robot = model_file.empty()
-                                      ? CalibratedRobot::nominal(load_robot(robot_name), tool)
-                                      : load_calibrated_robot(model_file);
-          if (robot.tool.targets.empty()) robot.tool = tool;
-          const MeasurementSet set =
-              read_measurements_csv(measurements, robot.tool,
-                                    {MeasurementKind::Points, MeasurementKind::Poses})
-                  .measurements;
-          if (!robot.base_fitted && !fit_base_first)
-            throw InputError({measurements, 0, 0, "fit_base"},
-                             "the model has no world frame (its base was never fitted): pass "
-                             "fit_base=True, or calibrate with --level base");
-          if (!robot.base_fitted) robot = fit_base(robot, set);
-          const ValidationReport report = validate_model(robot, set, threads);
-          py::dict d;
-          d["points"] = set.size();
-          d["position_error_mm"] = statistics_dict(report.positions.position_mm);
-          d["position_errors_mm"] = report.positions.position_error_mm;
-          d["position_histogram_mm"] = histogram_dict(report.position_histogram);
-          py::dict per_target;
-          for (const TargetErrorStatistics& t : report.positions.per_target)
-            per_target[py::str(t.target)] = statistics_dict(t.position_mm);
-          d["per_target"] = per_target;
-          if (set.kind == MeasurementKind::Poses)
-            d["orientation_error_deg"] = statistics_dict(report.positions.orientation_deg);
-          py::dict distances = statistics_dict(report.distances.stats);
-          distances["pairs"] = report.distances.stats.count;
-          distances["histogram"] = histogram_dict(report.distances.histogram);
-          d["distance_error_mm"] = distances;
-          return d;
-        });
+        const Tool tool = load_tool(tool_file);
+        CalibratedRobot robot = model_file.empty()
+                                    ? CalibratedRobot::nominal(load_robot(robot_name), tool)
+                                    : load_calibrated_robot(model_file);
+        if (robot.tool.targets.empty()) robot.tool = tool;
+        const MeasurementSet set =
+            read_measurements_csv(measurements, robot.tool,
+                                  {MeasurementKind::Points, MeasurementKind::Poses})
+                .measurements;
+        if (!robot.base_fitted && !fit_base_first)
+          throw InputError({measurements, 0, 0, "fit_base"},
+                           "the model has no world frame (its base was never fitted): pass "
+                           "fit_base=True, or calibrate with --level base");
+        if (!robot.base_fitted) robot = fit_base(robot, set);
+        const ValidationReport report = validate_model(robot, set, threads);
+        py::dict d;
+        d["points"] = set.size();
+        d["position_error_mm"] = statistics_dict(report.positions.position_mm);
+        d["position_errors_mm"] = report.positions.position_error_mm;
+        d["position_histogram_mm"] = histogram_dict(report.position_histogram);
+        py::dict per_target;
+        for (const TargetErrorStatistics& t : report.positions.per_target)
+          per_target[py::str(t.target)] = statistics_dict(t.position_mm);
+        d["per_target"] = per_target;
+        if (set.kind == MeasurementKind::Poses)
+          d["orientation_error_deg"] = statistics_dict(report.positions.orientation_deg);
+        py::dict distances = statistics_dict(report.distances.stats);
+        distances["pairs"] = report.distances.stats.count;
+        distances["histogram"] = histogram_dict(report.distances.histogram);
+        d["distance_error_mm"] = distances;
+        return d;
       },
       py::arg("robot"), py::arg("tool_file"), py::arg("measurements"), py::arg("model") = "",
       py::arg("fit_base") = false, py::arg("threads") = 2,

@@ -3,20 +3,15 @@
 #include <pybind11/pybind11.h>
 
 #include <functional>
-
-#include "robcal/core/error.hpp"
+#include <nlohmann/json.hpp>
 
 namespace robcal::python {
 using ExposeFunction = std::function<void(pybind11::module_&)>;
 bool register_bindings(int order, ExposeFunction expose);
 
-/// Runs `f`, turning bad input (InputError) into Python's ValueError.
-template <typename F>
-auto checked(F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const InputError& e) {
-    throw pybind11::value_error(e.what());
-  }
+/// A result's JSON (the library's serializer, the one the CLI prints) as Python dicts and lists.
+inline pybind11::object json_to_python(const nlohmann::json& value) {
+  return pybind11::module_::import("json").attr("loads")(value.dump());
 }
+
 }  // namespace robcal::python

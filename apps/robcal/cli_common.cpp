@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/rounding.hpp"
 #include "robcal/core/units.hpp"
 
 namespace robcal::cli {
@@ -55,9 +56,7 @@ bool stdout_is_terminal() {
 }
 
 double tidy(double value, int decimals) {
-  const double scale = std::pow(10.0, decimals);
-  const double r = std::round(value * scale) / scale;
-  return r == 0.0 ? 0.0 : r;
+  return rounded(value, decimals);
 }
 
 }  // namespace robcal::cli

@@ -14,6 +14,9 @@
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
+#include "robcal/hexapod/end_to_end_report.hpp"
+#include "robcal/hexapod/geometry_reports.hpp"
+#include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/session.hpp"
@@ -63,17 +66,6 @@ struct GeometryOptions {
   }
 };
 
-nlohmann::json vec_json(const Eigen::Vector3d& v, int decimals = 9) {
-  return {tidy(v.x(), decimals), tidy(v.y(), decimals), tidy(v.z(), decimals)};
-}
-
-nlohmann::json pose_json(const Pose<double>& pose) {
-  const Eigen::Quaterniond q = to_quaternion(pose.R);
-  return {
-      {"position_mm", vec_json(pose.p)},
-      {"quaternion_wxyz", {tidy(q.w(), 12), tidy(q.x(), 12), tidy(q.y(), 12), tidy(q.z(), 12)}}};
-}
-
 // ---- dkp -------------------------------------------------------------------------------------
 
 void run_dkp(const std::string& base, const std::string& tool, const std::string& legs_text,
@@ -85,16 +77,7 @@ void run_dkp(const std::string& base, const std::string& tool, const std::string
   const DkpResult dkp = solve_dkp(bs, ts, legs);
   if (dkp.status != DkpStatus::Ok) throw InputError({"", 0, 0, "--legs"}, dkp.message);
   if (json) {
-    nlohmann::json out;
-    for (const AssemblyModeSolution& s : dkp.solutions) {
-      nlohmann::json cups = nlohmann::json::array();
-      for (const auto& c : s.tool) cups.push_back(vec_json(c));
-      out["solutions"].push_back({{"mode", s.mode},
-                                  {"signs", s.signs},
-                                  {"tool_cups_mm", cups},
-                                  {"base_T_tool", pose_json(frame_from_cups(s.tool))}});
-    }
-    print_json(out);
+    print_json(dkp_json(dkp));
     return;
   }
   fmt::print("tool cups in the base fixture frame (b1 origin, b2 on x), mm\n");
@@ -108,55 +91,18 @@ void run_dkp(const std::string& base, const std::string& tool, const std::string
 
 // ---- poses -----------------------------------------------------------------------------------
 
-nlohmann::json hexapod_pose_json(const HexapodPose& p) {
-  nlohmann::json legs = nlohmann::json::array();
-  for (const PhysicalLeg& l : p.legs)
-    legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
-  nlohmann::json cups = nlohmann::json::array();
-  for (const auto& c : p.tool_cups) cups.push_back(vec_json(c));
-  return {{"label", p.label},
-          {"mode", p.mode},
-          {"rotation_deg", p.rotation_deg},
-          {"base_roles", {p.design.base[0] + 1, p.design.base[1] + 1, p.design.base[2] + 1}},
-          {"legs", legs},
-          {"tool_cups_mm", cups},
-          {"base_T_tool", pose_json(p.base_T_tool)}};
-}
-
 void run_poses(const GeometryOptions& options, double angle_deg, double distance_mm, bool json) {
-  if (!(angle_deg >= 0) || !(distance_mm >= 0))
-    throw InputError({"", 0, 0, "--angle-deg/--distance-mm"}, "expected non-negative thresholds");
-  const std::vector<HexapodPose> all = enumerate_poses(options.geometry());
-  const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(angle_deg), distance_mm);
-  // The closest two poses in orientation, and their tool-fixture centres' distance: what the
-  // angle threshold must exceed for any pruning.
-  double closest_deg = 180, closest_mm = 0;
-  for (size_t i = 0; i < all.size(); ++i)
-    for (size_t j = i + 1; j < all.size(); ++j) {
-      const double a = rad2deg(rotation_distance(all[i].base_T_tool.R, all[j].base_T_tool.R));
-      if (a < closest_deg) {
-        closest_deg = a;
-        closest_mm = (centroid(all[i].tool_cups) - centroid(all[j].tool_cups)).norm();
-      }
-    }
+  const PoseSelection s = select_poses(options.geometry(), angle_deg, distance_mm);
   if (json) {
-    nlohmann::json out{{"enumerated", all.size()},
-                       {"kept", kept.size()},
-                       {"angle_deg", angle_deg},
-                       {"distance_mm", distance_mm},
-                       {"closest_orientation_deg", tidy(closest_deg, 6)},
-                       {"closest_orientation_centres_mm", tidy(closest_mm, 6)}};
-    out["poses"] = nlohmann::json::array();
-    for (const HexapodPose& p : kept) out["poses"].push_back(hexapod_pose_json(p));
-    print_json(out);
+    print_json(pose_selection_json(s));
     return;
   }
   fmt::print("{} poses enumerated, {} kept (redundant: within {}° and {} mm of a kept one)\n",
-             all.size(), kept.size(), angle_deg, distance_mm);
+             s.enumerated.size(), s.kept.size(), angle_deg, distance_mm);
   fmt::print(
       "closest two poses in orientation: {:.3f}° apart, tool-fixture centres {:.1f} mm apart\n",
-      closest_deg, closest_mm);
-  for (const HexapodPose& p : kept) {
+      s.closest_orientation_deg, s.closest_centres_mm);
+  for (const HexapodPose& p : s.kept) {
     const Eigen::Vector3d c = centroid(p.tool_cups);
     fmt::print("{}  {:<32} centroid {:8.2f} {:8.2f} {:8.2f} mm\n", p.label, p.description(), c.x(),
                c.y(), c.z());
@@ -167,44 +113,14 @@ void run_poses(const GeometryOptions& options, double angle_deg, double distance
 
 void run_uncertainty(const GeometryOptions& options, double sigma_um, uint64_t seed, int samples,
                      bool json) {
-  if (!(sigma_um > 0)) throw InputError({"", 0, 0, "--sigma-um"}, "expected a positive σ");
-  if (samples < 100) throw InputError({"", 0, 0, "--samples"}, "expected at least 100 samples");
-  const HexapodGeometry g = options.geometry();
-  std::mt19937_64 rng(seed);
-  const std::vector<ModeUncertainty> analytic = dkp_uncertainty(g);
-  const std::vector<ModeUncertainty> mc =
-      dkp_uncertainty_monte_carlo(g, sigma_um * 1e-3, samples, rng);
-  double worst = 0, worst_disagreement = 0;
-  nlohmann::json modes = nlohmann::json::array();
-  for (size_t m = 0; m < analytic.size(); ++m) {
-    nlohmann::json cups = nlohmann::json::array();
-    for (int j = 0; j < 3; ++j) {
-      const CupUncertainty& a = analytic[m].cups[j];
-      const CupUncertainty& b = mc[m].cups[j];
-      worst = std::max(worst, a.norm);
-      worst_disagreement = std::max(worst_disagreement, std::abs(b.norm / a.norm - 1));
-      cups.push_back({{"cup", a.cup},
-                      {"per_axis_sigma", vec_json(a.per_axis, 4)},
-                      {"norm_sigma", tidy(a.norm, 4)},
-                      {"per_axis_um", vec_json(a.per_axis * sigma_um, 4)},
-                      {"norm_um", tidy(a.norm * sigma_um, 4)},
-                      {"monte_carlo_per_axis_sigma", vec_json(b.per_axis, 4)},
-                      {"monte_carlo_norm_sigma", tidy(b.norm, 4)}});
-    }
-    modes.push_back({{"mode", analytic[m].mode}, {"cups", cups}});
-  }
+  const UncertaintyStudy study = uncertainty_study(options.geometry(), sigma_um, seed, samples);
+  const nlohmann::json out = uncertainty_study_json(study);
   if (json) {
-    print_json({{"sigma_um", sigma_um},
-                {"seed", seed},
-                {"samples", samples},
-                {"modes", modes},
-                {"worst_norm_sigma", tidy(worst, 4)},
-                {"worst_norm_um", tidy(worst * sigma_um, 4)},
-                {"worst_norm_um_95", tidy(2 * worst * sigma_um, 4)},
-                {"monte_carlo_max_relative_difference", tidy(worst_disagreement, 5)},
-                {"published_worst_sigma", 3.2}});
+    print_json(out);
     return;
   }
+  const nlohmann::json& modes = out["modes"];
+  const double worst = study.worst_norm_sigma;
   fmt::print("σ = {} µm per distance; Monte Carlo {} samples, seed {}\n", sigma_um, samples, seed);
   fmt::print("mode cup   σx/σ    σy/σ    σz/σ   |σ|/σ   |σ| µm  (MC |σ|/σ)\n");
   for (const nlohmann::json& m : modes)
@@ -230,17 +146,7 @@ void run_world_frame(const std::string& points, const std::string& sides, bool j
   const WorldFrameFit fit =
       fit_world_frame(parse_points(points, "--points"), parse_sides(sides, "--sides"));
   if (json) {
-    nlohmann::json corrected = nlohmann::json::array();
-    for (const auto& c : fit.corrected) corrected.push_back(vec_json(c));
-    print_json({{"robot_T_world", pose_json(fit.robot_T_fixture)},
-                {"corrected_cups_mm", corrected},
-                {"planar",
-                 {{"x_mm", tidy(fit.planar[0])},
-                  {"y_mm", tidy(fit.planar[1])},
-                  {"phi_deg", tidy(rad2deg(fit.planar[2]), 12)}}},
-                {"rms_mm", tidy(fit.rms_mm)},
-                {"iterations", fit.iterations},
-                {"converged", fit.converged}});
+    print_json(world_frame_json(fit));
     return;
   }
   fmt::print(
@@ -287,95 +193,27 @@ struct CellOptions {
                     "… and closer in position (tool-fixture centroid)")
         ->capture_default_str();
   }
+  [[nodiscard]] HexapodPlanRequest request(const HexapodGeometry& geometry) const {
+    HexapodPlanRequest r;
+    r.robot = robot;
+    r.geometry = geometry;
+    r.placement = parse_placement(placement, {"", 0, 0, "--placement"});
+    r.tool_offset_mm = tool_offset_mm;
+    r.ball_offset_mm = ball_offset_mm;
+    r.table_z_mm = table_z_mm;
+    r.angle_deg = angle_deg;
+    r.distance_mm = distance_mm;
+    return r;
+  }
   [[nodiscard]] Pose<double> rough_placement() const {
-    const std::vector<double> v = parse_numbers(placement, 4, "--placement");
-    Pose<double> pose;
-    pose.R = Eigen::AngleAxisd(deg2rad(v[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    pose.p = Eigen::Vector3d(v[0], v[1], v[2]);
-    return pose;
+    return placement_pose(parse_placement(placement, {"", 0, 0, "--placement"}));
   }
 };
 
-/// The base fixture frame (B1 origin, B2 on x) for a rough placement of its cup centroid.
-Pose<double> fixture_frame_at(const Pose<double>& placement, const Cups<double>& cups) {
-  Pose<double> centroid_T_base;
-  centroid_T_base.p = -centroid(cups);
-  return placement * centroid_T_base;
-}
-
-nlohmann::json joints_json(const Vector6d& q) {
-  nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < kJointCount; ++i) out.push_back(tidy(rad2deg(q[i]), 6));
-  return out;
-}
-
-/// The setting-ball points and the robot configurations that reach them, ball pointing down.
-nlohmann::json setup_json(const RobotModel& model, const Pose<double>& placement, double side_mm,
-                          double ball_offset_mm) {
-  const Cups<double> points = setting_ball_points(placement, side_mm);
-  const auto geometry = analyze_ortho_parallel(model);
-  nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < 3; ++i) {
-    // Flange z pointing down, the ball ball_offset_mm below the flange.
-    Pose<double> robot_T_flange;
-    robot_T_flange.R =
-        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix() * placement.R;
-    robot_T_flange.p = points[i] + Eigen::Vector3d(0, 0, ball_offset_mm);
-    nlohmann::json entry{{"cup", fmt::format("B{}", i + 1)},
-                         {"ball_position_mm", vec_json(points[i])}};
-    entry["configurations"] = nlohmann::json::array();
-    if (geometry)
-      for (const IkSolution& s : nominal_ik(*geometry, robot_T_flange))
-        entry["configurations"].push_back(
-            {{"labels", s.config.label()}, {"joints_deg", joints_json(s.joints)}});
-    out.push_back(entry);
-  }
-  return out;
-}
-
-nlohmann::json plan_json(const RobotModel& model, const HexapodGeometry& g, const CellOptions& o,
-                         const PlanSummary& summary, size_t enumerated) {
-  nlohmann::json out;
-  out["robot"] = o.robot;
-  out["ballbar"] = {
-      {"tool_mm", g.tool.d12}, {"leg_mm", g.leg_mm}, {"range_mm", 1.0}, {"recheck_every", 5}};
-  out["geometry"] = {{"base_sides_mm", g.base.as_array()}, {"tool_sides_mm", g.tool.as_array()}};
-  out["placement"] = o.placement;
-  out["tool_offset_mm"] = o.tool_offset_mm;
-  out["ball_offset_mm"] = o.ball_offset_mm;
-  out["table_z_mm"] = o.table_z_mm;
-  out["tool_mount"] = pose_json(default_tool_mount(g.tool, o.tool_offset_mm));
-  out["setting_ball"] = setup_json(model, o.rough_placement(), g.leg_mm, o.ball_offset_mm);
-  out["poses_enumerated"] = enumerated;
-  out["poses_kept"] = summary.poses.size();
-  out["poses_measurable"] = summary.measurable_poses;
-  out["configurations_measurable"] = summary.configurations;
-  out["configurations"] = nlohmann::json::array();
-  out["poses"] = nlohmann::json::array();
-  for (const PosePlan& p : summary.poses) {
-    nlohmann::json legs = nlohmann::json::array();
-    for (const PhysicalLeg& l : p.pose.legs)
-      legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
-    out["poses"].push_back({{"label", p.pose.label},
-                            {"description", p.pose.description()},
-                            {"ik", to_string(p.ik_status)},
-                            {"configurations", p.configurations.size()},
-                            {"rejected_table", p.rejected_table},
-                            {"rejected_fixture", p.rejected_fixture}});
-    for (const PoseConfiguration& c : p.configurations)
-      out["configurations"].push_back({{"pose", p.pose.label},
-                                       {"mode", p.pose.mode},
-                                       {"labels", c.config.label()},
-                                       {"joints_deg", joints_json(c.joints)},
-                                       {"legs", legs}});
-  }
-  return out;
-}
-
 void run_setup(const CellOptions& o, double side_mm, bool json) {
-  if (!(side_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
   const RobotModel model = load_robot(o.robot);
-  const nlohmann::json points = setup_json(model, o.rough_placement(), side_mm, o.ball_offset_mm);
+  const nlohmann::json points =
+      setting_ball_json(plan_setting_ball(model, o.rough_placement(), side_mm, o.ball_offset_mm));
   if (json) {
     print_json({{"robot", o.robot}, {"side_mm", side_mm}, {"setting_ball", points}});
     return;
@@ -395,31 +233,26 @@ void run_setup(const CellOptions& o, double side_mm, bool json) {
 
 void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
               const std::string& out_path, bool json) {
-  const HexapodGeometry g = geometry_options.geometry();
+  const HexapodPlanRequest request = o.request(geometry_options.geometry());
   const RobotModel model = load_robot(o.robot);
-  const std::vector<HexapodPose> all = enumerate_poses(g);
-  const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(o.angle_deg), o.distance_mm);
-  const Cups<double> base_cups = fixture_cups(g.base, "--base-mm");
-  CellSetup cell;
-  cell.robot_T_base = fixture_frame_at(o.rough_placement(), base_cups);
-  cell.flange_T_tool = default_tool_mount(g.tool, o.tool_offset_mm);
-  cell.table_z_mm = o.table_z_mm;
-  const PlanSummary summary = plan_poses(model, cell, base_cups, kept);
-  const nlohmann::json plan = plan_json(model, g, o, summary, all.size());
-  if (!out_path.empty()) write_file_atomically(out_path, plan.dump(2) + "\n");
+  const HexapodPlan plan = plan_hexapod(model, request);
+  if (!out_path.empty()) write_hexapod_plan(out_path, plan);
   if (json) {
-    print_json(plan);
+    print_json(hexapod_plan_json(plan));
     return;
   }
+  const PlanOutcome& outcome = *plan.outcome;
   fmt::print(
       "{}: {} poses enumerated, {} kept after pruning, {} measurable with {} configurations\n",
-      model.name, all.size(), kept.size(), summary.measurable_poses, summary.configurations);
-  for (const PosePlan& p : summary.poses) {
+      model.name, outcome.poses_enumerated, outcome.poses_kept, outcome.poses_measurable,
+      outcome.configurations_measurable);
+  for (const PlannedPose& p : outcome.poses) {
     std::vector<std::string> labels;
-    for (const auto& c : p.configurations) labels.push_back(c.config.label());
-    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {})\n",
-               p.pose.label, p.pose.description(), to_string(p.ik_status), p.configurations.size(),
-               fmt::join(labels, " "), p.rejected_table, p.rejected_fixture);
+    for (const SessionConfiguration& c : plan.session.configurations)
+      if (c.pose == p.label) labels.push_back(c.labels);
+    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {})\n", p.label,
+               p.description, p.ik, p.configurations, fmt::join(labels, " "), p.rejected_table,
+               p.rejected_fixture);
   }
   if (!out_path.empty()) fmt::print("plan written to {}\n", out_path);
 }
@@ -449,7 +282,7 @@ Answer parse_answer(const std::string& line) {
 
 void run_session(const std::string& plan_path, const std::string& journal_path, bool resume,
                  const std::string& out_path, bool json) {
-  Session session(load_session_plan(plan_path));
+  Session session(read_hexapod_plan(plan_path).session);
   SessionJournal journal =
       resume ? SessionJournal::open_for_resume(journal_path) : SessionJournal::create(journal_path);
   std::FILE* talk = json ? stderr : stdout;  // prompts never mix with the JSON result
@@ -502,30 +335,8 @@ void run_session(const std::string& plan_path, const std::string& journal_path, 
 
 // ---- simulate ------------------------------------------------------------------------------
 
-nlohmann::json figures_json(const ValidationFigures& f) {
-  const auto stats = [](const ErrorStatistics& s) {
-    return nlohmann::json{{"count", s.count},
-                          {"mean_mm", tidy(s.mean, 6)},
-                          {"std_mm", tidy(s.std, 6)},
-                          {"mean_plus_3std_mm", tidy(s.mean_plus_3std(), 6)},
-                          {"max_mm", tidy(s.max, 6)}};
-  };
-  return {{"absolute", stats(f.absolute)}, {"pairs", stats(f.pairs)}};
-}
-
-nlohmann::json stage_json(const CalibrationStage& s) {
-  return {{"configurations", s.configurations},
-          {"rms_mm", tidy(s.rms_mm, 6)},
-          {"iterations", s.iterations},
-          {"converged", s.converged},
-          {"validation", figures_json(s.validation)}};
-}
-
 void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation, int threads,
                   bool leg_fit, bool relative, bool json) {
-  if (validation < 2)
-    throw InputError({"", 0, 0, "--validation"}, "expected at least 2 configurations");
-  if (threads < 1) throw InputError({"", 0, 0, "--threads"}, "expected at least 1 thread");
   const RobotModel model = load_robot(cell_options.robot);
   EndToEndOptions o;
   o.cell.placement = cell_options.rough_placement();
@@ -540,35 +351,7 @@ void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation
   o.relative_pose_fit = relative;
   std::mt19937_64 rng(seed);
   const EndToEndReport r = run_end_to_end(model, o, rng);
-  nlohmann::json out{{"robot", r.robot},
-                     {"seed", seed},
-                     {"poses_enumerated", r.poses_enumerated},
-                     {"poses_kept", r.poses_kept},
-                     {"poses_measurable", r.poses_measurable},
-                     {"configurations_planned", r.configurations_planned},
-                     {"measured_first_pass", r.measured_first},
-                     {"out_of_range_first_pass", r.retried},
-                     {"measured_after_replanning", r.measured_after_replan},
-                     {"world_frame_rms_mm", tidy(r.world_frame_rms_mm, 6)},
-                     {"world_frame_error_mm", tidy(r.world_frame_error_mm, 6)},
-                     {"world_frame_error_deg", tidy(r.world_frame_error_deg, 6)},
-                     {"relative_pose_fit", relative},
-                     {"validation_configurations", r.validation_configurations},
-                     {"nominal", figures_json(r.nominal)},
-                     {"preliminary", stage_json(r.preliminary)},
-                     {"final", stage_json(r.final_pose_fit)}};
-  if (leg_fit) {
-    out["leg_fit"] = stage_json(r.leg_fit);
-    out["leg_fit"]["length_offset_mm"] = tidy(r.leg_fit_offset_mm, 6);
-  }
-  out["published"] = {{"poses", 46},
-                      {"configurations", 124},
-                      {"nominal_mean_mm", 1.355},
-                      {"front_up_46_mean_max_mm", {0.517, 1.223}},
-                      {"all_61_mean_max_mm", {0.796, 1.630}},
-                      {"pairs_before_mean_mm", 1.062},
-                      {"pairs_after_mean_max_mm", {0.400, 1.666}},
-                      {"laser_tracker_50_mean_max_mm", {0.156, 0.490}}};
+  const nlohmann::json out = end_to_end_json(r, o, seed);
   if (json) {
     print_json(out);
     return;

@@ -4,26 +4,23 @@
 /// the ballbar's range on that preliminary model, measure them, calibrate on everything.
 
 #include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <random>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
-#include "robcal/hexapod/end_to_end.hpp"
-#include "robcal/hexapod/leg_fit.hpp"
+#include "robcal/hexapod/measurement.hpp"
+#include "robcal/hexapod/plan_file.hpp"
+#include "robcal/hexapod/replan.hpp"
+#include "robcal/hexapod/session_calibration.hpp"
 #include "robcal/hexapod/session_data.hpp"
-#include "robcal/hexapod/simulation.hpp"
-#include "robcal/identify/identification.hpp"
+#include "robcal/hexapod/simulated_readings.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
-#include "robcal/kinematics/numeric_ik.hpp"
-#include "robcal/sim/true_robot.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -48,31 +45,12 @@ struct SessionOptions {
                       "Tool file whose payload (mass, CoG) the robot carried (default: none); its "
                       "targets are replaced by the tool fixture's cups");
   }
-  [[nodiscard]] SessionData load() const {
-    if (!plan.empty() && sessions.size() != 1)
-      throw InputError({"", 0, 0, "--plan"},
-                       "--plan goes with one journal; give several sessions as directories");
-    std::vector<SessionData> all;
-    for (const std::string& s : sessions) all.push_back(load_session_data(s, plan));
-    return merge_sessions(all);
-  }
+  [[nodiscard]] SessionData load() const { return load_sessions(sessions, plan); }
   [[nodiscard]] Tool hexapod_tool_of(const SessionData& data) const {
     const PointMass payload = tool.empty() ? PointMass{} : load_tool(tool).payload;
     return hexapod_tool(payload, data.flange_T_tool, data.tool_sides);
   }
 };
-
-nlohmann::json session_summary(const SessionData& data, const WorldFrameFit& world) {
-  nlohmann::json retry = nlohmann::json::array();
-  for (const RetryConfiguration& r : data.retry) retry.push_back(r.config);
-  return {{"sessions", data.source},
-          {"configurations_measured", data.readings.size()},
-          {"configurations_to_retry", retry},
-          {"configurations_pending", data.pending},
-          {"tool_sides_mm", data.tool_sides.as_array()},
-          {"base_sides_mm", data.base_sides.as_array()},
-          {"world_frame_rms_mm", tidy(world.rms_mm)}};
-}
 
 void print_session_summary(const SessionData& data, const WorldFrameFit& world) {
   fmt::print(
@@ -113,14 +91,6 @@ void add_exports(OutputFiles& files, const SessionData& data, const Tool& tool,
   if (!tool_out.empty()) files.add(tool_out, tool_to_yaml(tool));
 }
 
-nlohmann::json read_plan_json(const std::string& path) {
-  try {
-    return nlohmann::json::parse(read_text_file(path));
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError({path, 0, 0, ""}, fmt::format("not valid JSON: {}", e.what()));
-  }
-}
-
 // ---- calibrate -------------------------------------------------------------------------------
 
 struct CalibrateOptions {
@@ -135,116 +105,46 @@ struct CalibrateOptions {
   bool json = false;
 };
 
-/// The fit from the raw legs (leg_fit.hpp): the level's link and compliance parameters, the cups
-/// and the ballbar's offset; written in the frame of the pose fit.
-void run_leg_calibrate(const CalibrateOptions& o, const RobotModel& model, const SessionData& data,
-                       const WorldFrameFit& world, const Tool& tool) {
-  LegFitOptions options;
-  for (int i : level_parameters(parse_calibration_level(o.level)))
-    if (i >= kBaseParamCount) options.free_parameters.push_back(i);
-  const LegFitResult fit =
-      fit_from_legs(model, tool.payload, data.base_sides, data.tool_sides, data.readings,
-                    model.nominal(), world.robot_T_fixture, data.flange_T_tool, options);
-  CalibratedRobot robot = leg_fit_robot(model, tool.payload, fit, world.robot_T_fixture);
-  robot.level = level_name(parse_calibration_level(o.level));
-  YAML::Node stats;
-  stats["leg_fit"]["residuals"] = fit.residuals;
-  stats["leg_fit"]["initial_rms_mm"] = fit.initial_rms_mm;
-  stats["leg_fit"]["rms_mm"] = fit.rms_mm;
-  stats["leg_fit"]["iterations"] = fit.iterations;
-  stats["leg_fit"]["converged"] = fit.converged;
-  stats["leg_fit"]["ballbar_length_offset_mm"] = fit.length_offset_mm;
-  for (const std::string& h : fit.held) stats["leg_fit"]["held"].push_back(h);
-  YAML::Emitter emitter;
-  emitter.SetDoublePrecision(9);
-  emitter << stats;
-  OutputFiles files;
-  files.add(o.out, calibrated_robot_to_yaml(robot, emitter.c_str()));
-  add_exports(files, data, tool, nullptr, o.poses_out, o.legs_out, o.tool_out);
-  files.write();
-  if (o.json) {
-    nlohmann::json out = session_summary(data, world);
-    out["robot"] = model.name;
-    out["level"] = robot.level;
-    out["fit"] = "legs";
-    out["rows"] = data.readings.size();
-    out["residuals"] = fit.residuals;
-    out["converged"] = fit.converged;
-    out["iterations"] = fit.iterations;
-    out["identified"] = fit.identified.size();
-    out["held"] = fit.held;
-    out["initial_rms_mm"] = tidy(fit.initial_rms_mm);
-    out["rms_mm"] = tidy(fit.rms_mm);
-    out["ballbar_length_offset_mm"] = tidy(fit.length_offset_mm);
-    out["output"] = o.out;
-    print_json(out);
-    return;
-  }
-  print_session_summary(data, world);
-  fmt::print(
-      "calibrated {} at level {} from the raw legs of {} configurations ({} distances): {} after "
-      "{} iterations, rms {:.5f} mm (start {:.4f}); ballbar offset {:+.5f} mm; {} model "
-      "parameters identified\nwritten {}\n",
-      model.name, robot.level, data.readings.size(), fit.residuals,
-      fit.converged ? "converged" : "DID NOT CONVERGE", fit.iterations, fit.rms_mm,
-      fit.initial_rms_mm, fit.length_offset_mm, fit.identified.size(), o.out);
-  for (const std::string& h : fit.held) fmt::print("  held {}\n", h);
-}
-
 void run_calibrate(const CalibrateOptions& o) {
-  if (o.fit != "poses" && o.fit != "legs")
-    throw InputError({"", 0, 0, "--fit"},
-                     fmt::format("unknown fit '{}': expected poses or legs", o.fit));
-  if (o.fit == "legs" && o.relative)
-    throw InputError({"", 0, 0, "--relative"}, "the leg fit always identifies the base cups");
-  check_orientation_weight(o.orientation_weight);
+  SessionCalibrationRequest request;
+  request.fit = parse_session_fit(o.fit);
+  request.level = parse_calibration_level(o.level);
+  request.relative = o.relative;
+  request.orientation_weight_mm = o.orientation_weight;
+  request.seed = o.seed;
   const RobotModel model = load_robot(o.robot);
   const SessionData data = o.session.load();
-  const WorldFrameFit world = session_world_frame(data);
-  const Tool tool = o.session.hexapod_tool_of(data);
-  if (o.fit == "legs") {
-    run_leg_calibrate(o, model, data, world, tool);
-    return;
-  }
-  IdentifyOptions options;
-  options.level = parse_calibration_level(o.level);
-  if (o.relative) options.fix = {"base.*"};
-  options.orientation_weight_mm = o.orientation_weight;
-  options.seed = o.seed;
-  const MeasurementSet poses = session_pose_measurements(data);
-  if (!o.json && stdout_is_terminal()) fmt::print("calibrating ({} poses)…\n", poses.size());
-  IdentificationResult r = calibrate(model, tool, poses, options);
-  // The poses are in the robot frame of the world the base cups define: the model's frame is that
-  // world even when its base is held (the relative model).
-  r.robot.base_fitted = true;
+  const PointMass payload =
+      o.session.tool.empty() ? PointMass{} : load_tool(o.session.tool).payload;
+  if (request.fit == SessionFit::Poses && !o.json && stdout_is_terminal())
+    fmt::print("calibrating ({} poses)…\n", data.readings.size());
+  const SessionCalibration c = calibrate_sessions(data, model, payload, request);
   OutputFiles files;
-  files.add(o.out, calibrated_robot_to_yaml(r.robot, statistics_yaml(r)));
-  add_exports(files, data, tool, &poses, o.poses_out, o.legs_out, o.tool_out);
+  files.add(o.out, c.model_file);
+  add_exports(files, data, c.tool, &c.poses, o.poses_out, o.legs_out, o.tool_out);
   files.write();
   if (o.json) {
-    nlohmann::json out = session_summary(data, world);
-    out["robot"] = model.name;
-    out["level"] = r.robot.level;
-    out["relative"] = o.relative;
-    out["orientation_weight_mm_per_rad"] = o.orientation_weight;
-    out["rows"] = poses.size();
-    out["converged"] = r.status.converged;
-    out["iterations"] = r.status.iterations;
-    out["identified"] = r.identified_count;
-    out["initial_rms_mm"] = tidy(r.status.initial_rms_mm);
-    out["rms_mm"] = tidy(r.rms_mm);
-    out["max_mm"] = tidy(r.max_mm);
-    out["sigma_mm"] = tidy(r.sigma_mm);
-    out["predicted_mean_mm"] = tidy(r.predicted.mean_mm);
-    out["output"] = o.out;
-    print_json(out);
+    print_json(session_calibration_json(data, model, c, o.out));
     return;
   }
-  print_session_summary(data, world);
+  print_session_summary(data, c.world);
+  if (c.legs) {
+    const LegFitResult& fit = *c.legs;
+    fmt::print(
+        "calibrated {} at level {} from the raw legs of {} configurations ({} distances): {} "
+        "after {} iterations, rms {:.5f} mm (start {:.4f}); ballbar offset {:+.5f} mm; {} model "
+        "parameters identified\nwritten {}\n",
+        model.name, c.robot.level, data.readings.size(), fit.residuals,
+        fit.converged ? "converged" : "DID NOT CONVERGE", fit.iterations, fit.rms_mm,
+        fit.initial_rms_mm, fit.length_offset_mm, fit.identified.size(), o.out);
+    for (const std::string& h : fit.held) fmt::print("  held {}\n", h);
+    return;
+  }
+  const IdentificationResult& r = *c.identification;
   fmt::print(
       "calibrated {} at level {}{} from {} poses: {} after {} iterations, residual rms {:.4f} mm "
       "(max {:.4f}, start {:.4f}), {} unknowns identified\nwritten {}\n",
-      model.name, r.robot.level, o.relative ? " (relative: base held)" : "", poses.size(),
+      model.name, r.robot.level, o.relative ? " (relative: base held)" : "", c.poses.size(),
       r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations, r.rms_mm,
       r.max_mm, r.status.initial_rms_mm, r.identified_count, o.out);
   if (!data.retry.empty())
@@ -265,7 +165,7 @@ void run_export(const SessionOptions& s, const std::string& out, const std::stri
   add_exports(files, data, s.hexapod_tool_of(data), nullptr, out, legs_out, tool_out);
   files.write();
   if (json) {
-    nlohmann::json summary = session_summary(data, world);
+    nlohmann::json summary = session_summary_json(data, world);
     summary["poses"] = out;
     summary["legs"] = legs_out;
     summary["tool"] = tool_out;
@@ -279,76 +179,20 @@ void run_export(const SessionOptions& s, const std::string& out, const std::stri
 
 // ---- replan ----------------------------------------------------------------------------------
 
-nlohmann::json joints_deg_json(const Vector6d& q) {
-  nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < kJointCount; ++i) out.push_back(tidy(rad2deg(q[i]), 6));
-  return out;
-}
-
 void run_replan(const SessionOptions& s, const std::string& model_path, const std::string& out,
                 bool json) {
-  const SessionData data = s.load();
-  const CalibratedRobot robot = load_calibrated_robot(model_path);
-  const WorldFrameFit world = session_world_frame(data);
-  nlohmann::json plan = read_plan_json(data.plan_file.string());
-  plan["configurations"] = nlohmann::json::array();
-  plan["measured_sides"] = {{"tool_mm", data.tool_sides.as_array()},
-                            {"base_mm", data.base_sides.as_array()}};
-  plan["replanned"] = {{"sessions", data.source}, {"model", model_path}};
-  nlohmann::json failed = nlohmann::json::array();
-  for (const RetryConfiguration& r : data.retry) {
-    // Newton from the planned joints on the preliminary model, for the flange pose that puts every
-    // leg at the ballbar's length.
-    const NumericIkResult ik = numeric_ik(robot.model, robot.tool.payload, robot.params,
-                                          required_flange_pose(data, world, r), r.joints);
-    if (ik.status != NumericIkStatus::Converged || !ik.within_limits) {
-      failed.push_back({{"config", r.config},
-                        {"why", ik.status != NumericIkStatus::Converged ? to_string(ik.status)
-                                                                        : "outside joint limits"}});
-      continue;
-    }
-    nlohmann::json legs = nlohmann::json::array();
-    for (const PhysicalLeg& l : r.legs)
-      legs.push_back(fmt::format("B{}-T{}", l.base + 1, l.tool + 1));
-    plan["configurations"].push_back({{"pose", r.pose},
-                                      {"mode", r.mode},
-                                      {"labels", r.labels},
-                                      {"joints_deg", joints_deg_json(ik.joints)},
-                                      {"planned_joints_deg", joints_deg_json(r.joints)},
-                                      {"legs", legs}});
-  }
-  write_file_atomically(out, plan.dump(2) + "\n");
+  const Replan r = replan_retries(s.load(), load_calibrated_robot(model_path), model_path);
+  write_hexapod_plan(out, r.plan);
   if (json) {
-    print_json({{"sessions", data.source},
-                {"model", model_path},
-                {"retry", data.retry.size()},
-                {"replanned", plan["configurations"].size()},
-                {"failed", failed},
-                {"plan", out}});
+    print_json(replan_json(r, out));
     return;
   }
   fmt::print("{} of {} configurations to retry re-planned on {}; plan written to {}\n",
-             plan["configurations"].size(), data.retry.size(), model_path, out);
-  for (const nlohmann::json& f : failed)
-    fmt::print("  {}: {}\n", f["config"].get<std::string>(), f["why"].get<std::string>());
+             r.plan.session.configurations.size(), r.retry, model_path, out);
+  for (const ReplanFailure& f : r.failed) fmt::print("  {}: {}\n", f.config, f.why);
 }
 
 // ---- simulate-readings -----------------------------------------------------------------------
-
-/// A field of a plan written by `robcal hexapod plan` that the simulator needs: `node[key]`, named
-/// `parent.key` in errors, which say what was `expected`.
-template <typename T>
-T plan_value(const nlohmann::json& node, const std::string& key, const std::string& file,
-             const std::string& expected, const std::string& parent = "") {
-  const SourceLocation where{file, 0, 0, parent.empty() ? key : parent + "." + key};
-  if (!node.is_object() || !node.contains(key))
-    throw InputError(where, "the simulator needs this field of the plan: " + expected);
-  try {
-    return node[key].get<T>();
-  } catch (const nlohmann::json::exception&) {
-    throw InputError(where, "expected " + expected);
-  }
-}
 
 struct SimulateReadingsOptions {
   std::string plan, robot = "fanuc-lrmate200ic", out, validation_out, tool_out, payload;
@@ -357,96 +201,35 @@ struct SimulateReadingsOptions {
   bool json = false;
 };
 
-/// The simulated cell of a plan: the true robot and fixtures drawn from the seed, so plans of the
-/// same cell (a first pass and its re-plan) see the same robot and cups.
-SimulatedHexapodCell cell_of_plan(const SimulateReadingsOptions& o, const SessionPlan& session,
-                                  const RobotModel& model, const PointMass& payload,
-                                  std::mt19937_64& rng) {
-  const nlohmann::json plan = read_plan_json(o.plan);
-  HexapodCellOptions cell;
-  const auto geometry =
-      plan_value<nlohmann::json>(plan, "geometry", o.plan, "the fixtures' design sides");
-  const auto sides = [&](const char* key) {
-    const auto v = plan_value<std::vector<double>>(geometry, key, o.plan, "three side lengths (mm)",
-                                                   "geometry");
-    if (v.size() != 3)
-      throw InputError({o.plan, 0, 0, std::string("geometry.") + key},
-                       "expected three side lengths (mm)");
-    return TriangleSides{v[0], v[1], v[2]};
-  };
-  cell.design = {sides("base_sides_mm"), sides("tool_sides_mm"), session.leg_mm};
-  const std::string placement_text =
-      plan_value<std::string>(plan, "placement", o.plan, "the placement \"x,y,z,yaw\" (mm, deg)");
-  std::vector<double> placement;
-  try {
-    placement = parse_numbers(placement_text, 4, "placement");
-  } catch (const InputError&) {
-    throw InputError({o.plan, 0, 0, "placement"},
-                     fmt::format("'{}': expected \"x,y,z,yaw\" (mm, deg)", placement_text));
-  }
-  cell.placement.R =
-      Eigen::AngleAxisd(deg2rad(placement[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  cell.placement.p = Eigen::Vector3d(placement[0], placement[1], placement[2]);
-  cell.tool_offset_mm = plan_value<double>(plan, "tool_offset_mm", o.plan, "a number (mm)");
-  cell.ball_offset_mm = plan_value<double>(plan, "ball_offset_mm", o.plan, "a number (mm)");
-  const TrueRobot truth = levelled_random_truth(model, payload, EndToEndOptions{}.errors, rng);
-  return set_up_simulated_cell(truth, model, cell, rng);
-}
-
 void run_simulate_readings(const SimulateReadingsOptions& o) {
-  if (o.validation < 0)
-    throw InputError({"", 0, 0, "--validation"}, "expected a non-negative count");
   const RobotModel model = load_robot(o.robot);
   const PointMass payload = o.payload.empty() ? PointMass{2.6, Eigen::Vector3d(50, 25, 100)}
                                               : load_tool(o.payload).payload;
-  const SessionPlan plan = load_session_plan(o.plan);
-  std::mt19937_64 rng(o.seed);
-  const SimulatedHexapodCell cell = cell_of_plan(o, plan, model, payload, rng);
-  // Drive the session script itself, so the readings come in the order the session asks.
-  Session session(plan);
-  std::string text;
-  int readings = 0, out_of_range = 0;
-  while (const std::optional<SessionStep> step = session.next_step()) {
-    const std::optional<double> r = simulate_session_reading(cell, plan, *step, rng);
-    text += r ? fmt::format("{}\n", *r) : std::string("out\n");
-    session.record(r);
-    ++readings;
-    out_of_range += r ? 0 : 1;
-  }
+  const SimulatedReadings r =
+      simulate_readings(read_hexapod_plan(o.plan), o.plan, model, payload, o.seed,
+                        o.validation_out.empty() ? std::min(o.validation, 0) : o.validation);
   OutputFiles files;
-  files.add(o.out, text);
-  const Pose<double> flange_T_tool =
-      plan.flange_T_tool ? *plan.flange_T_tool : cell.cell.flange_T_tool;
-  const Tool tool = hexapod_tool(payload, flange_T_tool, cell.tool_sides);
-  files.add(o.tool_out, tool_to_yaml(tool));
-  if (!o.validation_out.empty() && o.validation > 0) {
-    // The tracker reads the SMR in tool cup T1; its points go to the robot frame of the hexapod's
-    // world (the frame of the poses file) through the world frame of the base cups.
-    const TrackerValidation v =
-        simulate_tracker_validation(cell, cell.tool_cups_flange[0], o.validation, 0.022, rng);
-    MeasurementSet set;
-    set.kind = MeasurementKind::Points;
-    for (size_t k = 0; k < v.joints.size(); ++k)
-      set.points.push_back({fmt::format("v{}", k + 1), 0, v.joints[k],
-                            cell.world.robot_T_fixture * Eigen::Vector3d(v.measured.col(k)), 0});
+  files.add(o.out, readings_text(r));
+  files.add(o.tool_out, tool_to_yaml(r.tool));
+  if (!r.validation.points.empty())
     files.add(
         o.validation_out,
         write_measurements_csv(
-            set, tool,
+            r.validation, r.tool,
             fmt::format("simulated laser tracker (0.022 mm) on tool cup T1, seed {}", o.seed)));
-  }
   files.write();
+  const int readings = static_cast<int>(r.readings.size());
   if (o.json) {
     print_json({{"seed", o.seed},
                 {"readings", readings},
-                {"legs_out_of_range", out_of_range},
+                {"legs_out_of_range", r.out_of_range},
                 {"out", o.out},
                 {"tool", o.tool_out},
                 {"validation", o.validation_out}});
     return;
   }
   fmt::print("{} readings ({} legs out of range) for {} written to {} (seed {})\n", readings,
-             out_of_range, o.plan, o.out, o.seed);
+             r.out_of_range, o.plan, o.out, o.seed);
 }
 
 const bool registered = register_command(61, [](CLI::App& app) {

@@ -3,15 +3,13 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <chrono>
 #include <memory>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
 #include "robcal/core/error.hpp"
-#include "robcal/io/robot_file.hpp"
-#include "robcal/sim/monte_carlo.hpp"
+#include "robcal/sim/monte_carlo_study.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -25,60 +23,23 @@ struct McOptions {
   bool json = false;
 };
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const double position = p * static_cast<double>(values.size() - 1);
-  const size_t below = static_cast<size_t>(position);
-  const size_t above = std::min(below + 1, values.size() - 1);
-  return values[below] + (position - static_cast<double>(below)) * (values[above] - values[below]);
-}
-
 void run_montecarlo(McOptions o) {
   if (o.plan != "optimal" && o.plan != "random")
     throw InputError({"", 0, 0, "--plan"}, "expected 'optimal' or 'random'");
-  if (!(o.noise_mm > 0)) throw InputError({"", 0, 0, "--noise-mm"}, "must be positive");
-  o.mc.level = parse_calibration_level(o.level);
-  o.mc.optimal_plan = o.plan == "optimal";
-  o.mc.validation_model = parse_validation_model(o.validation_model);
-  const RobotModel model = load_robot("abb-irb120");
-  const Tool tool = default_simulation_tool();
-  const TrueRobot truth = published_irb120_truth(model, tool);
-  const VirtualInstrument tracker =
-      standard_instrument(InstrumentKind::LaserTracker, truth, o.noise_mm);
-  const MonteCarloSetup setup = prepare_monte_carlo(truth, tracker, model, tool, o.mc);
+  MonteCarloStudyRequest request;
+  request.options = o.mc;
+  request.options.level = parse_calibration_level(o.level);
+  request.options.optimal_plan = o.plan == "optimal";
+  request.options.validation_model = parse_validation_model(o.validation_model);
+  request.noise_mm = o.noise_mm;
   const auto started = std::chrono::steady_clock::now();
-  const MonteCarloResult result = run_monte_carlo(setup, o.mc);
+  const MonteCarloStudy study = run_monte_carlo_study(request);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-
-  std::vector<double> means, maxima;
-  for (const MonteCarloRun& run : result.runs)
-    if (run.converged) {
-      means.push_back(run.mean_mm);
-      maxima.push_back(run.max_mm);
-    }
-  const int identified = static_cast<int>(setup.identification.free.size());
+  const MonteCarloOptions& mc = request.options;
+  const MonteCarloResult& result = study.result;
   if (o.json) {
-    nlohmann::json j;
-    j["seed"] = o.mc.seed;
-    j["runs"] = o.mc.runs;
-    j["failed"] = result.failed;
-    j["poses"] = setup.template_set.size();
-    j["validation"] = o.mc.validation;
-    j["validation_model"] = validation_model_name(o.mc.validation_model);
-    j["identified_parameters"] = identified;
-    j["noise_mm"] = o.noise_mm;
-    j["threads"] = o.mc.threads;
-    j["observed"] = {{"rms_mm", result.observed_rms_mm},
-                     {"mean_mm", result.observed_mean_mm},
-                     {"run_mean_p05_mm", percentile(means, 0.05)},
-                     {"run_mean_p95_mm", percentile(means, 0.95)},
-                     {"run_max_p95_mm", percentile(maxima, 0.95)}};
-    j["predicted"] = {{"rms_mm", setup.predicted.rms_mm},
-                      {"mean_mm", setup.predicted.mean_mm},
-                      {"max_mm", setup.predicted.max_mm}};
-    j["ratio"] = result.ratio;
+    nlohmann::json j = monte_carlo_study_json(study);
     j["seconds"] = seconds;
     print_json(j);
     return;
@@ -86,23 +47,23 @@ void run_montecarlo(McOptions o) {
   fmt::print(
       "Monte Carlo: {} calibrations of the published IRB 120 ({} poses, {} parameters "
       "identified, σ {} mm/axis), {} validation configurations each, seed {}\n",
-      o.mc.runs, setup.template_set.size(), identified, o.noise_mm, o.mc.validation, o.mc.seed);
+      mc.runs, study.poses, study.identified, o.noise_mm, mc.validation, mc.seed);
   fmt::print("  validation: {}\n",
-             o.mc.validation_model == ValidationModel::Exact
+             mc.validation_model == ValidationModel::Exact
                  ? "exact (forward kinematics of each calibrated model against the truth)"
                  : "first-order (J_v·δp + model-error bias at the truth; exact to second order in "
                    "the parameter error; --validation-model exact for full kinematics)");
   fmt::print("  error against the truth      observed      Cramér–Rao prediction\n");
   fmt::print("  RMS                          {:.5f} mm    {:.5f} mm\n", result.observed_rms_mm,
-             setup.predicted.rms_mm);
+             study.predicted.rms_mm);
   fmt::print("  mean                         {:.5f} mm    {:.5f} mm\n", result.observed_mean_mm,
-             setup.predicted.mean_mm);
-  fmt::print("  per-run mean, 5–95 %         {:.5f} – {:.5f} mm\n", percentile(means, 0.05),
-             percentile(means, 0.95));
+             study.predicted.mean_mm);
+  fmt::print("  per-run mean, 5–95 %         {:.5f} – {:.5f} mm\n", study.run_mean_p05_mm,
+             study.run_mean_p95_mm);
   fmt::print("  ratio observed/predicted RMS {:.4f} (1.00 for an efficient estimator)\n",
              result.ratio);
   if (result.failed > 0) fmt::print("  {} runs did not converge (left out)\n", result.failed);
-  fmt::print("  {:.3f} s on {} thread(s)\n", seconds, o.mc.threads);
+  fmt::print("  {:.3f} s on {} thread(s)\n", seconds, mc.threads);
 }
 
 const bool registered = register_command(95, [](CLI::App& app) {

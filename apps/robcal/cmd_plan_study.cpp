@@ -12,7 +12,7 @@
 #include "robcal/core/error.hpp"
 #include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
-#include "robcal/sim/plan_study.hpp"
+#include "robcal/sim/plan_study_report.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -35,43 +35,15 @@ struct StudyOptions {
   bool json = false;
 };
 
-nlohmann::json design_json(const std::vector<StudyOutcome>& outcomes) {
-  nlohmann::json per_seed = nlohmann::json::array();
-  for (const StudyOutcome& o : outcomes)
-    per_seed.push_back({{"achieved_mean_mm", tidy(o.achieved.mean_mm, 6)},
-                        {"achieved_rms_mm", tidy(o.achieved.rms_mm, 6)},
-                        {"achieved_max_mm", tidy(o.achieved.max_mm, 6)},
-                        {"predicted_mean_mm", tidy(o.predicted.mean_mm, 6)},
-                        {"predicted_rms_mm", tidy(o.predicted.rms_mm, 6)},
-                        {"predicted_max_mm", tidy(o.predicted.max_mm, 6)},
-                        {"O1", tidy(o.O1, 6)},
-                        {"measured", o.measured},
-                        {"converged", o.converged}});
-  const StudySummary s = summarize(outcomes);
-  return {{"achieved_mean_mm", tidy(s.achieved_mean_mm, 6)},
-          {"achieved_rms_mm", tidy(s.achieved_rms_mm, 6)},
-          {"achieved_max_mm", tidy(s.achieved_max_mm, 6)},
-          {"predicted_mean_mm", tidy(s.predicted_mean_mm, 6)},
-          {"predicted_rms_mm", tidy(s.predicted_rms_mm, 6)},
-          {"O1", tidy(s.O1, 6)},
-          {"per_seed", per_seed}};
-}
-
 void run_study(const StudyOptions& o) {
   PlanStudyOptions options;
   options.counts.clear();
   for (double c : parse_numbers(o.counts, -1, "--counts")) {
-    if (c != std::floor(c) || c <= 0)
+    if (c != std::floor(c))
       throw InputError({"", 0, 0, "--counts"},
                        fmt::format("expected positive whole counts, found {}", c));
     options.counts.push_back(static_cast<int>(c));
   }
-  if (o.seeds <= 0)
-    throw InputError({"", 0, 0, "--seeds"}, fmt::format("expected at least 1, got {}", o.seeds));
-  if (o.task_count <= 0)
-    throw InputError({"", 0, 0, "--task-count"},
-                     fmt::format("expected at least 1, got {}", o.task_count));
-  if (o.noise_mm < 0) throw InputError({"", 0, 0, "--noise-mm"}, "expected a non-negative noise");
   options.seeds = o.seeds;
   options.seed = o.seed;
   options.plan.level = parse_calibration_level(o.level);
@@ -86,6 +58,7 @@ void run_study(const StudyOptions& o) {
     options.task_poses_file = o.task_poses;
   }
   options.task_count = o.task_count;
+  check_plan_study_options(options);
   const RobotModel model = load_robot(o.robot);
   const Tool tool = o.tool.empty() ? default_simulation_tool() : load_tool(o.tool);
 
@@ -93,35 +66,12 @@ void run_study(const StudyOptions& o) {
   const PlanStudyResult r = run_plan_study(model, tool, options, [&](int done, int total) {
     if (progress) fmt::print("true robot {}/{} done\n", done, total);
   });
-  const std::string region =
-      !o.task_poses.empty() ? fmt::format("TCP poses of {}", o.task_poses)
-      : o.task_box.empty()
-          ? "random configurations in the constrained joint box"
-          : fmt::format("TCP box {} mm (world frame), tool pointing down", o.task_box);
-  double nominal = 0;
-  for (const RegionError& e : r.nominal) nominal += e.mean_mm / static_cast<double>(r.seeds.size());
-
   if (o.json) {
-    nlohmann::json out;
-    out["seeds"] = r.seeds;
-    out["instrument"] = o.instrument;
-    out["level"] = o.level;
-    out["sigma_mm"] = r.sigma_mm;
-    out["candidates"] = r.candidates;
-    out["task_region"] = region;
-    out["task_configurations"] = r.task_configurations;
-    out["nominal_mean_mm"] = tidy(nominal, 6);
-    out["rows"] = nlohmann::json::array();
-    for (const StudyRow& row : r.rows)
-      out["rows"].push_back({{"count", row.count},
-                             {"optimal", design_json(row.optimal)},
-                             {"random", design_json(row.random)},
-                             {"gain", tidy(summarize(row.random).achieved_mean_mm /
-                                               summarize(row.optimal).achieved_mean_mm,
-                                           4)}});
-    print_json(out);
+    print_json(plan_study_json(r, options));
     return;
   }
+  const std::string region = task_region_description(options);
+  const double nominal = nominal_mean_mm(r);
   fmt::print(
       "plan study: {} with a {}, level {}, σ {} mm, {} random true robots (seeds {}), {} "
       "candidates each\n",

@@ -1,5 +1,7 @@
 #include "robcal/hexapod/end_to_end.hpp"
 
+#include "robcal/core/error.hpp"
+
 #include <fmt/format.h>
 
 #include "robcal/core/units.hpp"
@@ -56,6 +58,9 @@ CalibrationStage stage_of(const IdentificationResult& r, int configurations) {
 
 EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
                               std::mt19937_64& rng) {
+  if (o.validation_configurations < 2)
+    throw InputError({"", 0, 0, "--validation"}, "expected at least 2 configurations");
+  if (o.threads < 1) throw InputError({"", 0, 0, "--threads"}, "expected at least 1 thread");
   EndToEndReport rep;
   rep.robot = model.name;
   // The true robot: random errors, levelled on its table (the relative model keeps gravity along

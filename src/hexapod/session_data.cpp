@@ -180,4 +180,14 @@ Pose<double> required_flange_pose(const SessionData& data, const WorldFrameFit& 
   return world.robot_T_fixture * frame_from_cups(*cups) * data.flange_T_tool.inverse();
 }
 
+SessionData load_sessions(const std::vector<std::string>& sessions,
+                          const std::filesystem::path& plan) {
+  if (!plan.empty() && sessions.size() != 1)
+    throw InputError({"", 0, 0, "--plan"},
+                     "--plan goes with one journal; give several sessions as directories");
+  std::vector<SessionData> all;
+  for (const std::string& s : sessions) all.push_back(load_session_data(s, plan));
+  return merge_sessions(all);
+}
+
 }  // namespace robcal::hexapod

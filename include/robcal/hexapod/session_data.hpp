@@ -57,6 +57,11 @@ SessionData load_session_data(const std::filesystem::path& session,
 /// later session's setting points or tool mount differ from the first one's.
 SessionData merge_sessions(const std::vector<SessionData>& sessions);
 
+/// Loads and merges sessions: directories, or one journal file with its `plan` (InputError with
+/// key "--plan" when a plan is given with several sessions).
+SessionData load_sessions(const std::vector<std::string>& sessions,
+                          const std::filesystem::path& plan = {});
+
 /// World frame from the planned setting-ball points and the measured base sides.
 WorldFrameFit session_world_frame(const SessionData& data);
 

@@ -1,0 +1,102 @@
+#pragma once
+/// \file
+/// The hexapod plan (METHOD §8) and its file: the planning workflow behind `robcal hexapod plan`
+/// and `setup`, and the one reader/writer pair of the plan file (JSON) that `session`,
+/// `simulate-readings`, `calibrate` and `replan` read and `plan` and `replan` write.
+///
+/// A plan file holds the session's script (SessionPlan: ballbar set-up, configurations, setting
+/// points, tool mount, sides measured earlier) and, when `robcal hexapod plan` wrote it, the cell
+/// it was planned for and the planning outcome. Hand-written plans give only the configurations.
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "robcal/core/error.hpp"
+#include "robcal/hexapod/planning.hpp"
+#include "robcal/hexapod/poses.hpp"
+#include "robcal/hexapod/session.hpp"
+#include "robcal/model/robot_model.hpp"
+
+namespace robcal::hexapod {
+
+/// The cell a plan is made for, as the operator describes it.
+struct HexapodPlanRequest {
+  std::string robot = "fanuc-lrmate200ic";  ///< built-in name or robot file, kept in the plan
+  HexapodGeometry geometry;                 ///< design fixtures and the ballbar's set-up length
+  /// Rough base-fixture placement in the robot frame: cup centroid x, y, z (mm), yaw about z (deg).
+  std::array<double, 4> placement{450, 0, 300, 0};
+  double tool_offset_mm = 100;  ///< tool fixture centroid along the flange z
+  double ball_offset_mm = 100;  ///< setting ball along the flange z
+  double table_z_mm = 0;        ///< table plane, robot frame
+  double angle_deg = 30;        ///< pruning: redundant when closer in orientation …
+  double distance_mm = 50;      ///< … and in position (tool-fixture centroid)
+};
+
+/// "x,y,z,yaw" (mm, deg) → placement; errors name `where` and say what was expected.
+std::array<double, 4> parse_placement(const std::string& text, const SourceLocation& where);
+/// The placement's "x,y,z,yaw" text, as the plan file stores it.
+std::string placement_text(const std::array<double, 4>& placement);
+/// The rough base-fixture placement (cup centroid frame) in the robot frame.
+Pose<double> placement_pose(const std::array<double, 4>& placement);
+
+/// Where the robot puts the setting ball for one base cup (flange z pointing down, the ball
+/// `ball_offset_mm` below the flange), and the nominal configurations that reach it.
+struct SettingBallPoint {
+  Eigen::Vector3d ball_position_mm = Eigen::Vector3d::Zero();
+  std::vector<PoseConfiguration> configurations;  ///< empty for robots without closed-form IK
+};
+std::array<SettingBallPoint, 3> plan_setting_ball(const RobotModel& model,
+                                                  const Pose<double>& placement, double side_mm,
+                                                  double ball_offset_mm);
+
+/// The set-up's JSON, as the plan file's "setting_ball" holds it: cup, ball position, the
+/// configurations (labels, joints_deg).
+nlohmann::json setting_ball_json(const std::array<SettingBallPoint, 3>& points);
+
+/// The planning outcome of one pose, as the plan file lists it.
+struct PlannedPose {
+  std::string label, description, ik;
+  int configurations = 0, rejected_table = 0, rejected_fixture = 0;
+};
+
+/// What `robcal hexapod plan` found for the cell.
+struct PlanOutcome {
+  int poses_enumerated = 0, poses_kept = 0, poses_measurable = 0, configurations_measurable = 0;
+  std::vector<PlannedPose> poses;
+};
+
+/// A re-plan of the configurations to retry on a preliminary model (`robcal hexapod replan`).
+struct Replanned {
+  std::string sessions;  ///< the session(s) whose retries were re-planned
+  std::string model;     ///< the calibrated model file
+  /// Per configuration of the plan: the joints first planned (deg) that the re-plan replaced.
+  std::vector<std::vector<double>> planned_joints_deg;
+};
+
+/// Everything a plan file holds.
+struct HexapodPlan {
+  SessionPlan session;                      ///< the session's script
+  std::optional<HexapodPlanRequest> cell;   ///< absent from hand-written plans
+  std::array<SettingBallPoint, 3> setting;  ///< with `cell`: the set-up of the base cups
+  std::optional<PlanOutcome> outcome;       ///< with `cell`: the planning outcome
+  std::optional<Replanned> replanned;
+};
+
+/// Plans every pose of the cell (enumeration, pruning, IK with clearance checks) and the set-up
+/// of the base cups. Throws InputError on bad fixtures or a robot without closed-form IK.
+HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& request);
+
+/// The plan file's JSON, and the plan back from it: errors name `file` and the key.
+nlohmann::json hexapod_plan_json(const HexapodPlan& plan);
+HexapodPlan parse_hexapod_plan(const nlohmann::json& root, const std::string& file);
+
+/// Reads a plan file (JSON); writes one whole or not at all.
+HexapodPlan read_hexapod_plan(const std::filesystem::path& path);
+void write_hexapod_plan(const std::filesystem::path& path, const HexapodPlan& plan);
+
+}  // namespace robcal::hexapod

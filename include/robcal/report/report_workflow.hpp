@@ -1,0 +1,40 @@
+#pragma once
+/// \file
+/// The workflow behind `robcal report`: a calibrated model validated on measurement files, beside
+/// the nominal robot (or another model), as the report's data; and the report's two files.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "robcal/report/report.hpp"
+
+namespace robcal {
+
+struct ReportRequest {
+  std::string model;                      ///< calibrated model file (with a world frame)
+  std::vector<std::string> measurements;  ///< validation files (points or poses), one or more
+  std::string calibration;  ///< calibration measurements (error against distance), optional
+  std::string before;       ///< model to compare with; empty: the nominal robot, rigid base fit
+  std::string title = "robcal calibration report";
+};
+
+struct ReportBuild {
+  ReportData data;
+  std::vector<std::string> warnings;  ///< ignored columns of the files read
+};
+
+/// Reads the files and computes every model's errors. Throws InputError naming the file when the
+/// model has no world frame or a file is bad.
+ReportBuild build_report(const ReportRequest& request);
+
+/// Throws InputError (key "--out") unless `html_path` ends in .html.
+void check_report_path(const std::filesystem::path& html_path);
+
+/// Writes the self-contained page at `html_path` and the JSON beside it (.json), each whole or
+/// not at all. Throws InputError when Chart.js is missing (load_chartjs).
+void write_report(const nlohmann::json& report, const std::filesystem::path& html_path);
+
+}  // namespace robcal

@@ -1,0 +1,481 @@
+"""Type stubs of the extension robcal._robcal: millimetres and degrees in and out, quaternions
+(w, x, y, z). Bad input raises InputError (a ValueError naming the file, line, column or key)."""
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+from . import hexapod as hexapod
+
+ArrayLike = npt.ArrayLike
+Array = npt.NDArray[np.float64]
+
+__version__: str
+"""The project's version (CMake's project version)."""
+
+
+class InputError(ValueError):
+    """Bad input: the message names the file, line and column or key and says what was expected."""
+
+    file: str
+    """The file (or "<dict>", "<arrays>") the bad input came from; empty for flags."""
+    line: int
+    """1-based line, 0 when unknown."""
+    column: int
+    """1-based column, 0 when unknown."""
+    key: str
+    """YAML key path, CSV column, JSON key or argument name; may be empty."""
+
+
+class RobotModel:
+    """An immutable robot description (MDH table, joint limits, controller coupling)."""
+
+    name: str
+    """The robot's name, e.g. "ABB IRB 120"."""
+    manufacturer: str
+    """The manufacturer."""
+    source: str
+    """Where the nominal parameters come from (data sheet)."""
+    joint_limits_deg: Array
+    """6×2 array of [lower, upper] controller joint limits, deg."""
+    is_ortho_parallel: bool
+    """True when the closed-form IK applies (otherwise ik() is numeric)."""
+
+    @staticmethod
+    def from_file(name_or_path: str) -> "RobotModel":
+        """A built-in robot by name or a robot file (YAML) by path."""
+
+    @staticmethod
+    def from_dict(d: Dict[str, Any]) -> "RobotModel":
+        """A robot from a dict with the robot file's fields (errors name the key)."""
+
+    def to_yaml(self) -> str:
+        """The robot file's text."""
+
+
+class Tool:
+    """The tool on the flange: named targets (flange frame, mm; unknown ones are identified) and
+    the payload. From a tool file, a dict with the file's fields, or targets as arrays."""
+
+    targets: Dict[str, Array]
+    """{name: [x, y, z]} in the flange frame, mm (0 for unknown ones)."""
+    unknown_targets: List[str]
+    """Names of the targets whose coordinates are identified."""
+    mass_kg: float
+    """Payload mass, kg."""
+    cog_mm: Array
+    """Payload centre of gravity in the flange frame, mm."""
+
+    def __init__(self, targets: Dict[str, ArrayLike] = ..., unknown: Sequence[str] = ...,
+                 mass_kg: float = 0.0, cog_mm: ArrayLike = ...) -> None:
+        """Targets {name: [x, y, z]} (flange frame, mm) known; `unknown` names targets whose
+        coordinates calibration identifies; payload mass (kg) and centre of gravity (mm)."""
+
+    @staticmethod
+    def from_file(path: str) -> "Tool":
+        """Reads a tool file (YAML)."""
+
+    @staticmethod
+    def from_dict(d: Dict[str, Any]) -> "Tool":
+        """A tool from a dict with the tool file's fields (errors name the key)."""
+
+    def to_yaml(self) -> str:
+        """The tool file's text."""
+
+
+class Measurements:
+    """Measured rows of one kind (points, poses or distances) with the tool they refer to."""
+
+    kind: str
+    """'points', 'poses' or 'distances'."""
+    tool: Tool
+    """The tool the targets refer to."""
+    warnings: List[str]
+    """Ignored columns of the file."""
+
+    @staticmethod
+    def from_file(path: str, tool: Tool) -> "Measurements":
+        """Reads a measurement CSV (any kind)."""
+
+    @staticmethod
+    def points(tool: Tool, joints_deg: ArrayLike, targets: Sequence[str],
+               positions_mm: ArrayLike) -> "Measurements":
+        """Point rows: joints N×6 (deg), target names (N), positions N×3 (mm)."""
+
+    @staticmethod
+    def poses(tool: Tool, joints_deg: ArrayLike, positions_mm: ArrayLike,
+              quaternions_wxyz: ArrayLike) -> "Measurements":
+        """Pose rows of the TCP: joints N×6 (deg), positions N×3 (mm), quaternions N×4."""
+
+    @staticmethod
+    def distances(tool: Tool, joints_deg: ArrayLike, targets: Sequence[str],
+                  lengths_mm: ArrayLike) -> "Measurements":
+        """Ballbar rows: joints N×6 (deg), target names (N), lengths (N, mm)."""
+
+    @staticmethod
+    def from_dict(d: Dict[str, Any], tool: Tool) -> "Measurements":
+        """Rows from a dict as to_dict() returns it."""
+
+    def to_dict(self) -> Dict[str, Any]:
+        """kind, config, target, joints_deg (N×6), position_mm (N×3) and quaternion_wxyz (poses),
+        length_mm (distances), warnings."""
+
+    def to_csv(self) -> str:
+        """The measurement file's text (reads back to the same numbers)."""
+
+    def __len__(self) -> int:
+        """Number of rows."""
+
+
+class SolverStatus:
+    """How the least-squares solver ended."""
+
+    converged: bool
+    """True when the solver converged."""
+    iterations: int
+    """Solver iterations."""
+    message: str
+    """The solver's own words."""
+    initial_rms_mm: float
+    """RMS residual at the start (after the rigid fit), mm."""
+    final_rms_mm: float
+    """RMS residual at the end, mm."""
+
+
+class UnknownEstimate:
+    """One unknown: value ± std in external units (mm, deg, rad/N·mm)."""
+
+    name: str
+    """Dotted name, e.g. "link3.a", "target.T1.x"."""
+    unit: str
+    """External unit."""
+    nominal: float
+    """Start value."""
+    value: float
+    """Estimated value."""
+    std: float
+    """Standard deviation (0 unless identified)."""
+    status: str
+    """'identified', 'fixed' or 'dropped'."""
+    reason: str
+    """Why fixed or dropped."""
+
+
+class PredictedAccuracy:
+    """Cramér–Rao predicted position error (mm) over configurations."""
+
+    configurations: int
+    """Configurations the prediction averages over."""
+    mean_mm: float
+    """Predicted mean position error, mm."""
+    rms_mm: float
+    """Predicted RMS position error, mm."""
+    max_mm: float
+    """Predicted largest position error, mm."""
+    measurement_sigma_mm: float
+    """The measurement σ the prediction assumes, mm."""
+    mean_vs_measurements_mm: float
+    """Predicted mean error against new measurements (model plus instrument), mm."""
+    rms_vs_measurements_mm: float
+    """Predicted RMS error against new measurements, mm."""
+
+
+class CalibratedRobot:
+    """A robot with identified parameters (or the nominal one)."""
+
+    model: RobotModel
+    """The nominal robot it was calibrated from."""
+    level: str
+    """"nominal", "base", "joints", "kinematic" or "full"."""
+    base_fitted: bool
+    """True when its world frame was fitted (validation needs it)."""
+    parameters: Dict[str, float]
+    """{name: value} in mm, deg, rad/N·mm."""
+    targets: Dict[str, Array]
+    """{target name: [x, y, z]} in the flange frame, mm (identified ones filled in)."""
+
+    @staticmethod
+    def from_file(path: str) -> "CalibratedRobot":
+        """Loads a calibrated model file written by calibrate."""
+
+    @staticmethod
+    def nominal(model: RobotModel, tool: Optional[Tool] = None) -> "CalibratedRobot":
+        """The nominal robot as a model with no world frame (validate with fit_base=True)."""
+
+    def position(self, joints_deg: ArrayLike, point_flange_mm: ArrayLike) -> Array:
+        """World position (mm) of a flange-frame point at controller joints (deg)."""
+
+    def positions(self, joints_deg: ArrayLike, point_flange_mm: ArrayLike) -> Array:
+        """position() over the rows of an N×6 joints array (deg): N×3 world positions (mm)."""
+
+    def to_yaml(self) -> str:
+        """The calibrated model file's text."""
+
+
+class IdentificationResult:
+    """A calibration and its statistics."""
+
+    robot: CalibratedRobot
+    """The calibrated robot."""
+    status: SolverStatus
+    """How the solver ended."""
+    parameters: List[UnknownEstimate]
+    """Every unknown (model parameters, then target coordinates, ballbar centre)."""
+    residual_count: int
+    """Scalar residuals."""
+    identified_count: int
+    """Identified unknowns."""
+    sigma_mm: float
+    """A-posteriori residual standard deviation, mm."""
+    rms_mm: float
+    """RMS over rows of the position residual norm, mm."""
+    max_mm: float
+    """Largest row residual, mm."""
+    condition_number: float
+    """Of the column-scaled Jacobian at the solution."""
+    predicted: PredictedAccuracy
+    """Cramér–Rao predicted accuracy of the calibrated robot."""
+    correlations: List[Tuple[str, str, float]]
+    """Strongest parameter correlations (first, second, ρ)."""
+    outliers: List[Tuple[str, int, float]]
+    """[(config, line, residual_mm)] of suspected outliers."""
+    by_target: Dict[str, Tuple[int, float, float]]
+    """{target: (rows, rms_mm, max_mm)}."""
+    parameter_table: Dict[str, Any]
+    """Columns name, unit, status (lists) and nominal, value, std (arrays, external units)."""
+    identified_names: List[str]
+    """Names of the identified unknowns: the rows and columns of covariance."""
+    covariance: Array
+    """Covariance of the identified unknowns, external units (mm, deg, rad/N·mm)."""
+
+    def save(self, path: str) -> None:
+        """Writes the calibrated model file (YAML), whole or not at all."""
+
+    def _repr_html_(self) -> str:
+        """The result as an HTML table (Jupyter shows it)."""
+
+
+class Compensator:
+    """Calibrated inverse kinematics and corrected targets for one calibrated robot and tool."""
+
+    @staticmethod
+    def from_model(model: str, tool: Optional[str] = None, payload_mass_kg: Optional[float] = None,
+                   payload_cog_mm: Optional[ArrayLike] = None) -> "Compensator":
+        """From a calibrated model file."""
+
+    @staticmethod
+    def from_truth(truth: str, tool: Optional[str] = None, payload_mass_kg: Optional[float] = None,
+                   payload_cog_mm: Optional[ArrayLike] = None) -> "Compensator":
+        """From a simulation's truth file."""
+
+    @staticmethod
+    def nominal(robot: str, tool: Optional[str] = None) -> "Compensator":
+        """The nominal robot at the world origin (compensation changes nothing)."""
+
+    def tcp_pose(self, joints_deg: ArrayLike) -> Dict[str, Array]:
+        """TCP pose in the world on the calibrated model."""
+
+    def tcp_poses(self, joints_deg: ArrayLike) -> Dict[str, Array]:
+        """tcp_pose over the rows of an N×6 array: position_mm N×3, quaternion_wxyz N×4."""
+
+    def nominal_tcp_pose(self, joints_deg: ArrayLike) -> Dict[str, Array]:
+        """TCP pose in the base frame on the nominal model."""
+
+    def config_of(self, joints_deg: ArrayLike) -> str:
+        """Arm configuration label of controller joints."""
+
+    def solve(self, position_mm: ArrayLike, quaternion_wxyz: ArrayLike, config: str,
+              near_deg: Optional[ArrayLike] = None, method: str = "newton") -> Dict[str, Any]:
+        """Joints reaching a world TCP pose on the calibrated model in `config`, and the nominal
+        target to send; status says why when it cannot."""
+
+    def solve_batch(self, positions_mm: ArrayLike, quaternions_wxyz: ArrayLike,
+                    config: str) -> Dict[str, Any]:
+        """solve() over N poses: joints_deg N×6, status, ok, nominal_position_mm (NaN rows where
+        ok is False)."""
+
+    def compensate_program(self, in_path: str, out_path: str, joints: bool = False) -> Dict[str, int]:
+        """Writes a corrected copy of a RAPID/KRL program (only the points change)."""
+
+
+class LaserTracker:
+    """Laser tracker: 3D point of one SMR (METHOD §7)."""
+
+    position_mm: Array
+    """Tracker position, mm."""
+    sigma_mm: Array
+    """σ per axis, mm."""
+    min_range_mm: float
+    """Closest measurable distance, mm."""
+    max_range_mm: float
+    """Farthest measurable distance, mm."""
+    cone_half_angle_deg: float
+    """SMR acceptance half-angle, deg."""
+
+    def __init__(self) -> None:
+        """The default tracker."""
+
+
+class Ballbar:
+    """Telescoping ballbar: one length near its nominal."""
+
+    centre_mm: Array
+    """Fixed ball centre, mm."""
+    nominal_length_mm: float
+    """Set-up length, mm."""
+    range_mm: float
+    """Readable range about the set-up length, mm."""
+    sigma_mm: float
+    """σ of one length, mm."""
+
+    def __init__(self) -> None:
+        """The default ballbar."""
+
+
+class OpticalCmm:
+    """Optical CMM: 6D pose of a target cluster."""
+
+    position_mm: Array
+    """Camera position, mm."""
+    sigma_mm: float
+    """Position σ, mm."""
+    sigma_orientation_deg: float
+    """Orientation σ, deg."""
+    facing_limit_deg: float
+    """Largest angle between the cluster's normal and the line of sight, deg."""
+
+    def __init__(self) -> None:
+        """The default optical CMM."""
+
+
+def builtin_robots() -> List[str]:
+    """Names of the built-in robots."""
+
+
+def load_robot(name_or_path: str) -> RobotModel:
+    """A built-in robot by name or a robot file by path."""
+
+
+def load_calibrated_robot(path: str) -> CalibratedRobot:
+    """Loads a calibrated model file written by calibrate."""
+
+
+def fk(robot: RobotModel, joints_deg: ArrayLike) -> Dict[str, Array]:
+    """Flange pose of the nominal robot: {'position_mm', 'quaternion_wxyz'}."""
+
+
+def fk_batch(robot: RobotModel, joints_deg: ArrayLike) -> Dict[str, Array]:
+    """fk over the rows of an N×6 array: {'position_mm': N×3, 'quaternion_wxyz': N×4}."""
+
+
+def ik(robot: RobotModel, position_mm: ArrayLike, quaternion_wxyz: ArrayLike,
+       seed_joints_deg: Optional[ArrayLike] = None) -> Dict[str, Any]:
+    """Every IK solution of the nominal robot: {'status', 'method', 'solutions'}."""
+
+
+def calibrate(robot: Union[str, RobotModel], tool: Union[str, Measurements], *args: Any,
+              **kwargs: Any) -> IdentificationResult:
+    """calibrate(robot, tool, measurements, level='full', identify=[], fix=[], loss='none',
+    seed=1) from files, or calibrate(robot_model, measurements, level=..., ...) from objects."""
+
+
+def calibrate_points(robot: str, tool: str, joints_deg: ArrayLike, targets: Sequence[str],
+                     positions_mm: ArrayLike, level: str = "full", identify: Sequence[str] = ...,
+                     fix: Sequence[str] = ..., loss: str = "none",
+                     seed: int = 1) -> IdentificationResult:
+    """Calibrate from arrays: joints N×6 (deg), target names (N), positions N×3 (mm)."""
+
+
+def cross_validate(robot: str, tool: str, measurements: str, folds: int, level: str = "full",
+                   seed: int = 1) -> Dict[str, Any]:
+    """K-fold cross-validation: held-out position error per row and its statistics (mm)."""
+
+
+def read_measurements(path: str, tool_file: str) -> Dict[str, Any]:
+    """Reads a measurement CSV; returns Measurements.to_dict() of it."""
+
+
+def error_statistics(errors: Sequence[float]) -> Dict[str, float]:
+    """count, mean, std (population), mean_plus_3std, min and max of absolute errors."""
+
+
+def pairwise_distance_errors(measured_mm: ArrayLike, modelled_mm: ArrayLike, threads: int = 2,
+                             bins: int = 128) -> Dict[str, Any]:
+    """Distance errors over every pair of rows (N×3 arrays, mm), with a histogram."""
+
+
+def validate(robot: str, tool_file: str, measurements: str, model: str = "",
+             fit_base: bool = False, threads: int = 2) -> Dict[str, Any]:
+    """Position errors (overall, per target, histogram) and all-pairs distance errors of a
+    calibrated model file or the nominal robot against a points or poses file."""
+
+
+def observability_indices(jacobian: ArrayLike, configurations: int) -> Dict[str, float]:
+    """O1…O5 (METHOD §6) of a column-scaled identification Jacobian of n configurations."""
+
+
+def select_d_optimal(rows: ArrayLike, rows_per_candidate: int, count: int, restarts: int = -1,
+                     seed: int = 1) -> List[int]:
+    """Indices of `count` candidates chosen by the fast D-optimal greedy + exchange; `restarts`
+    more seeded descents (negative: by candidate count, as robcal plan)."""
+
+
+def select_published_exchange(rows: ArrayLike, rows_per_candidate: int, count: int,
+                              seed: int) -> List[int]:
+    """Indices chosen by the published exchange on O1 (random start of 11), seeded."""
+
+
+def d_efficiency(rows: ArrayLike, rows_per_candidate: int, subset: Sequence[int]) -> float:
+    """Certified D-efficiency of a subset against the continuous D-optimum."""
+
+
+def smr_visible(tracker: LaserTracker, smr_mm: ArrayLike, smr_axis: ArrayLike) -> bool:
+    """True when the tracker lies within the SMR's acceptance cone and range."""
+
+
+def read_points(tracker: LaserTracker, smr_mm: ArrayLike, count: int, seed: int) -> Array:
+    """`count` noisy readings of one SMR (rows x, y, z in mm), seeded."""
+
+
+def ballbar_readable(ballbar: Ballbar, length_mm: float) -> bool:
+    """True when the length is within the ballbar's ±range of its nominal."""
+
+
+def simulate(instrument: str = "laser-tracker", truth: str = "published", count: int = 20,
+             seed: int = 1, noise_mm: float = 0.0) -> Dict[str, Any]:
+    """Measures `count` random measurable configurations of a virtual IRB 120 (published or
+    random truth) with a virtual instrument; noise_mm = 0 gives exact readings."""
+
+
+def read_program_points(text: str, language: str, joints: bool = False) -> List[Dict[str, Any]]:
+    """Every point of a RAPID ('rapid') or KRL ('krl') program, in file order."""
+
+
+def experiments(seed: int = 1) -> Dict[str, Any]:
+    """The published simulation experiments (METHOD §10, `robcal experiments`): {seed,
+    calibration_configurations, validation_configurations, experiments: {a, b, c}}."""
+
+
+def montecarlo(runs: int = 1000, poses: int = 50, validation: int = 1000, threads: int = 2,
+               seed: int = 1, noise_mm: float = 0.022, level: str = "full",
+               optimal_plan: bool = True, validation_model: str = "first-order") -> Dict[str, Any]:
+    """Repeated simulated calibrations of the published IRB 120 against the Cramér–Rao
+    prediction (`robcal montecarlo`): observed and predicted errors (mm), their ratio."""
+
+
+def plan_study(robot: str = "abb-irb120", tool: Optional[str] = None,
+               instrument: str = "laser-tracker", level: str = "full",
+               counts: Sequence[int] = ..., seeds: int = 4, seed: int = 1,
+               candidates: int = 2000, constraints: str = "published", floor_mm: float = 50.0,
+               noise_mm: float = 0.0, task_box: Optional[str] = None,
+               task_poses: Optional[str] = None, task_count: int = 200) -> Dict[str, Any]:
+    """D-optimal against random configurations at several counts over random true robots
+    (`robcal plan-study`); task_box or task_poses set the task region."""
+
+
+def report(model: str, measurements: Sequence[str], calibration: Optional[str] = None,
+           before: Optional[str] = None, title: str = "robcal calibration report",
+           out: Optional[str] = None) -> Dict[str, Any]:
+    """A calibrated model validated on measurement files beside the nominal robot (or `before`)
+    (`robcal report`): the report's JSON as a dict plus `warnings`; with `out` (.html) also the
+    self-contained page and the JSON beside it."""

@@ -1,0 +1,119 @@
+"""The ballbar hexapod of METHOD §8 (mm): fixtures, direct kinematics, the 72 poses, uncertainty,
+world frame, planning and its plan file."""
+from typing import Any, Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+import numpy.typing as npt
+
+Array = npt.NDArray[np.float64]
+
+
+class Plan:
+    """A hexapod measurement plan (`robcal hexapod plan`): the session's configurations and, when
+    planned here, the cell and the outcome."""
+
+    joints_deg: Array
+    """N×6 controller joints (deg) of the configurations (NaN rows: pose-only plan)."""
+    poses: List[str]
+    """Pose label of each configuration."""
+    labels: List[str]
+    """Arm configuration label of each configuration."""
+    setting_ball_mm: Optional[Array]
+    """Where the robot puts the setting ball for B1..B3 (3×3, robot frame, mm), or None."""
+
+    def to_json(self) -> str:
+        """The plan file's text (what `robcal hexapod plan --out` writes)."""
+
+    def save(self, path: str) -> None:
+        """Writes the plan file, whole or not at all."""
+
+    def __len__(self) -> int:
+        """Number of configurations."""
+
+
+def triangle_from_sides(sides_mm: Sequence[float]) -> Array:
+    """Cup positions (rows) from d12, d23, d31: c1 at the origin, c2 on x, c3 in the xy plane."""
+
+
+def tripod(v1: npt.ArrayLike, v2: npt.ArrayLike, v3: npt.ArrayLike, l1: float, l2: float,
+           l3: float, sign: int) -> Optional[Array]:
+    """Tri of METHOD §8; None when there is no real solution."""
+
+
+def solve_dkp(base_sides_mm: Sequence[float], tool_sides_mm: Sequence[float],
+              legs_mm: Sequence[float]) -> Dict[str, Any]:
+    """Tool cups (rows, base fixture frame) by assembly mode 1..4 from b_ij, t_ij and the legs
+    ρ11, ρ12, ρ21, ρ22, ρ23, ρ31."""
+
+
+def leg_lengths(base_cups: npt.ArrayLike, tool_cups: npt.ArrayLike) -> List[float]:
+    """The six legs of design 1^12 2^123 3^1."""
+
+
+def enumerate_poses(base_sides_mm: Sequence[float] = ..., tool_sides_mm: Sequence[float] = ...,
+                    leg_mm: float = 300.0, angle_deg: float = 0.0,
+                    distance_mm: float = 0.0) -> List[Dict[str, Any]]:
+    """The poses (72 before pruning) with every leg at leg_mm, pruned at the given distances."""
+
+
+def uncertainty(base_mm: float = 300.0, tool_mm: float = 150.0, leg_mm: float = 300.0,
+                sigma_um: float = 0.51, samples: int = 20000,
+                seed: int = 1) -> List[Dict[str, Any]]:
+    """Per mode: sensitivity (9×12), σ per axis and norm of each tool cup in multiples of σ,
+    analytic and Monte Carlo."""
+
+
+def fit_world_frame(robot_points: npt.ArrayLike,
+                    measured_sides_mm: Sequence[float]) -> Dict[str, Any]:
+    """World frame from the base cups: planar least-squares correction; planar = (x mm, y mm,
+    φ deg)."""
+
+
+def plan(robot: str = "fanuc-lrmate200ic", base_sides_mm: Sequence[float] = ...,
+         tool_sides_mm: Sequence[float] = ..., leg_mm: float = 300.0,
+         placement: Tuple[float, float, float, float] = ..., tool_offset_mm: float = 100.0,
+         ball_offset_mm: float = 100.0, table_z_mm: float = 0.0, angle_deg: float = 30.0,
+         distance_mm: float = 50.0) -> Plan:
+    """Plans a hexapod measurement (`robcal hexapod plan`): placement = (x, y, z mm, yaw deg) of
+    the base cups' centroid in the robot frame."""
+
+
+def read_plan(path: str) -> Plan:
+    """Reads a plan file (written by `robcal hexapod plan` or `replan`, or by hand)."""
+
+
+def setup(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, float, float] = ...,
+          side_mm: float = 300.0, ball_offset_mm: float = 100.0) -> List[Dict[str, Any]]:
+    """Where to put the setting ball for each base cup (`robcal hexapod setup`)."""
+
+
+def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, float, float] = ...,
+             tool_offset_mm: float = 100.0, ball_offset_mm: float = 100.0,
+             table_z_mm: float = 0.0, angle_deg: float = 30.0, distance_mm: float = 50.0,
+             seed: int = 1, validation: int = 10000, threads: int = 2, leg_fit: bool = True,
+             relative: bool = False) -> Dict[str, Any]:
+    """Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings,
+    preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict."""
+
+
+def replan(sessions: Sequence[str], model: str, out: str,
+           plan: Optional[str] = None) -> Dict[str, Any]:
+    """Re-plans the configurations to retry of measured sessions on a preliminary calibrated
+    model (`robcal hexapod replan`), writes the new plan to `out`, returns the CLI's JSON."""
+
+
+def simulate_readings(plan: Plan, robot: str = "fanuc-lrmate200ic", payload: Optional[Any] = None,
+                      seed: int = 1, validation: int = 1000) -> Dict[str, Any]:
+    """Simulated readings of a planned session (`robcal hexapod simulate-readings`): text (the
+    session's input), legs_out_of_range, readings, tool (the tool fixture as a Tool) and
+    validation (tracker Measurements on cup T1); `payload` is a Tool whose payload the robot
+    carries (default 2.6 kg)."""
+
+
+def calibrate(sessions: Sequence[str], robot: str = "fanuc-lrmate200ic",
+              tool: Optional[str] = None, level: str = "full", fit: str = "poses",
+              relative: bool = False, orientation_weight_mm: float = 100.0, seed: int = 1,
+              plan: Optional[str] = None, out: Optional[str] = None) -> Dict[str, Any]:
+    """Calibrates from measured sessions (`robcal hexapod calibrate`): the CLI's JSON as a dict
+    plus model (CalibratedRobot), tool (the tool fixture) and poses (Measurements); with `out` the
+    calibrated model file is written."""

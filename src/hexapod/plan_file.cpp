@@ -1,0 +1,359 @@
+#include "robcal/hexapod/plan_file.hpp"
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "json_fields.hpp"
+#include "robcal/core/rounding.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/hexapod/world_frame.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/kinematics/orientation.hpp"
+
+namespace robcal::hexapod {
+namespace {
+
+using nlohmann::json;
+
+json joints_json(const Vector6d& q) {
+  json out = json::array();
+  for (int i = 0; i < kJointCount; ++i) out.push_back(rounded(rad2deg(q[i]), 6));
+  return out;
+}
+
+json joints_json(const std::vector<double>& deg) {
+  json out = json::array();
+  for (const double v : deg) out.push_back(rounded(v, 6));
+  return out;
+}
+
+std::string leg_name(const PhysicalLeg& leg) {
+  return fmt::format("B{}-T{}", leg.base + 1, leg.tool + 1);
+}
+
+/// A value of the plan's cell, `node[key]`, named `key` in errors, which say what was expected.
+template <typename T>
+T cell_value(const json& node, const std::string& key, const std::string& file,
+             const std::string& expected) {
+  const SourceLocation where{file, 0, 0, key};
+  const std::string leaf = key.substr(key.rfind('.') + 1);
+  if (!node.is_object() || !node.contains(leaf))
+    throw InputError(where, "a plan written by `robcal hexapod plan` has this field: " + expected);
+  try {
+    return node[leaf].get<T>();
+  } catch (const json::exception&) {
+    throw InputError(where, "expected " + expected);
+  }
+}
+
+TriangleSides cell_sides(const json& geometry, const std::string& key, const std::string& file) {
+  const auto v = cell_value<std::vector<double>>(geometry, key, file, "three side lengths (mm)");
+  if (v.size() != 3) throw InputError({file, 0, 0, key}, "expected three side lengths (mm)");
+  return {v[0], v[1], v[2]};
+}
+
+std::vector<double> joint_list(const json& node, const SourceLocation& where) {
+  if (!node.is_array() || node.size() != kJointCount)
+    throw InputError(where, "expected six joint values (deg)");
+  std::vector<double> out;
+  for (const json& v : node) {
+    if (!v.is_number()) throw InputError(where, "expected six joint values (deg)");
+    out.push_back(v.get<double>());
+  }
+  return out;
+}
+
+/// The cell part of a plan written by `robcal hexapod plan`: present when "geometry" is.
+HexapodPlanRequest parse_cell(const json& root, const std::string& file) {
+  HexapodPlanRequest cell;
+  if (root.contains("robot") && root["robot"].is_string()) cell.robot = root["robot"];
+  const json& geometry = root["geometry"];
+  cell.geometry.base = cell_sides(geometry, "geometry.base_sides_mm", file);
+  cell.geometry.tool = cell_sides(geometry, "geometry.tool_sides_mm", file);
+  const std::string placement =
+      cell_value<std::string>(root, "placement", file, "the placement \"x,y,z,yaw\" (mm, deg)");
+  cell.placement = parse_placement(placement, {file, 0, 0, "placement"});
+  cell.tool_offset_mm = cell_value<double>(root, "tool_offset_mm", file, "a number (mm)");
+  cell.ball_offset_mm = cell_value<double>(root, "ball_offset_mm", file, "a number (mm)");
+  if (root.contains("table_z_mm"))
+    cell.table_z_mm = cell_value<double>(root, "table_z_mm", file, "a number (mm)");
+  if (root.contains("pruning")) {
+    cell.angle_deg = cell_value<double>(root["pruning"], "pruning.angle_deg", file, "deg");
+    cell.distance_mm = cell_value<double>(root["pruning"], "pruning.distance_mm", file, "mm");
+  }
+  return cell;
+}
+
+PlanOutcome parse_outcome(const json& root, const std::string& file) {
+  PlanOutcome o;
+  o.poses_enumerated = cell_value<int>(root, "poses_enumerated", file, "a count");
+  o.poses_kept = cell_value<int>(root, "poses_kept", file, "a count");
+  o.poses_measurable = cell_value<int>(root, "poses_measurable", file, "a count");
+  o.configurations_measurable = cell_value<int>(root, "configurations_measurable", file, "a count");
+  if (!root.contains("poses")) return o;
+  if (!root["poses"].is_array()) throw InputError({file, 0, 0, "poses"}, "expected a list");
+  for (size_t i = 0; i < root["poses"].size(); ++i) {
+    const json& p = root["poses"][i];
+    const std::string key = fmt::format("poses[{}].", i);
+    o.poses.push_back({cell_value<std::string>(p, key + "label", file, "a label"),
+                       cell_value<std::string>(p, key + "description", file, "a text"),
+                       cell_value<std::string>(p, key + "ik", file, "an IK status"),
+                       cell_value<int>(p, key + "configurations", file, "a count"),
+                       cell_value<int>(p, key + "rejected_table", file, "a count"),
+                       cell_value<int>(p, key + "rejected_fixture", file, "a count")});
+  }
+  return o;
+}
+
+/// The reach of the setting-ball points, when the plan lists it.
+void parse_setting_configurations(const json& root, const std::string& file, HexapodPlan& plan) {
+  if (!plan.session.setting_points) return;
+  for (int i = 0; i < 3; ++i) {
+    plan.setting[i].ball_position_mm = (*plan.session.setting_points)[i];
+    const json& entry = root["setting_ball"][i];
+    if (!entry.contains("configurations")) continue;
+    const std::string key = fmt::format("setting_ball[{}].configurations", i);
+    if (!entry["configurations"].is_array()) throw InputError({file, 0, 0, key}, "expected a list");
+    for (const json& c : entry["configurations"]) {
+      const auto labels = cell_value<std::string>(c, key + ".labels", file, "an arm config label");
+      const std::optional<ArmConfig> config = parse_arm_config(labels);
+      if (!config)
+        throw InputError({file, 0, 0, key + ".labels"},
+                         fmt::format("'{}': expected a label like front/up/no-flip", labels));
+      const std::vector<double> deg =
+          joint_list(c["joints_deg"], {file, 0, 0, key + ".joints_deg"});
+      PoseConfiguration pc;
+      pc.config = *config;
+      for (int j = 0; j < kJointCount; ++j) pc.joints[j] = deg2rad(deg[j]);
+      plan.setting[i].configurations.push_back(pc);
+    }
+  }
+}
+
+Replanned parse_replanned(const json& root, const std::string& file) {
+  Replanned r;
+  const json& node = root["replanned"];
+  if (node.contains("sessions") && node["sessions"].is_string()) r.sessions = node["sessions"];
+  if (node.contains("model") && node["model"].is_string()) r.model = node["model"];
+  for (size_t i = 0; i < root["configurations"].size(); ++i) {
+    const json& c = root["configurations"][i];
+    r.planned_joints_deg.push_back(
+        c.contains("planned_joints_deg")
+            ? joint_list(c["planned_joints_deg"],
+                         {file, 0, 0, fmt::format("configurations[{}].planned_joints_deg", i)})
+            : std::vector<double>{});
+  }
+  return r;
+}
+
+}  // namespace
+
+std::array<double, 4> parse_placement(const std::string& text, const SourceLocation& where) {
+  std::array<double, 4> v{};
+  size_t start = 0;
+  for (int i = 0; i < 4; ++i) {
+    const size_t end = i < 3 ? text.find(',', start) : text.size();
+    bool ok = end != std::string::npos && (i < 3 || text.find(',', start) == std::string::npos);
+    if (ok) {
+      try {
+        size_t used = 0;
+        const std::string field = text.substr(start, end - start);
+        v[i] = std::stod(field, &used);
+        ok = field.find_first_not_of(" \t", used) == std::string::npos && std::isfinite(v[i]);
+      } catch (const std::exception&) {
+        ok = false;
+      }
+    }
+    if (!ok) throw InputError(where, fmt::format("'{}': expected \"x,y,z,yaw\" (mm, deg)", text));
+    start = end + 1;
+  }
+  return v;
+}
+
+std::string placement_text(const std::array<double, 4>& placement) {
+  return fmt::format("{},{},{},{}", placement[0], placement[1], placement[2], placement[3]);
+}
+
+Pose<double> placement_pose(const std::array<double, 4>& placement) {
+  Pose<double> pose;
+  pose.R = Eigen::AngleAxisd(deg2rad(placement[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.p = Eigen::Vector3d(placement[0], placement[1], placement[2]);
+  return pose;
+}
+
+std::array<SettingBallPoint, 3> plan_setting_ball(const RobotModel& model,
+                                                  const Pose<double>& placement, double side_mm,
+                                                  double ball_offset_mm) {
+  if (!(side_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
+  const Cups<double> points = setting_ball_points(placement, side_mm);
+  const auto geometry = analyze_ortho_parallel(model);
+  std::array<SettingBallPoint, 3> out;
+  for (int i = 0; i < 3; ++i) {
+    // Flange z pointing down, the ball ball_offset_mm below the flange.
+    Pose<double> robot_T_flange;
+    robot_T_flange.R =
+        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix() * placement.R;
+    robot_T_flange.p = points[i] + Eigen::Vector3d(0, 0, ball_offset_mm);
+    out[i].ball_position_mm = points[i];
+    if (geometry)
+      for (const IkSolution& s : nominal_ik(*geometry, robot_T_flange))
+        out[i].configurations.push_back({s.joints, s.config});
+  }
+  return out;
+}
+
+nlohmann::json setting_ball_json(const std::array<SettingBallPoint, 3>& points) {
+  json out = json::array();
+  for (int i = 0; i < 3; ++i) {
+    json entry{{"cup", fmt::format("B{}", i + 1)},
+               {"ball_position_mm", vec_json(points[i].ball_position_mm)}};
+    entry["configurations"] = json::array();
+    for (const PoseConfiguration& c : points[i].configurations)
+      entry["configurations"].push_back(
+          {{"labels", c.config.label()}, {"joints_deg", joints_json(c.joints)}});
+    out.push_back(entry);
+  }
+  return out;
+}
+
+HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& request) {
+  const HexapodGeometry& g = request.geometry;
+  const Cups<double> base_cups = fixture_cups(g.base, "--base-mm");
+  fixture_cups(g.tool, "--tool-mm");
+  if (!(g.leg_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
+  const std::vector<HexapodPose> all = enumerate_poses(g);
+  const std::vector<HexapodPose> kept =
+      prune_redundant(all, deg2rad(request.angle_deg), request.distance_mm);
+  const Pose<double> placement = placement_pose(request.placement);
+  // The base fixture frame (B1 origin, B2 on x) for the rough placement of its cup centroid.
+  Pose<double> centroid_T_base;
+  centroid_T_base.p = -centroid(base_cups);
+  CellSetup cell;
+  cell.robot_T_base = placement * centroid_T_base;
+  cell.flange_T_tool = default_tool_mount(g.tool, request.tool_offset_mm);
+  cell.table_z_mm = request.table_z_mm;
+  const PlanSummary summary = plan_poses(model, cell, base_cups, kept);
+
+  HexapodPlan plan;
+  plan.cell = request;
+  plan.setting = plan_setting_ball(model, placement, g.leg_mm, request.ball_offset_mm);
+  plan.session.tool_nominal_mm = g.tool.d12;
+  plan.session.leg_mm = g.leg_mm;
+  plan.session.flange_T_tool = cell.flange_T_tool;
+  plan.session.setting_points =
+      Cups<double>{plan.setting[0].ball_position_mm, plan.setting[1].ball_position_mm,
+                   plan.setting[2].ball_position_mm};
+  PlanOutcome outcome;
+  outcome.poses_enumerated = static_cast<int>(all.size());
+  outcome.poses_kept = static_cast<int>(kept.size());
+  outcome.poses_measurable = summary.measurable_poses;
+  outcome.configurations_measurable = summary.configurations;
+  for (const PosePlan& p : summary.poses) {
+    outcome.poses.push_back({p.pose.label, p.pose.description(), to_string(p.ik_status),
+                             static_cast<int>(p.configurations.size()), p.rejected_table,
+                             p.rejected_fixture});
+    for (const PoseConfiguration& c : p.configurations) {
+      SessionConfiguration config;
+      config.id = static_cast<int>(plan.session.configurations.size()) + 1;
+      config.pose = p.pose.label;
+      config.labels = c.config.label();
+      config.mode = p.pose.mode;
+      for (int j = 0; j < kJointCount; ++j) config.joints_deg.push_back(rad2deg(c.joints[j]));
+      config.legs = p.pose.legs;
+      plan.session.configurations.push_back(config);
+    }
+  }
+  plan.outcome = outcome;
+  return plan;
+}
+
+nlohmann::json hexapod_plan_json(const HexapodPlan& plan) {
+  const SessionPlan& s = plan.session;
+  json out;
+  if (plan.cell) out["robot"] = plan.cell->robot;
+  out["ballbar"] = {{"tool_mm", s.tool_nominal_mm},
+                    {"leg_mm", s.leg_mm},
+                    {"range_mm", s.range_mm},
+                    {"recheck_every", s.recheck_every}};
+  if (plan.cell) {
+    const HexapodPlanRequest& c = *plan.cell;
+    out["geometry"] = {{"base_sides_mm", c.geometry.base.as_array()},
+                       {"tool_sides_mm", c.geometry.tool.as_array()}};
+    out["placement"] = placement_text(c.placement);
+    out["tool_offset_mm"] = c.tool_offset_mm;
+    out["ball_offset_mm"] = c.ball_offset_mm;
+    out["table_z_mm"] = c.table_z_mm;
+    out["pruning"] = {{"angle_deg", c.angle_deg}, {"distance_mm", c.distance_mm}};
+  }
+  if (s.flange_T_tool) out["tool_mount"] = pose_json(*s.flange_T_tool);
+  if (s.setting_points) {
+    std::array<SettingBallPoint, 3> setting = plan.setting;
+    for (int i = 0; i < 3; ++i) setting[i].ball_position_mm = (*s.setting_points)[i];
+    out["setting_ball"] = setting_ball_json(setting);
+  }
+  if (plan.outcome) {
+    const PlanOutcome& o = *plan.outcome;
+    out["poses_enumerated"] = o.poses_enumerated;
+    out["poses_kept"] = o.poses_kept;
+    out["poses_measurable"] = o.poses_measurable;
+    out["configurations_measurable"] = o.configurations_measurable;
+    out["poses"] = json::array();
+    for (const PlannedPose& p : o.poses)
+      out["poses"].push_back({{"label", p.label},
+                              {"description", p.description},
+                              {"ik", p.ik},
+                              {"configurations", p.configurations},
+                              {"rejected_table", p.rejected_table},
+                              {"rejected_fixture", p.rejected_fixture}});
+  }
+  out["configurations"] = json::array();
+  for (size_t i = 0; i < s.configurations.size(); ++i) {
+    const SessionConfiguration& c = s.configurations[i];
+    json legs = json::array();
+    for (const PhysicalLeg& l : c.legs) legs.push_back(leg_name(l));
+    json entry{{"pose", c.pose}, {"labels", c.labels}};
+    if (c.mode > 0) entry["mode"] = c.mode;
+    if (!c.joints_deg.empty()) entry["joints_deg"] = joints_json(c.joints_deg);
+    if (plan.replanned && i < plan.replanned->planned_joints_deg.size() &&
+        !plan.replanned->planned_joints_deg[i].empty())
+      entry["planned_joints_deg"] = joints_json(plan.replanned->planned_joints_deg[i]);
+    entry["legs"] = legs;
+    out["configurations"].push_back(entry);
+  }
+  if (s.tool_sides && s.base_sides)
+    out["measured_sides"] = {{"tool_mm", s.tool_sides->as_array()},
+                             {"base_mm", s.base_sides->as_array()}};
+  if (plan.replanned)
+    out["replanned"] = {{"sessions", plan.replanned->sessions}, {"model", plan.replanned->model}};
+  return out;
+}
+
+HexapodPlan parse_hexapod_plan(const nlohmann::json& root, const std::string& file) {
+  HexapodPlan plan;
+  plan.session = parse_session_plan(root, file);
+  if (root.contains("geometry")) {
+    plan.cell = parse_cell(root, file);
+    plan.cell->geometry.leg_mm = plan.session.leg_mm;
+  }
+  if (root.contains("poses_enumerated")) plan.outcome = parse_outcome(root, file);
+  parse_setting_configurations(root, file, plan);
+  if (root.contains("replanned")) plan.replanned = parse_replanned(root, file);
+  return plan;
+}
+
+HexapodPlan read_hexapod_plan(const std::filesystem::path& path) {
+  json root;
+  try {
+    root = json::parse(read_text_file(path));
+  } catch (const json::parse_error& e) {
+    throw InputError({path.string(), 0, 0, ""}, fmt::format("not valid JSON: {}", e.what()));
+  }
+  return parse_hexapod_plan(root, path.string());
+}
+
+void write_hexapod_plan(const std::filesystem::path& path, const HexapodPlan& plan) {
+  write_file_atomically(path, hexapod_plan_json(plan).dump(2) + "\n");
+}
+
+}  // namespace robcal::hexapod

@@ -1,0 +1,130 @@
+#include "robcal/hexapod/session_calibration.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <nlohmann/json.hpp>
+
+#include "robcal/core/error.hpp"
+#include "robcal/core/rounding.hpp"
+#include "robcal/hexapod/measurement.hpp"
+
+namespace robcal::hexapod {
+namespace {
+
+/// The fit from the raw legs: the level's link and compliance parameters, the cups and the
+/// ballbar's offset; written in the frame of the pose fit.
+void fit_legs(const SessionData& data, const RobotModel& model, CalibrationLevel level,
+              SessionCalibration& out) {
+  LegFitOptions options;
+  for (int i : level_parameters(level))
+    if (i >= kBaseParamCount) options.free_parameters.push_back(i);
+  const LegFitResult fit =
+      fit_from_legs(model, out.tool.payload, data.base_sides, data.tool_sides, data.readings,
+                    model.nominal(), out.world.robot_T_fixture, data.flange_T_tool, options);
+  out.robot = leg_fit_robot(model, out.tool.payload, fit, out.world.robot_T_fixture);
+  out.robot.level = level_name(level);
+  YAML::Node stats;
+  stats["leg_fit"]["residuals"] = fit.residuals;
+  stats["leg_fit"]["initial_rms_mm"] = fit.initial_rms_mm;
+  stats["leg_fit"]["rms_mm"] = fit.rms_mm;
+  stats["leg_fit"]["iterations"] = fit.iterations;
+  stats["leg_fit"]["converged"] = fit.converged;
+  stats["leg_fit"]["ballbar_length_offset_mm"] = fit.length_offset_mm;
+  for (const std::string& h : fit.held) stats["leg_fit"]["held"].push_back(h);
+  YAML::Emitter emitter;
+  emitter.SetDoublePrecision(9);
+  emitter << stats;
+  out.model_file = calibrated_robot_to_yaml(out.robot, emitter.c_str());
+  out.legs = fit;
+}
+
+}  // namespace
+
+SessionFit parse_session_fit(const std::string& text) {
+  if (text == "poses") return SessionFit::Poses;
+  if (text == "legs") return SessionFit::Legs;
+  throw InputError({"", 0, 0, "--fit"},
+                   fmt::format("unknown fit '{}': expected poses or legs", text));
+}
+
+SessionCalibration calibrate_sessions(const SessionData& data, const RobotModel& model,
+                                      const PointMass& payload,
+                                      const SessionCalibrationRequest& request) {
+  if (request.fit == SessionFit::Legs && request.relative)
+    throw InputError({"", 0, 0, "--relative"}, "the leg fit always identifies the base cups");
+  check_orientation_weight(request.orientation_weight_mm);
+  SessionCalibration out;
+  out.fit = request.fit;
+  out.relative = request.relative;
+  out.orientation_weight_mm = request.orientation_weight_mm;
+  out.world = session_world_frame(data);
+  out.tool = hexapod_tool(payload, data.flange_T_tool, data.tool_sides);
+  out.poses = session_pose_measurements(data);
+  if (request.fit == SessionFit::Legs) {
+    fit_legs(data, model, request.level, out);
+    return out;
+  }
+  IdentifyOptions options;
+  options.level = request.level;
+  if (request.relative) options.fix = {"base.*"};
+  options.orientation_weight_mm = request.orientation_weight_mm;
+  options.seed = request.seed;
+  IdentificationResult r = calibrate(model, out.tool, out.poses, options);
+  // The poses are in the robot frame of the world the base cups define: the model's frame is that
+  // world even when its base is held (the relative model).
+  r.robot.base_fitted = true;
+  out.robot = r.robot;
+  out.model_file = calibrated_robot_to_yaml(r.robot, statistics_yaml(r));
+  out.identification = std::move(r);
+  return out;
+}
+
+nlohmann::json session_summary_json(const SessionData& data, const WorldFrameFit& world) {
+  nlohmann::json retry = nlohmann::json::array();
+  for (const RetryConfiguration& r : data.retry) retry.push_back(r.config);
+  return {{"sessions", data.source},
+          {"configurations_measured", data.readings.size()},
+          {"configurations_to_retry", retry},
+          {"configurations_pending", data.pending},
+          {"tool_sides_mm", data.tool_sides.as_array()},
+          {"base_sides_mm", data.base_sides.as_array()},
+          {"world_frame_rms_mm", rounded(world.rms_mm)}};
+}
+
+nlohmann::json session_calibration_json(const SessionData& data, const RobotModel& model,
+                                        const SessionCalibration& c, const std::string& output) {
+  nlohmann::json out = session_summary_json(data, c.world);
+  out["robot"] = model.name;
+  out["level"] = c.robot.level;
+  if (c.legs) {
+    const LegFitResult& fit = *c.legs;
+    out["fit"] = "legs";
+    out["rows"] = data.readings.size();
+    out["residuals"] = fit.residuals;
+    out["converged"] = fit.converged;
+    out["iterations"] = fit.iterations;
+    out["identified"] = fit.identified.size();
+    out["held"] = fit.held;
+    out["initial_rms_mm"] = rounded(fit.initial_rms_mm);
+    out["rms_mm"] = rounded(fit.rms_mm);
+    out["ballbar_length_offset_mm"] = rounded(fit.length_offset_mm);
+  } else {
+    const IdentificationResult& r = *c.identification;
+    out["relative"] = c.relative;
+    out["orientation_weight_mm_per_rad"] = c.orientation_weight_mm;
+    out["rows"] = c.poses.size();
+    out["converged"] = r.status.converged;
+    out["iterations"] = r.status.iterations;
+    out["identified"] = r.identified_count;
+    out["initial_rms_mm"] = rounded(r.status.initial_rms_mm);
+    out["rms_mm"] = rounded(r.rms_mm);
+    out["max_mm"] = rounded(r.max_mm);
+    out["sigma_mm"] = rounded(r.sigma_mm);
+    out["predicted_mean_mm"] = rounded(r.predicted.mean_mm);
+  }
+  out["output"] = output;
+  return out;
+}
+
+}  // namespace robcal::hexapod

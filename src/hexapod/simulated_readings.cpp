@@ -1,0 +1,71 @@
+#include "robcal/hexapod/simulated_readings.hpp"
+
+#include <fmt/format.h>
+
+#include "robcal/core/error.hpp"
+#include "robcal/hexapod/end_to_end.hpp"
+#include "robcal/hexapod/measurement.hpp"
+#include "robcal/hexapod/simulation.hpp"
+
+namespace robcal::hexapod {
+namespace {
+
+/// The simulated cell of a plan: the true robot and fixtures drawn from the seed.
+SimulatedHexapodCell cell_of_plan(const std::string& file, const HexapodPlan& plan,
+                                  const RobotModel& model, const PointMass& payload,
+                                  std::mt19937_64& rng) {
+  if (!plan.cell)
+    throw InputError({file, 0, 0, "geometry"},
+                     "the simulator needs the cell of a plan written by `robcal hexapod plan` "
+                     "(geometry, placement, tool and ball offsets)");
+  HexapodCellOptions cell;
+  cell.design = plan.cell->geometry;
+  cell.placement = placement_pose(plan.cell->placement);
+  cell.tool_offset_mm = plan.cell->tool_offset_mm;
+  cell.ball_offset_mm = plan.cell->ball_offset_mm;
+  const TrueRobot truth = levelled_random_truth(model, payload, EndToEndOptions{}.errors, rng);
+  return set_up_simulated_cell(truth, model, cell, rng);
+}
+
+}  // namespace
+
+SimulatedReadings simulate_readings(const HexapodPlan& plan, const std::string& plan_file,
+                                    const RobotModel& model, const PointMass& payload,
+                                    uint64_t seed, int validation) {
+  if (validation < 0) throw InputError({"", 0, 0, "--validation"}, "expected a non-negative count");
+  std::mt19937_64 rng(seed);
+  const SimulatedHexapodCell cell = cell_of_plan(plan_file, plan, model, payload, rng);
+  SimulatedReadings out;
+  // Drive the session script itself, so the readings come in the order the session asks.
+  Session session(plan.session);
+  while (const std::optional<SessionStep> step = session.next_step()) {
+    const std::optional<double> r = simulate_session_reading(cell, plan.session, *step, rng);
+    out.readings.push_back(r);
+    out.out_of_range += r ? 0 : 1;
+    session.record(r);
+  }
+  const Pose<double> flange_T_tool =
+      plan.session.flange_T_tool ? *plan.session.flange_T_tool : cell.cell.flange_T_tool;
+  out.tool = hexapod_tool(payload, flange_T_tool, cell.tool_sides);
+  out.validation.kind = MeasurementKind::Points;
+  if (validation > 0) {
+    // The tracker reads the SMR in tool cup T1; its points go to the robot frame of the hexapod's
+    // world (the frame of the poses file) through the world frame of the base cups.
+    const TrackerValidation v =
+        simulate_tracker_validation(cell, cell.tool_cups_flange[0], validation, 0.022, rng);
+    for (size_t k = 0; k < v.joints.size(); ++k)
+      out.validation.points.push_back(
+          {fmt::format("v{}", k + 1), 0, v.joints[k],
+           cell.world.robot_T_fixture * Eigen::Vector3d(v.measured.col(k)), 0});
+  }
+  return out;
+}
+
+std::string readings_text(const SimulatedReadings& simulated) {
+  std::string text;
+  for (const std::optional<double>& r : simulated.readings)
+    text += r ? fmt::format("{}\n", *r) : std::string("out\n");
+  return text;
+}
+
+}  // namespace robcal::hexapod

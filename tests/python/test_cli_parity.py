@@ -1,0 +1,177 @@
+"""The CLI and Python on the same inputs give the same numbers: both call the same library
+functions, so the comparisons are exact up to the CLI's printed precision."""
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import robcal
+
+ROOT = os.path.join(os.path.dirname(__file__), "..", "..")
+REF = os.path.join(ROOT, "tests", "data", "irb120-published")
+TOOL = os.path.join(REF, "tool.yaml")
+CLI = os.environ.get("ROBCAL_CLI")
+pytestmark = pytest.mark.skipif(not CLI, reason="ROBCAL_CLI names the robcal program")
+
+
+def cli_json(*args):
+    out = subprocess.run([CLI, *args, "--json"], check=True, capture_output=True, text=True)
+    return json.loads(out.stdout)
+
+
+def test_fk_and_ik():
+    robot = robcal.load_robot("abb-irb120")
+    q = [10, 20, 30, 40, 50, 60]
+    c = cli_json("fk", "--robot", "abb-irb120", "--joints", ",".join(map(str, q)))
+    p = robcal.fk(robot, q)
+    np.testing.assert_allclose(c["position_mm"], p["position_mm"], rtol=0, atol=1e-8)
+    np.testing.assert_allclose(c["quaternion_wxyz"], p["quaternion_wxyz"], rtol=0, atol=1e-11)
+    pose = [300, 100, 400, 0, 0, 1, 0]
+    c = cli_json("ik", "--robot", "abb-irb120", "--pose", ",".join(map(str, pose)))
+    p = robcal.ik(robot, pose[:3], pose[3:])
+    assert c["method"] == p["method"]
+    assert [s["config"] for s in c["solutions"]] == [s["config"] for s in p["solutions"]]
+    for a, b in zip(c["solutions"], p["solutions"]):
+        np.testing.assert_allclose(a["joints_deg"], b["joints_deg"], rtol=0, atol=1e-8)
+
+
+def test_calibrate_and_validate(tmp_path):
+    model = str(tmp_path / "model.yaml")
+    c = cli_json("calibrate", "--robot", "abb-irb120", "--tool", TOOL, "--measurements",
+                 os.path.join(REF, "calibration.csv"), "--out", model)
+    p = robcal.calibrate("abb-irb120", TOOL, os.path.join(REF, "calibration.csv"))
+    # The CLI prints these to 1e-9 mm.
+    assert c["rms_mm"] == pytest.approx(p.rms_mm, rel=0, abs=5.1e-10)
+    assert c["sigma_mm"] == pytest.approx(p.sigma_mm, rel=0, abs=5.1e-10)
+    table = p.parameter_table
+    assert [x["name"] for x in c["parameters"]] == table["name"]
+    np.testing.assert_allclose([x["value"] for x in c["parameters"]], table["value"], rtol=1e-12,
+                               atol=1e-12)
+    np.testing.assert_allclose([x["std"] for x in c["parameters"]], table["std"], rtol=1e-12,
+                               atol=1e-15)
+    validation = os.path.join(REF, "validation.csv")
+    c = cli_json("validate", "--robot", "abb-irb120", "--tool", TOOL, "--model", model,
+                 "--measurements", validation)
+    p = robcal.validate("abb-irb120", TOOL, validation, model=model)
+    for key in ("mean", "std", "max", "min"):
+        assert c["position_error_mm"][key] == pytest.approx(p["position_error_mm"][key], rel=1e-12)
+        assert c["distance_error_mm"][key] == pytest.approx(p["distance_error_mm"][key], rel=1e-12)
+
+
+def test_hexapod_plan_is_the_same_file(tmp_path):
+    out = str(tmp_path / "plan.json")
+    c = cli_json("hexapod", "plan", "--robot", "fanuc-lrmate200ic", "--placement", "450,0,300,15",
+                 "--table-z-mm", "-10", "--out", out)
+    plan = robcal.hexapod.plan("fanuc-lrmate200ic", placement=(450, 0, 300, 15), table_z_mm=-10)
+    assert json.loads(plan.to_json()) == c
+    assert open(out).read() == plan.to_json()
+    read = robcal.hexapod.read_plan(out)
+    assert read.to_json() == plan.to_json()
+    assert len(plan) == c["configurations_measurable"] == plan.joints_deg.shape[0]
+    np.testing.assert_allclose(plan.joints_deg, [x["joints_deg"] for x in c["configurations"]],
+                               rtol=0, atol=5e-7)
+    assert "hexapod.Plan" in repr(plan)
+
+
+def test_hexapod_setup_and_dkp():
+    c = cli_json("hexapod", "setup", "--robot", "fanuc-lrmate200ic", "--placement", "450,0,300,0")
+    p = robcal.hexapod.setup("fanuc-lrmate200ic", placement=(450, 0, 300, 0))
+    for a, b in zip(c["setting_ball"], p):
+        assert a["cup"] == b["cup"]
+        np.testing.assert_allclose(a["ball_position_mm"], b["ball_position_mm"], rtol=0, atol=1e-9)
+        assert [x["labels"] for x in a["configurations"]] == b["labels"]
+        np.testing.assert_allclose([x["joints_deg"] for x in a["configurations"]],
+                                   b["joints_deg"], rtol=0, atol=5e-7)
+
+
+def without_seconds(d):
+    return {k: v for k, v in d.items() if k != "seconds"}
+
+
+def test_simulation_studies(tmp_path):
+    c = cli_json("montecarlo", "--runs", "30", "--validation", "150", "--seed", "4")
+    p = robcal.montecarlo(runs=30, validation=150, seed=4)
+    assert without_seconds(c) == p
+    assert p["failed"] == 0 and 0.5 < p["ratio"] < 1.5
+    c = cli_json("plan-study", "--counts", "15", "--seeds", "1", "--candidates", "200",
+                 "--task-count", "30")
+    p = robcal.plan_study(counts=[15], seeds=1, candidates=200, task_count=30)
+    assert c == p
+    c = cli_json("experiments", "--seed", "2", "--out", str(tmp_path))
+    p = robcal.experiments(seed=2)
+    assert without_seconds(c) == p
+    with pytest.raises(robcal.InputError, match="--counts"):
+        robcal.plan_study(counts=[0])
+
+
+def test_hexapod_simulate():
+    c = cli_json("hexapod", "simulate", "--seed", "3", "--validation", "300", "--no-leg-fit")
+    p = robcal.hexapod.simulate(seed=3, validation=300, leg_fit=False)
+    assert c == p
+    assert p["final"]["validation"]["absolute"]["mean_mm"] < p["nominal"]["absolute"]["mean_mm"]
+    with pytest.raises(robcal.InputError, match="--validation"):
+        robcal.hexapod.simulate(validation=1)
+
+
+def test_report(tmp_path):
+    model = str(tmp_path / "model.yaml")
+    robcal.calibrate("abb-irb120", TOOL, os.path.join(REF, "calibration.csv")).save(model)
+    validation = os.path.join(REF, "validation.csv")
+    calibration = os.path.join(REF, "calibration.csv")
+    try:
+        c = cli_json("report", "--model", model, "--measurements", validation, "--calibration",
+                     calibration, "--out", str(tmp_path / "cli.html"))
+    except subprocess.CalledProcessError as e:
+        if "Chart.js" in e.stderr:
+            pytest.skip("Chart.js (libjs-chart.js) is not installed")
+        raise
+    p = robcal.report(model, [validation], calibration=calibration,
+                      out=str(tmp_path / "py.html"))
+    assert p.pop("warnings") == []
+    assert c == p
+    assert json.load(open(tmp_path / "py.json")) == c
+    assert (tmp_path / "py.html").read_text() == (tmp_path / "cli.html").read_text()
+    with pytest.raises(robcal.InputError, match="--out"):
+        robcal.report(model, [validation], out=str(tmp_path / "x.txt"))
+
+
+def test_hexapod_replan(tmp_path):
+    s1 = tmp_path / "s1"
+    s1.mkdir()
+    run = lambda *a: subprocess.run([CLI, *a], check=True, capture_output=True, text=True)  # noqa
+    plan = robcal.hexapod.plan("fanuc-lrmate200ic", placement=(450, 0, 300, 0))
+    plan.save(str(s1 / "plan.json"))
+    run("hexapod", "simulate-readings", "--plan", str(s1 / "plan.json"), "--seed", "5", "--out",
+        str(tmp_path / "r1.txt"), "--tool-out", str(tmp_path / "tool.yaml"))
+    # The file's plan (joints to 1e-6°), as the CLI reads it.
+    sim = robcal.hexapod.simulate_readings(robcal.hexapod.read_plan(str(s1 / "plan.json")), seed=5,
+                                           validation=50)
+    assert sim["text"] == open(tmp_path / "r1.txt").read()
+    assert sim["tool"].to_yaml() == open(tmp_path / "tool.yaml").read()
+    assert len(sim["validation"]) == 50 and sim["legs_out_of_range"] > 10
+    with open(tmp_path / "r1.txt") as readings:
+        subprocess.run([CLI, "hexapod", "session", "--plan", str(s1 / "plan.json"), "--journal",
+                        str(s1 / "journal.jsonl")], stdin=readings, check=True,
+                       capture_output=True)
+    c = cli_json("hexapod", "calibrate", "--session", str(s1), "--tool",
+                 str(tmp_path / "tool.yaml"), "--out", str(tmp_path / "prelim.yaml"))
+    p = robcal.hexapod.calibrate([str(s1)], tool=str(tmp_path / "tool.yaml"),
+                                 out=str(tmp_path / "py-prelim.yaml"))
+    assert p.pop("model").level == "full" and len(p.pop("poses")) == c["rows"]
+    assert "Tool" in repr(p.pop("tool"))
+    assert {k: v for k, v in c.items() if k != "output"} == {
+        k: v for k, v in p.items() if k != "output"}
+    assert open(tmp_path / "prelim.yaml").read() == open(tmp_path / "py-prelim.yaml").read()
+    legs = robcal.hexapod.calibrate([str(s1)], tool=str(tmp_path / "tool.yaml"), fit="legs")
+    assert legs["fit"] == "legs" and legs["converged"] and legs["rms_mm"] < 0.01
+    with pytest.raises(robcal.InputError, match="--fit"):
+        robcal.hexapod.calibrate([str(s1)], fit="lines")
+    c = cli_json("hexapod", "replan", "--session", str(s1), "--model",
+                 str(tmp_path / "prelim.yaml"), "--out", str(tmp_path / "cli.json"))
+    p = robcal.hexapod.replan([str(s1)], str(tmp_path / "prelim.yaml"), str(tmp_path / "py.json"))
+    assert c["replanned"] > 10 and c["replanned"] == p["replanned"]
+    assert {k: v for k, v in c.items() if k != "plan"} == {k: v for k, v in p.items() if k != "plan"}
+    assert open(tmp_path / "cli.json").read() == open(tmp_path / "py.json").read()
+    assert len(robcal.hexapod.read_plan(str(tmp_path / "py.json"))) == p["replanned"]
