@@ -335,3 +335,92 @@ TEST(CampaignCell, InstrumentPlacedFromThreeTableNests) {
 
 }  // namespace
 }  // namespace robcal::campaign
+
+namespace robcal::campaign {
+namespace {
+
+TEST(CampaignCell, OpticalCmmNeedsEnoughTargetsInViewAndFacingIt) {
+  // The IRB 120 at home, its flange z along +x; the camera bar 2.5 m in front looking back.
+  // Targets 1 and 3 face along the flange z; target 2 is tilted 30° (beyond a 20° limit).
+  const RobotModel model = load_robot("abb-irb120");
+  Tool tool;
+  tool.targets = {{"1", Eigen::Vector3d(40, 0, 100), true},
+                  {"2", Eigen::Vector3d(0, 40, 100), true},
+                  {"3", Eigen::Vector3d(-40, 0, 100), true}};
+  const auto cmm = [](const std::string& view, int min_targets) {
+    return parse_cell(
+        fmt::format("format: robcal-cell\n"
+                    "robot_base: {{position_mm: [0, 0, 0], rotation_xyz_deg: [0, 0, 0]}}\n"
+                    "instrument:\n"
+                    "  kind: optical-cmm\n"
+                    "  position_mm: [2500, 0, 600]\n"
+                    "  view_direction: [{}]\n"
+                    "  field_of_view_deg: 30\n"
+                    "  facing_limit_deg: 20\n"
+                    "  min_visible_targets: {}\n"
+                    "  target_axes_flange: {{'1': [0, 0, 1], '2': [0, 0.5, 0.8660254037844386], "
+                    "'3': [0, 0, 1]}}\n",
+                    view, min_targets),
+        "cmm.yaml");
+  };
+  const Vector6d home = Vector6d::Zero();
+  Feasibility f = check_configuration(cmm("-1, 0, 0", 2), model, tool, home);
+  EXPECT_EQ(f.reason, Rejection::None) << f.detail;
+  EXPECT_EQ(f.visible_targets, (std::vector<int>{0, 2}));
+  f = check_configuration(cmm("-1, 0, 0", 3), model, tool, home);
+  EXPECT_EQ(f.reason, Rejection::TooFewTargets) << f.detail;
+  EXPECT_NE(f.detail.find("2 of the tool's targets visible, 3 needed"), std::string::npos)
+      << f.detail;
+  f = check_configuration(cmm("0, 1, 0", 2), model, tool, home);  // the bar looks aside
+  EXPECT_EQ(f.reason, Rejection::OutsideView) << f.detail;
+  Vector6d tilted = home;
+  tilted[4] = deg2rad(45);  // the flange turns 45° away from the bar: nothing faces it
+  f = check_configuration(cmm("-1, 0, 0", 2), model, tool, tilted);
+  EXPECT_EQ(f.reason, Rejection::NotFacing) << f.detail;
+}
+
+TEST(CampaignCell, FeasibleCandidatesAreMeasurableAndSeenByTheSimulator) {
+  const Cell cell = load_cell(test::data_path("../../data/cells/default-tracker.yaml"));
+  const RobotModel model = load_robot("abb-irb120");
+  const Tool tool = default_simulation_tool();
+  CellCandidateOptions options;
+  options.box = published_joint_box(model);
+  options.count = 200;
+  std::mt19937_64 rng(9);
+  const CellCandidates set = feasible_candidates(cell, model, tool, options, rng);
+  ASSERT_EQ(set.joints.size(), 200u);
+  long total = 0;
+  for (long c : set.rejected.count) total += c;
+  EXPECT_EQ(total, set.draws);
+  EXPECT_EQ(set.rejected.of(Rejection::None), 200);
+  LaserTracker tracker;
+  for (size_t k = 0; k < set.joints.size(); ++k) {
+    const Pose<double> flange =
+        flange_pose(model, PointMass{}, cell.robot_params(model), set.joints[k]);
+    const int t = set.targets[k];
+    EXPECT_EQ(check_configuration(cell, model, tool, set.joints[k], t).reason, Rejection::None);
+    EXPECT_TRUE(smr_visible(tracker, flange * tool.targets[static_cast<size_t>(t)].position_mm,
+                            flange.R * smr_axis_flange(tracker, tool, t)));
+  }
+  // A tracker whose range cannot reach the robot: refused, with the counts per reason.
+  const Cell blind = parse_cell(
+      "format: robcal-cell\n"
+      "robot_base: {position_mm: [-812.25, 1503.5, -95], rotation_xyz_deg: [0.25, -0.4, -57]}\n"
+      "instrument: {kind: laser-tracker, position_mm: [0, 0, 0], range_mm: [0, 100]}\n",
+      "blind.yaml");
+  options.count = 5;
+  options.draws_per_candidate = 20;
+  try {
+    feasible_candidates(blind, model, tool, options, rng);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("blind.yaml"), std::string::npos) << what;
+    EXPECT_NE(what.find("no measurable configuration in 100 random draws"), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("out of range"), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace robcal::campaign

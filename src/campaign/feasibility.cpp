@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 
 namespace robcal::campaign {
@@ -265,6 +266,45 @@ RejectionCounts count_rejections(const Cell& cell, const RobotModel& model, cons
         check_configuration(cell, model, tool, joints[i], i < targets.size() ? targets[i] : -1)
             .reason)];
   return counts;
+}
+
+std::string describe(const RejectionCounts& counts) {
+  std::string out;
+  for (int r = 0; r < kRejectionCount; ++r)
+    if (counts.count[static_cast<size_t>(r)] > 0)
+      out +=
+          fmt::format("{}{} {}", out.empty() ? "" : ", ", rejection_name(static_cast<Rejection>(r)),
+                      counts.count[static_cast<size_t>(r)]);
+  return out;
+}
+
+CellCandidates feasible_candidates(const Cell& cell, const RobotModel& model, const Tool& tool,
+                                   const CellCandidateOptions& options, std::mt19937_64& rng) {
+  CellCandidates out;
+  const bool cmm = cell.instrument.kind == InstrumentKind::OpticalCmm;
+  const long budget = static_cast<long>(options.count) * options.draws_per_candidate;
+  while (static_cast<int>(out.joints.size()) < options.count && out.draws < budget) {
+    Vector6d q;
+    for (int j = 0; j < kJointCount; ++j)
+      q[j] = std::uniform_real_distribution<double>(options.box[static_cast<size_t>(j)].lower,
+                                                    options.box[static_cast<size_t>(j)].upper)(rng);
+    ++out.draws;
+    const Feasibility f = check_configuration(cell, model, tool, q, -1);
+    ++out.rejected.count[static_cast<size_t>(f.reason)];
+    if (f.reason != Rejection::None) continue;
+    out.joints.push_back(q);
+    out.targets.push_back(cmm ? -1
+                              : f.visible_targets[std::uniform_int_distribution<size_t>(
+                                    0, f.visible_targets.size() - 1)(rng)]);
+  }
+  if (out.joints.empty())
+    throw InputError(
+        {cell.file, 0, 0, "instrument"},
+        fmt::format("no measurable configuration in {} random draws in this cell ({}): "
+                    "check the instrument's position and range, the target axes, the "
+                    "keep-out boxes and the floor",
+                    out.draws, describe(out.rejected)));
+  return out;
 }
 
 }  // namespace robcal::campaign

@@ -11,6 +11,7 @@
 /// METHOD §2). The tool itself is not modelled (the flange link ends at the flange origin).
 
 #include <array>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,31 @@ struct RejectionCounts {
 RejectionCounts count_rejections(const Cell& cell, const RobotModel& model, const Tool& tool,
                                  const std::vector<Vector6d>& joints,
                                  const std::vector<int>& targets);
+
+/// Summary of counts: "measurable 53, joint limits 113, …" (reasons with a zero count left out).
+std::string describe(const RejectionCounts& counts);
+
+struct CellCandidateOptions {
+  /// Controller joint ranges (rad) to draw in, e.g. design/candidates.hpp constrained_joint_box.
+  std::array<JointLimit, kJointCount> box{};
+  int count = 5000;
+  int draws_per_candidate = 200;  ///< draw budget per wanted candidate
+};
+
+/// Measurable configurations drawn uniformly in the box, each with the target to read (tracker:
+/// one of its visible targets, drawn; optical CMM: −1, the tool).
+struct CellCandidates {
+  std::vector<Vector6d> joints;
+  std::vector<int> targets;
+  RejectionCounts rejected;  ///< every draw, by reason (None: the accepted ones)
+  long draws = 0;
+};
+
+/// Draws `options.count` measurable configurations in `cell` (fewer when the budget runs out).
+/// \throws InputError naming the cell file when no draw at all is measurable, with the counts
+///   per reason and what to change.
+CellCandidates feasible_candidates(const Cell& cell, const RobotModel& model, const Tool& tool,
+                                   const CellCandidateOptions& options, std::mt19937_64& rng);
 
 /// Distance between segments p0–p1 and q0–q1 (mm).
 double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1,
