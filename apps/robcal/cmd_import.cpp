@@ -21,38 +21,6 @@ struct ImportOptions {
   bool json = false;
 };
 
-char dialect_char(const std::string& text, const std::string& flag, bool decimal) {
-  if (text.empty()) return 0;
-  if (decimal) {
-    if (text == "point" || text == ".") return '.';
-    if (text == "comma" || text == ",") return ',';
-    throw InputError({"", 0, 0, flag},
-                     fmt::format("unknown decimal mark '{}': expected point or comma", text));
-  }
-  if (text == "comma" || text == ",") return ',';
-  if (text == "semicolon" || text == ";") return ';';
-  if (text == "tab") return '\t';
-  if (text == "space") return ' ';
-  throw InputError(
-      {"", 0, 0, flag},
-      fmt::format("unknown delimiter '{}': expected comma, semicolon, tab or space", text));
-}
-
-/// "a,b,c" → {"a", "b", "c"} (blanks trimmed).
-std::vector<std::string> parse_names(const std::string& text) {
-  std::vector<std::string> names;
-  size_t start = 0;
-  while (start <= text.size()) {
-    const size_t comma = std::min(text.find(',', start), text.size());
-    std::string name = text.substr(start, comma - start);
-    name.erase(0, name.find_first_not_of(' '));
-    name.erase(name.find_last_not_of(' ') + 1);
-    names.push_back(name);
-    start = comma + 1;
-  }
-  return names;
-}
-
 void run_import(const ImportOptions& o) {
   campaign::ImportRequest request;
   request.export_file = {o.export_path, read_text_file(o.export_path)};
@@ -60,24 +28,14 @@ void run_import(const ImportOptions& o) {
   if (!o.map_path.empty())
     request.format = campaign::parse_export_format(read_text_file(o.map_path), o.map_path);
   // Flags override the mapping file.
-  if (!o.delimiter.empty())
-    request.format.dialect.delimiter = dialect_char(o.delimiter, "--delimiter", false);
-  if (!o.decimal.empty())
-    request.format.dialect.decimal = dialect_char(o.decimal, "--decimal", true);
-  if (!o.columns.empty()) {
-    request.format.columns = parse_names(o.columns);
-    request.format.has_header = false;
-  }
-  if (!o.config_column.empty()) request.format.roles["config"] = o.config_column;
-  if (!o.unit.empty()) {
-    if (o.unit != "mm" && o.unit != "m")
-      throw InputError({"", 0, 0, "--unit"},
-                       fmt::format("unknown unit '{}': expected mm or m", o.unit));
-    request.format.unit = o.unit;
-  }
+  for (const auto& [option, value] : {std::pair{"delimiter", o.delimiter},
+                                      {"decimal", o.decimal},
+                                      {"columns", o.columns},
+                                      {"config-column", o.config_column},
+                                      {"unit", o.unit}})
+    if (!value.empty())
+      campaign::set_export_option(request.format, option, value, std::string("--") + option);
   request.join = campaign::parse_join_by(o.join, "--join");
-  if (!(o.tolerance_s > 0))
-    throw InputError({"", 0, 0, "--time-tolerance"}, "expected a tolerance > 0 s");
   request.time_tolerance_s = o.tolerance_s;
   request.default_target = o.target;
   request.allow_unmeasured = o.allow_unmeasured;

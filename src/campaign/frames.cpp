@@ -117,19 +117,53 @@ Eigen::Vector3d xyz_angles(const Eigen::Matrix3d& R) {
           std::atan2(-R(0, 1), R(0, 0))};
 }
 
+namespace {
+
+/// What two sweeps give: a result vector computed from their circles (and the second sweep's
+/// points), its covariance by propagation from every measured point, and the residuals.
+struct TwoSweepEstimate {
+  Eigen::VectorXd value;
+  Eigen::MatrixXd covariance;
+  double rms_mm = 0, sigma_mm = 0;
+};
+
+using FromCircles = std::function<Eigen::VectorXd(const CircleFit& first, const CircleFit& second,
+                                                  const Points& second_points)>;
+
+TwoSweepEstimate from_two_sweeps(const JointSweep& first, const std::vector<double>& first_angles,
+                                 const JointSweep& second, const std::vector<double>& second_angles,
+                                 const FromCircles& result, double sigma_mm) {
+  const long n1 = static_cast<long>(first.points_mm.size());
+  const auto evaluate = [&](const Points& all, CircleFit* c1, CircleFit* c2) {
+    const Points second_points(all.begin() + n1, all.end());
+    const CircleFit a = fit_circle(Points(all.begin(), all.begin() + n1), first_angles);
+    const CircleFit b = fit_circle(second_points, second_angles);
+    if (c1) *c1 = a;
+    if (c2) *c2 = b;
+    return result(a, b, second_points);
+  };
+  Points all = first.points_mm;
+  all.insert(all.end(), second.points_mm.begin(), second.points_mm.end());
+  TwoSweepEstimate out;
+  CircleFit a, b;
+  out.value = evaluate(all, &a, &b);
+  out.rms_mm = pooled_rms(a, b);
+  out.sigma_mm = sigma_mm > 0 ? sigma_mm : pooled_sigma(a, b);
+  out.covariance = propagate(
+      all, [&](const Points& p) { return evaluate(p, nullptr, nullptr); }, out.sigma_mm);
+  return out;
+}
+
+}  // namespace
+
 FrameEstimate base_from_sweeps(const RobotModel& model, const JointSweep& joint1,
                                const JointSweep& joint2, double sigma_mm) {
   const std::vector<double> a1 = swept_angles(model, joint1, 1, "joint-1 sweep");
   const std::vector<double> a2 = swept_angles(model, joint2, 2, "joint-2 sweep");
   const double theta1 =
       model_joint_angles(model, joint2.joints[0].data())[0] + model.mdh[0].theta_offset;
-  const size_t n1 = joint1.points_mm.size();
-
-  const auto place = [&](const Points& all, CircleFit* f1, CircleFit* f2) {
-    const CircleFit c1 = fit_circle(Points(all.begin(), all.begin() + static_cast<long>(n1)), a1);
-    const CircleFit c2 = fit_circle(Points(all.begin() + static_cast<long>(n1), all.end()), a2);
-    if (f1) *f1 = c1;
-    if (f2) *f2 = c2;
+  const auto place = [&](const CircleFit& c1, const CircleFit& c2,
+                         const Points&) -> Eigen::VectorXd {
     const Eigen::Vector3d z1 = c1.axis;
     const Eigen::Vector3d x1 = common_normal(z1, c2.axis, model.mdh[1].alpha, "base frame");
     const Eigen::Vector3d origin1 = closest_on_first(c1.centre_mm, z1, c2.centre_mm, c2.axis);
@@ -138,19 +172,19 @@ FrameEstimate base_from_sweeps(const RobotModel& model, const JointSweep& joint1
     Pose<double> base;
     base.R = R1 * Eigen::AngleAxisd(-theta1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     base.p = origin1 - Eigen::Vector3d(0, 0, model.mdh[0].d);  // METHOD §2: d1 along world z
-    return base;
+    return pose_values(base);
   };
-  Points all = joint1.points_mm;
-  all.insert(all.end(), joint2.points_mm.begin(), joint2.points_mm.end());
+  const TwoSweepEstimate e = from_two_sweeps(joint1, a1, joint2, a2, place, sigma_mm);
   FrameEstimate frame;
-  CircleFit c1, c2;
-  frame.pose = place(all, &c1, &c2);
-  frame.rms_mm = pooled_rms(c1, c2);
-  frame.sigma_mm = sigma_mm > 0 ? sigma_mm : pooled_sigma(c1, c2);
-  frame.covariance = propagate(
-      all,
-      [&](const Points& p) -> Eigen::VectorXd { return pose_values(place(p, nullptr, nullptr)); },
-      frame.sigma_mm);
+  frame.values = e.value;
+  frame.pose.p = e.value.head<3>();
+  frame.pose.R = (Eigen::AngleAxisd(e.value[3], Eigen::Vector3d::UnitX()) *
+                  Eigen::AngleAxisd(e.value[4], Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(e.value[5], Eigen::Vector3d::UnitZ()))
+                     .toRotationMatrix();
+  frame.covariance = e.covariance;
+  frame.rms_mm = e.rms_mm;
+  frame.sigma_mm = e.sigma_mm;
   finish(frame);
   return frame;
 }
@@ -165,15 +199,9 @@ PointEstimate tool_from_sweeps(const RobotModel& model, const JointSweep& joint5
                        fmt::format("joint {} differs between the joint-5 and joint-6 sweeps: "
                                    "joints 1–4 must stay where they are",
                                    j + 1));
-  const size_t n5 = joint5.points_mm.size();
   const MdhRow& link6 = model.mdh[5];
-
-  const auto locate = [&](const Points& all, CircleFit* f5, CircleFit* f6) {
-    const Points p6(all.begin() + static_cast<long>(n5), all.end());
-    const CircleFit c5 = fit_circle(Points(all.begin(), all.begin() + static_cast<long>(n5)), a5);
-    const CircleFit c6 = fit_circle(p6, a6);
-    if (f5) *f5 = c5;
-    if (f6) *f6 = c6;
+  const auto locate = [&](const CircleFit& c5, const CircleFit& c6,
+                          const Points& p6) -> Eigen::VectorXd {
     const Eigen::Vector3d z6 = c6.axis;
     const Eigen::Vector3d x5 = common_normal(c5.axis, z6, link6.alpha, "tool");
     const Eigen::Vector3d flange =
@@ -186,18 +214,14 @@ PointEstimate tool_from_sweeps(const RobotModel& model, const JointSweep& joint5
       R6 << x6, z6.cross(x6), z6;
       sum += R6.transpose() * (p6[k] - flange);
     }
-    return Eigen::Vector3d(sum / static_cast<double>(p6.size()));
+    return sum / static_cast<double>(p6.size());
   };
-  Points all = joint5.points_mm;
-  all.insert(all.end(), joint6.points_mm.begin(), joint6.points_mm.end());
+  const TwoSweepEstimate e = from_two_sweeps(joint5, a5, joint6, a6, locate, sigma_mm);
   PointEstimate estimate;
-  CircleFit c5, c6;
-  estimate.position_mm = locate(all, &c5, &c6);
-  estimate.rms_mm = pooled_rms(c5, c6);
-  estimate.sigma_mm = sigma_mm > 0 ? sigma_mm : pooled_sigma(c5, c6);
-  estimate.covariance = propagate(
-      all, [&](const Points& p) -> Eigen::VectorXd { return locate(p, nullptr, nullptr); },
-      estimate.sigma_mm);
+  estimate.position_mm = e.value;
+  estimate.covariance = e.covariance;
+  estimate.rms_mm = e.rms_mm;
+  estimate.sigma_mm = e.sigma_mm;
   estimate.sigma = estimate.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
   return estimate;
 }

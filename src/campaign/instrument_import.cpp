@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <set>
 
 #include "robcal/core/units.hpp"
@@ -483,36 +484,73 @@ JoinBy parse_join_by(const std::string& text, const std::string& flag) {
                    fmt::format("unknown join '{}': expected order, name or time", text));
 }
 
+namespace {
+
+/// The choice named `value` (case-insensitive) among `choices`; `error` builds the InputError
+/// for anything else (the caller knows the place).
+template <typename T>
+T choose(const std::string& value, const std::vector<std::pair<std::string, T>>& choices,
+         const std::function<InputError(const std::string&)>& error) {
+  const std::string wanted = lower(value);
+  std::vector<std::string> names;
+  for (const auto& [name, choice] : choices) {
+    if (name == wanted) return choice;
+    names.push_back(name);
+  }
+  throw error(fmt::format("unknown value '{}': expected {}", value, fmt::join(names, ", ")));
+}
+
+const std::vector<std::pair<std::string, char>> kDelimiters = {
+    {"comma", ','}, {"semicolon", ';'}, {"tab", '\t'}, {"space", ' '}, {",", ','}, {";", ';'}};
+const std::vector<std::pair<std::string, char>> kDecimals = {
+    {"point", '.'}, {"comma", ','}, {".", '.'}, {",", ','}};
+const std::vector<std::pair<std::string, std::string>> kUnits = {{"mm", "mm"}, {"m", "m"}};
+
+}  // namespace
+
+void set_export_option(ExportFormat& format, const std::string& option, const std::string& value,
+                       const std::string& flag) {
+  const auto error = [&](const std::string& what) { return InputError({"", 0, 0, flag}, what); };
+  if (option == "delimiter") {
+    format.dialect.delimiter = choose(value, kDelimiters, error);
+  } else if (option == "decimal") {
+    format.dialect.decimal = choose(value, kDecimals, error);
+  } else if (option == "unit") {
+    format.unit = choose(value, kUnits, error);
+  } else if (option == "columns") {
+    format.columns.clear();
+    size_t start = 0;
+    while (start <= value.size()) {
+      const size_t comma = std::min(value.find(',', start), value.size());
+      std::string name = value.substr(start, comma - start);
+      name.erase(0, name.find_first_not_of(' '));
+      name.erase(name.find_last_not_of(' ') + 1);
+      format.columns.push_back(name);
+      start = comma + 1;
+    }
+    format.has_header = false;
+  } else if (option == "config-column") {
+    format.roles["config"] = lower(value);
+  } else {
+    throw error(fmt::format("unknown export option '{}'", option));
+  }
+}
+
 ExportFormat parse_export_format(const std::string& yaml_text, const std::string& file) {
   const yaml::Node root = yaml::parse(yaml_text, file);
   ExportFormat format;
   if (!root.node.IsMap()) throw root.error("expected a map of export settings");
-  const auto one_of = [](const yaml::Node& node, const std::map<std::string, char>& choices) {
-    const std::string value = lower(node.as_string());
-    const auto it = choices.find(value);
-    if (it == choices.end()) {
-      std::vector<std::string> names;
-      for (const auto& [name, c] : choices) names.push_back(name);
-      throw node.error(
-          fmt::format("unknown value '{}': expected {}", value, fmt::join(names, ", ")));
-    }
-    return it->second;
-  };
   for (const std::string& key : root.keys()) {
     const yaml::Node node = root.at(key);
+    const auto error = [&node](const std::string& what) { return node.error(what); };
     if (key == "delimiter") {
-      format.dialect.delimiter = one_of(node, {{"comma", ','},
-                                               {"semicolon", ';'},
-                                               {"tab", '\t'},
-                                               {"space", ' '},
-                                               {",", ','},
-                                               {";", ';'}});
+      format.dialect.delimiter = choose(node.as_string(), kDelimiters, error);
     } else if (key == "decimal") {
-      format.dialect.decimal =
-          one_of(node, {{"point", '.'}, {"comma", ','}, {".", '.'}, {",", ','}});
+      format.dialect.decimal = choose(node.as_string(), kDecimals, error);
     } else if (key == "header") {
-      const char value = one_of(node, {{"true", 't'}, {"false", 'f'}, {"yes", 't'}, {"no", 'f'}});
-      format.has_header = value == 't';
+      format.has_header =
+          choose<bool>(node.as_string(),
+                       {{"true", true}, {"false", false}, {"yes", true}, {"no", false}}, error);
     } else if (key == "columns") {
       if (!node.node.IsSequence()) throw node.error("expected a list of column names");
       for (size_t i = 0; i < node.size(); ++i) format.columns.push_back(node.at(i).as_string());
@@ -524,16 +562,19 @@ ExportFormat parse_export_format(const std::string& yaml_text, const std::string
         format.roles[role] = lower(node.at(role).as_string());
       }
     } else if (key == "unit") {
-      format.unit = one_of(node, {{"mm", 'k'}, {"m", 'm'}}) == 'm' ? "m" : "mm";
+      format.unit = choose(node.as_string(), kUnits, error);
     } else if (key == "angles") {
       for (const std::string& sub : node.keys()) {
         const yaml::Node value = node.at(sub);
+        const auto sub_error = [&value](const std::string& what) { return value.error(what); };
         if (sub == "unit")
-          format.angles_in_degrees = one_of(value, {{"deg", 'd'}, {"rad", 'r'}}) == 'd';
+          format.angles_in_degrees =
+              choose<bool>(value.as_string(), {{"deg", true}, {"rad", false}}, sub_error);
         else if (sub == "order")
-          format.angle_order = one_of(value, {{"fixed-xyz", 'f'}, {"mobile-xyz", 'm'}}) == 'f'
-                                   ? AngleOrder::FixedXyz
-                                   : AngleOrder::MobileXyz;
+          format.angle_order = choose<AngleOrder>(
+              value.as_string(),
+              {{"fixed-xyz", AngleOrder::FixedXyz}, {"mobile-xyz", AngleOrder::MobileXyz}},
+              sub_error);
         else
           throw value.error(fmt::format("unknown key '{}': expected unit or order", sub));
       }
@@ -553,6 +594,10 @@ ExportFormat parse_export_format(const std::string& yaml_text, const std::string
 }
 
 ImportResult import_measurements(const ImportRequest& request) {
+  if (!(request.time_tolerance_s > 0))
+    throw InputError(
+        {"", 0, 0, "--time-tolerance"},
+        fmt::format("expected a time tolerance > 0 s, got {}", request.time_tolerance_s));
   ImportResult result;
   MeasurementKind kind = MeasurementKind::Points;
   bool export_has_time = false, log_has_time = false;

@@ -92,7 +92,7 @@ head -n 22 "$TMP/export.txt" >"$TMP/part.txt"  # 20 of the 30 readings
 expect_error "name join, unmeasured log rows" "10 joint-log rows have no reading: $TMP/log.csv:" \
   import --export "$TMP/part.txt" --joints "$TMP/log.csv" --columns collection,group,target,x,y,z \
   --config-column group --join name --out "$TMP/bad.csv"
-expect_error "zero time tolerance" "--time-tolerance" \
+expect_error "zero time tolerance" "expected a time tolerance > 0 s" \
   import --export "$TMP/export.txt" --joints "$TMP/log.csv" --join time --time-tolerance 0 --out "$TMP/bad.csv"
 printf 'A::Robot R1 1 0.1 0.2 x0.3\n' >"$TMP/badnum.txt"
 expect_error "malformed number" "$TMP/badnum.txt:1:" \

@@ -67,6 +67,13 @@ struct ExportFormat {
 /// Unknown keys and values are refused with file:line:column.
 ExportFormat parse_export_format(const std::string& yaml_text, const std::string& file);
 
+/// Sets one option of `format` from text, as `robcal import` flags give them: "delimiter"
+/// (comma, semicolon, tab, space), "decimal" (point, comma), "unit" (mm, m), "columns"
+/// (comma-separated names in file order; the file then has no header), "config-column" (the
+/// column holding the configuration name). \throws InputError naming `flag` otherwise.
+void set_export_option(ExportFormat& format, const std::string& option, const std::string& value,
+                       const std::string& flag);
+
 /// How the readings find their joints.
 enum class JoinBy { Order, Name, Time };
 
