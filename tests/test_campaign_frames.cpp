@@ -12,7 +12,9 @@
 #include <fstream>
 #include <random>
 
+#include "robcal/campaign/cell.hpp"
 #include "robcal/campaign/frames.hpp"
+#include "robcal/campaign/frames_file.hpp"
 #include "robcal/campaign/text_table.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -301,6 +303,47 @@ TEST(CampaignFrames, NominalModelWithTheCircleFitBaseValidatesLikeTheSimulatedTr
   EXPECT_NEAR(with_rigid_base, 0.762, 0.01);
   EXPECT_GE(with_circle_base, with_rigid_base);
   EXPECT_LT(with_circle_base, 4 * with_rigid_base);
+}
+
+}  // namespace
+}  // namespace robcal::campaign
+
+namespace robcal::campaign {
+namespace {
+
+TEST(CampaignFramesFile, SweepsAreCheckedRowByRowAndTheBaseReplacesOnlyItsBlock) {
+  MeasurementSet set;
+  set.file = "sweep.csv";
+  for (int k = 0; k < 5; ++k) {
+    PointMeasurement m;
+    m.joints = deg(10.0 * k, 20, 0, 0, 0, 0);
+    m.position_mm = Eigen::Vector3d(k, 0, 0);
+    m.line = k + 2;
+    set.points.push_back(m);
+  }
+  set.points[3].joints[2] = deg2rad(1);  // joint 3 moves on line 5
+  try {
+    sweep_from_measurements(set, 1);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("sweep.csv:5 (j3): joint 3 moved"), std::string::npos)
+        << e.what();
+  }
+  FrameEstimate base;
+  base.values << -800, 1500, -95, deg2rad(0.25), deg2rad(-0.4), deg2rad(-57);
+  base.sigma << 0.1, 0.2, 0.3, deg2rad(0.01), deg2rad(0.02), deg2rad(0.03);
+  const std::string cell =
+      "# my cell\nformat: robcal-cell\nrobot_base:\n  position_mm: [0, 0, 0]\n"
+      "  rotation_xyz_deg: [0, 0, 0]\n# the tracker\ninstrument: {kind: laser-tracker, "
+      "position_mm: [0, 0, 0]}\nfloor_z_mm: -100\n";
+  const std::string out = cell_with_base(cell, "cell.yaml", base, "measured");
+  EXPECT_EQ(out.substr(0, 30), "# my cell\nformat: robcal-cell\n");
+  EXPECT_NE(out.find("# the tracker\ninstrument: {kind: laser-tracker"), std::string::npos) << out;
+  const Cell parsed = parse_cell(out, "out.yaml");
+  EXPECT_TRUE(parsed.base_measured);
+  EXPECT_DOUBLE_EQ(parsed.robot_base[0], -800);
+  EXPECT_NEAR(parsed.robot_base[5], deg2rad(-57), 1e-15);
+  EXPECT_THROW(cell_with_base("format: robcal-cell\n", "cell.yaml", base, ""), InputError);
 }
 
 }  // namespace

@@ -210,6 +210,27 @@ TEST(CampaignImport, OpticalCmmPosesWithFixedXyzAnglesJoinedByName) {
   EXPECT_GT(largest, 0.1);
 }
 
+TEST(CampaignImport, OpticalCmmPosesWithQuaternionsMappedByAFileWithoutHeader) {
+  const MeasurementSet set = simulated(InstrumentKind::OpticalCmm, 12, 16);
+  // No header, tab-separated, quaternion written x, y, z, w (scalar last), in metres.
+  std::string text = "# C-Track export\n";
+  for (const PoseMeasurement& m : set.poses) {
+    const Eigen::Quaterniond q(m.world_T_tcp.R);
+    text += fmt::format("{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\n", m.config,
+                        number(m.world_T_tcp.p.x() / 1000), number(m.world_T_tcp.p.y() / 1000),
+                        number(m.world_T_tcp.p.z() / 1000), number(q.x()), number(q.y()),
+                        number(q.z()), number(q.w()));
+  }
+  ImportRequest request;
+  request.export_file = {"ctrack.txt", text};
+  request.joint_log = {"log.csv", joint_log(set, false)};
+  request.format = parse_export_format(
+      "columns: [pose, x, y, z, i, j, k, w]\nroles: {qx: i, qy: j, qz: k, qw: w}\nunit: m\n",
+      "map.yaml");
+  request.join = JoinBy::Name;
+  expect_round_trip(import_measurements(request), set);
+}
+
 std::string error_of(const ImportRequest& request) {
   try {
     import_measurements(request);
