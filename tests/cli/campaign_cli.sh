@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# End-to-end checks of `robcal import` and `robcal frames`: a simulated tracker campaign is
-# rewritten as a SpatialAnalyzer-style export plus a joint log and imported back exactly;
-# simulated joint sweeps give the base (written into the cell file), the tool target and a
-# nest frame near the truth; bad input exits with 2 naming the file and row.
+# End-to-end checks of `robcal import`, `robcal frames` and `robcal session`: a simulated
+# tracker campaign is rewritten as a SpatialAnalyzer-style export plus a joint log and imported
+# back exactly; simulated joint sweeps give the base (written into the cell file), the tool
+# target and a nest frame near the truth; a guided session killed at random readings resumes
+# to the same measurements; bad input exits with 2 naming the file and row.
 # Usage: campaign_cli.sh path/to/robcal (cwd: repo root).
 set -u
 ROBCAL=${1:?usage: campaign_cli.sh path/to/robcal}
@@ -105,5 +106,50 @@ expect_error "instrument in a keep-out box" "inside keep-out box 'cage'" \
   --cell "$TMP/badcell.yaml" --out "$TMP/bad.yaml"
 expect_error "sweep of the wrong joint" "only joint 1 may turn" \
   frames base --robot abb-irb120 --joint1 "$TMP/o2/measurements.csv" --joint2 "$TMP/o2/measurements.csv" --out "$TMP/bad.yaml"
+
+# 6. Guided session: answers piped in; SIGKILL at random readings loses nothing, --resume
+#    continues, and the measurements equal those of an uninterrupted session.
+RANDOM=42
+"$ROBCAL" simulate --random 10 --seed 7 --out "$TMP/ss" >/dev/null || fail "session: simulate"
+awk -F, '/^#/{next} /^config/{print "config,target,j1,j2,j3,j4,j5,j6"; next}
+  {print $1","$2","$3","$4","$5","$6","$7","$8}' "$TMP/ss/measurements.csv" >"$TMP/plan.csv"
+$PY - "$TMP/ss/measurements.csv" "$TMP/answers.txt" <<'PY'
+import sys
+rows = [l.strip().split(",") for l in open(sys.argv[1]) if l.strip() and not l.startswith("#")][1:]
+xyz = [" ".join(r[8:11]) for r in rows]
+steps = [xyz[0]]                      # the reference R1 first
+for c, answer in enumerate(xyz):
+    if c > 0 and c % 4 == 0:
+        steps.append(xyz[0])          # drift check before every 4th configuration
+    steps.append("skip" if c == 6 else answer)
+steps.append(xyz[0])
+open(sys.argv[2], "w").write("\n".join(steps) + "\n")
+PY
+SESSION=(session --configs "$TMP/plan.csv" --reference R1 --every 4)
+"$ROBCAL" "${SESSION[@]}" --journal "$TMP/j0" --out "$TMP/s0.csv" <"$TMP/answers.txt" >"$TMP/s0.txt" ||
+  fail "session failed: $(cat "$TMP/s0.txt")"
+grep -q "session complete: 9 configurations read, 1 missing (R7)" "$TMP/s0.txt" || fail "session summary: $(tail -5 "$TMP/s0.txt")"
+STEPS=$(wc -l <"$TMP/answers.txt")
+for run in 1 2 3; do
+  rm -f "$TMP/j1" "$TMP/s1.csv" "$TMP/fifo"
+  mkfifo "$TMP/fifo"
+  "$ROBCAL" "${SESSION[@]}" --journal "$TMP/j1" --out "$TMP/s1.csv" <"$TMP/fifo" >/dev/null 2>&1 &
+  PID=$!
+  exec 3>"$TMP/fifo"
+  K=$((RANDOM % (STEPS - 1) + 1))
+  head -n "$K" "$TMP/answers.txt" >&3
+  sleep 0.5
+  kill -9 "$PID" 2>/dev/null
+  wait "$PID" 2>/dev/null
+  exec 3>&-
+  DONE=$(wc -l <"$TMP/j1")
+  [[ $DONE -eq $K ]] || fail "session run $run: $K answers given before SIGKILL, $DONE in the journal"
+  tail -n +"$((DONE + 1))" "$TMP/answers.txt" |
+    "$ROBCAL" "${SESSION[@]}" --journal "$TMP/j1" --resume --out "$TMP/s1.csv" >"$TMP/s1.txt" ||
+    fail "session resume failed: $(cat "$TMP/s1.txt")"
+  cmp -s "$TMP/s0.csv" "$TMP/s1.csv" || fail "session run $run (killed after $K): measurements differ"
+done
+expect_error "session journal exists" "pass --resume" \
+  "${SESSION[@]}" --journal "$TMP/j1" --out "$TMP/bad.csv"
 
 finish campaign_cli.sh
