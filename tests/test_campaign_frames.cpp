@@ -37,14 +37,15 @@ Vector6d deg(double a, double b, double c, double d, double e, double f) {
 template <typename Position>
 JointSweep sweep(int joint, const Vector6d& start, double from, double to, int steps,
                  const Position& position, double sigma, std::mt19937_64& rng) {
-  std::normal_distribution<double> noise(0.0, sigma);
+  std::normal_distribution<double> noise(0.0, sigma > 0 ? sigma : 1.0);
   JointSweep s;
   s.joint = joint;
   for (int k = 0; k <= steps; ++k) {
     Vector6d q = start;
     q[joint - 1] = deg2rad(from + (to - from) * k / steps);
     Eigen::Vector3d p = position(q);
-    for (int i = 0; i < 3; ++i) p[i] += noise(rng);
+    if (sigma > 0)
+      for (int i = 0; i < 3; ++i) p[i] += noise(rng);
     s.joints.push_back(q);
     s.points_mm.push_back(p);
   }
@@ -323,7 +324,7 @@ TEST(CampaignFramesFile, SweepsAreCheckedRowByRowAndTheBaseReplacesOnlyItsBlock)
   }
   set.points[3].joints[2] = deg2rad(1);  // joint 3 moves on line 5
   try {
-    sweep_from_measurements(set, 1);
+    sweep_from_measurements(set, 1, load_robot("abb-irb120"));
     FAIL() << "expected an error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("sweep.csv:5 (j3): joint 3 moved"), std::string::npos)
@@ -344,6 +345,40 @@ TEST(CampaignFramesFile, SweepsAreCheckedRowByRowAndTheBaseReplacesOnlyItsBlock)
   EXPECT_DOUBLE_EQ(parsed.robot_base[0], -800);
   EXPECT_NEAR(parsed.robot_base[5], deg2rad(-57), 1e-15);
   EXPECT_THROW(cell_with_base("format: robcal-cell\n", "cell.yaml", base, ""), InputError);
+}
+
+}  // namespace
+}  // namespace robcal::campaign
+
+namespace robcal::campaign {
+namespace {
+
+TEST(CampaignFrames, CoupledJointsOfAFanucAreSweptInModelAngles) {
+  // LR Mate 200iC: the controller's J3 is measured from the horizontal (model q3 = −J2 − J3).
+  // A joint-2 sweep with J3 held still turns model joint 3 too, and is refused; with J3
+  // following (J3 = J3₀ − ΔJ2) it is a true joint-2 sweep and gives the base exactly.
+  const RobotModel model = load_robot("fanuc-lrmate200ic");
+  ParameterVector params = model.nominal();
+  params.head<6>() << 300, -200, 10, deg2rad(0.3), deg2rad(-0.2), deg2rad(25);
+  const Eigen::Vector3d target(40, 30, 150);
+  const auto position = [&](const Vector6d& q) {
+    return flange_pose(model, PointMass{}, params, q) * target;
+  };
+  std::mt19937_64 rng(1);
+  const JointSweep s1 = sweep(1, deg(0, 10, -10, 0, 30, 0), -60, 60, 12, position, 0.0, rng);
+  const JointSweep held = sweep(2, deg(20, 0, -10, 0, 30, 0), -20, 40, 12, position, 0.0, rng);
+  try {
+    base_from_sweeps(model, s1, held);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("model joint 3 moved"), std::string::npos) << e.what();
+  }
+  JointSweep coupled = held;
+  for (Vector6d& q : coupled.joints) q[2] = deg2rad(-10) - q[1];
+  for (size_t k = 0; k < coupled.joints.size(); ++k)
+    coupled.points_mm[k] = position(coupled.joints[k]);
+  const FrameEstimate base = base_from_sweeps(model, s1, coupled, 0.01);
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(base.values[i], params[i], 1e-7) << i;
 }
 
 }  // namespace

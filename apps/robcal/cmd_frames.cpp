@@ -21,11 +21,12 @@ struct FramesOptions {
   bool json = false;
 };
 
-campaign::JointSweep read_sweep(const std::string& path, const std::string& target, int joint) {
+campaign::JointSweep read_sweep(const std::string& path, const std::string& target, int joint,
+                                const RobotModel& model) {
   Tool tool;
   tool.targets.push_back({target, Eigen::Vector3d::Zero(), false});
   return campaign::sweep_from_measurements(
-      read_measurements_csv(path, tool, {MeasurementKind::Points}).measurements, joint);
+      read_measurements_csv(path, tool, {MeasurementKind::Points}).measurements, joint, model);
 }
 
 nlohmann::json frame_json(const campaign::FrameEstimate& f) {
@@ -48,8 +49,8 @@ void print_frame(const char* what, const campaign::FrameEstimate& f) {
 
 void run_base(const FramesOptions& o) {
   const RobotModel model = load_robot(o.robot);
-  const campaign::JointSweep s1 = read_sweep(o.first, o.target, 1);
-  const campaign::JointSweep s2 = read_sweep(o.second, o.target, 2);
+  const campaign::JointSweep s1 = read_sweep(o.first, o.target, 1, model);
+  const campaign::JointSweep s2 = read_sweep(o.second, o.target, 2, model);
   const campaign::FrameEstimate base = campaign::base_from_sweeps(model, s1, s2, o.sigma_mm);
   const std::string comment = fmt::format(
       "robot base of {} from circle fits of the joint-1 sweep {} ({} readings) and the joint-2 "
@@ -70,8 +71,8 @@ void run_base(const FramesOptions& o) {
 
 void run_tool(const FramesOptions& o) {
   const RobotModel model = load_robot(o.robot);
-  const campaign::JointSweep s5 = read_sweep(o.first, o.target, 5);
-  const campaign::JointSweep s6 = read_sweep(o.second, o.target, 6);
+  const campaign::JointSweep s5 = read_sweep(o.first, o.target, 5, model);
+  const campaign::JointSweep s6 = read_sweep(o.second, o.target, 6, model);
   const campaign::PointEstimate t = campaign::tool_from_sweeps(model, s5, s6, o.sigma_mm);
   Tool tool;
   if (!o.tool.empty()) tool = load_tool(o.tool);

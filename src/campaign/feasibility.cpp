@@ -234,7 +234,9 @@ Feasibility check_configuration(const Cell& cell, const RobotModel& model, const
                 {}};
   }
 
-  const std::vector<int> asked = target >= 0 ? std::vector<int>{target} : targets;
+  std::vector<int> asked = targets;  // only targets with known coordinates can be checked
+  if (target >= 0)
+    asked.assign(static_cast<size_t>(std::count(targets.begin(), targets.end(), target)), target);
   Sight furthest{-1, Rejection::None, ""};
   for (int t : asked) {
     const Sight s = sight_of(cell, capsules, tool, flange, t);

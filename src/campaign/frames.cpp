@@ -47,16 +47,20 @@ std::vector<double> swept_angles(const RobotModel& model, const JointSweep& swee
   if (sweep.points_mm.size() < 4)
     throw InputError({"", 0, 0, name}, fmt::format("a sweep needs at least 4 readings, got {}",
                                                    sweep.points_mm.size()));
+  // The model's joints must stay still but the swept one: on a robot whose controller couples
+  // joints (Fanuc J2/J3) the controller values of the others move with it.
+  const auto first = model_joint_angles(model, sweep.joints[0].data());
   std::vector<double> angles;
   for (size_t k = 0; k < sweep.joints.size(); ++k) {
+    const auto q = model_joint_angles(model, sweep.joints[k].data());
     for (int j = 0; j < kJointCount; ++j)
-      if (j != expected_joint - 1 && std::abs(sweep.joints[k][j] - sweep.joints[0][j]) > 1e-9)
-        throw InputError({"", 0, 0, name},
-                         fmt::format("reading {}: joint {} moved ({:.6f}° vs {:.6f}° in the first "
-                                     "reading): only joint {} may turn in this sweep",
-                                     k + 1, j + 1, rad2deg(sweep.joints[k][j]),
-                                     rad2deg(sweep.joints[0][j]), expected_joint));
-    angles.push_back(model_joint_angles(model, sweep.joints[k].data())[expected_joint - 1]);
+      if (j != expected_joint - 1 && std::abs(q[j] - first[j]) > 1e-9)
+        throw InputError(
+            {"", 0, 0, name},
+            fmt::format("reading {}: model joint {} moved ({:.6f}° vs {:.6f}° in the "
+                        "first reading): only joint {} may turn in this sweep",
+                        k + 1, j + 1, rad2deg(q[j]), rad2deg(first[j]), expected_joint));
+    angles.push_back(q[expected_joint - 1]);
   }
   return angles;
 }

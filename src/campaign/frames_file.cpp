@@ -41,7 +41,7 @@ std::string sigma_map(const FrameEstimate& f) {
 
 }  // namespace
 
-JointSweep sweep_from_measurements(const MeasurementSet& set, int joint) {
+JointSweep sweep_from_measurements(const MeasurementSet& set, int joint, const RobotModel& model) {
   if (set.kind != MeasurementKind::Points)
     throw InputError({set.file, 0, 0, ""},
                      fmt::format("a sweep is a points file (config,target,j1..j6,x,y,z); this is "
@@ -49,18 +49,20 @@ JointSweep sweep_from_measurements(const MeasurementSet& set, int joint) {
                                  measurement_kind_name(set.kind)));
   JointSweep sweep;
   sweep.joint = joint;
+  if (set.points.empty()) throw InputError({set.file, 0, 0, ""}, "no readings in the sweep");
+  const auto first = model_joint_angles(model, set.points.front().joints.data());
   for (const PointMeasurement& m : set.points) {
     if (m.target != set.points.front().target)
       throw InputError({set.file, m.line, 0, "target"},
                        "a sweep follows one target: this row reads another one than the first row");
+    const auto q = model_joint_angles(model, m.joints.data());
     for (int j = 0; j < kJointCount; ++j)
-      if (j != joint - 1 && std::abs(m.joints[j] - set.points.front().joints[j]) > 1e-9)
+      if (j != joint - 1 && std::abs(q[j] - first[j]) > 1e-9)
         throw InputError(
             {set.file, m.line, 0, fmt::format("j{}", j + 1)},
-            fmt::format("joint {} moved ({:.6f}° vs {:.6f}° on line {}): only joint "
-                        "{} may turn in this sweep",
-                        j + 1, rad2deg(m.joints[j]), rad2deg(set.points.front().joints[j]),
-                        set.points.front().line, joint));
+            fmt::format("joint {} moved ({:.6f}° vs {:.6f}° on line {}, model "
+                        "angles): only joint {} may turn in this sweep",
+                        j + 1, rad2deg(q[j]), rad2deg(first[j]), set.points.front().line, joint));
     sweep.joints.push_back(m.joints);
     sweep.points_mm.push_back(m.position_mm);
   }

@@ -14,10 +14,11 @@
 
 namespace robcal::campaign {
 
-/// The sweep of joint `joint` in a points file of one target. \throws InputError naming the
-/// file and line of the first row where another joint moved, a second target, or a poses /
-/// distances file.
-JointSweep sweep_from_measurements(const MeasurementSet& set, int joint);
+/// The sweep of joint `joint` in a points file of one target. Joints are compared as the
+/// model's angles (through the robot's joint map: on a Fanuc, J3 follows J2 in a joint-2
+/// sweep). \throws InputError naming the file and line of the first row where another joint
+/// moved, a second target, or a poses / distances file.
+JointSweep sweep_from_measurements(const MeasurementSet& set, int joint, const RobotModel& model);
 
 /// The `robot_base:` block of a cell file for a measured base, with its σ (YAML, 2-space
 /// indent, ending in a newline).
