@@ -181,6 +181,45 @@ TEST(CampaignImport, TabSeparatedIsoTimestampsJoinedByTimeWithinTolerance) {
   }
 }
 
+TEST(CampaignImport, SeveralTargetsPerConfigurationJoinedByTime) {
+  // The log has one row per configuration; the tracker reads two targets at each, a few
+  // seconds apart. A second reading of the same target at one configuration is refused.
+  const MeasurementSet set = simulated(InstrumentKind::LaserTracker, 8, 17);
+  std::string log = "config,time,j1,j2,j3,j4,j5,j6\n";
+  std::string text = "target,x,y,z,time\n";
+  MeasurementSet expected = set;
+  expected.points.clear();
+  for (size_t i = 0; i < set.points.size(); ++i) {
+    const PointMeasurement& m = set.points[i];
+    log += fmt::format("{},{}", m.config, 60 * i);
+    for (int j = 0; j < kJointCount; ++j) log += "," + number(rad2deg(m.joints[j]));
+    log += "\n";
+    for (int t = 0; t < 2; ++t) {
+      PointMeasurement r = m;
+      r.target = (m.target + t) % 3;
+      r.position_mm += Eigen::Vector3d(t, 0, 0);  // another SMR, another point
+      text += fmt::format("{},{},{},{},{}\n", r.target + 1, number(r.position_mm.x()),
+                          number(r.position_mm.y()), number(r.position_mm.z()), 60 * i + 3 * t);
+      expected.points.push_back(r);
+    }
+  }
+  ImportRequest request;
+  request.export_file = {"tracker.csv", text};
+  request.joint_log = {"log.csv", log};
+  request.join = JoinBy::Time;
+  request.time_tolerance_s = 5;
+  expect_round_trip(import_measurements(request), expected);
+  // A second reading of the first configuration's first target, 1 s after it.
+  request.export_file.text = text + fmt::format("{},1,2,3,1\n", set.points[0].target + 1);
+  std::string e;
+  try {
+    import_measurements(request);
+  } catch (const InputError& err) {
+    e = err.what();
+  }
+  EXPECT_NE(e.find("(same target) are both nearest to log row log.csv:2"), std::string::npos) << e;
+}
+
 TEST(CampaignImport, OpticalCmmPosesWithFixedXyzAnglesJoinedByName) {
   const MeasurementSet set = simulated(InstrumentKind::OpticalCmm, 15, 14);
   ASSERT_EQ(set.kind, MeasurementKind::Poses);

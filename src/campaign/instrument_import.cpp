@@ -433,7 +433,8 @@ std::vector<std::pair<size_t, size_t>> join(const ImportRequest& request,
         throw InputError({export_has_time ? lf : ef, 0, 0, "time"},
                          "joining by time needs a time column in both the export and the joint "
                          "log");
-      std::vector<size_t> owner(log.size(), readings.size());
+      // A log row (one configuration) may get one reading per target.
+      std::map<std::pair<size_t, std::string>, size_t> owner;
       for (size_t r = 0; r < readings.size(); ++r) {
         size_t best = 0;
         for (size_t i = 1; i < log.size(); ++i)
@@ -446,14 +447,14 @@ std::vector<std::pair<size_t, size_t>> join(const ImportRequest& request,
                            fmt::format("no joint-log row within ±{:g} s of this reading (nearest: "
                                        "{}:{} at {:.3f} s): expected a log row for every reading",
                                        request.time_tolerance_s, lf, log[best].line, gap));
-        if (owner[best] != readings.size())
-          throw InputError({ef, readings[r].line, 0, "time"},
-                           fmt::format("this reading and the one on line {} are both nearest to "
-                                       "log row {}:{}: the tolerance ±{:g} s is too wide or a "
-                                       "log row is missing",
-                                       readings[owner[best]].line, lf, log[best].line,
-                                       request.time_tolerance_s));
-        owner[best] = r;
+        const auto [it, first] = owner.emplace(std::pair{best, readings[r].target}, r);
+        if (!first)
+          throw InputError(
+              {ef, readings[r].line, 0, "time"},
+              fmt::format("this reading and the one on line {} (same target) are "
+                          "both nearest to log row {}:{}: the tolerance ±{:g} s is "
+                          "too wide or a log row is missing",
+                          readings[it->second].line, lf, log[best].line, request.time_tolerance_s));
         used[best] = true;
         pairs.emplace_back(r, best);
       }
