@@ -424,3 +424,44 @@ TEST(CampaignCell, FeasibleCandidatesAreMeasurableAndSeenByTheSimulator) {
 
 }  // namespace
 }  // namespace robcal::campaign
+
+#include "robcal/campaign/cell_planning.hpp"
+
+namespace robcal::campaign {
+namespace {
+
+TEST(CampaignCell, DefaultCellGivesTheSimulatorsInstrumentAndPlacement) {
+  const Cell cell = load_cell(test::data_path("../../data/cells/default-tracker.yaml"));
+  const RobotModel model = load_robot("abb-irb120");
+  const Tool tool = default_simulation_tool();
+  const TrueRobot truth = published_irb120_truth(model, tool);
+  const VirtualInstrument simulator = standard_instrument(InstrumentKind::LaserTracker, truth);
+  const VirtualInstrument from_cell = virtual_instrument(cell, tool);
+  EXPECT_EQ(from_cell.tracker.position_mm, simulator.tracker.position_mm);
+  EXPECT_EQ(from_cell.tracker.sigma_mm, simulator.tracker.sigma_mm);
+  EXPECT_EQ(from_cell.tracker.cone_half_angle_deg, simulator.tracker.cone_half_angle_deg);
+  EXPECT_EQ(from_cell.tracker.max_range_mm, simulator.tracker.max_range_mm);
+  for (int t = 0; t < 3; ++t)  // the default SMR axes, now listed per target
+    EXPECT_LT(
+        (smr_axis_flange(from_cell.tracker, tool, t) - smr_axis_flange(simulator.tracker, tool, t))
+            .norm(),
+        1e-15);
+  const auto base = default_base_placement();
+  const Eigen::Matrix<double, 6, 1> params = base_parameters(cell);
+  for (int i = 0; i < 6; ++i)
+    EXPECT_DOUBLE_EQ(params[i],
+                     i < 3 ? base[static_cast<size_t>(i)] : deg2rad(base[static_cast<size_t>(i)]));
+
+  CellCandidateOptions options;
+  options.box = published_joint_box(model);
+  options.count = 50;
+  std::mt19937_64 rng(2);
+  const CellCandidates found = feasible_candidates(cell, model, tool, options, rng);
+  const CandidateSet set = candidate_set(found);
+  ASSERT_EQ(set.candidates.size(), 50u);
+  EXPECT_EQ(set.draws, set.below_floor + set.not_visible + 50);
+  EXPECT_EQ(set.candidates[7].joints, found.joints[7]);
+}
+
+}  // namespace
+}  // namespace robcal::campaign

@@ -50,8 +50,8 @@ CellInstrument parse_instrument(const yaml::Node& node) {
   else
     throw node.at("kind").error(
         fmt::format("unknown instrument '{}': expected laser-tracker or optical-cmm", kind));
-  std::set<std::string> allowed = {"kind", "position_mm", "from_nests", "range_mm",
-                                   "target_axes_flange"};
+  std::set<std::string> allowed = {"kind",     "position_mm", "from_nests",
+                                   "range_mm", "sigma_mm",    "target_axes_flange"};
   if (in.kind == InstrumentKind::LaserTracker) {
     allowed.insert("cone_half_angle_deg");
   } else {
@@ -91,6 +91,7 @@ CellInstrument parse_instrument(const yaml::Node& node) {
     in.min_range_mm = range[0];
     in.max_range_mm = range[1];
   }
+  if (node.has("sigma_mm")) in.sigma_mm = positive(node.at("sigma_mm"), "a noise σ");
   if (node.has("cone_half_angle_deg")) {
     in.cone_half_angle_deg = positive(node.at("cone_half_angle_deg"), "a half-angle");
     if (in.cone_half_angle_deg > 90)

@@ -16,6 +16,7 @@
 ///   kind: laser-tracker            # laser-tracker or optical-cmm
 ///   position_mm: [0, 0, 0]         # world frame; or `from_nests` (below) instead
 ///   range_mm: [0, 35000]           # working range from the instrument
+///   sigma_mm: 0.022                # optional: noise per axis, for simulations
 ///   cone_half_angle_deg: 30        # tracker: SMR acceptance cone half-angle
 ///   target_axes_flange: {"1": [0, 0, 1]}    # optional: SMR/reflector axes in the flange frame
 ///                                  # (default: from the flange origin out through the target)
@@ -55,6 +56,7 @@ struct CellInstrument {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  ///< world frame
   double min_range_mm = 0;
   double max_range_mm = 35000;
+  double sigma_mm = 0;              ///< per axis, for simulations (0: the instrument's default)
   double cone_half_angle_deg = 30;  ///< tracker
   /// Reflector axes in the flange frame by target name; other targets use the default
   /// (measure/instrument.hpp smr_axis_flange).
