@@ -435,12 +435,18 @@ std::vector<std::pair<size_t, size_t>> join(const ImportRequest& request,
                          "log");
       // A log row (one configuration) may get one reading per target.
       std::map<std::pair<size_t, std::string>, size_t> owner;
+      // Log rows by time, so each reading finds its nearest row by bisection.
+      std::vector<size_t> by_time(log.size());
+      for (size_t i = 0; i < log.size(); ++i) by_time[i] = i;
+      std::stable_sort(by_time.begin(), by_time.end(),
+                       [&](size_t a, size_t b) { return log[a].time_s < log[b].time_s; });
       for (size_t r = 0; r < readings.size(); ++r) {
-        size_t best = 0;
-        for (size_t i = 1; i < log.size(); ++i)
-          if (std::abs(log[i].time_s - readings[r].time_s) <
-              std::abs(log[best].time_s - readings[r].time_s))
-            best = i;
+        const auto after = std::lower_bound(by_time.begin(), by_time.end(), readings[r].time_s,
+                                            [&](size_t i, double t) { return log[i].time_s < t; });
+        size_t best = after == by_time.end() ? by_time.back() : *after;
+        if (after != by_time.begin() && std::abs(log[*(after - 1)].time_s - readings[r].time_s) <=
+                                            std::abs(log[best].time_s - readings[r].time_s))
+          best = *(after - 1);
         const double gap = std::abs(log[best].time_s - readings[r].time_s);
         if (gap > request.time_tolerance_s)
           throw InputError({ef, readings[r].line, 0, "time"},
