@@ -10,6 +10,7 @@
 #include <random>
 
 #include "robcal/campaign/cell.hpp"
+#include "robcal/campaign/cell_planning.hpp"
 #include "robcal/campaign/feasibility.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -333,12 +334,6 @@ TEST(CampaignCell, InstrumentPlacedFromThreeTableNests) {
   EXPECT_LT((cell.instrument.position_mm - at).norm(), 1e-9);
 }
 
-}  // namespace
-}  // namespace robcal::campaign
-
-namespace robcal::campaign {
-namespace {
-
 TEST(CampaignCell, OpticalCmmNeedsEnoughTargetsInViewAndFacingIt) {
   // The IRB 120 at home, its flange z along +x; the camera bar 2.5 m in front looking back.
   // Targets 1 and 3 face along the flange z; target 2 is tilted 30° (beyond a 20° limit).
@@ -421,14 +416,6 @@ TEST(CampaignCell, FeasibleCandidatesAreMeasurableAndSeenByTheSimulator) {
     EXPECT_NE(what.find("out of range"), std::string::npos) << what;
   }
 }
-
-}  // namespace
-}  // namespace robcal::campaign
-
-#include "robcal/campaign/cell_planning.hpp"
-
-namespace robcal::campaign {
-namespace {
 
 TEST(CampaignCell, DefaultCellGivesTheSimulatorsInstrumentAndPlacement) {
   const Cell cell = load_cell(test::data_path("../../data/cells/default-tracker.yaml"));

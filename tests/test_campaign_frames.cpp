@@ -306,12 +306,6 @@ TEST(CampaignFrames, NominalModelWithTheCircleFitBaseValidatesLikeTheSimulatedTr
   EXPECT_LT(with_circle_base, 4 * with_rigid_base);
 }
 
-}  // namespace
-}  // namespace robcal::campaign
-
-namespace robcal::campaign {
-namespace {
-
 TEST(CampaignFramesFile, SweepsAreCheckedRowByRowAndTheBaseReplacesOnlyItsBlock) {
   MeasurementSet set;
   set.file = "sweep.csv";
@@ -346,12 +340,6 @@ TEST(CampaignFramesFile, SweepsAreCheckedRowByRowAndTheBaseReplacesOnlyItsBlock)
   EXPECT_NEAR(parsed.robot_base[5], deg2rad(-57), 1e-15);
   EXPECT_THROW(cell_with_base("format: robcal-cell\n", "cell.yaml", base, ""), InputError);
 }
-
-}  // namespace
-}  // namespace robcal::campaign
-
-namespace robcal::campaign {
-namespace {
 
 TEST(CampaignFrames, CoupledJointsOfAFanucAreSweptInModelAngles) {
   // LR Mate 200iC: the controller's J3 is measured from the horizontal (model q3 = −J2 − J3).
