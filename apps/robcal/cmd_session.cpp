@@ -10,9 +10,11 @@
 #include <ctime>
 #include <filesystem>
 #include <iostream>
+#include <thread>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
+#include "robcal/campaign/instrument_import.hpp"
 #include "robcal/campaign/point_session.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
@@ -22,8 +24,9 @@ namespace robcal::cli {
 namespace {
 
 struct SessionOptions {
-  std::string configs, tool, journal, out, reference;
+  std::string configs, tool, journal, out, reference, follow, map;
   int every = 0;
+  double follow_timeout_s = 600;
   bool resume = false;
 };
 
@@ -75,9 +78,36 @@ void run_session(const SessionOptions& o) {
     if (complete < text.size()) write_file_atomically(o.journal, text.substr(0, complete));
     fmt::print("resumed {}: {} of {} steps answered\n", o.journal, readings.size(), steps.size());
   }
+  campaign::ExportFormat format;
+  if (!o.map.empty()) format = campaign::parse_export_format(read_text_file(o.map), o.map);
   for (size_t i = readings.size(); i < steps.size();) {
     fmt::print("[{}/{}] {}\n> ", i + 1, steps.size(), steps[i].prompt);
     std::fflush(stdout);
+    if (!o.follow.empty()) {
+      // The k-th reading of the export answers the k-th step; wait for the software to write it.
+      const auto deadline = std::chrono::steady_clock::now() +
+                            std::chrono::milliseconds(static_cast<long>(1000 * o.follow_timeout_s));
+      std::vector<Eigen::Vector3d> points;
+      while (true) {
+        if (std::filesystem::exists(o.follow))
+          points = campaign::read_export_points({o.follow, read_text_file(o.follow)}, format);
+        if (points.size() > i || std::chrono::steady_clock::now() > deadline) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      }
+      if (points.size() <= i) {
+        fmt::print(
+            "\nno reading {} in {} after {:g} s: paused after {} of {} steps; run again "
+            "with --resume\n",
+            i + 1, o.follow, o.follow_timeout_s, i, steps.size());
+        return;
+      }
+      const Eigen::Vector3d& p = points[i];
+      fmt::print("{} {} {} (from {})\n", p.x(), p.y(), p.z(), o.follow);
+      readings.push_back({steps[i].key, p, now_utc(), std::nullopt});
+      append_synced(o.journal, campaign::journal_line(readings.back()));
+      ++i;
+      continue;
+    }
     std::string line;
     if (!std::getline(std::cin, line)) {
       fmt::print("\npaused after {} of {} steps: every reading is in {}; run again with --resume\n",
@@ -124,6 +154,13 @@ const bool registered = register_command(77, [](CLI::App& app) {
   cmd->add_flag("--resume", o->resume, "Continue the journal's session");
   cmd->add_option("--reference", o->reference, "Reference configuration for drift checks");
   cmd->add_option("--every", o->every, "Re-measure the reference every N configurations");
+  cmd->add_option("--follow", o->follow,
+                  "Read the answers from this instrument export as its software appends to it "
+                  "(the k-th reading answers the k-th step) instead of stdin");
+  cmd->add_option("--map", o->map, "Mapping file of the --follow export (see robcal import)");
+  cmd->add_option("--follow-timeout", o->follow_timeout_s,
+                  "Seconds to wait for the next reading of --follow before pausing")
+      ->capture_default_str();
   cmd->add_option("--out", o->out, "Measurement CSV written when the session is complete")
       ->required();
   cmd->callback([o] { run_session(*o); });

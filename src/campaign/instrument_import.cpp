@@ -690,4 +690,33 @@ ImportResult import_measurements(const ImportRequest& request) {
   return result;
 }
 
+std::vector<Eigen::Vector3d> read_export_points(const NamedText& file, const ExportFormat& format) {
+  const size_t complete = file.text.rfind('\n');
+  if (complete == std::string::npos) return {};
+  const NamedText lines{file.name, file.text.substr(0, complete + 1)};
+  // Nothing but comments, or only the header line so far: no reading yet.
+  std::string_view body = lines.text;
+  if (body.substr(0, 3) == "\xEF\xBB\xBF") body.remove_prefix(3);
+  int content_lines = 0;
+  for (size_t start = 0; start < body.size();) {
+    const size_t end = body.find('\n', start);
+    std::string_view line = body.substr(start, end - start);
+    while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
+    if (!line.empty() && line != "\r" && line.front() != '#' && line.substr(0, 2) != "//")
+      ++content_lines;
+    start = end + 1;
+  }
+  if (content_lines <= (format.columns.empty() || format.has_header ? 1 : 0)) return {};
+  MeasurementKind kind = MeasurementKind::Points;
+  bool has_time = false;
+  const std::vector<Reading> readings = read_export(lines, format, kind, has_time);
+  if (kind != MeasurementKind::Points)
+    throw InputError({file.name, 0, 0, ""},
+                     "a session takes point readings; this export has poses");
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(readings.size());
+  for (const Reading& r : readings) points.push_back(r.position_mm);
+  return points;
+}
+
 }  // namespace robcal::campaign

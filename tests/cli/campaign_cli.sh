@@ -124,6 +124,8 @@ for c, answer in enumerate(xyz):
     steps.append("skip" if c == 6 else answer)
 steps.append(xyz[0])
 open(sys.argv[2], "w").write("\n".join(steps) + "\n")
+follow = [xyz[6] if s == "skip" else s for s in steps]  # an export has no "skip"
+open(sys.argv[2] + ".follow", "w").write("\n".join(follow) + "\n")
 PY
 SESSION=(session --configs "$TMP/plan.csv" --reference R1 --every 4)
 "$ROBCAL" "${SESSION[@]}" --journal "$TMP/j0" --out "$TMP/s0.csv" <"$TMP/answers.txt" >"$TMP/s0.txt" ||
@@ -149,6 +151,28 @@ for run in 1 2 3; do
     fail "session resume failed: $(cat "$TMP/s1.txt")"
   cmp -s "$TMP/s0.csv" "$TMP/s1.csv" || fail "session run $run (killed after $K): measurements differ"
 done
+# Readings from an export file as the instrument software appends to it (the last line in two
+# writes): the same measurements as the same readings typed.
+"$ROBCAL" "${SESSION[@]}" --journal "$TMP/j2" --out "$TMP/s2.csv" <"$TMP/answers.txt.follow" >/dev/null ||
+  fail "session (typed) failed"
+printf 'columns: [x, y, z]\n' >"$TMP/map.yaml"
+printf '// SA export, appended as measured\n' >"$TMP/live.txt"
+"$ROBCAL" "${SESSION[@]}" --journal "$TMP/j3" --out "$TMP/s3.csv" --follow "$TMP/live.txt" \
+  --map "$TMP/map.yaml" --follow-timeout 30 >"$TMP/s3.txt" 2>&1 &
+PID=$!
+while read -r LINE; do
+  printf '%s' "${LINE:0:5}" >>"$TMP/live.txt"
+  sleep 0.05
+  printf '%s\n' "${LINE:5}" >>"$TMP/live.txt"
+done <"$TMP/answers.txt.follow"
+wait "$PID" || fail "session --follow failed: $(tail -3 "$TMP/s3.txt")"
+cmp -s "$TMP/s2.csv" "$TMP/s3.csv" || fail "session --follow: measurements differ from the typed session"
+head -n 3 "$TMP/answers.txt.follow" >"$TMP/live2.txt"
+"$ROBCAL" "${SESSION[@]}" --journal "$TMP/j4" --out "$TMP/s4.csv" --follow "$TMP/live2.txt" \
+  --map "$TMP/map.yaml" --follow-timeout 0.3 >"$TMP/s4.txt" || fail "session --follow pause failed"
+grep -q "paused after 3 of $STEPS steps" "$TMP/s4.txt" || fail "session --follow pause: $(tail -2 "$TMP/s4.txt")"
+[[ $(wc -l <"$TMP/j4") -eq 3 ]] || fail "session --follow pause: journal has $(wc -l <"$TMP/j4") lines"
+
 expect_error "session journal exists" "pass --resume" \
   "${SESSION[@]}" --journal "$TMP/j1" --out "$TMP/bad.csv"
 

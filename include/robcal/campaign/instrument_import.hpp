@@ -110,4 +110,11 @@ struct ImportResult {
 /// on both sides of a mismatch) for anything that cannot be joined unambiguously.
 ImportResult import_measurements(const ImportRequest& request);
 
+/// The point readings (mm) of an export read so far, in file order, for a session that follows
+/// the file as the instrument software appends to it: a last line without its newline (being
+/// written) is left for later, as is a file with only comments or a header so far.
+/// \throws InputError naming file, line and column for a malformed complete line, or a poses
+///   export.
+std::vector<Eigen::Vector3d> read_export_points(const NamedText& file, const ExportFormat& format);
+
 }  // namespace robcal::campaign
