@@ -350,6 +350,17 @@ TEST(CampaignImport, MismatchedRowsAreRefusedNamingTheRows) {
   }
 }
 
+TEST(CampaignImport, AGrowingExportGivesItsCompleteLinesOnly) {
+  ExportFormat format;  // a header line
+  EXPECT_TRUE(read_export_points({"live.csv", ""}, format).empty());
+  EXPECT_TRUE(read_export_points({"live.csv", "// started\nname;x;y;z\n"}, format).empty());
+  EXPECT_TRUE(read_export_points({"live.csv", "name;x;y;z\nP1;1,5;2;3"}, format).empty());
+  const auto points = read_export_points({"live.csv", "name;x;y;z\nP1;1,5;2;3\nP2;4;5"}, format);
+  ASSERT_EQ(points.size(), 1u);
+  EXPECT_EQ(points[0], Eigen::Vector3d(1.5, 2, 3));
+  EXPECT_THROW(read_export_points({"live.csv", "name;x;y;z\nP1;1,5;2;x3\n"}, format), InputError);
+}
+
 TEST(CampaignImport, DialectDetection) {
   const auto dialect = [](const std::string& text) { return read_text_table(text, "f").dialect; };
   EXPECT_EQ(dialect("a,b,c\n1.5,2,3\n").delimiter, ',');
