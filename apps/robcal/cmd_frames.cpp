@@ -5,6 +5,7 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
+#include "robcal/campaign/cell.hpp"
 #include "robcal/campaign/frames_file.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -69,11 +70,9 @@ void run_base(const FramesOptions& o) {
              o.cell.empty() ? " (a robot_base block for the cell file)" : "");
 }
 
-void run_tool(const FramesOptions& o) {
-  const RobotModel model = load_robot(o.robot);
-  const campaign::JointSweep s5 = read_sweep(o.first, o.target, 5, model);
-  const campaign::JointSweep s6 = read_sweep(o.second, o.target, 6, model);
-  const campaign::PointEstimate t = campaign::tool_from_sweeps(model, s5, s6, o.sigma_mm);
+/// Writes the tool (o.tool's, or a new one) with the target at `t`, and prints it.
+void write_target(const FramesOptions& o, const RobotModel& model, const campaign::PointEstimate& t,
+                  const std::string& source) {
   Tool tool;
   if (!o.tool.empty()) tool = load_tool(o.tool);
   int index = tool.target_index(o.target);
@@ -83,11 +82,10 @@ void run_tool(const FramesOptions& o) {
   }
   tool.targets[static_cast<size_t>(index)] = {o.target, t.position_mm, true};
   const std::string text = fmt::format(
-      "# target {} from circle fits of the joint-5 sweep {} and the joint-6 sweep {} (robcal "
-      "frames tool): [{:.4f}, {:.4f}, {:.4f}] ± [{:.4f}, {:.4f}, {:.4f}] mm (1σ), noise σ "
+      "# target {} from {}: [{:.4f}, {:.4f}, {:.4f}] ± [{:.4f}, {:.4f}, {:.4f}] mm (1σ), noise σ "
       "{:.4f} mm\n{}",
-      o.target, o.first, o.second, t.position_mm.x(), t.position_mm.y(), t.position_mm.z(),
-      t.sigma.x(), t.sigma.y(), t.sigma.z(), t.sigma_mm, tool_to_yaml(tool));
+      o.target, source, t.position_mm.x(), t.position_mm.y(), t.position_mm.z(), t.sigma.x(),
+      t.sigma.y(), t.sigma.z(), t.sigma_mm, tool_to_yaml(tool));
   write_file_atomically(o.out, text);
   if (o.json) {
     print_json({{"target", o.target},
@@ -103,6 +101,31 @@ void run_tool(const FramesOptions& o) {
     fmt::print("  {} {:>12.4f} ± {:.4f} mm\n", static_cast<char>('x' + k), t.position_mm[k],
                t.sigma[k]);
   fmt::print("wrote {}\n", o.out);
+}
+
+void run_tool(const FramesOptions& o) {
+  const RobotModel model = load_robot(o.robot);
+  const campaign::JointSweep s5 = read_sweep(o.first, o.target, 5, model);
+  const campaign::JointSweep s6 = read_sweep(o.second, o.target, 6, model);
+  write_target(o, model, campaign::tool_from_sweeps(model, s5, s6, o.sigma_mm),
+               fmt::format("circle fits of the joint-5 sweep {} and the joint-6 sweep {} (robcal "
+                           "frames tool)",
+                           o.first, o.second));
+}
+
+void run_point(const FramesOptions& o) {
+  const RobotModel model = load_robot(o.robot);
+  const campaign::Cell cell = campaign::load_cell(o.cell);
+  Tool names;
+  names.targets.push_back({o.target, Eigen::Vector3d::Zero(), false});
+  const MeasurementSet set =
+      read_measurements_csv(o.first, names, {MeasurementKind::Points}).measurements;
+  write_target(
+      o, model,
+      campaign::tool_point_from_measurements(model, cell.robot_params(model), set, o.sigma_mm),
+      fmt::format("{} rows of {} with the nominal robot at the base of {} (robcal "
+                  "frames point)",
+                  set.points.size(), o.first, o.cell));
 }
 
 void run_world(const FramesOptions& o) {
@@ -163,6 +186,17 @@ const bool registered = register_command(76, [](CLI::App& app) {
   tool->add_option("--tool", tool_o->tool, "Tool file to update (default: a new tool)");
   common(tool, *tool_o);
   tool->callback([tool_o] { run_tool(*tool_o); });
+
+  auto point_o = std::make_shared<FramesOptions>();
+  auto* point = frames->add_subcommand(
+      "point", "Target in the flange frame from ≥ 4 measured configurations, base from a cell");
+  point->add_option("--robot", point_o->robot, "Built-in robot name or robot file")->required();
+  point->add_option("--cell", point_o->cell, "Cell file giving the robot's base")->required();
+  point->add_option("--measurements", point_o->first, "Points file of one target")->required();
+  point->add_option("--target", point_o->target, "Target measured")->capture_default_str();
+  point->add_option("--tool", point_o->tool, "Tool file to update (default: a new tool)");
+  common(point, *point_o);
+  point->callback([point_o] { run_point(*point_o); });
 
   auto world_o = std::make_shared<FramesOptions>();
   auto* world = frames->add_subcommand(

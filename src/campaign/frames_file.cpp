@@ -69,6 +69,26 @@ JointSweep sweep_from_measurements(const MeasurementSet& set, int joint, const R
   return sweep;
 }
 
+PointEstimate tool_point_from_measurements(const RobotModel& model, const ParameterVector& params,
+                                           const MeasurementSet& set, double sigma_mm) {
+  if (set.kind != MeasurementKind::Points || set.points.empty())
+    throw InputError({set.file, 0, 0, ""}, "expected a points file (config,target,j1..j6,x,y,z)");
+  std::vector<Pose<double>> flanges;
+  std::vector<Eigen::Vector3d> measured;
+  for (const PointMeasurement& m : set.points) {
+    if (m.target != set.points.front().target)
+      throw InputError({set.file, m.line, 0, "target"},
+                       "the rows must all read one target (the first row's)");
+    flanges.push_back(flange_pose(model, PointMass{}, params, m.joints));
+    measured.push_back(m.position_mm);
+  }
+  try {
+    return tool_point_from_poses(flanges, measured, sigma_mm);
+  } catch (const InputError& e) {
+    throw InputError({set.file, 0, 0, ""}, e.what());
+  }
+}
+
 std::string robot_base_block(const FrameEstimate& base) {
   return fmt::format(
       "robot_base:\n"

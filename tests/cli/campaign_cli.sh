@@ -78,6 +78,17 @@ PY
 "$ROBCAL" simulate --tool "$TMP/tool.yaml" --random 3 --seed 1 --out "$TMP/check" >/dev/null ||
   fail "the written tool file does not read back"
 
+# The same target from 12 random configurations, the base from the default cell.
+"$ROBCAL" simulate --tool "$TMP/t.yaml" --random 12 --seed 9 --out "$TMP/op" >/dev/null || fail "point rows"
+"$ROBCAL" frames point --robot abb-irb120 --cell data/cells/default-tracker.yaml --target T \
+  --measurements "$TMP/op/measurements.csv" --out "$TMP/tool-point.yaml" --json >"$TMP/point.json" ||
+  fail "frames point failed"
+$PY - "$TMP/point.json" <<'PY' || fail "frames point: $(cat "$TMP/point.json")"
+import json, sys
+t = json.load(open(sys.argv[1]))
+sys.exit(0 if all(abs(g - w) < 3 for g, w in zip(t["position_mm"], [30, 0, 200])) else 1)
+PY
+
 # 4. Frames: a table frame from four nests (semicolons, decimal commas, a header).
 printf 'name;x;y;z\nN1;0;0;0\nN2;400;0;0\nN3;0;300;0\nN4;400;300;0\n' >"$TMP/nominal.csv"
 printf '# tracker readings\nN2;-500,000;1000,000;-50,010\nN1;-900,000;1000,000;-50,000\nN3;-900,000;1300,010;-50,000\nN4;-500,000;1300,000;-50,000\n' >"$TMP/measured.csv"

@@ -20,6 +20,14 @@ namespace robcal::campaign {
 /// moved, a second target, or a poses / distances file.
 JointSweep sweep_from_measurements(const MeasurementSet& set, int joint, const RobotModel& model);
 
+/// A target's flange coordinates from the rows of a points file (≥ 4 configurations with
+/// different orientations), the flange poses given by the nominal model with the base
+/// `params` (e.g. Cell::robot_params): tool_point_from_poses with measured points.
+/// \throws InputError naming the file for a poses/distances file, rows of several targets or
+///   fewer than 4 rows.
+PointEstimate tool_point_from_measurements(const RobotModel& model, const ParameterVector& params,
+                                           const MeasurementSet& set, double sigma_mm = 0);
+
 /// The `robot_base:` block of a cell file for a measured base, with its σ (YAML, 2-space
 /// indent, ending in a newline).
 std::string robot_base_block(const FrameEstimate& base);
