@@ -1,0 +1,96 @@
+/// `robcal import`: an instrument's export joined with the robot's joint log into robcal's
+/// measurement CSV (campaign/instrument_import.hpp).
+
+#include <fmt/format.h>
+
+#include "cli_common.hpp"
+#include "command_registry.hpp"
+#include "robcal/campaign/instrument_import.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/io/measurement_file.hpp"
+
+namespace robcal::cli {
+namespace {
+
+struct ImportOptions {
+  std::string export_path, log_path, map_path, out;
+  std::string join = "order";
+  double tolerance_s = 0.5;
+  std::string target, delimiter, decimal, columns, unit, config_column;
+  bool allow_unmeasured = false;
+  bool json = false;
+};
+
+void run_import(const ImportOptions& o) {
+  campaign::ImportRequest request;
+  request.export_file = {o.export_path, read_text_file(o.export_path)};
+  request.joint_log = {o.log_path, read_text_file(o.log_path)};
+  if (!o.map_path.empty())
+    request.format = campaign::parse_export_format(read_text_file(o.map_path), o.map_path);
+  // Flags override the mapping file.
+  for (const auto& [option, value] : {std::pair{"delimiter", o.delimiter},
+                                      {"decimal", o.decimal},
+                                      {"columns", o.columns},
+                                      {"config-column", o.config_column},
+                                      {"unit", o.unit}})
+    if (!value.empty())
+      campaign::set_export_option(request.format, option, value, std::string("--") + option);
+  request.join = campaign::parse_join_by(o.join, "--join");
+  request.time_tolerance_s = o.tolerance_s;
+  request.default_target = o.target;
+  request.allow_unmeasured = o.allow_unmeasured;
+
+  const campaign::ImportResult result = campaign::import_measurements(request);
+  write_file_atomically(o.out, result.csv);
+  if (o.json) {
+    nlohmann::json out;
+    out["rows"] = result.measurements.size();
+    out["kind"] = std::string(measurement_kind_name(result.measurements.kind));
+    out["out"] = o.out;
+    out["warnings"] = result.warnings;
+    print_json(out);
+    return;
+  }
+  for (const std::string& w : result.warnings) fmt::print(stderr, "warning: {}\n", w);
+  fmt::print("imported {} {} rows from {} joined by {} with {}\nwrote {}\n",
+             result.measurements.size(), measurement_kind_name(result.measurements.kind),
+             o.export_path, o.join, o.log_path, o.out);
+}
+
+const bool registered = register_command(75, [](CLI::App& app) {
+  auto o = std::make_shared<ImportOptions>();
+  auto* cmd = app.add_subcommand(
+      "import",
+      "Join an instrument's export (points or poses, as the tracker/CMM software writes it) with "
+      "the robot's joint log into robcal's measurement CSV");
+  cmd->add_option("--export", o->export_path, "Instrument export file")->required();
+  cmd->add_option("--joints", o->log_path,
+                  "Joint log of the robot program: header with config, j1..j6 (deg), optional "
+                  "time, target")
+      ->required();
+  cmd->add_option("--map", o->map_path,
+                  "Mapping file (YAML): delimiter, decimal, header, columns, roles, unit, angles");
+  cmd->add_option("--join", o->join, "How readings find their joints: order, name or time")
+      ->capture_default_str();
+  cmd->add_option("--time-tolerance", o->tolerance_s, "Largest clock gap for --join time, s")
+      ->capture_default_str();
+  cmd->add_option("--target", o->target, "Target name when neither file names it");
+  cmd->add_option("--delimiter", o->delimiter,
+                  "comma, semicolon, tab or space (default: detected)");
+  cmd->add_option("--decimal", o->decimal, "point or comma (default: detected)");
+  cmd->add_option("--columns", o->columns,
+                  "Column names in file order for a file without a header, e.g. "
+                  "collection,group,target,x,y,z");
+  cmd->add_option("--config-column", o->config_column,
+                  "Column holding the configuration name (e.g. group), for --join name");
+  cmd->add_option("--unit", o->unit,
+                  "Length unit of the export: mm or m (default: header, else mm)");
+  cmd->add_flag("--allow-unmeasured", o->allow_unmeasured,
+                "Import even when some joint-log rows have no reading (listed as warnings)");
+  cmd->add_option("--out", o->out, "Measurement CSV to write")->required();
+  cmd->add_flag("--json", o->json, "Machine-readable output");
+  cmd->callback([o] { run_import(*o); });
+});
+
+}  // namespace
+}  // namespace robcal::cli
