@@ -12,7 +12,7 @@
 
 #include "../tests/test_compensate_support.hpp"
 #include "robcal/compensate/calibrated_ik.hpp"
-#include "robcal/compensate/program_filter.hpp"
+#include "robcal/programs/program_filter.hpp"
 
 namespace robcal {
 namespace {

@@ -6,7 +6,7 @@
 #include <regex>
 #include <set>
 
-#include "robcal/compensate/program_filter.hpp"
+#include "robcal/programs/program_filter.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"

@@ -8,11 +8,11 @@
 #include "command_registry.hpp"
 #include "robcal/compensate/closed_loop.hpp"
 #include "robcal/compensate/corrected_targets.hpp"
-#include "robcal/compensate/program_filter.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/programs/program_filter.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -130,13 +130,10 @@ void run_compensate_program(const ModelOptions& o, const std::string& in, const 
   const CalibratedRobot robot = load_model(o, payload);
   const Compensator comp = make_compensator(robot, payload);
   const ProgramLanguage language = program_language_from_path(in);
-  if (program_language_from_path(out) != language)
-    throw InputError({out, 0, 0, "--out"}, "the output must be the same kind of program as --in");
   ProgramFilterOptions options;
   options.joints = joints;
-  const ProgramFilterResult result = filter_program(read_text_file(in), language, in, options,
-                                                    make_program_corrector(comp, language));
-  write_file_atomically(out, result.text);
+  const ProgramFilterResult result =
+      filter_program_file(in, out, options, make_program_corrector(comp, language));
   if (o.json) {
     print_json({{"in", in},
                 {"out", out},

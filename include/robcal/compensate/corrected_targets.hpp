@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "robcal/compensate/calibrated_ik.hpp"
-#include "robcal/compensate/program_filter.hpp"
+#include "robcal/programs/program_filter.hpp"
 #include "robcal/io/pose_list_file.hpp"
 
 namespace robcal {

@@ -183,6 +183,9 @@ class KrlScanner {
                    : fmt::format("expected a component name, found '{}'", key.text));
       Entry entry;
       entry.key = upper(key.text);
+      for (const Entry& e : out)
+        if (e.key == entry.key)
+          refuse(lexer_.file(), key, fmt::format("component {} given twice", entry.key));
       entry.at = lexer_.peek();
       value(entry);
       out.push_back(std::move(entry));
@@ -206,8 +209,7 @@ class KrlScanner {
       entry.number.begin = first.offset;
       entry.number.end = literal.offset + literal.text.size();
       if (literal.kind == TokenKind::Number) {
-        double v = 0;
-        std::from_chars(literal.text.data(), literal.text.data() + literal.text.size(), v);
+        const double v = number_value(lexer_.file(), literal);
         entry.number.value = first.is('-') ? -v : v;
       } else {
         // 'B0101' (binary) or 'H1F' (hex), quotes included in the token.

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
-#include <charconv>
 #include <cmath>
 #include <string>
 
@@ -13,19 +12,18 @@
 namespace robcal::detail {
 namespace {
 
-/// An aggregate `[a, b, ...]` or one of its elements.
-struct Aggregate {
-  Token first;  ///< `[` of an aggregate, first token of an element
+/// An aggregate `[a, b, ...]` read into a flat tree (node 0 the outer list): no recursion
+/// and no recursive destruction, however deep the input nests.
+struct AggregateNode {
+  Token first;  ///< `[` of a list, first token of an element
   bool is_list = false;
-  std::vector<Aggregate> items;
-  NumberField number;  ///< elements that are a (signed) number literal
+  std::vector<size_t> items;  ///< node indices
+  NumberField number;         ///< elements that are a (signed) number literal
 };
+using Aggregate = std::vector<AggregateNode>;
 
-double parse_double(std::string_view text) {
-  double value = 0;
-  std::from_chars(text.data(), text.data() + text.size(), value);
-  return value;
-}
+/// RAPID arrays have at most three dimensions (`name{a,b,c}`).
+constexpr int kMaxArrayDimensions = 3;
 
 class RapidScanner {
  public:
@@ -60,6 +58,10 @@ class RapidScanner {
         if (t.kind == TokenKind::End) refuse(lexer_.file(), name, "unterminated array size");
         if (t.is(',')) ++dims;
       }
+      if (dims > kMaxArrayDimensions)
+        refuse(lexer_.file(), name,
+               fmt::format("array '{}' has {} dimensions; RAPID allows at most {}", name.text, dims,
+                           kMaxArrayDimensions));
     }
     if (lexer_.peek().text != ":=") return;
     lexer_.next();
@@ -67,7 +69,7 @@ class RapidScanner {
     const bool jointtarget = options_.joints && iequals(type.text, "jointtarget");
     if ((robtarget || jointtarget) && lexer_.peek().is('[')) {
       const Aggregate value = aggregate(lexer_.next());
-      declared_value(value, dims, std::string(name.text), jointtarget);
+      declared_value(value, 0, dims, std::string(name.text), jointtarget);
       return;
     }
     // Any other initialiser (another type, or a copy of another point) stays as written.
@@ -81,9 +83,11 @@ class RapidScanner {
     }
   }
 
-  void declared_value(const Aggregate& value, int dims, const std::string& name, bool joint) {
+  void declared_value(const Aggregate& tree, size_t node, int dims, const std::string& name,
+                      bool joint) {
+    const AggregateNode& value = tree[node];
     if (dims == 0) {
-      if (joint ? !add_jointtarget(value, name) : !add_robtarget(value, name))
+      if (joint ? !add_jointtarget(tree, node, name) : !add_robtarget(tree, node, name))
         refuse(lexer_.file(), value.first,
                fmt::format("'{}' is declared {} but its value is not a literal {}", name,
                            joint ? "jointtarget" : "robtarget",
@@ -93,17 +97,18 @@ class RapidScanner {
     }
     if (!value.is_list)
       refuse(lexer_.file(), value.first, fmt::format("array '{}': expected an aggregate", name));
+    // Recursion bounded by kMaxArrayDimensions.
     for (size_t i = 0; i < value.items.size(); ++i)
-      declared_value(value.items[i], dims - 1, fmt::format("{}{{{}}}", name, i + 1), joint);
+      declared_value(tree, value.items[i], dims - 1, fmt::format("{}{{{}}}", name, i + 1), joint);
   }
 
   // A robtarget or jointtarget written in an instruction (MoveL [[...]], ...; MoveAbsJ).
   void inline_literal(const Token& open) {
     const Aggregate value = aggregate(open);
-    if (looks_like(value, {3, 4, 4, 6})) {
-      if (!add_robtarget(value, "")) not_literal(value, "robtarget");
-    } else if (options_.joints && looks_like(value, {6, 6})) {
-      if (!add_jointtarget(value, "")) not_literal(value, "jointtarget");
+    if (looks_like(value, 0, {3, 4, 4, 6})) {
+      if (!add_robtarget(value, 0, "")) not_literal(value, "robtarget");
+    } else if (options_.joints && looks_like(value, 0, {6, 6})) {
+      if (!add_jointtarget(value, 0, "")) not_literal(value, "jointtarget");
     }
   }
 
@@ -119,96 +124,117 @@ class RapidScanner {
   }
 
   [[noreturn]] void not_literal(const Aggregate& value, const char* what) {
-    refuse(lexer_.file(), value.first,
+    refuse(lexer_.file(), value[0].first,
            fmt::format("{} whose elements are not all number literals", what));
   }
 
   // The shape of a literal: a list of lists with these lengths.
-  static bool looks_like(const Aggregate& value, std::initializer_list<size_t> sizes) {
+  static bool looks_like(const Aggregate& tree, size_t node, std::initializer_list<size_t> sizes) {
+    const AggregateNode& value = tree[node];
     if (!value.is_list || value.items.size() != sizes.size()) return false;
     size_t i = 0;
     for (size_t size : sizes) {
-      const Aggregate& item = value.items[i++];
+      const AggregateNode& item = tree[value.items[i++]];
       if (!item.is_list || item.items.size() != size) return false;
     }
     return true;
   }
 
-  static bool all_numbers(const Aggregate& list, size_t count) {
-    for (size_t i = 0; i < count; ++i)
-      if (list.items[i].is_list || !list.items[i].number.present) return false;
-    return true;
+  // The numbers of list `node`'s items, or an empty vector when one is not a number literal.
+  static std::vector<NumberField> numbers(const Aggregate& tree, size_t node) {
+    std::vector<NumberField> out;
+    for (size_t item : tree[node].items) {
+      if (tree[item].is_list || !tree[item].number.present) return {};
+      out.push_back(tree[item].number);
+    }
+    return out;
   }
 
-  bool add_robtarget(const Aggregate& value, const std::string& name) {
-    if (!looks_like(value, {3, 4, 4, 6})) return false;
-    const auto& it = value.items;
-    if (!all_numbers(it[0], 3) || !all_numbers(it[1], 4) || !all_numbers(it[2], 4)) return false;
+  bool add_robtarget(const Aggregate& tree, size_t node, const std::string& name) {
+    if (!looks_like(tree, node, {3, 4, 4, 6})) return false;
+    const auto& it = tree[node].items;
     PointSite site;
+    for (int part = 0; part < 3; ++part) {
+      const std::vector<NumberField> values = numbers(tree, it[part]);
+      if (values.empty()) return false;
+      site.fields.insert(site.fields.end(), values.begin(), values.end());
+    }
     site.point.name = name;
-    site.point.line = value.first.line;
-    site.point.column = value.first.column;
-    for (int k = 0; k < 3; ++k) site.fields.push_back(it[0].items[k].number);
-    for (int k = 0; k < 4; ++k) site.fields.push_back(it[1].items[k].number);
-    for (int k = 0; k < 4; ++k) site.fields.push_back(it[2].items[k].number);
+    site.point.line = tree[node].first.line;
+    site.point.column = tree[node].first.column;
     site.point.base_T_tcp.p << site.fields[0].value, site.fields[1].value, site.fields[2].value;
     Eigen::Quaterniond q(site.fields[3].value, site.fields[4].value, site.fields[5].value,
                          site.fields[6].value);
     // The controller wants unit quaternions; programs print 5-6 decimals, hence 1e-3.
     if (std::abs(q.norm() - 1.0) > 1e-3)
-      refuse(lexer_.file(), it[1].first,
+      refuse(lexer_.file(), tree[it[1]].first,
              fmt::format("quaternion [{},{},{},{}] is not a unit quaternion (norm {:.6f})", q.w(),
                          q.x(), q.y(), q.z(), q.norm()));
     site.point.base_T_tcp.R = q.normalized().toRotationMatrix();
     for (int k = 0; k < 4; ++k) {
       const double cf = site.fields[7 + k].value;
-      if (cf != std::round(cf))
-        refuse(lexer_.file(), it[2].items[k].first, "configuration values must be integers");
+      if (cf != std::round(cf) || std::abs(cf) > 1e6)
+        refuse(lexer_.file(), tree[tree[it[2]].items[k]].first,
+               "configuration values must be integers");
       site.point.config.push_back(static_cast<int>(cf));
     }
     sites_.push_back(std::move(site));
     return true;
   }
 
-  bool add_jointtarget(const Aggregate& value, const std::string& name) {
-    if (!looks_like(value, {6, 6}) || !all_numbers(value.items[0], 6)) return false;
+  bool add_jointtarget(const Aggregate& tree, size_t node, const std::string& name) {
+    if (!looks_like(tree, node, {6, 6})) return false;
     PointSite site;
+    site.fields = numbers(tree, tree[node].items[0]);
+    if (site.fields.empty()) return false;
     site.point.is_joint_target = true;
     site.point.name = name;
-    site.point.line = value.first.line;
-    site.point.column = value.first.column;
-    for (int k = 0; k < 6; ++k) {
-      site.fields.push_back(value.items[0].items[k].number);
-      site.point.joints_deg[k] = site.fields.back().value;
-    }
+    site.point.line = tree[node].first.line;
+    site.point.column = tree[node].first.column;
+    for (int k = 0; k < 6; ++k) site.point.joints_deg[k] = site.fields[k].value;
     sites_.push_back(std::move(site));
     return true;
   }
 
-  // Reads `[ item, item, ... ]` after its `[`; items are aggregates or token runs.
+  // Reads `[ item, item, ... ]` after its `[`; items are aggregates or token runs. Iterative:
+  // the stack of open lists is a vector, so 30,000 nested `[` cost memory, not the call stack.
   Aggregate aggregate(const Token& open) {
-    Aggregate out;
-    out.first = open;
-    out.is_list = true;
-    if (lexer_.peek().is(']')) {
-      lexer_.next();
-      return out;
+    Aggregate tree;
+    tree.push_back({open, true, {}, {}});
+    std::vector<size_t> open_lists{0};
+    bool just_opened = true;
+    while (!open_lists.empty()) {
+      if (!(just_opened && lexer_.peek().is(']'))) {
+        const size_t item = tree.size();
+        if (lexer_.peek().is('[')) {
+          tree.push_back({lexer_.next(), true, {}, {}});
+          tree[open_lists.back()].items.push_back(item);
+          open_lists.push_back(item);
+          just_opened = true;
+          continue;
+        }
+        tree.push_back(element());
+        tree[open_lists.back()].items.push_back(item);
+      }
+      // After an item: `,` starts the next one, `]` closes this list (and maybe the parents).
+      just_opened = false;
+      for (;;) {
+        const Token t = lexer_.next();
+        if (t.is(',')) break;
+        if (!t.is(']'))
+          refuse(lexer_.file(), t.kind == TokenKind::End ? tree[open_lists.back()].first : t,
+                 t.kind == TokenKind::End ? "aggregate '[' never closed"
+                                          : fmt::format("expected ',' or ']', found '{}'", t.text));
+        open_lists.pop_back();
+        if (open_lists.empty()) break;
+      }
     }
-    for (;;) {
-      out.items.push_back(element());
-      const Token t = lexer_.next();
-      if (t.is(']')) return out;
-      if (!t.is(','))
-        refuse(lexer_.file(), t.kind == TokenKind::End ? open : t,
-               t.kind == TokenKind::End ? "aggregate '[' never closed"
-                                        : fmt::format("expected ',' or ']', found '{}'", t.text));
-    }
+    return tree;
   }
 
-  Aggregate element() {
+  AggregateNode element() {
     const Token first = lexer_.peek();
-    if (first.is('[')) return aggregate(lexer_.next());
-    Aggregate out;
+    AggregateNode out;
     out.first = first;
     // A number literal, possibly signed; anything else is an expression kept as written.
     size_t k = 0;
@@ -219,7 +245,7 @@ class RapidScanner {
       out.number.present = true;
       out.number.begin = first.offset;
       out.number.end = number.offset + number.text.size();
-      out.number.value = (first.is('-') ? -1.0 : 1.0) * parse_double(number.text);
+      out.number.value = (first.is('-') ? -1.0 : 1.0) * number_value(lexer_.file(), number);
       for (size_t i = 0; i <= k; ++i) lexer_.next();
       return out;
     }

@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "robcal/compensate/program_filter.hpp"
+#include "robcal/programs/program_filter.hpp"
 
 namespace robcal::detail {
 
@@ -67,6 +67,10 @@ std::vector<PointSite> scan_rapid(std::string_view text, const std::string& file
                                   const ProgramFilterOptions& options);
 std::vector<PointSite> scan_krl(std::string_view text, const std::string& file,
                                 const ProgramFilterOptions& options);
+
+/// The value of a Number token, which must be one whole finite decimal literal: `364.35.4`,
+/// `1e999` and `12abc` are InputErrors at the token.
+double number_value(const std::string& file, const Token& number);
 
 /// InputError at a token.
 [[noreturn]] void refuse(const std::string& file, const Token& at, const std::string& message);

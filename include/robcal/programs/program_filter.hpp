@@ -1,0 +1,100 @@
+#pragma once
+/// \file
+/// Robot program filtering (METHOD §1 step 5): find every point of an ABB RAPID module or a
+/// KUKA KRL .src/.dat file, hand it to a corrector, and write the corrected values back into
+/// the text, leaving every other byte (comments, spacing, line endings, untouched numbers)
+/// exactly as it was.
+///
+/// Points recognised:
+/// - RAPID: `CONST|PERS|VAR robtarget name[{dims}] := [[x,y,z],[q1..q4],[cf1,cf4,cf6,cfx],
+///   [eax_a..eax_f]]` and robtarget literals written inline (MoveL/MoveJ/MoveC ...); with
+///   `joints`, jointtarget declarations and inline `[[j1..j6],[eax...]]` (MoveAbsJ).
+///   Quaternions are (q1..q4) = (w, x, y, z). Targets must be in wobj0 (the base frame): a
+///   `\WObj:=` other than wobj0 is refused, since the work object's frame is not known here.
+/// - KRL: `[DECL] [GLOBAL] E6POS|POS name = {X,Y,Z,A,B,C,S,T,...}` (A, B, C = the ZYX Euler
+///   angles in degrees), assignments to such declared names, and aggregates written after
+///   PTP/LIN/CIRC (and SPTP/SLIN/SCIRC); with `joints`, E6AXIS/AXIS points (A1..A6).
+///   Relative motions (PTP_REL, LIN_REL ...) are left alone; incomplete absolute points are
+///   refused (their missing components come from the robot's state at run time).
+///
+/// Anything that looks like a point but is not a literal (an expression, a missing component)
+/// is refused with an InputError naming the file, line and column.
+
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "robcal/kinematics/forward_kinematics.hpp"
+#include "robcal/programs/program_language.hpp"
+
+namespace robcal {
+
+/// One point read from a program, in the controller's base frame (mm).
+struct ProgramPoint {
+  bool is_joint_target = false;
+  std::string name;  ///< declared name (with "[i]" for array elements); empty when inline
+  int line = 0;      ///< 1-based line and column of the point's literal
+  int column = 0;
+  Pose<double> base_T_tcp;  ///< Cartesian points only
+  /// Configuration as the maker writes it: RAPID (cf1, cf4, cf6, cfx); KRL (S, T) or empty
+  /// when the point has no S and T.
+  std::vector<int> config;
+  Vector6d joints_deg = Vector6d::Zero();  ///< joint targets only: controller joints, degrees
+};
+
+/// What the corrector returns for a point: new Cartesian pose and configuration, or new
+/// joints (for joint targets); `failure` non-empty when the point cannot be corrected.
+struct CorrectedPoint {
+  Pose<double> base_T_tcp;
+  std::vector<int> config;  ///< same layout as the input's; empty keeps the original
+  Vector6d joints_deg = Vector6d::Zero();
+  std::string failure;
+};
+
+using PointCorrector = std::function<CorrectedPoint(const ProgramPoint&)>;
+
+struct ProgramFilterOptions {
+  bool joints = false;        ///< also correct joint targets (MoveAbsJ, E6AXIS)
+  int position_decimals = 4;  ///< mm
+  int quaternion_decimals = 9;
+  int angle_decimals = 5;  ///< KRL A, B, C and joint values, degrees
+};
+
+struct ProgramFilterResult {
+  std::string text;  ///< the corrected program
+  int cartesian_points = 0;
+  int joint_points = 0;
+};
+
+/// Every point of a program (what the filter would hand to the corrector), in file order.
+/// `file` names the program in errors.
+std::vector<ProgramPoint> read_program_points(std::string_view text, ProgramLanguage language,
+                                              const std::string& file,
+                                              const ProgramFilterOptions& options = {});
+
+/// Corrects every point of a program. Throws InputError (file, line, column) on text it
+/// cannot parse or a point the corrector refuses; never returns a partially corrected text.
+/// Filtering reads RAPID and KRL; the other languages are refused by name.
+ProgramFilterResult filter_program(std::string_view text, ProgramLanguage language,
+                                   const std::string& file, const ProgramFilterOptions& options,
+                                   const PointCorrector& corrector);
+
+/// Public parse entry point (also the fuzzing target): every point of `text` in `language`;
+/// InputError (file, line, column) on text it cannot read.
+inline std::vector<ProgramPoint> parse_program(std::string_view text, ProgramLanguage language,
+                                               const std::string& file) {
+  ProgramFilterOptions options;
+  options.joints = true;
+  return read_program_points(text, language, file, options);
+}
+
+/// Filters the program file `in` into the new file `out` (written atomically, whole or not
+/// at all). `out` must be the same kind of program and must not resolve to `in` (the original
+/// is never overwritten): InputError otherwise.
+ProgramFilterResult filter_program_file(const std::string& in, const std::string& out,
+                                        const ProgramFilterOptions& options,
+                                        const PointCorrector& corrector);
+
+}  // namespace robcal

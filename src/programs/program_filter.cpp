@@ -1,0 +1,235 @@
+#include "robcal/programs/program_filter.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+
+#include "program_scan.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/kinematics/orientation.hpp"
+
+namespace robcal {
+namespace {
+
+using detail::NumberField;
+using detail::PointSite;
+
+std::vector<PointSite> scan(std::string_view text, ProgramLanguage language,
+                            const std::string& file, const ProgramFilterOptions& options) {
+  switch (language) {
+    case ProgramLanguage::Rapid:
+      return detail::scan_rapid(text, file, options);
+    case ProgramLanguage::Krl:
+      return detail::scan_krl(text, file, options);
+    default:
+      throw InputError(SourceLocation{file, 0, 0, ""},
+                       fmt::format("program filtering reads ABB RAPID and KUKA KRL; {} programs "
+                                   "are not filtered yet",
+                                   program_language_name(language)));
+  }
+}
+
+/// Collects the replacements of one program and applies them in text order (a point's
+/// fields are not in text order: KRL writes `{S 6,T 27,X ...}` as readily as `{X ...}`).
+/// Each call returns the value the field will read back as.
+class Rewriter {
+ public:
+  explicit Rewriter(std::string_view text) : text_(text) {}
+
+  /// Replaces a number with `value` printed with `decimals`, unless the printed value equals
+  /// the written one (then the original bytes stay). `reference` is the written value as read
+  /// (a normalised quaternion differs from its text).
+  double number(const NumberField& field, double value, int decimals, double reference) {
+    const double half_unit = 0.5 * std::pow(10.0, -decimals);
+    if (std::abs(value - reference) < half_unit) return field.value;
+    std::string printed = fmt::format("{:.{}f}", value, decimals);
+    if (printed.find_first_not_of("-0.") == std::string::npos)
+      printed = printed.substr(printed[0] == '-');
+    double read_back = 0;
+    std::from_chars(printed.data(), printed.data() + printed.size(), read_back);
+    edits_.push_back({field.begin, field.end, std::move(printed)});
+    return read_back;
+  }
+  double number(const NumberField& field, double value, int decimals) {
+    return number(field, value, decimals, field.value);
+  }
+
+  double integer(const NumberField& field, int value) {
+    if (value == static_cast<int>(field.value)) return field.value;
+    std::string printed;
+    if (field.binary_digits > 0) {
+      // KRL bit literal: keep its width ('B010' stays three digits).
+      for (int bit = std::max(field.binary_digits,
+                              static_cast<int>(std::bit_width(static_cast<unsigned>(value)))) -
+                     1;
+           bit >= 0; --bit)
+        printed += (value >> bit) & 1 ? '1' : '0';
+      printed = "'B" + printed + "'";
+    } else {
+      printed = std::to_string(value);
+    }
+    edits_.push_back({field.begin, field.end, std::move(printed)});
+    return value;
+  }
+
+  std::string apply() {
+    std::sort(edits_.begin(), edits_.end(),
+              [](const Edit& a, const Edit& b) { return a.begin < b.begin; });
+    std::string out;
+    out.reserve(text_.size() + edits_.size() * 4);
+    size_t at = 0;
+    for (const Edit& e : edits_) {
+      // Two edits of one byte range would mean the scanner reported a number twice.
+      if (e.begin < at) throw std::logic_error("program filter: overlapping edits");
+      out.append(text_.substr(at, e.begin - at));
+      out.append(e.text);
+      at = e.end;
+    }
+    out.append(text_.substr(at));
+    return out;
+  }
+
+ private:
+  struct Edit {
+    size_t begin, end;
+    std::string text;
+  };
+  std::string_view text_;
+  std::vector<Edit> edits_;
+};
+
+/// Nearest equivalent of an angle (deg) to the angle written before: keeps ±180° wraps stable.
+double near_written(double angle_deg, double written_deg) {
+  return angle_deg + 360.0 * std::round((written_deg - angle_deg) / 360.0);
+}
+
+/// Rewrites one point; returns the values its fields will read back as.
+std::vector<double> rewrite(Rewriter& out, const PointSite& site, const CorrectedPoint& corrected,
+                            ProgramLanguage language, const ProgramFilterOptions& options) {
+  const auto& f = site.fields;
+  std::vector<double> expected;
+  for (const NumberField& field : f) expected.push_back(field.value);
+  if (site.point.is_joint_target) {
+    for (int k = 0; k < kJointCount; ++k)
+      expected[k] = out.number(f[k], corrected.joints_deg[k], options.angle_decimals);
+    return expected;
+  }
+  for (int k = 0; k < 3; ++k)
+    expected[k] = out.number(f[k], corrected.base_T_tcp.p[k], options.position_decimals);
+  if (language == ProgramLanguage::Rapid) {
+    Eigen::Quaterniond q(corrected.base_T_tcp.R);
+    // Same hemisphere as the written quaternion, so an unchanged rotation prints unchanged.
+    const Eigen::Vector4d written =
+        Eigen::Vector4d(f[3].value, f[4].value, f[5].value, f[6].value).normalized();
+    if (Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()).dot(written) < 0) q.coeffs() *= -1;
+    const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+    for (int k = 0; k < 4; ++k)
+      expected[3 + k] = out.number(f[3 + k], wxyz[k], options.quaternion_decimals, written[k]);
+  } else {
+    const Eigen::Vector3d abc = euler_angles_deg(corrected.base_T_tcp.R, EulerConvention::ZyxABC);
+    for (int k = 0; k < 3; ++k)
+      expected[3 + k] =
+          out.number(f[3 + k], near_written(abc[k], f[3 + k].value), options.angle_decimals);
+  }
+  if (!corrected.config.empty()) {
+    const size_t first = language == ProgramLanguage::Rapid ? 7 : 6;
+    for (size_t k = 0; k < corrected.config.size() && first + k < f.size(); ++k)
+      expected[first + k] = out.integer(f[first + k], corrected.config[k]);
+  }
+  return expected;
+}
+
+/// The rewritten text must parse to the same program: the same points at the same places,
+/// each field holding exactly the value written into it (issue 21: a rewrite that corrupts
+/// the text must never reach the disk).
+void check_reparse(std::string_view text, const std::vector<PointSite>& before,
+                   const std::vector<std::vector<double>>& expected, ProgramLanguage language,
+                   const std::string& file, const ProgramFilterOptions& options) {
+  const std::vector<PointSite> after = scan(text, language, file, options);
+  const auto fail = [&](const ProgramPoint& p, const std::string& what) {
+    throw std::logic_error(fmt::format(
+        "{}:{}:{}: the corrected program does not read back as written ({}); nothing written", file,
+        p.line, p.column, what));
+  };
+  if (after.size() != before.size())
+    fail(before.empty() ? ProgramPoint{} : before.back().point,
+         fmt::format("{} points instead of {}", after.size(), before.size()));
+  for (size_t i = 0; i < before.size(); ++i) {
+    const ProgramPoint& a = before[i].point;
+    const ProgramPoint& b = after[i].point;
+    if (a.line != b.line || a.column != b.column || a.name != b.name ||
+        a.is_joint_target != b.is_joint_target || after[i].fields.size() != expected[i].size())
+      fail(a, "another point at this place");
+    for (size_t k = 0; k < expected[i].size(); ++k)
+      if (after[i].fields[k].value != expected[i][k])
+        fail(a, fmt::format("field {} reads {} instead of {}", k + 1, after[i].fields[k].value,
+                            expected[i][k]));
+  }
+}
+
+}  // namespace
+
+std::vector<ProgramPoint> read_program_points(std::string_view text, ProgramLanguage language,
+                                              const std::string& file,
+                                              const ProgramFilterOptions& options) {
+  std::vector<ProgramPoint> points;
+  for (PointSite& site : scan(text, language, file, options))
+    points.push_back(std::move(site.point));
+  return points;
+}
+
+ProgramFilterResult filter_program(std::string_view text, ProgramLanguage language,
+                                   const std::string& file, const ProgramFilterOptions& options,
+                                   const PointCorrector& corrector) {
+  const std::vector<PointSite> sites = scan(text, language, file, options);
+  Rewriter out(text);
+  ProgramFilterResult result;
+  std::vector<std::vector<double>> expected;
+  expected.reserve(sites.size());
+  for (const PointSite& site : sites) {
+    const CorrectedPoint corrected = corrector(site.point);
+    const SourceLocation where{file, site.point.line, site.point.column, site.point.name};
+    if (!corrected.failure.empty()) throw InputError(where, corrected.failure);
+    if (!corrected.base_T_tcp.p.allFinite() || !corrected.base_T_tcp.R.allFinite() ||
+        !corrected.joints_deg.allFinite())
+      throw InputError(where, "the corrected point is not finite (NaN or infinite)");
+    expected.push_back(rewrite(out, site, corrected, language, options));
+    ++(site.point.is_joint_target ? result.joint_points : result.cartesian_points);
+  }
+  result.text = out.apply();
+  check_reparse(result.text, sites, expected, language, file, options);
+  return result;
+}
+
+}  // namespace robcal
+
+namespace robcal {
+
+ProgramFilterResult filter_program_file(const std::string& in, const std::string& out,
+                                        const ProgramFilterOptions& options,
+                                        const PointCorrector& corrector) {
+  const ProgramLanguage language = program_language_from_path(in);
+  if (program_language_from_path(out) != language)
+    throw InputError({out, 0, 0, "--out"}, "the output must be the same kind of program as --in");
+  // Same path after resolving `..` and links, or the same file under another name.
+  const auto resolved = [](const std::string& path) {
+    std::error_code ec;
+    std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
+    return ec ? std::filesystem::path(path).lexically_normal() : p;
+  };
+  std::error_code ec;
+  if (resolved(out) == resolved(in) || std::filesystem::equivalent(out, in, ec))
+    throw InputError({out, 0, 0, "--out"},
+                     "the output is the input program: give a new file (the original is kept)");
+  const ProgramFilterResult result =
+      filter_program(read_text_file(in), language, in, options, corrector);
+  write_file_atomically(out, result.text);
+  return result;
+}
+
+}  // namespace robcal
