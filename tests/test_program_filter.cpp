@@ -6,10 +6,10 @@
 #include <regex>
 #include <set>
 
-#include "robcal/programs/program_filter.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/programs/program_filter.hpp"
 #include "test_support.hpp"
 
 namespace robcal {

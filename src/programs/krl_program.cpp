@@ -10,6 +10,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "measurement_writers.hpp"
 #include "program_scan.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
@@ -250,6 +251,41 @@ class KrlScanner {
 std::vector<PointSite> scan_krl(std::string_view text, const std::string& file,
                                 const ProgramFilterOptions& options) {
   return KrlScanner(text, file, options).run();
+}
+
+}  // namespace robcal::detail
+
+// Measurement programs in KRL. Grammar constraints relied on: the DEF name is the file name,
+// at most 24 characters; comments run from ';' to the end of the line; the first motion is
+// an absolute PTP (BCO run), and a PTP without C_PTP stops exactly (fine point); joint
+// values are REAL (32-bit on the controller: 6 decimals are more than it keeps, written so
+// that the plan reads back exactly).
+namespace robcal::detail {
+
+std::string write_krl_measurement(const MeasurementPart& part) {
+  const MeasurementProgramRequest& r = part.request;
+  const auto axis = [](const Vector6d& q) {
+    return fmt::format("{{A1 {:.6f},A2 {:.6f},A3 {:.6f},A4 {:.6f},A5 {:.6f},A6 {:.6f}}}", q[0],
+                       q[1], q[2], q[3], q[4], q[5]);
+  };
+  std::string out = fmt::format(
+      "DEF {}( )\n"
+      "; robcal measurement program, {}.\n"
+      "; Each configuration is approached from q - {:g} deg on every joint (backlash,\n"
+      "; METHOD 6), reached with an exact stop, then the arm settles {:g} s.\n",
+      part.program, part_description(part), r.approach_deg, r.settle_s);
+  for (int j = 1; j <= kJointCount; ++j)
+    out +=
+        fmt::format("  $VEL_AXIS[{0}]={1:g}\n  $ACC_AXIS[{0}]={1:g}\n", j, r.joint_speed_percent);
+  for (const Visit& v : part.visits) {
+    out += fmt::format("  ; {}\n  PTP {}\n  PTP {}\n  WAIT SEC {:.2f}\n", v.name,
+                       axis(v.approach_deg), axis(v.target_deg), r.settle_s);
+    if (r.hook == MeasurementHook::WaitInput)
+      out += fmt::format("  WAIT FOR $IN[{}]\n", r.signal);
+    else
+      out += fmt::format("  PULSE($OUT[{}], TRUE, 0.5)\n", r.signal);
+  }
+  return out + "END\n";
 }
 
 }  // namespace robcal::detail

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "measurement_writers.hpp"
 #include "program_scan.hpp"
 #include "robcal/core/units.hpp"
 
@@ -270,6 +271,61 @@ class RapidScanner {
 std::vector<PointSite> scan_rapid(std::string_view text, const std::string& file,
                                   const ProgramFilterOptions& options) {
   return RapidScanner(text, file, options).run();
+}
+
+}  // namespace robcal::detail
+
+// Measurement programs in RAPID. Grammar constraints relied on: module and routine names are
+// identifiers of at most 32 characters (a letter, then letters, digits, '_'); a string
+// literal holds at most 80 characters (TPWrite); comments run from '!' to the end of the
+// line; `num` is a 32-bit float on the controller, so 6 decimals of a joint in degrees are
+// more than it keeps (the text carries them so that the plan reads back exactly). Signals
+// named in WaitDI / PulseDO must be defined in the controller's I/O configuration.
+namespace robcal::detail {
+
+std::string write_rapid_measurement(const MeasurementPart& part) {
+  const MeasurementProgramRequest& r = part.request;
+  const auto joints = [](const Vector6d& q) {
+    return fmt::format(
+        "[[{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}],"
+        "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]]",
+        q[0], q[1], q[2], q[3], q[4], q[5]);
+  };
+  std::string out = fmt::format(
+      "MODULE {0}\n"
+      "    ! robcal measurement program, {1}.\n"
+      "    ! Each configuration is approached from q - {2:g} deg on every joint (backlash,\n"
+      "    ! METHOD 6), reached at a fine point, then the arm settles {3:g} s.\n"
+      "    PROC {0}_run()\n"
+      "        VelSet {4:g}, 5000;\n",
+      part.program, part_description(part), r.approach_deg, r.settle_s, r.joint_speed_percent);
+  for (const Visit& v : part.visits) {
+    const Vector6d& q = v.target_deg;
+    out += fmt::format(
+        "        ! {} joints {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n"
+        "        MoveAbsJ {}\\NoEOffs, v1000, fine, tool0;\n"
+        "        MoveAbsJ {}\\NoEOffs, v1000, fine, tool0;\n"
+        "        WaitTime {:.2f};\n",
+        v.name, q[0], q[1], q[2], q[3], q[4], q[5], joints(v.approach_deg), joints(q), r.settle_s);
+    switch (r.hook) {
+      case MeasurementHook::WaitInput:
+        out += fmt::format("        WaitDI {}, 1;\n",
+                           r.rapid_signal.empty() ? "diRobcalMeasured" : r.rapid_signal);
+        break;
+      case MeasurementHook::PulseOutput:
+        out += fmt::format("        PulseDO \\PLength:=0.5, {};\n",
+                           r.rapid_signal.empty() ? "doRobcalMeasure" : r.rapid_signal);
+        break;
+      case MeasurementHook::LogLine:
+        // Two lines: each stays below the 80-character string limit.
+        out += fmt::format(
+            "        TPWrite \"robcal config {}\";\n"
+            "        TPWrite \"joints {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f}\";\n",
+            v.name, q[0], q[1], q[2], q[3], q[4], q[5]);
+        break;
+    }
+  }
+  return out + "    ENDPROC\nENDMODULE\n";
 }
 
 }  // namespace robcal::detail

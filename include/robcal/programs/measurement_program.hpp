@@ -67,15 +67,22 @@ int program_size_limit(ProgramLanguage language);
 /// pulses-per-degree for Yaskawa, a hook the language has no instruction for.
 std::vector<ProgramFile> write_measurement_program(const MeasurementProgramRequest& request);
 
+/// Writes the program's files into the folder `out_dir` (created if missing), each whole or
+/// not at all, after every file has been generated (a bad configuration writes nothing).
+/// Returns the paths written.
+std::vector<std::string> write_measurement_program_files(const MeasurementProgramRequest& request,
+                                                         const std::string& out_dir);
+
 /// One joint move read back from a program: controller joints in degrees and where it is.
 struct JointMove {
   Vector6d joints_deg = Vector6d::Zero();
   int line = 0;
 };
 
-/// Every absolute joint move of a program, in execution order (RAPID MoveAbsJ literals, KRL
-/// PTP with A1..A6, Fanuc J P[n] in joint representation, Yaskawa MOVJ C-variables converted
-/// with `pulses_per_degree`, URScript movej([...])). InputError (file, line, column) on text
+/// Every absolute joint position of a program: RAPID jointtarget literals and KRL E6AXIS/AXIS
+/// points in text order; Fanuc `J P[n]` moves to joint-representation positions, Yaskawa
+/// `MOVJ Cnnnnn` (converted with `pulses_per_degree`) and URScript `movej([...])` in the
+/// order of the instructions. InputError (file, line, column) on text
 /// it cannot read. What write_measurement_program writes reads back to its joints.
 std::vector<JointMove> read_joint_moves(
     const std::string& text, ProgramLanguage language, const std::string& file,
