@@ -182,10 +182,12 @@ TEST(ProgramFilter, RefusesWhatItCannotCorrectNamingLineAndColumn) {
                          rapid),
             "bad.prg:2:22: 'p' is declared robtarget but its value is not a literal "
             "[[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[e1,...,e6]]");
-  EXPECT_NE(filter_error(
-                "MODULE m\nPROC main()\n  MoveL p10, v100, fine, tool0\\WObj:=wobjTable;\n", rapid)
-                .find("bad.prg:3:38: targets relative to work object 'wobjTable'"),
-            std::string::npos);
+  EXPECT_EQ(filter_error("MODULE m\n  CONST robtarget p10:=[[1,2,3],[1,0,0,0],[0,0,0,0],"
+                         "[9E9,9E9,9E9,9E9,9E9,9E9]];\nPROC main()\n  MoveL p10, v100, fine, "
+                         "tool0\\WObj:=wobjTable;\n",
+                         rapid),
+            "bad.prg:2:24 (p10): unknown work object (frame) 'WOBJTABLE': the program does not "
+            "define it with literal values; give it in a frames file");
   EXPECT_NE(filter_error("MODULE m\n  MoveL [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]"
                          ", v100, fine, tool0;\n",
                          rapid)

@@ -114,18 +114,23 @@ std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage la
   return {s, t};
 }
 
-PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language) {
+PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language,
+                                      const CalibratedRobot* robot) {
   // The previous point's joints: the branch of KRL points without S/T.
   auto previous = std::make_shared<Vector6d>(Vector6d::Zero());
-  return [&comp, language, previous](const ProgramPoint& point) {
+  return [&comp, language, robot, previous](const ProgramPoint& point) {
     CorrectedPoint out;
     Pose<double> base_T_tcp;
     Vector6d near;
+    // A point for another tool Tk is the flange pose X·Tk⁻¹: solved as the compensator's TCP
+    // T0 at X·Tk⁻¹·T0, and written back as the nominal flange pose times Tk.
+    const Pose<double> tool_shift =
+        point.flange_T_tcp ? point.flange_T_tcp->inverse() * comp.flange_T_tcp : Pose<double>{};
     if (point.is_joint_target) {
       near = point.joints_deg * kDegToRad;
       base_T_tcp = nominal_tcp_pose(comp, near);
     } else {
-      base_T_tcp = point.base_T_tcp;
+      base_T_tcp = point.base_T_tcp * tool_shift;
       const IkResult all =
           nominal_ik(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), *previous);
       // The written configuration: the branch must match, the turns should.
@@ -167,7 +172,10 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
     }
     *previous = r.joints;
     out.joints_deg = r.joints * kRadToDeg;
-    out.base_T_tcp = nominal_tcp_pose(comp, r.joints);
+    out.base_T_tcp = nominal_tcp_pose(comp, r.joints) * tool_shift.inverse();
+    if (robot)
+      out.confidence95_mm = position_confidence95_mm(
+          *robot, comp.payload, point.flange_T_tcp.value_or(comp.flange_T_tcp), r.joints);
     if (!point.is_joint_target && !point.config.empty())
       out.config = maker_configuration(comp, language, r.joints);
     return out;

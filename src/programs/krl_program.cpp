@@ -19,12 +19,6 @@ namespace {
 
 enum class PointKind { Position, Axis };
 
-std::string upper(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return out;
-}
-
 /// One `KEY value` entry of a KRL aggregate `{X 1.0, Y 2.0, ...}`.
 struct Entry {
   std::string key;  ///< upper case
@@ -37,7 +31,7 @@ class KrlScanner {
   KrlScanner(std::string_view text, const std::string& file, const ProgramFilterOptions& options)
       : lexer_(text, ProgramLanguage::Krl, file), options_(options) {}
 
-  std::vector<PointSite> run() {
+  ProgramScan run() {
     for (;;) {
       const Token t = lexer_.next();
       if (t.kind == TokenKind::End) break;
@@ -51,7 +45,7 @@ class KrlScanner {
       else if (auto found = declared_.find(word); found != declared_.end())
         assignment(t, found->second);
     }
-    return std::move(sites_);
+    return {std::move(sites_), {}, {}};
   }
 
  private:
@@ -248,8 +242,8 @@ class KrlScanner {
 
 }  // namespace
 
-std::vector<PointSite> scan_krl(std::string_view text, const std::string& file,
-                                const ProgramFilterOptions& options) {
+ProgramScan scan_krl(std::string_view text, const std::string& file,
+                     const ProgramFilterOptions& options) {
   return KrlScanner(text, file, options).run();
 }
 

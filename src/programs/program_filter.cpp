@@ -19,8 +19,8 @@ namespace {
 using detail::NumberField;
 using detail::PointSite;
 
-std::vector<PointSite> scan(std::string_view text, ProgramLanguage language,
-                            const std::string& file, const ProgramFilterOptions& options) {
+detail::ProgramScan scan(std::string_view text, ProgramLanguage language, const std::string& file,
+                         const ProgramFilterOptions& options) {
   switch (language) {
     case ProgramLanguage::Rapid:
       return detail::scan_rapid(text, file, options);
@@ -150,7 +150,7 @@ std::vector<double> rewrite(Rewriter& out, const PointSite& site, const Correcte
 void check_reparse(std::string_view text, const std::vector<PointSite>& before,
                    const std::vector<std::vector<double>>& expected, ProgramLanguage language,
                    const std::string& file, const ProgramFilterOptions& options) {
-  const std::vector<PointSite> after = scan(text, language, file, options);
+  const std::vector<PointSite> after = scan(text, language, file, options).sites;
   const auto fail = [&](const ProgramPoint& p, const std::string& what) {
     throw std::logic_error(fmt::format(
         "{}:{}:{}: the corrected program does not read back as written ({}); nothing written", file,
@@ -172,13 +172,42 @@ void check_reparse(std::string_view text, const std::vector<PointSite>& before,
   }
 }
 
+/// The program's own tool or frame definitions merged with the user's (upper-case names);
+/// a name defined in both with other values is refused.
+std::map<std::string, Pose<double>> definitions(const std::map<std::string, Pose<double>>& program,
+                                                const std::map<std::string, Pose<double>>& given,
+                                                const char* what, const std::string& file) {
+  std::map<std::string, Pose<double>> out = program;
+  for (const auto& [name, pose] : given) {
+    const auto [it, added] = out.emplace(detail::upper(name), pose);
+    if (!added && ((it->second.p - pose.p).norm() > 1e-3 || (it->second.R - pose.R).norm() > 1e-6))
+      throw InputError(SourceLocation{file, 0, 0, name},
+                       fmt::format("{} '{}' is defined in the program and in the frames file with "
+                                   "other values",
+                                   what, name));
+  }
+  return out;
+}
+
+/// The pose of a named tool or frame; empty and `identity_name` (tool0, wobj0) are identity.
+Pose<double> resolve(const std::map<std::string, Pose<double>>& known, const std::string& name,
+                     const char* identity_name, const char* what, const SourceLocation& where) {
+  if (name.empty() || name == identity_name) return Pose<double>{};
+  const auto it = known.find(name);
+  if (it == known.end())
+    throw InputError(where, fmt::format("unknown {} '{}': the program does not define it with "
+                                        "literal values; give it in a frames file",
+                                        what, name));
+  return it->second;
+}
+
 }  // namespace
 
 std::vector<ProgramPoint> read_program_points(std::string_view text, ProgramLanguage language,
                                               const std::string& file,
                                               const ProgramFilterOptions& options) {
   std::vector<ProgramPoint> points;
-  for (PointSite& site : scan(text, language, file, options))
+  for (PointSite& site : scan(text, language, file, options).sites)
     points.push_back(std::move(site.point));
   return points;
 }
@@ -186,23 +215,45 @@ std::vector<ProgramPoint> read_program_points(std::string_view text, ProgramLang
 ProgramFilterResult filter_program(std::string_view text, ProgramLanguage language,
                                    const std::string& file, const ProgramFilterOptions& options,
                                    const PointCorrector& corrector) {
-  const std::vector<PointSite> sites = scan(text, language, file, options);
+  const detail::ProgramScan scanned = scan(text, language, file, options);
+  const auto tools = definitions(scanned.tools, options.tools, "tool", file);
+  const auto frames = definitions(scanned.frames, options.frames, "frame", file);
   Rewriter out(text);
   ProgramFilterResult result;
+  result.confidence_csv = "line,column,name,confidence95_mm\n";
   std::vector<std::vector<double>> expected;
-  expected.reserve(sites.size());
-  for (const PointSite& site : sites) {
-    const CorrectedPoint corrected = corrector(site.point);
+  expected.reserve(scanned.sites.size());
+  for (const PointSite& site : scanned.sites) {
     const SourceLocation where{file, site.point.line, site.point.column, site.point.name};
-    if (!corrected.failure.empty()) throw InputError(where, corrected.failure);
-    if (!corrected.base_T_tcp.p.allFinite() || !corrected.base_T_tcp.R.allFinite() ||
-        !corrected.joints_deg.allFinite())
-      throw InputError(where, "the corrected point is not finite (NaN or infinite)");
+    // The corrector works in the base frame with the active tool.
+    ProgramPoint point = site.point;
+    const Pose<double> base_T_frame =
+        resolve(frames, point.frame, "WOBJ0", "work object (frame)", where);
+    if (!point.tool.empty())
+      point.flange_T_tcp = resolve(tools, point.tool, "TOOL0", "tool", where);
+    point.base_T_tcp = base_T_frame * point.base_T_tcp;
+    CorrectedPoint corrected = corrector(point);
+    if (corrected.failure.empty() &&
+        (!corrected.base_T_tcp.p.allFinite() || !corrected.base_T_tcp.R.allFinite() ||
+         !corrected.joints_deg.allFinite()))
+      corrected.failure = "the corrected point is not finite (NaN or infinite)";
+    if (!corrected.failure.empty()) {
+      if (!options.keep_going) throw InputError(where, corrected.failure);
+      result.uncorrected.push_back({where.describe(), corrected.failure});
+      std::vector<double> unchanged;
+      for (const NumberField& f : site.fields) unchanged.push_back(f.value);
+      expected.push_back(std::move(unchanged));
+      continue;
+    }
+    corrected.base_T_tcp = base_T_frame.inverse() * corrected.base_T_tcp;
     expected.push_back(rewrite(out, site, corrected, language, options));
     ++(site.point.is_joint_target ? result.joint_points : result.cartesian_points);
+    result.confidence_csv += fmt::format(
+        "{},{},{},{}\n", site.point.line, site.point.column, site.point.name,
+        corrected.confidence95_mm ? fmt::format("{:.4f}", *corrected.confidence95_mm) : "");
   }
   result.text = out.apply();
-  check_reparse(result.text, sites, expected, language, file, options);
+  check_reparse(result.text, scanned.sites, expected, language, file, options);
   return result;
 }
 

@@ -17,6 +17,12 @@ bool iequals(std::string_view a, std::string_view b) {
   return true;
 }
 
+std::string upper(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
 void refuse(const std::string& file, const Token& at, const std::string& message) {
   throw InputError(SourceLocation{file, at.line, at.column, ""}, message);
 }

@@ -3,6 +3,7 @@
 // where each point's numbers sit in the text, so that only those bytes are rewritten.
 
 #include <deque>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,10 +64,21 @@ struct PointSite {
   std::vector<NumberField> fields;
 };
 
-std::vector<PointSite> scan_rapid(std::string_view text, const std::string& file,
-                                  const ProgramFilterOptions& options);
-std::vector<PointSite> scan_krl(std::string_view text, const std::string& file,
-                                const ProgramFilterOptions& options);
+/// What a scan finds: the points, and the tools (flange_T_tcp) and frames (base_T_frame) the
+/// program defines with literal values, by upper-case name.
+struct ProgramScan {
+  std::vector<PointSite> sites;
+  std::map<std::string, Pose<double>> tools;
+  std::map<std::string, Pose<double>> frames;
+};
+
+ProgramScan scan_rapid(std::string_view text, const std::string& file,
+                       const ProgramFilterOptions& options);
+ProgramScan scan_krl(std::string_view text, const std::string& file,
+                     const ProgramFilterOptions& options);
+
+/// Upper case (RAPID and KRL names are case-insensitive).
+std::string upper(std::string_view text);
 
 /// The value of a Number token, which must be one whole finite decimal literal: `364.35.4`,
 /// `1e999` and `12abc` are InputErrors at the token.

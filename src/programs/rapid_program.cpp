@@ -3,11 +3,15 @@
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
+#include <map>
+#include <optional>
 #include <string>
 
 #include "measurement_writers.hpp"
 #include "program_scan.hpp"
+#include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 
 namespace robcal::detail {
@@ -31,19 +35,21 @@ class RapidScanner {
   RapidScanner(std::string_view text, const std::string& file, const ProgramFilterOptions& options)
       : lexer_(text, ProgramLanguage::Rapid, file), options_(options) {}
 
-  std::vector<PointSite> run() {
+  ProgramScan run() {
     for (;;) {
       const Token t = lexer_.next();
       if (t.kind == TokenKind::End) break;
-      if (t.kind == TokenKind::Identifier &&
-          (iequals(t.text, "CONST") || iequals(t.text, "PERS") || iequals(t.text, "VAR")))
+      if (t.kind != TokenKind::Identifier) {
+        if (t.is('[')) inline_literal(t);
+        continue;
+      }
+      if (iequals(t.text, "CONST") || iequals(t.text, "PERS") || iequals(t.text, "VAR"))
         declaration();
-      else if (t.is('\\'))
-        optional_argument();
-      else if (t.is('['))
-        inline_literal(t);
+      else if (const MoveSpec* spec = move_spec(t.text))
+        move_instruction(*spec);
     }
-    return std::move(sites_);
+    assign_usages();
+    return {std::move(sites_), std::move(tools_), std::move(frames_)};
   }
 
  private:
@@ -71,6 +77,15 @@ class RapidScanner {
     if ((robtarget || jointtarget) && lexer_.peek().is('[')) {
       const Aggregate value = aggregate(lexer_.next());
       declared_value(value, 0, dims, std::string(name.text), jointtarget);
+      return;
+    }
+    const bool tooldata = iequals(type.text, "tooldata");
+    if ((tooldata || iequals(type.text, "wobjdata")) && dims == 0 && lexer_.peek().is('[')) {
+      const Aggregate value = aggregate(lexer_.next());
+      if (tooldata)
+        tool_value(value, name);
+      else
+        wobj_value(value, name);
       return;
     }
     // Any other initialiser (another type, or a copy of another point) stays as written.
@@ -113,15 +128,169 @@ class RapidScanner {
     }
   }
 
-  // `\WObj:=name`: targets relative to a work object other than wobj0 are not in the base frame.
-  void optional_argument() {
-    if (!iequals(lexer_.peek().text, "WObj") || lexer_.peek(1).text != ":=") return;
-    const Token object = lexer_.peek(2);
-    if (object.kind == TokenKind::Identifier && !iequals(object.text, "wobj0"))
-      refuse(lexer_.file(), object,
-             fmt::format("targets relative to work object '{}': its frame is not known here; "
-                         "convert the targets to wobj0 (the base frame) first",
-                         object.text));
+  // tooldata [robhold, [[x,y,z],[q1..q4]], loaddata]: the TCP in the flange frame.
+  void tool_value(const Aggregate& tree, const Token& name) {
+    const auto& it = tree[0].items;
+    if (it.size() != 3) return;  // not a literal: the frames file must give it
+    if (!tree[it[0]].is_list && iequals(tree[it[0]].first.text, "FALSE"))
+      refuse(lexer_.file(), name,
+             fmt::format("tool '{}' is stationary (robhold FALSE): targets of a stationary "
+                         "tool are not corrected",
+                         name.text));
+    if (const auto pose = literal_pose(tree, it[1])) tools_[upper(name.text)] = *pose;
+  }
+
+  // wobjdata [robhold, ufprog, ufmec, uframe, oframe]: targets are relative to the object
+  // frame, which sits at uframe · oframe in the base frame.
+  void wobj_value(const Aggregate& tree, const Token& name) {
+    const auto& it = tree[0].items;
+    if (it.size() != 5) return;
+    const auto word = [&](size_t k) { return tree[it[k]].first.text; };
+    if (!tree[it[0]].is_list && iequals(word(0), "TRUE"))
+      refuse(lexer_.file(), name,
+             fmt::format("work object '{}' is held by the robot (robhold TRUE, stationary "
+                         "tool): its targets are not corrected",
+                         name.text));
+    if (!tree[it[1]].is_list && iequals(word(1), "FALSE"))
+      refuse(lexer_.file(), name,
+             fmt::format("work object '{}' is moved by a mechanical unit (ufprog FALSE): its "
+                         "frame is not fixed, its targets are not corrected",
+                         name.text));
+    const auto user = literal_pose(tree, it[3]);
+    const auto object = literal_pose(tree, it[4]);
+    if (user && object) frames_[upper(name.text)] = *user * *object;
+  }
+
+  // [[x,y,z],[q1,q2,q3,q4]] (pose data); nullopt when not a literal.
+  std::optional<Pose<double>> literal_pose(const Aggregate& tree, size_t node) {
+    if (!looks_like(tree, node, {3, 4})) return std::nullopt;
+    const std::vector<NumberField> p = numbers(tree, tree[node].items[0]);
+    const std::vector<NumberField> q = numbers(tree, tree[node].items[1]);
+    if (p.empty() || q.empty()) return std::nullopt;
+    const Eigen::Quaterniond quat(q[0].value, q[1].value, q[2].value, q[3].value);
+    if (std::abs(quat.norm() - 1.0) > 1e-3)
+      refuse(lexer_.file(), tree[tree[node].items[1]].first,
+             fmt::format("quaternion of norm {:.6f}: expected a unit quaternion", quat.norm()));
+    Pose<double> pose;
+    pose.p << p[0].value, p[1].value, p[2].value;
+    pose.R = quat.normalized().toRotationMatrix();
+    return pose;
+  }
+
+  /// A motion instruction: which positional arguments are targets, which is the tool.
+  struct MoveSpec {
+    const char* name;
+    std::array<int, 2> targets;  ///< -1: none
+    size_t tool;
+  };
+  static const MoveSpec* move_spec(std::string_view word) {
+    static const MoveSpec kSpecs[] = {
+        {"MoveL", {0, -1}, 3},     {"MoveJ", {0, -1}, 3},   {"MoveAbsJ", {0, -1}, 3},
+        {"MoveLDO", {0, -1}, 3},   {"MoveJDO", {0, -1}, 3}, {"MoveLSync", {0, -1}, 3},
+        {"MoveJSync", {0, -1}, 3}, {"MoveC", {0, 1}, 4},    {"MoveCDO", {0, 1}, 4},
+        {"MoveCSync", {0, 1}, 4},  {"TriggL", {0, -1}, 4},  {"TriggJ", {0, -1}, 4},
+        {"TriggC", {0, 1}, 5},     {"SearchL", {2, -1}, 4}, {"SearchC", {2, 3}, 5},
+    };
+    for (const MoveSpec& s : kSpecs)
+      if (iequals(word, s.name)) return &s;
+    return nullptr;
+  }
+
+  // `MoveL ToPoint, Speed, Zone, Tool [\WObj:=wobj];`: the points written inline in it take
+  // its tool and work object; the names in its target arguments are recorded for their
+  // declarations (assign_usages).
+  void move_instruction(const MoveSpec& spec) {
+    const size_t first_site = sites_.size();
+    const int line = lexer_.peek().line;
+    std::vector<std::vector<std::string>> names;  // identifiers of each positional argument
+    std::vector<std::string> leading;             // its first token, upper case
+    std::string wobj;
+    bool piece_start = true;
+    int depth = 0;
+    for (;;) {
+      const Token t = lexer_.peek();
+      if (t.kind == TokenKind::End) break;
+      if (depth == 0 && t.is(';')) {
+        lexer_.next();
+        break;
+      }
+      if (piece_start && !t.is('\\') && !t.is(',')) {
+        names.emplace_back();
+        leading.push_back(t.kind == TokenKind::Identifier ? upper(t.text) : "");
+        piece_start = false;
+      }
+      if (t.is('[')) {
+        inline_literal(lexer_.next());
+        continue;
+      }
+      lexer_.next();
+      if (depth == 0 && t.is(',')) {
+        piece_start = true;
+      } else if (depth == 0 && t.is('\\')) {
+        // \Name or \Name:=value: an optional argument, never a positional one.
+        const Token option = lexer_.next();
+        if (lexer_.peek().text == ":=") {
+          lexer_.next();
+          const Token value = lexer_.peek();
+          if (iequals(option.text, "WObj") && value.kind == TokenKind::Identifier)
+            wobj = value.text;
+          skip_value();
+        }
+      } else {
+        if (t.is('(') || t.is('{')) ++depth;
+        if (t.is(')') || t.is('}')) --depth;
+        if (t.kind == TokenKind::Identifier && !names.empty())
+          names.back().push_back(upper(t.text));
+      }
+    }
+    const std::string tool = spec.tool < leading.size() ? leading[spec.tool] : "";
+    for (size_t i = first_site; i < sites_.size(); ++i) {
+      sites_[i].point.tool = tool;
+      sites_[i].point.frame = upper(wobj);
+    }
+    for (int k : spec.targets)
+      if (k >= 0 && static_cast<size_t>(k) < names.size())
+        for (const std::string& name : names[static_cast<size_t>(k)])
+          usages_[name].push_back({tool, upper(wobj), line});
+  }
+
+  // The value of an optional argument: up to the next ',' ';' or '\' outside brackets.
+  void skip_value() {
+    int depth = 0;
+    for (;;) {
+      const Token& t = lexer_.peek();
+      if (t.kind == TokenKind::End) return;
+      if (depth == 0 && (t.is(',') || t.is(';') || t.is('\\'))) return;
+      if (t.is('(') || t.is('[') || t.is('{')) ++depth;
+      if (t.is(')') || t.is(']') || t.is('}')) --depth;
+      lexer_.next();
+    }
+  }
+
+  // Declared targets take the tool and work object of the instructions that use them; one
+  // value cannot be corrected for two of them.
+  void assign_usages() {
+    const auto label = [](const std::string& name, const char* none) {
+      return name.empty() ? std::string(none) : name;
+    };
+    for (PointSite& site : sites_) {
+      if (site.point.name.empty()) continue;
+      const std::string base = upper(site.point.name.substr(0, site.point.name.find('{')));
+      const auto found = usages_.find(base);
+      if (found == usages_.end()) continue;
+      const Usage& first = found->second.front();
+      for (const Usage& u : found->second)
+        if (u.tool != first.tool || u.frame != first.frame)
+          throw InputError(
+              SourceLocation{lexer_.file(), site.point.line, site.point.column, site.point.name},
+              fmt::format("used with tool {} and work object {} (line {}) and with tool {} and "
+                          "work object {} (line {}): one corrected value cannot serve both; give "
+                          "each use its own target",
+                          label(first.tool, "?"), label(first.frame, "WOBJ0"), first.line,
+                          label(u.tool, "?"), label(u.frame, "WOBJ0"), u.line));
+      site.point.tool = first.tool;
+      site.point.frame = first.frame;
+    }
   }
 
   [[noreturn]] void not_literal(const Aggregate& value, const char* what) {
@@ -261,15 +430,22 @@ class RapidScanner {
     }
   }
 
+  struct Usage {
+    std::string tool, frame;
+    int line = 0;
+  };
+
   ProgramLexer lexer_;
   const ProgramFilterOptions& options_;
   std::vector<PointSite> sites_;
+  std::map<std::string, Pose<double>> tools_, frames_;
+  std::map<std::string, std::vector<Usage>> usages_;  ///< by upper-case target name
 };
 
 }  // namespace
 
-std::vector<PointSite> scan_rapid(std::string_view text, const std::string& file,
-                                  const ProgramFilterOptions& options) {
+ProgramScan scan_rapid(std::string_view text, const std::string& file,
+                       const ProgramFilterOptions& options) {
   return RapidScanner(text, file, options).run();
 }
 

@@ -9,8 +9,12 @@
 /// - RAPID: `CONST|PERS|VAR robtarget name[{dims}] := [[x,y,z],[q1..q4],[cf1,cf4,cf6,cfx],
 ///   [eax_a..eax_f]]` and robtarget literals written inline (MoveL/MoveJ/MoveC ...); with
 ///   `joints`, jointtarget declarations and inline `[[j1..j6],[eax...]]` (MoveAbsJ).
-///   Quaternions are (q1..q4) = (w, x, y, z). Targets must be in wobj0 (the base frame): a
-///   `\WObj:=` other than wobj0 is refused, since the work object's frame is not known here.
+///   Quaternions are (q1..q4) = (w, x, y, z). Each target takes the tool and work object of
+///   the Move instruction that uses it (MoveL/MoveJ/MoveC/MoveAbsJ and their variants: the
+///   Tool argument, `\WObj:=`); their values come from the program's own literal `tooldata`
+///   and `wobjdata` declarations or from ProgramFilterOptions::tools / frames. A declared
+///   target used with two different tools or work objects is refused (one corrected value
+///   cannot serve both); a target no instruction uses keeps the default tool and wobj0.
 /// - KRL: `[DECL] [GLOBAL] E6POS|POS name = {X,Y,Z,A,B,C,S,T,...}` (A, B, C = the ZYX Euler
 ///   angles in degrees), assignments to such declared names, and aggregates written after
 ///   PTP/LIN/CIRC (and SPTP/SLIN/SCIRC); with `joints`, E6AXIS/AXIS points (A1..A6).
@@ -22,6 +26,8 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -42,6 +48,13 @@ struct ProgramPoint {
   /// when the point has no S and T.
   std::vector<int> config;
   Vector6d joints_deg = Vector6d::Zero();  ///< joint targets only: controller joints, degrees
+  /// The tool and frame (RAPID work object) active where the point is used, as named in the
+  /// program; empty: the default tool, the robot's base frame.
+  std::string tool;
+  std::string frame;
+  /// Set by filter_program for the corrector: the named tool's TCP in the flange frame (none:
+  /// the corrector's default tool); `base_T_tcp` is then in the base frame, the frame applied.
+  std::optional<Pose<double>> flange_T_tcp;
 };
 
 /// What the corrector returns for a point: new Cartesian pose and configuration, or new
@@ -51,6 +64,8 @@ struct CorrectedPoint {
   std::vector<int> config;  ///< same layout as the input's; empty keeps the original
   Vector6d joints_deg = Vector6d::Zero();
   std::string failure;
+  /// 95 % confidence radius of the corrected position (mm), when the model has a covariance.
+  std::optional<double> confidence95_mm;
 };
 
 using PointCorrector = std::function<CorrectedPoint(const ProgramPoint&)>;
@@ -60,12 +75,30 @@ struct ProgramFilterOptions {
   int position_decimals = 4;  ///< mm
   int quaternion_decimals = 9;
   int angle_decimals = 5;  ///< KRL A, B, C and joint values, degrees
+  /// Tools (flange_T_tcp) and frames (base_T_frame) by name (case-insensitive), for those the
+  /// program uses but does not define (a frames file); the program's own definitions must
+  /// agree with them. RAPID tool0 and wobj0 are the flange and the base frame.
+  std::map<std::string, Pose<double>> tools;
+  std::map<std::string, Pose<double>> frames;
+  /// A point the corrector refuses is left as written and listed in the result instead of
+  /// failing the whole program.
+  bool keep_going = false;
+};
+
+/// A point left as written under keep_going, and why.
+struct UncorrectedPoint {
+  std::string where;  ///< file:line:column (name)
+  std::string reason;
 };
 
 struct ProgramFilterResult {
   std::string text;  ///< the corrected program
   int cartesian_points = 0;
   int joint_points = 0;
+  std::vector<UncorrectedPoint> uncorrected;
+  /// One row per corrected point: `line,column,name,confidence95_mm` (empty radius when the
+  /// corrector gives none): the side file of the per-target confidence.
+  std::string confidence_csv;
 };
 
 /// Every point of a program (what the filter would hand to the corrector), in file order.
