@@ -66,6 +66,7 @@ void check_filter(const FilterCase& fc) {
   const ProgramLanguage language = program_language_from_path(path);
   ProgramFilterOptions options;
   options.joints = fc.joints;
+  options.tools["TOOL_DATA[1]"] = Pose<double>{};  // weld_seam.dat's FDAT FP1 names tool 1
   const ProgramFilterResult result =
       filter_program(text, language, path, options, known_correction);
   EXPECT_EQ(result.cartesian_points, fc.cartesian);
@@ -128,6 +129,7 @@ TEST(ProgramFilter, IdentityCorrectionKeepsEveryByte) {
     const std::string text = read_text_file(path);
     ProgramFilterOptions options;
     options.joints = true;
+    options.tools["TOOL_DATA[1]"] = Pose<double>{};
     const auto result = filter_program(
         text, program_language_from_path(path), path, options, [](const ProgramPoint& p) {
           return CorrectedPoint{p.base_T_tcp, p.config, p.joints_deg, ""};
@@ -186,7 +188,7 @@ TEST(ProgramFilter, RefusesWhatItCannotCorrectNamingLineAndColumn) {
                          "[9E9,9E9,9E9,9E9,9E9,9E9]];\nPROC main()\n  MoveL p10, v100, fine, "
                          "tool0\\WObj:=wobjTable;\n",
                          rapid),
-            "bad.prg:2:24 (p10): unknown work object (frame) 'WOBJTABLE': the program does not "
+            "bad.prg:2:24 (p10): unknown work object 'WOBJTABLE': the program does not "
             "define it with literal values; give it in a frames file");
   EXPECT_NE(filter_error("MODULE m\n  MoveL [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]"
                          ", v100, fine, tool0;\n",

@@ -133,6 +133,53 @@ TEST(ProgramFrames, ToolsAndFramesMustBeKnownAndUnambiguous) {
             "tool are not corrected");
 }
 
+TEST(ProgramFrames, KrlToolAndBaseFromBasCallsAssignmentsAndFdat) {
+  const std::string dat =
+      "DEFDAT CELL\n"
+      "DECL E6POS XP1={X 100,Y 50,Z 20,A 0,B 0,C 0,S 2,T 2}\n"
+      "DECL FDAT FP1={TOOL_NO 2,BASE_NO 1,IPO_FRAME #BASE}\n"
+      "ENDDAT\n";
+  const std::string src =
+      "DEF CELL( )\n"
+      "  BAS(#TOOL,2)\n"
+      "  BAS (#BASE, 1)\n"
+      "  LIN {X 5,Y 6,Z 7,A 0,B 0,C 0}\n"
+      "  $TOOL=TOOL_DATA[0]\n"
+      "  $BASE=BASE_DATA[0]\n"
+      "  LIN {X 400,Y 0,Z 500,A 0,B 0,C 0}\n"
+      "  $BASE=MY_FRAME\n"
+      "  LIN {X 1,Y 2,Z 3,A 0,B 0,C 0}\n"
+      "END\n";
+  ProgramFilterOptions options;
+  options.tools["TOOL_DATA[2]"] = tool_pose();
+  options.frames["BASE_DATA[1]"] = frame_pose();
+  std::vector<ProgramPoint> seen;
+  const auto record = [&](const ProgramPoint& p) {
+    seen.push_back(p);
+    return CorrectedPoint{p.base_T_tcp, p.config, p.joints_deg, ""};
+  };
+  filter_program(dat, ProgramLanguage::Krl, "cell.dat", options, record);
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_EQ(seen[0].tool, "TOOL_DATA[2]");
+  EXPECT_EQ(seen[0].frame, "BASE_DATA[1]");
+  EXPECT_LT((seen[0].base_T_tcp.p - frame_pose() * Eigen::Vector3d(100, 50, 20)).norm(), 1e-9);
+  seen.clear();
+  try {
+    filter_program(src, ProgramLanguage::Krl, "cell.src", options, record);
+    ADD_FAILURE() << "an expression base was accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "cell.src:9:7: unknown base '$BASE (set at line 8)': the program does not define "
+                 "it with literal values; give it in a frames file");
+  }
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen[0].tool, "TOOL_DATA[2]");
+  EXPECT_LT((seen[0].base_T_tcp.p - frame_pose() * Eigen::Vector3d(5, 6, 7)).norm(), 1e-9);
+  EXPECT_EQ(seen[1].tool, "TOOL_DATA[0]");
+  EXPECT_LT(seen[1].flange_T_tcp->p.norm(), 1e-12);
+  EXPECT_LT((seen[1].base_T_tcp.p - Eigen::Vector3d(400, 0, 500)).norm(), 1e-12);
+}
+
 TEST(ProgramFrames, KeepGoingLeavesRefusedTargetsAsWrittenAndListsThem) {
   const std::string text =
       "  CONST robtarget pA:=[[100,50,20],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n"

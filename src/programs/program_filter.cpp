@@ -227,10 +227,14 @@ ProgramFilterResult filter_program(std::string_view text, ProgramLanguage langua
     const SourceLocation where{file, site.point.line, site.point.column, site.point.name};
     // The corrector works in the base frame with the active tool.
     ProgramPoint point = site.point;
-    const Pose<double> base_T_frame =
-        resolve(frames, point.frame, "WOBJ0", "work object (frame)", where);
+    // RAPID tool0 / wobj0 and KRL tool 0 / base 0 are the flange and the base frame (KRL:
+    // $ROBROOT taken as the world, as on a robot not mounted on a track).
+    const bool rapid = language == ProgramLanguage::Rapid;
+    const Pose<double> base_T_frame = resolve(frames, point.frame, rapid ? "WOBJ0" : "BASE_DATA[0]",
+                                              rapid ? "work object" : "base", where);
     if (!point.tool.empty())
-      point.flange_T_tcp = resolve(tools, point.tool, "TOOL0", "tool", where);
+      point.flange_T_tcp =
+          resolve(tools, point.tool, rapid ? "TOOL0" : "TOOL_DATA[0]", "tool", where);
     point.base_T_tcp = base_T_frame * point.base_T_tcp;
     CorrectedPoint corrected = corrector(point);
     if (corrected.failure.empty() &&
@@ -263,7 +267,8 @@ namespace robcal {
 
 ProgramFilterResult filter_program_file(const std::string& in, const std::string& out,
                                         const ProgramFilterOptions& options,
-                                        const PointCorrector& corrector) {
+                                        const PointCorrector& corrector,
+                                        const std::string& confidence_out) {
   const ProgramLanguage language = program_language_from_path(in);
   if (program_language_from_path(out) != language)
     throw InputError({out, 0, 0, "--out"}, "the output must be the same kind of program as --in");
@@ -273,13 +278,16 @@ ProgramFilterResult filter_program_file(const std::string& in, const std::string
     std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
     return ec ? std::filesystem::path(path).lexically_normal() : p;
   };
-  std::error_code ec;
-  if (resolved(out) == resolved(in) || std::filesystem::equivalent(out, in, ec))
-    throw InputError({out, 0, 0, "--out"},
-                     "the output is the input program: give a new file (the original is kept)");
+  for (const std::string& o : {out, confidence_out}) {
+    std::error_code ec;
+    if (!o.empty() && (resolved(o) == resolved(in) || std::filesystem::equivalent(o, in, ec)))
+      throw InputError({o, 0, 0, o == out ? "--out" : "--confidence-out"},
+                       "the output is the input program: give a new file (the original is kept)");
+  }
   const ProgramFilterResult result =
       filter_program(read_text_file(in), language, in, options, corrector);
   write_file_atomically(out, result.text);
+  if (!confidence_out.empty()) write_file_atomically(confidence_out, result.confidence_csv);
   return result;
 }
 

@@ -124,10 +124,12 @@ inline std::vector<ProgramPoint> parse_program(std::string_view text, ProgramLan
 }
 
 /// Filters the program file `in` into the new file `out` (written atomically, whole or not
-/// at all). `out` must be the same kind of program and must not resolve to `in` (the original
-/// is never overwritten): InputError otherwise.
+/// at all), and the per-target confidence rows into `confidence_out` when given. `out` must
+/// be the same kind of program, and no output may resolve to `in` (the original is never
+/// overwritten): InputError otherwise.
 ProgramFilterResult filter_program_file(const std::string& in, const std::string& out,
                                         const ProgramFilterOptions& options,
-                                        const PointCorrector& corrector);
+                                        const PointCorrector& corrector,
+                                        const std::string& confidence_out = "");
 
 }  // namespace robcal
