@@ -67,6 +67,8 @@ void check_filter(const FilterCase& fc) {
   ProgramFilterOptions options;
   options.joints = fc.joints;
   options.tools["TOOL_DATA[1]"] = Pose<double>{};  // weld_seam.dat's FDAT FP1 names tool 1
+  options.tools["UT[2]"] = Pose<double>{};         // weld_cell.ls: UT 2 and UF 1
+  options.frames["UF[1]"] = Pose<double>{};
   const ProgramFilterResult result =
       filter_program(text, language, path, options, known_correction);
   EXPECT_EQ(result.cartesian_points, fc.cartesian);
@@ -123,13 +125,21 @@ TEST(ProgramFilter, KrlSrcInlinePointsChange) {
   check_filter({"weld_seam.src", true, {4, 7, 8}, 2, 1});
 }
 
+TEST(ProgramFilter, FanucPositionsChangeEverythingElseStays) {
+  // P[2]'s GP2 (an external axis, mm) and the comment in /MN with "X = 1.0 mm" stay.
+  check_filter({"weld_cell.ls", false, {34, 35, 40, 41, 49, 50}, 3, 0});
+  check_filter({"weld_cell.ls", true, {34, 35, 40, 41, 49, 50, 55, 56}, 3, 1});
+}
+
 TEST(ProgramFilter, IdentityCorrectionKeepsEveryByte) {
-  for (const char* file : {"pick_place.mod", "weld_seam.dat", "weld_seam.src"}) {
+  for (const char* file : {"pick_place.mod", "weld_seam.dat", "weld_seam.src", "weld_cell.ls"}) {
     const std::string path = test::data_path(std::string("programs/") + file);
     const std::string text = read_text_file(path);
     ProgramFilterOptions options;
     options.joints = true;
     options.tools["TOOL_DATA[1]"] = Pose<double>{};
+    options.tools["UT[2]"] = Pose<double>{};
+    options.frames["UF[1]"] = Pose<double>{};
     const auto result = filter_program(
         text, program_language_from_path(path), path, options, [](const ProgramPoint& p) {
           return CorrectedPoint{p.base_T_tcp, p.config, p.joints_deg, ""};

@@ -223,7 +223,7 @@ TEST(MeasurementProgramFormat, ReadersLocateBadText) {
   EXPECT_EQ(error("/PROG X\n/MN\n 1:J P[1] 10% FINE ;\n/POS\nP[1]{\n GP1:\n UF : 0, UT : 1,\n"
                   " J1= 1 deg, J2= 0 deg\n};\n/END\n",
                   ProgramLanguage::FanucLs, "x.ls"),
-            "x.ls:9:1: P[1] has 2 of the joints J1..J6");
+            "x.ls:5:1 (P[1]): has 2 of the components J1..J6");
   EXPECT_EQ(error("/JOB\n//POS\n///NPOS 1,0,0,0,0,0\n///PULSE\nC00000=1,2,3\n//INST\n",
                   ProgramLanguage::Jbi, "x.jbi"),
             "x.jbi:5:13: expected ',' and the pulses of axis 4");

@@ -107,6 +107,14 @@ std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage la
     };
     return {quadrant(0), quadrant(3), quadrant(5), config.index()};
   }
+  if (language == ProgramLanguage::FanucLs) {
+    // CONFIG 'N|F U|D T|B, t4, t5, t6': turn t of a joint at θ is θ ∈ [−180 + 360t, 180 + 360t).
+    const auto turn = [&](int i) {
+      return static_cast<int>(std::floor((rad2deg(joints[i]) + 180.0) / 360.0 + 1e-12));
+    };
+    return {
+        config.flip ? 1 : 0, config.down ? 1 : 0, config.back ? 1 : 0, turn(3), turn(4), turn(5)};
+  }
   int s = (config.back ? 1 : 0) | (config.down ? 0 : 2) | (joints[4] <= 0 ? 4 : 0);
   int t = 0;
   for (int i = 0; i < kJointCount; ++i)
@@ -142,8 +150,12 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
         if (point.config.empty()) {
           score = 1;
         } else {
-          const size_t branch = language == ProgramLanguage::Rapid ? 3 : 0;
-          if (cfg[branch] != point.config[branch]) continue;
+          // The branch: RAPID cfx, KRL S, Fanuc's three letters.
+          const auto same = [&](size_t k) { return cfg[k] == point.config[k]; };
+          if (language == ProgramLanguage::Rapid     ? !same(3)
+              : language == ProgramLanguage::FanucLs ? !(same(0) && same(1) && same(2))
+                                                     : !same(0))
+            continue;
           score = cfg == point.config ? 2 : 1;
         }
         if (score > best_score ||

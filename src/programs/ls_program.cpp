@@ -13,12 +13,16 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <map>
 
 #include "measurement_writers.hpp"
+#include "program_scan.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::detail {
 
@@ -69,109 +73,234 @@ std::string write_ls_measurement(const MeasurementPart& part) {
 
 namespace {
 
-/// A line-by-line reader of an LS file with the position of each line.
-struct LsLine {
-  std::string_view text;
-  int number = 0;
-  size_t start = 0;  ///< offset of the line in the file
+/// One position of the /POS section (group 1): where each value sits in the text.
+struct LsPosition {
+  int index = 0;  ///< n of P[n]
+  int line = 0, column = 0;
+  int uf = 0, ut = 0;
+  std::map<std::string, NumberField, std::less<>> values;  ///< X..R or J1..J6
+  std::string config;                                      ///< CONFIG text between quotes
+  size_t config_column = 0;
 };
 
-std::vector<LsLine> split_lines(std::string_view text) {
-  std::vector<LsLine> lines;
-  size_t at = 0;
-  int number = 1;
-  while (at < text.size()) {
+/// The /POS section's positions and the /MN joint moves `J P[n]` (index, line), with every
+/// number read whole. Grammar: see the top of this file.
+struct LsProgram {
+  std::vector<LsPosition> positions;
+  std::vector<std::pair<int, int>> joint_moves;
+};
+
+LsProgram parse_ls(std::string_view text, const std::string& file) {
+  enum class Section { Header, Mn, Pos, End } section = Section::Header;
+  LsProgram out;
+  LsPosition* current = nullptr;
+  bool in_gp1 = false;
+  int number = 0;
+  for (size_t at = 0; at < text.size();) {
+    ++number;
+    const size_t start = at;
     size_t end = text.find('\n', at);
     if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(at, end - at);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    lines.push_back({line, number++, at});
+    std::string_view t = text.substr(start, end - start);
+    if (!t.empty() && t.back() == '\r') t.remove_suffix(1);
     at = end + 1;
-  }
-  return lines;
-}
-
-}  // namespace
-
-std::vector<JointMove> read_ls_joint_moves(const std::string& text, const std::string& file) {
-  const std::vector<LsLine> lines = split_lines(text);
-  enum class Section { Header, Mn, Pos, End } section = Section::Header;
-  std::vector<std::pair<int, int>> order;  // (point index, /MN line)
-  std::map<int, Vector6d> joints;
-  int current = -1;  // P index whose block is open
-  int found = 0;     // J values read in the open block's GP1
-  bool in_gp1 = false;
-  for (const LsLine& l : lines) {
     const auto fail = [&](size_t column, const std::string& what) {
-      throw InputError(SourceLocation{file, l.number, static_cast<int>(column) + 1, ""}, what);
+      throw InputError(SourceLocation{file, number, static_cast<int>(column) + 1, ""}, what);
     };
-    const std::string_view t = l.text;
+    const auto integer = [&](size_t& offset, const char* what) {
+      const double v = read_number(text, offset, file, number, start);
+      if (v != std::floor(v) || v < 0 || v > 1e6)
+        fail(offset - start - 1, fmt::format("{}: expected a whole number", what));
+      return static_cast<int>(v);
+    };
     if (t.starts_with("/MN")) section = Section::Mn;
     if (t.starts_with("/POS")) section = Section::Pos;
     if (t.starts_with("/END")) section = Section::End;
     if (t.starts_with("/")) continue;
     if (section == Section::Mn) {
-      // `  12:J P[3] 10% FINE ;` — a joint move to a P register of this program.
+      // `  12:J P[3] 10% FINE ;` — a joint move to a position of this program.
       const size_t colon = t.find(':');
       if (colon == std::string_view::npos) continue;
-      const size_t at = t.find_first_not_of(" \t", colon + 1);
-      if (at == std::string_view::npos || t.substr(at, 4) != "J P[") continue;
-      size_t offset = l.start + at + 4;
-      const double index = read_number(text, offset, file, l.number, l.start);
-      if (index != std::floor(index) || index < 1 || offset - l.start >= t.size() ||
-          t[offset - l.start] != ']')
-        fail(at + 4, "expected P[index] with a positive integer index");
-      order.emplace_back(static_cast<int>(index), l.number);
+      const size_t col = t.find_first_not_of(" \t", colon + 1);
+      if (col == std::string_view::npos || t.substr(col, 4) != "J P[") continue;
+      size_t offset = start + col + 4;
+      const int index = integer(offset, "P index");  // P[4] or P[4:comment]
+      if (offset - start >= t.size() || (t[offset - start] != ']' && t[offset - start] != ':'))
+        fail(offset - start, "expected ']' or ':comment]'");
+      out.joint_moves.emplace_back(index, number);
     } else if (section == Section::Pos) {
       if (t.starts_with("P[")) {
-        size_t at = l.start + 2;
-        const double index = read_number(text, at, file, l.number, l.start);
-        if (index != std::floor(index) || index < 1) fail(2, "expected a positive P index");
-        current = static_cast<int>(index);
-        found = 0;
+        size_t offset = start + 2;
+        LsPosition p;
+        p.index = integer(offset, "P index");
+        p.line = number;
+        p.column = 1;
+        for (const LsPosition& q : out.positions)
+          if (q.index == p.index) fail(0, fmt::format("P[{}] defined twice", p.index));
+        out.positions.push_back(std::move(p));
+        current = &out.positions.back();
         in_gp1 = false;
-        if (joints.count(current)) fail(0, fmt::format("P[{}] defined twice", current));
         continue;
       }
       if (t.find("GP1:") != std::string_view::npos) in_gp1 = true;
       if (t.find("GP2:") != std::string_view::npos) in_gp1 = false;
-      if (t.starts_with("};")) {
-        if (found == kJointCount) continue;
-        if (found != 0) fail(0, fmt::format("P[{}] has {} of the joints J1..J6", current, found));
-        joints.erase(current);  // Cartesian representation: not a joint position
-        continue;
-      }
-      if (!in_gp1 || current < 0) continue;
-      // `J1=   25.000 deg,  J2= ...`: one to three joints per line.
-      for (size_t at = t.find('J'); at != std::string_view::npos; at = t.find('J', at)) {
-        if (at + 2 >= t.size() || t[at + 1] < '1' || t[at + 1] > '6' ||
-            (at > 0 && std::isalnum(static_cast<unsigned char>(t[at - 1])))) {
-          ++at;
+      if (t.starts_with("};")) current = nullptr;
+      if (!current || !in_gp1) continue;
+      // `KEY : value` or `KEY = value unit`, separated by commas (CONFIG's quotes hold commas).
+      for (size_t col = 0; col < t.size();) {
+        if (!std::isalpha(static_cast<unsigned char>(t[col]))) {
+          ++col;
           continue;
         }
-        const int j = t[at + 1] - '1';
-        size_t value = t.find_first_not_of(" \t", at + 2);
-        if (value == std::string_view::npos || t[value] != '=') fail(at + 2, "expected '='");
-        value = t.find_first_not_of(" \t", value + 1);
-        if (value == std::string_view::npos) fail(t.size(), "expected a joint value");
-        size_t offset = l.start + value;
-        joints[current][j] = read_number(text, offset, file, l.number, l.start);
-        at = offset - l.start;
-        const size_t unit = t.find_first_not_of(" \t", at);
-        if (unit == std::string_view::npos || t.substr(unit, 3) != "deg")
-          fail(at, fmt::format("J{} of P[{}]: expected 'deg'", j + 1, current));
-        ++found;
+        const size_t key_start = col;
+        while (col < t.size() && std::isalnum(static_cast<unsigned char>(t[col]))) ++col;
+        const std::string key(t.substr(key_start, col - key_start));
+        col = t.find_first_not_of(" \t", col);
+        if (key == "GP1") break;
+        if (col == std::string_view::npos || (t[col] != ':' && t[col] != '='))
+          fail(key_start, fmt::format("P[{}]: expected ':' or '=' after {}", current->index, key));
+        col = t.find_first_not_of(" \t", col + 1);
+        if (col == std::string_view::npos) fail(t.size(), fmt::format("{}: expected a value", key));
+        if (key == "CONFIG") {
+          const size_t close = t[col] == '\'' ? t.find('\'', col + 1) : std::string_view::npos;
+          if (close == std::string_view::npos) fail(col, "CONFIG: expected a quoted string");
+          current->config = std::string(t.substr(col + 1, close - col - 1));
+          current->config_column = col + 1;
+          col = close + 1;
+          continue;
+        }
+        size_t offset = start + col;
+        if (key == "UF" || key == "UT") {
+          (key == "UF" ? current->uf : current->ut) = integer(offset, key.c_str());
+        } else {
+          const bool joint = key.size() == 2 && key[0] == 'J' && key[1] >= '1' && key[1] <= '6';
+          if (!joint && (key.size() != 1 ||
+                         std::string_view("XYZWPR").find(key[0]) == std::string_view::npos))
+            fail(key_start, fmt::format("P[{}]: unknown component {}", current->index, key));
+          NumberField f;
+          f.present = true;
+          f.begin = offset;
+          f.value = read_number(text, offset, file, number, start);
+          f.end = offset;
+          const size_t unit = t.find_first_not_of(" \t", offset - start);
+          const std::string_view want =
+              joint || std::string_view("WPR").find(key[0]) != std::string_view::npos ? "deg"
+                                                                                      : "mm";
+          if (unit == std::string_view::npos || t.substr(unit, want.size()) != want)
+            fail(offset - start,
+                 fmt::format("{} of P[{}]: expected '{}'", key, current->index, want));
+          if (!current->values.emplace(key, f).second)
+            fail(key_start, fmt::format("{} given twice in P[{}]", key, current->index));
+          offset = start + unit + want.size();
+        }
+        col = offset - start;
       }
     }
   }
   if (section != Section::End)
-    throw InputError(SourceLocation{file, lines.empty() ? 0 : lines.back().number, 0, ""},
-                     "the program has no /END line");
-  std::vector<JointMove> moves;
-  for (const auto& [index, line] : order) {
-    const auto it = joints.find(index);
-    if (it != joints.end()) moves.push_back({it->second, line});
+    throw InputError(SourceLocation{file, number, 0, ""}, "the program has no /END line");
+  return out;
+}
+
+constexpr std::array<const char*, 6> kCartesian{"X", "Y", "Z", "W", "P", "R"};
+constexpr std::array<const char*, 6> kJoints{"J1", "J2", "J3", "J4", "J5", "J6"};
+
+/// Which of `keys` a position has: all (true), none (false), or some (InputError).
+bool has_all(const LsPosition& p, const std::array<const char*, 6>& keys, const std::string& file) {
+  int found = 0;
+  for (const char* k : keys) found += p.values.count(k) ? 1 : 0;
+  if (found != 0 && found != 6)
+    throw InputError(SourceLocation{file, p.line, p.column, fmt::format("P[{}]", p.index)},
+                     fmt::format("has {} of the components {}..{}", found, keys[0], keys[5]));
+  return found == 6;
+}
+
+/// CONFIG 'F U T, t4, t5, t6' as (flip, down, back, t4, t5, t6).
+std::vector<int> ls_config(const LsPosition& p, const std::string& file) {
+  std::vector<int> out;
+  const SourceLocation where{file, p.line, static_cast<int>(p.config_column) + 1,
+                             fmt::format("P[{}]", p.index)};
+  size_t at = 0;
+  const auto skip = [&] {
+    while (at < p.config.size() && (p.config[at] == ' ' || p.config[at] == '\t')) ++at;
+  };
+  for (const char* letters : {"NF", "UD", "TB"}) {
+    skip();
+    const size_t k = at < p.config.size() ? std::string_view(letters).find(p.config[at])
+                                          : std::string_view::npos;
+    if (k == std::string_view::npos)
+      throw InputError(where, fmt::format("CONFIG '{}': expected the letters N|F U|D T|B and "
+                                          "three turn numbers",
+                                          p.config));
+    out.push_back(static_cast<int>(k));
+    ++at;
   }
+  for (int turn = 0; turn < 3; ++turn) {
+    skip();
+    if (at >= p.config.size() || p.config[at] != ',')
+      throw InputError(where, fmt::format("CONFIG '{}': expected three turn numbers", p.config));
+    ++at;
+    skip();
+    const size_t begin = at;
+    if (at < p.config.size() && p.config[at] == '-') ++at;
+    while (at < p.config.size() && std::isdigit(static_cast<unsigned char>(p.config[at]))) ++at;
+    int v = 0;
+    const auto [ptr, ec] = std::from_chars(p.config.data() + begin, p.config.data() + at, v);
+    if (ec != std::errc() || begin == at)
+      throw InputError(where, fmt::format("CONFIG '{}': expected a turn number", p.config));
+    out.push_back(v);
+  }
+  return out;
+}
+
+}  // namespace
+
+ProgramScan scan_ls(std::string_view text, const std::string& file,
+                    const ProgramFilterOptions& options) {
+  ProgramScan out;
+  for (const LsPosition& p : parse_ls(text, file).positions) {
+    PointSite site;
+    site.point.name = fmt::format("P[{}]", p.index);
+    site.point.line = p.line;
+    site.point.column = p.column;
+    site.point.tool = fmt::format("UT[{}]", p.ut);
+    site.point.frame = fmt::format("UF[{}]", p.uf);
+    if (has_all(p, kCartesian, file)) {
+      for (const char* k : kCartesian) site.fields.push_back(p.values.at(k));
+      const auto& f = site.fields;
+      site.point.base_T_tcp.p << f[0].value, f[1].value, f[2].value;
+      // (W, P, R) = rotations about x, y, z: R = Rz(R)·Ry(P)·Rx(W), the ZYX angles reversed.
+      site.point.base_T_tcp.R = rotation_from_euler_deg(
+          Eigen::Vector3d(f[5].value, f[4].value, f[3].value), EulerConvention::ZyxABC);
+      site.point.config = ls_config(p, file);
+    } else if (has_all(p, kJoints, file)) {
+      if (!options.joints) continue;
+      site.point.is_joint_target = true;
+      for (int j = 0; j < kJointCount; ++j) {
+        site.fields.push_back(p.values.at(kJoints[static_cast<size_t>(j)]));
+        site.point.joints_deg[j] = site.fields.back().value;
+      }
+    } else {
+      throw InputError(SourceLocation{file, p.line, p.column, site.point.name},
+                       "neither X..R (Cartesian) nor J1..J6 (joint) components");
+    }
+    out.sites.push_back(std::move(site));
+  }
+  return out;
+}
+
+std::vector<JointMove> read_ls_joint_moves(const std::string& text, const std::string& file) {
+  const LsProgram program = parse_ls(text, file);
+  std::vector<JointMove> moves;
+  for (const auto& [index, line] : program.joint_moves)
+    for (const LsPosition& p : program.positions)
+      if (p.index == index && has_all(p, kJoints, file)) {
+        JointMove m;
+        m.line = line;
+        for (int j = 0; j < kJointCount; ++j)
+          m.joints_deg[j] = p.values.at(kJoints[static_cast<size_t>(j)]).value;
+        moves.push_back(m);
+      }
   return moves;
 }
 

@@ -1,6 +1,7 @@
 #include "robcal/programs/program_filter.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <bit>
@@ -26,10 +27,12 @@ detail::ProgramScan scan(std::string_view text, ProgramLanguage language, const 
       return detail::scan_rapid(text, file, options);
     case ProgramLanguage::Krl:
       return detail::scan_krl(text, file, options);
+    case ProgramLanguage::FanucLs:
+      return detail::scan_ls(text, file, options);
     default:
       throw InputError(SourceLocation{file, 0, 0, ""},
-                       fmt::format("program filtering reads ABB RAPID and KUKA KRL; {} programs "
-                                   "are not filtered yet",
+                       fmt::format("program filtering reads ABB RAPID, KUKA KRL and Fanuc LS; {} "
+                                   "programs are not filtered yet",
                                    program_language_name(language)));
   }
 }
@@ -131,12 +134,15 @@ std::vector<double> rewrite(Rewriter& out, const PointSite& site, const Correcte
     for (int k = 0; k < 4; ++k)
       expected[3 + k] = out.number(f[3 + k], wxyz[k], options.quaternion_decimals, written[k]);
   } else {
-    const Eigen::Vector3d abc = euler_angles_deg(corrected.base_T_tcp.R, EulerConvention::ZyxABC);
+    // KRL (A, B, C) and Fanuc (W, P, R) = (C, B, A): R = Rz(A)·Ry(B)·Rx(C).
+    Eigen::Vector3d abc = euler_angles_deg(corrected.base_T_tcp.R, EulerConvention::ZyxABC);
+    if (language == ProgramLanguage::FanucLs) abc = abc.reverse().eval();
     for (int k = 0; k < 3; ++k)
       expected[3 + k] =
           out.number(f[3 + k], near_written(abc[k], f[3 + k].value), options.angle_decimals);
   }
-  if (!corrected.config.empty()) {
+  // Fanuc CONFIG is letters and turns, kept as written (filter_program checks it still holds).
+  if (!corrected.config.empty() && language != ProgramLanguage::FanucLs) {
     const size_t first = language == ProgramLanguage::Rapid ? 7 : 6;
     for (size_t k = 0; k < corrected.config.size() && first + k < f.size(); ++k)
       expected[first + k] = out.integer(f[first + k], corrected.config[k]);
@@ -189,6 +195,23 @@ std::map<std::string, Pose<double>> definitions(const std::map<std::string, Pose
   return out;
 }
 
+/// How each language names its tools and frames, and which names are the flange and the base
+/// frame: RAPID tool0 / wobj0, KRL tool 0 / base 0 ($ROBROOT taken as the world, a robot not
+/// on a track), Fanuc UT[0] (faceplate) / UF[0] (world = robot base).
+struct Naming {
+  const char* flange;
+  const char* base_frame;
+  const char* frame_kind;
+};
+const Naming& naming(ProgramLanguage language) {
+  static const Naming kRapid{"TOOL0", "WOBJ0", "work object"};
+  static const Naming kKrl{"TOOL_DATA[0]", "BASE_DATA[0]", "base"};
+  static const Naming kLs{"UT[0]", "UF[0]", "user frame"};
+  return language == ProgramLanguage::Rapid ? kRapid
+         : language == ProgramLanguage::Krl ? kKrl
+                                            : kLs;
+}
+
 /// The pose of a named tool or frame; empty and `identity_name` (tool0, wobj0) are identity.
 Pose<double> resolve(const std::map<std::string, Pose<double>>& known, const std::string& name,
                      const char* identity_name, const char* what, const SourceLocation& where) {
@@ -227,16 +250,19 @@ ProgramFilterResult filter_program(std::string_view text, ProgramLanguage langua
     const SourceLocation where{file, site.point.line, site.point.column, site.point.name};
     // The corrector works in the base frame with the active tool.
     ProgramPoint point = site.point;
-    // RAPID tool0 / wobj0 and KRL tool 0 / base 0 are the flange and the base frame (KRL:
-    // $ROBROOT taken as the world, as on a robot not mounted on a track).
-    const bool rapid = language == ProgramLanguage::Rapid;
-    const Pose<double> base_T_frame = resolve(frames, point.frame, rapid ? "WOBJ0" : "BASE_DATA[0]",
-                                              rapid ? "work object" : "base", where);
+    const Naming& names = naming(language);
+    const Pose<double> base_T_frame =
+        resolve(frames, point.frame, names.base_frame, names.frame_kind, where);
     if (!point.tool.empty())
-      point.flange_T_tcp =
-          resolve(tools, point.tool, rapid ? "TOOL0" : "TOOL_DATA[0]", "tool", where);
+      point.flange_T_tcp = resolve(tools, point.tool, names.flange, "tool", where);
     point.base_T_tcp = base_T_frame * point.base_T_tcp;
     CorrectedPoint corrected = corrector(point);
+    if (corrected.failure.empty() && language == ProgramLanguage::FanucLs &&
+        !corrected.config.empty() && corrected.config != point.config)
+      corrected.failure = fmt::format(
+          "the corrected target needs CONFIG [{}], not the written [{}] (flip, down, back, "
+          "turns): rewrite the CONFIG by hand",
+          fmt::join(corrected.config, ","), fmt::join(point.config, ","));
     if (corrected.failure.empty() &&
         (!corrected.base_T_tcp.p.allFinite() || !corrected.base_T_tcp.R.allFinite() ||
          !corrected.joints_deg.allFinite()))

@@ -76,6 +76,10 @@ ProgramScan scan_rapid(std::string_view text, const std::string& file,
                        const ProgramFilterOptions& options);
 ProgramScan scan_krl(std::string_view text, const std::string& file,
                      const ProgramFilterOptions& options);
+/// Fanuc LS: the /POS positions of group 1, X Y Z W P R (Cartesian, config = flip, down,
+/// back, t4, t5, t6 from CONFIG) or J1..J6 (joint); tool UT[n], frame UF[n].
+ProgramScan scan_ls(std::string_view text, const std::string& file,
+                    const ProgramFilterOptions& options);
 
 /// Upper case (RAPID and KRL names are case-insensitive).
 std::string upper(std::string_view text);
