@@ -12,6 +12,7 @@
 #include "robcal/compensate/corrected_targets.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/kinematics/orientation.hpp"
 #include "robcal/programs/program_filter.hpp"
 #include "test_compensate_support.hpp"
 
@@ -203,51 +204,86 @@ TEST(ProgramFrames, KeepGoingLeavesRefusedTargetsAsWrittenAndListsThem) {
   EXPECT_EQ(result.confidence_csv, "line,column,name,confidence95_mm\n1,23,pA,0.0123\n");
 }
 
-TEST(ProgramFrames, ClosedLoopWithToolAndWorkObjectOnTheCalibratedRobot) {
+/// One target written in `language` for the tool and frame of the closed-loop programs
+/// (RAPID tGun / wTable, KRL tool 1 / base 1, Fanuc UT 1 / UF 1).
+std::string loop_target(ProgramLanguage language, int i, const Pose<double>& written,
+                        const std::vector<int>& cf) {
+  const Eigen::Vector3d& p = written.p;
+  const Eigen::Vector3d abc = euler_angles_deg(written.R, EulerConvention::ZyxABC);
+  switch (language) {
+    case ProgramLanguage::Rapid:
+      return fmt::format("  CONST robtarget p{}:={};\n", i, robtarget(written, cf));
+    case ProgramLanguage::Krl:
+      return fmt::format(
+          "  LIN {{X {:.6f},Y {:.6f},Z {:.6f},A {:.6f},B {:.6f},C {:.6f},S {},T {}}}\n", p.x(),
+          p.y(), p.z(), abc[0], abc[1], abc[2], cf[0], cf[1]);
+    default:
+      return fmt::format(
+          "P[{}]{{\n   GP1:\n\tUF : 1, UT : 1,\t\tCONFIG : '{} {} {}, {}, {}, {}',\n"
+          "\tX = {:.6f} mm,\tY = {:.6f} mm,\tZ = {:.6f} mm,\n"
+          "\tW = {:.6f} deg,\tP = {:.6f} deg,\tR = {:.6f} deg\n}};\n",
+          i + 1, cf[0] ? 'F' : 'N', cf[1] ? 'D' : 'U', cf[2] ? 'B' : 'T', cf[3], cf[4], cf[5],
+          p.x(), p.y(), p.z(), abc[2], abc[1], abc[0]);
+  }
+}
+
+class ProgramClosedLoop : public ::testing::TestWithParam<std::pair<ProgramLanguage, const char*>> {
+};
+
+TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
+  const auto [language, robot_name] = GetParam();
   std::mt19937_64 rng(5);
-  const CalibratedRobot robot = test::random_calibrated("abb-irb120", rng);
+  const CalibratedRobot robot = test::random_calibrated(robot_name, rng);
   const Compensator comp = make_compensator(robot);
   const Pose<double> F = frame_pose(), T = tool_pose();
-  // Targets the nominal controller reaches with tGun in wTable: nominal flange poses of
-  // random joints away from singularities, written in the work object.
-  std::string text = fmt::format(
-      "MODULE Loop\n  PERS tooldata tGun:={};\n"
-      "  PERS wobjdata wTable:={};\n",
-      kTool, kWobj);
-  std::string moves;
+  ProgramFilterOptions options;  // KRL and Fanuc: the tool and frame from a frames file
+  options.tools = {{"TOOL_DATA[1]", T}, {"UT[1]", T}};
+  options.frames = {{"BASE_DATA[1]", F}, {"UF[1]", F}};
+  // Targets the nominal controller reaches with the tool in the frame: nominal flange poses
+  // of random joints ≥ 10° from singularities, written in the frame.
+  std::string body, moves;
   std::vector<Pose<double>> wanted_base;  // where the original program means the TCP to be
   while (wanted_base.size() < 12) {
     const Vector6d q = test::random_joints(comp.model, rng);
     if (test::near_singular(comp.model, q, 10)) continue;
     const Pose<double> base_T_tcp = nominal_tcp_pose(comp, q) * comp.tcp_T_flange * T;
-    const Pose<double> written = F.inverse() * base_T_tcp;
-    const std::string name = fmt::format("p{}", wanted_base.size());
-    text += fmt::format("  CONST robtarget {}:={};\n", name,
-                        robtarget(written, maker_configuration(comp, ProgramLanguage::Rapid, q)));
-    moves += fmt::format("    MoveL {}, v100, fine, tGun\\WObj:=wTable;\n", name);
+    const int i = static_cast<int>(wanted_base.size());
+    body +=
+        loop_target(language, i, F.inverse() * base_T_tcp, maker_configuration(comp, language, q));
+    moves += fmt::format("    MoveL p{}, v100, fine, tGun\\WObj:=wTable;\n", i);
     wanted_base.push_back(base_T_tcp);
   }
-  text += "  PROC main()\n" + moves + "  ENDPROC\nENDMODULE\n";
-  const auto result = filter_program(text, ProgramLanguage::Rapid, "loop.mod", {},
-                                     make_program_corrector(comp, ProgramLanguage::Rapid, &robot));
+  std::string text;
+  if (language == ProgramLanguage::Rapid)
+    text = fmt::format("MODULE Loop\n  PERS tooldata tGun:={};\n  PERS wobjdata wTable:={};\n",
+                       kTool, kWobj) +
+           body + "  PROC main()\n" + moves + "  ENDPROC\nENDMODULE\n";
+  else if (language == ProgramLanguage::Krl)
+    text = "DEF loop( )\n  BAS(#TOOL,1)\n  BAS(#BASE,1)\n" + body + "END\n";
+  else
+    text = "/PROG  LOOP\n/ATTR\n/MN\n   1:  UFRAME_NUM=1 ;\n/POS\n" + body + "/END\n";
+  const std::string file = std::string("loop") + program_extension(language);
+  const auto result =
+      filter_program(text, language, file, options, make_program_corrector(comp, language, &robot));
   ASSERT_EQ(result.cartesian_points, 12);
+  ASSERT_TRUE(result.uncorrected.empty());
 
-  // The controller: nominal inverse of each target with tGun in wTable, in the written
+  // The controller: nominal inverse of each target with the tool in the frame, in the written
   // configuration; the arm: the calibrated model (the true robot of this simulation).
   const auto execute = [&](const ProgramPoint& p) {
     const Pose<double> base_T_flange = F * p.base_T_tcp * T.inverse();
     const IkResult all = nominal_ik(comp.geometry, base_T_flange, Vector6d::Zero());
     for (const IkSolution& s : all)
-      if (maker_configuration(comp, ProgramLanguage::Rapid, s.joints) == p.config) {
+      if (maker_configuration(comp, language, s.joints) == p.config) {
         ChainState state;
         return Pose<double>(comp.base_T_world * calibrated_tcp_pose(comp.chain, s.joints, state) *
                             comp.tcp_T_flange * T);
       }
-    ADD_FAILURE() << "no nominal solution in configuration of line " << p.line;
+    ADD_FAILURE() << "no nominal solution in the configuration of line " << p.line;
     return Pose<double>{};
   };
-  const auto before = read_program_points(text, ProgramLanguage::Rapid, "loop.mod");
-  const auto after = read_program_points(result.text, ProgramLanguage::Rapid, "loop.mod");
+  const auto before = read_program_points(text, language, file);
+  const auto after = read_program_points(result.text, language, file);
   double worst = 0, worst_deg = 0, uncompensated = 0;
   for (size_t i = 0; i < after.size(); ++i) {
     const Pose<double> reached = execute(after[i]);
@@ -256,11 +292,20 @@ TEST(ProgramFrames, ClosedLoopWithToolAndWorkObjectOnTheCalibratedRobot) {
         worst_deg, rad2deg(Eigen::AngleAxisd(reached.R.transpose() * wanted_base[i].R).angle()));
     uncompensated = std::max(uncompensated, (execute(before[i]).p - wanted_base[i].p).norm());
   }
-  // Printing limits: 4 decimals of mm, 9 of the quaternion (≈ 1e-7 rad, 2e-5 mm at 200 mm).
+  // Printing limits: 4 decimals of mm; orientation 9 quaternion decimals (RAPID) or 5 of a
+  // degree (KRL, Fanuc: 1e-5° ≈ 3e-5 mm at 200 mm).
   EXPECT_LT(worst, 2e-4) << "uncompensated " << uncompensated;
-  EXPECT_LT(worst_deg, 1e-5);
+  EXPECT_LT(worst_deg, 2e-5);
   EXPECT_GT(uncompensated, 0.1);
+  RecordProperty("worst_mm", fmt::format("{:.3g}", worst));
 }
+
+INSTANTIATE_TEST_SUITE_P(
+    Languages, ProgramClosedLoop,
+    ::testing::Values(std::pair{ProgramLanguage::Rapid, "abb-irb120"},
+                      std::pair{ProgramLanguage::Krl, "kuka-kr6-r900-sixx"},
+                      std::pair{ProgramLanguage::FanucLs, "fanuc-lrmate200ic"}),
+    [](const auto& info) { return std::string(program_language_name(info.param.first)); });
 
 }  // namespace
 }  // namespace robcal
