@@ -267,6 +267,11 @@ TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
       filter_program(text, language, file, options, make_program_corrector(comp, language, &robot));
   ASSERT_EQ(result.cartesian_points, 12);
   ASSERT_TRUE(result.uncorrected.empty());
+  // A second pass with a model equal to nominal changes nothing beyond the last printed digit.
+  const Compensator nominal = make_compensator(CalibratedRobot::nominal(comp.model, robot.tool));
+  EXPECT_EQ(
+      filter_program(text, language, file, options, make_program_corrector(nominal, language)).text,
+      text);
 
   // The controller: nominal inverse of each target with the tool in the frame, in the written
   // configuration; the arm: the calibrated model (the true robot of this simulation).
