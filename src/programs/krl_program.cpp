@@ -340,12 +340,8 @@ std::string write_krl_measurement(const MeasurementPart& part) {
     return fmt::format("{{A1 {:.6f},A2 {:.6f},A3 {:.6f},A4 {:.6f},A5 {:.6f},A6 {:.6f}}}", q[0],
                        q[1], q[2], q[3], q[4], q[5]);
   };
-  std::string out = fmt::format(
-      "DEF {}( )\n"
-      "; robcal measurement program, {}.\n"
-      "; Each configuration is approached from q - {:g} deg on every joint (backlash,\n"
-      "; METHOD 6), reached with an exact stop, then the arm settles {:g} s.\n",
-      part.program, part_description(part), r.approach_deg, r.settle_s);
+  std::string out = fmt::format("DEF {}( )\n", part.program) +
+                    header_comment(part, ";", "reached with an exact stop");
   for (int j = 1; j <= kJointCount; ++j)
     out +=
         fmt::format("  $VEL_AXIS[{0}]={1:g}\n  $ACC_AXIS[{0}]={1:g}\n", j, r.joint_speed_percent);

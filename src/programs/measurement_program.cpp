@@ -200,13 +200,18 @@ std::vector<JointMove> read_joint_moves(
 
 namespace detail {
 
-std::string part_description(const MeasurementPart& part) {
-  const size_t first = static_cast<size_t>(part.part - 1) *
-                       (part.request.max_configs_per_file > 0
-                            ? static_cast<size_t>(part.request.max_configs_per_file)
-                            : static_cast<size_t>(program_size_limit(part.request.language)));
-  return fmt::format("part {} of {}: configurations {}-{} of {}", part.part, part.parts, first + 1,
-                     first + part.visits.size(), part.request.joints.size());
+std::string header_comment(const MeasurementPart& part, std::string_view prefix,
+                           std::string_view stop) {
+  const MeasurementProgramRequest& r = part.request;
+  const size_t per_file = static_cast<size_t>(
+      r.max_configs_per_file > 0 ? r.max_configs_per_file : program_size_limit(r.language));
+  const size_t first = static_cast<size_t>(part.part - 1) * per_file;
+  return fmt::format(
+      "{0} robcal measurement program, part {1} of {2}: configurations {3}-{4} of {5}.\n"
+      "{0} Each configuration is approached from q - {6:g} deg on every joint (backlash,\n"
+      "{0} METHOD 6), {7}, then the arm settles {8:g} s.\n",
+      prefix, part.part, part.parts, first + 1, first + part.visits.size(), r.joints.size(),
+      r.approach_deg, stop, r.settle_s);
 }
 
 double read_number(std::string_view text, size_t& at, const std::string& file, int line,

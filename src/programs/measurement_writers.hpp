@@ -36,8 +36,10 @@ std::vector<JointMove> read_jbi_joint_moves(const std::string& text, const std::
                                             const std::array<double, kJointCount>& pulses);
 std::vector<JointMove> read_urscript_joint_moves(const std::string& text, const std::string& file);
 
-/// "part 1 of 3: configurations 1-500 of 1400" for the header comment of each file.
-std::string part_description(const MeasurementPart& part);
+/// The header comment of each file: part k of n, which configurations, the approach and how
+/// the language stops at a point; each line starts with `prefix` (the comment start).
+std::string header_comment(const MeasurementPart& part, std::string_view prefix,
+                           std::string_view stop);
 
 /// A decimal number at `text[at]` (optional sign, digits, point, exponent), read whole and
 /// finite; InputError at file:line:column otherwise. Advances `at` past it.

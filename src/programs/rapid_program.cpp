@@ -467,14 +467,10 @@ std::string write_rapid_measurement(const MeasurementPart& part) {
         "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]]",
         q[0], q[1], q[2], q[3], q[4], q[5]);
   };
-  std::string out = fmt::format(
-      "MODULE {0}\n"
-      "    ! robcal measurement program, {1}.\n"
-      "    ! Each configuration is approached from q - {2:g} deg on every joint (backlash,\n"
-      "    ! METHOD 6), reached at a fine point, then the arm settles {3:g} s.\n"
-      "    PROC {0}_run()\n"
-      "        VelSet {4:g}, 5000;\n",
-      part.program, part_description(part), r.approach_deg, r.settle_s, r.joint_speed_percent);
+  std::string out = fmt::format("MODULE {}\n", part.program) +
+                    header_comment(part, "    !", "reached at a fine point") +
+                    fmt::format("    PROC {}_run()\n        VelSet {:g}, 5000;\n", part.program,
+                                r.joint_speed_percent);
   for (const Visit& v : part.visits) {
     const Vector6d& q = v.target_deg;
     out += fmt::format(

@@ -27,12 +27,8 @@ std::string write_urscript_measurement(const MeasurementPart& part) {
         "  movej([{:.10f}, {:.10f}, {:.10f}, {:.10f}, {:.10f}, {:.10f}], a=1.0, v={:.4f})\n", q[0],
         q[1], q[2], q[3], q[4], q[5], v);
   };
-  std::string out = fmt::format(
-      "def {}():\n"
-      "  # robcal measurement program, {}.\n"
-      "  # Each configuration is approached from q - {:g} deg on every joint (backlash,\n"
-      "  # METHOD 6), reached without blending, then the arm settles {:g} s.\n",
-      part.program, part_description(part), r.approach_deg, r.settle_s);
+  std::string out = fmt::format("def {}():\n", part.program) +
+                    header_comment(part, "  #", "reached without blending");
   for (const Visit& visit : part.visits) {
     const Vector6d& q = visit.target_deg;
     out += fmt::format("  # {}\n", visit.name) + movej(visit.approach_deg) + movej(q) +
