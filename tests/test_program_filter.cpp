@@ -131,8 +131,15 @@ TEST(ProgramFilter, FanucPositionsChangeEverythingElseStays) {
   check_filter({"weld_cell.ls", true, {34, 35, 40, 41, 49, 50, 55, 56}, 3, 1});
 }
 
+TEST(ProgramFilter, UrScriptPosesChangeOffsetsAndToolsStay) {
+  // Targets: the assigned pose (line 5), the inline movel (8), both poses of movec (12); the
+  // set_tcp poses, the pose_trans offset, the joint list and the text stay.
+  check_filter({"pick.script", false, {5, 8, 12}, 4, 0});
+}
+
 TEST(ProgramFilter, IdentityCorrectionKeepsEveryByte) {
-  for (const char* file : {"pick_place.mod", "weld_seam.dat", "weld_seam.src", "weld_cell.ls"}) {
+  for (const char* file :
+       {"pick_place.mod", "weld_seam.dat", "weld_seam.src", "weld_cell.ls", "pick.script"}) {
     const std::string path = test::data_path(std::string("programs/") + file);
     const std::string text = read_text_file(path);
     ProgramFilterOptions options;

@@ -217,6 +217,13 @@ std::string loop_target(ProgramLanguage language, int i, const Pose<double>& wri
       return fmt::format(
           "  LIN {{X {:.6f},Y {:.6f},Z {:.6f},A {:.6f},B {:.6f},C {:.6f},S {},T {}}}\n", p.x(),
           p.y(), p.z(), abc[0], abc[1], abc[2], cf[0], cf[1]);
+    case ProgramLanguage::UrScript: {
+      const Eigen::AngleAxisd r(written.R);
+      const Eigen::Vector3d v = r.angle() * r.axis();
+      return fmt::format(
+          "  movel(p[{:.7f}, {:.7f}, {:.7f}, {:.8f}, {:.8f}, {:.8f}], a=1.2, v=0.25)\n",
+          p.x() / 1000, p.y() / 1000, p.z() / 1000, v.x(), v.y(), v.z());
+    }
     default:
       return fmt::format(
           "P[{}]{{\n   GP1:\n\tUF : 1, UT : 1,\t\tCONFIG : '{} {} {}, {}, {}, {}',\n"
@@ -235,7 +242,9 @@ TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
   std::mt19937_64 rng(5);
   const CalibratedRobot robot = test::random_calibrated(robot_name, rng);
   const Compensator comp = make_compensator(robot);
-  const Pose<double> F = frame_pose(), T = tool_pose();
+  // URScript has no user frames: its targets are in the base frame.
+  const Pose<double> F = language == ProgramLanguage::UrScript ? Pose<double>{} : frame_pose();
+  const Pose<double> T = tool_pose();
   ProgramFilterOptions options;  // KRL and Fanuc: the tool and frame from a frames file
   options.tools = {{"TOOL_DATA[1]", T}, {"UT[1]", T}};
   options.frames = {{"BASE_DATA[1]", F}, {"UF[1]", F}};
@@ -260,8 +269,11 @@ TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
            body + "  PROC main()\n" + moves + "  ENDPROC\nENDMODULE\n";
   else if (language == ProgramLanguage::Krl)
     text = "DEF loop( )\n  BAS(#TOOL,1)\n  BAS(#BASE,1)\n" + body + "END\n";
-  else
+  else if (language == ProgramLanguage::FanucLs)
     text = "/PROG  LOOP\n/ATTR\n/MN\n   1:  UFRAME_NUM=1 ;\n/POS\n" + body + "/END\n";
+  else
+    text =
+        "def loop():\n  set_tcp(p[0.010, 0.020, 0.150, 0.0, 0.5235987756, 0.0])\n" + body + "end\n";
   const std::string file = std::string("loop") + program_extension(language);
   const auto result =
       filter_program(text, language, file, options, make_program_corrector(comp, language, &robot));
@@ -275,27 +287,38 @@ TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
 
   // The controller: nominal inverse of each target with the tool in the frame, in the written
   // configuration; the arm: the calibrated model (the true robot of this simulation).
+  // URScript has no configuration data: the controller takes the solution nearest to the
+  // joints it is at (the previous target's), as the corrector does.
+  Vector6d previous = Vector6d::Zero();
   const auto execute = [&](const ProgramPoint& p) {
     const Pose<double> base_T_flange = F * p.base_T_tcp * T.inverse();
-    const IkResult all = nominal_ik(comp.geometry, base_T_flange, Vector6d::Zero());
+    const IkResult all = nominal_ik(comp.geometry, base_T_flange, previous);
+    const IkSolution* chosen = nullptr;
     for (const IkSolution& s : all)
-      if (maker_configuration(comp, language, s.joints) == p.config) {
-        ChainState state;
-        return Pose<double>(comp.base_T_world * calibrated_tcp_pose(comp.chain, s.joints, state) *
-                            comp.tcp_T_flange * T);
-      }
-    ADD_FAILURE() << "no nominal solution in the configuration of line " << p.line;
-    return Pose<double>{};
+      if (p.config.empty() ? (!chosen || (s.joints - previous).squaredNorm() <
+                                             (chosen->joints - previous).squaredNorm())
+                           : maker_configuration(comp, language, s.joints) == p.config)
+        chosen = &s;
+    if (!chosen) {
+      ADD_FAILURE() << "no nominal solution in the configuration of line " << p.line;
+      return Pose<double>{};
+    }
+    previous = chosen->joints;
+    ChainState state;
+    return Pose<double>(comp.base_T_world * calibrated_tcp_pose(comp.chain, chosen->joints, state) *
+                        comp.tcp_T_flange * T);
   };
   const auto before = read_program_points(text, language, file);
   const auto after = read_program_points(result.text, language, file);
   double worst = 0, worst_deg = 0, uncompensated = 0;
   for (size_t i = 0; i < after.size(); ++i) {
+    const Vector6d start = previous;
+    uncompensated = std::max(uncompensated, (execute(before[i]).p - wanted_base[i].p).norm());
+    previous = start;
     const Pose<double> reached = execute(after[i]);
     worst = std::max(worst, (reached.p - wanted_base[i].p).norm());
     worst_deg = std::max(
         worst_deg, rad2deg(Eigen::AngleAxisd(reached.R.transpose() * wanted_base[i].R).angle()));
-    uncompensated = std::max(uncompensated, (execute(before[i]).p - wanted_base[i].p).norm());
   }
   // Printing limits: 4 decimals of mm; orientation 9 quaternion decimals (RAPID) or 5 of a
   // degree (KRL, Fanuc: 1e-5° ≈ 3e-5 mm at 200 mm).
@@ -309,7 +332,10 @@ INSTANTIATE_TEST_SUITE_P(
     Languages, ProgramClosedLoop,
     ::testing::Values(std::pair{ProgramLanguage::Rapid, "abb-irb120"},
                       std::pair{ProgramLanguage::Krl, "kuka-kr6-r900-sixx"},
-                      std::pair{ProgramLanguage::FanucLs, "fanuc-lrmate200ic"}),
+                      std::pair{ProgramLanguage::FanucLs, "fanuc-lrmate200ic"},
+                      // No UR arm in the robot library (none is ortho-parallel): the format
+                      // and the nearest-solution rule on the IRB 120.
+                      std::pair{ProgramLanguage::UrScript, "abb-irb120"}),
     [](const auto& info) { return std::string(program_language_name(info.param.first)); });
 
 }  // namespace

@@ -207,16 +207,19 @@ const bool registered = register_command(70, [](CLI::App& app) {
 
   auto* prog = app.add_subcommand(
       "compensate-program",
-      "Rewrite every robtarget (RAPID) or E6POS/POS (KRL) of a program with corrected values, "
-      "leaving every other byte as it was");
+      "Rewrite every target of a RAPID, KRL, Fanuc LS or URScript program with corrected "
+      "values for the tool and frame active at it, leaving every other byte as it was");
   auto po = std::make_shared<ModelOptions>();
   auto pf = std::make_shared<ProgramFilterFlags>();
   add_model_options(prog, *po);
-  prog->add_option("--in", pf->in, "Program: .mod/.modx/.prg/.sys (RAPID) or .src/.dat (KRL)")
+  prog->add_option("--in", pf->in,
+                   "Program: .mod/.modx/.prg/.sys (RAPID), .src/.dat (KRL), .ls (Fanuc), "
+                   ".script (URScript)")
       ->required();
   prog->add_option("--out", pf->out, "Corrected program (a new file; the input is kept)")
       ->required();
-  prog->add_flag("--joints", pf->joints, "Also correct joint targets (MoveAbsJ, E6AXIS/AXIS)");
+  prog->add_flag("--joints", pf->joints,
+                 "Also correct joint targets (MoveAbsJ, E6AXIS/AXIS, Fanuc J1..J6)");
   prog->add_option("--frames", pf->frames,
                    "Frames file kind,name,x,y,z,qw,qx,qy,qz: tools and work objects/bases the "
                    "program uses but does not define");

@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "program_scan.hpp"
 #include "robcal/core/error.hpp"
@@ -29,10 +31,12 @@ detail::ProgramScan scan(std::string_view text, ProgramLanguage language, const 
       return detail::scan_krl(text, file, options);
     case ProgramLanguage::FanucLs:
       return detail::scan_ls(text, file, options);
+    case ProgramLanguage::UrScript:
+      return detail::scan_urscript(text, file);
     default:
       throw InputError(SourceLocation{file, 0, 0, ""},
-                       fmt::format("program filtering reads ABB RAPID, KUKA KRL and Fanuc LS; {} "
-                                   "programs are not filtered yet",
+                       fmt::format("program filtering reads ABB RAPID, KUKA KRL, Fanuc LS and "
+                                   "URScript; {} programs are not filtered yet",
                                    program_language_name(language)));
   }
 }
@@ -122,6 +126,21 @@ std::vector<double> rewrite(Rewriter& out, const PointSite& site, const Correcte
       expected[k] = out.number(f[k], corrected.joints_deg[k], options.angle_decimals);
     return expected;
   }
+  if (language == ProgramLanguage::UrScript) {
+    // Metres and a rotation vector (rad), printed to the same resolution as mm and degrees;
+    // of the two vectors of one rotation (θ·u and (θ − 2π)·u), the one nearer the written.
+    for (int k = 0; k < 3; ++k)
+      expected[k] =
+          out.number(f[k], corrected.base_T_tcp.p[k] / 1000, options.position_decimals + 3);
+    const Eigen::AngleAxisd aa(corrected.base_T_tcp.R);
+    const Eigen::Vector3d written(f[3].value, f[4].value, f[5].value);
+    Eigen::Vector3d r = aa.angle() * aa.axis();
+    const Eigen::Vector3d other = (aa.angle() - 2 * std::numbers::pi) * aa.axis();
+    if ((other - written).norm() < (r - written).norm()) r = other;
+    for (int k = 0; k < 3; ++k)
+      expected[3 + k] = out.number(f[3 + k], r[k], options.angle_decimals + 3);
+    return expected;
+  }
   for (int k = 0; k < 3; ++k)
     expected[k] = out.number(f[k], corrected.base_T_tcp.p[k], options.position_decimals);
   if (language == ProgramLanguage::Rapid) {
@@ -168,8 +187,9 @@ void check_reparse(std::string_view text, const std::vector<PointSite>& before,
   for (size_t i = 0; i < before.size(); ++i) {
     const ProgramPoint& a = before[i].point;
     const ProgramPoint& b = after[i].point;
-    if (a.line != b.line || a.column != b.column || a.name != b.name ||
-        a.is_joint_target != b.is_joint_target || after[i].fields.size() != expected[i].size())
+    // Columns move when an earlier number on the same line is rewritten longer or shorter.
+    if (a.line != b.line || a.name != b.name || a.is_joint_target != b.is_joint_target ||
+        after[i].fields.size() != expected[i].size())
       fail(a, "another point at this place");
     for (size_t k = 0; k < expected[i].size(); ++k)
       if (after[i].fields[k].value != expected[i][k])
@@ -207,9 +227,11 @@ const Naming& naming(ProgramLanguage language) {
   static const Naming kRapid{"TOOL0", "WOBJ0", "work object"};
   static const Naming kKrl{"TOOL_DATA[0]", "BASE_DATA[0]", "base"};
   static const Naming kLs{"UT[0]", "UF[0]", "user frame"};
-  return language == ProgramLanguage::Rapid ? kRapid
-         : language == ProgramLanguage::Krl ? kKrl
-                                            : kLs;
+  static const Naming kUr{"", "", "frame"};  // no frames; no set_tcp: the installation's TCP
+  return language == ProgramLanguage::Rapid     ? kRapid
+         : language == ProgramLanguage::Krl     ? kKrl
+         : language == ProgramLanguage::FanucLs ? kLs
+                                                : kUr;
 }
 
 /// The pose of a named tool or frame; empty and `identity_name` (tool0, wobj0) are identity.

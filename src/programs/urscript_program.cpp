@@ -11,7 +11,10 @@
 #include <cctype>
 #include <numbers>
 
+#include <Eigen/Geometry>
+
 #include "measurement_writers.hpp"
+#include "program_scan.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 
@@ -107,6 +110,151 @@ std::vector<JointMove> read_urscript_joint_moves(const std::string& text, const 
     }
   }
   return moves;
+}
+
+}  // namespace robcal::detail
+
+// URScript filtering. Targets: a pose literal p[x, y, z, rx, ry, rz] (metres, rotation vector
+// in radians) that is the first argument of movel/movej/movep/movec (movec: the first two)
+// or the value of an assignment `name = p[...]`; the tool is the last set_tcp(p[...]) before
+// it (the flange before any). Pose literals elsewhere (pose_trans offsets, set_tcp itself) are
+// relative or tool data and stay as written. There are no user frames in the language: the
+// targets are in the robot's base frame.
+namespace robcal::detail {
+namespace {
+
+class UrScanner {
+ public:
+  UrScanner(std::string_view text, const std::string& file) : text_(text), file_(file) {}
+
+  ProgramScan run() {
+    for (at_ = 0; at_ < text_.size(); ++at_) {
+      const char c = text_[at_];
+      if (c == '\n') {
+        ++line_;
+        line_start_ = at_ + 1;
+      } else if (c == '#') {
+        while (at_ + 1 < text_.size() && text_[at_ + 1] != '\n') ++at_;
+      } else if (c == '"' || c == '\'') {
+        const size_t close = text_.find_first_of(c == '"' ? "\"\n" : "'\n", at_ + 1);
+        if (close == std::string_view::npos || text_[close] == '\n')
+          throw InputError(SourceLocation{file_, line_, column(at_), ""}, "unterminated string");
+        at_ = close;
+      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+        word();
+      }
+    }
+    return std::move(out_);
+  }
+
+ private:
+  int column(size_t at) const { return static_cast<int>(at - line_start_) + 1; }
+
+  size_t skip_blanks(size_t at) const {
+    while (at < text_.size() && (text_[at] == ' ' || text_[at] == '\t')) ++at;
+    return at;
+  }
+
+  void word() {
+    const size_t begin = at_;
+    while (at_ < text_.size() &&
+           (std::isalnum(static_cast<unsigned char>(text_[at_])) || text_[at_] == '_'))
+      ++at_;
+    const std::string_view w = text_.substr(begin, at_ - begin);
+    const size_t next = skip_blanks(at_);
+    --at_;  // the loop's ++ lands on the character after the word
+    if (begin > 0 && text_[begin - 1] == '.') return;
+    if (w == "set_tcp" && text_.compare(next, 1, "(") == 0) {
+      const size_t open = skip_blanks(next + 1);
+      if (text_.compare(open, 2, "p[") != 0) {
+        tool_ = fmt::format("set_tcp at line {}", line_);  // not a literal: unknown
+        return;
+      }
+      NumberFields f = pose_literal(open);
+      tool_ = fmt::format("SET_TCP@{}", line_);
+      out_.tools[tool_] = pose_of(f);
+      at_ = f.back().end - 1;
+    } else if ((w == "movel" || w == "movej" || w == "movep" || w == "movec") &&
+               text_.compare(next, 1, "(") == 0) {
+      size_t arg = skip_blanks(next + 1);
+      for (int k = 0; k < (w == "movec" ? 2 : 1); ++k) {
+        if (text_.compare(arg, 2, "p[") != 0) return;  // a variable or joint list
+        const NumberFields f = pose_literal(arg);
+        add_target(f, "", arg);
+        arg = skip_blanks(f.back().end);
+        if (arg >= text_.size() || text_[arg] != ']') return;
+        arg = skip_blanks(arg + 1);
+        if (arg >= text_.size() || text_[arg] != ',') return;
+        arg = skip_blanks(arg + 1);
+        at_ = arg - 1;
+      }
+    } else if (text_.compare(next, 1, "=") == 0 && text_.compare(next, 2, "==") != 0) {
+      const size_t value = skip_blanks(next + 1);
+      if (text_.compare(value, 2, "p[") != 0) return;
+      const NumberFields f = pose_literal(value);
+      add_target(f, std::string(w), value);
+      at_ = f.back().end - 1;
+    }
+  }
+
+  using NumberFields = std::vector<NumberField>;
+
+  // p[x, y, z, rx, ry, rz] at `at`: six number literals, read whole.
+  NumberFields pose_literal(size_t at) {
+    NumberFields f;
+    size_t pos = at + 2;
+    for (int k = 0; k < 6; ++k) {
+      pos = skip_blanks(pos);
+      NumberField n;
+      n.present = true;
+      n.begin = pos;
+      n.value = read_number(text_, pos, file_, line_, line_start_);
+      n.end = pos;
+      f.push_back(n);
+      pos = skip_blanks(pos);
+      const char want = k < 5 ? ',' : ']';
+      if (pos >= text_.size() || text_[pos] != want)
+        throw InputError(
+            SourceLocation{file_, line_, column(pos), ""},
+            fmt::format("pose p[x, y, z, rx, ry, rz]: expected '{}' after value {}", want, k + 1));
+      ++pos;
+    }
+    return f;
+  }
+
+  static Pose<double> pose_of(const NumberFields& f) {
+    Pose<double> pose;
+    pose.p << 1000 * f[0].value, 1000 * f[1].value, 1000 * f[2].value;  // m → mm
+    const Eigen::Vector3d r(f[3].value, f[4].value, f[5].value);
+    pose.R = r.norm() > 0 ? Eigen::AngleAxisd(r.norm(), r.normalized()).toRotationMatrix()
+                          : Eigen::Matrix3d::Identity();
+    return pose;
+  }
+
+  void add_target(const NumberFields& f, const std::string& name, size_t at) {
+    PointSite site;
+    site.fields = f;
+    site.point.name = name;
+    site.point.line = line_;
+    site.point.column = column(at);
+    site.point.base_T_tcp = pose_of(f);
+    site.point.tool = tool_;
+    out_.sites.push_back(std::move(site));
+  }
+
+  std::string_view text_;
+  const std::string& file_;
+  size_t at_ = 0;
+  int line_ = 1;
+  size_t line_start_ = 0;
+  std::string tool_;  ///< "" = the flange (no set_tcp yet)
+  ProgramScan out_;
+};
+
+}  // namespace
+
+ProgramScan scan_urscript(std::string_view text, const std::string& file) {
+  return UrScanner(text, file).run();
 }
 
 }  // namespace robcal::detail

@@ -90,9 +90,12 @@ expect_error "malformed number" "p.src:2:16: malformed number '364.35.4'" compen
 printf 'kind,name,x,y,z,qw,qx,qy,qz\nframe,wTable,350,0,300,2,0,0,0\n' > "$TMP/badframes.csv"
 expect_error "frames file quaternion" "badframes.csv:2:" compensate-program \
   --model "$TMP/model.yaml" --in "$TMP/cell.mod" --out "$TMP/bad.mod" --frames "$TMP/badframes.csv"
-printf 'def p():\n  movel(p[0.4,0,0.3,0,3.14,0])\nend\n' > "$TMP/p.script"
-expect_error "language not filtered" "urscript programs are not filtered yet" compensate-program \
-  --model "$TMP/model.yaml" --in "$TMP/p.script" --out "$TMP/bad.script"
+printf '/JOB\n//NAME P\n//POS\n///NPOS 0,0,0,0,0,0\n//INST\nNOP\nEND\n' > "$TMP/p.jbi"
+expect_error "language not filtered" "jbi programs are not filtered yet" compensate-program \
+  --model "$TMP/model.yaml" --in "$TMP/p.jbi" --out "$TMP/bad.jbi"
+printf 'def p():\n  movel(p[0.4,0,0.3,0,3.14], a=1)\nend\n' > "$TMP/p.script"
+expect_error "URScript pose" "p.script:2:27: pose p[x, y, z, rx, ry, rz]: expected ','" \
+  compensate-program --model "$TMP/model.yaml" --in "$TMP/p.script" --out "$TMP/bad.script"
 expect_error "wrong output language" "the output must be the same kind of program" \
   compensate-program --model "$TMP/model.yaml" --in "$TMP/cell.mod" --out "$TMP/bad.src"
 finish programs.sh
