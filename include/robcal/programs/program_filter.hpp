@@ -1,9 +1,12 @@
 #pragma once
 /// \file
-/// Robot program filtering (METHOD §1 step 5): find every point of an ABB RAPID module or a
-/// KUKA KRL .src/.dat file, hand it to a corrector, and write the corrected values back into
-/// the text, leaving every other byte (comments, spacing, line endings, untouched numbers)
-/// exactly as it was.
+/// Robot program filtering (METHOD §1 step 5): find every point of an ABB RAPID module, a
+/// KUKA KRL .src/.dat file, a Fanuc LS program or a URScript program, hand it to a corrector
+/// in the robot's base frame with the tool active at it, and write the corrected values back
+/// into the text in text order, leaving every other byte (comments, spacing, line endings,
+/// untouched numbers) exactly as it was. The rewritten text is parsed again and must give the
+/// same points with exactly the values written (else nothing is returned). Yaskawa JBI jobs
+/// are not filtered (refused by name).
 ///
 /// Points recognised:
 /// - RAPID: `CONST|PERS|VAR robtarget name[{dims}] := [[x,y,z],[q1..q4],[cf1,cf4,cf6,cfx],
@@ -19,7 +22,16 @@
 ///   angles in degrees), assignments to such declared names, and aggregates written after
 ///   PTP/LIN/CIRC (and SPTP/SLIN/SCIRC); with `joints`, E6AXIS/AXIS points (A1..A6).
 ///   Relative motions (PTP_REL, LIN_REL ...) are left alone; incomplete absolute points are
-///   refused (their missing components come from the robot's state at run time).
+///   refused (their missing components come from the robot's state at run time). Tool and
+///   base: TOOL_DATA[n] / BASE_DATA[n] of the last `BAS(#TOOL|#BASE, n)` or `$TOOL|$BASE =`
+///   before an inline point, FDAT `F<name>` for a declared `X<name>` (inline forms); their
+///   values from ProgramFilterOptions (a frames file: they live in $config.dat).
+/// - Fanuc LS: the /POS positions of group 1: X..R with CONFIG (Cartesian; W, P, R the
+///   rotations about x, y, z) or J1..J6 (joint, with `joints`); tool UT[n] and user frame
+///   UF[n] of the position itself. CONFIG is kept: a correction that needs another is refused.
+/// - URScript: pose literals `p[x,y,z,rx,ry,rz]` (m, rotation vector) that are motion targets
+///   or assigned to a variable; the tool of the last literal set_tcp (none: the installation's,
+///   the corrector's default); no frames.
 ///
 /// Anything that looks like a point but is not a literal (an expression, a missing component)
 /// is refused with an InputError naming the file, line and column.
