@@ -18,6 +18,8 @@
 #include <charconv>
 #include <cmath>
 #include <map>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "measurement_writers.hpp"
 #include "program_scan.hpp"
@@ -94,6 +96,7 @@ LsProgram parse_ls(std::string_view text, const std::string& file) {
   enum class Section { Header, Mn, Pos, End } section = Section::Header;
   LsProgram out;
   LsPosition* current = nullptr;
+  std::unordered_set<int> defined;  // P indices of /POS
   bool in_gp1 = false;
   int number = 0;
   for (size_t at = 0; at < text.size();) {
@@ -135,8 +138,7 @@ LsProgram parse_ls(std::string_view text, const std::string& file) {
         p.index = integer(offset, "P index");
         p.line = number;
         p.column = 1;
-        for (const LsPosition& q : out.positions)
-          if (q.index == p.index) fail(0, fmt::format("P[{}] defined twice", p.index));
+        if (!defined.insert(p.index).second) fail(0, fmt::format("P[{}] defined twice", p.index));
         out.positions.push_back(std::move(p));
         current = &out.positions.back();
         in_gp1 = false;
@@ -291,16 +293,18 @@ ProgramScan scan_ls(std::string_view text, const std::string& file,
 
 std::vector<JointMove> read_ls_joint_moves(const std::string& text, const std::string& file) {
   const LsProgram program = parse_ls(text, file);
+  std::unordered_map<int, const LsPosition*> by_index;
+  for (const LsPosition& p : program.positions) by_index[p.index] = &p;
   std::vector<JointMove> moves;
-  for (const auto& [index, line] : program.joint_moves)
-    for (const LsPosition& p : program.positions)
-      if (p.index == index && has_all(p, kJoints, file)) {
-        JointMove m;
-        m.line = line;
-        for (int j = 0; j < kJointCount; ++j)
-          m.joints_deg[j] = p.values.at(kJoints[static_cast<size_t>(j)]).value;
-        moves.push_back(m);
-      }
+  for (const auto& [index, line] : program.joint_moves) {
+    const auto it = by_index.find(index);
+    if (it == by_index.end() || !has_all(*it->second, kJoints, file)) continue;
+    JointMove m;
+    m.line = line;
+    for (int j = 0; j < kJointCount; ++j)
+      m.joints_deg[j] = it->second->values.at(kJoints[static_cast<size_t>(j)]).value;
+    moves.push_back(m);
+  }
   return moves;
 }
 

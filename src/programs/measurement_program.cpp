@@ -135,25 +135,14 @@ std::vector<ProgramFile> write_measurement_program(const MeasurementProgramReque
     detail::MeasurementPart part{r, parts == 1 ? r.name : fmt::format("{}{:02d}", r.name, p + 1),
                                  p + 1, parts,
                                  std::span<const Visit>(visits).subspan(first, count)};
-    std::string text;
-    switch (r.language) {
-      case ProgramLanguage::Rapid:
-        text = detail::write_rapid_measurement(part);
-        break;
-      case ProgramLanguage::Krl:
-        text = detail::write_krl_measurement(part);
-        break;
-      case ProgramLanguage::FanucLs:
-        text = detail::write_ls_measurement(part);
-        break;
-      case ProgramLanguage::Jbi:
-        text = detail::write_jbi_measurement(part);
-        break;
-      case ProgramLanguage::UrScript:
-        text = detail::write_urscript_measurement(part);
-        break;
-    }
-    // KRL file names are the DEF name in lower case by convention; the others keep it.
+    // One writer per language, in ProgramLanguage order.
+    using Writer = std::string (*)(const detail::MeasurementPart&);
+    static constexpr Writer kWriters[] = {
+        detail::write_rapid_measurement, detail::write_krl_measurement,
+        detail::write_ls_measurement, detail::write_jbi_measurement,
+        detail::write_urscript_measurement};
+    std::string text = kWriters[static_cast<size_t>(r.language)](part);
+    // KRL and URScript file names are in lower case by convention; the others keep the name.
     std::string file = part.program;
     if (r.language == ProgramLanguage::Krl || r.language == ProgramLanguage::UrScript)
       std::transform(file.begin(), file.end(), file.begin(),
