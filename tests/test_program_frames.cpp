@@ -202,6 +202,9 @@ TEST(ProgramFrames, KeepGoingLeavesRefusedTargetsAsWrittenAndListsThem) {
   EXPECT_EQ(result.text.substr(result.text.find('\n') + 1), text.substr(text.find('\n') + 1));
   EXPECT_NE(result.text.find("[[100,50,21.0000]"), std::string::npos);
   EXPECT_EQ(result.confidence_csv, "line,column,name,confidence95_mm\n1,23,pA,0.0123\n");
+  // No instruction uses pA: its tool and work object are an assumption, and said so.
+  ASSERT_EQ(result.assumed.size(), 1u);
+  EXPECT_EQ(result.assumed[0].where, "k.mod:1:23 (pA)");
 }
 
 /// One target written in `language` for the tool and frame of the closed-loop programs

@@ -155,12 +155,20 @@ void run_compensate_program(const ModelOptions& o, const ProgramFilterFlags& f) 
                 {"language", program_language_name(language)},
                 {"cartesian_points", result.cartesian_points},
                 {"joint_points", result.joint_points},
-                {"uncorrected", uncorrected}});
+                {"uncorrected", uncorrected},
+                {"assumed_default_tool_and_frame", result.assumed.size()}});
     return;
   }
   fmt::print("{}: {} Cartesian point{} and {} joint target{} corrected, written to {}\n", f.in,
              result.cartesian_points, result.cartesian_points == 1 ? "" : "s", result.joint_points,
              result.joint_points == 1 ? "" : "s", f.out);
+  if (!result.assumed.empty()) {
+    fmt::print(
+        "{} point{} corrected for the default tool (--tool) in the base frame, which "
+        "the program does not confirm; check:\n",
+        result.assumed.size(), result.assumed.size() == 1 ? "" : "s");
+    for (const UncorrectedPoint& u : result.assumed) fmt::print("  {}: {}\n", u.where, u.reason);
+  }
   if (!result.uncorrected.empty()) {
     fmt::print("{} point{} left as written (not corrected):\n", result.uncorrected.size(),
                result.uncorrected.size() == 1 ? "" : "s");

@@ -297,6 +297,15 @@ ProgramFilterResult filter_program(std::string_view text, ProgramLanguage langua
       expected.push_back(std::move(unchanged));
       continue;
     }
+    if (point.tool.empty() && !point.is_joint_target &&
+        (language == ProgramLanguage::Rapid || language == ProgramLanguage::Krl))
+      result.assumed.push_back(
+          {where.describe(),
+           language == ProgramLanguage::Rapid
+               ? "no Move instruction of this module uses it: corrected for the default tool "
+                 "in wobj0"
+               : "no FDAT or BAS(#TOOL/#BASE) / $TOOL / $BASE of this file names its tool and "
+                 "base: corrected for the default tool in the robot's base frame"});
     corrected.base_T_tcp = base_T_frame.inverse() * corrected.base_T_tcp;
     expected.push_back(rewrite(out, site, corrected, language, options));
     ++(site.point.is_joint_target ? result.joint_points : result.cartesian_points);

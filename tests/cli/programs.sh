@@ -81,7 +81,9 @@ expect_error "unknown KRL tool" "weld_seam.dat:4:16 (XP1): unknown tool 'TOOL_DA
   compensate-program --model "$TMP/model.yaml" --in "$PROGRAMS/weld_seam.dat" --out "$TMP/bad.dat"
 printf 'kind,name,x,y,z,qw,qx,qy,qz\ntool,TOOL_DATA[1],0,0,100,1,0,0,0\n' > "$TMP/kuka.csv"
 "$ROBCAL" compensate-program --model "$TMP/model.yaml" --in "$PROGRAMS/weld_seam.dat" \
-  --out "$TMP/w.dat" --frames "$TMP/kuka.csv" --keep-going > /dev/null || fail "KRL with frames"
+  --out "$TMP/w.dat" --frames "$TMP/kuka.csv" --keep-going > "$TMP/w.txt" || fail "KRL with frames"
+# PAPPROACH has no FDAT: corrected for the default tool in the base frame, and said so.
+grep -q "weld_seam.dat:7:20 (PAPPROACH): no FDAT" "$TMP/w.txt" || fail "assumption not reported"
 
 # Bad programs and files: located errors, nothing written.
 printf 'DEF p( )\n  LIN {Y 100,X 364.35.4,Z 300,A 0,B 0,C 0}\nEND\n' > "$TMP/p.src"

@@ -108,6 +108,10 @@ struct ProgramFilterResult {
   int cartesian_points = 0;
   int joint_points = 0;
   std::vector<UncorrectedPoint> uncorrected;
+  /// Points corrected on an assumption the program does not confirm (RAPID: no instruction
+  /// uses the target; KRL: no FDAT or BAS/$TOOL names its tool and base): the default tool
+  /// in the robot's base frame. Same layout as `uncorrected`, the reason saying what to check.
+  std::vector<UncorrectedPoint> assumed;
   /// One row per corrected point: `line,column,name,confidence95_mm` (empty radius when the
   /// corrector gives none): the side file of the per-target confidence.
   std::string confidence_csv;
