@@ -81,9 +81,12 @@ expect_error "unknown KRL tool" "weld_seam.dat:4:16 (XP1): unknown tool 'TOOL_DA
   compensate-program --model "$TMP/model.yaml" --in "$PROGRAMS/weld_seam.dat" --out "$TMP/bad.dat"
 printf 'kind,name,x,y,z,qw,qx,qy,qz\ntool,TOOL_DATA[1],0,0,100,1,0,0,0\n' > "$TMP/kuka.csv"
 "$ROBCAL" compensate-program --model "$TMP/model.yaml" --in "$PROGRAMS/weld_seam.dat" \
-  --out "$TMP/w.dat" --frames "$TMP/kuka.csv" --keep-going > "$TMP/w.txt" || fail "KRL with frames"
-# PAPPROACH has no FDAT: corrected for the default tool in the base frame, and said so.
-grep -q "weld_seam.dat:7:20 (PAPPROACH): no FDAT" "$TMP/w.txt" || fail "assumption not reported"
+  --out "$TMP/w.dat" --frames "$TMP/kuka.csv" --keep-going > /dev/null || fail "KRL with frames"
+# No BAS before the point: corrected for the default tool in the base frame, and said so.
+printf 'DEF q( )\n  LIN {X 370,Y -50,Z 400,A 180,B 0,C 180}\nEND\n' > "$TMP/q.src"
+"$ROBCAL" compensate-program --model "$TMP/model.yaml" --in "$TMP/q.src" --out "$TMP/q_out.src" \
+  > "$TMP/q.txt" || fail "KRL point without BAS"
+grep -q "q.src:2:7: no FDAT or BAS" "$TMP/q.txt" || fail "assumption not reported: $(cat "$TMP/q.txt")"
 
 # Bad programs and files: located errors, nothing written.
 printf 'DEF p( )\n  LIN {Y 100,X 364.35.4,Z 300,A 0,B 0,C 0}\nEND\n' > "$TMP/p.src"
