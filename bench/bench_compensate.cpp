@@ -1,8 +1,8 @@
 // Compensation speed (issue 7, BENCHMARKS.md): calibrated IK per target (31-parameter IRB 120
 // model with compliance, Newton and pose shift, same inputs), each call timed on its own
 // (manual time) so that the median and p99 per target are reported; success near
-// singularities; the round trip over 100,000 poses per robot and configuration; filtering a
-// 100,000-target RAPID program.
+// singularities; the round trip over 100,000 poses per robot and configuration. Program
+// filtering is in bench_programs.cpp.
 
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -12,7 +12,6 @@
 
 #include "../tests/test_compensate_support.hpp"
 #include "robcal/compensate/calibrated_ik.hpp"
-#include "robcal/compensate/program_filter.hpp"
 
 namespace robcal {
 namespace {
@@ -206,34 +205,6 @@ BENCHMARK(BM_RoundTrip100k)
     ->Iterations(1)
     ->Repetitions(1)
     ->Unit(benchmark::kSecond);
-
-/// Filtering a RAPID module of 100,000 robtargets (a fixed shift as the corrector: the
-/// parsing and rewriting cost alone) and with the calibrated IK as the corrector.
-std::string big_program(int targets) {
-  std::string text = "MODULE Big\n";
-  for (int i = 0; i < targets; ++i)
-    text += fmt::format(
-        "  CONST robtarget p{}:=[[{:.3f},{:.3f},{:.3f}],[0,0.7071068,0.7071068,0],[0,0,-1,1],"
-        "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];  ! point {}\n",
-        i, 350.0 + (i % 100) * 0.5, -100.0 + (i % 200) * 0.25, 300.0 + (i % 50), i);
-  return text + "ENDMODULE\n";
-}
-
-void BM_FilterProgram100k(benchmark::State& state) {
-  const std::string text = big_program(100000);
-  for (auto _ : state) {
-    const auto result =
-        filter_program(text, ProgramLanguage::Rapid, "big.mod", {}, [](const ProgramPoint& p) {
-          CorrectedPoint c;
-          c.base_T_tcp = p.base_T_tcp;
-          c.base_T_tcp.p.x() += 0.25;
-          return c;
-        });
-    benchmark::DoNotOptimize(result.text.data());
-  }
-  state.counters["bytes"] = static_cast<double>(text.size());
-}
-BENCHMARK(BM_FilterProgram100k)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace robcal

@@ -6,10 +6,10 @@
 #include <regex>
 #include <set>
 
-#include "robcal/compensate/program_filter.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/programs/program_filter.hpp"
 #include "test_support.hpp"
 
 namespace robcal {
@@ -66,6 +66,9 @@ void check_filter(const FilterCase& fc) {
   const ProgramLanguage language = program_language_from_path(path);
   ProgramFilterOptions options;
   options.joints = fc.joints;
+  options.tools["TOOL_DATA[1]"] = Pose<double>{};  // weld_seam.dat's FDAT FP1 names tool 1
+  options.tools["UT[2]"] = Pose<double>{};         // weld_cell.ls: UT 2 and UF 1
+  options.frames["UF[1]"] = Pose<double>{};
   const ProgramFilterResult result =
       filter_program(text, language, path, options, known_correction);
   EXPECT_EQ(result.cartesian_points, fc.cartesian);
@@ -122,12 +125,28 @@ TEST(ProgramFilter, KrlSrcInlinePointsChange) {
   check_filter({"weld_seam.src", true, {4, 7, 8}, 2, 1});
 }
 
+TEST(ProgramFilter, FanucPositionsChangeEverythingElseStays) {
+  // P[2]'s GP2 (an external axis, mm) and the comment in /MN with "X = 1.0 mm" stay.
+  check_filter({"weld_cell.ls", false, {34, 35, 40, 41, 49, 50}, 3, 0});
+  check_filter({"weld_cell.ls", true, {34, 35, 40, 41, 49, 50, 55, 56}, 3, 1});
+}
+
+TEST(ProgramFilter, UrScriptPosesChangeOffsetsAndToolsStay) {
+  // Targets: the assigned pose (line 5), the inline movel (8), both poses of movec (12); the
+  // set_tcp poses, the pose_trans offset, the joint list and the text stay.
+  check_filter({"pick.script", false, {5, 8, 12}, 4, 0});
+}
+
 TEST(ProgramFilter, IdentityCorrectionKeepsEveryByte) {
-  for (const char* file : {"pick_place.mod", "weld_seam.dat", "weld_seam.src"}) {
+  for (const char* file :
+       {"pick_place.mod", "weld_seam.dat", "weld_seam.src", "weld_cell.ls", "pick.script"}) {
     const std::string path = test::data_path(std::string("programs/") + file);
     const std::string text = read_text_file(path);
     ProgramFilterOptions options;
     options.joints = true;
+    options.tools["TOOL_DATA[1]"] = Pose<double>{};
+    options.tools["UT[2]"] = Pose<double>{};
+    options.frames["UF[1]"] = Pose<double>{};
     const auto result = filter_program(
         text, program_language_from_path(path), path, options, [](const ProgramPoint& p) {
           return CorrectedPoint{p.base_T_tcp, p.config, p.joints_deg, ""};
@@ -182,10 +201,12 @@ TEST(ProgramFilter, RefusesWhatItCannotCorrectNamingLineAndColumn) {
                          rapid),
             "bad.prg:2:22: 'p' is declared robtarget but its value is not a literal "
             "[[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[e1,...,e6]]");
-  EXPECT_NE(filter_error(
-                "MODULE m\nPROC main()\n  MoveL p10, v100, fine, tool0\\WObj:=wobjTable;\n", rapid)
-                .find("bad.prg:3:38: targets relative to work object 'wobjTable'"),
-            std::string::npos);
+  EXPECT_EQ(filter_error("MODULE m\n  CONST robtarget p10:=[[1,2,3],[1,0,0,0],[0,0,0,0],"
+                         "[9E9,9E9,9E9,9E9,9E9,9E9]];\nPROC main()\n  MoveL p10, v100, fine, "
+                         "tool0\\WObj:=wobjTable;\n",
+                         rapid),
+            "bad.prg:2:24 (p10): unknown work object 'WOBJTABLE': the program does not "
+            "define it with literal values; give it in a frames file");
   EXPECT_NE(filter_error("MODULE m\n  MoveL [[1,2,3],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]"
                          ", v100, fine, tool0;\n",
                          rapid)

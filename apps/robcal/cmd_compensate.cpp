@@ -8,11 +8,12 @@
 #include "command_registry.hpp"
 #include "robcal/compensate/closed_loop.hpp"
 #include "robcal/compensate/corrected_targets.hpp"
-#include "robcal/compensate/program_filter.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/programs/frames_file.hpp"
+#include "robcal/programs/program_filter.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -124,30 +125,56 @@ void run_compensate(const ModelOptions& o, const std::string& targets, const std
   }
 }
 
-void run_compensate_program(const ModelOptions& o, const std::string& in, const std::string& out,
-                            bool joints) {
+struct ProgramFilterFlags {
+  std::string in, out, frames, confidence_out;
+  bool joints = false;
+  bool keep_going = false;
+};
+
+void run_compensate_program(const ModelOptions& o, const ProgramFilterFlags& f) {
   std::optional<PointMass> payload;
   const CalibratedRobot robot = load_model(o, payload);
   const Compensator comp = make_compensator(robot, payload);
-  const ProgramLanguage language = program_language_from_path(in);
-  if (program_language_from_path(out) != language)
-    throw InputError({out, 0, 0, "--out"}, "the output must be the same kind of program as --in");
+  const ProgramLanguage language = program_language_from_path(f.in);
   ProgramFilterOptions options;
-  options.joints = joints;
-  const ProgramFilterResult result = filter_program(read_text_file(in), language, in, options,
-                                                    make_program_corrector(comp, language));
-  write_file_atomically(out, result.text);
+  options.joints = f.joints;
+  options.keep_going = f.keep_going;
+  if (!f.frames.empty()) {
+    FramesFile frames = read_frames_file(f.frames);
+    options.tools = std::move(frames.tools);
+    options.frames = std::move(frames.frames);
+  }
+  const ProgramFilterResult result = filter_program_file(
+      f.in, f.out, options, make_program_corrector(comp, language, &robot), f.confidence_out);
   if (o.json) {
-    print_json({{"in", in},
-                {"out", out},
-                {"language", language == ProgramLanguage::Rapid ? "rapid" : "krl"},
+    nlohmann::json uncorrected = nlohmann::json::array();
+    for (const UncorrectedPoint& u : result.uncorrected)
+      uncorrected.push_back({{"where", u.where}, {"reason", u.reason}});
+    print_json({{"in", f.in},
+                {"out", f.out},
+                {"language", program_language_name(language)},
                 {"cartesian_points", result.cartesian_points},
-                {"joint_points", result.joint_points}});
+                {"joint_points", result.joint_points},
+                {"uncorrected", uncorrected},
+                {"assumed_default_tool_and_frame", result.assumed.size()}});
     return;
   }
-  fmt::print("{}: {} Cartesian point{} and {} joint target{} corrected, written to {}\n", in,
+  fmt::print("{}: {} Cartesian point{} and {} joint target{} corrected, written to {}\n", f.in,
              result.cartesian_points, result.cartesian_points == 1 ? "" : "s", result.joint_points,
-             result.joint_points == 1 ? "" : "s", out);
+             result.joint_points == 1 ? "" : "s", f.out);
+  if (!result.assumed.empty()) {
+    fmt::print(
+        "{} point{} corrected for the default tool (--tool) in the base frame, which "
+        "the program does not confirm; check:\n",
+        result.assumed.size(), result.assumed.size() == 1 ? "" : "s");
+    for (const UncorrectedPoint& u : result.assumed) fmt::print("  {}: {}\n", u.where, u.reason);
+  }
+  if (!result.uncorrected.empty()) {
+    fmt::print("{} point{} left as written (not corrected):\n", result.uncorrected.size(),
+               result.uncorrected.size() == 1 ? "" : "s");
+    for (const UncorrectedPoint& u : result.uncorrected)
+      fmt::print("  {}: {}\n", u.where, u.reason);
+  }
 }
 
 void add_model_options(CLI::App* cmd, ModelOptions& o) {
@@ -188,18 +215,29 @@ const bool registered = register_command(70, [](CLI::App& app) {
 
   auto* prog = app.add_subcommand(
       "compensate-program",
-      "Rewrite every robtarget (RAPID) or E6POS/POS (KRL) of a program with corrected values, "
-      "leaving every other byte as it was");
+      "Rewrite every target of a RAPID, KRL, Fanuc LS or URScript program with corrected "
+      "values for the tool and frame active at it, leaving every other byte as it was");
   auto po = std::make_shared<ModelOptions>();
-  auto in = std::make_shared<std::string>();
-  auto pout = std::make_shared<std::string>();
-  auto joints = std::make_shared<bool>(false);
+  auto pf = std::make_shared<ProgramFilterFlags>();
   add_model_options(prog, *po);
-  prog->add_option("--in", *in, "Program: .mod/.modx/.prg/.sys (RAPID) or .src/.dat (KRL)")
+  prog->add_option("--in", pf->in,
+                   "Program: .mod/.modx/.prg/.sys (RAPID), .src/.dat (KRL), .ls (Fanuc), "
+                   ".script (URScript)")
       ->required();
-  prog->add_option("--out", *pout, "Corrected program (a new file; the input is kept)")->required();
-  prog->add_flag("--joints", *joints, "Also correct joint targets (MoveAbsJ, E6AXIS/AXIS)");
-  prog->callback([=] { run_compensate_program(*po, *in, *pout, *joints); });
+  prog->add_option("--out", pf->out, "Corrected program (a new file; the input is kept)")
+      ->required();
+  prog->add_flag("--joints", pf->joints,
+                 "Also correct joint targets (MoveAbsJ, E6AXIS/AXIS, Fanuc J1..J6)");
+  prog->add_option("--frames", pf->frames,
+                   "Frames file kind,name,x,y,z,qw,qx,qy,qz: tools and work objects/bases the "
+                   "program uses but does not define");
+  prog->add_flag("--keep-going", pf->keep_going,
+                 "Leave a target that cannot be corrected as written (listed at the end) "
+                 "instead of refusing the program");
+  prog->add_option("--confidence-out", pf->confidence_out,
+                   "CSV of the 95% confidence radius of each corrected target "
+                   "(line,column,name,confidence95_mm)");
+  prog->callback([=] { run_compensate_program(*po, *pf); });
 });
 
 }  // namespace

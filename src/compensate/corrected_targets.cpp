@@ -107,6 +107,14 @@ std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage la
     };
     return {quadrant(0), quadrant(3), quadrant(5), config.index()};
   }
+  if (language == ProgramLanguage::FanucLs) {
+    // CONFIG 'N|F U|D T|B, t4, t5, t6': turn t of a joint at θ is θ ∈ [−180 + 360t, 180 + 360t).
+    const auto turn = [&](int i) {
+      return static_cast<int>(std::floor((rad2deg(joints[i]) + 180.0) / 360.0 + 1e-12));
+    };
+    return {
+        config.flip ? 1 : 0, config.down ? 1 : 0, config.back ? 1 : 0, turn(3), turn(4), turn(5)};
+  }
   int s = (config.back ? 1 : 0) | (config.down ? 0 : 2) | (joints[4] <= 0 ? 4 : 0);
   int t = 0;
   for (int i = 0; i < kJointCount; ++i)
@@ -114,18 +122,23 @@ std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage la
   return {s, t};
 }
 
-PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language) {
+PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language,
+                                      const CalibratedRobot* robot) {
   // The previous point's joints: the branch of KRL points without S/T.
   auto previous = std::make_shared<Vector6d>(Vector6d::Zero());
-  return [&comp, language, previous](const ProgramPoint& point) {
+  return [&comp, language, robot, previous](const ProgramPoint& point) {
     CorrectedPoint out;
     Pose<double> base_T_tcp;
     Vector6d near;
+    // A point for another tool Tk is the flange pose X·Tk⁻¹: solved as the compensator's TCP
+    // T0 at X·Tk⁻¹·T0, and written back as the nominal flange pose times Tk.
+    const Pose<double> tool_shift =
+        point.flange_T_tcp ? point.flange_T_tcp->inverse() * comp.flange_T_tcp : Pose<double>{};
     if (point.is_joint_target) {
       near = point.joints_deg * kDegToRad;
       base_T_tcp = nominal_tcp_pose(comp, near);
     } else {
-      base_T_tcp = point.base_T_tcp;
+      base_T_tcp = point.base_T_tcp * tool_shift;
       const IkResult all =
           nominal_ik(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), *previous);
       // The written configuration: the branch must match, the turns should.
@@ -137,8 +150,12 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
         if (point.config.empty()) {
           score = 1;
         } else {
-          const size_t branch = language == ProgramLanguage::Rapid ? 3 : 0;
-          if (cfg[branch] != point.config[branch]) continue;
+          // The branch: RAPID cfx, KRL S, Fanuc's three letters.
+          const auto same = [&](size_t k) { return cfg[k] == point.config[k]; };
+          if (language == ProgramLanguage::Rapid     ? !same(3)
+              : language == ProgramLanguage::FanucLs ? !(same(0) && same(1) && same(2))
+                                                     : !same(0))
+            continue;
           score = cfg == point.config ? 2 : 1;
         }
         if (score > best_score ||
@@ -167,7 +184,10 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
     }
     *previous = r.joints;
     out.joints_deg = r.joints * kRadToDeg;
-    out.base_T_tcp = nominal_tcp_pose(comp, r.joints);
+    out.base_T_tcp = nominal_tcp_pose(comp, r.joints) * tool_shift.inverse();
+    if (robot)
+      out.confidence95_mm = position_confidence95_mm(
+          *robot, comp.payload, point.flange_T_tcp.value_or(comp.flange_T_tcp), r.joints);
     if (!point.is_joint_target && !point.config.empty())
       out.config = maker_configuration(comp, language, r.joints);
     return out;

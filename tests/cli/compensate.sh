@@ -98,8 +98,8 @@ printf 'name,x,y,z,qw,qx,qy,qz\nfar,9000,0,0,1,0,0,0\n' > "$out/far.csv"
 expect_error "far.csv:2 (far)" compensate --model "$out/model.yaml" --targets "$out/far.csv" --out "$out/bad.csv"
 expect_error "--payload-cog-mm" compensate --model "$out/model.yaml" --targets "$out/wanted.csv" \
   --out "$out/bad.csv" --payload-mass-kg 2
-printf 'MODULE m\n  PROC main()\n    MoveL p10, v100, fine, tool0\\WObj:=wobjTable;\n  ENDPROC\nENDMODULE\n' > "$out/wobj.mod"
-expect_error "wobj.mod:3:40: targets relative to work object 'wobjTable'" compensate-program \
+printf 'MODULE m\n  CONST robtarget p10:=[[400,0,500],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  PROC main()\n    MoveL p10, v100, fine, tool0\\WObj:=wobjTable;\n  ENDPROC\nENDMODULE\n' > "$out/wobj.mod"
+expect_error "wobj.mod:2:24 (p10): unknown work object 'WOBJTABLE'" compensate-program \
   --model "$out/model.yaml" --in "$out/wobj.mod" --out "$out/bad.mod"
 expect_error "not a KUKA" compensate --robot kuka-kr6-r900-sixx --model "$out/model.yaml" \
   --targets "$out/wanted.csv" --out "$out/bad.csv"

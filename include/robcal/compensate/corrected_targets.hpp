@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "robcal/compensate/calibrated_ik.hpp"
-#include "robcal/compensate/program_filter.hpp"
 #include "robcal/io/pose_list_file.hpp"
+#include "robcal/programs/program_filter.hpp"
 
 namespace robcal {
 
@@ -48,7 +48,7 @@ std::optional<double> position_confidence95_mm(const CalibratedRobot& robot,
                                                const Pose<double>& flange_T_tcp,
                                                const Vector6d& joints);
 
-/// A program corrector. A Cartesian point (controller base frame, wobj0, the tool's TCP) is
+/// A program corrector. A Cartesian point (controller base frame, frame applied) is
 /// solved on the calibrated robot in the nominal solution whose configuration data (RAPID
 /// cf1/cf4/cf6/cfx, KRL S/T) match the written ones (the branch must match; the turns are
 /// the nearest to the written quadrants or signs); a KRL point without S/T takes the branch
@@ -56,11 +56,16 @@ std::optional<double> position_confidence95_mm(const CalibratedRobot& robot,
 /// calibrated joints, with the configuration data recomputed from them. A joint target j is
 /// read as the pose the nominal model gives it: the corrected joints reach that pose on the
 /// calibrated robot, in the same configuration.
-PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language);
+/// A point with its own tool (ProgramPoint::flange_T_tcp) is corrected for that tool (the
+/// payload stays the compensator's). With `robot`, each corrected point carries its 95 %
+/// confidence radius. `comp` and `robot` must outlive the corrector.
+PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language,
+                                      const CalibratedRobot* robot = nullptr);
 
 /// Configuration data as the maker writes it for controller joints (rad): RAPID (cf1, cf4,
 /// cf6, cfx) with cfx = ArmConfig index; KRL (S, T) with S bit 0 = back, bit 1 = up,
-/// bit 2 = A5 ≤ 0, T bit i = (A_{i+1} < 0).
+/// bit 2 = A5 ≤ 0, T bit i = (A_{i+1} < 0); Fanuc (flip, down, back, t4, t5, t6), CONFIG's
+/// letters F/N, D/U, B/T and the turn numbers of J4..J6.
 std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
                                      const Vector6d& joints);
 

@@ -6,10 +6,12 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <string>
 #include <unordered_map>
 
+#include "measurement_writers.hpp"
 #include "program_scan.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
@@ -17,12 +19,6 @@ namespace robcal::detail {
 namespace {
 
 enum class PointKind { Position, Axis };
-
-std::string upper(std::string_view text) {
-  std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return out;
-}
 
 /// One `KEY value` entry of a KRL aggregate `{X 1.0, Y 2.0, ...}`.
 struct Entry {
@@ -36,7 +32,7 @@ class KrlScanner {
   KrlScanner(std::string_view text, const std::string& file, const ProgramFilterOptions& options)
       : lexer_(text, ProgramLanguage::Krl, file), options_(options) {}
 
-  std::vector<PointSite> run() {
+  ProgramScan run() {
     for (;;) {
       const Token t = lexer_.next();
       if (t.kind == TokenKind::End) break;
@@ -47,13 +43,83 @@ class KrlScanner {
       else if (word == "PTP" || word == "LIN" || word == "CIRC" || word == "SPTP" ||
                word == "SLIN" || word == "SCIRC")
         motion();
+      else if (word == "FDAT" && lexer_.peek().kind == TokenKind::Identifier)
+        frame_data();
+      else if (word == "BAS")
+        bas_call();
+      else if (word == "$TOOL" || word == "$BASE")
+        frame_assignment(word);
       else if (auto found = declared_.find(word); found != declared_.end())
         assignment(t, found->second);
     }
-    return std::move(sites_);
+    assign_frame_data();
+    return {std::move(sites_), {}, {}};
   }
 
  private:
+  // `BAS(#TOOL, n)` / `BAS(#BASE, n)`: tool or base n is active for the motions that follow.
+  void bas_call() {
+    if (!lexer_.peek().is('(') || lexer_.peek(1).kind != TokenKind::Identifier) return;
+    const std::string what = upper(lexer_.peek(1).text);
+    if ((what != "#TOOL" && what != "#BASE") || !lexer_.peek(2).is(',')) return;
+    const Token number = lexer_.peek(3);
+    if (number.kind != TokenKind::Number) return;
+    (what == "#TOOL" ? tool_ : base_) =
+        indexed(what == "#TOOL" ? "TOOL_DATA" : "BASE_DATA", number);
+  }
+
+  // `$TOOL = TOOL_DATA[n]`, `$BASE = BASE_DATA[n]`; any other value (a literal frame, an
+  // expression) makes the active tool or base unknown until the next assignment.
+  void frame_assignment(const std::string& word) {
+    if (!lexer_.peek().is('=')) return;
+    const bool tool = word == "$TOOL";
+    const char* table = tool ? "TOOL_DATA" : "BASE_DATA";
+    std::string& active = tool ? tool_ : base_;
+    if (iequals(lexer_.peek(1).text, table) && lexer_.peek(2).is('[') &&
+        lexer_.peek(3).kind == TokenKind::Number && lexer_.peek(4).is(']'))
+      active = indexed(table, lexer_.peek(3));
+    else
+      active = fmt::format("{} (set at line {})", word, lexer_.peek().line);
+  }
+
+  std::string indexed(const char* table, const Token& number) const {
+    const double n = number_value(lexer_.file(), number);
+    if (n != std::floor(n) || n < 0 || n > 128)
+      refuse(lexer_.file(), number, fmt::format("{} index must be an integer 0..128", table));
+    return fmt::format("{}[{}]", table, static_cast<int>(n));
+  }
+
+  // `DECL FDAT FP1={TOOL_NO 1,BASE_NO 0,...}`: the tool and base of the inline-form point XP1.
+  void frame_data() {
+    const Token name = lexer_.next();
+    if (!lexer_.peek().is('=') || !lexer_.peek(1).is('{')) return;
+    lexer_.next();
+    const Token open = lexer_.next();
+    std::pair<std::string, std::string> frames;
+    for (const Entry& e : aggregate(open)) {
+      if (!e.number.present || (e.key != "TOOL_NO" && e.key != "BASE_NO")) continue;
+      const bool tool = e.key == "TOOL_NO";
+      const double n = e.number.value;
+      if (n != std::floor(n) || n < 0 || n > 128)
+        refuse(lexer_.file(), e.at, fmt::format("{} must be an integer 0..128", e.key));
+      (tool ? frames.first : frames.second) =
+          fmt::format("{}[{}]", tool ? "TOOL_DATA" : "BASE_DATA", static_cast<int>(n));
+    }
+    frame_data_[upper(name.text)] = frames;
+  }
+
+  // Points declared as XP<n> take the tool and base of FDAT FP<n> (the inline forms' pairing).
+  void assign_frame_data() {
+    for (PointSite& site : sites_) {
+      const std::string name = upper(site.point.name);
+      if (name.size() < 2 || name[0] != 'X') continue;
+      const auto found = frame_data_.find("F" + name.substr(1));
+      if (found == frame_data_.end()) continue;
+      site.point.tool = found->second.first;
+      site.point.frame = found->second.second;
+    }
+  }
+
   static std::optional<PointKind> point_type(const std::string& word) {
     if (word == "E6POS" || word == "POS") return PointKind::Position;
     if (word == "E6AXIS" || word == "AXIS") return PointKind::Axis;
@@ -87,7 +153,12 @@ class KrlScanner {
   // Motions with literal points: `PTP {...}`, `CIRC {aux}, {target}`; the kind follows the keys.
   void motion() {
     while (lexer_.peek().is('{')) {
+      const size_t before = sites_.size();
       point(std::nullopt, "", true);
+      for (size_t i = before; i < sites_.size(); ++i) {
+        sites_[i].point.tool = tool_;
+        sites_[i].point.frame = base_;
+      }
       if (!(lexer_.peek().is(',') && lexer_.peek(1).is('{'))) return;
       lexer_.next();
     }
@@ -183,6 +254,9 @@ class KrlScanner {
                    : fmt::format("expected a component name, found '{}'", key.text));
       Entry entry;
       entry.key = upper(key.text);
+      for (const Entry& e : out)
+        if (e.key == entry.key)
+          refuse(lexer_.file(), key, fmt::format("component {} given twice", entry.key));
       entry.at = lexer_.peek();
       value(entry);
       out.push_back(std::move(entry));
@@ -206,8 +280,7 @@ class KrlScanner {
       entry.number.begin = first.offset;
       entry.number.end = literal.offset + literal.text.size();
       if (literal.kind == TokenKind::Number) {
-        double v = 0;
-        std::from_chars(literal.text.data(), literal.text.data() + literal.text.size(), v);
+        const double v = number_value(lexer_.file(), literal);
         entry.number.value = first.is('-') ? -v : v;
       } else {
         // 'B0101' (binary) or 'H1F' (hex), quotes included in the token.
@@ -241,13 +314,46 @@ class KrlScanner {
   const ProgramFilterOptions& options_;
   std::unordered_map<std::string, PointKind> declared_;
   std::vector<PointSite> sites_;
+  std::string tool_, base_;  ///< active for inline motion points ("" = not set in this file)
+  std::map<std::string, std::pair<std::string, std::string>> frame_data_;  ///< FDAT: tool, base
 };
 
 }  // namespace
 
-std::vector<PointSite> scan_krl(std::string_view text, const std::string& file,
-                                const ProgramFilterOptions& options) {
+ProgramScan scan_krl(std::string_view text, const std::string& file,
+                     const ProgramFilterOptions& options) {
   return KrlScanner(text, file, options).run();
+}
+
+}  // namespace robcal::detail
+
+// Measurement programs in KRL. Grammar constraints relied on: the DEF name is the file name,
+// at most 24 characters; comments run from ';' to the end of the line; the first motion is
+// an absolute PTP (BCO run), and a PTP without C_PTP stops exactly (fine point); joint
+// values are REAL (32-bit on the controller: 6 decimals are more than it keeps, written so
+// that the plan reads back exactly).
+namespace robcal::detail {
+
+std::string write_krl_measurement(const MeasurementPart& part) {
+  const MeasurementProgramRequest& r = part.request;
+  const auto axis = [](const Vector6d& q) {
+    return fmt::format("{{A1 {:.6f},A2 {:.6f},A3 {:.6f},A4 {:.6f},A5 {:.6f},A6 {:.6f}}}", q[0],
+                       q[1], q[2], q[3], q[4], q[5]);
+  };
+  std::string out = fmt::format("DEF {}( )\n", part.program) +
+                    header_comment(part, ";", "reached with an exact stop");
+  for (int j = 1; j <= kJointCount; ++j)
+    out +=
+        fmt::format("  $VEL_AXIS[{0}]={1:g}\n  $ACC_AXIS[{0}]={1:g}\n", j, r.joint_speed_percent);
+  for (const Visit& v : part.visits) {
+    out += fmt::format("  ; {}\n  PTP {}\n  PTP {}\n  WAIT SEC {:.2f}\n", v.name,
+                       axis(v.approach_deg), axis(v.target_deg), r.settle_s);
+    if (r.hook == MeasurementHook::WaitInput)
+      out += fmt::format("  WAIT FOR $IN[{}]\n", r.signal);
+    else
+      out += fmt::format("  PULSE($OUT[{}], TRUE, 0.5)\n", r.signal);
+  }
+  return out + "END\n";
 }
 
 }  // namespace robcal::detail

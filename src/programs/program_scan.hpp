@@ -3,11 +3,12 @@
 // where each point's numbers sit in the text, so that only those bytes are rewritten.
 
 #include <deque>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "robcal/compensate/program_filter.hpp"
+#include "robcal/programs/program_filter.hpp"
 
 namespace robcal::detail {
 
@@ -63,10 +64,31 @@ struct PointSite {
   std::vector<NumberField> fields;
 };
 
-std::vector<PointSite> scan_rapid(std::string_view text, const std::string& file,
-                                  const ProgramFilterOptions& options);
-std::vector<PointSite> scan_krl(std::string_view text, const std::string& file,
-                                const ProgramFilterOptions& options);
+/// What a scan finds: the points, and the tools (flange_T_tcp) and frames (base_T_frame) the
+/// program defines with literal values, by upper-case name.
+struct ProgramScan {
+  std::vector<PointSite> sites;
+  std::map<std::string, Pose<double>> tools;
+  std::map<std::string, Pose<double>> frames;
+};
+
+ProgramScan scan_rapid(std::string_view text, const std::string& file,
+                       const ProgramFilterOptions& options);
+ProgramScan scan_krl(std::string_view text, const std::string& file,
+                     const ProgramFilterOptions& options);
+/// Fanuc LS: the /POS positions of group 1, X Y Z W P R (Cartesian, config = flip, down,
+/// back, t4, t5, t6 from CONFIG) or J1..J6 (joint); tool UT[n], frame UF[n].
+ProgramScan scan_ls(std::string_view text, const std::string& file,
+                    const ProgramFilterOptions& options);
+/// URScript: pose literals of motions and assignments (m, rotation vector), tool from set_tcp.
+ProgramScan scan_urscript(std::string_view text, const std::string& file);
+
+/// Upper case (RAPID and KRL names are case-insensitive).
+std::string upper(std::string_view text);
+
+/// The value of a Number token, which must be one whole finite decimal literal: `364.35.4`,
+/// `1e999` and `12abc` are InputErrors at the token.
+double number_value(const std::string& file, const Token& number);
 
 /// InputError at a token.
 [[noreturn]] void refuse(const std::string& file, const Token& at, const std::string& message);

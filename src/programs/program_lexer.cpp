@@ -1,4 +1,7 @@
+#include <fmt/format.h>
+
 #include <cctype>
+#include <charconv>
 
 #include "program_scan.hpp"
 #include "robcal/core/error.hpp"
@@ -14,8 +17,29 @@ bool iequals(std::string_view a, std::string_view b) {
   return true;
 }
 
+std::string upper(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return out;
+}
+
 void refuse(const std::string& file, const Token& at, const std::string& message) {
   throw InputError(SourceLocation{file, at.line, at.column, ""}, message);
+}
+
+double number_value(const std::string& file, const Token& number) {
+  // The whole token must be one decimal literal (digits, one optional point, an optional
+  // exponent) whose value is finite: from_chars stops at a second point and reports
+  // overflow, neither of which may pass as a prefix or as 0.
+  double value = 0;
+  const char* first = number.text.data();
+  const char* last = first + number.text.size();
+  const auto [ptr, ec] = std::from_chars(first, last, value, std::chars_format::general);
+  if (ec == std::errc::result_out_of_range)
+    refuse(file, number, fmt::format("number '{}' is out of range", number.text));
+  if (ec != std::errc() || ptr != last)
+    refuse(file, number, fmt::format("malformed number '{}'", number.text));
+  return value;
 }
 
 ProgramLexer::ProgramLexer(std::string_view text, ProgramLanguage language, const std::string& file)
@@ -73,14 +97,16 @@ Token ProgramLexer::lex_one() {
     t.kind = TokenKind::Identifier;
   } else if (std::isdigit(static_cast<unsigned char>(c)) ||
              (c == '.' && std::isdigit(static_cast<unsigned char>(ch(1))))) {
-    while (!at_end() && (std::isdigit(static_cast<unsigned char>(ch())) || ch() == '.')) ++pos_;
-    if (ch() == 'e' || ch() == 'E') {
-      size_t k = 1;
-      if (ch(k) == '+' || ch(k) == '-') ++k;
-      if (std::isdigit(static_cast<unsigned char>(ch(k)))) {
-        pos_ += k;
-        while (!at_end() && std::isdigit(static_cast<unsigned char>(ch()))) ++pos_;
-      }
+    // The whole run of characters a number could be made of (`364.35.4`, `1e5x` included),
+    // so that number_value() sees a malformed literal whole instead of a valid prefix of it.
+    while (!at_end()) {
+      const char d = ch();
+      const char before = text_[pos_ - 1];
+      if (std::isalnum(static_cast<unsigned char>(d)) || d == '.' || d == '_' ||
+          ((d == '+' || d == '-') && (before == 'e' || before == 'E')))
+        ++pos_;
+      else
+        break;
     }
     t.kind = TokenKind::Number;
   } else if (c == '"' || (c == '\'' && language_ == ProgramLanguage::Krl)) {

@@ -1,0 +1,110 @@
+/// `robcal program`: the measurement program that visits planned configurations, in the
+/// controller's language (ABB RAPID, KUKA KRL, Fanuc LS, Yaskawa JBI, URScript).
+
+#include <fmt/chrono.h>
+#include <fmt/format.h>
+
+#include <ctime>
+
+#include "cli_common.hpp"
+#include "command_registry.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/programs/measurement_program.hpp"
+#include "robcal/sim/simulator.hpp"
+
+namespace robcal::cli {
+namespace {
+
+struct ProgramOptions {
+  std::string language;
+  std::string configs;
+  std::string out;
+  std::string robot;
+  std::string tool;
+  std::string hook = "wait";
+  std::string pulses;
+  bool json = false;
+};
+
+MeasurementHook parse_hook(const std::string& text) {
+  if (text == "wait") return MeasurementHook::WaitInput;
+  if (text == "pulse") return MeasurementHook::PulseOutput;
+  if (text == "log") return MeasurementHook::LogLine;
+  throw InputError({"", 0, 0, "--hook"}, "expected wait, pulse or log, found '" + text + "'");
+}
+
+void run_program(const ProgramOptions& o, MeasurementProgramRequest request) {
+  request.language = program_language_from_name(o.language, "--lang");
+  request.hook = parse_hook(o.hook);
+  if (!o.pulses.empty()) {
+    const std::vector<double> p = parse_numbers(o.pulses, kJointCount, "--pulses-per-degree");
+    std::array<double, kJointCount> ppd{};
+    for (int j = 0; j < kJointCount; ++j) {
+      if (!(p[j] > 0 && p[j] < 1e7))
+        throw InputError({"", 0, 0, "--pulses-per-degree"},
+                         fmt::format("axis {}: expected a positive pulse count per degree", j + 1));
+      ppd[static_cast<size_t>(j)] = p[j];
+    }
+    request.pulses_per_degree = ppd;
+  }
+  if (!o.robot.empty()) request.limits = load_robot(o.robot).limits;
+  const Tool tool = o.tool.empty() ? Tool{} : load_tool(o.tool);
+  for (const PlannedConfiguration& c : read_configurations_csv(o.configs, tool)) {
+    request.names.push_back(c.name);
+    request.joints.push_back(c.joints);
+  }
+  request.date = fmt::format("{:%Y/%m/%d %H:%M}", fmt::gmtime(std::time(nullptr)));
+  const std::vector<std::string> paths = write_measurement_program_files(request, o.out);
+  if (o.json) {
+    print_json({{"language", program_language_name(request.language)},
+                {"configurations", request.joints.size()},
+                {"files", paths}});
+    return;
+  }
+  fmt::print("{} configurations, each approached from q - {:g} deg, in {} {} program{}:\n",
+             request.joints.size(), request.approach_deg, paths.size(),
+             program_language_name(request.language), paths.size() == 1 ? "" : "s");
+  for (const std::string& p : paths) fmt::print("  {}\n", p);
+}
+
+const bool registered = register_command(65, [](CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "program",
+      "Measurement program in the controller's language: joint moves to each planned "
+      "configuration, approached from q - 5 deg on every joint, a settle wait and a hook");
+  auto o = std::make_shared<ProgramOptions>();
+  auto r = std::make_shared<MeasurementProgramRequest>();
+  cmd->add_option("--lang", o->language, "rapid, krl, ls (Fanuc), jbi (Yaskawa) or urscript")
+      ->required();
+  cmd->add_option("--configs", o->configs,
+                  "Configurations CSV config,target,j1..j6 (degrees; what `robcal plan` writes)")
+      ->required();
+  cmd->add_option("--out", o->out, "Folder for the program file(s)")->required();
+  cmd->add_option("--robot", o->robot,
+                  "Built-in robot name or robot file: check each configuration and its approach "
+                  "against the joint limits");
+  cmd->add_option("--tool", o->tool, "Tool file (needed when the CSV names targets)");
+  cmd->add_option("--name", r->name, "Program name, at most 6 characters (default RCMEAS)");
+  cmd->add_option("--hook", o->hook,
+                  "At each configuration: wait (for an input), pulse (an output) or log (a "
+                  "message with the name and joints; RAPID, LS, URScript)");
+  cmd->add_option("--signal", r->signal, "Input/output number for the hook (default 1)");
+  cmd->add_option("--rapid-signal", r->rapid_signal,
+                  "RAPID signal name (default diRobcalMeasured / doRobcalMeasure)");
+  cmd->add_option("--settle-s", r->settle_s, "Wait after reaching each configuration (s)");
+  cmd->add_option("--approach-deg", r->approach_deg,
+                  "Approach offset on every joint (deg, METHOD §6; default 5)");
+  cmd->add_option("--speed-percent", r->joint_speed_percent, "Joint speed, % (default 10)");
+  cmd->add_option("--max-configs-per-file", r->max_configs_per_file,
+                  "Split into programs of at most this many configurations (default: the "
+                  "controller's limit: RAPID/KRL 500, LS 250, JBI 400, URScript 1000)");
+  cmd->add_option("--tool-number", r->tool_number, "Tool number stored with LS/JBI points");
+  cmd->add_option("--pulses-per-degree", o->pulses,
+                  "Yaskawa: encoder pulses per degree of the six axes, comma-separated");
+  cmd->add_flag("--json", o->json, "Machine-readable summary on stdout");
+  cmd->callback([=] { run_program(*o, *r); });
+});
+
+}  // namespace
+}  // namespace robcal::cli

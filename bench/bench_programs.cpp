@@ -1,0 +1,159 @@
+// Robot programs (issue 17): filtering a 100,000-target program in each language that is
+// filtered (RAPID, KRL, Fanuc LS, URScript), with a fixed shift as the corrector (the parsing,
+// rewriting and re-parsing cost alone) and with the calibrated-IK corrector of a 31-parameter IRB
+// 120 model (every target solved, tool and work object applied); writing the measurement program of
+// 10,000 configurations in each language. Goal: < 1 s per 100,000 targets.
+
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+
+#include <map>
+
+#include "../tests/test_compensate_support.hpp"
+#include "robcal/compensate/corrected_targets.hpp"
+#include "robcal/kinematics/orientation.hpp"
+#include "robcal/programs/measurement_program.hpp"
+#include "robcal/programs/program_filter.hpp"
+
+namespace robcal {
+namespace {
+
+constexpr uint64_t kSeed = 2026;
+constexpr int kTargets = 100000;
+
+/// A program of `targets` reachable Cartesian targets of the calibrated IRB 120 (nominal
+/// poses of random joints ≥ 5° from singularities, configuration data written), each used in
+/// one motion, seed kSeed: the flange pose with tool0 (RAPID), tool 0 (KRL), UT 0 (Fanuc);
+/// the TCP pose without set_tcp (URScript: the installation's TCP, the compensator's tool).
+std::string big_program(ProgramLanguage language, const Compensator& comp, int targets) {
+  std::mt19937_64 rng(kSeed);
+  std::string decl, moves;
+  int n = 0;
+  while (n < targets) {
+    const Vector6d q = test::random_joints(comp.model, rng);
+    if (test::near_singular(comp.model, q)) continue;
+    const Pose<double> tcp = nominal_tcp_pose(comp, q);
+    const Pose<double> pose = tcp * comp.tcp_T_flange;
+    const std::vector<int> cf = maker_configuration(comp, language, q);
+    const Eigen::Vector3d abc = euler_angles_deg(pose.R, EulerConvention::ZyxABC);
+    switch (language) {
+      case ProgramLanguage::Rapid: {
+        const Eigen::Quaterniond r(pose.R);
+        decl += fmt::format(
+            "  CONST robtarget p{}:=[[{:.4f},{:.4f},{:.4f}],[{:.9f},{:.9f},{:.9f},{:.9f}],"
+            "[{},{},{},{}],[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]];  ! target {}\n",
+            n, pose.p.x(), pose.p.y(), pose.p.z(), r.w(), r.x(), r.y(), r.z(), cf[0], cf[1], cf[2],
+            cf[3], n);
+        moves += fmt::format("    MoveL p{}, v100, z10, tool0;\n", n);
+        break;
+      }
+      case ProgramLanguage::Krl:
+        moves += fmt::format(
+            "  LIN {{X {:.4f},Y {:.4f},Z {:.4f},A {:.5f},B {:.5f},C {:.5f},S {},T {}}} ; {}\n",
+            pose.p.x(), pose.p.y(), pose.p.z(), abc[0], abc[1], abc[2], cf[0], cf[1], n);
+        break;
+      case ProgramLanguage::FanucLs:
+        moves += fmt::format("{:>6}:L P[{}] 100mm/sec FINE ;\n", n + 1, n + 1);
+        decl += fmt::format(
+            "P[{}]{{\n   GP1:\n\tUF : 0, UT : 0,\t\tCONFIG : '{} {} {}, {}, {}, {}',\n"
+            "\tX = {:.3f} mm,\tY = {:.3f} mm,\tZ = {:.3f} mm,\n"
+            "\tW = {:.3f} deg,\tP = {:.3f} deg,\tR = {:.3f} deg\n}};\n",
+            n + 1, cf[0] ? 'F' : 'N', cf[1] ? 'D' : 'U', cf[2] ? 'B' : 'T', cf[3], cf[4], cf[5],
+            pose.p.x(), pose.p.y(), pose.p.z(), abc[2], abc[1], abc[0]);
+        break;
+      default: {
+        const Eigen::AngleAxisd r(tcp.R);
+        const Eigen::Vector3d v = r.angle() * r.axis();
+        moves += fmt::format(
+            "  movel(p[{:.7f}, {:.7f}, {:.7f}, {:.8f}, {:.8f}, {:.8f}], a=1.2, v=0.25)\n",
+            tcp.p.x() / 1000, tcp.p.y() / 1000, tcp.p.z() / 1000, v.x(), v.y(), v.z());
+      }
+    }
+    ++n;
+  }
+  switch (language) {
+    case ProgramLanguage::Rapid:
+      return "MODULE Big\n" + decl + "  PROC main()\n" + moves + "  ENDPROC\nENDMODULE\n";
+    case ProgramLanguage::Krl:
+      return "DEF big( )\n  BAS(#TOOL,0)\n" + moves + "END\n";
+    case ProgramLanguage::FanucLs:
+      return "/PROG  BIG\n/ATTR\n/MN\n" + moves + "/POS\n" + decl + "/END\n";
+    default:
+      return "def big():\n" + moves + "end\n";
+  }
+}
+
+constexpr ProgramLanguage kFiltered[] = {ProgramLanguage::Rapid, ProgramLanguage::Krl,
+                                         ProgramLanguage::FanucLs, ProgramLanguage::UrScript};
+
+struct Fixture {
+  CalibratedRobot robot;
+  Compensator comp;
+  std::map<ProgramLanguage, std::string> programs;
+  Fixture()
+      : robot([] {
+          std::mt19937_64 rng(kSeed);
+          return test::random_calibrated("abb-irb120", rng);
+        }()),
+        comp(make_compensator(robot)) {
+    for (ProgramLanguage l : kFiltered) programs[l] = big_program(l, comp, kTargets);
+  }
+};
+const Fixture& fixture() {
+  static const Fixture f;
+  return f;
+}
+
+void BM_FilterProgram100k(benchmark::State& state) {
+  const auto language = static_cast<ProgramLanguage>(state.range(0));
+  const bool calibrated = state.range(1) != 0;
+  const Fixture& f = fixture();
+  const std::string& text = f.programs.at(language);
+  for (auto _ : state) {
+    const PointCorrector shift = [](const ProgramPoint& p) {
+      CorrectedPoint c{p.base_T_tcp, p.config, p.joints_deg, ""};
+      c.base_T_tcp.p.x() += 0.25;
+      return c;
+    };
+    // Targets whose calibrated solution leaves the joint limits stay as written (listed).
+    ProgramFilterOptions options;
+    options.keep_going = true;
+    const auto result =
+        filter_program(text, language, "big", options,
+                       calibrated ? make_program_corrector(f.comp, language) : shift);
+    if (result.cartesian_points + static_cast<int>(result.uncorrected.size()) != kTargets)
+      state.SkipWithError("targets lost");
+    state.counters["uncorrected"] = static_cast<double>(result.uncorrected.size());
+    benchmark::DoNotOptimize(result.text.data());
+  }
+  state.SetLabel(fmt::format("{} {}", program_language_name(language),
+                             calibrated ? "calibrated IK" : "fixed shift"));
+  state.counters["bytes"] = static_cast<double>(text.size());
+}
+BENCHMARK(BM_FilterProgram100k)
+    ->ArgsProduct(
+        {{static_cast<int>(ProgramLanguage::Rapid), static_cast<int>(ProgramLanguage::Krl),
+          static_cast<int>(ProgramLanguage::FanucLs), static_cast<int>(ProgramLanguage::UrScript)},
+         {0, 1}})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_MeasurementProgram10k(benchmark::State& state) {
+  MeasurementProgramRequest r;
+  r.language = static_cast<ProgramLanguage>(state.range(0));
+  r.pulses_per_degree = std::array<double, kJointCount>{1000, 1000, 1000, 800, 800, 500};
+  std::mt19937_64 rng(kSeed);
+  const RobotModel model = load_robot("abb-irb120");
+  for (int i = 0; i < 10000; ++i) {
+    r.names.push_back(fmt::format("c{}", i));
+    r.joints.push_back(test::random_joints(model, rng));
+  }
+  r.max_configs_per_file = 200;
+  r.hook = MeasurementHook::PulseOutput;
+  for (auto _ : state) benchmark::DoNotOptimize(write_measurement_program(r).size());
+  state.SetLabel(program_language_name(r.language));
+}
+BENCHMARK(BM_MeasurementProgram10k)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace robcal

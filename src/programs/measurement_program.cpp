@@ -1,0 +1,236 @@
+#include "robcal/programs/measurement_program.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+
+#include "measurement_writers.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/programs/program_filter.hpp"
+
+namespace robcal {
+namespace {
+
+using detail::Visit;
+
+/// Configuration names appear in comments and messages of every language: letters, digits,
+/// '_', '-', '.' only (no quote, comment or statement character of any of them), at most 16
+/// characters (Fanuc MESSAGE[] holds 24, with "robcal " in front).
+constexpr size_t kMaxConfigName = 16;
+
+void check_config_name(const std::string& name) {
+  const bool ok = !name.empty() && name.size() <= kMaxConfigName &&
+                  std::all_of(name.begin(), name.end(), [](unsigned char c) {
+                    return std::isalnum(c) || c == '_' || c == '-' || c == '.';
+                  });
+  if (!ok)
+    throw InputError(SourceLocation{"", 0, 0, name.empty() ? "config" : name},
+                     fmt::format("configuration name '{}': expected 1 to {} letters, digits, '_', "
+                                 "'-' or '.' (it is written into the program's comments)",
+                                 name, kMaxConfigName));
+}
+
+void check_program_name(const std::string& name) {
+  const bool ok = !name.empty() && name.size() <= 6 &&
+                  std::isalpha(static_cast<unsigned char>(name[0])) &&
+                  std::all_of(name.begin(), name.end(),
+                              [](unsigned char c) { return std::isalnum(c) || c == '_'; });
+  if (!ok)
+    throw InputError(SourceLocation{"", 0, 0, "--name"},
+                     fmt::format("program name '{}': expected a letter, then letters, digits or "
+                                 "'_', at most 6 characters",
+                                 name));
+}
+
+/// q and its approach inside the limits (the approach moves every joint by −approach_deg).
+void check_limits(const MeasurementProgramRequest& r, const std::string& name,
+                  const Vector6d& target_rad, const Vector6d& approach_rad) {
+  if (!r.limits) return;
+  for (int j = 0; j < kJointCount; ++j) {
+    const JointLimit& l = (*r.limits)[static_cast<size_t>(j)];
+    for (const auto& [what, q] : {std::pair{"", target_rad[j]}, {" (approach)", approach_rad[j]}})
+      if (q < l.lower || q > l.upper)
+        throw InputError(SourceLocation{"", 0, 0, name},
+                         fmt::format("joint {} at {:.4f} deg{} is outside its limits [{:.4f}, "
+                                     "{:.4f}] deg; the approach moves every joint by -{} deg "
+                                     "(METHOD §6), so a configuration needs that margin",
+                                     j + 1, rad2deg(q), what, rad2deg(l.lower), rad2deg(l.upper),
+                                     r.approach_deg));
+  }
+}
+
+}  // namespace
+
+int program_size_limit(ProgramLanguage language) {
+  switch (language) {
+    case ProgramLanguage::FanucLs:
+      return 250;
+    case ProgramLanguage::Jbi:
+      return 400;
+    case ProgramLanguage::UrScript:
+      return 1000;
+    default:
+      return 500;
+  }
+}
+
+std::vector<ProgramFile> write_measurement_program(const MeasurementProgramRequest& r) {
+  check_program_name(r.name);
+  if (r.names.size() != r.joints.size())
+    throw std::invalid_argument("write_measurement_program: names and joints differ in size");
+  if (r.joints.empty())
+    throw InputError(SourceLocation{"", 0, 0, "configs"}, "no configuration to visit");
+  if (!(r.approach_deg >= 0 && r.approach_deg <= 30))
+    throw InputError(SourceLocation{"", 0, 0, "--approach-deg"},
+                     fmt::format("expected 0 to 30 degrees, found {}", r.approach_deg));
+  if (!(r.settle_s >= 0 && r.settle_s <= 600))
+    throw InputError(SourceLocation{"", 0, 0, "--settle-s"},
+                     fmt::format("expected 0 to 600 seconds, found {}", r.settle_s));
+  if (!(r.joint_speed_percent > 0 && r.joint_speed_percent <= 100))
+    throw InputError(
+        SourceLocation{"", 0, 0, "--speed-percent"},
+        fmt::format("expected more than 0 and at most 100, found {}", r.joint_speed_percent));
+  if (r.signal < 0 || r.signal > 4096)
+    throw InputError(SourceLocation{"", 0, 0, "--signal"},
+                     fmt::format("expected a signal number 0 to 4096, found {}", r.signal));
+  if (r.language == ProgramLanguage::Jbi && !r.pulses_per_degree)
+    throw InputError(SourceLocation{"", 0, 0, "--pulses-per-degree"},
+                     "a Yaskawa job stores joints in encoder pulses: give the pulses per degree "
+                     "of the six axes");
+  if (r.hook == MeasurementHook::LogLine &&
+      (r.language == ProgramLanguage::Krl || r.language == ProgramLanguage::Jbi))
+    throw InputError(SourceLocation{"", 0, 0, "--hook"},
+                     fmt::format("no log instruction is written for {}; use wait or pulse",
+                                 program_language_name(r.language)));
+  const int limit =
+      r.max_configs_per_file > 0 ? r.max_configs_per_file : program_size_limit(r.language);
+
+  std::vector<Visit> visits;
+  for (size_t i = 0; i < r.joints.size(); ++i) {
+    check_config_name(r.names[i]);
+    const Vector6d approach = r.joints[i] - Vector6d::Constant(deg2rad(r.approach_deg));
+    if (!r.joints[i].allFinite())
+      throw InputError(SourceLocation{"", 0, 0, r.names[i]}, "joints are not finite");
+    check_limits(r, r.names[i], r.joints[i], approach);
+    visits.push_back({r.names[i], r.joints[i] * kRadToDeg - Vector6d::Constant(r.approach_deg),
+                      r.joints[i] * kRadToDeg});
+  }
+
+  const int parts = static_cast<int>((visits.size() + static_cast<size_t>(limit) - 1) /
+                                     static_cast<size_t>(limit));
+  if (parts > 99)
+    throw InputError(
+        SourceLocation{"", 0, 0, "--max-configs-per-file"},
+        fmt::format("{} configurations would make {} programs; at most 99", visits.size(), parts));
+  std::vector<ProgramFile> files;
+  for (int p = 0; p < parts; ++p) {
+    const size_t first = static_cast<size_t>(p) * static_cast<size_t>(limit);
+    const size_t count = std::min(static_cast<size_t>(limit), visits.size() - first);
+    detail::MeasurementPart part{r, parts == 1 ? r.name : fmt::format("{}{:02d}", r.name, p + 1),
+                                 p + 1, parts,
+                                 std::span<const Visit>(visits).subspan(first, count)};
+    // One writer per language, in ProgramLanguage order.
+    using Writer = std::string (*)(const detail::MeasurementPart&);
+    static constexpr Writer kWriters[] = {
+        detail::write_rapid_measurement, detail::write_krl_measurement,
+        detail::write_ls_measurement, detail::write_jbi_measurement,
+        detail::write_urscript_measurement};
+    std::string text = kWriters[static_cast<size_t>(r.language)](part);
+    // KRL and URScript file names are in lower case by convention; the others keep the name.
+    std::string file = part.program;
+    if (r.language == ProgramLanguage::Krl || r.language == ProgramLanguage::UrScript)
+      std::transform(file.begin(), file.end(), file.begin(),
+                     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    files.push_back({file + program_extension(r.language), std::move(text)});
+  }
+  return files;
+}
+
+std::vector<std::string> write_measurement_program_files(const MeasurementProgramRequest& request,
+                                                         const std::string& out_dir) {
+  const std::vector<ProgramFile> files = write_measurement_program(request);
+  std::vector<std::string> paths;
+  for (const ProgramFile& f : files) {
+    paths.push_back((std::filesystem::path(out_dir) / f.name).string());
+    write_file_atomically(paths.back(), f.text);
+  }
+  return paths;
+}
+
+std::vector<JointMove> read_joint_moves(
+    const std::string& text, ProgramLanguage language, const std::string& file,
+    const std::optional<std::array<double, kJointCount>>& pulses_per_degree) {
+  switch (language) {
+    case ProgramLanguage::Rapid:
+    case ProgramLanguage::Krl: {
+      std::vector<JointMove> moves;
+      for (const ProgramPoint& p : parse_program(text, language, file))
+        if (p.is_joint_target) moves.push_back({p.joints_deg, p.line});
+      return moves;
+    }
+    case ProgramLanguage::FanucLs:
+      return detail::read_ls_joint_moves(text, file);
+    case ProgramLanguage::Jbi:
+      if (!pulses_per_degree)
+        throw InputError(SourceLocation{file, 0, 0, "--pulses-per-degree"},
+                         "reading a Yaskawa job's joints needs the pulses per degree");
+      return detail::read_jbi_joint_moves(text, file, *pulses_per_degree);
+    case ProgramLanguage::UrScript:
+      return detail::read_urscript_joint_moves(text, file);
+  }
+  return {};
+}
+
+namespace detail {
+
+std::string header_comment(const MeasurementPart& part, std::string_view prefix,
+                           std::string_view stop) {
+  const MeasurementProgramRequest& r = part.request;
+  const size_t per_file = static_cast<size_t>(
+      r.max_configs_per_file > 0 ? r.max_configs_per_file : program_size_limit(r.language));
+  const size_t first = static_cast<size_t>(part.part - 1) * per_file;
+  return fmt::format(
+      "{0} robcal measurement program, part {1} of {2}: configurations {3}-{4} of {5}.\n"
+      "{0} Each configuration is approached from q - {6:g} deg on every joint (backlash,\n"
+      "{0} METHOD 6), {7}, then the arm settles {8:g} s.\n",
+      prefix, part.part, part.parts, first + 1, first + part.visits.size(), r.joints.size(),
+      r.approach_deg, stop, r.settle_s);
+}
+
+double read_number(std::string_view text, size_t& at, const std::string& file, int line,
+                   size_t line_start) {
+  const size_t begin = at;
+  size_t end = at;
+  if (end < text.size() && (text[end] == '-' || text[end] == '+')) ++end;
+  while (end < text.size()) {
+    const char c = text[end];
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' ||
+        ((c == '+' || c == '-') && (text[end - 1] == 'e' || text[end - 1] == 'E')))
+      ++end;
+    else
+      break;
+  }
+  const SourceLocation where{file, line, static_cast<int>(begin - line_start) + 1, ""};
+  std::string_view literal = text.substr(begin, end - begin);
+  if (!literal.empty() && literal[0] == '+') literal.remove_prefix(1);
+  double value = 0;
+  const auto [ptr, ec] = std::from_chars(literal.data(), literal.data() + literal.size(), value);
+  if (literal.empty() || ec == std::errc::invalid_argument)
+    throw InputError(where, fmt::format("expected a number, found '{}'",
+                                        text.substr(begin, std::min<size_t>(end - begin + 1, 20))));
+  if (ec == std::errc::result_out_of_range)
+    throw InputError(where, fmt::format("number '{}' is out of range", literal));
+  if (ptr != literal.data() + literal.size() || !std::isfinite(value))
+    throw InputError(where, fmt::format("malformed number '{}'", literal));
+  at = end;
+  return value;
+}
+
+}  // namespace detail
+}  // namespace robcal

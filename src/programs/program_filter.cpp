@@ -1,0 +1,351 @@
+#include "robcal/programs/program_filter.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include "program_scan.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/kinematics/orientation.hpp"
+
+namespace robcal {
+namespace {
+
+using detail::NumberField;
+using detail::PointSite;
+
+detail::ProgramScan scan(std::string_view text, ProgramLanguage language, const std::string& file,
+                         const ProgramFilterOptions& options) {
+  switch (language) {
+    case ProgramLanguage::Rapid:
+      return detail::scan_rapid(text, file, options);
+    case ProgramLanguage::Krl:
+      return detail::scan_krl(text, file, options);
+    case ProgramLanguage::FanucLs:
+      return detail::scan_ls(text, file, options);
+    case ProgramLanguage::UrScript:
+      return detail::scan_urscript(text, file);
+    default:
+      throw InputError(SourceLocation{file, 0, 0, ""},
+                       fmt::format("program filtering reads ABB RAPID, KUKA KRL, Fanuc LS and "
+                                   "URScript; {} programs are not filtered yet",
+                                   program_language_name(language)));
+  }
+}
+
+/// Collects the replacements of one program and applies them in text order (a point's
+/// fields are not in text order: KRL writes `{S 6,T 27,X ...}` as readily as `{X ...}`).
+/// Each call returns the value the field will read back as.
+class Rewriter {
+ public:
+  explicit Rewriter(std::string_view text) : text_(text) {}
+
+  /// Replaces a number with `value` printed with `decimals`, unless the printed value equals
+  /// the written one (then the original bytes stay). `reference` is the written value as read
+  /// (a normalised quaternion differs from its text).
+  double number(const NumberField& field, double value, int decimals, double reference) {
+    const double half_unit = 0.5 * std::pow(10.0, -decimals);
+    if (std::abs(value - reference) < half_unit) return field.value;
+    std::string printed = fmt::format("{:.{}f}", value, decimals);
+    if (printed.find_first_not_of("-0.") == std::string::npos)
+      printed = printed.substr(printed[0] == '-');
+    double read_back = 0;
+    std::from_chars(printed.data(), printed.data() + printed.size(), read_back);
+    edits_.push_back({field.begin, field.end, std::move(printed)});
+    return read_back;
+  }
+  double number(const NumberField& field, double value, int decimals) {
+    return number(field, value, decimals, field.value);
+  }
+
+  double integer(const NumberField& field, int value) {
+    if (value == static_cast<int>(field.value)) return field.value;
+    std::string printed;
+    if (field.binary_digits > 0) {
+      // KRL bit literal: keep its width ('B010' stays three digits).
+      for (int bit = std::max(field.binary_digits,
+                              static_cast<int>(std::bit_width(static_cast<unsigned>(value)))) -
+                     1;
+           bit >= 0; --bit)
+        printed += (value >> bit) & 1 ? '1' : '0';
+      printed = "'B" + printed + "'";
+    } else {
+      printed = std::to_string(value);
+    }
+    edits_.push_back({field.begin, field.end, std::move(printed)});
+    return value;
+  }
+
+  std::string apply() {
+    std::sort(edits_.begin(), edits_.end(),
+              [](const Edit& a, const Edit& b) { return a.begin < b.begin; });
+    std::string out;
+    out.reserve(text_.size() + edits_.size() * 4);
+    size_t at = 0;
+    for (const Edit& e : edits_) {
+      // Two edits of one byte range would mean the scanner reported a number twice.
+      if (e.begin < at) throw std::logic_error("program filter: overlapping edits");
+      out.append(text_.substr(at, e.begin - at));
+      out.append(e.text);
+      at = e.end;
+    }
+    out.append(text_.substr(at));
+    return out;
+  }
+
+ private:
+  struct Edit {
+    size_t begin, end;
+    std::string text;
+  };
+  std::string_view text_;
+  std::vector<Edit> edits_;
+};
+
+/// Nearest equivalent of an angle (deg) to the angle written before: keeps ±180° wraps stable.
+double near_written(double angle_deg, double written_deg) {
+  return angle_deg + 360.0 * std::round((written_deg - angle_deg) / 360.0);
+}
+
+/// Rewrites one point; returns the values its fields will read back as.
+std::vector<double> rewrite(Rewriter& out, const PointSite& site, const CorrectedPoint& corrected,
+                            ProgramLanguage language, const ProgramFilterOptions& options) {
+  const auto& f = site.fields;
+  std::vector<double> expected;
+  for (const NumberField& field : f) expected.push_back(field.value);
+  if (site.point.is_joint_target) {
+    for (int k = 0; k < kJointCount; ++k)
+      expected[k] = out.number(f[k], corrected.joints_deg[k], options.angle_decimals);
+    return expected;
+  }
+  if (language == ProgramLanguage::UrScript) {
+    // Metres and a rotation vector (rad), printed to the same resolution as mm and degrees;
+    // of the two vectors of one rotation (θ·u and (θ − 2π)·u), the one nearer the written.
+    for (int k = 0; k < 3; ++k)
+      expected[k] =
+          out.number(f[k], corrected.base_T_tcp.p[k] / 1000, options.position_decimals + 3);
+    const Eigen::AngleAxisd aa(corrected.base_T_tcp.R);
+    const Eigen::Vector3d written(f[3].value, f[4].value, f[5].value);
+    Eigen::Vector3d r = aa.angle() * aa.axis();
+    const Eigen::Vector3d other = (aa.angle() - 2 * std::numbers::pi) * aa.axis();
+    if ((other - written).norm() < (r - written).norm()) r = other;
+    for (int k = 0; k < 3; ++k)
+      expected[3 + k] = out.number(f[3 + k], r[k], options.angle_decimals + 3);
+    return expected;
+  }
+  for (int k = 0; k < 3; ++k)
+    expected[k] = out.number(f[k], corrected.base_T_tcp.p[k], options.position_decimals);
+  if (language == ProgramLanguage::Rapid) {
+    Eigen::Quaterniond q(corrected.base_T_tcp.R);
+    // Same hemisphere as the written quaternion, so an unchanged rotation prints unchanged.
+    const Eigen::Vector4d written =
+        Eigen::Vector4d(f[3].value, f[4].value, f[5].value, f[6].value).normalized();
+    if (Eigen::Vector4d(q.w(), q.x(), q.y(), q.z()).dot(written) < 0) q.coeffs() *= -1;
+    const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
+    for (int k = 0; k < 4; ++k)
+      expected[3 + k] = out.number(f[3 + k], wxyz[k], options.quaternion_decimals, written[k]);
+  } else {
+    // KRL (A, B, C) and Fanuc (W, P, R) = (C, B, A): R = Rz(A)·Ry(B)·Rx(C).
+    Eigen::Vector3d abc = euler_angles_deg(corrected.base_T_tcp.R, EulerConvention::ZyxABC);
+    if (language == ProgramLanguage::FanucLs) abc = abc.reverse().eval();
+    for (int k = 0; k < 3; ++k)
+      expected[3 + k] =
+          out.number(f[3 + k], near_written(abc[k], f[3 + k].value), options.angle_decimals);
+  }
+  // Fanuc CONFIG is letters and turns, kept as written (filter_program checks it still holds).
+  if (!corrected.config.empty() && language != ProgramLanguage::FanucLs) {
+    const size_t first = language == ProgramLanguage::Rapid ? 7 : 6;
+    for (size_t k = 0; k < corrected.config.size() && first + k < f.size(); ++k)
+      expected[first + k] = out.integer(f[first + k], corrected.config[k]);
+  }
+  return expected;
+}
+
+/// The rewritten text must parse to the same program: the same points at the same places,
+/// each field holding exactly the value written into it (issue 21: a rewrite that corrupts
+/// the text must never reach the disk).
+void check_reparse(std::string_view text, const std::vector<PointSite>& before,
+                   const std::vector<std::vector<double>>& expected, ProgramLanguage language,
+                   const std::string& file, const ProgramFilterOptions& options) {
+  const std::vector<PointSite> after = scan(text, language, file, options).sites;
+  const auto fail = [&](const ProgramPoint& p, const std::string& what) {
+    throw std::logic_error(fmt::format(
+        "{}:{}:{}: the corrected program does not read back as written ({}); nothing written", file,
+        p.line, p.column, what));
+  };
+  if (after.size() != before.size())
+    fail(before.empty() ? ProgramPoint{} : before.back().point,
+         fmt::format("{} points instead of {}", after.size(), before.size()));
+  for (size_t i = 0; i < before.size(); ++i) {
+    const ProgramPoint& a = before[i].point;
+    const ProgramPoint& b = after[i].point;
+    // Columns move when an earlier number on the same line is rewritten longer or shorter.
+    if (a.line != b.line || a.name != b.name || a.is_joint_target != b.is_joint_target ||
+        after[i].fields.size() != expected[i].size())
+      fail(a, "another point at this place");
+    for (size_t k = 0; k < expected[i].size(); ++k)
+      if (after[i].fields[k].value != expected[i][k])
+        fail(a, fmt::format("field {} reads {} instead of {}", k + 1, after[i].fields[k].value,
+                            expected[i][k]));
+  }
+}
+
+/// The program's own tool or frame definitions merged with the user's (upper-case names);
+/// a name defined in both with other values is refused.
+std::map<std::string, Pose<double>> definitions(const std::map<std::string, Pose<double>>& program,
+                                                const std::map<std::string, Pose<double>>& given,
+                                                const char* what, const std::string& file) {
+  std::map<std::string, Pose<double>> out = program;
+  for (const auto& [name, pose] : given) {
+    const auto [it, added] = out.emplace(detail::upper(name), pose);
+    if (!added && ((it->second.p - pose.p).norm() > 1e-3 || (it->second.R - pose.R).norm() > 1e-6))
+      throw InputError(SourceLocation{file, 0, 0, name},
+                       fmt::format("{} '{}' is defined in the program and in the frames file with "
+                                   "other values",
+                                   what, name));
+  }
+  return out;
+}
+
+/// How each language names its tools and frames, and which names are the flange and the base
+/// frame: RAPID tool0 / wobj0, KRL tool 0 / base 0 ($ROBROOT taken as the world, a robot not
+/// on a track), Fanuc UT[0] (faceplate) / UF[0] (world = robot base).
+struct Naming {
+  const char* flange;
+  const char* base_frame;
+  const char* frame_kind;
+};
+const Naming& naming(ProgramLanguage language) {
+  static const Naming kRapid{"TOOL0", "WOBJ0", "work object"};
+  static const Naming kKrl{"TOOL_DATA[0]", "BASE_DATA[0]", "base"};
+  static const Naming kLs{"UT[0]", "UF[0]", "user frame"};
+  static const Naming kUr{"", "", "frame"};  // no frames; no set_tcp: the installation's TCP
+  return language == ProgramLanguage::Rapid     ? kRapid
+         : language == ProgramLanguage::Krl     ? kKrl
+         : language == ProgramLanguage::FanucLs ? kLs
+                                                : kUr;
+}
+
+/// The pose of a named tool or frame; empty and `identity_name` (tool0, wobj0) are identity.
+Pose<double> resolve(const std::map<std::string, Pose<double>>& known, const std::string& name,
+                     const char* identity_name, const char* what, const SourceLocation& where) {
+  if (name.empty() || name == identity_name) return Pose<double>{};
+  const auto it = known.find(name);
+  if (it == known.end())
+    throw InputError(where, fmt::format("unknown {} '{}': the program does not define it with "
+                                        "literal values; give it in a frames file",
+                                        what, name));
+  return it->second;
+}
+
+}  // namespace
+
+std::vector<ProgramPoint> read_program_points(std::string_view text, ProgramLanguage language,
+                                              const std::string& file,
+                                              const ProgramFilterOptions& options) {
+  std::vector<ProgramPoint> points;
+  for (PointSite& site : scan(text, language, file, options).sites)
+    points.push_back(std::move(site.point));
+  return points;
+}
+
+ProgramFilterResult filter_program(std::string_view text, ProgramLanguage language,
+                                   const std::string& file, const ProgramFilterOptions& options,
+                                   const PointCorrector& corrector) {
+  const detail::ProgramScan scanned = scan(text, language, file, options);
+  const auto tools = definitions(scanned.tools, options.tools, "tool", file);
+  const auto frames = definitions(scanned.frames, options.frames, "frame", file);
+  Rewriter out(text);
+  ProgramFilterResult result;
+  result.confidence_csv = "line,column,name,confidence95_mm\n";
+  std::vector<std::vector<double>> expected;
+  expected.reserve(scanned.sites.size());
+  for (const PointSite& site : scanned.sites) {
+    const SourceLocation where{file, site.point.line, site.point.column, site.point.name};
+    // The corrector works in the base frame with the active tool.
+    ProgramPoint point = site.point;
+    const Naming& names = naming(language);
+    const Pose<double> base_T_frame =
+        resolve(frames, point.frame, names.base_frame, names.frame_kind, where);
+    if (!point.tool.empty())
+      point.flange_T_tcp = resolve(tools, point.tool, names.flange, "tool", where);
+    point.base_T_tcp = base_T_frame * point.base_T_tcp;
+    CorrectedPoint corrected = corrector(point);
+    if (corrected.failure.empty() && language == ProgramLanguage::FanucLs &&
+        !corrected.config.empty() && corrected.config != point.config)
+      corrected.failure = fmt::format(
+          "the corrected target needs CONFIG [{}], not the written [{}] (flip, down, back, "
+          "turns): rewrite the CONFIG by hand",
+          fmt::join(corrected.config, ","), fmt::join(point.config, ","));
+    if (corrected.failure.empty() &&
+        (!corrected.base_T_tcp.p.allFinite() || !corrected.base_T_tcp.R.allFinite() ||
+         !corrected.joints_deg.allFinite()))
+      corrected.failure = "the corrected point is not finite (NaN or infinite)";
+    if (!corrected.failure.empty()) {
+      if (!options.keep_going) throw InputError(where, corrected.failure);
+      result.uncorrected.push_back({where.describe(), corrected.failure});
+      std::vector<double> unchanged;
+      for (const NumberField& f : site.fields) unchanged.push_back(f.value);
+      expected.push_back(std::move(unchanged));
+      continue;
+    }
+    if (point.tool.empty() && !point.is_joint_target &&
+        (language == ProgramLanguage::Rapid || language == ProgramLanguage::Krl))
+      result.assumed.push_back(
+          {where.describe(),
+           language == ProgramLanguage::Rapid
+               ? "no Move instruction of this module uses it: corrected for the default tool "
+                 "in wobj0"
+               : "no FDAT or BAS(#TOOL/#BASE) / $TOOL / $BASE of this file names its tool and "
+                 "base: corrected for the default tool in the robot's base frame"});
+    corrected.base_T_tcp = base_T_frame.inverse() * corrected.base_T_tcp;
+    expected.push_back(rewrite(out, site, corrected, language, options));
+    ++(site.point.is_joint_target ? result.joint_points : result.cartesian_points);
+    result.confidence_csv += fmt::format(
+        "{},{},{},{}\n", site.point.line, site.point.column, site.point.name,
+        corrected.confidence95_mm ? fmt::format("{:.4f}", *corrected.confidence95_mm) : "");
+  }
+  result.text = out.apply();
+  check_reparse(result.text, scanned.sites, expected, language, file, options);
+  return result;
+}
+
+}  // namespace robcal
+
+namespace robcal {
+
+ProgramFilterResult filter_program_file(const std::string& in, const std::string& out,
+                                        const ProgramFilterOptions& options,
+                                        const PointCorrector& corrector,
+                                        const std::string& confidence_out) {
+  const ProgramLanguage language = program_language_from_path(in);
+  if (program_language_from_path(out) != language)
+    throw InputError({out, 0, 0, "--out"}, "the output must be the same kind of program as --in");
+  // Same path after resolving `..` and links, or the same file under another name.
+  const auto resolved = [](const std::string& path) {
+    std::error_code ec;
+    std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
+    return ec ? std::filesystem::path(path).lexically_normal() : p;
+  };
+  for (const std::string& o : {out, confidence_out}) {
+    std::error_code ec;
+    if (!o.empty() && (resolved(o) == resolved(in) || std::filesystem::equivalent(o, in, ec)))
+      throw InputError({o, 0, 0, o == out ? "--out" : "--confidence-out"},
+                       "the output is the input program: give a new file (the original is kept)");
+  }
+  const ProgramFilterResult result =
+      filter_program(read_text_file(in), language, in, options, corrector);
+  write_file_atomically(out, result.text);
+  if (!confidence_out.empty()) write_file_atomically(confidence_out, result.confidence_csv);
+  return result;
+}
+
+}  // namespace robcal

@@ -1,0 +1,503 @@
+// ABB RAPID: robtarget and jointtarget literals, declared or written inline.
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "measurement_writers.hpp"
+#include "program_scan.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+
+namespace robcal::detail {
+namespace {
+
+/// An aggregate `[a, b, ...]` read into a flat tree (node 0 the outer list): no recursion
+/// and no recursive destruction, however deep the input nests.
+struct AggregateNode {
+  Token first;  ///< `[` of a list, first token of an element
+  bool is_list = false;
+  std::vector<size_t> items;  ///< node indices
+  NumberField number;         ///< elements that are a (signed) number literal
+};
+using Aggregate = std::vector<AggregateNode>;
+
+/// RAPID arrays have at most three dimensions (`name{a,b,c}`).
+constexpr int kMaxArrayDimensions = 3;
+
+class RapidScanner {
+ public:
+  RapidScanner(std::string_view text, const std::string& file, const ProgramFilterOptions& options)
+      : lexer_(text, ProgramLanguage::Rapid, file), options_(options) {}
+
+  ProgramScan run() {
+    for (;;) {
+      const Token t = lexer_.next();
+      if (t.kind == TokenKind::End) break;
+      if (t.kind != TokenKind::Identifier) {
+        if (t.is('[')) inline_literal(t);
+        continue;
+      }
+      if (iequals(t.text, "CONST") || iequals(t.text, "PERS") || iequals(t.text, "VAR"))
+        declaration();
+      else if (const MoveSpec* spec = move_spec(t.text))
+        move_instruction(*spec);
+    }
+    assign_usages();
+    return {std::move(sites_), std::move(tools_), std::move(frames_)};
+  }
+
+ private:
+  // `CONST type name[{dims}] [:= value];` (also routine parameters, which have no value).
+  void declaration() {
+    const Token type = lexer_.next();
+    const Token name = lexer_.next();
+    if (type.kind != TokenKind::Identifier || name.kind != TokenKind::Identifier) return;
+    int dims = 0;
+    if (lexer_.peek().is('{')) {
+      dims = 1;
+      for (Token t = lexer_.next(); !t.is('}'); t = lexer_.next()) {
+        if (t.kind == TokenKind::End) refuse(lexer_.file(), name, "unterminated array size");
+        if (t.is(',')) ++dims;
+      }
+      if (dims > kMaxArrayDimensions)
+        refuse(lexer_.file(), name,
+               fmt::format("array '{}' has {} dimensions; RAPID allows at most {}", name.text, dims,
+                           kMaxArrayDimensions));
+    }
+    if (lexer_.peek().text != ":=") return;
+    lexer_.next();
+    const bool robtarget = iequals(type.text, "robtarget");
+    const bool jointtarget = options_.joints && iequals(type.text, "jointtarget");
+    if ((robtarget || jointtarget) && lexer_.peek().is('[')) {
+      const Aggregate value = aggregate(lexer_.next());
+      declared_value(value, 0, dims, std::string(name.text), jointtarget);
+      return;
+    }
+    const bool tooldata = iequals(type.text, "tooldata");
+    if ((tooldata || iequals(type.text, "wobjdata")) && dims == 0 && lexer_.peek().is('[')) {
+      const Aggregate value = aggregate(lexer_.next());
+      if (tooldata)
+        tool_value(value, name);
+      else
+        wobj_value(value, name);
+      return;
+    }
+    // Any other initialiser (another type, or a copy of another point) stays as written.
+    int depth = 0;
+    for (;;) {
+      const Token t = lexer_.peek();
+      if (t.kind == TokenKind::End || (depth == 0 && t.is(';'))) return;
+      if (t.is('[') || t.is('(')) ++depth;
+      if (t.is(']') || t.is(')')) --depth;
+      lexer_.next();
+    }
+  }
+
+  void declared_value(const Aggregate& tree, size_t node, int dims, const std::string& name,
+                      bool joint) {
+    const AggregateNode& value = tree[node];
+    if (dims == 0) {
+      if (joint ? !add_jointtarget(tree, node, name) : !add_robtarget(tree, node, name))
+        refuse(lexer_.file(), value.first,
+               fmt::format("'{}' is declared {} but its value is not a literal {}", name,
+                           joint ? "jointtarget" : "robtarget",
+                           joint ? "[[j1,...,j6],[e1,...,e6]]"
+                                 : "[[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[e1,...,e6]]"));
+      return;
+    }
+    if (!value.is_list)
+      refuse(lexer_.file(), value.first, fmt::format("array '{}': expected an aggregate", name));
+    // Recursion bounded by kMaxArrayDimensions.
+    for (size_t i = 0; i < value.items.size(); ++i)
+      declared_value(tree, value.items[i], dims - 1, fmt::format("{}{{{}}}", name, i + 1), joint);
+  }
+
+  // A robtarget or jointtarget written in an instruction (MoveL [[...]], ...; MoveAbsJ).
+  void inline_literal(const Token& open) {
+    const Aggregate value = aggregate(open);
+    if (looks_like(value, 0, {3, 4, 4, 6})) {
+      if (!add_robtarget(value, 0, "")) not_literal(value, "robtarget");
+    } else if (options_.joints && looks_like(value, 0, {6, 6})) {
+      if (!add_jointtarget(value, 0, "")) not_literal(value, "jointtarget");
+    }
+  }
+
+  // tooldata [robhold, [[x,y,z],[q1..q4]], loaddata]: the TCP in the flange frame.
+  void tool_value(const Aggregate& tree, const Token& name) {
+    const auto& it = tree[0].items;
+    if (it.size() != 3) return;  // not a literal: the frames file must give it
+    if (!tree[it[0]].is_list && iequals(tree[it[0]].first.text, "FALSE"))
+      refuse(lexer_.file(), name,
+             fmt::format("tool '{}' is stationary (robhold FALSE): targets of a stationary "
+                         "tool are not corrected",
+                         name.text));
+    if (const auto pose = literal_pose(tree, it[1])) tools_[upper(name.text)] = *pose;
+  }
+
+  // wobjdata [robhold, ufprog, ufmec, uframe, oframe]: targets are relative to the object
+  // frame, which sits at uframe · oframe in the base frame.
+  void wobj_value(const Aggregate& tree, const Token& name) {
+    const auto& it = tree[0].items;
+    if (it.size() != 5) return;
+    const auto word = [&](size_t k) { return tree[it[k]].first.text; };
+    if (!tree[it[0]].is_list && iequals(word(0), "TRUE"))
+      refuse(lexer_.file(), name,
+             fmt::format("work object '{}' is held by the robot (robhold TRUE, stationary "
+                         "tool): its targets are not corrected",
+                         name.text));
+    if (!tree[it[1]].is_list && iequals(word(1), "FALSE"))
+      refuse(lexer_.file(), name,
+             fmt::format("work object '{}' is moved by a mechanical unit (ufprog FALSE): its "
+                         "frame is not fixed, its targets are not corrected",
+                         name.text));
+    const auto user = literal_pose(tree, it[3]);
+    const auto object = literal_pose(tree, it[4]);
+    if (user && object) frames_[upper(name.text)] = *user * *object;
+  }
+
+  // [[x,y,z],[q1,q2,q3,q4]] (pose data); nullopt when not a literal.
+  std::optional<Pose<double>> literal_pose(const Aggregate& tree, size_t node) {
+    if (!looks_like(tree, node, {3, 4})) return std::nullopt;
+    const std::vector<NumberField> p = numbers(tree, tree[node].items[0]);
+    const std::vector<NumberField> q = numbers(tree, tree[node].items[1]);
+    if (p.empty() || q.empty()) return std::nullopt;
+    const Eigen::Quaterniond quat(q[0].value, q[1].value, q[2].value, q[3].value);
+    if (std::abs(quat.norm() - 1.0) > 1e-3)
+      refuse(lexer_.file(), tree[tree[node].items[1]].first,
+             fmt::format("quaternion of norm {:.6f}: expected a unit quaternion", quat.norm()));
+    Pose<double> pose;
+    pose.p << p[0].value, p[1].value, p[2].value;
+    pose.R = quat.normalized().toRotationMatrix();
+    return pose;
+  }
+
+  /// A motion instruction: which positional arguments are targets, which is the tool.
+  struct MoveSpec {
+    const char* name;
+    std::array<int, 2> targets;  ///< -1: none
+    size_t tool;
+  };
+  static const MoveSpec* move_spec(std::string_view word) {
+    static const MoveSpec kSpecs[] = {
+        {"MoveL", {0, -1}, 3},     {"MoveJ", {0, -1}, 3},   {"MoveAbsJ", {0, -1}, 3},
+        {"MoveLDO", {0, -1}, 3},   {"MoveJDO", {0, -1}, 3}, {"MoveLSync", {0, -1}, 3},
+        {"MoveJSync", {0, -1}, 3}, {"MoveC", {0, 1}, 4},    {"MoveCDO", {0, 1}, 4},
+        {"MoveCSync", {0, 1}, 4},  {"TriggL", {0, -1}, 4},  {"TriggJ", {0, -1}, 4},
+        {"TriggC", {0, 1}, 5},     {"SearchL", {2, -1}, 4}, {"SearchC", {2, 3}, 5},
+    };
+    for (const MoveSpec& s : kSpecs)
+      if (iequals(word, s.name)) return &s;
+    return nullptr;
+  }
+
+  // `MoveL ToPoint, Speed, Zone, Tool [\WObj:=wobj];`: the points written inline in it take
+  // its tool and work object; the names in its target arguments are recorded for their
+  // declarations (assign_usages).
+  void move_instruction(const MoveSpec& spec) {
+    const size_t first_site = sites_.size();
+    const int line = lexer_.peek().line;
+    std::vector<std::vector<std::string>> names;  // identifiers of each positional argument
+    std::vector<std::string> leading;             // its first token, upper case
+    std::string wobj;
+    bool piece_start = true;
+    int depth = 0;
+    for (;;) {
+      const Token t = lexer_.peek();
+      if (t.kind == TokenKind::End) break;
+      if (depth == 0 && t.is(';')) {
+        lexer_.next();
+        break;
+      }
+      if (piece_start && !t.is('\\') && !t.is(',')) {
+        names.emplace_back();
+        leading.push_back(t.kind == TokenKind::Identifier ? upper(t.text) : "");
+        piece_start = false;
+      }
+      if (t.is('[')) {
+        inline_literal(lexer_.next());
+        continue;
+      }
+      lexer_.next();
+      if (depth == 0 && t.is(',')) {
+        piece_start = true;
+      } else if (depth == 0 && t.is('\\')) {
+        // \Name or \Name:=value: an optional argument, never a positional one.
+        const Token option = lexer_.next();
+        if (lexer_.peek().text == ":=") {
+          lexer_.next();
+          const Token value = lexer_.peek();
+          if (iequals(option.text, "WObj") && value.kind == TokenKind::Identifier)
+            wobj = value.text;
+          skip_value();
+        }
+      } else {
+        if (t.is('(') || t.is('{')) ++depth;
+        if (t.is(')') || t.is('}')) --depth;
+        if (t.kind == TokenKind::Identifier && !names.empty())
+          names.back().push_back(upper(t.text));
+      }
+    }
+    const std::string tool = spec.tool < leading.size() ? leading[spec.tool] : "";
+    for (size_t i = first_site; i < sites_.size(); ++i) {
+      sites_[i].point.tool = tool;
+      sites_[i].point.frame = upper(wobj);
+    }
+    for (int k : spec.targets)
+      if (k >= 0 && static_cast<size_t>(k) < names.size())
+        for (const std::string& name : names[static_cast<size_t>(k)])
+          usages_[name].push_back({tool, upper(wobj), line});
+  }
+
+  // The value of an optional argument: up to the next ',' ';' or '\' outside brackets.
+  void skip_value() {
+    int depth = 0;
+    for (;;) {
+      const Token& t = lexer_.peek();
+      if (t.kind == TokenKind::End) return;
+      if (depth == 0 && (t.is(',') || t.is(';') || t.is('\\'))) return;
+      if (t.is('(') || t.is('[') || t.is('{')) ++depth;
+      if (t.is(')') || t.is(']') || t.is('}')) --depth;
+      lexer_.next();
+    }
+  }
+
+  // Declared targets take the tool and work object of the instructions that use them; one
+  // value cannot be corrected for two of them.
+  void assign_usages() {
+    const auto label = [](const std::string& name, const char* none) {
+      return name.empty() ? std::string(none) : name;
+    };
+    for (PointSite& site : sites_) {
+      if (site.point.name.empty()) continue;
+      const std::string base = upper(site.point.name.substr(0, site.point.name.find('{')));
+      const auto found = usages_.find(base);
+      if (found == usages_.end()) continue;
+      const Usage& first = found->second.front();
+      for (const Usage& u : found->second)
+        if (u.tool != first.tool || u.frame != first.frame)
+          throw InputError(
+              SourceLocation{lexer_.file(), site.point.line, site.point.column, site.point.name},
+              fmt::format("used with tool {} and work object {} (line {}) and with tool {} and "
+                          "work object {} (line {}): one corrected value cannot serve both; give "
+                          "each use its own target",
+                          label(first.tool, "?"), label(first.frame, "WOBJ0"), first.line,
+                          label(u.tool, "?"), label(u.frame, "WOBJ0"), u.line));
+      site.point.tool = first.tool;
+      site.point.frame = first.frame;
+    }
+  }
+
+  [[noreturn]] void not_literal(const Aggregate& value, const char* what) {
+    refuse(lexer_.file(), value[0].first,
+           fmt::format("{} whose elements are not all number literals", what));
+  }
+
+  // The shape of a literal: a list of lists with these lengths.
+  static bool looks_like(const Aggregate& tree, size_t node, std::initializer_list<size_t> sizes) {
+    const AggregateNode& value = tree[node];
+    if (!value.is_list || value.items.size() != sizes.size()) return false;
+    size_t i = 0;
+    for (size_t size : sizes) {
+      const AggregateNode& item = tree[value.items[i++]];
+      if (!item.is_list || item.items.size() != size) return false;
+    }
+    return true;
+  }
+
+  // The numbers of list `node`'s items, or an empty vector when one is not a number literal.
+  static std::vector<NumberField> numbers(const Aggregate& tree, size_t node) {
+    std::vector<NumberField> out;
+    for (size_t item : tree[node].items) {
+      if (tree[item].is_list || !tree[item].number.present) return {};
+      out.push_back(tree[item].number);
+    }
+    return out;
+  }
+
+  bool add_robtarget(const Aggregate& tree, size_t node, const std::string& name) {
+    if (!looks_like(tree, node, {3, 4, 4, 6})) return false;
+    const auto& it = tree[node].items;
+    PointSite site;
+    for (int part = 0; part < 3; ++part) {
+      const std::vector<NumberField> values = numbers(tree, it[part]);
+      if (values.empty()) return false;
+      site.fields.insert(site.fields.end(), values.begin(), values.end());
+    }
+    site.point.name = name;
+    site.point.line = tree[node].first.line;
+    site.point.column = tree[node].first.column;
+    site.point.base_T_tcp.p << site.fields[0].value, site.fields[1].value, site.fields[2].value;
+    Eigen::Quaterniond q(site.fields[3].value, site.fields[4].value, site.fields[5].value,
+                         site.fields[6].value);
+    // The controller wants unit quaternions; programs print 5-6 decimals, hence 1e-3.
+    if (std::abs(q.norm() - 1.0) > 1e-3)
+      refuse(lexer_.file(), tree[it[1]].first,
+             fmt::format("quaternion [{},{},{},{}] is not a unit quaternion (norm {:.6f})", q.w(),
+                         q.x(), q.y(), q.z(), q.norm()));
+    site.point.base_T_tcp.R = q.normalized().toRotationMatrix();
+    for (int k = 0; k < 4; ++k) {
+      const double cf = site.fields[7 + k].value;
+      if (cf != std::round(cf) || std::abs(cf) > 1e6)
+        refuse(lexer_.file(), tree[tree[it[2]].items[k]].first,
+               "configuration values must be integers");
+      site.point.config.push_back(static_cast<int>(cf));
+    }
+    sites_.push_back(std::move(site));
+    return true;
+  }
+
+  bool add_jointtarget(const Aggregate& tree, size_t node, const std::string& name) {
+    if (!looks_like(tree, node, {6, 6})) return false;
+    PointSite site;
+    site.fields = numbers(tree, tree[node].items[0]);
+    if (site.fields.empty()) return false;
+    site.point.is_joint_target = true;
+    site.point.name = name;
+    site.point.line = tree[node].first.line;
+    site.point.column = tree[node].first.column;
+    for (int k = 0; k < 6; ++k) site.point.joints_deg[k] = site.fields[k].value;
+    sites_.push_back(std::move(site));
+    return true;
+  }
+
+  // Reads `[ item, item, ... ]` after its `[`; items are aggregates or token runs. Iterative:
+  // the stack of open lists is a vector, so 30,000 nested `[` cost memory, not the call stack.
+  Aggregate aggregate(const Token& open) {
+    Aggregate tree;
+    tree.push_back({open, true, {}, {}});
+    std::vector<size_t> open_lists{0};
+    bool just_opened = true;
+    while (!open_lists.empty()) {
+      if (!(just_opened && lexer_.peek().is(']'))) {
+        const size_t item = tree.size();
+        if (lexer_.peek().is('[')) {
+          tree.push_back({lexer_.next(), true, {}, {}});
+          tree[open_lists.back()].items.push_back(item);
+          open_lists.push_back(item);
+          just_opened = true;
+          continue;
+        }
+        tree.push_back(element());
+        tree[open_lists.back()].items.push_back(item);
+      }
+      // After an item: `,` starts the next one, `]` closes this list (and maybe the parents).
+      just_opened = false;
+      for (;;) {
+        const Token t = lexer_.next();
+        if (t.is(',')) break;
+        if (!t.is(']'))
+          refuse(lexer_.file(), t.kind == TokenKind::End ? tree[open_lists.back()].first : t,
+                 t.kind == TokenKind::End ? "aggregate '[' never closed"
+                                          : fmt::format("expected ',' or ']', found '{}'", t.text));
+        open_lists.pop_back();
+        if (open_lists.empty()) break;
+      }
+    }
+    return tree;
+  }
+
+  AggregateNode element() {
+    const Token first = lexer_.peek();
+    AggregateNode out;
+    out.first = first;
+    // A number literal, possibly signed; anything else is an expression kept as written.
+    size_t k = 0;
+    if (first.is('-') || first.is('+')) k = 1;
+    const Token& number = lexer_.peek(k);
+    const Token& after = lexer_.peek(k + 1);
+    if (number.kind == TokenKind::Number && (after.is(',') || after.is(']'))) {
+      out.number.present = true;
+      out.number.begin = first.offset;
+      out.number.end = number.offset + number.text.size();
+      out.number.value = (first.is('-') ? -1.0 : 1.0) * number_value(lexer_.file(), number);
+      for (size_t i = 0; i <= k; ++i) lexer_.next();
+      return out;
+    }
+    int depth = 0;
+    for (;;) {
+      const Token& t = lexer_.peek();
+      if (t.kind == TokenKind::End) refuse(lexer_.file(), first, "aggregate never closed");
+      if (depth == 0 && (t.is(',') || t.is(']') || t.is(';'))) return out;
+      if (t.is('(') || t.is('[') || t.is('{')) ++depth;
+      if (t.is(')') || t.is(']') || t.is('}')) --depth;
+      lexer_.next();
+    }
+  }
+
+  struct Usage {
+    std::string tool, frame;
+    int line = 0;
+  };
+
+  ProgramLexer lexer_;
+  const ProgramFilterOptions& options_;
+  std::vector<PointSite> sites_;
+  std::map<std::string, Pose<double>> tools_, frames_;
+  std::map<std::string, std::vector<Usage>> usages_;  ///< by upper-case target name
+};
+
+}  // namespace
+
+ProgramScan scan_rapid(std::string_view text, const std::string& file,
+                       const ProgramFilterOptions& options) {
+  return RapidScanner(text, file, options).run();
+}
+
+}  // namespace robcal::detail
+
+// Measurement programs in RAPID. Grammar constraints relied on: module and routine names are
+// identifiers of at most 32 characters (a letter, then letters, digits, '_'); a string
+// literal holds at most 80 characters (TPWrite); comments run from '!' to the end of the
+// line; `num` is a 32-bit float on the controller, so 6 decimals of a joint in degrees are
+// more than it keeps (the text carries them so that the plan reads back exactly). Signals
+// named in WaitDI / PulseDO must be defined in the controller's I/O configuration.
+namespace robcal::detail {
+
+std::string write_rapid_measurement(const MeasurementPart& part) {
+  const MeasurementProgramRequest& r = part.request;
+  const auto joints = [](const Vector6d& q) {
+    return fmt::format(
+        "[[{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}],"
+        "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]]",
+        q[0], q[1], q[2], q[3], q[4], q[5]);
+  };
+  std::string out = fmt::format("MODULE {}\n", part.program) +
+                    header_comment(part, "    !", "reached at a fine point") +
+                    fmt::format("    PROC {}_run()\n        VelSet {:g}, 5000;\n", part.program,
+                                r.joint_speed_percent);
+  for (const Visit& v : part.visits) {
+    const Vector6d& q = v.target_deg;
+    out += fmt::format(
+        "        ! {} joints {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n"
+        "        MoveAbsJ {}\\NoEOffs, v1000, fine, tool0;\n"
+        "        MoveAbsJ {}\\NoEOffs, v1000, fine, tool0;\n"
+        "        WaitTime {:.2f};\n",
+        v.name, q[0], q[1], q[2], q[3], q[4], q[5], joints(v.approach_deg), joints(q), r.settle_s);
+    switch (r.hook) {
+      case MeasurementHook::WaitInput:
+        out += fmt::format("        WaitDI {}, 1;\n",
+                           r.rapid_signal.empty() ? "diRobcalMeasured" : r.rapid_signal);
+        break;
+      case MeasurementHook::PulseOutput:
+        out += fmt::format("        PulseDO \\PLength:=0.5, {};\n",
+                           r.rapid_signal.empty() ? "doRobcalMeasure" : r.rapid_signal);
+        break;
+      case MeasurementHook::LogLine:
+        // Two lines: each stays below the 80-character string limit.
+        out += fmt::format(
+            "        TPWrite \"robcal config {}\";\n"
+            "        TPWrite \"joints {:.3f} {:.3f} {:.3f} {:.3f} {:.3f} {:.3f}\";\n",
+            v.name, q[0], q[1], q[2], q[3], q[4], q[5]);
+        break;
+    }
+  }
+  return out + "    ENDPROC\nENDMODULE\n";
+}
+
+}  // namespace robcal::detail

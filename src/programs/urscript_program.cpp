@@ -1,0 +1,260 @@
+// Universal Robots URScript (.script): measurement programs and their joint moves read back.
+//
+// Grammar constraints relied on: a program is one `def name():` ... `end` block (names are
+// identifiers; indentation is not significant); joint positions are lists of six floats in
+// radians, `movej([q1, ..., q6], a=rad/s², v=rad/s)`, which stops at the target (r = 0:
+// no blend, a fine point); `#` comments run to the end of the line; textmsg(s1, s2) writes
+// to the controller's log. Floats are doubles: 10 decimals of a radian keep 1e-6° exactly.
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <numbers>
+
+#include <Eigen/Geometry>
+
+#include "measurement_writers.hpp"
+#include "program_scan.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+
+namespace robcal::detail {
+
+std::string write_urscript_measurement(const MeasurementPart& part) {
+  const MeasurementProgramRequest& r = part.request;
+  // The slowest joints of the UR arms reach π rad/s: the percentage is of that.
+  const double v = r.joint_speed_percent / 100.0 * std::numbers::pi;
+  const auto movej = [&](const Vector6d& q_deg) {
+    const Vector6d q = q_deg * kDegToRad;
+    return fmt::format(
+        "  movej([{:.10f}, {:.10f}, {:.10f}, {:.10f}, {:.10f}, {:.10f}], a=1.0, v={:.4f})\n", q[0],
+        q[1], q[2], q[3], q[4], q[5], v);
+  };
+  std::string out = fmt::format("def {}():\n", part.program) +
+                    header_comment(part, "  #", "reached without blending");
+  for (const Visit& visit : part.visits) {
+    const Vector6d& q = visit.target_deg;
+    out += fmt::format("  # {}\n", visit.name) + movej(visit.approach_deg) + movej(q) +
+           fmt::format("  sleep({:.2f})\n", r.settle_s);
+    switch (r.hook) {
+      case MeasurementHook::WaitInput:
+        out +=
+            fmt::format("  while not get_standard_digital_in({}):\n    sync()\n  end\n", r.signal);
+        break;
+      case MeasurementHook::PulseOutput:
+        out += fmt::format(
+            "  set_standard_digital_out({0}, True)\n  sleep(0.5)\n"
+            "  set_standard_digital_out({0}, False)\n",
+            r.signal);
+        break;
+      case MeasurementHook::LogLine:
+        out += fmt::format(
+            "  textmsg(\"robcal config {} joints \", \"{:.6f} {:.6f} {:.6f} {:.6f} {:.6f} "
+            "{:.6f}\")\n",
+            visit.name, q[0], q[1], q[2], q[3], q[4], q[5]);
+        break;
+    }
+  }
+  return out + "end\n";
+}
+
+std::vector<JointMove> read_urscript_joint_moves(const std::string& text, const std::string& file) {
+  std::vector<JointMove> moves;
+  int line = 1;
+  size_t line_start = 0;
+  for (size_t at = 0; at < text.size(); ++at) {
+    const char c = text[at];
+    if (c == '\n') {
+      ++line;
+      line_start = at + 1;
+    } else if (c == '#') {
+      while (at + 1 < text.size() && text[at + 1] != '\n') ++at;
+    } else if (c == '"') {
+      // A string (where "movej(" is text): skip to its closing quote, or stop at the line end.
+      const size_t close = text.find_first_of("\"\n", at + 1);
+      if (close == std::string::npos) break;
+      at = text[close] == '"' ? close : close - 1;
+    } else if (text.compare(at, 6, "movej(") == 0 &&
+               (at == 0 ||
+                !(std::isalnum(static_cast<unsigned char>(text[at - 1])) || text[at - 1] == '_'))) {
+      const auto fail = [&](size_t pos, const std::string& what) {
+        throw InputError(SourceLocation{file, line, static_cast<int>(pos - line_start) + 1, ""},
+                         what);
+      };
+      const auto skip_blanks = [&](size_t pos) {
+        while (pos < text.size() && (text[pos] == ' ' || text[pos] == '\t')) ++pos;
+        return pos;
+      };
+      size_t pos = skip_blanks(at + 6);
+      // movej(p[...]) is a pose (inverse kinematics on the controller), not a joint move.
+      if (text.compare(pos, 2, "p[") == 0) {
+        at = pos;
+        continue;
+      }
+      if (pos >= text.size() || text[pos] != '[')
+        fail(pos, "movej: expected a joint list [q1, ..., q6] in radians");
+      JointMove move;
+      move.line = line;
+      ++pos;
+      for (int j = 0; j < kJointCount; ++j) {
+        pos = skip_blanks(pos);
+        move.joints_deg[j] = rad2deg(read_number(text, pos, file, line, line_start));
+        pos = skip_blanks(pos);
+        const char want = j + 1 < kJointCount ? ',' : ']';
+        if (pos >= text.size() || text[pos] != want)
+          fail(pos, fmt::format("movej: expected '{}' after joint {}", want, j + 1));
+        ++pos;
+      }
+      moves.push_back(move);
+      at = pos - 1;
+    }
+  }
+  return moves;
+}
+
+}  // namespace robcal::detail
+
+// URScript filtering. Targets: a pose literal p[x, y, z, rx, ry, rz] (metres, rotation vector
+// in radians) that is the first argument of movel/movej/movep/movec (movec: the first two)
+// or the value of an assignment `name = p[...]`; the tool is the last set_tcp(p[...]) before
+// it (the flange before any). Pose literals elsewhere (pose_trans offsets, set_tcp itself) are
+// relative or tool data and stay as written. There are no user frames in the language: the
+// targets are in the robot's base frame.
+namespace robcal::detail {
+namespace {
+
+class UrScanner {
+ public:
+  UrScanner(std::string_view text, const std::string& file) : text_(text), file_(file) {}
+
+  ProgramScan run() {
+    for (at_ = 0; at_ < text_.size(); ++at_) {
+      const char c = text_[at_];
+      if (c == '\n') {
+        ++line_;
+        line_start_ = at_ + 1;
+      } else if (c == '#') {
+        while (at_ + 1 < text_.size() && text_[at_ + 1] != '\n') ++at_;
+      } else if (c == '"' || c == '\'') {
+        const size_t close = text_.find_first_of(c == '"' ? "\"\n" : "'\n", at_ + 1);
+        if (close == std::string_view::npos || text_[close] == '\n')
+          throw InputError(SourceLocation{file_, line_, column(at_), ""}, "unterminated string");
+        at_ = close;
+      } else if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+        word();
+      }
+    }
+    return std::move(out_);
+  }
+
+ private:
+  int column(size_t at) const { return static_cast<int>(at - line_start_) + 1; }
+
+  size_t skip_blanks(size_t at) const {
+    while (at < text_.size() && (text_[at] == ' ' || text_[at] == '\t')) ++at;
+    return at;
+  }
+
+  void word() {
+    const size_t begin = at_;
+    while (at_ < text_.size() &&
+           (std::isalnum(static_cast<unsigned char>(text_[at_])) || text_[at_] == '_'))
+      ++at_;
+    const std::string_view w = text_.substr(begin, at_ - begin);
+    const size_t next = skip_blanks(at_);
+    --at_;  // the loop's ++ lands on the character after the word
+    if (begin > 0 && text_[begin - 1] == '.') return;
+    if (w == "set_tcp" && text_.compare(next, 1, "(") == 0) {
+      const size_t open = skip_blanks(next + 1);
+      if (text_.compare(open, 2, "p[") != 0) {
+        tool_ = fmt::format("set_tcp at line {}", line_);  // not a literal: unknown
+        return;
+      }
+      NumberFields f = pose_literal(open);
+      tool_ = fmt::format("SET_TCP@{}", line_);
+      out_.tools[tool_] = pose_of(f);
+      at_ = f.back().end - 1;
+    } else if ((w == "movel" || w == "movej" || w == "movep" || w == "movec") &&
+               text_.compare(next, 1, "(") == 0) {
+      size_t arg = skip_blanks(next + 1);
+      for (int k = 0; k < (w == "movec" ? 2 : 1); ++k) {
+        if (text_.compare(arg, 2, "p[") != 0) return;  // a variable or joint list
+        const NumberFields f = pose_literal(arg);
+        add_target(f, "", arg);
+        arg = skip_blanks(f.back().end);
+        if (arg >= text_.size() || text_[arg] != ']') return;
+        arg = skip_blanks(arg + 1);
+        if (arg >= text_.size() || text_[arg] != ',') return;
+        arg = skip_blanks(arg + 1);
+        at_ = arg - 1;
+      }
+    } else if (text_.compare(next, 1, "=") == 0 && text_.compare(next, 2, "==") != 0) {
+      const size_t value = skip_blanks(next + 1);
+      if (text_.compare(value, 2, "p[") != 0) return;
+      const NumberFields f = pose_literal(value);
+      add_target(f, std::string(w), value);
+      at_ = f.back().end - 1;
+    }
+  }
+
+  using NumberFields = std::vector<NumberField>;
+
+  // p[x, y, z, rx, ry, rz] at `at`: six number literals, read whole.
+  NumberFields pose_literal(size_t at) {
+    NumberFields f;
+    size_t pos = at + 2;
+    for (int k = 0; k < 6; ++k) {
+      pos = skip_blanks(pos);
+      NumberField n;
+      n.present = true;
+      n.begin = pos;
+      n.value = read_number(text_, pos, file_, line_, line_start_);
+      n.end = pos;
+      f.push_back(n);
+      pos = skip_blanks(pos);
+      const char want = k < 5 ? ',' : ']';
+      if (pos >= text_.size() || text_[pos] != want)
+        throw InputError(
+            SourceLocation{file_, line_, column(pos), ""},
+            fmt::format("pose p[x, y, z, rx, ry, rz]: expected '{}' after value {}", want, k + 1));
+      ++pos;
+    }
+    return f;
+  }
+
+  static Pose<double> pose_of(const NumberFields& f) {
+    Pose<double> pose;
+    pose.p << 1000 * f[0].value, 1000 * f[1].value, 1000 * f[2].value;  // m → mm
+    const Eigen::Vector3d r(f[3].value, f[4].value, f[5].value);
+    pose.R = r.norm() > 0 ? Eigen::AngleAxisd(r.norm(), r.normalized()).toRotationMatrix()
+                          : Eigen::Matrix3d::Identity();
+    return pose;
+  }
+
+  void add_target(const NumberFields& f, const std::string& name, size_t at) {
+    PointSite site;
+    site.fields = f;
+    site.point.name = name;
+    site.point.line = line_;
+    site.point.column = column(at);
+    site.point.base_T_tcp = pose_of(f);
+    site.point.tool = tool_;
+    out_.sites.push_back(std::move(site));
+  }
+
+  std::string_view text_;
+  const std::string& file_;
+  size_t at_ = 0;
+  int line_ = 1;
+  size_t line_start_ = 0;
+  std::string tool_;  ///< "" = the flange (no set_tcp yet)
+  ProgramScan out_;
+};
+
+}  // namespace
+
+ProgramScan scan_urscript(std::string_view text, const std::string& file) {
+  return UrScanner(text, file).run();
+}
+
+}  // namespace robcal::detail

@@ -1,0 +1,345 @@
+// Program filtering with the tool and work object active at each instruction (issue 17
+// item 3): RAPID tooldata and \WObj read from the program or given by the user, a target used
+// with two tools refused, uncorrectable targets left as written under keep_going, and the
+// closed loop: the filtered program, executed by a nominal controller on the calibrated
+// (true) robot with its tool and work object, puts the tool where the original program meant.
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "robcal/compensate/corrected_targets.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/kinematics/orientation.hpp"
+#include "robcal/programs/program_filter.hpp"
+#include "test_compensate_support.hpp"
+
+namespace robcal {
+namespace {
+
+// tGun: TCP (10, 20, 150) turned 30° about y; wTable: uframe (1000, -200, 300) turned 90°
+// about z, oframe (10, 0, 5).
+const char* const kTool =
+    "[TRUE,[[10,20,150],[0.965925826,0,0.258819045,0]],"
+    "[1,[0,0,50],[1,0,0,0],0,0,0]]";
+const char* const kWobj =
+    "[FALSE,TRUE,\"\",[[1000,-200,300],[0.707106781,0,0,0.707106781]],"
+    "[[10,0,5],[1,0,0,0]]]";
+
+Pose<double> tool_pose() {
+  Pose<double> t;
+  t.p = Eigen::Vector3d(10, 20, 150);
+  t.R = Eigen::AngleAxisd(deg2rad(30), Eigen::Vector3d::UnitY()).toRotationMatrix();
+  return t;
+}
+Pose<double> frame_pose() {
+  Pose<double> f;
+  f.R = Eigen::AngleAxisd(deg2rad(90), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  f.p = Eigen::Vector3d(1000, -200, 300) + f.R * Eigen::Vector3d(10, 0, 5);
+  return f;
+}
+
+std::string robtarget(const Pose<double>& pose, const std::vector<int>& cf) {
+  const Eigen::Quaterniond q(pose.R);
+  return fmt::format(
+      "[[{:.6f},{:.6f},{:.6f}],[{:.9f},{:.9f},{:.9f},{:.9f}],[{},{},{},{}],"
+      "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]]",
+      pose.p.x(), pose.p.y(), pose.p.z(), q.w(), q.x(), q.y(), q.z(), cf[0], cf[1], cf[2], cf[3]);
+}
+
+TEST(ProgramFrames, CorrectorSeesTheActiveToolAndWorkObjectInTheBaseFrame) {
+  const std::string text = fmt::format(
+      "MODULE Cell\n"
+      "  PERS tooldata tGun:={};\n"
+      "  TASK PERS wobjdata wTable:={};\n"
+      "  CONST robtarget pA:=[[100,50,20],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n"
+      "  CONST robtarget pB:=[[400,0,500],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n"
+      "  PROC main()\n"
+      "    MoveJ pB, v100, z10, tool0;\n"
+      "    MoveL \\Conc, Offs(pA,0,0,10), v100\\V:=50, fine, tGun\\WObj:=wTable;\n"
+      "    MoveL pA, v100, fine, tGun \\WObj:=wTable;\n"
+      "    MoveL [[5,6,7],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v10, fine, "
+      "tGun\\WObj:=wTable;\n"
+      "  ENDPROC\n"
+      "ENDMODULE\n",
+      kTool, kWobj);
+  std::vector<ProgramPoint> seen;
+  const Eigen::Vector3d shift(1, 2, 3);
+  const auto result =
+      filter_program(text, ProgramLanguage::Rapid, "cell.mod", {}, [&](const ProgramPoint& p) {
+        seen.push_back(p);
+        CorrectedPoint c{p.base_T_tcp, p.config, p.joints_deg, ""};
+        c.base_T_tcp.p += shift;  // in the base frame
+        return c;
+      });
+  ASSERT_EQ(seen.size(), 3u);
+  const Pose<double> F = frame_pose(), T = tool_pose();
+  // pA: in wTable with tGun; pB: base frame, tool0 (the flange); the inline point: wTable.
+  EXPECT_EQ(seen[0].name, "pA");
+  EXPECT_EQ(seen[0].tool, "TGUN");
+  EXPECT_EQ(seen[0].frame, "WTABLE");
+  EXPECT_LT((seen[0].base_T_tcp.p - F * Eigen::Vector3d(100, 50, 20)).norm(), 1e-6);
+  ASSERT_TRUE(seen[0].flange_T_tcp.has_value());
+  EXPECT_LT((seen[0].flange_T_tcp->p - T.p).norm(), 1e-9);
+  EXPECT_LT((seen[0].flange_T_tcp->R - T.R).norm(), 1e-8);
+  EXPECT_EQ(seen[1].tool, "TOOL0");
+  EXPECT_LT((seen[1].base_T_tcp.p - Eigen::Vector3d(400, 0, 500)).norm(), 1e-12);
+  ASSERT_TRUE(seen[1].flange_T_tcp.has_value());
+  EXPECT_LT((seen[1].flange_T_tcp->p).norm(), 1e-12);
+  EXPECT_LT((seen[2].base_T_tcp.p - F * Eigen::Vector3d(5, 6, 7)).norm(), 1e-6);
+  // A base-frame shift (1, 2, 3) is (2, -1, 3) in wTable (turned 90° about z).
+  const auto points = read_program_points(result.text, ProgramLanguage::Rapid, "cell.mod");
+  EXPECT_LT((points[0].base_T_tcp.p - Eigen::Vector3d(102, 49, 23)).norm(), 1e-4);
+  EXPECT_LT((points[1].base_T_tcp.p - Eigen::Vector3d(401, 2, 503)).norm(), 1e-4);
+  EXPECT_LT((points[2].base_T_tcp.p - Eigen::Vector3d(7, 5, 10)).norm(), 1e-4);
+}
+
+std::string error_of(const std::string& text, const ProgramFilterOptions& options = {}) {
+  try {
+    filter_program(text, ProgramLanguage::Rapid, "cell.mod", options, [](const ProgramPoint& p) {
+      return CorrectedPoint{p.base_T_tcp, p.config, p.joints_deg, ""};
+    });
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ProgramFrames, ToolsAndFramesMustBeKnownAndUnambiguous) {
+  const std::string decl =
+      "  CONST robtarget pA:=[[100,50,20],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n";
+  EXPECT_EQ(error_of(decl + "  MoveL pA, v100, fine, tGun;\n  MoveL pA, v100, fine, tool0;\n"),
+            "cell.mod:1:23 (pA): used with tool TGUN and work object WOBJ0 (line 2) and with tool "
+            "TOOL0 and work object WOBJ0 (line 3): one corrected value cannot serve both; give "
+            "each use its own target");
+  EXPECT_EQ(error_of(decl + "  MoveL pA, v100, fine, tGun;\n"),
+            "cell.mod:1:23 (pA): unknown tool 'TGUN': the program does not define it with literal "
+            "values; give it in a frames file");
+  ProgramFilterOptions given;
+  given.tools["tgun"] = tool_pose();
+  EXPECT_EQ(error_of(decl + "  MoveL pA, v100, fine, tGun;\n", given), "");
+  // Defined in the program and given with another value.
+  given.tools["tgun"].p.x() += 1;
+  EXPECT_NE(error_of(fmt::format("  PERS tooldata tGun:={};\n", kTool) + decl +
+                         "  MoveL pA, v100, fine, tGun;\n",
+                     given)
+                .find("tool 'tgun' is defined in the program and in the frames file with other "
+                      "values"),
+            std::string::npos);
+  EXPECT_EQ(error_of("  PERS tooldata tFix:=[FALSE,[[0,0,100],[1,0,0,0]],[1,[0,0,1],[1,0,0,0],0,"
+                     "0,0]];\n"),
+            "cell.mod:1:17: tool 'tFix' is stationary (robhold FALSE): targets of a stationary "
+            "tool are not corrected");
+}
+
+TEST(ProgramFrames, KrlToolAndBaseFromBasCallsAssignmentsAndFdat) {
+  const std::string dat =
+      "DEFDAT CELL\n"
+      "DECL E6POS XP1={X 100,Y 50,Z 20,A 0,B 0,C 0,S 2,T 2}\n"
+      "DECL FDAT FP1={TOOL_NO 2,BASE_NO 1,IPO_FRAME #BASE}\n"
+      "ENDDAT\n";
+  const std::string src =
+      "DEF CELL( )\n"
+      "  BAS(#TOOL,2)\n"
+      "  BAS (#BASE, 1)\n"
+      "  LIN {X 5,Y 6,Z 7,A 0,B 0,C 0}\n"
+      "  $TOOL=TOOL_DATA[0]\n"
+      "  $BASE=BASE_DATA[0]\n"
+      "  LIN {X 400,Y 0,Z 500,A 0,B 0,C 0}\n"
+      "  $BASE=MY_FRAME\n"
+      "  LIN {X 1,Y 2,Z 3,A 0,B 0,C 0}\n"
+      "END\n";
+  ProgramFilterOptions options;
+  options.tools["TOOL_DATA[2]"] = tool_pose();
+  options.frames["BASE_DATA[1]"] = frame_pose();
+  std::vector<ProgramPoint> seen;
+  const auto record = [&](const ProgramPoint& p) {
+    seen.push_back(p);
+    return CorrectedPoint{p.base_T_tcp, p.config, p.joints_deg, ""};
+  };
+  filter_program(dat, ProgramLanguage::Krl, "cell.dat", options, record);
+  ASSERT_EQ(seen.size(), 1u);
+  EXPECT_EQ(seen[0].tool, "TOOL_DATA[2]");
+  EXPECT_EQ(seen[0].frame, "BASE_DATA[1]");
+  EXPECT_LT((seen[0].base_T_tcp.p - frame_pose() * Eigen::Vector3d(100, 50, 20)).norm(), 1e-9);
+  seen.clear();
+  try {
+    filter_program(src, ProgramLanguage::Krl, "cell.src", options, record);
+    ADD_FAILURE() << "an expression base was accepted";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "cell.src:9:7: unknown base '$BASE (set at line 8)': the program does not define "
+                 "it with literal values; give it in a frames file");
+  }
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen[0].tool, "TOOL_DATA[2]");
+  EXPECT_LT((seen[0].base_T_tcp.p - frame_pose() * Eigen::Vector3d(5, 6, 7)).norm(), 1e-9);
+  EXPECT_EQ(seen[1].tool, "TOOL_DATA[0]");
+  EXPECT_LT(seen[1].flange_T_tcp->p.norm(), 1e-12);
+  EXPECT_LT((seen[1].base_T_tcp.p - Eigen::Vector3d(400, 0, 500)).norm(), 1e-12);
+}
+
+TEST(ProgramFrames, KeepGoingLeavesRefusedTargetsAsWrittenAndListsThem) {
+  const std::string text =
+      "  CONST robtarget pA:=[[100,50,20],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n"
+      "  CONST robtarget pFar:=[[9000,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n";
+  ProgramFilterOptions options;
+  options.keep_going = true;
+  const auto result =
+      filter_program(text, ProgramLanguage::Rapid, "k.mod", options, [](const ProgramPoint& p) {
+        CorrectedPoint c{p.base_T_tcp, p.config, p.joints_deg, ""};
+        if (p.base_T_tcp.p.x() > 5000) c.failure = "out of reach";
+        c.base_T_tcp.p.z() += 1;
+        c.confidence95_mm = 0.0123;
+        return c;
+      });
+  EXPECT_EQ(result.cartesian_points, 1);
+  ASSERT_EQ(result.uncorrected.size(), 1u);
+  EXPECT_EQ(result.uncorrected[0].where, "k.mod:2:25 (pFar)");
+  EXPECT_EQ(result.uncorrected[0].reason, "out of reach");
+  EXPECT_EQ(result.text.substr(result.text.find('\n') + 1), text.substr(text.find('\n') + 1));
+  EXPECT_NE(result.text.find("[[100,50,21.0000]"), std::string::npos);
+  EXPECT_EQ(result.confidence_csv, "line,column,name,confidence95_mm\n1,23,pA,0.0123\n");
+  // No instruction uses pA: its tool and work object are an assumption, and said so.
+  ASSERT_EQ(result.assumed.size(), 1u);
+  EXPECT_EQ(result.assumed[0].where, "k.mod:1:23 (pA)");
+}
+
+/// One target written in `language` for the tool and frame of the closed-loop programs
+/// (RAPID tGun / wTable, KRL tool 1 / base 1, Fanuc UT 1 / UF 1).
+std::string loop_target(ProgramLanguage language, int i, const Pose<double>& written,
+                        const std::vector<int>& cf) {
+  const Eigen::Vector3d& p = written.p;
+  const Eigen::Vector3d abc = euler_angles_deg(written.R, EulerConvention::ZyxABC);
+  switch (language) {
+    case ProgramLanguage::Rapid:
+      return fmt::format("  CONST robtarget p{}:={};\n", i, robtarget(written, cf));
+    case ProgramLanguage::Krl:
+      return fmt::format(
+          "  LIN {{X {:.6f},Y {:.6f},Z {:.6f},A {:.6f},B {:.6f},C {:.6f},S {},T {}}}\n", p.x(),
+          p.y(), p.z(), abc[0], abc[1], abc[2], cf[0], cf[1]);
+    case ProgramLanguage::UrScript: {
+      const Eigen::AngleAxisd r(written.R);
+      const Eigen::Vector3d v = r.angle() * r.axis();
+      return fmt::format(
+          "  movel(p[{:.7f}, {:.7f}, {:.7f}, {:.8f}, {:.8f}, {:.8f}], a=1.2, v=0.25)\n",
+          p.x() / 1000, p.y() / 1000, p.z() / 1000, v.x(), v.y(), v.z());
+    }
+    default:
+      return fmt::format(
+          "P[{}]{{\n   GP1:\n\tUF : 1, UT : 1,\t\tCONFIG : '{} {} {}, {}, {}, {}',\n"
+          "\tX = {:.6f} mm,\tY = {:.6f} mm,\tZ = {:.6f} mm,\n"
+          "\tW = {:.6f} deg,\tP = {:.6f} deg,\tR = {:.6f} deg\n}};\n",
+          i + 1, cf[0] ? 'F' : 'N', cf[1] ? 'D' : 'U', cf[2] ? 'B' : 'T', cf[3], cf[4], cf[5],
+          p.x(), p.y(), p.z(), abc[2], abc[1], abc[0]);
+  }
+}
+
+class ProgramClosedLoop : public ::testing::TestWithParam<std::pair<ProgramLanguage, const char*>> {
+};
+
+TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
+  const auto [language, robot_name] = GetParam();
+  std::mt19937_64 rng(5);
+  const CalibratedRobot robot = test::random_calibrated(robot_name, rng);
+  const Compensator comp = make_compensator(robot);
+  // URScript has no user frames: its targets are in the base frame.
+  const Pose<double> F = language == ProgramLanguage::UrScript ? Pose<double>{} : frame_pose();
+  const Pose<double> T = tool_pose();
+  ProgramFilterOptions options;  // KRL and Fanuc: the tool and frame from a frames file
+  options.tools = {{"TOOL_DATA[1]", T}, {"UT[1]", T}};
+  options.frames = {{"BASE_DATA[1]", F}, {"UF[1]", F}};
+  // Targets the nominal controller reaches with the tool in the frame: nominal flange poses
+  // of random joints ≥ 10° from singularities, written in the frame.
+  std::string body, moves;
+  std::vector<Pose<double>> wanted_base;  // where the original program means the TCP to be
+  while (wanted_base.size() < 12) {
+    const Vector6d q = test::random_joints(comp.model, rng);
+    if (test::near_singular(comp.model, q, 10)) continue;
+    const Pose<double> base_T_tcp = nominal_tcp_pose(comp, q) * comp.tcp_T_flange * T;
+    const int i = static_cast<int>(wanted_base.size());
+    body +=
+        loop_target(language, i, F.inverse() * base_T_tcp, maker_configuration(comp, language, q));
+    moves += fmt::format("    MoveL p{}, v100, fine, tGun\\WObj:=wTable;\n", i);
+    wanted_base.push_back(base_T_tcp);
+  }
+  std::string text;
+  if (language == ProgramLanguage::Rapid)
+    text = fmt::format("MODULE Loop\n  PERS tooldata tGun:={};\n  PERS wobjdata wTable:={};\n",
+                       kTool, kWobj) +
+           body + "  PROC main()\n" + moves + "  ENDPROC\nENDMODULE\n";
+  else if (language == ProgramLanguage::Krl)
+    text = "DEF loop( )\n  BAS(#TOOL,1)\n  BAS(#BASE,1)\n" + body + "END\n";
+  else if (language == ProgramLanguage::FanucLs)
+    text = "/PROG  LOOP\n/ATTR\n/MN\n   1:  UFRAME_NUM=1 ;\n/POS\n" + body + "/END\n";
+  else
+    text =
+        "def loop():\n  set_tcp(p[0.010, 0.020, 0.150, 0.0, 0.5235987756, 0.0])\n" + body + "end\n";
+  const std::string file = std::string("loop") + program_extension(language);
+  const auto result =
+      filter_program(text, language, file, options, make_program_corrector(comp, language, &robot));
+  ASSERT_EQ(result.cartesian_points, 12);
+  ASSERT_TRUE(result.uncorrected.empty());
+  // A second pass with a model equal to nominal changes nothing beyond the last printed digit.
+  const Compensator nominal = make_compensator(CalibratedRobot::nominal(comp.model, robot.tool));
+  EXPECT_EQ(
+      filter_program(text, language, file, options, make_program_corrector(nominal, language)).text,
+      text);
+
+  // The controller: nominal inverse of each target with the tool in the frame, in the written
+  // configuration; the arm: the calibrated model (the true robot of this simulation).
+  // URScript has no configuration data: the controller takes the solution nearest to the
+  // joints it is at (the previous target's), as the corrector does.
+  Vector6d previous = Vector6d::Zero();
+  const auto execute = [&](const ProgramPoint& p) {
+    const Pose<double> base_T_flange = F * p.base_T_tcp * T.inverse();
+    const IkResult all = nominal_ik(comp.geometry, base_T_flange, previous);
+    const IkSolution* chosen = nullptr;
+    for (const IkSolution& s : all)
+      if (p.config.empty() ? (!chosen || (s.joints - previous).squaredNorm() <
+                                             (chosen->joints - previous).squaredNorm())
+                           : maker_configuration(comp, language, s.joints) == p.config)
+        chosen = &s;
+    if (!chosen) {
+      ADD_FAILURE() << "no nominal solution in the configuration of line " << p.line;
+      return Pose<double>{};
+    }
+    previous = chosen->joints;
+    ChainState state;
+    return Pose<double>(comp.base_T_world * calibrated_tcp_pose(comp.chain, chosen->joints, state) *
+                        comp.tcp_T_flange * T);
+  };
+  const auto before = read_program_points(text, language, file);
+  const auto after = read_program_points(result.text, language, file);
+  double worst = 0, worst_deg = 0, uncompensated = 0;
+  for (size_t i = 0; i < after.size(); ++i) {
+    const Vector6d start = previous;
+    uncompensated = std::max(uncompensated, (execute(before[i]).p - wanted_base[i].p).norm());
+    previous = start;
+    const Pose<double> reached = execute(after[i]);
+    worst = std::max(worst, (reached.p - wanted_base[i].p).norm());
+    worst_deg = std::max(
+        worst_deg, rad2deg(Eigen::AngleAxisd(reached.R.transpose() * wanted_base[i].R).angle()));
+  }
+  // Printing limits: 4 decimals of mm; orientation 9 quaternion decimals (RAPID) or 5 of a
+  // degree (KRL, Fanuc: 1e-5° ≈ 3e-5 mm at 200 mm).
+  EXPECT_LT(worst, 2e-4) << "uncompensated " << uncompensated;
+  EXPECT_LT(worst_deg, 2e-5);
+  EXPECT_GT(uncompensated, 0.1);
+  RecordProperty("worst_mm", fmt::format("{:.3g}", worst));
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Languages, ProgramClosedLoop,
+    ::testing::Values(std::pair{ProgramLanguage::Rapid, "abb-irb120"},
+                      std::pair{ProgramLanguage::Krl, "kuka-kr6-r900-sixx"},
+                      std::pair{ProgramLanguage::FanucLs, "fanuc-lrmate200ic"},
+                      // No UR arm in the robot library (none is ortho-parallel): the format
+                      // and the nearest-solution rule on the IRB 120.
+                      std::pair{ProgramLanguage::UrScript, "abb-irb120"}),
+    [](const auto& info) { return std::string(program_language_name(info.param.first)); });
+
+}  // namespace
+}  // namespace robcal

@@ -1,0 +1,233 @@
+// Measurement programs (issue 17 item 2): what is written for each controller reads back to
+// the planned configurations and their q − 5° approaches, split at the size limits, with the
+// counts the controllers check; bad requests are refused by name.
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <regex>
+
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/programs/measurement_program.hpp"
+
+namespace robcal {
+namespace {
+
+const std::array<double, kJointCount> kPulses{1341.4, 1341.4, 1341.4, 1000.0, 1000.0, 640.0};
+
+/// Seven configurations with awkward values (many digits, negative, near ±180°), seed 17.
+MeasurementProgramRequest request_for(ProgramLanguage language) {
+  MeasurementProgramRequest r;
+  r.language = language;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-170.0, 170.0);
+  for (int i = 0; i < 7; ++i) {
+    Vector6d q_deg;
+    for (int j = 0; j < kJointCount; ++j) q_deg[j] = u(rng);
+    r.names.push_back(fmt::format("c{:03d}", i + 1));
+    r.joints.push_back(q_deg * kDegToRad);
+  }
+  r.max_configs_per_file = 3;
+  r.pulses_per_degree = kPulses;
+  r.hook = language == ProgramLanguage::Krl || language == ProgramLanguage::Jbi
+               ? MeasurementHook::WaitInput
+               : MeasurementHook::LogLine;
+  return r;
+}
+
+class MeasurementProgram : public ::testing::TestWithParam<ProgramLanguage> {};
+
+TEST_P(MeasurementProgram, ReadsBackToTheConfigurationsAndTheirApproaches) {
+  const ProgramLanguage language = GetParam();
+  const MeasurementProgramRequest r = request_for(language);
+  const std::vector<ProgramFile> files = write_measurement_program(r);
+  ASSERT_EQ(files.size(), 3u);  // 7 configurations, 3 per file
+  std::vector<JointMove> moves;
+  for (size_t f = 0; f < files.size(); ++f) {
+    const std::string& name = files[f].name;
+    EXPECT_EQ(program_language_from_path(name), language) << name;
+    EXPECT_NE(name.find(fmt::format("{:02d}", f + 1)), std::string::npos) << name;
+    const auto part = read_joint_moves(files[f].text, language, name, kPulses);
+    EXPECT_EQ(part.size(), f < 2 ? 6u : 2u) << name;
+    moves.insert(moves.end(), part.begin(), part.end());
+  }
+  ASSERT_EQ(moves.size(), 2 * r.joints.size());
+  for (size_t i = 0; i < r.joints.size(); ++i) {
+    const Vector6d q = r.joints[i] * kRadToDeg;
+    const Vector6d approach = q - Vector6d::Constant(5.0);
+    for (int j = 0; j < kJointCount; ++j) {
+      if (language == ProgramLanguage::Jbi) {
+        // Integer pulses: exactly the rounded count, within half a pulse of the plan.
+        const double ppd = kPulses[static_cast<size_t>(j)];
+        EXPECT_NEAR(moves[2 * i].joints_deg[j], std::round(approach[j] * ppd) / ppd, 1e-9);
+        EXPECT_NEAR(moves[2 * i + 1].joints_deg[j], std::round(q[j] * ppd) / ppd, 1e-9);
+        EXPECT_LE(std::abs(moves[2 * i + 1].joints_deg[j] - q[j]), 0.5 / ppd + 1e-12);
+      } else {
+        EXPECT_NEAR(moves[2 * i].joints_deg[j], approach[j], 1e-6) << i << " " << j;
+        EXPECT_NEAR(moves[2 * i + 1].joints_deg[j], q[j], 1e-6) << i << " " << j;
+      }
+    }
+  }
+}
+
+TEST_P(MeasurementProgram, EachConfigurationHasItsHookAndSettleWait) {
+  const ProgramLanguage language = GetParam();
+  MeasurementProgramRequest r = request_for(language);
+  r.max_configs_per_file = 0;  // the language's default: one file
+  r.hook = MeasurementHook::PulseOutput;
+  r.signal = 7;
+  const auto files = write_measurement_program(r);
+  ASSERT_EQ(files.size(), 1u);
+  const std::string& text = files[0].text;
+  const auto count = [&](const std::string& pattern) {
+    const std::regex re(pattern);
+    return std::distance(std::sregex_iterator(text.begin(), text.end(), re),
+                         std::sregex_iterator());
+  };
+  const std::map<ProgramLanguage, std::pair<std::string, std::string>> hook_and_wait{
+      {ProgramLanguage::Rapid,
+       {R"(PulseDO \\PLength:=0\.5, doRobcalMeasure;)", R"(WaitTime 1\.00;)"}},
+      {ProgramLanguage::Krl, {R"(PULSE\(\$OUT\[7\], TRUE, 0\.5\))", R"(WAIT SEC 1\.00)"}},
+      {ProgramLanguage::FanucLs, {R"(DO\[7\]=PULSE,0\.5sec ;)", R"(WAIT 1\.00\(sec\) ;)"}},
+      {ProgramLanguage::Jbi, {R"(PULSE OT#\(7\) T=0\.50)", R"(TIMER T=1\.00)"}},
+      {ProgramLanguage::UrScript, {R"(set_standard_digital_out\(7, True\))", R"(sleep\(1\.00\))"}},
+  };
+  EXPECT_EQ(count(hook_and_wait.at(language).first), 7) << text;
+  EXPECT_EQ(count(hook_and_wait.at(language).second), 7) << text;
+  // The configuration names are in the comments, in order.
+  size_t at = 0;
+  for (const std::string& name : r.names) {
+    at = text.find(name, at);
+    EXPECT_NE(at, std::string::npos) << name;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Languages, MeasurementProgram,
+                         ::testing::Values(ProgramLanguage::Rapid, ProgramLanguage::Krl,
+                                           ProgramLanguage::FanucLs, ProgramLanguage::Jbi,
+                                           ProgramLanguage::UrScript),
+                         [](const auto& info) { return program_language_name(info.param); });
+
+TEST(MeasurementProgramFormat, RapidModuleWrittenByHand) {
+  MeasurementProgramRequest r;
+  r.names = {"c1"};
+  r.joints = {Vector6d(10, -20.5, 30, 0, 45, -90) * kDegToRad};
+  r.hook = MeasurementHook::WaitInput;
+  const auto files = write_measurement_program(r);
+  ASSERT_EQ(files.size(), 1u);
+  EXPECT_EQ(files[0].name, "RCMEAS.mod");
+  EXPECT_EQ(files[0].text,
+            "MODULE RCMEAS\n"
+            "    ! robcal measurement program, part 1 of 1: configurations 1-1 of 1.\n"
+            "    ! Each configuration is approached from q - 5 deg on every joint (backlash,\n"
+            "    ! METHOD 6), reached at a fine point, then the arm settles 1 s.\n"
+            "    PROC RCMEAS_run()\n"
+            "        VelSet 10, 5000;\n"
+            "        ! c1 joints 10.000000 -20.500000 30.000000 0.000000 45.000000 -90.000000\n"
+            "        MoveAbsJ [[5.000000,-25.500000,25.000000,-5.000000,40.000000,-95.000000],"
+            "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]]\\NoEOffs, v1000, fine, tool0;\n"
+            "        MoveAbsJ [[10.000000,-20.500000,30.000000,0.000000,45.000000,-90.000000],"
+            "[9E+09,9E+09,9E+09,9E+09,9E+09,9E+09]]\\NoEOffs, v1000, fine, tool0;\n"
+            "        WaitTime 1.00;\n"
+            "        WaitDI diRobcalMeasured, 1;\n"
+            "    ENDPROC\n"
+            "ENDMODULE\n");
+}
+
+TEST(MeasurementProgramFormat, ControllerCountsMatchTheContent) {
+  // Fanuc: LINE_COUNT is the number of /MN lines; Yaskawa: ///NPOS the number of C variables
+  // (the JBI reader refuses a mismatch, so a wrong count cannot read back).
+  MeasurementProgramRequest r = request_for(ProgramLanguage::FanucLs);
+  r.max_configs_per_file = 0;
+  const std::string ls = write_measurement_program(r)[0].text;
+  const size_t mn = ls.find("/MN\n"), pos = ls.find("/POS\n");
+  ASSERT_NE(mn, std::string::npos);
+  ASSERT_NE(pos, std::string::npos);
+  const auto lines =
+      std::count(ls.begin() + static_cast<long>(mn) + 4, ls.begin() + static_cast<long>(pos), '\n');
+  // 2 frame lines + per configuration: comment, 2 moves, wait, message.
+  EXPECT_EQ(lines, 2 + 7 * 5);
+  EXPECT_NE(ls.find(fmt::format("LINE_COUNT\t= {};", lines)), std::string::npos);
+  EXPECT_TRUE(ls.ends_with("};\n/END\n"));
+  for (const char* numbered :
+       {"   1:  UFRAME_NUM=0 ;\n", "   4:J P[1] 10% FINE ;\n", "  37:  MESSAGE[robcal c007] ;\n"})
+    EXPECT_NE(ls.find(numbered), std::string::npos) << numbered;
+
+  r.language = ProgramLanguage::Jbi;
+  r.hook = MeasurementHook::WaitInput;
+  std::string jbi = write_measurement_program(r)[0].text;
+  EXPECT_NE(jbi.find("///NPOS 14,0,0,0,0,0\n"), std::string::npos);
+  EXPECT_NE(jbi.find("\nC00013="), std::string::npos);
+  EXPECT_EQ(jbi.find("\nC00014="), std::string::npos);
+  jbi.replace(jbi.find("///NPOS 14"), 10, "///NPOS 15");
+  EXPECT_THROW(read_joint_moves(jbi, ProgramLanguage::Jbi, "x.jbi", kPulses), InputError);
+}
+
+std::string refusal(const MeasurementProgramRequest& r) {
+  try {
+    write_measurement_program(r);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(MeasurementProgramFormat, RefusesWhatTheControllerCannotTake) {
+  MeasurementProgramRequest r = request_for(ProgramLanguage::Rapid);
+  r.name = "MEASURE_2";
+  EXPECT_EQ(refusal(r),
+            "--name: program name 'MEASURE_2': expected a letter, then letters, digits or '_', at "
+            "most 6 characters");
+  r = request_for(ProgramLanguage::Rapid);
+  r.names[2] = "c 3\"";
+  EXPECT_NE(refusal(r).find("configuration name 'c 3\"'"), std::string::npos);
+  // The IRB 120's axis 2 goes down to -110 deg: 107 deg is fine, its approach at -112 is not.
+  r = request_for(ProgramLanguage::Rapid);
+  r.limits = load_robot("abb-irb120").limits;
+  r.joints = {Vector6d(0, -107, 0, 0, 30, 0) * kDegToRad};
+  r.names = {"low"};
+  EXPECT_NE(refusal(r).find("low: joint 2 at -112.0000 deg (approach) is outside its limits"),
+            std::string::npos)
+      << refusal(r);
+  r = request_for(ProgramLanguage::Jbi);
+  r.pulses_per_degree.reset();
+  EXPECT_NE(refusal(r).find("--pulses-per-degree"), std::string::npos);
+  r = request_for(ProgramLanguage::Krl);
+  r.hook = MeasurementHook::LogLine;
+  EXPECT_EQ(refusal(r), "--hook: no log instruction is written for krl; use wait or pulse");
+}
+
+TEST(MeasurementProgramFormat, ReadersLocateBadText) {
+  const auto error = [](const std::string& text, ProgramLanguage language, const char* file) {
+    try {
+      read_joint_moves(text, language, file, kPulses);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error("def p():\n  movej([0, 1.5.2, 0, 0, 0, 0], a=1, v=1)\nend\n",
+                  ProgramLanguage::UrScript, "p.script"),
+            "p.script:2:13: malformed number '1.5.2'");
+  EXPECT_EQ(error("def p():\n  movej([0, 1, 0, 0, 0], a=1)\nend\n", ProgramLanguage::UrScript,
+                  "p.script"),
+            "p.script:2:23: movej: expected ',' after joint 5");
+  EXPECT_EQ(error("/PROG X\n/MN\n 1:J P[1] 10% FINE ;\n/POS\nP[1]{\n GP1:\n UF : 0, UT : 1,\n"
+                  " J1= 1e999 deg, J2= 0 deg\n};\n/END\n",
+                  ProgramLanguage::FanucLs, "x.ls"),
+            "x.ls:8:6: number '1e999' is out of range");
+  EXPECT_EQ(error("/PROG X\n/MN\n 1:J P[1] 10% FINE ;\n/POS\nP[1]{\n GP1:\n UF : 0, UT : 1,\n"
+                  " J1= 1 deg, J2= 0 deg\n};\n/END\n",
+                  ProgramLanguage::FanucLs, "x.ls"),
+            "x.ls:5:1 (P[1]): has 2 of the components J1..J6");
+  EXPECT_EQ(error("/JOB\n//POS\n///NPOS 1,0,0,0,0,0\n///PULSE\nC00000=1,2,3\n//INST\n",
+                  ProgramLanguage::Jbi, "x.jbi"),
+            "x.jbi:5:13: expected ',' and the pulses of axis 4");
+}
+
+}  // namespace
+}  // namespace robcal
