@@ -7,7 +7,7 @@
 #include "module_registry.hpp"
 #include "py_measurements.hpp"
 #include "robcal/compensate/corrected_targets.hpp"
-#include "robcal/compensate/program_filter.hpp"
+#include "robcal/programs/program_filter.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -43,12 +43,6 @@ PyCompensator make(CalibratedRobot robot, const std::optional<std::string>& tool
   }
   PyCompensator out{robot, make_compensator(robot, payload)};
   return out;
-}
-
-ProgramLanguage language_of(const std::string& name) {
-  if (name == "rapid") return ProgramLanguage::Rapid;
-  if (name == "krl") return ProgramLanguage::Krl;
-  throw py::value_error("language must be 'rapid' or 'krl', not '" + name + "'");
 }
 
 Pose<double> pose_of(const Eigen::Vector3d& position_mm, const Eigen::Vector4d& quaternion_wxyz) {
@@ -210,7 +204,7 @@ const bool registered = register_bindings(70, [](py::module_& m) {
         options.joints = joints;
         py::list out;
         for (const ProgramPoint& p :
-             read_program_points(text, language_of(language), "<text>", options)) {
+             read_program_points(text, program_language_from_name(language, "language"), "<text>", options)) {
           py::dict d = p.is_joint_target ? py::dict() : pose_dict(p.base_T_tcp);
           d["name"] = p.name;
           d["line"] = p.line;

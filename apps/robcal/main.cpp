@@ -40,7 +40,7 @@ const std::vector<Stage>& stages() {
   static const std::vector<Stage> list = {
       {"1. Model", {"robots", "robot", "fk", "ik"}},
       {"2. Plan", {"plan", "plan-study"}},
-      {"3. Measure", {"simulate", "import", "frames", "session"}},
+      {"3. Measure", {"program", "simulate", "import", "frames", "session"}},
       {"4. Identify", {"calibrate"}},
       {"5. Validate", {"validate"}},
       {"6. Compensate", {"compensate", "compensate-program"}},
