@@ -328,11 +328,41 @@ TEST(HexapodCupCollision, ScreeningRefusesTheFiftyFourPosesOfAThreeHundredMillim
   for (const auto& r : s.refused)
     coincide += r.reason.find("the cups coincide") != std::string::npos;
   EXPECT_EQ(coincide, 54);
+  // The other 18: 9 whose legs go through the tool plate (next test), 9 that can be set up.
+  EXPECT_EQ(s.refused.size(), 63u);
   for (const auto& k : s.kept)
     for (const auto& r : s.refused) EXPECT_NE(k.label, r.pose.label);
   std::printf("300 mm tool triangle: %zu refused (%d coinciding cups), %zu kept\n",
               s.refused.size(), coincide, s.kept.size());
   EXPECT_THROW(screen_poses(poses, big, deg2rad(30), 50, CupClearance{0}), InputError);
+}
+
+TEST(HexapodCupCollision, DefaultGeometryRefusesThePosesWhoseToolCupsFaceAwayFromTheBase) {
+  // With the tool cups numbered counter-clockwise seen from the side they open to
+  // (fixture.hpp), a pose whose tool-fixture normal points away from the base cups' centroid
+  // has the ballbar going through the tool plate. Independent criterion: the centroids.
+  const HexapodGeometry g;  // 300 / 150 / 300
+  const std::vector<HexapodPose> poses = enumerate_poses(g);
+  const PoseScreening s = screen_poses(poses, g, deg2rad(30), 50, CupClearance{});
+  const Cups<double> base = fixture_cups(g.base, "base fixture");
+  int facing_away = 0;
+  for (const HexapodPose& p : poses) {
+    const bool away =
+        (centroid(base) - centroid(p.tool_cups)).dot(frame_from_cups(p.tool_cups).R.col(2)) < 0;
+    facing_away += away;
+    const bool refused = std::any_of(s.refused.begin(), s.refused.end(),
+                                     [&](const auto& r) { return r.pose.label == p.label; });
+    EXPECT_EQ(refused, away) << p.label << " " << p.description();
+  }
+  EXPECT_EQ(facing_away, 36);  // assembly modes 1 and 3 of the enumeration
+  for (const auto& r : s.refused) {
+    EXPECT_TRUE(r.pose.mode == 1 || r.pose.mode == 3) << r.pose.label;
+    EXPECT_NE(r.reason.find("crosses the tool fixture"), std::string::npos) << r.reason;
+  }
+  std::printf(
+      "default geometry: %zu of 72 refused (tool cups facing away), %zu kept after "
+      "pruning\n",
+      s.refused.size(), s.kept.size());
 }
 
 }  // namespace
