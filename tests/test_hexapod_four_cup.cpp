@@ -61,6 +61,22 @@ Cell nominal_four_cup_cell() {
   return c;
 }
 
+/// The nominal cell's distances and their solution.
+struct Solved {
+  Cell cell = nominal_four_cup_cell();
+  FourCupDkpRequest request = four_cup_distances(cell.base, cell.tool, cell.legs);
+  FourCupDkpResult result = solve_four_cup_dkp(request);
+};
+
+/// The solution whose tool cups are nearest to `cups` (a reference into `r`).
+const FourCupSolution& nearest(const FourCupDkpResult&& r, const Points& cups) = delete;
+const FourCupSolution& nearest(const FourCupDkpResult& r, const Points& cups) {
+  const FourCupSolution* best = &r.solutions.at(0);
+  for (const FourCupSolution& s : r.solutions)
+    if (max_gap(s.tool_cups, cups) < max_gap(best->tool_cups, cups)) best = &s;
+  return *best;
+}
+
 TEST(HexapodFourCup, ThreeCupsReproduceTheClosedFormAndItsJetSensitivities) {
   // With 3 + 3 cups and the six design legs the fit is square: it must return the cascade's
   // solutions, and J⁺ the Jet derivatives of the cascade (uncertainty.hpp), distance for distance.
@@ -142,12 +158,10 @@ TEST(HexapodFourCup, RoundTripOn2000RandomGeometries) {
     const FourCupDkpResult result = solve_four_cup_dkp(request);
     ASSERT_EQ(result.status, FourCupDkpStatus::Ok) << "trial " << trial << ": " << result.message;
     const Points expected = in_base_frame(base, tool);
-    const FourCupSolution* nearest = &result.solutions[0];
-    for (const FourCupSolution& s : result.solutions)
-      if (max_gap(s.tool_cups, expected) < max_gap(nearest->tool_cups, expected)) nearest = &s;
-    const double gap = max_gap(nearest->tool_cups, expected);
-    truth_first += nearest == &result.solutions[0];
-    worst_iterations = std::max(worst_iterations, nearest->iterations);
+    const FourCupSolution& truth = nearest(result, expected);
+    const double gap = max_gap(truth.tool_cups, expected);
+    truth_first += &truth == &result.solutions[0];
+    worst_iterations = std::max(worst_iterations, truth.iterations);
     worst = std::max(worst, gap);
     ASSERT_LE(gap, 1e-9) << "trial " << trial;
     EXPECT_LE(max_gap(result.solutions[0].base_cups, in_base_frame(base, base)), 1e-9);
@@ -159,11 +173,11 @@ TEST(HexapodFourCup, RoundTripOn2000RandomGeometries) {
 }
 
 TEST(HexapodFourCup, SensitivitiesMatchFiniteDifferencesOfTheSolver) {
-  const Cell c = nominal_four_cup_cell();
-  const FourCupDkpRequest request = four_cup_distances(c.base, c.tool, c.legs);
-  const FourCupDkpResult result = solve_four_cup_dkp(request);
-  ASSERT_EQ(result.status, FourCupDkpStatus::Ok) << result.message;
-  const FourCupSolution& truth = result.solutions[0];
+  const Solved solved;
+  const Cell& c = solved.cell;
+  const FourCupDkpRequest& request = solved.request;
+  ASSERT_EQ(solved.result.status, FourCupDkpStatus::Ok) << solved.result.message;
+  const FourCupSolution& truth = solved.result.solutions[0];
   ASSERT_LT(max_gap(truth.tool_cups, in_base_frame(c.base, c.tool)), 1e-9);
   // The distances as a vector in the result's order, and back.
   const auto to_request = [&](const Eigen::VectorXd& d) {
@@ -182,18 +196,15 @@ TEST(HexapodFourCup, SensitivitiesMatchFiniteDifferencesOfTheSolver) {
       (*request.tool.fourth)[0], (*request.tool.fourth)[1], (*request.tool.fourth)[2],
       Eigen::VectorXd::Zero(request.legs.size());
   for (size_t i = 0; i < request.legs.size(); ++i) d0[12 + i] = request.legs[i].length_mm;
-  ASSERT_EQ(result.distance_names.size(), size_t(d0.size()));
-  EXPECT_EQ(result.distance_names[3], "b14");
-  EXPECT_EQ(result.distance_names[12], "rho11");
+  ASSERT_EQ(solved.result.distance_names.size(), size_t(d0.size()));
+  EXPECT_EQ(solved.result.distance_names[3], "b14");
+  EXPECT_EQ(solved.result.distance_names[12], "rho11");
   const auto f = [&](const Eigen::VectorXd& d) {
+    // The solution continuing the true one.
     const FourCupDkpResult r = solve_four_cup_dkp(to_request(d));
-    // The solution continuing the true one (nearest to it).
-    const FourCupSolution* near = &r.solutions[0];
-    for (const FourCupSolution& s : r.solutions)
-      if (max_gap(s.tool_cups, truth.tool_cups) < max_gap(near->tool_cups, truth.tool_cups))
-        near = &s;
+    const FourCupSolution& near = nearest(r, truth.tool_cups);
     Eigen::VectorXd out(12);
-    for (int j = 0; j < 4; ++j) out.segment<3>(3 * j) = near->tool_cups[j];
+    for (int j = 0; j < 4; ++j) out.segment<3>(3 * j) = near.tool_cups[j];
     return out;
   };
   const Eigen::MatrixXd numeric = test::numerical_jacobian(f, d0, 1e-4);
@@ -201,18 +212,19 @@ TEST(HexapodFourCup, SensitivitiesMatchFiniteDifferencesOfTheSolver) {
 }
 
 TEST(HexapodFourCup, GumUncertaintyAgreesWithMonteCarloWithinOnePercent) {
-  const Cell c = nominal_four_cup_cell();
-  const FourCupDkpRequest request = four_cup_distances(c.base, c.tool, c.legs);
-  const FourCupDkpResult result = solve_four_cup_dkp(request);
-  ASSERT_EQ(result.status, FourCupDkpStatus::Ok) << result.message;
-  const FourCupSolution& s = result.solutions[0];
+  const Solved solved;
+  const Cell& c = solved.cell;
+  ASSERT_EQ(solved.result.status, FourCupDkpStatus::Ok) << solved.result.message;
+  const FourCupSolution& s = solved.result.solutions[0];
   const uint64_t seed = 11;
   SCOPED_TRACE(seed);
   auto rng = test::seeded_rng(seed);
   const double sigma = 0.51e-3;
   const std::vector<CupUncertainty> mc =
-      four_cup_uncertainty_monte_carlo(request, s, sigma, 60000, rng);
+      four_cup_uncertainty_monte_carlo(solved.request, s, sigma, 60000, rng);
   ASSERT_EQ(mc.size(), 4u);
+  EXPECT_THROW(four_cup_uncertainty_monte_carlo(solved.request, s, 0, 100, rng), InputError);
+  EXPECT_THROW(four_cup_uncertainty_monte_carlo(solved.request, s, sigma, 1, rng), InputError);
   double worst_ratio = 0;
   for (int j = 0; j < 4; ++j) {
     SCOPED_TRACE(s.uncertainty[j].cup);

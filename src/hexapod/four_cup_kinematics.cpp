@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "robcal/core/error.hpp"
 #include "robcal/hexapod/poses.hpp"
 
 namespace robcal::hexapod {
@@ -330,6 +331,10 @@ std::vector<CupUncertainty> four_cup_uncertainty_monte_carlo(const FourCupDkpReq
                                                              const FourCupSolution& reference,
                                                              double sigma_mm, int samples,
                                                              std::mt19937_64& rng) {
+  if (!(sigma_mm > 0) || !std::isfinite(sigma_mm) || samples < 2)
+    throw InputError(
+        fmt::format("Monte Carlo needs σ > 0 and at least 2 samples (σ = {} mm, {} samples)",
+                    sigma_mm, samples));
   const Problem problem = build_problem(request);
   std::vector<Eigen::Vector3d> cups = reference.base_cups;
   cups.insert(cups.end(), reference.tool_cups.begin(), reference.tool_cups.end());
@@ -352,6 +357,8 @@ std::vector<CupUncertainty> four_cup_uncertainty_monte_carlo(const FourCupDkpReq
     sum2 += dev.cwiseProduct(dev);
     ++used;
   }
+  if (used < 2)
+    throw InputError(fmt::format("Monte Carlo: only {} of {} draws converged", used, samples));
   const Eigen::VectorXd mean = sum / used;
   const Eigen::VectorXd var =
       (sum2 / used - mean.cwiseProduct(mean)) * (double(used) / (used - 1)) / (sigma_mm * sigma_mm);

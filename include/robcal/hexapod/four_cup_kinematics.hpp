@@ -90,6 +90,7 @@ FourCupDkpRequest four_cup_distances(const std::vector<Eigen::Vector3d>& base_cu
 /// Monte Carlo check of a solution's GUM uncertainty: `samples` draws of independent
 /// N(0, sigma_mm) errors on every distance of `request`, each solved and matched to the
 /// solution nearest `reference`; returns each tool cup's sample standard deviations / sigma_mm.
+/// Throws InputError when sigma_mm is not positive, samples < 2 or fewer than 2 draws converge.
 std::vector<CupUncertainty> four_cup_uncertainty_monte_carlo(const FourCupDkpRequest& request,
                                                              const FourCupSolution& reference,
                                                              double sigma_mm, int samples,
