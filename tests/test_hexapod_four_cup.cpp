@@ -377,5 +377,44 @@ TEST(HexapodCupCollision, DefaultGeometryRefusesThePosesWhoseToolCupsFaceAwayFro
       s.refused.size(), s.kept.size());
 }
 
+TEST(HexapodCupCollision, FacingBaseRelabellingGivesSeventyTwoPosesThatCanBeSetUp) {
+  const HexapodGeometry g{{301, 299, 300.5}, {150, 151, 149.5}, 300};
+  const std::vector<HexapodPose> rotations = enumerate_poses(g);
+  const std::vector<HexapodPose> facing = enumerate_poses(g, ToolRelabelling::FacingBase);
+  ASSERT_EQ(facing.size(), 72u);
+  const Cups<double> base = fixture_cups(g.base, "base fixture");
+  const Cups<double> tool = fixture_cups(g.tool, "tool fixture");
+  for (size_t i = 0; i < facing.size(); ++i) {
+    const HexapodPose& p = facing[i];
+    SCOPED_TRACE(p.label + " " + p.description());
+    // Modes 2 and 4 keep the rotations; modes 1 and 3 take the mirrored numbering.
+    EXPECT_EQ(p.design.tool_mirrored(), p.mode == 1 || p.mode == 3);
+    if (!p.design.tool_mirrored())
+      EXPECT_LT(max_gap(Points(p.tool_cups.begin(), p.tool_cups.end()),
+                        Points(rotations[i].tool_cups.begin(), rotations[i].tool_cups.end())),
+                1e-12);
+    // Still a pose of these fixtures with every leg at 300 mm.
+    for (const PhysicalLeg& leg : p.legs)
+      EXPECT_NEAR((base[leg.base] - p.tool_cups[leg.tool]).norm(), 300, 1e-9);
+    for (int a = 0; a < 3; ++a)
+      for (int b = a + 1; b < 3; ++b)
+        EXPECT_NEAR((p.tool_cups[a] - p.tool_cups[b]).norm(), (tool[a] - tool[b]).norm(), 1e-9);
+  }
+  const PoseScreening s = screen_poses(facing, g, deg2rad(30), 50, CupClearance{});
+  EXPECT_TRUE(s.refused.empty()) << s.refused.front().pose.label << ": "
+                                 << s.refused.front().reason;
+  std::printf(
+      "facing-base relabelling: 72 poses, %zu refused, %zu kept after pruning (30°, 50 mm)\n",
+      s.refused.size(), s.kept.size());
+  const HexapodGeometry big{{300, 300, 300}, {300, 300, 300}, 300};
+  const PoseScreening b = screen_poses(enumerate_poses(big, ToolRelabelling::FacingBase), big,
+                                       deg2rad(30), 50, CupClearance{});
+  // The cups coincide in the same 54 poses as with the rotations only (issue 20's count).
+  EXPECT_EQ(b.refused.size(), 54u);
+  for (const auto& r : b.refused) EXPECT_NE(r.reason.find("the cups coincide"), std::string::npos);
+  std::printf("300 mm tool triangle, facing-base relabelling: %zu refused, %zu kept\n",
+              b.refused.size(), b.kept.size());
+}
+
 }  // namespace
 }  // namespace robcal::hexapod
