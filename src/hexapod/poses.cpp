@@ -9,8 +9,9 @@
 namespace robcal::hexapod {
 
 std::string HexapodPose::description() const {
-  return fmt::format("mode {}, tool {:+}°, base B{} B{} B{}", mode, rotation_deg,
-                     design.base[0] + 1, design.base[1] + 1, design.base[2] + 1);
+  return fmt::format("mode {}, tool {:+}°{}, base B{} B{} B{}", mode, rotation_deg,
+                     design.tool_mirrored() ? " mirrored" : "", design.base[0] + 1,
+                     design.base[1] + 1, design.base[2] + 1);
 }
 
 Cups<double> physical_tool_cups(const LegDesign& design, const Cups<double>& design_tool) {
@@ -56,7 +57,8 @@ std::optional<LegDesign> design_of_legs(const std::array<PhysicalLeg, 6>& legs) 
   return design;
 }
 
-std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry) {
+std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry,
+                                         ToolRelabelling relabelling) {
   const Cups<double> base = fixture_cups(geometry.base, "base fixture");
   const Cups<double> tool = fixture_cups(geometry.tool, "tool fixture");
   // Cyclic relabellings of the tool cups: design T1 is physical cup shift+1. Turning the fixture
@@ -68,8 +70,16 @@ std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry) {
       std::array<int, 3> perm{0, 1, 2};
       do {
         LegDesign design{perm, {shift, (shift + 1) % 3, (shift + 2) % 3}};
-        const std::optional<Cups<double>> cups =
+        std::optional<Cups<double>> cups =
             planned_tool_cups(base, tool, design, mode, geometry.leg_mm);
+        const auto faces_base = [&] {
+          return (centroid(base) - centroid(*cups)).dot(frame_from_cups(*cups).R.col(2)) > 0;
+        };
+        if (cups && relabelling == ToolRelabelling::FacingBase && !faces_base()) {
+          std::swap(design.tool[1], design.tool[2]);  // the mirrored numbering, same T1
+          cups = planned_tool_cups(base, tool, design, mode, geometry.leg_mm);
+          if (cups && !faces_base()) continue;
+        }
         if (!cups) continue;
         HexapodPose pose;
         pose.index = static_cast<int>(poses.size()) + 1;

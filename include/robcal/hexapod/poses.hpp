@@ -32,7 +32,8 @@ struct HexapodPose {
   int index = 0;                    ///< 1-based position in the enumeration (1..72)
   std::string label;                ///< "P01".."P72"
   int mode = 0;                     ///< assembly mode 1..4
-  int rotation_deg = 0;             ///< tool fixture rotation: 0, -120 or 120
+  int rotation_deg = 0;             ///< tool fixture rotation: 0, -120 or 120 (of the labels
+                                    ///< T1 T3 T2 when design.tool_mirrored())
   LegDesign design;                 ///< physical cup of each design role
   Cups<double> tool_cups;           ///< physical T1..T3 in the base fixture frame, mm
   Pose<double> base_T_tool;         ///< tool fixture frame in the base fixture frame
@@ -42,10 +43,21 @@ struct HexapodPose {
   [[nodiscard]] std::string description() const;
 };
 
+/// Which relabellings of the tool cups enumerate_poses uses for each assembly mode.
+enum class ToolRelabelling {
+  /// Rotations of the tool fixture only. In assembly modes 1 and 3 these put the tool cups facing
+  /// away from the base: every leg would go through the tool plate (cup_collision.hpp).
+  Rotations,
+  /// Rotations, or rotations of the mirrored numbering (odd permutations), whichever makes the
+  /// tool cups face the base cups (fixture normal towards the base cups' centroid).
+  FacingBase,
+};
+
 /// The 72 poses (fewer if some assembly mode has no real solution for these fixtures), in the
 /// order mode, rotation (0, −120, +120), base permutation (lexicographic).
 /// Throws InputError when a fixture's sides do not make a triangle.
-std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry);
+std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry,
+                                         ToolRelabelling relabelling = ToolRelabelling::Rotations);
 
 /// Keeps each pose unless an already kept one is both within `max_angle_rad` in orientation and
 /// `max_distance_mm` between the tool-fixture centroids (METHOD §8 defaults: 30°, 50 mm).
