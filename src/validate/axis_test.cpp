@@ -75,6 +75,20 @@ std::vector<AxisTestMove> axis_test_moves(const AxisTestPlanRequest& request) {
   return moves;
 }
 
+std::string axis_test_moves_csv(const std::vector<AxisTestMove>& moves) {
+  std::string csv = "move,side,j1,j2,j3,j4,j5,j6\n";
+  int move = 0;
+  for (const AxisTestMove& m : moves)
+    for (const bool approach : {true, false}) {
+      const Vector6d& q = approach ? m.approach_from : m.joints;
+      csv += fmt::format("{},{}", ++move,
+                         approach ? "approach" : (m.from_above ? "above" : "below"));
+      for (int j = 0; j < kJointCount; ++j) csv += fmt::format(",{:.6f}", rad2deg(q[j]));
+      csv += "\n";
+    }
+  return csv;
+}
+
 AxisTestResult axis_test_analyse(const std::vector<AxisTestSample>& input) {
   if (input.size() < 6)
     throw InputError({"", 0, 0, ""},

@@ -244,4 +244,33 @@ set -e
 [ $rc -eq 2 ] || fail "unreachable cube: exit $rc"
 grep -q "P1 at (2050.000, 50.000, 50.000) mm is not reachable" "$tmp/err" || fail "message: $(cat "$tmp/err")"
 [ ! -e "$tmp/x.csv" ] || fail "plan written for an unreachable cube"
+# Axis test: the plan's moves, and a circle of radius 300 mm with a 0.05° step between the two
+# approach sides, analysed exactly.
+"$robcal" axis-test plan --joint 2 --home 0,10,10,0,45,0 --range -30,30 --steps 5 \
+  --out "$tmp/moves.csv" >/dev/null
+[ "$(grep -c ',below,' "$tmp/moves.csv")" -eq 5 ] || fail "axis moves: $(cat "$tmp/moves.csv")"
+python3 - "$tmp/axis.csv" <<'PY'
+import math, sys
+with open(sys.argv[1], "w") as f:
+    f.write("joint_deg,side,x,y,z\n")
+    for k in range(12):
+        q = -30 + 60 * k / 11
+        for side, b in (("below", 0.0), ("above", 0.05)):
+            a = math.radians(q + b)
+            f.write(f"{q},{side},{300 * math.cos(a) + 10},{300 * math.sin(a)},500\n")
+PY
+"$robcal" axis-test analyse --measurements "$tmp/axis.csv" --json >"$tmp/axis.json"
+python3 - "$tmp/axis.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert abs(r["backlash_deg"] - 0.05) < 1e-9 and abs(r["radius_mm"] - 300) < 1e-9, r
+assert abs(abs(r["axis_direction"][2]) - 1) < 1e-12 and r["axial_mm"]["max_abs"] < 1e-9, r
+PY
+sed '3s/,above,/,sideways,/' "$tmp/axis.csv" >"$tmp/axis-bad.csv"
+set +e
+"$robcal" axis-test analyse --measurements "$tmp/axis-bad.csv" >"$tmp/out" 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "bad side: exit $rc"
+grep -q "axis-bad.csv:3:.* (side): expected below or above, found 'sideways'" "$tmp/err" || fail "message: $(cat "$tmp/err")"
 echo "validate CLI: ok"

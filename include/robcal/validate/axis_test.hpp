@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "robcal/kinematics/forward_kinematics.hpp"
@@ -62,6 +63,16 @@ struct AxisTestResult {
   ErrorStatistics tangential_mm, radial_mm, axial_mm;
   double tangential_sigma_mm = 0, radial_sigma_mm = 0, axial_sigma_mm = 0;
 };
+
+/// The moves as CSV `move,side,j1..j6` (degrees; side approach, below or above): measure the
+/// target after every "below" and "above" move.
+std::string axis_test_moves_csv(const std::vector<AxisTestMove>& moves);
+
+/// Reads measured positions: CSV `joint_deg,side,x,y,z` (side below or above; mm, degrees).
+/// InputError naming file, line, column for anything else.
+std::vector<AxisTestSample> read_axis_test_samples(const std::string& path);
+std::vector<AxisTestSample> parse_axis_test_samples(const std::string& text,
+                                                    const std::string& file);
 
 /// Fits the circle, the angle law and the backlash.
 /// \throws InputError for fewer than 6 samples, no sample from one of the two sides, or

@@ -1,4 +1,5 @@
-// Reading the measured cycles of an ISO 9283 test (format in validate/iso9283.hpp).
+// Reading the measurements of the ISO 9283 test (format in validate/iso9283.hpp) and of the
+// axis test (validate/axis_test.hpp): one reader per format, sharing the cell parsers.
 
 #include <fmt/format.h>
 
@@ -10,6 +11,8 @@
 #include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/validate/axis_test.hpp"
 #include "robcal/validate/iso9283.hpp"
 
 namespace robcal {
@@ -95,6 +98,45 @@ std::vector<Iso9283Sample> parse_iso9283_samples(const std::string& text,
   }
   if (columns.empty()) throw InputError({file, 0, 0, ""}, "empty file: no header");
   if (out.empty()) throw InputError({file, 0, 0, ""}, "no measured cycles");
+  return out;
+}
+
+std::vector<AxisTestSample> read_axis_test_samples(const std::string& path) {
+  return parse_axis_test_samples(read_text_file(path), path);
+}
+
+std::vector<AxisTestSample> parse_axis_test_samples(const std::string& text,
+                                                    const std::string& file) {
+  static const std::vector<std::string> kColumns = {"joint_deg", "side", "x", "y", "z"};
+  std::istringstream in(text);
+  std::string line;
+  int number = 0;
+  bool header = false;
+  std::vector<AxisTestSample> out;
+  while (std::getline(in, line)) {
+    ++number;
+    if (csv::trim(line).empty() || csv::trim(line)[0] == '#') continue;
+    std::vector<int> at;
+    const std::vector<std::string_view> cells = csv::split_fields(line, &at);
+    if (!header) {
+      if (std::vector<std::string>(cells.begin(), cells.end()) != kColumns)
+        throw InputError({file, number, 1, ""}, "expected the header joint_deg,side,x,y,z");
+      header = true;
+      continue;
+    }
+    if (cells.size() != kColumns.size())
+      throw InputError({file, number, 0, ""},
+                       fmt::format("expected 5 cells, found {}", cells.size()));
+    const auto where = [&](size_t k) { return SourceLocation{file, number, at[k], kColumns[k]}; };
+    if (cells[1] != "below" && cells[1] != "above")
+      throw InputError(where(1), fmt::format("expected below or above, found '{}'", cells[1]));
+    AxisTestSample s;
+    s.joint_rad = deg2rad(number_cell(cells[0], where(0)));
+    s.from_above = cells[1] == "above";
+    for (int k = 0; k < 3; ++k) s.position_mm[k] = number_cell(cells[2 + k], where(2 + k));
+    out.push_back(s);
+  }
+  if (!header) throw InputError({file, 0, 0, ""}, "empty file: no header");
   return out;
 }
 
