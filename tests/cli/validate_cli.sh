@@ -273,4 +273,17 @@ rc=$?
 set -e
 [ $rc -eq 2 ] || fail "bad side: exit $rc"
 grep -q "axis-bad.csv:3:.* (side): expected below or above, found 'sideways'" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+# Ballbar path: 3 rings of 8 points written; an unreachable centre writes nothing, exit 2.
+"$robcal" ballbar-path --robot abb-irb120 --tool $data/tool.yaml --target 1 --centre 400,0,300 \
+  --length 100 --elevations -30,0,30 --points 8 --out "$tmp/bbpath.csv" >"$tmp/bbpath.txt"
+[ "$(wc -l <"$tmp/bbpath.csv")" -eq 25 ] || fail "ballbar path: $(cat "$tmp/bbpath.csv")"
+grep -q "all reachable in front-up-noflip" "$tmp/bbpath.txt" || fail "$(cat "$tmp/bbpath.txt")"
+set +e
+"$robcal" ballbar-path --robot abb-irb120 --tool $data/tool.yaml --target 1 --centre 3000,0,300 \
+  --length 100 --out "$tmp/bbpath2.csv" >"$tmp/out" 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "unreachable ballbar path: exit $rc"
+grep -q "12 of 12 path points fail the checks" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+[ ! -e "$tmp/bbpath2.csv" ] || fail "ballbar path written despite failures"
 echo "validate CLI: ok"
