@@ -14,6 +14,7 @@
 #include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
+#include "robcal/report/report.hpp"
 #include "robcal/validate/iso9283.hpp"
 
 namespace robcal::cli {
@@ -96,23 +97,6 @@ void run_plan(const PlanOptions& o) {
              o.cycles, o.out_poses, o.out_cycles);
 }
 
-nlohmann::json pose_json(const Iso9283PoseFigures& f) {
-  nlohmann::json out = {{"pose", fmt::format("P{}", f.pose)},
-                        {"cycles", f.cycles},
-                        {"AP_mm", f.ap_mm},
-                        {"AP_xyz_mm", vector_json(f.ap_xyz_mm)},
-                        {"RP_mm", f.rp_mm},
-                        {"l_mean_mm", f.l_mean_mm},
-                        {"S_l_mm", f.s_l_mm}};
-  if (f.has_orientation) {
-    out["AP_abc_deg"] = vector_json(f.ap_abc_deg);
-    out["RP_abc_deg"] = vector_json(f.rp_abc_deg);
-  }
-  if (f.vap_mm) out["vAP_mm"] = *f.vap_mm;
-  if (f.vap_abc_deg) out["vAP_abc_deg"] = vector_json(*f.vap_abc_deg);
-  return out;
-}
-
 void run_analyse(const AnalyseOptions& o) {
   Iso9283AnalysisRequest request;
   request.file = o.measurements;
@@ -128,17 +112,7 @@ void run_analyse(const AnalyseOptions& o) {
   request.min_cycles = o.min_cycles;
   const Iso9283Result r = iso9283_analyse(request);
   if (o.json) {
-    nlohmann::json out;
-    for (const Iso9283PoseFigures& f : r.poses) out["poses"].push_back(pose_json(f));
-    if (r.distance) {
-      const Iso9283DistanceFigures& d = *r.distance;
-      out["distance"] = {{"between", "P2-P4"}, {"cycles", d.cycles},       {"D_c_mm", d.commanded_mm},
-                         {"AD_mm", d.ad_mm},    {"RD_mm", d.rd_mm},          {"S_D_mm", d.s_d_mm}};
-      if (d.has_orientation) {
-        out["distance"]["AD_abc_deg"] = vector_json(d.ad_abc_deg);
-        out["distance"]["RD_abc_deg"] = vector_json(d.rd_abc_deg);
-      }
-    }
+    nlohmann::json out = iso9283_json(r);
     out["measurements"] = o.measurements;
     out["min_cycles"] = o.min_cycles;
     print_json(out);

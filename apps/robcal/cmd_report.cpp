@@ -3,14 +3,17 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
+#include <numeric>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
+#include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/yaml_support.hpp"
 #include "robcal/report/report.hpp"
 #include "robcal/validate/base_fit.hpp"
@@ -25,20 +28,46 @@ struct ReportOptions {
   std::string before;
   std::string title = "robcal calibration report";
   std::string out;
+  std::string instrument;  ///< instrument.yaml (name and σ)
+  std::string seed;
+  std::string iso9283_poses, iso9283_measurements;
+  int iso9283_min_cycles = kIso9283Cycles;
+  std::string ballbar;
   bool json = false;
 };
 
-MeasurementSet read_positions(const std::string& path, const Tool& tool) {
-  MeasurementFile file =
-      read_measurements_csv(path, tool, {MeasurementKind::Points, MeasurementKind::Poses});
+MeasurementSet read_set(const std::string& path, const Tool& tool,
+                        std::initializer_list<MeasurementKind> kinds) {
+  MeasurementFile file = read_measurements_csv(path, tool, kinds);
   for (const std::string& warning : file.warnings) fmt::print(stderr, "warning: {}\n", warning);
   return std::move(file.measurements);
+}
+
+MeasurementSet read_positions(const std::string& path, const Tool& tool) {
+  return read_set(path, tool, {MeasurementKind::Points, MeasurementKind::Poses});
+}
+
+/// The instrument file's name and σ (the mean of sigma_mm when it lists one per axis).
+void read_instrument(const std::string& path, Provenance& provenance) {
+  const yaml::Node root = yaml::load_file(path);
+  provenance.instrument = root.at("instrument").as_string();
+  if (root.has("sigma_mm")) {
+    const yaml::Node sigma = root.at("sigma_mm");
+    const std::vector<double> values =
+        sigma.node.IsSequence() ? sigma.as_doubles() : std::vector<double>{sigma.as_double()};
+    if (!values.empty())
+      provenance.instrument_sigma_mm =
+          std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
+  }
 }
 
 void run_report(const ReportOptions& o) {
   const std::filesystem::path html_path(o.out);
   if (html_path.extension() != ".html")
     throw InputError({"", 0, 0, "--out"}, "expected a file name ending in .html");
+  if (o.iso9283_poses.empty() != o.iso9283_measurements.empty())
+    throw InputError({"", 0, 0, "--iso9283-poses"},
+                     "give both --iso9283-poses and --iso9283-measurements");
   const std::string chartjs = load_chartjs();
   const CalibratedRobot model = load_calibrated_robot(o.model);
   if (!model.base_fitted)
@@ -52,28 +81,71 @@ void run_report(const ReportOptions& o) {
   ReportData data;
   data.title = o.title;
   data.robot = model.model.name;
+  data.provenance = start_provenance_of_process();
+  data.provenance.robot = model.model.name;
+  data.provenance.level = model.level;
+  if (!o.seed.empty()) data.provenance.seed = std::stoull(o.seed);
+  data.provenance.files.push_back(provenance_file("model", o.model));
   data.sources.push_back("model " + o.model);
-  for (const std::string& path : o.measurements) data.sources.push_back("validation " + path);
-  if (o.before.empty()) {
-    // The nominal robot placed by a rigid fit to the first validation file: the best a
-    // nominal model does once its base frame is known.
-    const CalibratedRobot nominal =
-        fit_base(CalibratedRobot::nominal(model.model, model.tool), validation.front());
-    data.models.push_back(model_errors("nominal (rigid base fit)", nominal, validation));
-  } else {
-    data.models.push_back(
-        model_errors("before: " + o.before, load_calibrated_robot(o.before), validation));
+  for (const std::string& path : o.measurements) {
+    data.sources.push_back("validation " + path);
+    data.provenance.files.push_back(provenance_file("validation", path));
   }
-  data.models.push_back(
-      model_errors(model.level.empty() ? "calibrated" : model.level, model, validation));
+  if (!o.instrument.empty()) {
+    read_instrument(o.instrument, data.provenance);
+    data.provenance.files.push_back(provenance_file("instrument", o.instrument));
+  }
+  std::optional<Eigen::Matrix3Xd> calibration;
   if (!o.calibration.empty()) {
     data.sources.push_back("calibration " + o.calibration);
-    data.distance_to_calibration_mm =
-        distance_to_calibration(validation, read_positions(o.calibration, model.tool));
+    data.provenance.files.push_back(provenance_file("calibration", o.calibration));
+    const MeasurementSet set = read_positions(o.calibration, model.tool);
+    calibration = measured_positions(set);
+    data.distance_to_calibration_mm = distance_to_calibration(validation, set);
   } else {
     data.notes.push_back(
         "No --calibration file: distances to the calibration region are not "
         "shown.");
+  }
+  CalibratedRobot before;
+  std::string before_label;
+  if (o.before.empty()) {
+    // The nominal robot placed by a rigid fit to the first validation file: the best a
+    // nominal model does once its base frame is known.
+    before = fit_base(CalibratedRobot::nominal(model.model, model.tool), validation.front());
+    before_label = "nominal (rigid base fit)";
+  } else {
+    before = load_calibrated_robot(o.before);
+    before_label = "before: " + o.before;
+    data.provenance.files.push_back(provenance_file("before", o.before));
+  }
+  const std::string after_label = model.level.empty() ? "calibrated" : model.level;
+  data.models.push_back(model_errors(before_label, before, validation, calibration));
+  data.models.push_back(model_errors(after_label, model, validation, calibration));
+  if (!o.iso9283_poses.empty()) {
+    Iso9283AnalysisRequest request;
+    request.file = o.iso9283_measurements;
+    const std::vector<ListedPose> listed = read_pose_list(o.iso9283_poses);
+    for (int k = 1; k <= 5; ++k) {
+      const auto it = std::find_if(listed.begin(), listed.end(), [&](const ListedPose& p) {
+        return p.name == fmt::format("P{}", k);
+      });
+      if (it == listed.end())
+        throw InputError({o.iso9283_poses, 0, 0, "name"}, fmt::format("no pose named P{}", k));
+      request.commanded.push_back(it->world_T_tcp);
+    }
+    request.samples = read_iso9283_samples(o.iso9283_measurements);
+    request.min_cycles = o.iso9283_min_cycles;
+    data.iso9283 = iso9283_analyse(request);
+    data.provenance.files.push_back(provenance_file("ISO 9283 poses", o.iso9283_poses));
+    data.provenance.files.push_back(provenance_file("ISO 9283 cycles", o.iso9283_measurements));
+  }
+  if (!o.ballbar.empty()) {
+    const MeasurementSet set = read_set(o.ballbar, model.tool, {MeasurementKind::Distances});
+    // The centre is identified for each model: no world frame is needed.
+    data.ballbar.emplace_back(before_label, ballbar_errors(before, set, std::nullopt));
+    data.ballbar.emplace_back(after_label, ballbar_errors(model, set, std::nullopt));
+    data.provenance.files.push_back(provenance_file("ballbar", o.ballbar));
   }
   data.parameters = report_parameters(model);
   const yaml::Node root = yaml::load_file(o.model);
@@ -106,6 +178,19 @@ const bool registered = register_command(85, [](CLI::App& app) {
                   "The calibration measurements (for the error against distance to them)");
   cmd->add_option("--before", o->before,
                   "Model to compare with (default: the nominal robot, rigid base fit)");
+  cmd->add_option("--instrument", o->instrument,
+                  "Instrument file (instrument.yaml: name and sigma_mm) for the provenance");
+  cmd->add_option("--seed", o->seed, "Seed of the plan or simulation, for the provenance")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--iso9283-poses", o->iso9283_poses,
+                  "ISO 9283 commanded poses (from `robcal iso9283 plan`)");
+  cmd->add_option("--iso9283-measurements", o->iso9283_measurements,
+                  "ISO 9283 measured cycles (pose,cycle,x,y,z[,qw,qx,qy,qz][,direction])");
+  cmd->add_option("--iso9283-min-cycles", o->iso9283_min_cycles,
+                  "Fewest cycles accepted per pose (the standard: 30)")
+      ->capture_default_str();
+  cmd->add_option("--ballbar", o->ballbar,
+                  "Ballbar (distances) file: length errors of both models");
   cmd->add_option("--title", o->title, "Page title")->capture_default_str();
   cmd->add_option("--out", o->out, "Output .html (the JSON goes beside it)")->required();
   cmd->add_flag("--json", o->json, "Print the report's JSON");
