@@ -231,6 +231,7 @@ constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
  .nodata { color: #999; font-style: italic; }
  .charts { display: grid; grid-template-columns: repeat(auto-fit, minmax(320px, 1fr)); gap: 1em; }
  .chart { position: relative; height: 260px; }
+ .caption { color: #555; font-size: 0.85em; margin: 0.3em 0 0.8em; }
  .hash { font-family: monospace; font-size: 0.85em; word-break: break-all; }
  #render-status { font-size: 0.75em; color: #999; }
  @page { size: A4; margin: 14mm; }
@@ -257,14 +258,21 @@ constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
 @ORIENTATION@</section>
 <section><h2>Before and after on shared axes</h2>
 <div class="chart"><canvas id="cdf-chart"></canvas></div>
+<p class="caption">Share of validation rows at or below each position error, every model on one
+logarithmic axis; below, each model's histogram on bins of a round width.</p>
 <div class="charts" id="histograms"></div></section>
 <section class="long"><h2>Errors by configuration class (mm)</h2>
 @CLASSES@</section>
 <section><h2>Error against distance to the calibration region</h2>
-<div class="chart"><canvas id="distance-chart"></canvas></div></section>
+<div class="chart"><canvas id="distance-chart"></canvas></div>
+<p class="caption">Position error of the last model at each validation row against the distance
+from its measured position to the nearest calibration position.</p></section>
 <section><h2>Distance errors over every pair of validation rows (mm)</h2>
 @PAIRS@
-<div class="charts" id="pair-histograms"></div></section>
+<div class="charts" id="pair-histograms"></div>
+<p class="caption">| |m<sub>i</sub> − m<sub>j</sub>| − |p<sub>i</sub> − p<sub>j</sub>| | over every
+pair of rows: no world frame enters; signed mean and share of positive errors above (measured
+distance the longer).</p></section>
 <section><h2>Per target</h2>
 <table><thead><tr><th>model</th><th class="l">target</th><th>rows</th><th>mean</th><th>std</th><th>mean + 3 std</th><th>max</th></tr></thead>
 <tbody>
