@@ -7,6 +7,8 @@
 #include <fstream>
 #include <cstdint>
 
+#include <yaml-cpp/yaml.h>
+
 #include "robcal/io/atomic_file.hpp"
 
 #ifndef ROBCAL_VERSION
@@ -124,6 +126,27 @@ nlohmann::json provenance_json(const Provenance& p) {
   for (const ProvenanceFile& f : p.files)
     out["files"].push_back({{"role", f.role}, {"path", f.path}, {"sha256", f.sha256}});
   return out;
+}
+
+std::string provenance_yaml(const Provenance& p) {
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  out << YAML::Key << "robcal_version" << YAML::Value << p.robcal_version;
+  out << YAML::Key << "date_utc" << YAML::Value << p.date_utc;
+  out << YAML::Key << "command_line" << YAML::Value << YAML::DoubleQuoted << p.command_line;
+  out << YAML::Key << "robot" << YAML::Value << p.robot;
+  out << YAML::Key << "level" << YAML::Value << p.level;
+  if (!p.instrument.empty()) out << YAML::Key << "instrument" << YAML::Value << p.instrument;
+  if (p.instrument_sigma_mm)
+    out << YAML::Key << "instrument_sigma_mm" << YAML::Value << *p.instrument_sigma_mm;
+  if (p.seed) out << YAML::Key << "seed" << YAML::Value << *p.seed;
+  out << YAML::Key << "files" << YAML::Value << YAML::BeginSeq;
+  for (const ProvenanceFile& f : p.files)
+    out << YAML::BeginMap << YAML::Key << "role" << YAML::Value << f.role << YAML::Key << "path"
+        << YAML::Value << YAML::DoubleQuoted << f.path << YAML::Key << "sha256" << YAML::Value
+        << f.sha256 << YAML::EndMap;
+  out << YAML::EndSeq << YAML::EndMap;
+  return out.c_str();
 }
 
 }  // namespace robcal

@@ -175,6 +175,12 @@ assert 0.028 < full["position_error_mm"]["mean"] < 0.045, full["position_error_m
 assert full["position_error_mm"]["max"] < 0.15, full["position_error_mm"]
 assert full["level"] == "full" and not full["base_fitted_to_measurements"]
 PY
+# The model file records where it came from: version, command, inputs with their SHA-256.
+sha=$(sha256sum $data/calibration.csv | cut -d' ' -f1)
+grep -q "^  provenance:" "$tmp/full.yaml" || fail "no provenance in the model file"
+grep -q "sha256: $sha" "$tmp/full.yaml" || fail "no SHA-256 of the measurements in the model file"
+grep -q "command_line: .* calibrate .*--level full" "$tmp/full.yaml" || fail "no command line"
+grep -q "robcal_version: [0-9]" "$tmp/full.yaml" || fail "no version"
 # Statistics by class: every table's rows add up to all rows, the empty "back" class says
 # "no data" (no number, no NaN), regions need --calibration; signed pair errors are reported.
 "$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --model "$tmp/full.yaml" \

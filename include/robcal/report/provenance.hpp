@@ -50,4 +50,8 @@ Provenance start_provenance_of_process();
 
 nlohmann::json provenance_json(const Provenance& provenance);
 
+/// The same as a YAML block map (what `robcal calibrate` writes under statistics.provenance
+/// of the model file).
+std::string provenance_yaml(const Provenance& provenance);
+
 }  // namespace robcal
