@@ -27,9 +27,10 @@ struct HandMade {
   /// The rotation vector (deg, tool axes) applied to each sample: the a, b, c deviations.
   std::vector<Eigen::Vector3d> deviation_deg;
   HandMade() {
-    const Eigen::Matrix3d down = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    const double c[5][3] = {{400, 0, 500}, {320, -80, 420}, {480, -80, 420}, {480, 80, 580},
-                            {320, 80, 580}};
+    const Eigen::Matrix3d down =
+        Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    const double c[5][3] = {
+        {400, 0, 500}, {320, -80, 420}, {480, -80, 420}, {480, 80, 580}, {320, 80, 580}};
     for (const auto& p : c) commanded.push_back({down, Eigen::Vector3d(p[0], p[1], p[2])});
     const auto add = [&](int pose, int cycle, int direction) {
       const double k = pose * 10 + cycle + 3 * direction;  // distinct, irregular offsets
@@ -89,7 +90,8 @@ Reference reference_pose(const HandMade& d, int pose, int direction) {
   for (int a = 0; a < 3; ++a) {
     r.ap_abc[a] = mean_abc[a];
     double sa = 0;
-    for (size_t i : rows) sa += (d.deviation_deg[i][a] - mean_abc[a]) * (d.deviation_deg[i][a] - mean_abc[a]);
+    for (size_t i : rows)
+      sa += (d.deviation_deg[i][a] - mean_abc[a]) * (d.deviation_deg[i][a] - mean_abc[a]);
     r.rp_abc[a] = 3 * std::sqrt(sa / (n - 1));
   }
   return r;
@@ -128,10 +130,11 @@ TEST(Iso9283Analyse, MatchesTheFormulasWrittenOut) {
   ASSERT_TRUE(p1.vap_mm.has_value());
   EXPECT_EQ(p1.directions, 2);  // directions 2 and 3; direction 0 is the unidirectional test
   const Eigen::Vector3d b2 = barycentre(d, 1, 2, false), b3 = barycentre(d, 1, 3, false);
-  EXPECT_NEAR(*p1.vap_mm,
-              std::sqrt((b2.x() - b3.x()) * (b2.x() - b3.x()) + (b2.y() - b3.y()) * (b2.y() - b3.y()) +
-                        (b2.z() - b3.z()) * (b2.z() - b3.z())),
-              1e-9);
+  EXPECT_NEAR(
+      *p1.vap_mm,
+      std::sqrt((b2.x() - b3.x()) * (b2.x() - b3.x()) + (b2.y() - b3.y()) * (b2.y() - b3.y()) +
+                (b2.z() - b3.z()) * (b2.z() - b3.z())),
+      1e-9);
   const Eigen::Vector3d o2 = barycentre(d, 1, 2, true), o3 = barycentre(d, 1, 3, true);
   for (int a = 0; a < 3; ++a) EXPECT_NEAR((*p1.vap_abc_deg)[a], std::abs(o2[a] - o3[a]), 1e-9);
   EXPECT_FALSE(result.poses[1].vap_mm.has_value());
@@ -155,7 +158,8 @@ TEST(Iso9283Analyse, MatchesTheFormulasWrittenOut) {
   double mean = 0, mean_a = 0;
   for (int j = 0; j < 4; ++j) mean += D[j] / 4, mean_a += Da[j] / 4;
   double s = 0, sa = 0;
-  for (int j = 0; j < 4; ++j) s += (D[j] - mean) * (D[j] - mean), sa += (Da[j] - mean_a) * (Da[j] - mean_a);
+  for (int j = 0; j < 4; ++j)
+    s += (D[j] - mean) * (D[j] - mean), sa += (Da[j] - mean_a) * (Da[j] - mean_a);
   EXPECT_EQ(ad.cycles, 4);
   EXPECT_NEAR(ad.commanded_mm, dc, 1e-9);
   EXPECT_NEAR(ad.ad_mm, mean - dc, 1e-9);

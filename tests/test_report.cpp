@@ -20,6 +20,7 @@
 #include "robcal/report/report.hpp"
 #include "robcal/validate/base_fit.hpp"
 #include "test_support.hpp"
+#include "test_validate_support.hpp"
 
 namespace robcal {
 namespace {
@@ -129,6 +130,14 @@ std::string find_chromium() {
   return "";
 }
 
+/// Headless Chromium offline, with its own profile and no header or footer on printed pages.
+std::string chromium_flags(const fs::path& profile) {
+  return "--headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+         "--disable-background-networking --disable-component-update --disable-sync "
+         "--no-pdf-header-footer --user-data-dir=" +
+         profile.string();
+}
+
 TEST(ReportBrowser, RendersInHeadlessChromiumWithoutScriptErrors) {
   const std::string chromium = find_chromium();
   if (chromium.empty())
@@ -157,11 +166,7 @@ TEST(ReportBrowser, RendersInHeadlessChromiumWithoutScriptErrors) {
   fs::create_directories(dir / "profile");
   const fs::path page = dir / "report.html";
   write_file_atomically(page, report_html(report_json(data), chartjs));
-  const std::string flags =
-      "--headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
-      "--disable-background-networking --disable-component-update --disable-sync "
-      "--user-data-dir=" +
-      (dir / "profile").string();
+  const std::string flags = chromium_flags(dir / "profile");
   const std::string command = "timeout 120 " + chromium + " " + flags + " --dump-dom file://" +
                               page.string() + " > " + (dir / "dom.html").string() + " 2> " +
                               (dir / "stderr.txt").string();
@@ -173,7 +178,6 @@ TEST(ReportBrowser, RendersInHeadlessChromiumWithoutScriptErrors) {
   EXPECT_NE(dom.find("rendered 4 charts"), std::string::npos);
   EXPECT_NE(dom.find("id=\"histogram-1\""), std::string::npos);
 }
-
 
 TEST(ReportProvenance, Sha256OfTheStandardVectors) {
   // FIPS 180-4 examples (and the empty message).
@@ -212,13 +216,7 @@ TEST(ReportProvenance, CommandLineAndJson) {
 /// (rigid base fit) and the true one over the validation rows, with calibration regions, pair
 /// distances, ISO 9283 figures and ballbar errors.
 ReportData reference_report() {
-  const test::ReferenceTruth truth = test::load_reference_truth();
-  CalibratedRobot after = CalibratedRobot::nominal(
-      truth.model, load_tool(test::data_path("irb120-published/tool.yaml")));
-  after.params = truth.params;
-  after.tool.payload = truth.payload;
-  after.base_fitted = true;
-  after.level = "full";
+  const CalibratedRobot after = test::reference_true_robot();
   const MeasurementSet validation =
       read_measurements_csv(test::data_path("irb120-published/validation.csv"), after.tool,
                             {MeasurementKind::Points})
@@ -228,13 +226,13 @@ ReportData reference_report() {
                             {MeasurementKind::Points})
           .measurements;
   const CalibratedRobot before =
-      fit_base(CalibratedRobot::nominal(truth.model, after.tool), validation);
+      fit_base(CalibratedRobot::nominal(after.model, after.tool), validation);
   ReportData data;
   data.title = "reference report";
-  data.robot = truth.model.name;
+  data.robot = after.model.name;
   const char* argv[] = {"robcal", "report"};
   data.provenance = start_provenance(2, argv);
-  data.provenance.robot = truth.model.name;
+  data.provenance.robot = after.model.name;
   data.provenance.level = "full";
   data.provenance.instrument = "laser-tracker";
   data.provenance.instrument_sigma_mm = 0.022;
@@ -250,7 +248,8 @@ ReportData reference_report() {
   // ISO 9283: 4 cycles of 5 poses, 0.05 mm off in x and ±0.01 mm in y.
   Iso9283AnalysisRequest iso;
   iso.min_cycles = 3;
-  for (int k = 0; k < 5; ++k) iso.commanded.push_back({Eigen::Matrix3d::Identity(), Eigen::Vector3d(400 + 10 * k, 0, 500)});
+  for (int k = 0; k < 5; ++k)
+    iso.commanded.push_back({Eigen::Matrix3d::Identity(), Eigen::Vector3d(400 + 10 * k, 0, 500)});
   for (int cycle = 1; cycle <= 4; ++cycle)
     for (int k = 1; k <= 5; ++k)
       iso.samples.push_back({k, cycle, 0,
@@ -264,9 +263,8 @@ ReportData reference_report() {
   const Eigen::Vector3d centre(0, 1000, 300);
   for (size_t r = 0; r < 40; ++r) {
     const PointMeasurement& m = validation.points[r];
-    const Eigen::Vector3d p =
-        flange_pose(after.model, after.tool.payload, after.params, m.joints) *
-        after.tool.targets[static_cast<size_t>(m.target)].position_mm;
+    const Eigen::Vector3d p = flange_pose(after.model, after.tool.payload, after.params, m.joints) *
+                              after.tool.targets[static_cast<size_t>(m.target)].position_mm;
     bar.distances.push_back({m.config, m.target, m.joints, (p - centre).norm() + 0.01, 0});
   }
   data.ballbar.emplace_back("full", ballbar_errors(after, bar, centre));
@@ -325,11 +323,7 @@ TEST(ReportBrowser, PrintsToPdfWithoutAHeadingAloneAtAPageFoot) {
   const fs::path page = dir / "report.html", pdf = dir / "report.pdf", err = dir / "stderr.txt";
   const std::string html = report_html(report_json(reference_report()), chartjs);
   write_file_atomically(page, html);
-  const std::string flags =
-      "--headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
-      "--disable-background-networking --disable-component-update --disable-sync "
-      "--no-pdf-header-footer --user-data-dir=" +
-      (dir / "profile").string();
+  const std::string flags = chromium_flags(dir / "profile");
   run("timeout 120 " + chromium + " " + flags + " --dump-dom file://" + page.string() + " > " +
           (dir / "dom.html").string(),
       err);
@@ -351,20 +345,19 @@ TEST(ReportBrowser, PrintsToPdfWithoutAHeadingAloneAtAPageFoot) {
   // The headings of the page, as the PDF's text shows them.
   std::vector<std::string> headings;
   const std::regex heading(R"(<h[123][^>]*>([^<]*)</h[123]>)");
-  for (auto it = std::sregex_iterator(html.begin(), html.end(), heading); it != std::sregex_iterator();
-       ++it) {
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), heading);
+       it != std::sregex_iterator(); ++it) {
     std::string text = (*it)[1];
-    for (const auto& [from, to] : {std::pair<std::string, std::string>{"&amp;", "&"},
-                                   {"&lt;", "<"}, {"&gt;", ">"}})
+    for (const auto& [from, to] :
+         {std::pair<std::string, std::string>{"&amp;", "&"}, {"&lt;", "<"}, {"&gt;", ">"}})
       for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at))
         text.replace(at, from.size(), to);
     headings.push_back(text);
   }
-  for (const char* section : {"Provenance", "Before and after on shared axes",
-                              "Errors by configuration class (mm)",
-                              "Distance errors over every pair of validation rows (mm)",
-                              "ISO 9283 pose characteristics", "Ballbar length errors (mm)",
-                              "Parameters (± one standard deviation)"})
+  for (const char* section :
+       {"Provenance", "Before and after on shared axes", "Errors by configuration class (mm)",
+        "Distance errors over every pair of validation rows (mm)", "ISO 9283 pose characteristics",
+        "Ballbar length errors (mm)", "Parameters (± one standard deviation)"})
     EXPECT_NE(std::find(headings.begin(), headings.end(), section), headings.end()) << section;
   const auto trim = [](std::string line) {
     line.erase(0, line.find_first_not_of(" \t\f"));
@@ -388,8 +381,8 @@ TEST(ReportBrowser, PrintsToPdfWithoutAHeadingAloneAtAPageFoot) {
     EXPECT_FALSE(is_heading(lines.back())) << "ends with the heading '" << lines.back() << "'";
     all_text += read_text_file(text);
   }
-  for (const char* section : {"Provenance", "ISO 9283 pose characteristics", "no data",
-                              "SHA-256", "laser-tracker"})
+  for (const char* section :
+       {"Provenance", "ISO 9283 pose characteristics", "no data", "SHA-256", "laser-tracker"})
     EXPECT_NE(all_text.find(section), std::string::npos) << section;
   EXPECT_FALSE(std::regex_search(all_text, std::regex(R"(\bnan\b)", std::regex::icase)));
 }

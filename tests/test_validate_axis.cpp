@@ -84,7 +84,8 @@ TEST(ValidateAxisTest, RecoversBacklashWithinSigma) {
 // published MDH errors) are found within their σ.
 TEST(ValidateAxisTest, RecoversAxisDirectionWithinSigmaWithoutCompliance) {
   Simulated sim;
-  for (int link = 2; link <= kJointCount; ++link) sim.truth.robot.params[compliance_param(link)] = 0;
+  for (int link = 2; link <= kJointCount; ++link)
+    sim.truth.robot.params[compliance_param(link)] = 0;
   check_every_joint(sim, true);
 }
 
@@ -92,7 +93,8 @@ TEST(ValidateAxisTest, NoiseFreeIsExactAndTiltOfTheNominalAxisIsSeen) {
   Simulated sim;
   // Without compliance the target runs on an exact circle (the truth's tilted base makes the
   // gravity torques depend on joint 1).
-  for (int link = 2; link <= kJointCount; ++link) sim.truth.robot.params[compliance_param(link)] = 0;
+  for (int link = 2; link <= kJointCount; ++link)
+    sim.truth.robot.params[compliance_param(link)] = 0;
   Vector6d home;
   home << 0, deg2rad(10), deg2rad(10), 0, deg2rad(45), 0;
   AxisTestPlanRequest plan;

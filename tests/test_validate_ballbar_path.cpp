@@ -57,15 +57,16 @@ TEST(ValidateBallbarPath, PointsOnTheSphereAndExactJoints) {
 
 TEST(ValidateBallbarPath, PredictedReadingsOfTheRealRobotAgainstTheRange) {
   BallbarPathRequest request = irb120_request();
-  const TrueRobot truth = published_irb120_truth(request.robot.model, request.robot.tool,
-                                                 {0, 0, 0, 0, 0, 0});
+  const TrueRobot truth =
+      published_irb120_truth(request.robot.model, request.robot.tool, {0, 0, 0, 0, 0, 0});
   request.reading_model = truth.robot;
   BallbarPath path = ballbar_path(request);
   double largest = 0;
   int outside = 0;
   for (const BallbarPathPoint& p : path.points) {
     // The simulator's true arm at these joints reads this much off the bar's length.
-    const Eigen::Vector3d ball = true_flange_pose(truth, p.joints) * truth.robot.tool.targets[0].position_mm;
+    const Eigen::Vector3d ball =
+        true_flange_pose(truth, p.joints) * truth.robot.tool.targets[0].position_mm;
     EXPECT_NEAR(p.predicted_offset_mm, (ball - request.centre_mm).norm() - 100, 1e-9);
     largest = std::max(largest, std::abs(p.predicted_offset_mm));
     outside += std::abs(p.predicted_offset_mm) > 1.0 ? 1 : 0;

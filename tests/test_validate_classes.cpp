@@ -10,25 +10,15 @@
 #include <fmt/format.h>
 
 #include "robcal/core/units.hpp"
-#include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/validate/class_statistics.hpp"
 #include "robcal/validate/validation.hpp"
-#include "test_support.hpp"
+#include "test_validate_support.hpp"
 
 namespace robcal {
 namespace {
-
-CalibratedRobot true_robot() {
-  const test::ReferenceTruth truth = test::load_reference_truth();
-  CalibratedRobot robot = CalibratedRobot::nominal(
-      truth.model, load_tool(test::data_path("irb120-published/tool.yaml")));
-  robot.params = truth.params;
-  robot.tool.payload = truth.payload;
-  robot.base_fitted = true;
-  return robot;
-}
 
 /// Count, mean and max per label, summed row by row.
 struct Naive {
@@ -61,7 +51,7 @@ void expect_table_matches(const ClassTable& table, const Naive& naive, size_t ro
 }
 
 TEST(ValidateClasses, MatchRowByRowRecomputation) {
-  const CalibratedRobot robot = true_robot();
+  const CalibratedRobot robot = test::reference_true_robot();
   const MeasurementSet set =
       read_measurements_csv(test::data_path("irb120-published/validation.csv"), robot.tool,
                             {MeasurementKind::Points})
@@ -108,11 +98,10 @@ TEST(ValidateClasses, MatchRowByRowRecomputation) {
 }
 
 TEST(ValidateClasses, EmptyClassSaysNoData) {
-  const CalibratedRobot robot = true_robot();
-  MeasurementSet all =
-      read_measurements_csv(test::data_path("irb120-published/validation.csv"), robot.tool,
-                            {MeasurementKind::Points})
-          .measurements;
+  const CalibratedRobot robot = test::reference_true_robot();
+  MeasurementSet all = read_measurements_csv(test::data_path("irb120-published/validation.csv"),
+                                             robot.tool, {MeasurementKind::Points})
+                           .measurements;
   MeasurementSet front = all;
   front.points.clear();
   for (const PointMeasurement& m : all.points)
@@ -131,18 +120,20 @@ TEST(ValidateClasses, EmptyClassSaysNoData) {
 }
 
 TEST(ValidateClasses, OrientationErrorsOfPosesByClass) {
-  const CalibratedRobot robot = true_robot();
+  const CalibratedRobot robot = test::reference_true_robot();
   MeasurementSet set;
   set.kind = MeasurementKind::Poses;
   // Rows 0, 1 with θ5 > 0 (no-flip), rows 2, 3 with θ5 < 0 (flip); orientation errors 0.1·(r+1)°.
   for (int r = 0; r < 4; ++r) {
     PoseMeasurement m;
     m.joints << 0.1 * r, 0.3, 0.2, 0.4, r < 2 ? 0.8 : -0.8, 0.5;
-    const Pose<double> flange = flange_pose(robot.model, robot.tool.payload, robot.params, m.joints);
+    const Pose<double> flange =
+        flange_pose(robot.model, robot.tool.payload, robot.params, m.joints);
     const Pose<double> tcp = flange * Pose<double>{robot.tool.flange_T_tcp.rotation(),
                                                    robot.tool.flange_T_tcp.translation()};
     m.world_T_tcp.R =
-        tcp.R * Eigen::AngleAxisd(deg2rad(0.1 * (r + 1)), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+        tcp.R *
+        Eigen::AngleAxisd(deg2rad(0.1 * (r + 1)), Eigen::Vector3d::UnitZ()).toRotationMatrix();
     m.world_T_tcp.p = tcp.p;
     set.poses.push_back(m);
   }

@@ -39,9 +39,10 @@ void run_plan(const PlanOptions& o) {
   request.approach_rad = deg2rad(o.approach_deg);
   const std::vector<AxisTestMove> moves = axis_test_moves(request);
   write_file_atomically(o.out, axis_test_moves_csv(moves));
-  fmt::print("axis test of joint {}: {} positions from {:g}° to {:g}°, each approached from {:g}° "
-             "below and above; measure the target after every 'below'/'above' move\nwrote {}\n",
-             o.joint, o.steps, range[0], range[1], o.approach_deg, o.out);
+  fmt::print(
+      "axis test of joint {}: {} positions from {:g}° to {:g}°, each approached from {:g}° "
+      "below and above; measure the target after every 'below'/'above' move\nwrote {}\n",
+      o.joint, o.steps, range[0], range[1], o.approach_deg, o.out);
 }
 
 void run_analyse(const AnalyseOptions& o) {
@@ -50,25 +51,27 @@ void run_analyse(const AnalyseOptions& o) {
     return nlohmann::json{{"mean_abs", s.mean}, {"max_abs", s.max}, {"sigma", sigma}};
   };
   if (o.json) {
-    print_json({{"samples", r.samples},
-                {"axis_direction", {r.axis_direction.x(), r.axis_direction.y(), r.axis_direction.z()}},
-                {"axis_point_mm", {r.axis_point_mm.x(), r.axis_point_mm.y(), r.axis_point_mm.z()}},
-                {"radius_mm", r.radius_mm},
-                {"scale", r.scale},
-                {"backlash_deg", r.backlash_deg},
-                {"backlash_sigma_deg", r.backlash_sigma_deg},
-                {"axis_sigma_deg", r.tilt_sigma_deg},
-                {"tangential_mm", stats(r.tangential_mm, r.tangential_sigma_mm)},
-                {"radial_mm", stats(r.radial_mm, r.radial_sigma_mm)},
-                {"axial_mm", stats(r.axial_mm, r.axial_sigma_mm)},
-                {"measurements", o.measurements}});
+    print_json(
+        {{"samples", r.samples},
+         {"axis_direction", {r.axis_direction.x(), r.axis_direction.y(), r.axis_direction.z()}},
+         {"axis_point_mm", {r.axis_point_mm.x(), r.axis_point_mm.y(), r.axis_point_mm.z()}},
+         {"radius_mm", r.radius_mm},
+         {"scale", r.scale},
+         {"backlash_deg", r.backlash_deg},
+         {"backlash_sigma_deg", r.backlash_sigma_deg},
+         {"axis_sigma_deg", r.tilt_sigma_deg},
+         {"tangential_mm", stats(r.tangential_mm, r.tangential_sigma_mm)},
+         {"radial_mm", stats(r.radial_mm, r.radial_sigma_mm)},
+         {"axial_mm", stats(r.axial_mm, r.axial_sigma_mm)},
+         {"measurements", o.measurements}});
     return;
   }
   fmt::print("axis test from {}: {} positions\n", o.measurements, r.samples);
-  fmt::print("  axis direction ({:.6f}, {:.6f}, {:.6f}) ± {:.4f}° through ({:.3f}, {:.3f}, {:.3f}) "
-             "mm; radius {:.3f} mm; scale {:.5f}\n",
-             r.axis_direction.x(), r.axis_direction.y(), r.axis_direction.z(), r.tilt_sigma_deg,
-             r.axis_point_mm.x(), r.axis_point_mm.y(), r.axis_point_mm.z(), r.radius_mm, r.scale);
+  fmt::print(
+      "  axis direction ({:.6f}, {:.6f}, {:.6f}) ± {:.4f}° through ({:.3f}, {:.3f}, {:.3f}) "
+      "mm; radius {:.3f} mm; scale {:.5f}\n",
+      r.axis_direction.x(), r.axis_direction.y(), r.axis_direction.z(), r.tilt_sigma_deg,
+      r.axis_point_mm.x(), r.axis_point_mm.y(), r.axis_point_mm.z(), r.radius_mm, r.scale);
   fmt::print("  backlash {:.5f} ± {:.5f}° (1σ)\n", r.backlash_deg, r.backlash_sigma_deg);
   fmt::print("  error (mm)      mean |e|     max |e|       σ\n");
   for (const auto& [name, s, sigma] :

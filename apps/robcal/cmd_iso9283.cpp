@@ -33,7 +33,9 @@ struct AnalyseOptions {
   bool json = false;
 };
 
-nlohmann::json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::json vector_json(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 void run_plan(const PlanOptions& o) {
   Iso9283PlanRequest request;
@@ -51,16 +53,8 @@ void run_plan(const PlanOptions& o) {
   const std::vector<double> box = parse_numbers(o.region, 6, "--region");
   request.region_min_mm = Eigen::Vector3d(box[0], box[1], box[2]);
   request.region_max_mm = Eigen::Vector3d(box[3], box[4], box[5]);
-  const std::vector<double> q = parse_numbers(o.orientation, 4, "--orientation");
-  request.world_R_tcp =
-      pose_from_position_quaternion(Eigen::Vector3d::Zero(), Eigen::Vector4d(q[0], q[1], q[2], q[3]))
-          .R;
-  const std::optional<ArmConfig> config = parse_arm_config(o.config);
-  if (!config)
-    throw InputError({"", 0, 0, "--config"},
-                     fmt::format("expected a configuration such as front-up-noflip, found '{}'",
-                                 o.config));
-  request.config = *config;
+  request.world_R_tcp = parse_orientation(o.orientation, "--orientation");
+  request.config = parse_config(o.config);
   request.cycles = o.cycles;
   const Iso9283Plan plan = iso9283_plan(request);
   write_file_atomically(o.out_poses, iso9283_pose_list_csv(plan, request.config));
@@ -72,45 +66,38 @@ void run_plan(const PlanOptions& o) {
     for (const Iso9283PlannedPose& p : plan.poses) {
       std::vector<double> joints;
       for (int j = 0; j < kJointCount; ++j) joints.push_back(rad2deg(p.joints[j]));
-      out["poses"].push_back(
-          {{"name", p.name}, {"position_mm", vector_json(p.world_T_tcp.p)}, {"joints_deg", joints}});
+      out["poses"].push_back({{"name", p.name},
+                              {"position_mm", vector_json(p.world_T_tcp.p)},
+                              {"joints_deg", joints}});
     }
     out["cycles"] = o.cycles;
     out["files"] = {o.out_poses, o.out_cycles};
     print_json(out);
     return;
   }
-  fmt::print("ISO 9283 test cube for {} ({} model): edge {:.3f} mm, centre ({:.3f}, {:.3f}, {:.3f}) "
-             "mm; poses on the plane C1-C2-C7-C8, configuration {}\n",
-             model.name, request.robot.level, plan.cube_edge_mm, plan.cube_centre_mm.x(),
-             plan.cube_centre_mm.y(), plan.cube_centre_mm.z(), request.config.label());
-  fmt::print("  pose          x          y          z |      J1       J2       J3       J4       "
-             "J5       J6 (deg)\n");
+  fmt::print(
+      "ISO 9283 test cube for {} ({} model): edge {:.3f} mm, centre ({:.3f}, {:.3f}, {:.3f}) "
+      "mm; poses on the plane C1-C2-C7-C8, configuration {}\n",
+      model.name, request.robot.level, plan.cube_edge_mm, plan.cube_centre_mm.x(),
+      plan.cube_centre_mm.y(), plan.cube_centre_mm.z(), request.config.label());
+  fmt::print(
+      "  pose          x          y          z |      J1       J2       J3       J4       "
+      "J5       J6 (deg)\n");
   for (const Iso9283PlannedPose& p : plan.poses) {
     fmt::print("  {:<4} {:>10.3f} {:>10.3f} {:>10.3f} |", p.name, p.world_T_tcp.p.x(),
                p.world_T_tcp.p.y(), p.world_T_tcp.p.z());
     for (int j = 0; j < kJointCount; ++j) fmt::print(" {:>8.3f}", rad2deg(p.joints[j]));
     fmt::print("\n");
   }
-  fmt::print("{} cycles P1 → P5 → P4 → P3 → P2 (ISO 9283 clause 7.2.1)\nwrote {} (pose list) and {} "
-             "(joint targets per move)\n",
-             o.cycles, o.out_poses, o.out_cycles);
+  fmt::print(
+      "{} cycles P1 → P5 → P4 → P3 → P2 (ISO 9283 clause 7.2.1)\nwrote {} (pose list) and {} "
+      "(joint targets per move)\n",
+      o.cycles, o.out_poses, o.out_cycles);
 }
 
 void run_analyse(const AnalyseOptions& o) {
-  Iso9283AnalysisRequest request;
-  request.file = o.measurements;
-  std::vector<ListedPose> listed = read_pose_list(o.poses);
-  for (int k = 1; k <= 5; ++k) {
-    const auto it = std::find_if(listed.begin(), listed.end(),
-                                 [&](const ListedPose& p) { return p.name == fmt::format("P{}", k); });
-    if (it == listed.end())
-      throw InputError({o.poses, 0, 0, "name"}, fmt::format("no pose named P{}", k));
-    request.commanded.push_back(it->world_T_tcp);
-  }
-  request.samples = read_iso9283_samples(o.measurements);
-  request.min_cycles = o.min_cycles;
-  const Iso9283Result r = iso9283_analyse(request);
+  const Iso9283Result r =
+      iso9283_analyse(read_iso9283_request(o.poses, o.measurements, o.min_cycles));
   if (o.json) {
     nlohmann::json out = iso9283_json(r);
     out["measurements"] = o.measurements;
@@ -123,8 +110,9 @@ void run_analyse(const AnalyseOptions& o) {
   if (o.min_cycles < kIso9283Cycles)
     fmt::print("note: fewer than the standard's {} cycles accepted (--min-cycles {})\n",
                kIso9283Cycles, o.min_cycles);
-  fmt::print("  pose cycles    AP (mm)    RP (mm)   vAP (mm) |  AP a/b/c (deg)             RP ±a/b/c "
-             "(deg)\n");
+  fmt::print(
+      "  pose cycles    AP (mm)    RP (mm)   vAP (mm) |  AP a/b/c (deg)             RP ±a/b/c "
+      "(deg)\n");
   for (const Iso9283PoseFigures& f : r.poses) {
     fmt::print("  P{}   {:>6} {:>10.4f} {:>10.4f} {:>10} |", f.pose, f.cycles, f.ap_mm, f.rp_mm,
                f.vap_mm ? fmt::format("{:.4f}", *f.vap_mm) : std::string("–"));
@@ -138,13 +126,15 @@ void run_analyse(const AnalyseOptions& o) {
   }
   if (r.distance) {
     const Iso9283DistanceFigures& d = *r.distance;
-    fmt::print("distance P2-P4 (clause 7.4): commanded {:.4f} mm, AD {:+.4f} mm, RD ±{:.4f} mm over "
-               "{} cycles\n",
-               d.commanded_mm, d.ad_mm, d.rd_mm, d.cycles);
+    fmt::print(
+        "distance P2-P4 (clause 7.4): commanded {:.4f} mm, AD {:+.4f} mm, RD ±{:.4f} mm over "
+        "{} cycles\n",
+        d.commanded_mm, d.ad_mm, d.rd_mm, d.cycles);
     if (d.has_orientation)
-      fmt::print("  orientation AD a/b/c {:+.4f} {:+.4f} {:+.4f} deg, RD ±{:.4f} ±{:.4f} ±{:.4f} deg\n",
-                 d.ad_abc_deg.x(), d.ad_abc_deg.y(), d.ad_abc_deg.z(), d.rd_abc_deg.x(),
-                 d.rd_abc_deg.y(), d.rd_abc_deg.z());
+      fmt::print(
+          "  orientation AD a/b/c {:+.4f} {:+.4f} {:+.4f} deg, RD ±{:.4f} ±{:.4f} ±{:.4f} deg\n",
+          d.ad_abc_deg.x(), d.ad_abc_deg.y(), d.ad_abc_deg.z(), d.rd_abc_deg.x(), d.rd_abc_deg.y(),
+          d.rd_abc_deg.z());
   } else {
     fmt::print("distance figures need P2 and P4 measured in the same cycles\n");
   }
@@ -156,8 +146,9 @@ const bool registered = register_command(65, [](CLI::App& app) {
   cmd->require_subcommand(1);
   auto plan = std::make_shared<PlanOptions>();
   auto* p = cmd->add_subcommand(
-      "plan", "The test cube in a workspace region, its poses P1-P5 and the joint targets of the "
-              "cycles (compensation IK of the model)");
+      "plan",
+      "The test cube in a workspace region, its poses P1-P5 and the joint targets of the "
+      "cycles (compensation IK of the model)");
   p->add_option("--robot", plan->robot, "Built-in robot name or robot file")->required();
   p->add_option("--tool", plan->tool, "Tool file (its TCP); default: the flange");
   p->add_option("--model", plan->model,
@@ -180,7 +171,8 @@ const bool registered = register_command(65, [](CLI::App& app) {
   auto analyse = std::make_shared<AnalyseOptions>();
   auto* a = cmd->add_subcommand("analyse",
                                 "AP, RP (position, orientation), vAP, AD, RD of measured cycles");
-  a->add_option("--poses", analyse->poses, "The commanded poses (pose list from `plan`)")->required();
+  a->add_option("--poses", analyse->poses, "The commanded poses (pose list from `plan`)")
+      ->required();
   a->add_option("--measurements", analyse->measurements,
                 "Measured cycles: pose,cycle,x,y,z[,qw,qx,qy,qz][,direction] (mm)")
       ->required();

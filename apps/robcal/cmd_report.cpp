@@ -123,20 +123,8 @@ void run_report(const ReportOptions& o) {
   data.models.push_back(model_errors(before_label, before, validation, calibration));
   data.models.push_back(model_errors(after_label, model, validation, calibration));
   if (!o.iso9283_poses.empty()) {
-    Iso9283AnalysisRequest request;
-    request.file = o.iso9283_measurements;
-    const std::vector<ListedPose> listed = read_pose_list(o.iso9283_poses);
-    for (int k = 1; k <= 5; ++k) {
-      const auto it = std::find_if(listed.begin(), listed.end(), [&](const ListedPose& p) {
-        return p.name == fmt::format("P{}", k);
-      });
-      if (it == listed.end())
-        throw InputError({o.iso9283_poses, 0, 0, "name"}, fmt::format("no pose named P{}", k));
-      request.commanded.push_back(it->world_T_tcp);
-    }
-    request.samples = read_iso9283_samples(o.iso9283_measurements);
-    request.min_cycles = o.iso9283_min_cycles;
-    data.iso9283 = iso9283_analyse(request);
+    data.iso9283 = iso9283_analyse(
+        read_iso9283_request(o.iso9283_poses, o.iso9283_measurements, o.iso9283_min_cycles));
     data.provenance.files.push_back(provenance_file("ISO 9283 poses", o.iso9283_poses));
     data.provenance.files.push_back(provenance_file("ISO 9283 cycles", o.iso9283_measurements));
   }

@@ -3,9 +3,9 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cstdint>
 #include <ctime>
 #include <fstream>
-#include <cstdint>
 
 #include <yaml-cpp/yaml.h>
 
@@ -28,7 +28,9 @@ constexpr std::array<uint32_t, 64> kRound = {
     0x19a4c116, 0x1e376c08, 0x2748774c, 0x34b0bcb5, 0x391c0cb3, 0x4ed8aa4a, 0x5b9cca4f, 0x682e6ff3,
     0x748f82ee, 0x78a5636f, 0x84c87814, 0x8cc70208, 0x90befffa, 0xa4506ceb, 0xbef9a3f7, 0xc67178f2};
 
-constexpr uint32_t rotr(uint32_t x, int n) { return (x >> n) | (x << (32 - n)); }
+constexpr uint32_t rotr(uint32_t x, int n) {
+  return (x >> n) | (x << (32 - n));
+}
 
 /// One 64-byte block into the state (FIPS 180-4 §6.2.2).
 void compress(std::array<uint32_t, 8>& h, const unsigned char* block) {
@@ -55,7 +57,9 @@ void compress(std::array<uint32_t, 8>& h, const unsigned char* block) {
 
 }  // namespace
 
-std::string robcal_version() { return ROBCAL_VERSION; }
+std::string robcal_version() {
+  return ROBCAL_VERSION;
+}
 
 std::string utc_now() {
   const std::time_t now = std::time(nullptr);
@@ -78,7 +82,8 @@ std::string sha256_hex(std::string_view bytes) {
   tail[rest] = 0x80;
   const size_t blocks = rest + 9 <= 64 ? 1 : 2;
   const uint64_t bits = static_cast<uint64_t>(bytes.size()) * 8;
-  for (int k = 0; k < 8; ++k) tail[blocks * 64 - 1 - k] = static_cast<unsigned char>(bits >> (8 * k));
+  for (int k = 0; k < 8; ++k)
+    tail[blocks * 64 - 1 - k] = static_cast<unsigned char>(bits >> (8 * k));
   for (size_t b = 0; b < blocks; ++b) compress(h, tail.data() + 64 * b);
   std::string out;
   for (const uint32_t word : h) out += fmt::format("{:08x}", word);

@@ -382,13 +382,13 @@ std::string provenance_html(const nlohmann::json& p) {
   row("level", text(p["level"]));
   row("instrument", text(p["instrument"]));
   row("instrument σ (mm per axis)", p["instrument_sigma_mm"].is_null()
-                                         ? text(p["instrument_sigma_mm"])
-                                         : number(p["instrument_sigma_mm"].get<double>()));
+                                        ? text(p["instrument_sigma_mm"])
+                                        : number(p["instrument_sigma_mm"].get<double>()));
   row("seed", text(p["seed"]));
   for (const auto& f : p["files"])
-    row(html_escape(f["role"].get<std::string>()),
-        html_escape(f["path"].get<std::string>()) + "<br><span class=\"hash\">SHA-256 " +
-            f["sha256"].get<std::string>() + "</span>");
+    row(html_escape(f["role"].get<std::string>()), html_escape(f["path"].get<std::string>()) +
+                                                       "<br><span class=\"hash\">SHA-256 " +
+                                                       f["sha256"].get<std::string>() + "</span>");
   if (p["files"].empty()) row("input files", text(nullptr));
   return rows;
 }
@@ -398,14 +398,16 @@ std::string orientation_html(const nlohmann::json& models) {
   for (const auto& m : models)
     if (m.contains("orientation_deg")) {
       const auto& o = m["orientation_deg"];
-      rows += fmt::format("<tr><td>{}</td><td>{}</td>{}{}{}{}</tr>\n",
-                          html_escape(m["label"].get<std::string>()), o["count"].get<uint64_t>(),
-                          cell(o, "mean"), cell(o, "std"), cell(o, "mean_plus_3std"), cell(o, "max"));
+      rows +=
+          fmt::format("<tr><td>{}</td><td>{}</td>{}{}{}{}</tr>\n",
+                      html_escape(m["label"].get<std::string>()), o["count"].get<uint64_t>(),
+                      cell(o, "mean"), cell(o, "std"), cell(o, "mean_plus_3std"), cell(o, "max"));
     }
   if (rows.empty()) return "";
   return "<h3>Orientation error (deg)</h3>\n<table id=\"orientation\"><thead><tr><th>model</th>"
          "<th>rows</th><th>mean</th><th>std</th><th>mean + 3 std</th><th>max</th></tr></thead>"
-         "<tbody>\n" + rows + "</tbody></table>\n";
+         "<tbody>\n" +
+         rows + "</tbody></table>\n";
 }
 
 /// One table per class table: rows = classes, columns = models (rows, mean, max).
@@ -446,7 +448,8 @@ std::string pairs_html(const nlohmann::json& models) {
     if (m.contains("pairs")) {
       const auto& p = m["pairs"];
       rows += fmt::format(
-          "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+          "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></"
+          "tr>\n",
           html_escape(m["label"].get<std::string>()), p["count"].get<uint64_t>(),
           number(p["mean_mm"]), number(p["std_mm"]), number(p["max_mm"]),
           number(p["signed_mean_mm"]), number(100 * p["positive_share"].get<double>(), 1));
@@ -474,10 +477,11 @@ std::string iso9283_html(const nlohmann::json& iso) {
                         abc(p, "AP_abc_deg"), abc(p, "RP_abc_deg"));
   std::string distance;
   if (iso.contains("distance"))
-    distance = fmt::format("<p>Distance P2–P4 (clause 7.4): commanded {} mm, AD {} mm, RD ±{} mm "
-                           "over {} cycles.</p>\n",
-                           number(iso["distance"]["D_c_mm"]), number(iso["distance"]["AD_mm"]),
-                           number(iso["distance"]["RD_mm"]), iso["distance"]["cycles"].get<int>());
+    distance = fmt::format(
+        "<p>Distance P2–P4 (clause 7.4): commanded {} mm, AD {} mm, RD ±{} mm "
+        "over {} cycles.</p>\n",
+        number(iso["distance"]["D_c_mm"]), number(iso["distance"]["AD_mm"]),
+        number(iso["distance"]["RD_mm"]), iso["distance"]["cycles"].get<int>());
   return "<section><h2>ISO 9283 pose characteristics</h2>\n<table id=\"iso9283\"><thead><tr>"
          "<th>pose</th><th>cycles</th><th>AP (mm)</th><th>RP (mm)</th><th>vAP (mm)</th>"
          "<th>AP a/b/c (deg)</th><th>RP ±a/b/c (deg)</th></tr></thead><tbody>\n" +
@@ -494,9 +498,8 @@ std::string ballbar_html(const nlohmann::json& ballbar) {
         "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td "
         "class=\"l\">{}</td></tr>\n",
         html_escape(b["label"].get<std::string>()), b["count"].get<uint64_t>(),
-        number(b["mean_mm"]), number(b["std_mm"]), number(b["max_mm"]),
-        number(b["signed_mean_mm"]), number(100 * b["positive_share"].get<double>(), 1),
-        b["centre"].get<std::string>());
+        number(b["mean_mm"]), number(b["std_mm"]), number(b["max_mm"]), number(b["signed_mean_mm"]),
+        number(100 * b["positive_share"].get<double>(), 1), b["centre"].get<std::string>());
   return "<section><h2>Ballbar length errors (mm)</h2>\n<table id=\"ballbar\"><thead><tr>"
          "<th>model</th><th>rows</th><th>mean |e|</th><th>std</th><th>max</th><th>signed mean</th>"
          "<th>positive (%)</th><th class=\"l\">centre</th></tr></thead><tbody>\n" +
@@ -578,7 +581,7 @@ nlohmann::json iso9283_json(const Iso9283Result& result) {
   if (result.distance) {
     const Iso9283DistanceFigures& d = *result.distance;
     out["distance"] = {{"between", "P2-P4"}, {"cycles", d.cycles}, {"D_c_mm", d.commanded_mm},
-                       {"AD_mm", d.ad_mm},    {"RD_mm", d.rd_mm},   {"S_D_mm", d.s_d_mm}};
+                       {"AD_mm", d.ad_mm},   {"RD_mm", d.rd_mm},   {"S_D_mm", d.s_d_mm}};
     if (d.has_orientation) {
       out["distance"]["AD_abc_deg"] = vec(d.ad_abc_deg);
       out["distance"]["RD_abc_deg"] = vec(d.rd_abc_deg);
@@ -635,7 +638,8 @@ nlohmann::json report_json(const ReportData& data) {
     for (const ClassTable& t : m.classes) {
       nlohmann::json rows = nlohmann::json::array();
       for (const ClassRow& r : t.rows) {
-        nlohmann::json row = {{"class", r.label}, {"position_mm", class_summary_json(r.position_mm)}};
+        nlohmann::json row = {{"class", r.label},
+                              {"position_mm", class_summary_json(r.position_mm)}};
         if (!m.orientation_deg.empty())
           row["orientation_deg"] = class_summary_json(r.orientation_deg);
         rows.push_back(row);
@@ -644,16 +648,15 @@ nlohmann::json report_json(const ReportData& data) {
     }
     if (m.pairs && m.pairs->stats.count > 0) {
       const Histogram merged = merge_bins(m.pairs->histogram, 8);
-      model["pairs"] = {{"count", m.pairs->stats.count},
-                        {"mean_mm", m.pairs->stats.mean},
-                        {"std_mm", m.pairs->stats.std},
-                        {"max_mm", m.pairs->stats.max},
-                        {"signed_mean_mm", m.pairs->signed_mean},
-                        {"positive_share", m.pairs->positive_share()},
-                        {"histogram",
-                         {{"lower_mm", merged.lower},
-                          {"upper_mm", merged.upper},
-                          {"counts", merged.counts}}}};
+      model["pairs"] = {
+          {"count", m.pairs->stats.count},
+          {"mean_mm", m.pairs->stats.mean},
+          {"std_mm", m.pairs->stats.std},
+          {"max_mm", m.pairs->stats.max},
+          {"signed_mean_mm", m.pairs->signed_mean},
+          {"positive_share", m.pairs->positive_share()},
+          {"histogram",
+           {{"lower_mm", merged.lower}, {"upper_mm", merged.upper}, {"counts", merged.counts}}}};
     }
     out["models"].push_back(model);
   }

@@ -81,8 +81,8 @@ std::string axis_test_moves_csv(const std::vector<AxisTestMove>& moves) {
   for (const AxisTestMove& m : moves)
     for (const bool approach : {true, false}) {
       const Vector6d& q = approach ? m.approach_from : m.joints;
-      csv += fmt::format("{},{}", ++move,
-                         approach ? "approach" : (m.from_above ? "above" : "below"));
+      csv +=
+          fmt::format("{},{}", ++move, approach ? "approach" : (m.from_above ? "above" : "below"));
       for (int j = 0; j < kJointCount; ++j) csv += fmt::format(",{:.6f}", rad2deg(q[j]));
       csv += "\n";
     }
@@ -91,8 +91,9 @@ std::string axis_test_moves_csv(const std::vector<AxisTestMove>& moves) {
 
 AxisTestResult axis_test_analyse(const std::vector<AxisTestSample>& input) {
   if (input.size() < 6)
-    throw InputError({"", 0, 0, ""},
-                     fmt::format("an axis test needs at least 6 positions, found {}", input.size()));
+    throw InputError(
+        {"", 0, 0, ""},
+        fmt::format("an axis test needs at least 6 positions, found {}", input.size()));
   const auto above = std::count_if(input.begin(), input.end(),
                                    [](const AxisTestSample& s) { return s.from_above; });
   if (above == 0 || above == static_cast<long>(input.size()))
@@ -100,10 +101,9 @@ AxisTestResult axis_test_analyse(const std::vector<AxisTestSample>& input) {
                      "the backlash needs positions approached from below and from above");
   // Joint order, for unwrapping the angle.
   std::vector<AxisTestSample> samples = input;
-  std::stable_sort(samples.begin(), samples.end(),
-                   [](const AxisTestSample& a, const AxisTestSample& b) {
-                     return a.joint_rad < b.joint_rad;
-                   });
+  std::stable_sort(
+      samples.begin(), samples.end(),
+      [](const AxisTestSample& a, const AxisTestSample& b) { return a.joint_rad < b.joint_rad; });
   if (samples.back().joint_rad - samples.front().joint_rad < deg2rad(1.0))
     throw InputError({"", 0, 0, ""}, "the joint range of an axis test must exceed 1°");
   const auto n = static_cast<Eigen::Index>(samples.size());
@@ -151,8 +151,8 @@ AxisTestResult axis_test_analyse(const std::vector<AxisTestSample>& input) {
   }
   const Eigen::Vector3d law = A.colPivHouseholderQr().solve(phi);
   const Eigen::VectorXd angle_residual = phi - A * law;
-  const Eigen::Matrix3d covariance = (A.transpose() * A).inverse() *
-                                     angle_residual.squaredNorm() / static_cast<double>(n - 3);
+  const Eigen::Matrix3d covariance =
+      (A.transpose() * A).inverse() * angle_residual.squaredNorm() / static_cast<double>(n - 3);
 
   AxisTestResult out;
   out.samples = static_cast<int>(n);

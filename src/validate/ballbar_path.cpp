@@ -15,15 +15,16 @@ namespace {
 
 /// The robot with its TCP at the ball: the flange_T_tcp translation is the target's position.
 CalibratedRobot ball_as_tcp(CalibratedRobot robot, int target) {
-  robot.tool.flange_T_tcp.translation() = robot.tool.targets[static_cast<size_t>(target)].position_mm;
+  robot.tool.flange_T_tcp.translation() =
+      robot.tool.targets[static_cast<size_t>(target)].position_mm;
   return robot;
 }
 
 }  // namespace
 
 int BallbarPath::problems() const {
-  return static_cast<int>(std::count_if(points.begin(), points.end(),
-                                        [](const BallbarPathPoint& p) { return !p.problem.empty(); }));
+  return static_cast<int>(std::count_if(
+      points.begin(), points.end(), [](const BallbarPathPoint& p) { return !p.problem.empty(); }));
 }
 
 BallbarPath ballbar_path(const BallbarPathRequest& request) {
@@ -57,26 +58,27 @@ BallbarPath ballbar_path(const BallbarPathRequest& request) {
       p.elevation_deg = elevation;
       p.azimuth_deg = 360.0 * k / request.points_per_ring;
       const double el = deg2rad(elevation), az = deg2rad(p.azimuth_deg);
-      p.position_mm = request.centre_mm + request.length_mm * (std::cos(el) * (std::cos(az) * e1 +
-                                                                               std::sin(az) * e2) +
-                                                               std::sin(el) * axis);
+      p.position_mm = request.centre_mm +
+                      request.length_mm * (std::cos(el) * (std::cos(az) * e1 + std::sin(az) * e2) +
+                                           std::sin(el) * axis);
       const CalibratedIkResult ik =
           calibrated_ik(compensator, {request.world_R_tcp, p.position_mm}, request.config, near);
       p.reachable = ik.ok();
       if (!p.reachable) {
-        p.problem = fmt::format("not reachable in {}: {}", request.config.label(),
-                                to_string(ik.status));
+        p.problem =
+            fmt::format("not reachable in {}: {}", request.config.label(), to_string(ik.status));
       } else {
         p.joints = ik.joints;
         near = ik.joints;
-        const Pose<double> flange = flange_pose(reading.model, reading.tool.payload, reading.params,
-                                                p.joints);
+        const Pose<double> flange =
+            flange_pose(reading.model, reading.tool.payload, reading.params, p.joints);
         const Eigen::Vector3d ball = flange * reading.tool.flange_T_tcp.translation();
         p.predicted_offset_mm = (ball - request.centre_mm).norm() - request.length_mm;
         if (std::abs(p.predicted_offset_mm) > request.range_mm)
-          p.problem = fmt::format("predicted reading {:+.3f} mm off the bar's length, outside its "
-                                  "±{:g} mm range",
-                                  p.predicted_offset_mm, request.range_mm);
+          p.problem = fmt::format(
+              "predicted reading {:+.3f} mm off the bar's length, outside its "
+              "±{:g} mm range",
+              p.predicted_offset_mm, request.range_mm);
       }
       path.points.push_back(p);
     }

@@ -24,8 +24,7 @@ ClassTable table(std::string name, const std::vector<std::string>& labels,
         position.push_back(errors.position_error_mm[r]);
         if (poses) orientation.push_back(errors.orientation_error_deg[r]);
       }
-    out.rows.push_back(
-        {labels[c], error_statistics(position), error_statistics(orientation)});
+    out.rows.push_back({labels[c], error_statistics(position), error_statistics(orientation)});
   }
   return out;
 }
@@ -68,8 +67,8 @@ std::vector<ClassTable> class_tables(const CalibratedRobot& robot, const Measure
   std::vector<ClassTable> out;
   out.push_back(table("front/back", {"front", "back"}, errors,
                       [&](size_t r) { return configs[r].back ? 1 : 0; }));
-  out.push_back(table("up/down", {"up", "down"}, errors,
-                      [&](size_t r) { return configs[r].down ? 1 : 0; }));
+  out.push_back(
+      table("up/down", {"up", "down"}, errors, [&](size_t r) { return configs[r].down ? 1 : 0; }));
   out.push_back(table("flip/no-flip", {"no-flip", "flip"}, errors,
                       [&](size_t r) { return configs[r].flip ? 1 : 0; }));
   if (set.kind == MeasurementKind::Points) {

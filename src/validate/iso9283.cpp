@@ -88,8 +88,8 @@ Iso9283Plan iso9283_plan(const Iso9283PlanRequest& request) {
                      "the workspace region must be a box min < max on every axis (mm)");
   if (request.cycles < kIso9283MinimumCycles)
     throw InputError({"", 0, 0, "--cycles"},
-                     fmt::format("at least {} cycles (ISO 9283 asks for {})",
-                                 kIso9283MinimumCycles, kIso9283Cycles));
+                     fmt::format("at least {} cycles (ISO 9283 asks for {})", kIso9283MinimumCycles,
+                                 kIso9283Cycles));
   Iso9283Plan plan;
   plan.cube_centre_mm = (request.region_min_mm + request.region_max_mm) / 2;
   plan.cube_edge_mm = extent.minCoeff();
@@ -140,8 +140,8 @@ std::string iso9283_pose_list_csv(const Iso9283Plan& plan, const ArmConfig& conf
   for (const Iso9283PlannedPose& p : plan.poses) {
     const Eigen::Quaterniond q = to_quaternion(p.world_T_tcp.R);
     out += fmt::format("{},{:.6f},{:.6f},{:.6f},{:.12f},{:.12f},{:.12f},{:.12f},{}\n", p.name,
-                       p.world_T_tcp.p.x(), p.world_T_tcp.p.y(), p.world_T_tcp.p.z(), q.w(),
-                       q.x(), q.y(), q.z(), config.label());
+                       p.world_T_tcp.p.x(), p.world_T_tcp.p.y(), p.world_T_tcp.p.z(), q.w(), q.x(),
+                       q.y(), q.z(), config.label());
   }
   return out;
 }
@@ -218,7 +218,8 @@ Iso9283Result iso9283_analyse(const Iso9283AnalysisRequest& request) {
         for (size_t k = h + 1; k < direction_means.size(); ++k) {
           vap = std::max(vap, (direction_means[h] - direction_means[k]).norm());
           if (with_orientation)
-            vap_abc = vap_abc.cwiseMax((direction_orientation[h] - direction_orientation[k]).cwiseAbs());
+            vap_abc =
+                vap_abc.cwiseMax((direction_orientation[h] - direction_orientation[k]).cwiseAbs());
         }
       f.vap_mm = vap;
       if (with_orientation) f.vap_abc_deg = vap_abc;

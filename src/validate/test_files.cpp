@@ -3,15 +3,17 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
 
 #include "../io/csv_fields.hpp"
 #include "robcal/core/error.hpp"
-#include "robcal/io/atomic_file.hpp"
-#include "robcal/kinematics/orientation.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/io/atomic_file.hpp"
+#include "robcal/io/pose_list_file.hpp"
+#include "robcal/kinematics/orientation.hpp"
 #include "robcal/validate/axis_test.hpp"
 #include "robcal/validate/iso9283.hpp"
 
@@ -40,8 +42,7 @@ std::vector<Iso9283Sample> read_iso9283_samples(const std::string& path) {
   return parse_iso9283_samples(read_text_file(path), path);
 }
 
-std::vector<Iso9283Sample> parse_iso9283_samples(const std::string& text,
-                                                 const std::string& file) {
+std::vector<Iso9283Sample> parse_iso9283_samples(const std::string& text, const std::string& file) {
   static const std::vector<std::string> kPosition = {"pose", "cycle", "x", "y", "z"};
   static const std::vector<std::string> kOrientation = {"qw", "qx", "qy", "qz"};
   std::vector<std::string> columns;
@@ -57,7 +58,8 @@ std::vector<Iso9283Sample> parse_iso9283_samples(const std::string& text,
     if (columns.empty()) {
       columns.assign(cells.begin(), cells.end());
       std::vector<std::string> expected = kPosition;
-      if (columns.size() >= 9) expected.insert(expected.end(), kOrientation.begin(), kOrientation.end());
+      if (columns.size() >= 9)
+        expected.insert(expected.end(), kOrientation.begin(), kOrientation.end());
       if (columns.size() == expected.size() + 1) expected.emplace_back("direction");
       if (columns != expected)
         throw InputError({file, number, 1, ""},
@@ -99,6 +101,24 @@ std::vector<Iso9283Sample> parse_iso9283_samples(const std::string& text,
   if (columns.empty()) throw InputError({file, 0, 0, ""}, "empty file: no header");
   if (out.empty()) throw InputError({file, 0, 0, ""}, "no measured cycles");
   return out;
+}
+
+Iso9283AnalysisRequest read_iso9283_request(const std::string& poses_path,
+                                            const std::string& measurements_path, int min_cycles) {
+  Iso9283AnalysisRequest request;
+  request.file = measurements_path;
+  const std::vector<ListedPose> listed = read_pose_list(poses_path);
+  for (int k = 1; k <= 5; ++k) {
+    const std::string name = fmt::format("P{}", k);
+    const auto it = std::find_if(listed.begin(), listed.end(),
+                                 [&](const ListedPose& p) { return p.name == name; });
+    if (it == listed.end())
+      throw InputError({poses_path, 0, 0, "name"}, fmt::format("no pose named {}", name));
+    request.commanded.push_back(it->world_T_tcp);
+  }
+  request.samples = read_iso9283_samples(measurements_path);
+  request.min_cycles = min_cycles;
+  return request;
 }
 
 std::vector<AxisTestSample> read_axis_test_samples(const std::string& path) {

@@ -23,7 +23,7 @@ struct Provenance {
   std::string date_utc;  ///< ISO 8601, e.g. 2026-11-24T21:40:37Z
   std::string command_line;
   std::vector<ProvenanceFile> files;
-  std::string instrument;                    ///< empty: not given
+  std::string instrument;                     ///< empty: not given
   std::optional<double> instrument_sigma_mm;  ///< per axis
   std::string robot, level;
   std::optional<unsigned long long> seed;

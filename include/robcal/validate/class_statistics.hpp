@@ -47,11 +47,10 @@ Eigen::Matrix3Xd measured_positions(const MeasurementSet& set);
 /// "tcp" for poses) and, when `calibration_mm` holds the calibration set's measured positions,
 /// region by `region_edges_mm` (ascending, positive).
 /// \throws std::invalid_argument for region edges that are not ascending and positive
-std::vector<ClassTable> class_tables(const CalibratedRobot& robot, const MeasurementSet& set,
-                                     const PositionErrors& errors,
-                                     const std::optional<Eigen::Matrix3Xd>& calibration_mm,
-                                     const std::vector<double>& region_edges_mm =
-                                         kDefaultRegionEdgesMm);
+std::vector<ClassTable> class_tables(
+    const CalibratedRobot& robot, const MeasurementSet& set, const PositionErrors& errors,
+    const std::optional<Eigen::Matrix3Xd>& calibration_mm,
+    const std::vector<double>& region_edges_mm = kDefaultRegionEdgesMm);
 
 /// "no data" for a class without rows, else the value with `decimals` decimals.
 std::string value_or_no_data(const ErrorStatistics& s, double value, int decimals = 4);

@@ -146,4 +146,10 @@ Iso9283Result iso9283_analyse(const Iso9283AnalysisRequest& request);
 std::vector<Iso9283Sample> read_iso9283_samples(const std::string& path);
 std::vector<Iso9283Sample> parse_iso9283_samples(const std::string& text, const std::string& file);
 
+/// The analysis request of a test: the commanded poses named P1..P5 in a pose-list file (the
+/// one `iso9283_pose_list_csv` writes) and the measured cycles. InputError naming the pose-list
+/// file when a pose is missing.
+Iso9283AnalysisRequest read_iso9283_request(const std::string& poses_path,
+                                            const std::string& measurements_path, int min_cycles);
+
 }  // namespace robcal

@@ -33,8 +33,9 @@ struct PairwiseDistanceErrors {
   uint64_t positive_pairs = 0;
   /// Share of positive signed errors, 0..1 (0 without pairs).
   [[nodiscard]] double positive_share() const {
-    return stats.count == 0 ? 0.0
-                            : static_cast<double>(positive_pairs) / static_cast<double>(stats.count);
+    return stats.count == 0
+               ? 0.0
+               : static_cast<double>(positive_pairs) / static_cast<double>(stats.count);
   }
   /// Over [0, bound): bound = r_1 + r_2, the two largest residuals |m_i − (R p_i + t)| after the
   /// rigid best fit (R, t) of the modelled points to the measured ones, which no e_ij can exceed
