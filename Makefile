@@ -14,7 +14,7 @@ deps:
 	@bash scripts/install-deps.sh $(DEBIAN_PACKAGES)
 
 browser-deps:
-	@bash scripts/install-deps.sh chromium
+	@bash scripts/install-deps.sh chromium poppler-utils
 
 $(BUILD)/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD) $(CMAKE_FLAGS)

@@ -1,6 +1,7 @@
 // The calibration report: its JSON figures against hand-computed ones, the page's embedding,
 // and the page rendered by a real browser (headless Chromium) without a script error.
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,11 +9,18 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <regex>
+#include <sstream>
 
 #include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/io/measurement_file.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/report/provenance.hpp"
 #include "robcal/report/report.hpp"
+#include "robcal/validate/base_fit.hpp"
 #include "test_support.hpp"
+#include "test_validate_support.hpp"
 
 namespace robcal {
 namespace {
@@ -122,6 +130,14 @@ std::string find_chromium() {
   return "";
 }
 
+/// Headless Chromium offline, with its own profile and no header or footer on printed pages.
+std::string chromium_flags(const fs::path& profile) {
+  return "--headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+         "--disable-background-networking --disable-component-update --disable-sync "
+         "--no-pdf-header-footer --user-data-dir=" +
+         profile.string();
+}
+
 TEST(ReportBrowser, RendersInHeadlessChromiumWithoutScriptErrors) {
   const std::string chromium = find_chromium();
   if (chromium.empty())
@@ -150,11 +166,7 @@ TEST(ReportBrowser, RendersInHeadlessChromiumWithoutScriptErrors) {
   fs::create_directories(dir / "profile");
   const fs::path page = dir / "report.html";
   write_file_atomically(page, report_html(report_json(data), chartjs));
-  const std::string flags =
-      "--headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
-      "--disable-background-networking --disable-component-update --disable-sync "
-      "--user-data-dir=" +
-      (dir / "profile").string();
+  const std::string flags = chromium_flags(dir / "profile");
   const std::string command = "timeout 120 " + chromium + " " + flags + " --dump-dom file://" +
                               page.string() + " > " + (dir / "dom.html").string() + " 2> " +
                               (dir / "stderr.txt").string();
@@ -162,8 +174,217 @@ TEST(ReportBrowser, RendersInHeadlessChromiumWithoutScriptErrors) {
   const std::string dom = read_text_file(dir / "dom.html");
   EXPECT_NE(dom.find("data-status=\"rendered\""), std::string::npos) << dom.substr(
       dom.find("render-status") == std::string::npos ? 0 : dom.find("render-status"), 300);
-  EXPECT_NE(dom.find("rendered 3 charts"), std::string::npos);  // two histograms + the scatter
+  // The cumulative distributions, two histograms and the scatter.
+  EXPECT_NE(dom.find("rendered 4 charts"), std::string::npos);
   EXPECT_NE(dom.find("id=\"histogram-1\""), std::string::npos);
+}
+
+TEST(ReportProvenance, Sha256OfTheStandardVectors) {
+  // FIPS 180-4 examples (and the empty message).
+  EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(sha256_hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256_hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  EXPECT_EQ(sha256_hex(std::string(1000000, 'a')),
+            "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  // 55, 56 and 64 bytes: the padding's one- and two-block cases.
+  EXPECT_EQ(sha256_hex(std::string(55, 'a')),
+            "9f4390f8d30c2dd92ec9f095b65e2b9ae9b0a925a5258e241c9f1e910f734318");
+  EXPECT_EQ(sha256_hex(std::string(64, 'a')),
+            "ffe054fe7ae0cb6dc65c3af9b61d5209f439851db43d0ba5997337df154668eb");
+}
+
+TEST(ReportProvenance, CommandLineAndJson) {
+  const char* argv[] = {"robcal", "report", "--title", "two words"};
+  Provenance p = start_provenance(4, argv);
+  EXPECT_EQ(p.command_line, "robcal report --title 'two words'");
+  EXPECT_EQ(p.robcal_version, robcal_version());
+  EXPECT_TRUE(std::regex_match(p.date_utc, std::regex(R"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ)")))
+      << p.date_utc;
+  const fs::path file = fs::path(::testing::TempDir()) / "provenance.txt";
+  write_file_atomically(file, "abc");
+  p.files.push_back(provenance_file("model", file.string()));
+  EXPECT_EQ(p.files[0].sha256, sha256_hex("abc"));
+  const nlohmann::json j = provenance_json(p);
+  EXPECT_TRUE(j["seed"].is_null());
+  EXPECT_TRUE(j["instrument_sigma_mm"].is_null());
+  EXPECT_EQ(j["files"][0]["role"], "model");
+  EXPECT_THROW((void)provenance_file("model", "/nonexistent/file"), InputError);
+}
+
+/// A report the way `robcal report` builds it, on the reference data set: the nominal robot
+/// (rigid base fit) and the true one over the validation rows, with calibration regions, pair
+/// distances, ISO 9283 figures and ballbar errors.
+ReportData reference_report() {
+  const CalibratedRobot after = test::reference_true_robot();
+  const MeasurementSet validation =
+      read_measurements_csv(test::data_path("irb120-published/validation.csv"), after.tool,
+                            {MeasurementKind::Points})
+          .measurements;
+  const MeasurementSet calibration =
+      read_measurements_csv(test::data_path("irb120-published/calibration.csv"), after.tool,
+                            {MeasurementKind::Points})
+          .measurements;
+  const CalibratedRobot before =
+      fit_base(CalibratedRobot::nominal(after.model, after.tool), validation);
+  ReportData data;
+  data.title = "reference report";
+  data.robot = after.model.name;
+  const char* argv[] = {"robcal", "report"};
+  data.provenance = start_provenance(2, argv);
+  data.provenance.robot = after.model.name;
+  data.provenance.level = "full";
+  data.provenance.instrument = "laser-tracker";
+  data.provenance.instrument_sigma_mm = 0.022;
+  data.provenance.seed = 1;
+  data.provenance.files.push_back(
+      provenance_file("validation", test::data_path("irb120-published/validation.csv")));
+  const Eigen::Matrix3Xd anchors = measured_positions(calibration);
+  data.models.push_back(model_errors("nominal (rigid base fit)", before, {validation}, anchors));
+  data.models.push_back(model_errors("full", after, {validation}, anchors));
+  data.distance_to_calibration_mm = distance_to_calibration({validation}, calibration);
+  data.parameters = report_parameters(after);
+  data.diagnostics = yaml_to_json("iterations: 4\nrms_mm: 0.021\n");
+  // ISO 9283: 4 cycles of 5 poses, 0.05 mm off in x and ±0.01 mm in y.
+  Iso9283AnalysisRequest iso;
+  iso.min_cycles = 3;
+  for (int k = 0; k < 5; ++k)
+    iso.commanded.push_back({Eigen::Matrix3d::Identity(), Eigen::Vector3d(400 + 10 * k, 0, 500)});
+  for (int cycle = 1; cycle <= 4; ++cycle)
+    for (int k = 1; k <= 5; ++k)
+      iso.samples.push_back({k, cycle, 0,
+                             iso.commanded[static_cast<size_t>(k - 1)].p +
+                                 Eigen::Vector3d(0.05, cycle % 2 ? 0.01 : -0.01, 0),
+                             std::nullopt, 0});
+  data.iso9283 = iso9283_analyse(iso);
+  // Ballbar: lengths of the true robot around a centre, 0.01 mm longer.
+  MeasurementSet bar;
+  bar.kind = MeasurementKind::Distances;
+  const Eigen::Vector3d centre(0, 1000, 300);
+  for (size_t r = 0; r < 40; ++r) {
+    const PointMeasurement& m = validation.points[r];
+    const Eigen::Vector3d p = flange_pose(after.model, after.tool.payload, after.params, m.joints) *
+                              after.tool.targets[static_cast<size_t>(m.target)].position_mm;
+    bar.distances.push_back({m.config, m.target, m.joints, (p - centre).norm() + 0.01, 0});
+  }
+  data.ballbar.emplace_back("full", ballbar_errors(after, bar, centre));
+  return data;
+}
+
+TEST(ReportJson, ClassesPairsIsoBallbarAndProvenance) {
+  const nlohmann::json report = report_json(reference_report());
+  const auto& after = report["models"][1];
+  ASSERT_EQ(after["classes"].size(), 5u);
+  EXPECT_EQ(after["classes"][0]["table"], "front/back");
+  // The validation set has no back rows: "no data", not a number.
+  EXPECT_EQ(after["classes"][0]["rows"][1]["position_mm"]["status"], "no data");
+  EXPECT_EQ(after["pairs"]["count"], 1000u * 999u / 2u);
+  uint64_t total = 0;
+  for (const auto& c : after["pairs"]["histogram"]["counts"]) total += c.get<uint64_t>();
+  EXPECT_EQ(total, 1000u * 999u / 2u);
+  // Round histogram bins: the width is 1, 2, 2.5 or 5 × 10^k.
+  for (const auto& m : report["models"]) {
+    const auto& h = m["histogram"];
+    const double width = (h["upper_mm"].get<double>() - h["lower_mm"].get<double>()) /
+                         static_cast<double>(h["counts"].size());
+    const double mantissa = width / std::pow(10.0, std::floor(std::log10(width) + 1e-12));
+    EXPECT_TRUE(std::abs(mantissa - 1) < 1e-9 || std::abs(mantissa - 2) < 1e-9 ||
+                std::abs(mantissa - 2.5) < 1e-9 || std::abs(mantissa - 5) < 1e-9)
+        << width;
+    EXPECT_GT(h["upper_mm"].get<double>(), m["summary"]["max_mm"].get<double>());
+  }
+  EXPECT_NEAR(report["iso9283"]["poses"][0]["AP_mm"].get<double>(), 0.05, 1e-9);
+  EXPECT_NEAR(report["ballbar"][0]["mean_mm"].get<double>(), 0.01, 1e-9);
+  EXPECT_EQ(report["ballbar"][0]["positive_share"], 1.0);
+  EXPECT_EQ(report["provenance"]["instrument_sigma_mm"], 0.022);
+  EXPECT_EQ(report["provenance"]["files"][0]["sha256"].get<std::string>().size(), 64u);
+}
+
+/// Runs `command`, failing the test with its stderr when it fails.
+void run(const std::string& command, const fs::path& err) {
+  ASSERT_EQ(std::system((command + " 2> " + err.string()).c_str()), 0) << read_text_file(err);
+}
+
+TEST(ReportBrowser, PrintsToPdfWithoutAHeadingAloneAtAPageFoot) {
+  const std::string chromium = find_chromium();
+  if (chromium.empty())
+    GTEST_SKIP() << "chromium is not installed (Debian package chromium; `make browser-deps`)";
+  if (!fs::exists("/usr/bin/pdftotext") || !fs::exists("/usr/bin/pdfinfo"))
+    GTEST_SKIP() << "pdftotext is not installed (Debian package poppler-utils)";
+  std::string chartjs;
+  try {
+    chartjs = load_chartjs();
+  } catch (const InputError& e) {
+    GTEST_SKIP() << e.what();
+  }
+  const fs::path dir = fs::path(::testing::TempDir()) / "report_pdf";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "profile");
+  const fs::path page = dir / "report.html", pdf = dir / "report.pdf", err = dir / "stderr.txt";
+  const std::string html = report_html(report_json(reference_report()), chartjs);
+  write_file_atomically(page, html);
+  const std::string flags = chromium_flags(dir / "profile");
+  run("timeout 120 " + chromium + " " + flags + " --dump-dom file://" + page.string() + " > " +
+          (dir / "dom.html").string(),
+      err);
+  const std::string dom = read_text_file(dir / "dom.html");
+  // Every chart drawn: CDF, two histograms, the scatter and two pair histograms.
+  EXPECT_NE(dom.find("data-status=\"rendered\">rendered 6 charts"), std::string::npos)
+      << dom.substr(dom.find("render-status") == std::string::npos ? 0 : dom.find("render-status"),
+                    300);
+  run("timeout 120 " + chromium + " " + flags + " --print-to-pdf=" + pdf.string() + " file://" +
+          page.string(),
+      err);
+  run("pdfinfo " + pdf.string() + " > " + (dir / "info.txt").string(), err);
+  const std::string info = read_text_file(dir / "info.txt");
+  std::smatch pages_match;
+  ASSERT_TRUE(std::regex_search(info, pages_match, std::regex(R"(Pages:\s+(\d+))"))) << info;
+  const int pages = std::stoi(pages_match[1]);
+  EXPECT_GE(pages, 2);
+
+  // The headings of the page, as the PDF's text shows them.
+  std::vector<std::string> headings;
+  const std::regex heading(R"(<h[123][^>]*>([^<]*)</h[123]>)");
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), heading);
+       it != std::sregex_iterator(); ++it) {
+    std::string text = (*it)[1];
+    for (const auto& [from, to] :
+         {std::pair<std::string, std::string>{"&amp;", "&"}, {"&lt;", "<"}, {"&gt;", ">"}})
+      for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at))
+        text.replace(at, from.size(), to);
+    headings.push_back(text);
+  }
+  for (const char* section :
+       {"Provenance", "Before and after on shared axes", "Errors by configuration class (mm)",
+        "Distance errors over every pair of validation rows (mm)", "ISO 9283 pose characteristics",
+        "Ballbar length errors (mm)", "Parameters (± one standard deviation)"})
+    EXPECT_NE(std::find(headings.begin(), headings.end(), section), headings.end()) << section;
+  const auto trim = [](std::string line) {
+    line.erase(0, line.find_first_not_of(" \t\f"));
+    line.erase(line.find_last_not_of(" \t\f\r") + 1);
+    return line;
+  };
+  std::string all_text;
+  for (int p = 1; p <= pages; ++p) {
+    const fs::path text = dir / ("page" + std::to_string(p) + ".txt");
+    run(fmt::format("pdftotext -f {} -l {} {} {}", p, p, pdf.string(), text.string()), err);
+    std::vector<std::string> lines;
+    std::istringstream in(read_text_file(text));
+    for (std::string line; std::getline(in, line);)
+      if (!trim(line).empty()) lines.push_back(trim(line));
+    const auto is_heading = [&](const std::string& line) {
+      return std::find(headings.begin(), headings.end(), line) != headings.end();
+    };
+    SCOPED_TRACE("page " + std::to_string(p));
+    ASSERT_FALSE(lines.empty());
+    EXPECT_FALSE(std::all_of(lines.begin(), lines.end(), is_heading)) << "only headings";
+    EXPECT_FALSE(is_heading(lines.back())) << "ends with the heading '" << lines.back() << "'";
+    all_text += read_text_file(text);
+  }
+  for (const char* section :
+       {"Provenance", "ISO 9283 pose characteristics", "no data", "SHA-256", "laser-tracker"})
+    EXPECT_NE(all_text.find(section), std::string::npos) << section;
+  EXPECT_FALSE(std::regex_search(all_text, std::regex(R"(\bnan\b)", std::regex::icase)));
 }
 
 }  // namespace

@@ -80,6 +80,10 @@ TEST(ValidatePairwise, ThreePointsByHand) {
   EXPECT_NEAR(r.stats.max, 1.0, kPairErrorRelativeAccuracy);
   EXPECT_EQ(r.histogram.total(), 3u);
   EXPECT_GE(r.histogram.upper, r.stats.max);
+  // Signed (measured − modelled): −0.5, +1, +e3 > 0: two of three positive.
+  EXPECT_EQ(r.positive_pairs, 2u);
+  EXPECT_NEAR(r.positive_share(), 2.0 / 3, 1e-15);
+  EXPECT_NEAR(r.signed_mean, (-0.5 + 1 + e3) / 3, kPairErrorRelativeAccuracy);
 }
 
 TEST(ValidatePairwise, FewerThanTwoRowsHaveNoPairs) {
@@ -123,11 +127,24 @@ TEST_P(ValidatePairwiseNaive, MatchesNaiveDoubleLoop) {
   const RandomPositions data(n, 11);
   const PairwiseDistanceErrors r = pairwise_distance_errors(data.measured, data.modelled, 2);
   std::vector<double> errors;
+  double signed_sum = 0;
+  uint64_t positive = 0, near_zero = 0;
   for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j)
-      errors.push_back(std::abs((data.measured.col(i) - data.measured.col(j)).norm() -
-                                (data.modelled.col(i) - data.modelled.col(j)).norm()));
+    for (int j = i + 1; j < n; ++j) {
+      const double e = (data.measured.col(i) - data.measured.col(j)).norm() -
+                       (data.modelled.col(i) - data.modelled.col(j)).norm();
+      errors.push_back(std::abs(e));
+      signed_sum += e;
+      positive += e > 0 ? 1 : 0;
+      near_zero += std::abs(e) < 1e-9 ? 1 : 0;  // where the two formulas may disagree on sign
+    }
   const ErrorStatistics naive = error_statistics(errors);
+  EXPECT_NEAR(r.signed_mean, signed_sum / static_cast<double>(errors.size()),
+              kPairErrorRelativeAccuracy * naive.mean);
+  EXPECT_LE(r.positive_pairs > positive ? r.positive_pairs - positive : positive - r.positive_pairs,
+            near_zero);
+  // Scaled by 1.0005, the model's distances are the longer: most signed errors are negative.
+  EXPECT_LT(r.positive_share(), 0.5);
   EXPECT_EQ(r.stats.count, naive.count);
   EXPECT_EQ(r.stats.count, static_cast<uint64_t>(n) * static_cast<uint64_t>(n - 1) / 2);
   // Each pair error carries a relative kPairErrorRelativeAccuracy (the naive one ~1e-13 mm).
@@ -213,6 +230,8 @@ TEST(ValidatePairwise, BitIdenticalForAnyThreadCount) {
     EXPECT_EQ(many.stats.max, one.stats.max);
     EXPECT_EQ(many.histogram.upper, one.histogram.upper);
     EXPECT_EQ(many.histogram.counts, one.histogram.counts);
+    EXPECT_EQ(std::bit_cast<uint64_t>(many.signed_mean), std::bit_cast<uint64_t>(one.signed_mean));
+    EXPECT_EQ(many.positive_pairs, one.positive_pairs);
   }
   EXPECT_EQ(one.histogram.total(), one.stats.count);
 }

@@ -10,6 +10,7 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/rounding.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::cli {
 
@@ -45,6 +46,26 @@ Vector6d parse_joints_deg(const std::string& text, const std::string& what) {
   Vector6d q;
   for (int i = 0; i < kJointCount; ++i) q[i] = deg2rad(values[i]);
   return q;
+}
+
+Eigen::Matrix3d parse_orientation(const std::string& text, const std::string& what) {
+  const std::vector<double> q = parse_numbers(text, 4, what);
+  try {
+    return pose_from_position_quaternion(Eigen::Vector3d::Zero(),
+                                         Eigen::Vector4d(q[0], q[1], q[2], q[3]))
+        .R;
+  } catch (const InputError& e) {
+    throw InputError({"", 0, 0, what}, e.what());
+  }
+}
+
+ArmConfig parse_config(const std::string& text, const std::string& what) {
+  const std::optional<ArmConfig> config = parse_arm_config(text);
+  if (!config)
+    throw InputError(
+        {"", 0, 0, what},
+        fmt::format("expected a configuration such as front-up-noflip, found '{}'", text));
+  return *config;
 }
 
 void print_json(const nlohmann::json& value) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/model/robot_model.hpp"
 
 namespace robcal::cli {
@@ -17,6 +18,12 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
 
 /// Six controller joint values given in degrees → radians.
 Vector6d parse_joints_deg(const std::string& text, const std::string& what = "--joints");
+
+/// A rotation from a unit quaternion "qw,qx,qy,qz" (InputError naming `what` otherwise).
+Eigen::Matrix3d parse_orientation(const std::string& text, const std::string& what);
+
+/// An arm configuration label such as "front-up-noflip" (InputError naming `what` otherwise).
+ArmConfig parse_config(const std::string& text, const std::string& what = "--config");
 
 /// Prints JSON (2-space indent) to stdout.
 void print_json(const nlohmann::json& value);

@@ -13,6 +13,7 @@
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/report/provenance.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -193,6 +194,14 @@ void run_calibrate(const CalibrateArgs& args) {
     statistics["cross_validation"]["std_mm"] = cv.std_mm;
     statistics["cross_validation"]["max_mm"] = cv.max_mm;
   }
+  // Where the model came from; `robcal report` shows it with the fit's statistics.
+  Provenance provenance = start_provenance_of_process();
+  provenance.robot = model.name;
+  provenance.level = args.level;
+  provenance.seed = args.seed;
+  provenance.files = {provenance_file("tool", args.tool),
+                      provenance_file("measurements", args.measurements)};
+  statistics["provenance"] = YAML::Load(provenance_yaml(provenance));
   YAML::Emitter emitter;
   emitter.SetDoublePrecision(9);
   emitter << statistics;

@@ -50,6 +50,19 @@ const bool registered = register_command(85, [](CLI::App& app) {
                   "The calibration measurements (for the error against distance to them)");
   cmd->add_option("--before", o->request.before,
                   "Model to compare with (default: the nominal robot, rigid base fit)");
+  cmd->add_option("--instrument", o->request.instrument,
+                  "Instrument file (instrument.yaml: name and sigma_mm) for the provenance");
+  cmd->add_option("--seed", o->request.seed, "Seed of the plan or simulation, for the provenance")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--iso9283-poses", o->request.iso9283_poses,
+                  "ISO 9283 commanded poses (from `robcal iso9283 plan`)");
+  cmd->add_option("--iso9283-measurements", o->request.iso9283_measurements,
+                  "ISO 9283 measured cycles (pose,cycle,x,y,z[,qw,qx,qy,qz][,direction])");
+  cmd->add_option("--iso9283-min-cycles", o->request.iso9283_min_cycles,
+                  "Fewest cycles accepted per pose (the standard: 30)")
+      ->capture_default_str();
+  cmd->add_option("--ballbar", o->request.ballbar,
+                  "Ballbar (distances) file: length errors of both models");
   cmd->add_option("--title", o->request.title, "Page title")->capture_default_str();
   cmd->add_option("--out", o->out, "Output .html (the JSON goes beside it)")->required();
   cmd->add_flag("--json", o->json, "Print the report's JSON");

@@ -31,6 +31,7 @@ struct ValidateOptions {
   int threads = 2;
   double orientation_weight = kDefaultOrientationWeightMm;
   std::string ballbar_centre;  ///< X,Y,Z mm; empty: identified from the rows
+  std::string calibration;     ///< calibration measurements, for the region classes
 };
 
 nlohmann::json statistics_json(const ErrorStatistics& s) {
@@ -56,9 +57,53 @@ nlohmann::json histogram_json(const Histogram& h) {
   return {{"lower", h.lower}, {"upper", h.upper}, {"counts", h.counts}};
 }
 
-void print_statistics_row(const std::string& label, const ErrorStatistics& s) {
-  fmt::print("  {:<10} {:>8} {:>10.4f} {:>10.4f} {:>10.4f} {:>10.4f}\n", label, s.count, s.mean,
-             s.std, s.mean_plus_3std(), s.max);
+void print_statistics_row(const std::string& label, const ErrorStatistics& s, int width = 10) {
+  if (s.count == 0) {
+    fmt::print("  {:<{}} {:>8} {:>10}\n", label, width, 0, "no data");
+    return;
+  }
+  fmt::print("  {:<{}} {:>8} {:>10.4f} {:>10.4f} {:>10.4f} {:>10.4f}\n", label, width, s.count,
+             s.mean, s.std, s.mean_plus_3std(), s.max);
+}
+
+/// A class's statistics; a class without rows is {"rows": 0, "status": "no data"}.
+nlohmann::json class_statistics_json(const ErrorStatistics& s) {
+  if (s.count == 0) return {{"rows", 0}, {"status", "no data"}};
+  nlohmann::json out = statistics_json(s);
+  out["rows"] = s.count;
+  return out;
+}
+
+nlohmann::json classes_json(const std::vector<ClassTable>& tables, bool poses) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const ClassTable& t : tables) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const ClassRow& r : t.rows) {
+      nlohmann::json row = {{"class", r.label},
+                            {"position_error_mm", class_statistics_json(r.position_mm)}};
+      if (poses) row["orientation_error_deg"] = class_statistics_json(r.orientation_deg);
+      rows.push_back(row);
+    }
+    out.push_back({{"table", t.name}, {"rows", rows}});
+  }
+  return out;
+}
+
+void print_class_tables(const std::vector<ClassTable>& tables, bool poses) {
+  const auto print = [&](const char* title, auto statistics_of) {
+    fmt::print("\n{}\n", title);
+    for (const ClassTable& t : tables) {
+      // Points: the per-target table is printed above.
+      if (t.name == "target" && !poses) continue;
+      fmt::print("  {:<12} {:>8} {:>10} {:>10} {:>10} {:>10}\n", t.name, "rows", "mean", "std",
+                 "mean+3std", "max");
+      for (const ClassRow& r : t.rows) print_statistics_row(r.label, statistics_of(r), 12);
+    }
+  };
+  print("absolute position error by class (mm); configuration classes of the rows' joints",
+        [](const ClassRow& r) { return r.position_mm; });
+  if (poses)
+    print("orientation error by class (deg)", [](const ClassRow& r) { return r.orientation_deg; });
 }
 
 /// Ballbar rows (METHOD §9): length errors against a given or identified centre; distances
@@ -84,6 +129,7 @@ void run_ballbar_validation(const ValidateOptions& options, const RobotModel& mo
     out["length_error_mm"] = statistics_json(errors.absolute_mm);
     out["length_error_mm"]["signed_mean"] = errors.signed_mean_mm;
     out["length_error_mm"]["signed_std"] = errors.signed_std_mm;
+    out["length_error_mm"]["positive_share"] = errors.positive_share;
     out["length_error_histogram_mm"] = histogram_json(histogram);
     out["ballbar_centre_mm"] = {errors.centre_mm.x(), errors.centre_mm.y(), errors.centre_mm.z()};
     out["ballbar_centre"] = errors.centre_fitted ? "identified" : "given";
@@ -105,8 +151,8 @@ void run_ballbar_validation(const ValidateOptions& options, const RobotModel& mo
     for (const TargetErrorStatistics& t : errors.per_target)
       print_statistics_row(t.target, t.position_mm);
   print_statistics_row("all", errors.absolute_mm);
-  fmt::print("signed (measured − modelled): mean {:+.4f}  std {:.4f} mm\n", errors.signed_mean_mm,
-             errors.signed_std_mm);
+  fmt::print("signed (measured − modelled): mean {:+.4f}  std {:.4f} mm; {:.1f}% positive\n",
+             errors.signed_mean_mm, errors.signed_std_mm, 100 * errors.positive_share);
   fmt::print("\nlength error histogram\n{}", histogram_text(histogram, "mm"));
 }
 
@@ -157,8 +203,14 @@ void run_validate(const ValidateOptions& options) {
     frame = "base fitted to these measurements (6 parameters, rigid best fit)";
   }
 
+  std::optional<Eigen::Matrix3Xd> calibration;
+  if (!options.calibration.empty()) {
+    const MeasurementFile file = read_measurements_csv(
+        options.calibration, robot.tool, {MeasurementKind::Points, MeasurementKind::Poses});
+    calibration = measured_positions(file.measurements);
+  }
   const ValidationReport report =
-      validate_model(robot, set, options.threads, options.orientation_weight);
+      validate_model(robot, set, options.threads, options.orientation_weight, calibration);
   const PositionErrors& positions = report.positions;
   const PairwiseDistanceErrors& distances = report.distances;
 
@@ -170,7 +222,10 @@ void run_validate(const ValidateOptions& options) {
     out["distance_error_mm"]["pairs"] = distances.stats.count;
     out["distance_error_mm"]["histogram"] = histogram_json(distances.histogram);
     out["position_histogram_mm"] = histogram_json(report.position_histogram);
+    out["distance_error_mm"]["signed_mean"] = distances.signed_mean;
+    out["distance_error_mm"]["positive_share"] = distances.positive_share();
     out["per_target"] = per_target_json(positions.per_target);
+    out["classes"] = classes_json(report.classes, set.kind == MeasurementKind::Poses);
     if (set.kind == MeasurementKind::Poses) {
       out["orientation_error_deg"] = statistics_json(positions.orientation_deg);
       out["pose_error_mm"] = statistics_json(positions.pose_mm);
@@ -204,12 +259,20 @@ void run_validate(const ValidateOptions& options) {
         positions.orientation_weight_mm);
     print_statistics_row("TCP", positions.pose_mm);
   }
+  print_class_tables(report.classes, set.kind == MeasurementKind::Poses);
+  if (options.calibration.empty())
+    fmt::print("(no --calibration file: the region classes are not shown)\n");
   fmt::print("\nposition error histogram\n{}", histogram_text(report.position_histogram, "mm"));
   fmt::print("\ndistance error over all {} pairs of rows (mm): | |m_i − m_j| − |p_i − p_j| |\n",
              distances.stats.count);
   fmt::print("  mean {:.4f}  std {:.4f}  mean+3std {:.4f}  min {:.4f}  max {:.4f}\n",
              distances.stats.mean, distances.stats.std, distances.stats.mean_plus_3std(),
              distances.stats.min, distances.stats.max);
+  if (distances.stats.count > 0)
+    fmt::print(
+        "signed |m_i − m_j| − |p_i − p_j|: mean {:+.4f} mm; {:.1f}% positive (measured distance "
+        "the longer)\n",
+        distances.signed_mean, 100 * distances.positive_share());
   if (distances.stats.count > 0)
     fmt::print("distance error histogram ({} bins over [0, {:.4f}) mm, shown by 8)\n{}",
                distances.histogram.counts.size(), distances.histogram.upper,
@@ -237,6 +300,9 @@ const bool registered = register_command(60, [](CLI::App& app) {
   cmd->add_option("--ballbar-centre", options->ballbar_centre,
                   "Distances (ballbar) files: the fixed centre X,Y,Z in mm in the model's frame "
                   "(default: identified from the rows)");
+  cmd->add_option("--calibration", options->calibration,
+                  "The calibration measurements (points or poses): adds the error tables by "
+                  "region, the distance to the nearest calibration position");
   cmd->add_flag("--fit-base", options->fit_base,
                 "For a model without a world frame (the nominal robot): first fit its 6 base "
                 "parameters to these measurements (rigid best fit)");

@@ -42,7 +42,7 @@ const std::vector<Stage>& stages() {
       {"2. Plan", {"plan", "plan-study"}},
       {"3. Measure", {"program", "simulate", "import", "frames", "session"}},
       {"4. Identify", {"calibrate"}},
-      {"5. Validate", {"validate"}},
+      {"5. Validate", {"validate", "iso9283", "axis-test", "ballbar-path"}},
       {"6. Compensate", {"compensate", "compensate-program"}},
       {"Ballbar hexapod (every stage)", {"hexapod"}},
       {"Reports", {"report"}},

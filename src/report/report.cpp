@@ -15,6 +15,7 @@
 #include "robcal/validate/error_statistics.hpp"
 #include "robcal/validate/histogram.hpp"
 #include "robcal/validate/position_error.hpp"
+#include "robcal/validate/validation.hpp"
 
 namespace robcal {
 
@@ -31,12 +32,39 @@ nlohmann::json summary_json(std::span<const double> errors) {
           {"max_mm", s.max}};
 }
 
-/// Positions measured in each row (targets for points, TCP for poses), in row order.
-std::vector<Eigen::Vector3d> measured_positions(const MeasurementSet& set) {
-  std::vector<Eigen::Vector3d> out;
-  for (const PointMeasurement& m : set.points) out.push_back(m.position_mm);
-  for (const PoseMeasurement& m : set.poses) out.push_back(m.world_T_tcp.p);
+/// The rows of several points or poses sets as one set (InputError when the kinds differ).
+MeasurementSet joined(const std::vector<MeasurementSet>& sets) {
+  MeasurementSet out;
+  if (sets.empty()) return out;
+  out.kind = sets.front().kind;
+  out.file = sets.front().file;
+  for (const MeasurementSet& s : sets) {
+    if (s.kind != out.kind || s.kind == MeasurementKind::Distances)
+      throw InputError({s.file, 0, 0, "--measurements"},
+                       "the validation files must be all points or all poses files");
+    out.points.insert(out.points.end(), s.points.begin(), s.points.end());
+    out.poses.insert(out.poses.end(), s.poses.begin(), s.poses.end());
+  }
   return out;
+}
+
+/// Summary of a class: "no data" for an empty one.
+nlohmann::json class_summary_json(const ErrorStatistics& s) {
+  if (s.count == 0) return {{"count", 0}, {"status", "no data"}};
+  return {{"count", s.count},
+          {"mean", s.mean},
+          {"std", s.std},
+          {"mean_plus_3std", s.mean_plus_3std()},
+          {"max", s.max}};
+}
+
+/// A round bin width (1, 2, 2.5 or 5 × 10^k) giving about `bins` bins up to `top`.
+double round_bin_width(double top, int bins) {
+  const double raw = top / bins;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 2.5, 5.0, 10.0})
+    if (m * decade >= raw) return m * decade;
+  return 10 * decade;
 }
 
 nlohmann::json yaml_node_to_json(const YAML::Node& node) {
@@ -182,7 +210,9 @@ void flatten(const nlohmann::json& value, const std::string& prefix, std::string
 }
 
 // The page. Tables are static HTML (readable even without scripts); the charts are drawn by
-// Chart.js from the embedded data. Markers: @TITLE@, @SUBTITLE@, @SUMMARY@, @TARGETS@,
+// Chart.js from the embedded data. Each part is a <section> that prints whole when it fits a
+// page, and headings never end a page (break-after: avoid). Markers: @TITLE@, @SUBTITLE@,
+// @PROVENANCE@, @SUMMARY@, @ORIENTATION@, @CLASSES@, @PAIRS@, @TARGETS@, @ISO9283@, @BALLBAR@,
 // @PARAMETERS@, @DIAGNOSTICS@, @NOTES@, @DATA@, @CHARTJS@.
 constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
 <html lang="en">
@@ -192,38 +222,68 @@ constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
 <style>
  body { font-family: system-ui, sans-serif; margin: 1.5em auto; max-width: 1100px; color: #222; }
  h1 { font-size: 1.5em; margin-bottom: 0.2em; } h2 { font-size: 1.15em; margin-top: 1.6em; }
+ h3 { font-size: 1em; margin: 0.8em 0 0.3em; }
  .sub { color: #666; margin-top: 0; }
- table { border-collapse: collapse; font-size: 0.9em; }
+ table { border-collapse: collapse; font-size: 0.9em; margin-bottom: 0.6em; }
  th, td { border-bottom: 1px solid #ddd; padding: 3px 10px; text-align: right; white-space: nowrap; }
- #parameters td:last-child, #diagnostics td:last-child { white-space: normal; text-align: left; }
+ #parameters td:last-child, #diagnostics td:last-child, #provenance td:last-child { white-space: normal; text-align: left; }
  th:first-child, td:first-child, td.l { text-align: left; }
+ .nodata { color: #999; font-style: italic; }
  .charts { display: grid; grid-template-columns: repeat(auto-fit, minmax(320px, 1fr)); gap: 1em; }
  .chart { position: relative; height: 260px; }
+ .caption { color: #555; font-size: 0.85em; margin: 0.3em 0 0.8em; }
+ .hash { font-family: monospace; font-size: 0.85em; word-break: break-all; }
  #render-status { font-size: 0.75em; color: #999; }
+ @page { size: A4; margin: 14mm; }
+ @media print {
+  body { margin: 0; max-width: none; font-size: 10pt; }
+  section { break-inside: avoid; }
+  section.long { break-inside: auto; }
+  h1, h2, h3 { break-after: avoid; break-inside: avoid; }
+  tr, .chart { break-inside: avoid; }
+  #render-status { display: none; }
+ }
 </style>
 </head>
 <body>
 <h1>@TITLE@</h1>
 <p class="sub">@SUBTITLE@</p>
-<h2>Absolute position error over the validation configurations (mm)</h2>
-<table><thead><tr><th>model</th><th>rows</th><th>mean</th><th>std</th><th>mean + 3 std</th><th>max</th></tr></thead>
+<section id="provenance-section"><h2>Provenance</h2>
+<table id="provenance"><tbody>
+@PROVENANCE@</tbody></table></section>
+<section><h2>Absolute position error over the validation configurations (mm)</h2>
+<table id="summary"><thead><tr><th>model</th><th>rows</th><th>mean</th><th>std</th><th>mean + 3 std</th><th>max</th></tr></thead>
 <tbody>
 @SUMMARY@</tbody></table>
-<h2>Error histograms, before and after</h2>
-<div class="charts" id="histograms"></div>
-<h2>Error against distance to the calibration region</h2>
+@ORIENTATION@</section>
+<section><h2>Before and after on shared axes</h2>
+<div class="chart"><canvas id="cdf-chart"></canvas></div>
+<p class="caption">Share of validation rows at or below each position error, every model on one
+logarithmic axis; below, each model's histogram on bins of a round width.</p>
+<div class="charts" id="histograms"></div></section>
+<section class="long"><h2>Errors by configuration class (mm)</h2>
+@CLASSES@</section>
+<section><h2>Error against distance to the calibration region</h2>
 <div class="chart"><canvas id="distance-chart"></canvas></div>
-<h2>Per target</h2>
+<p class="caption">Position error of the last model at each validation row against the distance
+from its measured position to the nearest calibration position.</p></section>
+<section><h2>Distance errors over every pair of validation rows (mm)</h2>
+@PAIRS@
+<div class="charts" id="pair-histograms"></div>
+<p class="caption">| |m<sub>i</sub> − m<sub>j</sub>| − |p<sub>i</sub> − p<sub>j</sub>| | over every
+pair of rows: no world frame enters; signed mean and share of positive errors above (measured
+distance the longer).</p></section>
+<section><h2>Per target</h2>
 <table><thead><tr><th>model</th><th class="l">target</th><th>rows</th><th>mean</th><th>std</th><th>mean + 3 std</th><th>max</th></tr></thead>
 <tbody>
-@TARGETS@</tbody></table>
-<h2>Parameters (± one standard deviation)</h2>
+@TARGETS@</tbody></table></section>
+@ISO9283@@BALLBAR@<section class="long"><h2>Parameters (± one standard deviation)</h2>
 <table id="parameters"><thead><tr><th>parameter</th><th class="l">unit</th><th>nominal</th><th>value</th><th>std dev</th><th class="l">status</th><th class="l">reason</th></tr></thead>
 <tbody>
-@PARAMETERS@</tbody></table>
-<h2>Fit diagnostics</h2>
+@PARAMETERS@</tbody></table></section>
+<section class="long"><h2>Fit diagnostics</h2>
 <table id="diagnostics"><tbody>
-@DIAGNOSTICS@</tbody></table>
+@DIAGNOSTICS@</tbody></table></section>
 @NOTES@
 <p id="render-status" data-status="pending">pending</p>
 <script type="application/json" id="report-data">@DATA@</script>
@@ -235,32 +295,53 @@ constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
   window.addEventListener('error', (e) => fail(e.message));
   try {
     const report = JSON.parse(document.getElementById('report-data').textContent);
-    const colours = ['#c0392b', '#e67e22', '#2980b9', '#27ae60', '#8e44ad'];
+    const colours = ['#c0392b', '#2980b9', '#e67e22', '#27ae60', '#8e44ad'];
     const common = { animation: false, responsive: true, maintainAspectRatio: false };
-    const holder = document.getElementById('histograms');
-    report.models.forEach((model, k) => {
-      const h = model.histogram;
+    let charts = 0;
+    const chart = (canvas, config) => { new Chart(canvas, config); charts += 1; };
+    const round = (v) => Number(v.toPrecision(3)).toString();
+    // Cumulative distributions of every model on one logarithmic error axis.
+    const cdf = report.models.map((model, k) => {
+      const sorted = model.errors_mm.filter((e) => e > 0).sort((a, b) => a - b);
+      return { label: model.label, borderColor: colours[k % colours.length], backgroundColor: colours[k % colours.length],
+               showLine: true, pointRadius: 0, borderWidth: 2,
+               data: sorted.map((e, i) => ({ x: e, y: 100 * (i + 1) / sorted.length })) };
+    });
+    chart(document.getElementById('cdf-chart'), {
+      type: 'scatter', data: { datasets: cdf },
+      options: { ...common, scales: {
+        x: { type: 'logarithmic', title: { display: true, text: 'position error (mm, logarithmic)' },
+             ticks: { callback: (v) => { const m = v / Math.pow(10, Math.floor(Math.log10(v)) );
+                                         return [1, 2, 5].some((d) => Math.abs(m - d) < 1e-6) ? round(v) : ''; } } },
+        y: { min: 0, max: 100, title: { display: true, text: 'rows at or below (%)' } } } }
+    });
+    const bars = (holder, id, h, label, colour, axis, unit) => {
       const width = (h.upper_mm - h.lower_mm) / h.counts.length;
-      const labels = h.counts.map((_, i) => (h.lower_mm + (i + 0.5) * width).toPrecision(3));
+      const labels = h.counts.map((_, i) => round(h.lower_mm + i * width));
       const box = document.createElement('div');
       box.className = 'chart';
       const canvas = document.createElement('canvas');
-      canvas.id = 'histogram-' + k;
+      canvas.id = id;
       box.appendChild(canvas);
       holder.appendChild(box);
-      new Chart(canvas, {
+      chart(canvas, {
         type: 'bar',
-        data: { labels, datasets: [{ label: model.label + ' (' + model.summary.count + ' rows)',
-                                      data: h.counts, backgroundColor: colours[k % colours.length],
+        data: { labels, datasets: [{ label, data: h.counts, backgroundColor: colour,
                                       barPercentage: 1.0, categoryPercentage: 1.0 }] },
-        options: { ...common, scales: { x: { title: { display: true, text: 'position error (mm)' } },
-                                        y: { title: { display: true, text: 'configurations' } } } }
+        options: { ...common, scales: { x: { title: { display: true, text: axis + ' (mm, bin lower edge)' } },
+                                        y: { title: { display: true, text: unit } } } }
       });
-    });
+    };
+    const holder = document.getElementById('histograms');
+    report.models.forEach((model, k) => bars(holder, 'histogram-' + k, model.histogram,
+        model.label + ' (' + model.summary.count + ' rows)', colours[k % colours.length], 'position error', 'rows'));
+    const pairs = document.getElementById('pair-histograms');
+    report.models.forEach((model, k) => { if (model.pairs) bars(pairs, 'pairs-' + k, model.pairs.histogram,
+        model.label + ' (' + model.pairs.count + ' pairs)', colours[k % colours.length], 'distance error', 'pairs'); });
     const after = report.models[report.models.length - 1];
     const distances = report.distance_to_calibration_mm;
     const points = distances.map((d, i) => ({ x: d, y: after.errors_mm[i] }));
-    new Chart(document.getElementById('distance-chart'), {
+    chart(document.getElementById('distance-chart'), {
       type: 'scatter',
       data: { datasets: [{ label: after.label + ': error against distance to the nearest calibration point',
                            data: points, backgroundColor: '#2980b9', pointRadius: 2 }] },
@@ -268,7 +349,7 @@ constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
                                       y: { title: { display: true, text: 'position error (mm)' } } } }
     });
     status.dataset.status = 'rendered';
-    status.textContent = 'rendered ' + (report.models.length + 1) + ' charts';
+    status.textContent = 'rendered ' + charts + ' charts';
   } catch (err) {
     fail(err.message);
   }
@@ -277,6 +358,153 @@ constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
 </body>
 </html>
 )HTML";
+
+/// "no data" in a cell, or the value.
+std::string cell(const nlohmann::json& summary, const char* key) {
+  if (!summary.contains(key)) return "<td class=\"nodata\">no data</td>";
+  return "<td>" + number(summary[key].get<double>()) + "</td>";
+}
+
+std::string provenance_html(const nlohmann::json& p) {
+  const auto text = [](const nlohmann::json& v) {
+    if (v.is_null() || (v.is_string() && v.get<std::string>().empty()))
+      return std::string("<span class=\"nodata\">not recorded</span>");
+    return html_escape(v.is_string() ? v.get<std::string>() : v.dump());
+  };
+  std::string rows;
+  const auto row = [&](const std::string& key, const std::string& value) {
+    rows += fmt::format("<tr><td>{}</td><td>{}</td></tr>\n", key, value);
+  };
+  row("robcal", text(p["robcal_version"]));
+  row("date (UTC)", text(p["date_utc"]));
+  row("command", text(p["command_line"]));
+  row("robot", text(p["robot"]));
+  row("level", text(p["level"]));
+  row("instrument", text(p["instrument"]));
+  row("instrument σ (mm per axis)", p["instrument_sigma_mm"].is_null()
+                                        ? text(p["instrument_sigma_mm"])
+                                        : number(p["instrument_sigma_mm"].get<double>()));
+  row("seed", text(p["seed"]));
+  for (const auto& f : p["files"])
+    row(html_escape(f["role"].get<std::string>()), html_escape(f["path"].get<std::string>()) +
+                                                       "<br><span class=\"hash\">SHA-256 " +
+                                                       f["sha256"].get<std::string>() + "</span>");
+  if (p["files"].empty()) row("input files", text(nullptr));
+  return rows;
+}
+
+std::string orientation_html(const nlohmann::json& models) {
+  std::string rows;
+  for (const auto& m : models)
+    if (m.contains("orientation_deg")) {
+      const auto& o = m["orientation_deg"];
+      rows +=
+          fmt::format("<tr><td>{}</td><td>{}</td>{}{}{}{}</tr>\n",
+                      html_escape(m["label"].get<std::string>()), o["count"].get<uint64_t>(),
+                      cell(o, "mean"), cell(o, "std"), cell(o, "mean_plus_3std"), cell(o, "max"));
+    }
+  if (rows.empty()) return "";
+  return "<h3>Orientation error (deg)</h3>\n<table id=\"orientation\"><thead><tr><th>model</th>"
+         "<th>rows</th><th>mean</th><th>std</th><th>mean + 3 std</th><th>max</th></tr></thead>"
+         "<tbody>\n" +
+         rows + "</tbody></table>\n";
+}
+
+/// One table per class table: rows = classes, columns = models (rows, mean, max).
+std::string classes_html(const nlohmann::json& models) {
+  if (models.empty() || models.back()["classes"].empty())
+    return "<p class=\"nodata\">no class statistics (no validation rows)</p>\n";
+  std::string out;
+  const auto& tables = models.back()["classes"];
+  for (size_t t = 0; t < tables.size(); ++t) {
+    const std::string name = tables[t]["table"].get<std::string>();
+    out += "<table class=\"classes\"><thead><tr><th>" + html_escape(name) + "</th>";
+    for (const auto& m : models)
+      out += "<th colspan=\"3\">" + html_escape(m["label"].get<std::string>()) + "</th>";
+    out += "</tr><tr><th></th>";
+    for (size_t k = 0; k < models.size(); ++k) out += "<th>rows</th><th>mean</th><th>max</th>";
+    out += "</tr></thead><tbody>\n";
+    for (size_t r = 0; r < tables[t]["rows"].size(); ++r) {
+      out += "<tr><td>" + html_escape(tables[t]["rows"][r]["class"].get<std::string>()) + "</td>";
+      for (const auto& m : models) {
+        if (m["classes"].size() <= t) {
+          out += "<td colspan=\"3\" class=\"nodata\">no data</td>";
+          continue;
+        }
+        const auto& s = m["classes"][t]["rows"][r]["position_mm"];
+        out += fmt::format("<td>{}</td>{}{}", s["count"].get<uint64_t>(), cell(s, "mean"),
+                           cell(s, "max"));
+      }
+      out += "</tr>\n";
+    }
+    out += "</tbody></table>\n";
+  }
+  return out;
+}
+
+std::string pairs_html(const nlohmann::json& models) {
+  std::string rows;
+  for (const auto& m : models)
+    if (m.contains("pairs")) {
+      const auto& p = m["pairs"];
+      rows += fmt::format(
+          "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></"
+          "tr>\n",
+          html_escape(m["label"].get<std::string>()), p["count"].get<uint64_t>(),
+          number(p["mean_mm"]), number(p["std_mm"]), number(p["max_mm"]),
+          number(p["signed_mean_mm"]), number(100 * p["positive_share"].get<double>(), 1));
+    }
+  if (rows.empty()) return "<p class=\"nodata\">no data</p>\n";
+  return "<table id=\"pairs\"><thead><tr><th>model</th><th>pairs</th><th>mean |e|</th><th>std</th>"
+         "<th>max</th><th>signed mean</th><th>positive (%)</th></tr></thead><tbody>\n" +
+         rows + "</tbody></table>\n";
+}
+
+std::string iso9283_html(const nlohmann::json& iso) {
+  if (iso.is_null()) return "";
+  std::string rows;
+  const auto abc = [](const nlohmann::json& p, const char* key) {
+    if (!p.contains(key)) return std::string("<td class=\"nodata\">no data</td>");
+    return fmt::format("<td>{} / {} / {}</td>", number(p[key][0]), number(p[key][1]),
+                       number(p[key][2]));
+  };
+  for (const auto& p : iso["poses"])
+    rows += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td>{}{}{}</tr>\n",
+                        p["pose"].get<std::string>(), p["cycles"].get<int>(), number(p["AP_mm"]),
+                        number(p["RP_mm"]),
+                        p.contains("vAP_mm") ? "<td>" + number(p["vAP_mm"]) + "</td>"
+                                             : std::string("<td class=\"nodata\">no data</td>"),
+                        abc(p, "AP_abc_deg"), abc(p, "RP_abc_deg"));
+  std::string distance;
+  if (iso.contains("distance"))
+    distance = fmt::format(
+        "<p>Distance P2–P4 (clause 7.4): commanded {} mm, AD {} mm, RD ±{} mm "
+        "over {} cycles.</p>\n",
+        number(iso["distance"]["D_c_mm"]), number(iso["distance"]["AD_mm"]),
+        number(iso["distance"]["RD_mm"]), iso["distance"]["cycles"].get<int>());
+  return "<section><h2>ISO 9283 pose characteristics</h2>\n<table id=\"iso9283\"><thead><tr>"
+         "<th>pose</th><th>cycles</th><th>AP (mm)</th><th>RP (mm)</th><th>vAP (mm)</th>"
+         "<th>AP a/b/c (deg)</th><th>RP ±a/b/c (deg)</th></tr></thead><tbody>\n" +
+         rows + "</tbody></table>\n" + distance +
+         "<p class=\"sub\">ISO 9283:1998 clauses 7.2.1 (AP), 7.2.2 (RP), 7.3 (vAP), 7.4 (AD, "
+         "RD).</p></section>\n";
+}
+
+std::string ballbar_html(const nlohmann::json& ballbar) {
+  if (ballbar.empty()) return "";
+  std::string rows;
+  for (const auto& b : ballbar)
+    rows += fmt::format(
+        "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td "
+        "class=\"l\">{}</td></tr>\n",
+        html_escape(b["label"].get<std::string>()), b["count"].get<uint64_t>(),
+        number(b["mean_mm"]), number(b["std_mm"]), number(b["max_mm"]), number(b["signed_mean_mm"]),
+        number(100 * b["positive_share"].get<double>(), 1), b["centre"].get<std::string>());
+  return "<section><h2>Ballbar length errors (mm)</h2>\n<table id=\"ballbar\"><thead><tr>"
+         "<th>model</th><th>rows</th><th>mean |e|</th><th>std</th><th>max</th><th>signed mean</th>"
+         "<th>positive (%)</th><th class=\"l\">centre</th></tr></thead><tbody>\n" +
+         rows + "</tbody></table></section>\n";
+}
 
 void replace_all(std::string& text, std::string_view key, const std::string& value) {
   for (size_t pos = text.find(key); pos != std::string::npos;
@@ -305,30 +533,60 @@ std::vector<ReportParameter> report_parameters(const CalibratedRobot& robot) {
 }
 
 ModelErrors model_errors(const std::string& label, const CalibratedRobot& robot,
-                         const std::vector<MeasurementSet>& validation) {
+                         const std::vector<MeasurementSet>& validation,
+                         const std::optional<Eigen::Matrix3Xd>& calibration_mm) {
   ModelErrors out;
   out.label = label;
-  for (const MeasurementSet& set : validation) {
-    const PositionErrors errors = position_errors(robot, set);
-    out.errors_mm.insert(out.errors_mm.end(), errors.position_error_mm.begin(),
-                         errors.position_error_mm.end());
-    for (const PointMeasurement& m : set.points)
-      out.target_of_row.push_back(robot.tool.targets.at(static_cast<size_t>(m.target)).name);
-    for (size_t i = 0; i < set.poses.size(); ++i) out.target_of_row.emplace_back("tcp");
-  }
+  const MeasurementSet set = joined(validation);
+  if (set.size() == 0) return out;
+  const ValidationReport report =
+      validate_model(robot, set, 2, kDefaultOrientationWeightMm, calibration_mm);
+  out.errors_mm = report.positions.position_error_mm;
+  for (const PointMeasurement& m : set.points)
+    out.target_of_row.push_back(robot.tool.targets.at(static_cast<size_t>(m.target)).name);
+  for (size_t i = 0; i < set.poses.size(); ++i) out.target_of_row.emplace_back("tcp");
+  out.orientation_deg = report.positions.orientation_error_deg;
+  out.classes = report.classes;
+  out.pairs = report.distances;
   return out;
 }
 
 std::vector<double> distance_to_calibration(const std::vector<MeasurementSet>& validation,
                                             const MeasurementSet& calibration) {
-  const std::vector<Eigen::Vector3d> anchors = measured_positions(calibration);
-  std::vector<double> out;
-  for (const MeasurementSet& set : validation)
-    for (const Eigen::Vector3d& p : measured_positions(set)) {
-      double best = std::numeric_limits<double>::infinity();
-      for (const Eigen::Vector3d& a : anchors) best = std::min(best, (p - a).norm());
-      out.push_back(anchors.empty() ? 0.0 : best);
+  const MeasurementSet rows = joined(validation);
+  if (calibration.size() == 0) return std::vector<double>(rows.size(), 0.0);
+  return distance_to_nearest(measured_positions(rows), measured_positions(calibration));
+}
+
+nlohmann::json iso9283_json(const Iso9283Result& result) {
+  const auto vec = [](const Eigen::Vector3d& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
+  nlohmann::json out;
+  out["poses"] = nlohmann::json::array();
+  for (const Iso9283PoseFigures& f : result.poses) {
+    nlohmann::json p = {{"pose", fmt::format("P{}", f.pose)},
+                        {"cycles", f.cycles},
+                        {"AP_mm", f.ap_mm},
+                        {"AP_xyz_mm", vec(f.ap_xyz_mm)},
+                        {"RP_mm", f.rp_mm},
+                        {"l_mean_mm", f.l_mean_mm},
+                        {"S_l_mm", f.s_l_mm}};
+    if (f.has_orientation) {
+      p["AP_abc_deg"] = vec(f.ap_abc_deg);
+      p["RP_abc_deg"] = vec(f.rp_abc_deg);
     }
+    if (f.vap_mm) p["vAP_mm"] = *f.vap_mm;
+    if (f.vap_abc_deg) p["vAP_abc_deg"] = vec(*f.vap_abc_deg);
+    out["poses"].push_back(p);
+  }
+  if (result.distance) {
+    const Iso9283DistanceFigures& d = *result.distance;
+    out["distance"] = {{"between", "P2-P4"}, {"cycles", d.cycles}, {"D_c_mm", d.commanded_mm},
+                       {"AD_mm", d.ad_mm},   {"RD_mm", d.rd_mm},   {"S_D_mm", d.s_d_mm}};
+    if (d.has_orientation) {
+      out["distance"]["AD_abc_deg"] = vec(d.ad_abc_deg);
+      out["distance"]["RD_abc_deg"] = vec(d.rd_abc_deg);
+    }
+  }
   return out;
 }
 
@@ -358,13 +616,48 @@ nlohmann::json report_json(const ReportData& data) {
         if (m.target_of_row[i] == name) errors.push_back(m.errors_mm[i]);
       model["per_target"].push_back({{"target", name}, {"summary", summary_json(errors)}});
     }
-    const double upper =
+    // Bins of a round width so that the axis reads 0, 0.25, 0.5… rather than 0.2379…
+    const double largest =
         m.errors_mm.empty()
             ? 1.0
             : std::max(1e-6, *std::max_element(m.errors_mm.begin(), m.errors_mm.end()));
-    const Histogram h = make_histogram(m.errors_mm, kHistogramBins, 0.0, upper * (1 + 1e-9));
+    const double width = round_bin_width(largest, kHistogramBins);
+    const int bins = std::max(1, static_cast<int>(std::floor(largest / width)) + 1);
+    const Histogram h = make_histogram(m.errors_mm, bins, 0.0, width * bins);
     model["histogram"] = {{"lower_mm", h.lower}, {"upper_mm", h.upper}, {"counts", h.counts}};
     model["errors_mm"] = m.errors_mm;
+    if (!m.orientation_deg.empty()) {
+      const ErrorStatistics o = error_statistics(m.orientation_deg);
+      model["orientation_deg"] = {{"count", o.count},
+                                  {"mean", o.mean},
+                                  {"std", o.std},
+                                  {"mean_plus_3std", o.mean_plus_3std()},
+                                  {"max", o.max}};
+    }
+    model["classes"] = nlohmann::json::array();
+    for (const ClassTable& t : m.classes) {
+      nlohmann::json rows = nlohmann::json::array();
+      for (const ClassRow& r : t.rows) {
+        nlohmann::json row = {{"class", r.label},
+                              {"position_mm", class_summary_json(r.position_mm)}};
+        if (!m.orientation_deg.empty())
+          row["orientation_deg"] = class_summary_json(r.orientation_deg);
+        rows.push_back(row);
+      }
+      model["classes"].push_back({{"table", t.name}, {"rows", rows}});
+    }
+    if (m.pairs && m.pairs->stats.count > 0) {
+      const Histogram merged = merge_bins(m.pairs->histogram, 8);
+      model["pairs"] = {
+          {"count", m.pairs->stats.count},
+          {"mean_mm", m.pairs->stats.mean},
+          {"std_mm", m.pairs->stats.std},
+          {"max_mm", m.pairs->stats.max},
+          {"signed_mean_mm", m.pairs->signed_mean},
+          {"positive_share", m.pairs->positive_share()},
+          {"histogram",
+           {{"lower_mm", merged.lower}, {"upper_mm", merged.upper}, {"counts", merged.counts}}}};
+    }
     out["models"].push_back(model);
   }
   out["distance_to_calibration_mm"] = data.distance_to_calibration_mm;
@@ -379,6 +672,19 @@ nlohmann::json report_json(const ReportData& data) {
                                  {"std_dev", p.std_dev}});
   out["diagnostics"] = data.diagnostics;
   out["notes"] = data.notes;
+  out["provenance"] = provenance_json(data.provenance);
+  out["iso9283"] = data.iso9283 ? iso9283_json(*data.iso9283) : nlohmann::json(nullptr);
+  out["ballbar"] = nlohmann::json::array();
+  for (const auto& [label, b] : data.ballbar)
+    out["ballbar"].push_back({{"label", label},
+                              {"count", b.absolute_mm.count},
+                              {"mean_mm", b.absolute_mm.mean},
+                              {"std_mm", b.absolute_mm.std},
+                              {"max_mm", b.absolute_mm.max},
+                              {"signed_mean_mm", b.signed_mean_mm},
+                              {"positive_share", b.positive_share},
+                              {"centre_mm", {b.centre_mm.x(), b.centre_mm.y(), b.centre_mm.z()}},
+                              {"centre", b.centre_fitted ? "identified" : "given"}});
   return out;
 }
 
@@ -403,10 +709,17 @@ std::string report_html(const nlohmann::json& report, std::string_view chartjs) 
   std::string notes;
   for (const auto& n : report["notes"])
     notes += "<p>" + html_escape(n.get<std::string>()) + "</p>\n";
+  if (!notes.empty()) notes = "<section><h2>Notes</h2>\n" + notes + "</section>\n";
   // The data and the library go in last so that their text is never searched for markers.
   replace_all(page, "@TITLE@", title);
   replace_all(page, "@SUBTITLE@", subtitle);
+  replace_all(page, "@PROVENANCE@", provenance_html(report["provenance"]));
   replace_all(page, "@SUMMARY@", summary_rows_html(report["models"]));
+  replace_all(page, "@ORIENTATION@", orientation_html(report["models"]));
+  replace_all(page, "@CLASSES@", classes_html(report["models"]));
+  replace_all(page, "@PAIRS@", pairs_html(report["models"]));
+  replace_all(page, "@ISO9283@", iso9283_html(report["iso9283"]));
+  replace_all(page, "@BALLBAR@", ballbar_html(report["ballbar"]));
   replace_all(page, "@TARGETS@", per_target_html(report["models"]));
   replace_all(page, "@PARAMETERS@", parameters_html(report["parameters"]));
   replace_all(page, "@DIAGNOSTICS@", diagnostics);

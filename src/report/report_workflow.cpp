@@ -2,22 +2,46 @@
 
 #include <nlohmann/json.hpp>
 
+#include <numeric>
+
 #include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/io/yaml_support.hpp"
+#include "robcal/report/provenance.hpp"
+#include "robcal/validate/ballbar_error.hpp"
+#include "robcal/validate/iso9283.hpp"
 #include "robcal/validate/base_fit.hpp"
 
 namespace robcal {
 namespace {
 
-MeasurementSet read_positions(const std::string& path, const Tool& tool,
-                              std::vector<std::string>& warnings) {
-  MeasurementFile file =
-      read_measurements_csv(path, tool, {MeasurementKind::Points, MeasurementKind::Poses});
+MeasurementSet read_set(const std::string& path, const Tool& tool,
+                        std::initializer_list<MeasurementKind> kinds,
+                        std::vector<std::string>& warnings) {
+  MeasurementFile file = read_measurements_csv(path, tool, kinds);
   warnings.insert(warnings.end(), file.warnings.begin(), file.warnings.end());
   return std::move(file.measurements);
+}
+
+MeasurementSet read_positions(const std::string& path, const Tool& tool,
+                              std::vector<std::string>& warnings) {
+  return read_set(path, tool, {MeasurementKind::Points, MeasurementKind::Poses}, warnings);
+}
+
+/// The instrument file's name and σ (the mean of sigma_mm when it lists one per axis).
+void read_instrument(const std::string& path, Provenance& provenance) {
+  const yaml::Node root = yaml::load_file(path);
+  provenance.instrument = root.at("instrument").as_string();
+  if (root.has("sigma_mm")) {
+    const yaml::Node sigma = root.at("sigma_mm");
+    const std::vector<double> values =
+        sigma.node.IsSequence() ? sigma.as_doubles() : std::vector<double>{sigma.as_double()};
+    if (!values.empty())
+      provenance.instrument_sigma_mm =
+          std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
+  }
 }
 
 }  // namespace
@@ -25,6 +49,9 @@ MeasurementSet read_positions(const std::string& path, const Tool& tool,
 ReportBuild build_report(const ReportRequest& o) {
   if (o.measurements.empty())
     throw InputError({"", 0, 0, "--measurements"}, "expected at least one validation file");
+  if (o.iso9283_poses.empty() != o.iso9283_measurements.empty())
+    throw InputError({"", 0, 0, "--iso9283-poses"},
+                     "give both --iso9283-poses and --iso9283-measurements");
   const CalibratedRobot model = load_calibrated_robot(o.model);
   if (!model.base_fitted)
     throw InputError({o.model, 0, 0, "--model"},
@@ -38,28 +65,60 @@ ReportBuild build_report(const ReportRequest& o) {
   ReportData& data = out.data;
   data.title = o.title;
   data.robot = model.model.name;
+  data.provenance = start_provenance_of_process();
+  data.provenance.robot = model.model.name;
+  data.provenance.level = model.level;
+  data.provenance.seed = o.seed;
+  data.provenance.files.push_back(provenance_file("model", o.model));
   data.sources.push_back("model " + o.model);
-  for (const std::string& path : o.measurements) data.sources.push_back("validation " + path);
-  if (o.before.empty()) {
-    // The nominal robot placed by a rigid fit to the first validation file: the best a
-    // nominal model does once its base frame is known.
-    const CalibratedRobot nominal =
-        fit_base(CalibratedRobot::nominal(model.model, model.tool), validation.front());
-    data.models.push_back(model_errors("nominal (rigid base fit)", nominal, validation));
-  } else {
-    data.models.push_back(
-        model_errors("before: " + o.before, load_calibrated_robot(o.before), validation));
+  for (const std::string& path : o.measurements) {
+    data.sources.push_back("validation " + path);
+    data.provenance.files.push_back(provenance_file("validation", path));
   }
-  data.models.push_back(
-      model_errors(model.level.empty() ? "calibrated" : model.level, model, validation));
+  if (!o.instrument.empty()) {
+    read_instrument(o.instrument, data.provenance);
+    data.provenance.files.push_back(provenance_file("instrument", o.instrument));
+  }
+  std::optional<Eigen::Matrix3Xd> calibration;
   if (!o.calibration.empty()) {
     data.sources.push_back("calibration " + o.calibration);
-    data.distance_to_calibration_mm = distance_to_calibration(
-        validation, read_positions(o.calibration, model.tool, out.warnings));
+    data.provenance.files.push_back(provenance_file("calibration", o.calibration));
+    const MeasurementSet set = read_positions(o.calibration, model.tool, out.warnings);
+    calibration = measured_positions(set);
+    data.distance_to_calibration_mm = distance_to_calibration(validation, set);
   } else {
     data.notes.push_back(
         "No --calibration file: distances to the calibration region are not "
         "shown.");
+  }
+  CalibratedRobot before;
+  std::string before_label;
+  if (o.before.empty()) {
+    // The nominal robot placed by a rigid fit to the first validation file: the best a
+    // nominal model does once its base frame is known.
+    before = fit_base(CalibratedRobot::nominal(model.model, model.tool), validation.front());
+    before_label = "nominal (rigid base fit)";
+  } else {
+    before = load_calibrated_robot(o.before);
+    before_label = "before: " + o.before;
+    data.provenance.files.push_back(provenance_file("before", o.before));
+  }
+  const std::string after_label = model.level.empty() ? "calibrated" : model.level;
+  data.models.push_back(model_errors(before_label, before, validation, calibration));
+  data.models.push_back(model_errors(after_label, model, validation, calibration));
+  if (!o.iso9283_poses.empty()) {
+    data.iso9283 = iso9283_analyse(
+        read_iso9283_request(o.iso9283_poses, o.iso9283_measurements, o.iso9283_min_cycles));
+    data.provenance.files.push_back(provenance_file("ISO 9283 poses", o.iso9283_poses));
+    data.provenance.files.push_back(provenance_file("ISO 9283 cycles", o.iso9283_measurements));
+  }
+  if (!o.ballbar.empty()) {
+    const MeasurementSet set =
+        read_set(o.ballbar, model.tool, {MeasurementKind::Distances}, out.warnings);
+    // The centre is identified for each model: no world frame is needed.
+    data.ballbar.emplace_back(before_label, ballbar_errors(before, set, std::nullopt));
+    data.ballbar.emplace_back(after_label, ballbar_errors(model, set, std::nullopt));
+    data.provenance.files.push_back(provenance_file("ballbar", o.ballbar));
   }
   data.parameters = report_parameters(model);
   const yaml::Node root = yaml::load_file(o.model);

@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 
 #include "robcal/core/error.hpp"
 
@@ -76,6 +77,11 @@ BallbarErrors ballbar_errors(const CalibratedRobot& robot, const MeasurementSet&
   const ErrorStatistics signed_stats = error_statistics(out.length_error_mm);
   out.signed_mean_mm = signed_stats.mean;
   out.signed_std_mm = signed_stats.std;
+  out.positive_share = set.size() == 0 ? 0.0
+                                       : static_cast<double>(std::count_if(
+                                             out.length_error_mm.begin(), out.length_error_mm.end(),
+                                             [](double e) { return e > 0; })) /
+                                             static_cast<double>(set.size());
   for (size_t t = 0; t < robot.tool.targets.size(); ++t) {
     std::vector<double> errors;
     for (size_t i = 0; i < set.size(); ++i)

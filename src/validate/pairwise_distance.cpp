@@ -55,6 +55,8 @@ struct BlockResult {
   Moments moments;
   double min = std::numeric_limits<double>::infinity();
   double max = 0;
+  double signed_sum = 0;  ///< Σ (|m_i − m_j| − |p_i − p_j|)
+  uint64_t positive = 0;  ///< pairs whose measured distance is the longer
 };
 
 /// Measured positions m, modelled positions p and residuals r = m − p as coordinate arrays
@@ -92,7 +94,7 @@ struct Coordinates {
 /// (CMakeLists.txt) so that this loop vectorises.
 ROBCAL_PAIR_KERNEL
 void pair_errors(const Coordinates& c, int i, int begin, int count, double scale, int bins,
-                 double* __restrict e, int32_t* __restrict bin) {
+                 double* __restrict e, double* __restrict signed_e, int32_t* __restrict bin) {
   const double last_bin = bins - 1;
   const size_t row = static_cast<size_t>(i), first = static_cast<size_t>(begin);
   const double mxi = c.m[0][row], myi = c.m[1][row], mzi = c.m[2][row];
@@ -120,8 +122,11 @@ void pair_errors(const Coordinates& c, int i, int begin, int count, double scale
     // sum is 0 only for |a|, |b| < 1e-19 mm, where the numerator is below 1e-19 mm too:
     // dividing by 1 instead keeps e finite and that small.
     const float inverse = 1.0F / (sum > 0 ? sum : 1.0F);
-    const double error = std::fabs(difference) * static_cast<double>(inverse);
+    // |a| − |b|: the measured distance minus the modelled one (its sign is the difference's).
+    const double signed_error = difference * static_cast<double>(inverse);
+    const double error = std::fabs(signed_error);
     e[k] = error;
+    signed_e[k] = signed_error;
     // histogram_bin for error ≥ 0 and lower = 0, without branches (std::min is one vminpd).
     bin[k] = static_cast<int32_t>(std::min(error * scale, last_bin));
   }
@@ -129,7 +134,7 @@ void pair_errors(const Coordinates& c, int i, int begin, int count, double scale
 
 /// Lane accumulators of one row.
 struct RowSums {
-  std::array<double, kLanes> sum{}, squares{}, max{};
+  std::array<double, kLanes> sum{}, squares{}, max{}, signed_sum{}, positive{};
   std::array<double, kLanes> min;
   RowSums() { min.fill(std::numeric_limits<double>::infinity()); }
 };
@@ -139,12 +144,15 @@ struct RowSums {
 /// pair k of a row always goes to lane k mod kLanes of set (k / kLanes) mod 2: the order of
 /// additions depends only on the data.
 ROBCAL_PAIR_KERNEL
-void accumulate(const double* __restrict e, const int32_t* __restrict bin, int count, int bins,
-                RowSums& sums, uint64_t* __restrict histogram) {
+void accumulate(const double* __restrict e, const double* __restrict signed_e,
+                const int32_t* __restrict bin, int count, int bins, RowSums& sums,
+                uint64_t* __restrict histogram) {
   // Two sets of lanes, even and odd groups of kLanes, so that the multiply-add chains of the
   // squares overlap; merged at the end of the chunk.
   RowSums even = sums, odd;
-  const auto add = [](RowSums& to, int l, double v) {
+  const auto add = [](RowSums& to, int l, double v, double s) {
+    to.signed_sum[l] += s;
+    to.positive[l] += s > 0 ? 1.0 : 0.0;  // exact: a row has far fewer than 2⁵³ pairs
     to.sum[l] += v;
     to.squares[l] += v * v;
     to.min[l] = v < to.min[l] ? v : to.min[l];
@@ -153,17 +161,19 @@ void accumulate(const double* __restrict e, const int32_t* __restrict bin, int c
   int k = 0;
   for (; k + 2 * kLanes <= count; k += 2 * kLanes)
     for (int l = 0; l < kLanes; ++l) {
-      add(even, l, e[k + l]);
-      add(odd, l, e[k + kLanes + l]);
+      add(even, l, e[k + l], signed_e[k + l]);
+      add(odd, l, e[k + kLanes + l], signed_e[k + kLanes + l]);
     }
   if (k + kLanes <= count) {
-    for (int l = 0; l < kLanes; ++l) add(even, l, e[k + l]);
+    for (int l = 0; l < kLanes; ++l) add(even, l, e[k + l], signed_e[k + l]);
     k += kLanes;
   }
   for (int l = 0; l < kLanes; ++l)  // constant lane indices keep the lanes in registers
-    if (k + l < count) add(even, l, e[k + l]);
+    if (k + l < count) add(even, l, e[k + l], signed_e[k + l]);
   for (int l = 0; l < kLanes; ++l) {
     even.sum[l] += odd.sum[l];
+    even.signed_sum[l] += odd.signed_sum[l];
+    even.positive[l] += odd.positive[l];
     even.squares[l] += odd.squares[l];
     even.min[l] = std::min(even.min[l], odd.min[l]);
     even.max[l] = std::max(even.max[l], odd.max[l]);
@@ -186,6 +196,7 @@ void accumulate(const double* __restrict e, const int32_t* __restrict bin, int c
 BlockResult process_block(const Coordinates& c, int block, int rows, double scale, int bins,
                           uint64_t* histogram) {
   alignas(64) double e[kChunk];
+  alignas(64) double signed_e[kChunk];
   alignas(64) int32_t bin[kChunk];
   BlockResult result;
   const int row_end = std::min(rows, (block + 1) * kRowsPerBlock);
@@ -193,13 +204,15 @@ BlockResult process_block(const Coordinates& c, int block, int rows, double scal
     RowSums sums;
     for (int begin = i + 1; begin < rows; begin += kChunk) {
       const int count = std::min(kChunk, rows - begin);
-      pair_errors(c, i, begin, count, scale, bins, e, bin);
-      accumulate(e, bin, count, bins, sums, histogram);
+      pair_errors(c, i, begin, count, scale, bins, e, signed_e, bin);
+      accumulate(e, signed_e, bin, count, bins, sums, histogram);
     }
     const double n = rows - 1 - i;
     if (n == 0) continue;
-    double sum = 0, squares = 0;
+    double sum = 0, squares = 0, positive = 0;
     for (size_t lane = 0; lane < kLanes; ++lane) {
+      result.signed_sum += sums.signed_sum[lane];
+      positive += sums.positive[lane];
       sum += sums.sum[lane];
       squares += sums.squares[lane];
       result.min = std::min(result.min, sums.min[lane]);
@@ -208,6 +221,7 @@ BlockResult process_block(const Coordinates& c, int block, int rows, double scal
     // One row holds at most N − 1 errors of similar size: its own Σe² − (Σe)²/n is accurate;
     // rows are then merged with the stable pairwise formula.
     result.moments.merge({n, sum / n, std::max(0.0, squares - sum * sum / n)});
+    result.positive += static_cast<uint64_t>(positive);
   }
   return result;
 }
@@ -288,9 +302,11 @@ PairwiseDistanceErrors pairwise_distance_errors(const Eigen::Matrix3Xd& measured
 
   // Fixed order: blocks by index; histogram counts are integers, so their order is free.
   Moments moments;
-  double min = std::numeric_limits<double>::infinity(), max = 0;
+  double min = std::numeric_limits<double>::infinity(), max = 0, signed_sum = 0;
   for (const BlockResult& r : results) {
     moments.merge(r.moments);
+    signed_sum += r.signed_sum;
+    out.positive_pairs += r.positive;
     min = std::min(min, r.min);
     max = std::max(max, r.max);
   }
@@ -302,6 +318,7 @@ PairwiseDistanceErrors pairwise_distance_errors(const Eigen::Matrix3Xd& measured
   out.stats.std = std::sqrt(moments.m2 / moments.n);
   out.stats.min = min;
   out.stats.max = max;
+  out.signed_mean = signed_sum / static_cast<double>(out.stats.count);
   return out;
 }
 

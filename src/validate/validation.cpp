@@ -5,7 +5,8 @@
 namespace robcal {
 
 ValidationReport validate_model(const CalibratedRobot& robot, const MeasurementSet& set,
-                                int threads, double orientation_weight_mm) {
+                                int threads, double orientation_weight_mm,
+                                const std::optional<Eigen::Matrix3Xd>& calibration_mm) {
   ValidationReport report;
   report.positions = position_errors(robot, set, orientation_weight_mm);
   // The top edge sits just above the largest error so that it falls inside the last bin.
@@ -14,6 +15,7 @@ ValidationReport validate_model(const CalibratedRobot& robot, const MeasurementS
       make_histogram(report.positions.position_error_mm, kPositionHistogramBins, 0.0, top);
   report.distances = pairwise_distance_errors(report.positions.measured_mm,
                                               report.positions.predicted_mm, threads);
+  report.classes = class_tables(robot, set, report.positions, calibration_mm);
   return report;
 }
 

@@ -175,4 +175,121 @@ assert 0.028 < full["position_error_mm"]["mean"] < 0.045, full["position_error_m
 assert full["position_error_mm"]["max"] < 0.15, full["position_error_mm"]
 assert full["level"] == "full" and not full["base_fitted_to_measurements"]
 PY
+# The model file records where it came from: version, command, inputs with their SHA-256.
+sha=$(sha256sum $data/calibration.csv | cut -d' ' -f1)
+grep -q "^  provenance:" "$tmp/full.yaml" || fail "no provenance in the model file"
+grep -q "sha256: $sha" "$tmp/full.yaml" || fail "no SHA-256 of the measurements in the model file"
+grep -q "command_line: .* calibrate .*--level full" "$tmp/full.yaml" || fail "no command line"
+grep -q "robcal_version: [0-9]" "$tmp/full.yaml" || fail "no version"
+# Statistics by class: every table's rows add up to all rows, the empty "back" class says
+# "no data" (no number, no NaN), regions need --calibration; signed pair errors are reported.
+"$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --model "$tmp/full.yaml" \
+  --measurements $data/validation.csv --calibration $data/calibration.csv --json >"$tmp/classes.json"
+python3 - "$tmp/classes.json" "$tmp/full.json" <<'PY'
+import json, sys
+c, plain = (json.load(open(p)) for p in sys.argv[1:3])
+tables = {t["table"]: t["rows"] for t in c["classes"]}
+assert list(tables) == ["front/back", "up/down", "flip/no-flip", "target", "region"], list(tables)
+assert "region" not in {t["table"] for t in plain["classes"]}
+for name, rows in tables.items():
+    assert sum(r["position_error_mm"]["rows"] for r in rows) == 1000, name
+back = tables["front/back"][1]
+assert back["class"] == "back" and back["position_error_mm"] == {"rows": 0, "status": "no data"}, back
+de = c["distance_error_mm"]
+assert 0 < de["positive_share"] < 1 and abs(de["signed_mean"]) <= de["mean"], de
+PY
+"$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --model "$tmp/full.yaml" \
+  --measurements $data/validation.csv --calibration $data/calibration.csv >"$tmp/classes.txt"
+grep -q "^  back  *0  *no data$" "$tmp/classes.txt" || fail "no 'no data' row: $(cat "$tmp/classes.txt")"
+grep -q "^  ≥ 200 mm" "$tmp/classes.txt" || fail "no region table"
+grep -q "% positive (measured distance the longer)" "$tmp/classes.txt" || fail "no signed pair errors"
+! grep -qi "nan" "$tmp/classes.txt" || fail "NaN printed"
+
+# ISO 9283: plan the cube, "measure" 30 cycles of the poses with known offsets, analyse.
+"$robcal" iso9283 plan --robot abb-irb120 --region 300,-150,300,500,150,520 --cycles 30 \
+  --out-poses "$tmp/iso-poses.csv" --out-cycles "$tmp/iso-cycles.csv" >"$tmp/iso-plan.txt"
+grep -q "edge 200.000 mm" "$tmp/iso-plan.txt" || fail "cube: $(cat "$tmp/iso-plan.txt")"
+[ "$(wc -l <"$tmp/iso-cycles.csv")" -eq 151 ] || fail "cycles file: not 150 moves"
+python3 - "$tmp/iso-poses.csv" "$tmp/iso-meas.csv" <<'PY'
+import csv, math, sys
+poses = {r["name"]: r for r in csv.DictReader(open(sys.argv[1]))}
+with open(sys.argv[2], "w") as out:
+    out.write("pose,cycle,x,y,z\n")
+    for cycle in range(1, 31):
+        for k in range(1, 6):
+            p = poses[f"P{k}"]
+            # every pose 0.05 mm off in x, plus ±0.01 mm alternating in y
+            dy = 0.01 if cycle % 2 else -0.01
+            out.write(f"P{k},{cycle},{float(p['x']) + 0.05},{float(p['y']) + dy},{p['z']}\n")
+PY
+"$robcal" iso9283 analyse --poses "$tmp/iso-poses.csv" --measurements "$tmp/iso-meas.csv" --json \
+  >"$tmp/iso.json"
+python3 - "$tmp/iso.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert len(r["poses"]) == 5
+for p in r["poses"]:
+    # AP = 0.05 mm (the y offsets cancel over 30 cycles); every l_j = 0.01, S_l = 0: RP = 0.01.
+    assert abs(p["AP_mm"] - 0.05) < 1e-6 and abs(p["RP_mm"] - 0.01) < 1e-6, p
+assert abs(r["distance"]["AD_mm"]) < 1e-6 and r["distance"]["RD_mm"] < 1e-6, r["distance"]
+PY
+head -n 100 "$tmp/iso-meas.csv" >"$tmp/iso-few.csv"
+set +e
+"$robcal" iso9283 analyse --poses "$tmp/iso-poses.csv" --measurements "$tmp/iso-few.csv" \
+  >"$tmp/out" 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "too few cycles: exit $rc"
+grep -q "cycles: at least 30 are needed" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+[ ! -s "$tmp/out" ] || fail "output printed on error"
+set +e
+"$robcal" iso9283 plan --robot abb-irb120 --region 2000,0,0,2100,100,100 \
+  --out-poses "$tmp/x.csv" --out-cycles "$tmp/y.csv" >/dev/null 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "unreachable cube: exit $rc"
+grep -q "P1 at (2050.000, 50.000, 50.000) mm is not reachable" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+[ ! -e "$tmp/x.csv" ] || fail "plan written for an unreachable cube"
+# Axis test: the plan's moves, and a circle of radius 300 mm with a 0.05° step between the two
+# approach sides, analysed exactly.
+"$robcal" axis-test plan --joint 2 --home 0,10,10,0,45,0 --range -30,30 --steps 5 \
+  --out "$tmp/moves.csv" >/dev/null
+[ "$(grep -c ',below,' "$tmp/moves.csv")" -eq 5 ] || fail "axis moves: $(cat "$tmp/moves.csv")"
+python3 - "$tmp/axis.csv" <<'PY'
+import math, sys
+with open(sys.argv[1], "w") as f:
+    f.write("joint_deg,side,x,y,z\n")
+    for k in range(12):
+        q = -30 + 60 * k / 11
+        for side, b in (("below", 0.0), ("above", 0.05)):
+            a = math.radians(q + b)
+            f.write(f"{q},{side},{300 * math.cos(a) + 10},{300 * math.sin(a)},500\n")
+PY
+"$robcal" axis-test analyse --measurements "$tmp/axis.csv" --json >"$tmp/axis.json"
+python3 - "$tmp/axis.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert abs(r["backlash_deg"] - 0.05) < 1e-9 and abs(r["radius_mm"] - 300) < 1e-9, r
+assert abs(abs(r["axis_direction"][2]) - 1) < 1e-12 and r["axial_mm"]["max_abs"] < 1e-9, r
+PY
+sed '3s/,above,/,sideways,/' "$tmp/axis.csv" >"$tmp/axis-bad.csv"
+set +e
+"$robcal" axis-test analyse --measurements "$tmp/axis-bad.csv" >"$tmp/out" 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "bad side: exit $rc"
+grep -q "axis-bad.csv:3:.* (side): expected below or above, found 'sideways'" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+# Ballbar path: 3 rings of 8 points written; an unreachable centre writes nothing, exit 2.
+"$robcal" ballbar-path --robot abb-irb120 --tool $data/tool.yaml --target 1 --centre 400,0,300 \
+  --length 100 --elevations -30,0,30 --points 8 --out "$tmp/bbpath.csv" >"$tmp/bbpath.txt"
+[ "$(wc -l <"$tmp/bbpath.csv")" -eq 25 ] || fail "ballbar path: $(cat "$tmp/bbpath.csv")"
+grep -q "all reachable in front-up-noflip" "$tmp/bbpath.txt" || fail "$(cat "$tmp/bbpath.txt")"
+set +e
+"$robcal" ballbar-path --robot abb-irb120 --tool $data/tool.yaml --target 1 --centre 3000,0,300 \
+  --length 100 --out "$tmp/bbpath2.csv" >"$tmp/out" 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "unreachable ballbar path: exit $rc"
+grep -q "12 of 12 path points fail the checks" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+[ ! -e "$tmp/bbpath2.csv" ] || fail "ballbar path written despite failures"
 echo "validate CLI: ok"

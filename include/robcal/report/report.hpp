@@ -1,11 +1,15 @@
 #pragma once
 /// \file
-/// The calibration report (METHOD §9): one self-contained HTML page that works offline, and
-/// the same content as JSON. The page embeds its data and the Chart.js library (Debian's
-/// libjs-chart.js, found at configure time) inline; its script draws the before/after error
-/// histograms and the error against distance to the calibration region, then marks the
-/// element `#render-status` with `data-status="rendered"` (or `"error: …"` on a script error),
-/// which the browser test reads.
+/// The calibration report (METHOD §9): one self-contained HTML page that works offline and
+/// prints to PDF without a heading left alone at a page's foot (print CSS: sections are kept
+/// whole, headings stay with what follows), and the same content as JSON. It shows the
+/// provenance, the before/after errors on shared axes (cumulative distributions on one
+/// logarithmic axis; histograms on bins of a round width), errors by configuration class, the
+/// pair-distance histogram, orientation errors (poses), ISO 9283 and ballbar results when
+/// given, and the parameters with σ and drop reasons. The page embeds its data and the
+/// Chart.js library (Debian's libjs-chart.js, found at configure time) inline; its script
+/// draws the charts, then marks the element `#render-status` with `data-status="rendered"`
+/// (or `"error: …"` on a script error), which the browser test reads.
 
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -15,6 +19,11 @@
 
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/measure/measurements.hpp"
+#include "robcal/report/provenance.hpp"
+#include "robcal/validate/ballbar_error.hpp"
+#include "robcal/validate/class_statistics.hpp"
+#include "robcal/validate/iso9283.hpp"
+#include "robcal/validate/pairwise_distance.hpp"
 
 namespace robcal {
 
@@ -23,6 +32,9 @@ struct ModelErrors {
   std::string label;              ///< "nominal", "base", "kinematic", "full", "calibrated"…
   std::vector<double> errors_mm;  ///< per validation row, in row order
   std::vector<std::string> target_of_row;  ///< per row: the target's name ("tcp" for poses)
+  std::vector<double> orientation_deg;     ///< per row of poses files; empty for points
+  std::vector<ClassTable> classes;         ///< by configuration, target, region (when computed)
+  std::optional<PairwiseDistanceErrors> pairs;  ///< distance errors over every pair of rows
 };
 
 /// A parameter's row of the report (external units: mm, deg, rad/N·mm, 1).
@@ -43,15 +55,26 @@ struct ReportData {
   std::vector<ReportParameter> parameters;
   nlohmann::json diagnostics = nlohmann::json::object();  ///< the fit's statistics
   std::vector<std::string> notes;
+  Provenance provenance;  ///< empty fields are shown as "not recorded"
+  std::optional<Iso9283Result> iso9283;
+  /// Ballbar length errors per model (label, errors), e.g. nominal and calibrated.
+  std::vector<std::pair<std::string, BallbarErrors>> ballbar;
 };
 
 /// The parameter rows of a calibrated robot: every parameter that is not fixed, with its
 /// nominal value, identified value, standard deviation (from the covariance) and status.
 std::vector<ReportParameter> report_parameters(const CalibratedRobot& robot);
 
-/// Errors of `robot` over the rows of points or poses sets (validate's position errors).
+/// Errors of `robot` over the rows of points or poses sets (validate_model over the sets
+/// joined: position and orientation errors, classes, pair distances); `calibration_mm`, the
+/// calibration set's measured positions, adds the region classes.
+/// \throws InputError when the sets are not all points or all poses
 ModelErrors model_errors(const std::string& label, const CalibratedRobot& robot,
-                         const std::vector<MeasurementSet>& validation);
+                         const std::vector<MeasurementSet>& validation,
+                         const std::optional<Eigen::Matrix3Xd>& calibration_mm = {});
+
+/// ISO 9283 figures as JSON (the report's and `robcal iso9283 analyse --json`'s).
+nlohmann::json iso9283_json(const Iso9283Result& result);
 
 /// Distance from each validation row's measured position to the nearest calibration row's.
 std::vector<double> distance_to_calibration(const std::vector<MeasurementSet>& validation,

@@ -3,7 +3,9 @@
 /// The workflow behind `robcal report`: a calibrated model validated on measurement files, beside
 /// the nominal robot (or another model), as the report's data; and the report's two files.
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +21,12 @@ struct ReportRequest {
   std::string calibration;  ///< calibration measurements (error against distance), optional
   std::string before;       ///< model to compare with; empty: the nominal robot, rigid base fit
   std::string title = "robcal calibration report";
+  std::string instrument;  ///< instrument.yaml (name and sigma_mm) for the provenance, optional
+  std::optional<uint64_t> seed;  ///< seed of the plan or simulation, for the provenance
+  std::string iso9283_poses;     ///< ISO 9283 commanded poses (with iso9283_measurements)
+  std::string iso9283_measurements;
+  int iso9283_min_cycles = 30;  ///< fewest cycles accepted per pose (the standard: 30)
+  std::string ballbar;          ///< ballbar (distances) file: length errors of both models
 };
 
 struct ReportBuild {
@@ -26,8 +34,9 @@ struct ReportBuild {
   std::vector<std::string> warnings;  ///< ignored columns of the files read
 };
 
-/// Reads the files and computes every model's errors. Throws InputError naming the file when the
-/// model has no world frame or a file is bad.
+/// Reads the files and computes every model's errors, ISO 9283 and ballbar results when asked,
+/// and the provenance (SHA-256 of every input). Throws InputError naming the file when the model
+/// has no world frame or a file is bad.
 ReportBuild build_report(const ReportRequest& request);
 
 /// Throws InputError (key "--out") unless `html_path` ends in .html.

@@ -22,6 +22,7 @@ struct BallbarErrors {
   std::vector<double> length_error_mm;  ///< per row, signed: measured − modelled
   ErrorStatistics absolute_mm;          ///< of |e_i|
   double signed_mean_mm = 0, signed_std_mm = 0;
+  double positive_share = 0;  ///< share of rows with e_i > 0 (measured the longer), 0..1
   std::vector<TargetErrorStatistics> per_target;  ///< of |e_i|, targets in the tool's order
 };
 

@@ -26,7 +26,17 @@ inline constexpr double kPairErrorRelativeAccuracy = 3e-7;
 inline constexpr double kPairErrorResidualRounding = 2.3e-16;
 
 struct PairwiseDistanceErrors {
-  ErrorStatistics stats;  ///< over all N(N−1)/2 pairs (count = pairs)
+  ErrorStatistics stats;  ///< of e_ij over all N(N−1)/2 pairs (count = pairs)
+  /// Signed errors |m_i − m_j| − |p_i − p_j| (positive: the measured distance is the longer, as
+  /// the published tables count them): their mean, and how many are positive.
+  double signed_mean = 0;
+  uint64_t positive_pairs = 0;
+  /// Share of positive signed errors, 0..1 (0 without pairs).
+  [[nodiscard]] double positive_share() const {
+    return stats.count == 0
+               ? 0.0
+               : static_cast<double>(positive_pairs) / static_cast<double>(stats.count);
+  }
   /// Over [0, bound): bound = r_1 + r_2, the two largest residuals |m_i − (R p_i + t)| after the
   /// rigid best fit (R, t) of the modelled points to the measured ones, which no e_ij can exceed
   /// (e_ij ≤ |d_i − d_j| for d_i = m_i − R p_i − t, since |R(p_i − p_j)| = |p_i − p_j|).

@@ -1,0 +1,255 @@
+#include "robcal/validate/iso9283.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "robcal/compensate/calibrated_ik.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/kinematics/orientation.hpp"
+
+namespace robcal {
+namespace {
+
+/// Deviations (deg) of an attained orientation from the commanded one about the commanded
+/// tool axes: the rotation vector of R_cᵀ·R_j (see the header).
+Eigen::Vector3d orientation_deviation_deg(const Eigen::Matrix3d& commanded,
+                                          const Eigen::Matrix3d& attained) {
+  const Eigen::AngleAxisd rotation(commanded.transpose() * attained);
+  return rotation.axis() * rad2deg(rotation.angle());
+}
+
+/// Sample standard deviation √(Σ (v − v̄)² / (n − 1)) of the columns' rows (n ≥ 2).
+template <int Rows>
+Eigen::Matrix<double, Rows, 1> sample_std(const Eigen::Matrix<double, Rows, Eigen::Dynamic>& v) {
+  const auto mean = v.rowwise().mean();
+  return ((v.colwise() - mean).rowwise().squaredNorm() / static_cast<double>(v.cols() - 1))
+      .cwiseSqrt();
+}
+
+struct PoseSamples {
+  Eigen::Matrix3Xd positions;
+  Eigen::Matrix3Xd deviations_deg;  ///< empty without orientation
+  std::vector<int> cycles;
+};
+
+PoseSamples collect(const std::vector<const Iso9283Sample*>& samples,
+                    const Pose<double>& commanded) {
+  PoseSamples out;
+  const auto n = static_cast<Eigen::Index>(samples.size());
+  out.positions.resize(3, n);
+  if (samples.front()->world_R_tcp) out.deviations_deg.resize(3, n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Iso9283Sample& s = *samples[static_cast<size_t>(j)];
+    out.positions.col(j) = s.position_mm;
+    if (s.world_R_tcp)
+      out.deviations_deg.col(j) = orientation_deviation_deg(commanded.R, *s.world_R_tcp);
+    out.cycles.push_back(s.cycle);
+  }
+  return out;
+}
+
+Iso9283PoseFigures pose_figures(int pose, const PoseSamples& s, const Pose<double>& commanded) {
+  Iso9283PoseFigures f;
+  f.pose = pose;
+  f.cycles = static_cast<int>(s.positions.cols());
+  // Clause 7.2.1: AP from the barycentre of the attained positions.
+  f.mean_mm = s.positions.rowwise().mean();
+  f.ap_xyz_mm = f.mean_mm - commanded.p;
+  f.ap_mm = f.ap_xyz_mm.norm();
+  // Clause 7.2.2: RP_l = l̄ + 3 S_l.
+  const Eigen::RowVectorXd l = (s.positions.colwise() - f.mean_mm).colwise().norm();
+  f.l_mean_mm = l.mean();
+  f.s_l_mm = sample_std<1>(l)(0);
+  f.rp_mm = f.l_mean_mm + 3 * f.s_l_mm;
+  if (s.deviations_deg.cols() > 0) {
+    f.has_orientation = true;
+    f.ap_abc_deg = s.deviations_deg.rowwise().mean();
+    f.rp_abc_deg = 3 * sample_std<3>(s.deviations_deg);
+  }
+  return f;
+}
+
+[[noreturn]] void fail(const Iso9283AnalysisRequest& r, int line, const std::string& what) {
+  throw InputError({r.file, line, 0, ""}, what);
+}
+
+}  // namespace
+
+Iso9283Plan iso9283_plan(const Iso9283PlanRequest& request) {
+  const Eigen::Vector3d extent = request.region_max_mm - request.region_min_mm;
+  if (!extent.allFinite() || extent.minCoeff() <= 0)
+    throw InputError({"", 0, 0, "--region"},
+                     "the workspace region must be a box min < max on every axis (mm)");
+  if (request.cycles < kIso9283MinimumCycles)
+    throw InputError({"", 0, 0, "--cycles"},
+                     fmt::format("at least {} cycles (ISO 9283 asks for {})", kIso9283MinimumCycles,
+                                 kIso9283Cycles));
+  Iso9283Plan plan;
+  plan.cube_centre_mm = (request.region_min_mm + request.region_max_mm) / 2;
+  plan.cube_edge_mm = extent.minCoeff();
+  const double h = plan.cube_edge_mm / 2;
+  // C1..C4 below (z −), C5..C8 above, each Ck+4 over Ck.
+  const std::array<Eigen::Vector2d, 4> square = {Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, -1),
+                                                 Eigen::Vector2d(1, 1), Eigen::Vector2d(-1, 1)};
+  for (int k = 0; k < 8; ++k)
+    plan.corners_mm[static_cast<size_t>(k)] =
+        plan.cube_centre_mm + h * Eigen::Vector3d(square[static_cast<size_t>(k % 4)].x(),
+                                                  square[static_cast<size_t>(k % 4)].y(),
+                                                  k < 4 ? -1 : 1);
+  // Clause 6.8.2: P1 at the centre; P2..P5 towards C1, C2, C7, C8, 10 % of the diagonal
+  // (half-diagonal × 0.2) from the corner.
+  std::vector<Eigen::Vector3d> positions = {plan.cube_centre_mm};
+  for (const int corner : {0, 1, 6, 7})
+    positions.push_back(plan.cube_centre_mm +
+                        0.8 * (plan.corners_mm[static_cast<size_t>(corner)] - plan.cube_centre_mm));
+
+  const Compensator compensator = make_compensator(request.robot);
+  Vector6d near = Vector6d::Zero();
+  for (size_t k = 0; k < positions.size(); ++k) {
+    Iso9283PlannedPose pose;
+    pose.name = fmt::format("P{}", k + 1);
+    pose.world_T_tcp.R = request.world_R_tcp;
+    pose.world_T_tcp.p = positions[k];
+    const CalibratedIkResult ik =
+        calibrated_ik(compensator, pose.world_T_tcp, request.config, near);
+    if (!ik.ok())
+      throw InputError({"", 0, 0, "--region"},
+                       fmt::format("{} at ({:.3f}, {:.3f}, {:.3f}) mm is not reachable in the "
+                                   "{} configuration with this orientation: {}. Choose a region "
+                                   "well inside the workspace, or another orientation or "
+                                   "configuration",
+                                   pose.name, positions[k].x(), positions[k].y(), positions[k].z(),
+                                   request.config.label(), to_string(ik.status)));
+    pose.joints = ik.joints;
+    near = ik.joints;  // P2..P5 on the turn of P1's joints
+    plan.poses.push_back(pose);
+  }
+  for (int cycle = 1; cycle <= request.cycles; ++cycle)
+    for (const int pose : {0, 4, 3, 2, 1}) plan.sequence.emplace_back(cycle, pose);
+  return plan;
+}
+
+std::string iso9283_pose_list_csv(const Iso9283Plan& plan, const ArmConfig& config) {
+  std::string out = "name,x,y,z,qw,qx,qy,qz,config\n";
+  for (const Iso9283PlannedPose& p : plan.poses) {
+    const Eigen::Quaterniond q = to_quaternion(p.world_T_tcp.R);
+    out += fmt::format("{},{:.6f},{:.6f},{:.6f},{:.12f},{:.12f},{:.12f},{:.12f},{}\n", p.name,
+                       p.world_T_tcp.p.x(), p.world_T_tcp.p.y(), p.world_T_tcp.p.z(), q.w(), q.x(),
+                       q.y(), q.z(), config.label());
+  }
+  return out;
+}
+
+std::string iso9283_cycles_csv(const Iso9283Plan& plan) {
+  std::string out = "cycle,pose,j1,j2,j3,j4,j5,j6\n";
+  for (const auto& [cycle, pose] : plan.sequence) {
+    const Iso9283PlannedPose& p = plan.poses[static_cast<size_t>(pose)];
+    out += fmt::format("{},{}", cycle, p.name);
+    for (int j = 0; j < kJointCount; ++j) out += fmt::format(",{:.9f}", rad2deg(p.joints[j]));
+    out += "\n";
+  }
+  return out;
+}
+
+Iso9283Result iso9283_analyse(const Iso9283AnalysisRequest& request) {
+  if (request.min_cycles < kIso9283MinimumCycles)
+    throw InputError({"", 0, 0, "--min-cycles"},
+                     fmt::format("at least {} cycles are needed for a standard deviation",
+                                 kIso9283MinimumCycles));
+  if (request.samples.empty()) fail(request, 0, "no measured cycles");
+  const bool with_orientation = request.samples.front().world_R_tcp.has_value();
+  // (pose, direction) → samples; direction 0 and 1 both count as the unidirectional test.
+  std::map<std::pair<int, int>, std::vector<const Iso9283Sample*>> groups;
+  std::set<std::tuple<int, int, int>> seen;
+  for (const Iso9283Sample& s : request.samples) {
+    if (s.pose < 1 || s.pose > 5)
+      fail(request, s.line, fmt::format("pose {} is not one of P1..P5", s.pose));
+    if (static_cast<size_t>(s.pose) > request.commanded.size())
+      fail(request, s.line, fmt::format("P{} has no commanded pose", s.pose));
+    if (s.direction < 0 || s.direction > 3)
+      fail(request, s.line, fmt::format("direction {} is not 0 (one) or 1..3", s.direction));
+    if (s.world_R_tcp.has_value() != with_orientation)
+      fail(request, s.line, "some rows have an orientation and others not");
+    if (!seen.insert({s.pose, s.direction, s.cycle}).second)
+      fail(request, s.line,
+           fmt::format("cycle {} of P{} (direction {}) is given twice", s.cycle, s.pose,
+                       s.direction));
+    groups[{s.pose, s.direction}].push_back(&s);
+  }
+  Iso9283Result result;
+  std::map<int, PoseSamples> unidirectional;
+  for (int pose = 1; pose <= 5; ++pose) {
+    const Pose<double>& commanded = request.commanded[static_cast<size_t>(pose - 1)];
+    std::vector<const Iso9283Sample*> samples;
+    std::vector<Eigen::Vector3d> direction_means, direction_orientation;
+    for (int direction = 0; direction <= 3; ++direction) {
+      const auto it = groups.find({pose, direction});
+      if (it == groups.end()) continue;
+      if (direction <= 1) samples.insert(samples.end(), it->second.begin(), it->second.end());
+      if (direction >= 1) {
+        const PoseSamples d = collect(it->second, commanded);
+        direction_means.push_back(d.positions.rowwise().mean());
+        if (with_orientation) direction_orientation.push_back(d.deviations_deg.rowwise().mean());
+      }
+    }
+    if (samples.empty()) continue;
+    if (static_cast<int>(samples.size()) < request.min_cycles)
+      fail(request, samples.front()->line,
+           fmt::format("P{} has {} cycles: at least {} are needed (ISO 9283 clause 6.8 asks for "
+                       "{}; --min-cycles lowers the demand, down to {})",
+                       pose, samples.size(), request.min_cycles, kIso9283Cycles,
+                       kIso9283MinimumCycles));
+    std::sort(samples.begin(), samples.end(),
+              [](const Iso9283Sample* a, const Iso9283Sample* b) { return a->cycle < b->cycle; });
+    const PoseSamples s = collect(samples, commanded);
+    Iso9283PoseFigures f = pose_figures(pose, s, commanded);
+    // Clause 7.3: the largest distance between the barycentres of two approach directions.
+    f.directions = static_cast<int>(direction_means.size());
+    if (f.directions >= 2) {
+      double vap = 0;
+      Eigen::Vector3d vap_abc = Eigen::Vector3d::Zero();
+      for (size_t h = 0; h < direction_means.size(); ++h)
+        for (size_t k = h + 1; k < direction_means.size(); ++k) {
+          vap = std::max(vap, (direction_means[h] - direction_means[k]).norm());
+          if (with_orientation)
+            vap_abc =
+                vap_abc.cwiseMax((direction_orientation[h] - direction_orientation[k]).cwiseAbs());
+        }
+      f.vap_mm = vap;
+      if (with_orientation) f.vap_abc_deg = vap_abc;
+    }
+    result.poses.push_back(f);
+    unidirectional.emplace(pose, s);
+  }
+  // Clause 7.4: distance between P2 and P4, cycle by cycle.
+  if (unidirectional.count(2) && unidirectional.count(4)) {
+    const PoseSamples& a = unidirectional.at(2);
+    const PoseSamples& b = unidirectional.at(4);
+    if (a.cycles != b.cycles)
+      fail(request, 0, "P2 and P4 must be measured in the same cycles for the distance figures");
+    Iso9283DistanceFigures d;
+    d.cycles = static_cast<int>(a.cycles.size());
+    d.commanded_mm = (request.commanded[1].p - request.commanded[3].p).norm();
+    const Eigen::RowVectorXd D = (a.positions - b.positions).colwise().norm();
+    d.mean_mm = D.mean();
+    d.ad_mm = d.mean_mm - d.commanded_mm;
+    d.s_d_mm = sample_std<1>(D)(0);
+    d.rd_mm = 3 * d.s_d_mm;
+    if (with_orientation) {
+      d.has_orientation = true;
+      const Eigen::Matrix3Xd Da = a.deviations_deg - b.deviations_deg;
+      d.ad_abc_deg = Da.rowwise().mean();
+      d.rd_abc_deg = 3 * sample_std<3>(Da);
+    }
+    result.distance = d;
+  }
+  return result;
+}
+
+}  // namespace robcal
