@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "command_registry.hpp"
+#include "flag_checks.hpp"
 #include "robcal/core/error.hpp"
 
 namespace robcal::cli {
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.set_help_all_flag("--help-all", "Show help for every command");
     robcal::cli::setup_commands(app);
+    robcal::cli::add_flag_checks(app);
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,74 @@
+#include "flag_checks.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "robcal/io/number_text.hpp"
+
+namespace robcal::cli {
+namespace {
+
+// Flags whose negative values mean nothing: a negative σ, scale or count is a slip, and an
+// unsigned seed would wrap -1 to 2^64 - 1 silently. (--floor-mm may be negative: a robot on a
+// pedestal.)
+constexpr std::array<std::string_view, 17> kNonNegativeFlags{
+    "--noise-mm",        "--huber-scale",
+    "--error-length-mm", "--error-angle-deg",
+    "--sigma-um",        "--orientation-weight",
+    "--payload-mass-kg", "--candidates",
+    "--random",          "--runs",
+    "--samples",         "--count",
+    "--task-count",      "--seeds",
+    "--threads",         "--kfold",
+    "--points"};
+
+const CLI::Validator& seed_validator() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string {
+        const bool digits = !text.empty() && text.size() <= 20 &&
+                            text.find_first_not_of("0123456789") == std::string::npos;
+        if (digits && (text.size() < 20 || text <= "18446744073709551615")) return {};
+        return fmt::format("seed '{}': expected a whole number 0 .. 18446744073709551615", text);
+      },
+      "SEED");
+  return validator;
+}
+
+const CLI::Validator& non_negative_validator() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string {
+        const std::optional<double> v = parse_number(text);
+        if (!v) return describe_bad_number(text);
+        if (*v < 0) return fmt::format("'{}' is negative: expected a value >= 0", text);
+        return {};
+      },
+      "NON-NEGATIVE");
+  return validator;
+}
+
+void check_flags_of(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    const std::string name = option->get_name(false, true);
+    const auto is = [&](const auto& list) {
+      return std::find(list.begin(), list.end(), name) != list.end();
+    };
+    if (name == "--seed")
+      option->check(seed_validator());
+    else if (is(kNonNegativeFlags) && option->get_expected_max() == 1)
+      option->check(non_negative_validator());
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_flags_of(*sub);
+}
+
+}  // namespace
+
+void add_flag_checks(CLI::App& app) {
+  check_flags_of(app);
+}
+
+}  // namespace robcal::cli
