@@ -103,7 +103,7 @@ TEST(YamlValidation, RobotFileRefusesTyposDuplicatesAndAbsurdNumbers) {
   EXPECT_EQ(robot_refusal("[0, 270, 0, 0]", "[0, 2.7e5, 0, 0]"),
             "r.yaml:5:9 (mdh[2][1]): 2.7e5 is outside the plausible range [-20000, 20000] mm");
   EXPECT_EQ(robot_refusal("mass_kg: 4.2", "mass_kg: -4.2"),
-            "r.yaml:11:15 (masses.2.mass_kg): -4.2 is outside the plausible range [0, 10000] kg");
+            "r.yaml:11:16 (masses.2.mass_kg): -4.2 is outside the plausible range [0, 10000] kg");
   EXPECT_EQ(robot_refusal("mass_kg: 4.2", "mas_kg: 4.2"),
             "r.yaml:11:7 (masses.2.mas_kg): unknown key 'mas_kg': did you mean 'mass_kg'? "
             "(expected one of: mass_kg, cog_mm)");
@@ -183,7 +183,7 @@ TEST(SessionValidation, JsonNumbersBeyondRangeAreLocated) {
   write(dir / "plan.json", plan);
   EXPECT_EQ(refusal([&] { (void)hexapod::load_session_plan(dir / "plan.json"); }),
             (dir / "plan.json").string() +
-                ":3:26: the number 1e999 is outside the range of double-precision numbers");
+                ":3:38: the number 1e999 is outside the range of double-precision numbers");
   write(dir / "plan.json", kPlan);
   write(dir / "journal.jsonl",
         "{\"key\":\"tool/T1-T2\",\"reading\":150}\n{\"key\":\"tool/T2-T3\",\"reading\":-2e999}\n");
@@ -192,7 +192,7 @@ TEST(SessionValidation, JsonNumbersBeyondRangeAreLocated) {
               (void)hexapod::SessionJournal::replay_read_only(dir / "journal.jsonl", session);
             }),
             (dir / "journal.jsonl").string() +
-                ":2:33: the number -2e999 is outside the range of double-precision numbers");
+                ":2:31: the number -2e999 is outside the range of double-precision numbers");
   write(dir / "journal.jsonl", "{\"key\":\"tool/T1-T2\",\"reading\":-150}\n");
   hexapod::Session again(hexapod::load_session_plan(dir / "plan.json"));
   EXPECT_EQ(refusal([&] {

@@ -13,19 +13,17 @@
 namespace robcal::cli {
 namespace {
 
-// Flags whose negative values mean nothing: a negative σ, scale or count is a slip, and an
-// unsigned seed would wrap -1 to 2^64 - 1 silently. (--floor-mm may be negative: a robot on a
-// pedestal.)
-constexpr std::array<std::string_view, 17> kNonNegativeFlags{
-    "--noise-mm",        "--huber-scale",
-    "--error-length-mm", "--error-angle-deg",
-    "--sigma-um",        "--orientation-weight",
-    "--payload-mass-kg", "--candidates",
-    "--random",          "--runs",
-    "--samples",         "--count",
-    "--task-count",      "--seeds",
-    "--threads",         "--kfold",
-    "--points"};
+// Flags whose negative values mean nothing: a negative σ or scale is a slip. (--floor-mm may be
+// negative: a robot on a pedestal.)
+constexpr std::array<std::string_view, 7> kNonNegativeFlags{
+    "--error-angle-deg", "--noise-mm",           "--huber-scale",    "--error-length-mm",
+    "--sigma-um",        "--orientation-weight", "--payload-mass-kg"};
+// Counts (of configurations, runs, samples, …): whole numbers from 0 to a bound that keeps what
+// they size in memory. --candidates has its own, larger, bound in the library.
+constexpr std::array<std::string_view, 11> kCountFlags{
+    "--random", "--runs",   "--samples", "--count",      "--task-count", "--seeds",
+    "--kfold",  "--points", "--poses",   "--validation", "--threads"};
+constexpr long kMaxCount = 1'000'000;
 
 const CLI::Validator& seed_validator() {
   static const CLI::Validator validator(
@@ -36,6 +34,18 @@ const CLI::Validator& seed_validator() {
         return fmt::format("seed '{}': expected a whole number 0 .. 18446744073709551615", text);
       },
       "SEED");
+  return validator;
+}
+
+const CLI::Validator& count_validator() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string {
+        const std::optional<int64_t> v = parse_integer(text);
+        if (!v || *v < 0 || *v > kMaxCount)
+          return fmt::format("'{}': expected a whole number 0 .. {}", text, kMaxCount);
+        return {};
+      },
+      "COUNT");
   return validator;
 }
 
@@ -60,6 +70,10 @@ void check_flags_of(CLI::App& app) {
     if (name == "--seed")
       option->check(seed_validator());
     else if (is(kNonNegativeFlags) && option->get_expected_max() == 1)
+      option->check(non_negative_validator());
+    else if (is(kCountFlags) && option->get_type_name().rfind("INT", 0) == 0)
+      option->check(count_validator());
+    else if (name == "--candidates")
       option->check(non_negative_validator());
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_flags_of(*sub);

@@ -7,9 +7,9 @@
 
 namespace robcal::cli {
 
-/// Refuses values that no command can mean: a negative σ, scale or count (--noise-mm,
-/// --huber-scale, --candidates, …) and a seed that is not a whole number (--seed -1 would wrap
-/// to 2^64 - 1).
+/// Refuses values that no command can mean: a negative σ or scale (--noise-mm, --huber-scale),
+/// a count that is not a whole number 0 .. 1e6 (--runs, --random, …) and a seed that is not a
+/// whole number (--seed -1 would wrap to 2^64 - 1).
 void add_flag_checks(CLI::App& app);
 
 }  // namespace robcal::cli

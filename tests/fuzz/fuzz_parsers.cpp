@@ -199,12 +199,14 @@ struct Options {
 };
 
 /// Runs one input; returns false (and saves the input) when the parser failed other than by
-/// an InputError.
+/// an InputError. Counts the inputs accepted (a corpus whose mutants are all refused at the
+/// first byte would test little).
 bool run_one(const Target& target, const std::string& text, const fs::path& scratch,
-             const std::string& parser, const Options& o) {
+             const std::string& parser, const Options& o, long& accepted) {
   write_all(scratch, text);
   try {
     target(text, scratch);
+    ++accepted;
     return true;
   } catch (const InputError&) {
     return true;
@@ -260,11 +262,16 @@ int main(int argc, char** argv) {
     for (const auto& entry : fs::directory_iterator(o.root / "corpus" / parser))
       seeds.push_back(read_all(entry.path()));
     std::sort(seeds.begin(), seeds.end());  // directory order is not deterministic
-    long runs = 0;
-    for (const std::string& seed : seeds) failures += !run_one(target, seed, scratch, parser, o);
+    long runs = 0, accepted = 0, seeds_accepted = 0;
+    for (const std::string& seed : seeds)
+      failures += !run_one(target, seed, scratch, parser, o, seeds_accepted);
+    if (seeds_accepted != static_cast<long>(seeds.size())) {
+      std::cerr << "FAIL " << parser << ": a seed of the corpus is refused\n";
+      ++failures;
+    }
     if (fs::is_directory(o.root / "crashes" / parser))
       for (const auto& entry : fs::directory_iterator(o.root / "crashes" / parser))
-        failures += !run_one(target, read_all(entry.path()), scratch, parser, o);
+        failures += !run_one(target, read_all(entry.path()), scratch, parser, o, accepted);
     std::mt19937_64 rng(o.seed ^ std::hash<std::string>{}(parser));
     const auto start = std::chrono::steady_clock::now();
     const auto elapsed = [&] {
@@ -273,11 +280,11 @@ int main(int argc, char** argv) {
     while (o.seconds > 0 ? elapsed() < o.seconds : runs < o.iterations) {
       const std::string& seed =
           seeds[std::uniform_int_distribution<size_t>(0, seeds.size() - 1)(rng)];
-      failures += !run_one(target, mutate(seed, rng), scratch, parser, o);
+      failures += !run_one(target, mutate(seed, rng), scratch, parser, o, accepted);
       ++runs;
     }
-    std::printf("%-13s %7ld inputs in %6.2f s (%.0f/s), %zu seeds\n", parser.c_str(), runs,
-                elapsed(), runs / std::max(elapsed(), 1e-9), seeds.size());
+    std::printf("%-13s %7ld inputs in %6.2f s (%.0f/s), %ld accepted, %zu seeds\n", parser.c_str(),
+                runs, elapsed(), runs / std::max(elapsed(), 1e-9), accepted, seeds.size());
   }
   fs::remove_all(scratch_dir);
   if (failures > 0) std::printf("%d failing inputs\n", failures);
