@@ -6,6 +6,23 @@
 
 #include <string>
 
+#include "robcal/core/error.hpp"
+
+namespace robcal::test {
+
+/// The message of the InputError `f` throws, "" when it throws none.
+template <typename F>
+std::string refusal_message(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace robcal::test
+
 /// Expects `statement` to throw `Exception` with `fragment` in its message.
 #define EXPECT_REFUSED(statement, Exception, fragment)                          \
   do {                                                                          \

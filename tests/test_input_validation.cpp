@@ -10,6 +10,7 @@
 #include <fstream>
 #include <random>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/hexapod/session.hpp"
 #include "robcal/io/number_text.hpp"
@@ -24,17 +25,6 @@ namespace robcal {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// The message of the InputError `f` throws ("" when it throws none).
-template <typename F>
-std::string refusal(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 fs::path fresh_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("robcal_validation_" + name);
@@ -77,46 +67,53 @@ masses:
   2: {mass_kg: 4.2, cog_mm: [140, 0, 0]}
 )";
 
-std::string robot_refusal(const std::string& old_text, const std::string& new_text) {
+std::string robot_test::refusal_message(const std::string& old_text, const std::string& new_text) {
   std::string text = kRobot;
   const size_t at = text.find(old_text);
   EXPECT_NE(at, std::string::npos) << old_text;
   text.replace(at, old_text.size(), new_text);
-  return refusal([&] { (void)parse_robot(yaml::parse(text, "r.yaml")); });
+  return test::refusal_message([&] { (void)parse_robot(yaml::parse(text, "r.yaml")); });
 }
 
 TEST(YamlValidation, RobotFileRefusesTyposDuplicatesAndAbsurdNumbers) {
-  EXPECT_EQ(refusal([] { (void)parse_robot(yaml::parse(kRobot, "r.yaml")); }), "");
-  EXPECT_EQ(robot_refusal("masses:", "masess:"),
-            "r.yaml:10:1 (masess): unknown key 'masess': did you mean 'masses'? (expected one "
-            "of: name, manufacturer, source, euler, mdh, joint_limits_deg, masses, gravity_m_s2, "
-            "joint_map)");
-  EXPECT_EQ(robot_refusal("masses:", "colour: red\nmasses:"),
-            "r.yaml:10:1 (colour): unknown key 'colour' (expected one of: name, manufacturer, "
-            "source, euler, mdh, joint_limits_deg, masses, gravity_m_s2, joint_map)");
-  EXPECT_EQ(robot_refusal("masses:", "name: s\nmasses:"),
-            "r.yaml:10:1 (name): key 'name' given twice in this map (first on line 1)");
-  EXPECT_EQ(robot_refusal("[0, 270, 0, 0]", "[0, 270.5.1, 0, 0]"),
-            "r.yaml:5:9 (mdh[2][1]): expected a number, found '270.5.1'");
-  EXPECT_EQ(robot_refusal("[0, 270, 0, 0]", "[0, 1e999, 0, 0]"),
-            "r.yaml:5:9 (mdh[2][1]): '1e999' is outside the range of double-precision numbers");
-  EXPECT_EQ(robot_refusal("[0, 270, 0, 0]", "[0, 2.7e5, 0, 0]"),
-            "r.yaml:5:9 (mdh[2][1]): 2.7e5 is outside the plausible range [-20000, 20000] mm");
-  EXPECT_EQ(robot_refusal("mass_kg: 4.2", "mass_kg: -4.2"),
-            "r.yaml:11:16 (masses.2.mass_kg): -4.2 is outside the plausible range [0, 10000] kg");
-  EXPECT_EQ(robot_refusal("mass_kg: 4.2", "mas_kg: 4.2"),
-            "r.yaml:11:7 (masses.2.mas_kg): unknown key 'mas_kg': did you mean 'mass_kg'? "
-            "(expected one of: mass_kg, cog_mm)");
-  EXPECT_EQ(robot_refusal("  2: {", "  8: {"),
-            "r.yaml:11:6 (masses.8): mass key '8': expected "
-            "a link number 1..6");
+  EXPECT_EQ(test::refusal_message([] { (void)parse_robot(yaml::parse(kRobot, "r.yaml")); }), "");
+  struct Case {
+    const char* old_text;
+    const char* new_text;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"masses:", "masess:",
+       "r.yaml:10:1 (masess): unknown key 'masess': did you mean 'masses'? (expected one of: "
+       "name, manufacturer, source, euler, mdh, joint_limits_deg, masses, gravity_m_s2, "
+       "joint_map)"},
+      {"masses:", "colour: red\nmasses:",
+       "r.yaml:10:1 (colour): unknown key 'colour' (expected one of: name, manufacturer, source, "
+       "euler, mdh, joint_limits_deg, masses, gravity_m_s2, joint_map)"},
+      {"masses:", "name: s\nmasses:",
+       "r.yaml:10:1 (name): key 'name' given twice in this map (first on line 1)"},
+      {"[0, 270, 0, 0]", "[0, 270.5.1, 0, 0]",
+       "r.yaml:5:9 (mdh[2][1]): expected a number, found '270.5.1'"},
+      {"[0, 270, 0, 0]", "[0, 1e999, 0, 0]",
+       "r.yaml:5:9 (mdh[2][1]): '1e999' is outside the range of double-precision numbers"},
+      {"[0, 270, 0, 0]", "[0, 2.7e5, 0, 0]",
+       "r.yaml:5:9 (mdh[2][1]): 2.7e5 is outside the plausible range [-20000, 20000] mm"},
+      {"mass_kg: 4.2", "mass_kg: -4.2",
+       "r.yaml:11:16 (masses.2.mass_kg): -4.2 is outside the plausible range [0, 10000] kg"},
+      {"mass_kg: 4.2", "mas_kg: 4.2",
+       "r.yaml:11:7 (masses.2.mas_kg): unknown key 'mas_kg': did you mean 'mass_kg'? (expected "
+       "one of: mass_kg, cog_mm)"},
+      {"  2: {", "  8: {", "r.yaml:11:6 (masses.8): mass key '8': expected a link number 1..6"},
+  };
+  for (const Case& c : cases)
+    EXPECT_EQ(robot_test::refusal_message(c.old_text, c.new_text), c.message);
 }
 
 TEST(YamlValidation, ToolFileRefusesTyposAndDuplicateTargets) {
   const fs::path dir = fresh_dir("tool");
   const auto load = [&](const std::string& text) {
     write(dir / "t.yaml", text);
-    return refusal([&] { (void)load_tool((dir / "t.yaml").string()); });
+    return test::refusal_message([&] { (void)load_tool((dir / "t.yaml").string()); });
   };
   const std::string good =
       "payload: {mass_kg: 2.6, cog_mm: [0, 0, 100]}\ntargets:\n"
@@ -149,23 +146,25 @@ TEST(YamlValidation, AliasesAreWalkedOnceNotExponentially) {
     text += "]\n";
   }
   EXPECT_NO_THROW((void)yaml::parse(text, "alias.yaml"));
-  EXPECT_EQ(refusal([&] { (void)yaml::parse(text + "a3: 1\n", "alias.yaml"); }),
+  EXPECT_EQ(test::refusal_message([&] { (void)yaml::parse(text + "a3: 1\n", "alias.yaml"); }),
             "alias.yaml:11:1 (a3): key 'a3' given twice in this map (first on line 4)");
 }
 
 TEST(PoseListValidation, RefusesDuplicateNamesAndAbsurdCoordinates) {
   const std::string header = "name,x,y,z,qw,qx,qy,qz\n";
-  EXPECT_EQ(refusal([&] {
+  EXPECT_EQ(test::refusal_message([&] {
               (void)parse_pose_list(header + "p1,400,0,500,0,0,1,0\np1,410,0,500,0,0,1,0\n",
                                     "p.csv");
             }),
             "p.csv:3:1 (name): pose 'p1' is listed twice (first on line 2)");
-  EXPECT_EQ(
-      refusal([&] { (void)parse_pose_list(header + "p1,364.35.4,0,500,0,0,1,0\n", "p.csv"); }),
-      "p.csv:2:4 (x): expected a number, found '364.35.4'");
-  EXPECT_EQ(refusal([&] { (void)parse_pose_list(header + "p1,400,1e999,500,0,0,1,0\n", "p.csv"); }),
+  EXPECT_EQ(test::refusal_message(
+                [&] { (void)parse_pose_list(header + "p1,364.35.4,0,500,0,0,1,0\n", "p.csv"); }),
+            "p.csv:2:4 (x): expected a number, found '364.35.4'");
+  EXPECT_EQ(test::refusal_message(
+                [&] { (void)parse_pose_list(header + "p1,400,1e999,500,0,0,1,0\n", "p.csv"); }),
             "p.csv:2:8 (y): '1e999' is outside the range of double-precision numbers");
-  EXPECT_EQ(refusal([&] { (void)parse_pose_list(header + "p1,400,0,4e7,0,0,1,0\n", "p.csv"); }),
+  EXPECT_EQ(test::refusal_message(
+                [&] { (void)parse_pose_list(header + "p1,400,0,4e7,0,0,1,0\n", "p.csv"); }),
             "p.csv:2:10 (z): 4e7 mm is outside the plausible range [-20000, 20000] mm");
 }
 
@@ -181,21 +180,21 @@ TEST(SessionValidation, JsonNumbersBeyondRangeAreLocated) {
   std::string plan = kPlan;
   plan.replace(plan.find("[10, 20"), 7, "[10, 1e999");
   write(dir / "plan.json", plan);
-  EXPECT_EQ(refusal([&] { (void)hexapod::load_session_plan(dir / "plan.json"); }),
+  EXPECT_EQ(test::refusal_message([&] { (void)hexapod::load_session_plan(dir / "plan.json"); }),
             (dir / "plan.json").string() +
                 ":3:38: the number 1e999 is outside the range of double-precision numbers");
   write(dir / "plan.json", kPlan);
   write(dir / "journal.jsonl",
         "{\"key\":\"tool/T1-T2\",\"reading\":150}\n{\"key\":\"tool/T2-T3\",\"reading\":-2e999}\n");
   hexapod::Session session(hexapod::load_session_plan(dir / "plan.json"));
-  EXPECT_EQ(refusal([&] {
+  EXPECT_EQ(test::refusal_message([&] {
               (void)hexapod::SessionJournal::replay_read_only(dir / "journal.jsonl", session);
             }),
             (dir / "journal.jsonl").string() +
                 ":2:31: the number -2e999 is outside the range of double-precision numbers");
   write(dir / "journal.jsonl", "{\"key\":\"tool/T1-T2\",\"reading\":-150}\n");
   hexapod::Session again(hexapod::load_session_plan(dir / "plan.json"));
-  EXPECT_EQ(refusal([&] {
+  EXPECT_EQ(test::refusal_message([&] {
               (void)hexapod::SessionJournal::replay_read_only(dir / "journal.jsonl", again);
             }),
             (dir / "journal.jsonl").string() + ":1: tool/T1-T2: expected a positive length in mm");
@@ -211,12 +210,13 @@ TEST(SessionValidation, ASecondWriterOfAJournalIsRefusedWithTheHoldersPid) {
                                  " (--journal): the journal is in use by another session "
                                  "(process " +
                                  std::to_string(::getpid()) + "): finish or stop that one first";
-    EXPECT_EQ(refusal([&] { (void)hexapod::SessionJournal::open_for_resume(path); }), expected);
+    EXPECT_EQ(test::refusal_message([&] { (void)hexapod::SessionJournal::open_for_resume(path); }),
+              expected);
     // Another process is refused too, and told this one's PID.
     const pid_t child = ::fork();
     if (child == 0) {
       const std::string message =
-          refusal([&] { (void)hexapod::SessionJournal::open_for_resume(path); });
+          test::refusal_message([&] { (void)hexapod::SessionJournal::open_for_resume(path); });
       ::_exit(message == expected ? 0 : 1);
     }
     int status = 0;
@@ -253,7 +253,7 @@ TEST(SimulationFiles, TheFolderAppearsWholeOrNotAtAll) {
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1);
   // A file in the way: refused, nothing written beside it.
   write(dir / "blocked", "x");
-  EXPECT_EQ(refusal([&] {
+  EXPECT_EQ(test::refusal_message([&] {
               (void)write_simulation(dir / "blocked", "m", result, tool, tracker, truth,
                                      "abb-irb120", "test");
             }),

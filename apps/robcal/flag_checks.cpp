@@ -25,40 +25,29 @@ constexpr std::array<std::string_view, 11> kCountFlags{
     "--kfold",  "--points", "--poses",   "--validation", "--threads"};
 constexpr long kMaxCount = 1'000'000;
 
-const CLI::Validator& seed_validator() {
-  static const CLI::Validator validator(
-      [](std::string& text) -> std::string {
-        const bool digits = !text.empty() && text.size() <= 20 &&
-                            text.find_first_not_of("0123456789") == std::string::npos;
-        if (digits && (text.size() < 20 || text <= "18446744073709551615")) return {};
-        return fmt::format("seed '{}': expected a whole number 0 .. 18446744073709551615", text);
-      },
-      "SEED");
-  return validator;
+/// "" when `text` is a seed (a 64-bit unsigned number), else what is wrong (CLI11 prints it with
+/// the flag).
+std::string check_seed(const std::string& text) {
+  const bool digits = !text.empty() && text.size() <= 20 &&
+                      text.find_first_not_of("0123456789") == std::string::npos;
+  if (digits && (text.size() < 20 || text <= "18446744073709551615")) return {};
+  return fmt::format("seed '{}': expected a whole number 0 .. 18446744073709551615", text);
 }
 
-const CLI::Validator& count_validator() {
-  static const CLI::Validator validator(
-      [](std::string& text) -> std::string {
-        const std::optional<int64_t> v = parse_integer(text);
-        if (!v || *v < 0 || *v > kMaxCount)
-          return fmt::format("'{}': expected a whole number 0 .. {}", text, kMaxCount);
-        return {};
-      },
-      "COUNT");
-  return validator;
+/// "" when `text` is a count 0 .. kMaxCount, else what is wrong (CLI11 prints it with the flag).
+std::string check_count(const std::string& text) {
+  const std::optional<int64_t> v = parse_integer(text);
+  if (!v || *v < 0 || *v > kMaxCount)
+    return fmt::format("'{}': expected a whole number 0 .. {}", text, kMaxCount);
+  return {};
 }
 
-const CLI::Validator& non_negative_validator() {
-  static const CLI::Validator validator(
-      [](std::string& text) -> std::string {
-        const std::optional<double> v = parse_number(text);
-        if (!v) return describe_bad_number(text);
-        if (*v < 0) return fmt::format("'{}' is negative: expected a value >= 0", text);
-        return {};
-      },
-      "NON-NEGATIVE");
-  return validator;
+/// "" when `text` is a number >= 0, else what is wrong (CLI11 prints it with the flag).
+std::string check_non_negative(const std::string& text) {
+  const std::optional<double> v = parse_number(text);
+  if (!v) return describe_bad_number(text);
+  if (*v < 0) return fmt::format("'{}' is negative: expected a value >= 0", text);
+  return {};
 }
 
 void check_flags_of(CLI::App& app) {
@@ -68,13 +57,13 @@ void check_flags_of(CLI::App& app) {
       return std::find(list.begin(), list.end(), name) != list.end();
     };
     if (name == "--seed")
-      option->check(seed_validator());
+      option->check(CLI::Validator(check_seed, "SEED"));
     else if (is(kNonNegativeFlags) && option->get_expected_max() == 1)
-      option->check(non_negative_validator());
+      option->check(CLI::Validator(check_non_negative, "NON-NEGATIVE"));
     else if (is(kCountFlags) && option->get_type_name().rfind("INT", 0) == 0)
-      option->check(count_validator());
+      option->check(CLI::Validator(check_count, "COUNT"));
     else if (name == "--candidates")
-      option->check(non_negative_validator());
+      option->check(CLI::Validator(check_non_negative, "NON-NEGATIVE"));
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_flags_of(*sub);
 }

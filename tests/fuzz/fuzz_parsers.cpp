@@ -254,6 +254,8 @@ int main(int argc, char** argv) {
   const fs::path scratch_dir =
       fs::temp_directory_path() / ("robcal-fuzz-" + std::to_string(::getpid()));
   fs::create_directories(scratch_dir);
+  // A crash ends the process before the input can be saved: it is left here.
+  std::cerr << "inputs are written to " << scratch_dir << " before each run\n";
   int failures = 0;
   for (const auto& [parser, target] : targets(o.root)) {
     if (!o.parser.empty() && o.parser != parser) continue;
