@@ -67,7 +67,7 @@ masses:
   2: {mass_kg: 4.2, cog_mm: [140, 0, 0]}
 )";
 
-std::string robot_test::refusal_message(const std::string& old_text, const std::string& new_text) {
+std::string robot_refusal(const std::string& old_text, const std::string& new_text) {
   std::string text = kRobot;
   const size_t at = text.find(old_text);
   EXPECT_NE(at, std::string::npos) << old_text;
@@ -105,8 +105,7 @@ TEST(YamlValidation, RobotFileRefusesTyposDuplicatesAndAbsurdNumbers) {
        "one of: mass_kg, cog_mm)"},
       {"  2: {", "  8: {", "r.yaml:11:6 (masses.8): mass key '8': expected a link number 1..6"},
   };
-  for (const Case& c : cases)
-    EXPECT_EQ(robot_test::refusal_message(c.old_text, c.new_text), c.message);
+  for (const Case& c : cases) EXPECT_EQ(robot_refusal(c.old_text, c.new_text), c.message);
 }
 
 TEST(YamlValidation, ToolFileRefusesTyposAndDuplicateTargets) {

@@ -1,7 +1,5 @@
 #include "robcal/io/yaml_support.hpp"
 
-#include "robcal/io/yaml_checks.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -12,6 +10,7 @@
 
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/number_text.hpp"
+#include "robcal/io/yaml_checks.hpp"
 
 namespace robcal::yaml {
 
