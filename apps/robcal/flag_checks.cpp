@@ -58,11 +58,9 @@ void check_flags_of(CLI::App& app) {
     };
     if (name == "--seed")
       option->check(CLI::Validator(check_seed, "SEED"));
-    else if (is(kNonNegativeFlags) && option->get_expected_max() == 1)
-      option->check(CLI::Validator(check_non_negative, "NON-NEGATIVE"));
     else if (is(kCountFlags) && option->get_type_name().rfind("INT", 0) == 0)
       option->check(CLI::Validator(check_count, "COUNT"));
-    else if (name == "--candidates")
+    else if ((is(kNonNegativeFlags) && option->get_expected_max() == 1) || name == "--candidates")
       option->check(CLI::Validator(check_non_negative, "NON-NEGATIVE"));
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_flags_of(*sub);

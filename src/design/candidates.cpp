@@ -19,18 +19,18 @@ constexpr int kMaxCandidates = 200000;
 }  // namespace
 
 JointConstraints unconstrained_joints() {
-  constexpr double inf = std::numeric_limits<double>::infinity();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   JointConstraints c;
-  c.range.fill(JointLimit{-inf, inf});
+  c.range.fill(JointLimit{-kInf, kInf});
   return c;
 }
 
 JointConstraints published_joint_constraints() {
-  constexpr double inf = std::numeric_limits<double>::infinity();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   JointConstraints c;
   c.range[0] = {deg2rad(-90), deg2rad(90)};
-  c.range[1] = {0, inf};
-  c.range[2] = {deg2rad(-80), inf};
+  c.range[1] = {0, kInf};
+  c.range[2] = {deg2rad(-80), kInf};
   c.range[3] = {deg2rad(-150), deg2rad(150)};
   c.range[4] = {deg2rad(-90), deg2rad(90)};
   c.range[5] = {deg2rad(-180), deg2rad(180)};
