@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "../src/design/leverage_cache.hpp"
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/design/candidates.hpp"
 #include "robcal/design/design_matrix.hpp"
@@ -246,7 +247,8 @@ TEST(DesignCandidates, ClearErrorsWhenNothingIsFeasible) {
   }
   options.visible = nullptr;
   options.floor_z_mm = 5000;  // above the robot's reach
-  EXPECT_THROW(generate_candidates(model, tool, options, rng), InputError);
+  EXPECT_REFUSED(generate_candidates(model, tool, options, rng), InputError,
+                 "(--floor-mm): no feasible candidate configuration in");
   options.floor_z_mm = 0;
   options.constraints.range[2] = {deg2rad(80), deg2rad(90)};  // IRB 120 joint 3 stops at 70°
   try {
@@ -255,7 +257,11 @@ TEST(DesignCandidates, ClearErrorsWhenNothingIsFeasible) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("joint 3"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(joint_constraints_preset("loose"), InputError);
+  options.count = 1'000'000'000;  // `plan --candidates 1e9`: refused before any allocation
+  EXPECT_REFUSED(generate_candidates(model, tool, options, rng), InputError,
+                 "(--candidates): expected 1 to 200000 candidates");
+  EXPECT_REFUSED(joint_constraints_preset("loose"), InputError,
+                 "unknown constraint preset 'loose', expected 'published' or 'none'");
 }
 
 TEST(DesignMatrixTest, FullModelDropsLink3DAndScalesColumns) {
@@ -454,7 +460,8 @@ TEST(DesignSelection, CountBelowIdentifiableParametersIsAnError) {
     EXPECT_EQ(e.where().key, "--count");
     EXPECT_NE(std::string(e.what()).find("at least 10"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(select_d_optimal(d.design, 201), InputError);
+  EXPECT_REFUSED(select_d_optimal(d.design, 201), InputError,
+                 "(--count): asked for 201 configurations but only 200 feasible candidates");
 }
 
 }  // namespace

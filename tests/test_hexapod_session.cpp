@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/hexapod/session.hpp"
 
@@ -56,13 +57,14 @@ TEST(HexapodSession, ScriptOrderRetryAndRecheck) {
   EXPECT_TRUE(result["complete"].get<bool>());
   EXPECT_EQ(result["configurations"][1]["status"], "retry");
   EXPECT_EQ(result["measured"], 2);
-  EXPECT_THROW(s.record(300.0), InputError);  // complete: nothing expected
+  EXPECT_REFUSED(s.record(300.0), InputError, "the session is complete: no reading is expected");
 }
 
 TEST(HexapodSession, SideReadingsMustBePositive) {
   Session s(small_plan());
-  EXPECT_THROW(s.record(std::nullopt), InputError);
-  EXPECT_THROW(s.record(-150.0), InputError);
+  EXPECT_REFUSED(s.record(std::nullopt), InputError,
+                 "tool/T1-T2: expected a positive length in mm");
+  EXPECT_REFUSED(s.record(-150.0), InputError, "tool/T1-T2: expected a positive length in mm");
   EXPECT_EQ(s.next_step()->key, "tool/T1-T2");
 }
 
@@ -79,7 +81,8 @@ TEST(HexapodSession, JournalReplayRestoresTheStateExactly) {
       journal.append(step->key, reading);
     }
   }
-  EXPECT_THROW(SessionJournal::create(path), InputError);  // never overwritten
+  EXPECT_REFUSED(SessionJournal::create(path), InputError,  // never overwritten
+                 "(--journal): the journal exists already: continue it with --resume");
   Session resumed(small_plan());
   SessionJournal journal = SessionJournal::open_for_resume(path);
   EXPECT_EQ(journal.replay(resumed), 14);

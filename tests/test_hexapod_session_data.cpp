@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/session_data.hpp"
@@ -137,11 +138,13 @@ TEST(HexapodSessionData, PoseRowsAreTheTrueToolFixturePoses) {
   const SessionData merged = merge_sessions({data, second});
   EXPECT_EQ(merged.readings.size(), data.readings.size() + 1);
   EXPECT_EQ(merged.retry.size(), data.retry.size() - 1);
-  EXPECT_THROW(merge_sessions({data, data}), InputError);
+  EXPECT_REFUSED(merge_sessions({data, data}), InputError, "is measured in two sessions");
   SessionData elsewhere = second;
   elsewhere.setting_points[0].x() += 1;
-  EXPECT_THROW(merge_sessions({data, elsewhere}), InputError);
-  EXPECT_THROW(load_session_data(c.dir / "journal.jsonl"), InputError);
+  EXPECT_REFUSED(merge_sessions({data, elsewhere}), InputError,
+                 "(setting_ball): the base cups were placed elsewhere than in");
+  EXPECT_REFUSED(load_session_data(c.dir / "journal.jsonl"), InputError,
+                 "(--plan): a journal file needs its plan (--plan)");
   EXPECT_NO_THROW(load_session_data(c.dir / "journal.jsonl", c.dir / "plan.json"));
   std::filesystem::remove_all(c.dir);
 }

@@ -7,7 +7,8 @@
 //   |(a2, c3)|.
 // KUKA: tests/data/opw/opw_parameters_kr6r900_2.yaml (ROS-I kuka_experimental, Apache-2.0).
 // Fanuc: the ROS-I/JeroenDM parameters may not be copied into the project; the test reads them
-// from $ROBCAL_EXTERNAL_DATA_DIR (default /work/shared/data/external) and is skipped without it.
+// from $ROBCAL_EXTERNAL_DATA_DIR, else from shared/data/external beside the source tree or one of
+// its parents (CI keeps shared/ beside the clone), and says where it looked when it is absent.
 // ROS-I's Fanuc joint 3 is the relative elbow angle: joint_3_ros = J3 + J2 (J3 of the teach
 // pendant is measured from the horizontal).
 
@@ -15,6 +16,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -125,11 +127,24 @@ TEST(RobotFiles, KukaKr6R900MatchesRosIndustrialOpwParameters) {
 }
 
 TEST(RobotFiles, FanucLrMate200iCMatchesRosIndustrialOpwParameters) {
-  const char* env = std::getenv("ROBCAL_EXTERNAL_DATA_DIR");
-  const std::filesystem::path path =
-      std::filesystem::path(env ? env : "/work/shared/data/external") /
+  const std::filesystem::path file =
       "JeroenDM__wip_fanuc_opw_parameters/kinematics_lrmate200ic.yaml";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no " << path << " (read-only reference)";
+  std::vector<std::filesystem::path> searched;
+  if (const char* env = std::getenv("ROBCAL_EXTERNAL_DATA_DIR")) searched.emplace_back(env);
+  // The source tree (above tests/data) and its parents: the first shared/data/external found.
+  const std::filesystem::path tests_data =
+      std::filesystem::absolute(test::data_path("")).lexically_normal().parent_path();
+  for (std::filesystem::path dir = tests_data.parent_path().parent_path(); dir.has_relative_path();
+       dir = dir.parent_path())
+    searched.push_back(dir / "shared" / "data" / "external");
+  const auto found = std::find_if(searched.begin(), searched.end(),
+                                  [&](const auto& d) { return std::filesystem::exists(d / file); });
+  if (found == searched.end()) {
+    std::string where;
+    for (const auto& d : searched) where += "\n  " + (d / file).string();
+    GTEST_SKIP() << "the read-only reference is not beside the source tree; looked at:" << where;
+  }
+  const std::filesystem::path path = *found / file;
   const OpwParameters opw = read_opw(path.string());
   // The OPW geometry is METHOD §4's table: a1 = link2.a, a2 = −link4.a, c1 = d1, c2 = link3.a,
   // c3 = link4.d, c4 = link6.d.

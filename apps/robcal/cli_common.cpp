@@ -5,12 +5,14 @@
 #include <fmt/format.h>
 #include <cmath>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "robcal/core/error.hpp"
 #include "robcal/core/rounding.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/kinematics/orientation.hpp"
+#include "robcal/io/number_text.hpp"
 
 namespace robcal::cli {
 
@@ -25,15 +27,11 @@ std::vector<double> parse_numbers(const std::string& text, int count, const std:
     const auto last = item.find_last_not_of(" \t");
     const std::string trimmed =
         first == std::string::npos ? "" : item.substr(first, last - first + 1);
-    try {
-      size_t used = 0;
-      const double v = std::stod(trimmed, &used);
-      if (used != trimmed.size() || !std::isfinite(v)) throw std::invalid_argument(trimmed);
-      values.push_back(v);
-    } catch (const std::exception&) {
+    const std::optional<double> v = parse_number(trimmed);
+    if (!v)
       throw InputError({"", 0, 0, what},
                        fmt::format("value {} is '{}', expected a finite number", column, trimmed));
-    }
+    values.push_back(*v);
   }
   if (count >= 0 && static_cast<int>(values.size()) != count)
     throw InputError({"", 0, 0, what}, fmt::format("expected {} comma-separated values, got {}",

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "command_registry.hpp"
+#include "flag_checks.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/progress.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -134,6 +135,7 @@ int main(int argc, char** argv) {
     // Runs after parsing, before the command's callback.
     app.parse_complete_callback([&app] { robcal::cli::refuse_outputs_over_inputs(app); });
     robcal::cli::setup_commands(app);
+    robcal::cli::add_flag_checks(app);
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -11,20 +11,27 @@
 #include "robcal/core/units.hpp"
 
 namespace robcal {
+namespace {
+
+// The most candidates one selection takes: its design matrix holds about 1 kB per candidate, so
+// this bounds it to a few hundred MB whatever the flag says.
+constexpr int kMaxCandidates = 200000;
+
+}  // namespace
 
 JointConstraints unconstrained_joints() {
-  constexpr double inf = std::numeric_limits<double>::infinity();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   JointConstraints c;
-  c.range.fill(JointLimit{-inf, inf});
+  c.range.fill(JointLimit{-kInf, kInf});
   return c;
 }
 
 JointConstraints published_joint_constraints() {
-  constexpr double inf = std::numeric_limits<double>::infinity();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   JointConstraints c;
   c.range[0] = {deg2rad(-90), deg2rad(90)};
-  c.range[1] = {0, inf};
-  c.range[2] = {deg2rad(-80), inf};
+  c.range[1] = {0, kInf};
+  c.range[2] = {deg2rad(-80), kInf};
   c.range[3] = {deg2rad(-150), deg2rad(150)};
   c.range[4] = {deg2rad(-90), deg2rad(90)};
   c.range[5] = {deg2rad(-180), deg2rad(180)};
@@ -73,10 +80,11 @@ bool above_floor(const std::array<Pose<double>, kJointCount>& frames, const Tool
 
 CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
                                  const CandidateOptions& options, std::mt19937_64& rng) {
-  if (options.count <= 0)
-    throw InputError(
-        {"", 0, 0, "--candidates"},
-        fmt::format("expected a positive number of candidates, got {}", options.count));
+  if (options.count <= 0 || options.count > kMaxCandidates)
+    throw InputError({"", 0, 0, "--candidates"},
+                     fmt::format("expected 1 to {} candidates (the selection keeps a design-matrix "
+                                 "row block of each in memory), got {}",
+                                 kMaxCandidates, options.count));
   if (options.kind != MeasurementKind::Poses && tool.targets.empty())
     throw InputError({"", 0, 0, "--tool"}, "the tool has no targets to measure");
   const std::array<JointLimit, kJointCount> box = constrained_joint_box(model, options.constraints);

@@ -1,5 +1,7 @@
 #include "leverage_cache.hpp"
 
+#include <condition_variable>
+#include <mutex>
 #include <thread>
 
 namespace robcal {
@@ -43,6 +45,60 @@ Eigen::Matrix<double, R, R> block_product(const double* a, const double* v, Eige
 
 }  // namespace
 
+class SweepWorker {
+ public:
+  SweepWorker() : thread_([this] { serve(); }) {}
+  SweepWorker(const SweepWorker&) = delete;
+  SweepWorker& operator=(const SweepWorker&) = delete;
+  ~SweepWorker() {
+    {
+      const std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+  }
+
+  /// Runs `task` on the worker while the caller does its own part; returns when it is done.
+  template <typename Own>
+  void run_beside(const std::function<void()>& task, Own&& own) {
+    {
+      const std::lock_guard lock(mutex_);
+      task_ = &task;
+    }
+    wake_.notify_one();
+    own();
+    std::unique_lock lock(mutex_);
+    done_.wait(lock, [&] { return task_ == nullptr; });
+  }
+
+ private:
+  void serve() {
+    std::unique_lock lock(mutex_);
+    while (true) {
+      wake_.wait(lock, [&] { return stop_ || task_ != nullptr; });
+      if (stop_) return;
+      lock.unlock();
+      (*task_)();  // the sweeps are plain arithmetic: nothing to throw
+      lock.lock();
+      task_ = nullptr;
+      done_.notify_one();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  const std::function<void()>* task_ = nullptr;
+  bool stop_ = false;
+  std::thread thread_;  // last: started once the members it uses exist
+};
+
+template <int R>
+LeverageCache<R>::LeverageCache(LeverageCache&&) noexcept = default;
+
+template <int R>
+LeverageCache<R>::~LeverageCache() = default;
+
 template <int R>
 template <typename F>
 void LeverageCache<R>::in_halves(F&& f) const {
@@ -50,9 +106,9 @@ void LeverageCache<R>::in_halves(F&& f) const {
     f(0, n_);
     return;
   }
-  std::thread other([&] { f(n_ / 2, n_); });
-  f(0, n_ / 2);
-  other.join();
+  if (!worker_) worker_ = std::make_unique<SweepWorker>();
+  const std::function<void()> second_half = [&] { f(n_ / 2, n_); };
+  worker_->run_beside(second_half, [&] { f(0, n_ / 2); });
 }
 
 template <int R>

@@ -9,16 +9,24 @@
 /// Kept current under rank-r changes of M: when M⁻¹ becomes M⁻¹ − sign·W Wᵀ (Woodbury, W from
 /// InformationMatrix::factor), every block becomes G_i − sign·b_i b_iᵀ with b_i = A_i W (r × r),
 /// one O(N r² m) sweep over the candidates instead of O(N r m²) for a recomputation. The sweep
-/// is split over two threads for large designs; every candidate's arithmetic is independent of
-/// the split, so the result is the same on one thread or two.
+/// is split over two threads for large designs: the cache's own second thread, started at the
+/// first large sweep and kept for all the others (a selection makes thousands of sweeps; a
+/// thread started per sweep cost more than the sweep when the other core was busy). Every
+/// candidate's arithmetic is independent of the split, so the result is the same on one thread
+/// or two.
 
 #include <Eigen/Core>
 #include <Eigen/StdVector>
+#include <functional>
+#include <memory>
 #include <vector>
 
 #include "robcal/design/design_matrix.hpp"
 
 namespace robcal {
+
+/// A second thread that runs one task at a time for its owner, started once.
+class SweepWorker;
 
 /// Leverage blocks of a design with R rows per candidate (instantiated for 1, 3 and 6).
 template <int R>
@@ -30,6 +38,8 @@ class LeverageCache {
   LeverageCache(const DesignMatrix& design, double ridge);
   /// Blocks for M⁻¹ = `inverse` (m × m, symmetric positive definite).
   LeverageCache(const DesignMatrix& design, const Eigen::MatrixXd& inverse);
+  LeverageCache(LeverageCache&&) noexcept;
+  ~LeverageCache();
 
   /// Recomputes every block from M⁻¹ (O(N r m²); bounds the round-off of long update runs).
   void recompute(const Eigen::MatrixXd& inverse);
@@ -68,6 +78,7 @@ class LeverageCache {
   RowMajorMatrix A_;
   RowMajorMatrix partners_;  ///< X of set_partners, padded like A_
   Blocks G_, B_;
+  mutable std::unique_ptr<SweepWorker> worker_;  ///< the second thread of large sweeps
 };
 
 extern template class LeverageCache<1>;

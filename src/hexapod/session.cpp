@@ -2,9 +2,14 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -31,8 +36,9 @@ PhysicalLeg parse_leg(const std::string& text, const SourceLocation& where) {
 }
 
 double positive(const nlohmann::json& node, const SourceLocation& where) {
-  if (!node.is_number() || !(node.get<double>() > 0))
-    throw InputError(where, "expected a positive number");
+  // A ballbar is centimetres to a metre or two: 10 m is a unit slip, not a bar.
+  if (!node.is_number() || !(node.get<double>() > 0 && node.get<double>() <= 10000))
+    throw InputError(where, "expected a length in (0, 10000] mm");
   return node.get<double>();
 }
 
@@ -42,6 +48,10 @@ std::array<double, 3> three_numbers(const nlohmann::json& node, const SourceLoca
   if (!node.is_array() || node.size() != 3 || !node[0].is_number() || !node[1].is_number() ||
       !node[2].is_number())
     throw InputError(where, std::string("expected ") + expected);
+  for (int i = 0; i < 3; ++i)
+    if (!(std::abs(node[i].get<double>()) <= 20000))
+      throw InputError(where, fmt::format("{} is outside the plausible range [-20000, 20000] mm",
+                                          node[i].dump()));
   return {node[0].get<double>(), node[1].get<double>(), node[2].get<double>()};
 }
 
@@ -116,9 +126,10 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
     if (b.contains("leg_mm")) plan.leg_mm = positive(b["leg_mm"], at("ballbar.leg_mm"));
     if (b.contains("range_mm")) plan.range_mm = positive(b["range_mm"], at("ballbar.range_mm"));
     if (b.contains("recheck_every")) {
-      if (!b["recheck_every"].is_number_integer() || b["recheck_every"].get<int>() < 0)
-        throw InputError(at("ballbar.recheck_every"), "expected a non-negative integer");
-      plan.recheck_every = b["recheck_every"].get<int>();
+      const nlohmann::json& every = b["recheck_every"];
+      if (!every.is_number_integer() || every.get<int64_t>() < 0 || every.get<int64_t>() > 100000)
+        throw InputError(at("ballbar.recheck_every"), "expected an integer 0..100000");
+      plan.recheck_every = every.get<int>();
     }
   }
   if (!root.contains("configurations") || !root["configurations"].is_array())
@@ -135,7 +146,8 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
     if (c.contains("labels") && c["labels"].is_string())
       config.labels = c["labels"].get<std::string>();
     if (c.contains("mode")) {
-      if (!c["mode"].is_number_integer() || c["mode"].get<int>() < 1 || c["mode"].get<int>() > 4)
+      if (!c["mode"].is_number_integer() || c["mode"].get<int64_t>() < 1 ||
+          c["mode"].get<int64_t>() > 4)
         throw InputError(at(key + ".mode"), "expected the assembly mode, an integer 1..4");
       config.mode = c["mode"].get<int>();
     }
@@ -143,7 +155,9 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
       if (!c["joints_deg"].is_array() || c["joints_deg"].size() != 6)
         throw InputError(at(key + ".joints_deg"), "expected six joint values (deg)");
       for (const auto& q : c["joints_deg"]) {
-        if (!q.is_number()) throw InputError(at(key + ".joints_deg"), "expected numbers");
+        // Beyond three turns a joint value is a unit slip (radians, or a typo), never a pose.
+        if (!q.is_number() || !(std::abs(q.get<double>()) <= 1080))
+          throw InputError(at(key + ".joints_deg"), "expected joint values in [-1080, 1080] deg");
         config.joints_deg.push_back(q.get<double>());
       }
     }
@@ -159,15 +173,49 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
   return plan;
 }
 
+namespace {
+
+/// Parses JSON text (a plan, or one journal line `line`), refusing with the line and column:
+/// a syntax error at the byte the parser stopped on, a number beyond the double range (which
+/// the parser reports without a place) at the number.
+nlohmann::json parse_json(const std::string& text, const std::string& file, int line,
+                          const char* expected) {
+  const auto at_offset = [&](size_t offset) {
+    offset = std::min(offset, text.size());
+    const size_t newlines =
+        static_cast<size_t>(std::count(text.begin(), text.begin() + offset, '\n'));
+    const size_t line_start = text.rfind('\n', offset == 0 ? 0 : offset - 1);
+    const size_t column =
+        line_start == std::string::npos || newlines == 0 ? offset + 1 : offset - line_start;
+    return SourceLocation{file, line + static_cast<int>(newlines), static_cast<int>(column), ""};
+  };
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(at_offset(e.byte == 0 ? 0 : e.byte - 1),
+                     fmt::format("{}: not valid JSON ({})", expected, e.what()));
+  } catch (const nlohmann::json::exception& e) {
+    // "number overflow parsing '1e999'": the quoted text is the number.
+    const std::string what = e.what();
+    const size_t open = what.find('\''), close = what.rfind('\'');
+    const std::string number =
+        open != std::string::npos && close > open ? what.substr(open + 1, close - open - 1) : "";
+    const size_t offset = number.empty() ? std::string::npos : text.find(number);
+    throw InputError(
+        offset == std::string::npos ? SourceLocation{file, line, 0, ""} : at_offset(offset),
+        number.empty() ? fmt::format("{}: {}", expected, what)
+                       : fmt::format("the number {} is outside the range of "
+                                     "double-precision numbers",
+                                     number));
+  }
+}
+
+}  // namespace
+
 SessionPlan load_session_plan(const std::filesystem::path& path) {
   const std::string text = read_text_file(path);
-  nlohmann::json root;
-  try {
-    root = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError({path.string(), 0, 0, ""}, fmt::format("not valid JSON: {}", e.what()));
-  }
-  return parse_session_plan(root, path.string());
+  return parse_session_plan(parse_json(text, path.string(), 1, "expected a hexapod plan"),
+                            path.string());
 }
 
 Session::Session(SessionPlan plan) : plan_(std::move(plan)) {
@@ -364,6 +412,47 @@ SessionJournal::~SessionJournal() {
   if (file_ != nullptr) std::fclose(file_);
 }
 
+namespace {
+
+/// The process holding a flock on `file`, from /proc/locks (whose device is "major:minor" in
+/// hex and whose inode is decimal), or 0 when it cannot be told.
+long lock_holder(int fd) {
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) return 0;
+  std::ifstream locks("/proc/locks");
+  std::string line;
+  while (std::getline(locks, line)) {
+    std::istringstream fields(line);
+    std::string number, kind, mode, access, device;
+    long pid = 0;
+    if (!(fields >> number >> kind) || kind == "->" || kind != "FLOCK") continue;
+    if (!(fields >> mode >> access >> pid >> device)) continue;
+    unsigned major = 0, minor = 0;
+    unsigned long long inode = 0;
+    if (std::sscanf(device.c_str(), "%x:%x:%llu", &major, &minor, &inode) == 3 &&
+        major == ::major(st.st_dev) && minor == ::minor(st.st_dev) && inode == st.st_ino)
+      return pid;
+  }
+  return 0;
+}
+
+/// Takes the journal's exclusive lock, else closes `file` and refuses: two sessions writing
+/// one journal would interleave their readings. The kernel drops the lock when the process
+/// ends, even by SIGKILL, so a crash never leaves a session locked.
+void lock_journal(const std::filesystem::path& path, std::FILE* file) {
+  const int fd = ::fileno(file);
+  if (::flock(fd, LOCK_EX | LOCK_NB) == 0) return;
+  const long holder = lock_holder(fd);
+  std::fclose(file);
+  throw InputError(
+      {path.string(), 0, 0, "--journal"},
+      fmt::format("the journal is in use by another session ({}): finish or stop "
+                  "that one first",
+                  holder > 0 ? fmt::format("process {}", holder) : std::string("process unknown")));
+}
+
+}  // namespace
+
 SessionJournal SessionJournal::create(const std::filesystem::path& path) {
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   std::FILE* file = std::fopen(path.c_str(), "wx");  // exclusive: never overwrite a session
@@ -373,6 +462,7 @@ SessionJournal SessionJournal::create(const std::filesystem::path& path) {
                          ? "the journal exists already: continue it with --resume or choose "
                            "another file"
                          : "cannot create the journal file");
+  lock_journal(path, file);
   return SessionJournal(path, file);
 }
 
@@ -382,6 +472,7 @@ SessionJournal SessionJournal::open_for_resume(const std::filesystem::path& path
   std::FILE* file = std::fopen(path.c_str(), "a+");
   if (file == nullptr)
     throw InputError({path.string(), 0, 0, "--journal"}, "cannot open the journal");
+  lock_journal(path, file);
   return SessionJournal(path, file);
 }
 
@@ -401,12 +492,8 @@ int replay_text(const std::filesystem::path& path, const std::string& text, Sess
     start = end + 1;
     if (entry_text.empty()) continue;
     const SourceLocation where{path.string(), line, 0, ""};
-    nlohmann::json entry;
-    try {
-      entry = nlohmann::json::parse(entry_text);
-    } catch (const nlohmann::json::parse_error&) {
-      throw InputError(where, "not a journal entry (expected one JSON object per line)");
-    }
+    const nlohmann::json entry = parse_json(entry_text, path.string(), line,
+                                            "not a journal entry (one JSON object per line)");
     if (!entry.is_object() || !entry.contains("key") || !entry["key"].is_string() ||
         !entry.contains("reading") || !(entry["reading"].is_number() || entry["reading"].is_null()))
       throw InputError(where, "expected {\"key\": …, \"reading\": number or null}");
@@ -416,9 +503,13 @@ int replay_text(const std::filesystem::path& path, const std::string& text, Sess
       throw InputError(where, fmt::format("entry '{}' does not match the plan's next step '{}': "
                                           "the journal belongs to another plan",
                                           key, step ? step->key : "(none, complete)"));
-    session.record(entry["reading"].is_null()
-                       ? std::nullopt
-                       : std::optional<double>(entry["reading"].get<double>()));
+    try {
+      session.record(entry["reading"].is_null()
+                         ? std::nullopt
+                         : std::optional<double>(entry["reading"].get<double>()));
+    } catch (const InputError& e) {
+      throw InputError(where, e.what());  // e names the key
+    }
     ++applied;
   }
   complete_bytes = start;

@@ -32,4 +32,10 @@ inline std::vector<std::string_view> split_fields(std::string_view line,
   return fields;
 }
 
+/// `text` without the UTF-8 byte-order mark that Excel writes at the start of a CSV file.
+inline std::string_view without_bom(std::string_view text) {
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  return text.substr(0, kBom.size()) == kBom ? text.substr(kBom.size()) : text;
+}
+
 }  // namespace robcal::csv

@@ -2,18 +2,21 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
+#include <map>
 #include <sstream>
 #include <string_view>
 
 #include "csv_fields.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/io/number_text.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal {
 namespace {
+
+constexpr double kMaxCoordinateMm = 20000;
 
 std::optional<ArmConfig> parse_config_cell(const std::string& cell) {
   if (cell.size() == 1 && cell[0] >= '0' && cell[0] <= '7') {
@@ -32,11 +35,12 @@ std::vector<ListedPose> read_pose_list(const std::string& path) {
 std::vector<ListedPose> parse_pose_list(const std::string& text, const std::string& file) {
   static const char* const kColumns[] = {"name", "x", "y", "z", "qw", "qx", "qy", "qz"};
   std::vector<ListedPose> out;
-  std::istringstream in(text);
+  std::istringstream in{std::string(csv::without_bom(text))};
   std::string line;
   int number = 0;
   bool header = false;
   bool has_config = false;
+  std::map<std::string, int> first_line;  // pose name → its line
   while (std::getline(in, line)) {
     ++number;
     if (csv::trim(line).empty() || csv::trim(line)[0] == '#') continue;
@@ -68,13 +72,22 @@ std::vector<ListedPose> parse_pose_list(const std::string& text, const std::stri
     t.line = number;
     t.name = cells[0].first;
     if (t.name.empty()) throw InputError(SourceLocation{file, number, 1, "name"}, "empty name");
+    const auto [previous, fresh] = first_line.emplace(t.name, number);
+    if (!fresh)
+      throw InputError(
+          SourceLocation{file, number, 1, "name"},
+          fmt::format("pose '{}' is listed twice (first on line {})", t.name, previous->second));
     double v[7];
     for (int k = 0; k < 7; ++k) {
       const std::string& cell = cells[k + 1].first;
-      const auto [ptr, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), v[k]);
-      if (ec != std::errc() || ptr != cell.data() + cell.size() || !std::isfinite(v[k]))
-        throw InputError(SourceLocation{file, number, cells[k + 1].second, kColumns[k + 1]},
-                         fmt::format("expected a number, found '{}'", cell));
+      const SourceLocation where{file, number, cells[k + 1].second, kColumns[k + 1]};
+      const std::optional<double> value = parse_number(cell);
+      if (!value) throw InputError(where, describe_bad_number(cell));
+      // Positions: a robot cell is metres across, not kilometres (a unit slip or a typo).
+      if (k < 3 && std::abs(*value) > kMaxCoordinateMm)
+        throw InputError(where, fmt::format("{} mm is outside the plausible range [-{}, {}] mm",
+                                            cell, kMaxCoordinateMm, kMaxCoordinateMm));
+      v[k] = *value;
     }
     try {
       t.world_T_tcp = pose_from_position_quaternion(Eigen::Vector3d(v[0], v[1], v[2]),

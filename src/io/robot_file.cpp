@@ -10,6 +10,8 @@
 
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/io/number_text.hpp"
+#include "robcal/io/yaml_checks.hpp"
 
 namespace robcal {
 
@@ -77,6 +79,18 @@ RobotModel load_robot(const std::string& name_or_path) {
 
 namespace {
 
+// Plausible values of the files' fields: anything outside is a typo or a unit slip (metres for
+// millimetres, radians for degrees), never a real robot. The largest industrial arms reach
+// about 4 m and carry about 2.3 t.
+constexpr yaml::Range kLengthMm{-20000, 20000, "mm"};
+constexpr yaml::Range kAngleDeg{-360, 360, "deg"};
+constexpr yaml::Range kJointLimitDeg{-1080, 1080, "deg"};
+constexpr yaml::Range kLinkMassKg{0, 10000, "kg"};
+constexpr yaml::Range kPayloadKg{0, 5000, "kg"};
+constexpr yaml::Range kGravity{-100, 100, "m/s²"};
+constexpr yaml::Range kJointMap{-100, 100, ""};
+constexpr yaml::Range kUnit{-1.000001, 1.000001, ""};
+
 EulerConvention parse_euler(const yaml::Node& node) {
   const std::string text = node.as_string();
   if (text == "ZYX" || text == "zyx" || text == "ABC") return EulerConvention::ZyxABC;
@@ -88,6 +102,8 @@ EulerConvention parse_euler(const yaml::Node& node) {
 }  // namespace
 
 RobotModel parse_robot(const yaml::Node& root) {
+  yaml::expect_keys(root, {"name", "manufacturer", "source", "euler", "mdh", "joint_limits_deg",
+                           "masses", "gravity_m_s2", "joint_map"});
   RobotModel model;
   model.name = root.at("name").as_string();
   if (root.has("manufacturer")) model.manufacturer = root.at("manufacturer").as_string();
@@ -98,7 +114,12 @@ RobotModel parse_robot(const yaml::Node& root) {
   if (!mdh.node.IsSequence() || mdh.size() != kJointCount)
     throw mdh.error("expected 6 rows [alpha_deg, a_mm, theta_offset_deg, d_mm]");
   for (int i = 0; i < kJointCount; ++i) {
-    const auto row = mdh.at(i).as_doubles(4);
+    const yaml::Node r = mdh.at(i);
+    if (!r.node.IsSequence() || r.size() != 4)
+      throw r.error("expected [alpha_deg, a_mm, theta_offset_deg, d_mm]");
+    const std::array<double, 4> row{
+        yaml::number_in(r.at(0), kAngleDeg), yaml::number_in(r.at(1), kLengthMm),
+        yaml::number_in(r.at(2), kAngleDeg), yaml::number_in(r.at(3), kLengthMm)};
     model.mdh[i] = {deg2rad(row[0]), row[1], deg2rad(row[2]), row[3]};
   }
   if (model.mdh[0].alpha != 0.0 || model.mdh[0].a != 0.0)
@@ -108,7 +129,7 @@ RobotModel parse_robot(const yaml::Node& root) {
   if (!limits.node.IsSequence() || limits.size() != kJointCount)
     throw limits.error("expected 6 pairs [lower, upper] in degrees");
   for (int i = 0; i < kJointCount; ++i) {
-    const auto pair = limits.at(i).as_doubles(2);
+    const auto pair = yaml::numbers_in(limits.at(i), 2, kJointLimitDeg);
     if (!(pair[0] < pair[1])) throw limits.at(i).error("lower limit must be below upper limit");
     model.limits[i] = {deg2rad(pair[0]), deg2rad(pair[1])};
   }
@@ -117,35 +138,33 @@ RobotModel parse_robot(const yaml::Node& root) {
     const yaml::Node masses = root.at("masses");
     for (const std::string& key : masses.keys()) {
       const yaml::Node entry = masses.at(key);
-      int link = 0;
-      try {
-        link = std::stoi(key);
-      } catch (const std::exception&) {
-        throw entry.error("mass keys are link numbers 1..6");
-      }
-      if (link < 1 || link > kJointCount) throw entry.error("mass keys are link numbers 1..6");
-      const double mass = entry.at("mass_kg").as_double();
-      if (mass < 0) throw entry.at("mass_kg").error("mass must not be negative");
-      model.link_masses[link - 1] = {mass, entry.at("cog_mm").as_vector3()};
+      const std::optional<int64_t> link = parse_integer(key);
+      if (!link || *link < 1 || *link > kJointCount)
+        throw entry.error(fmt::format("mass key '{}': expected a link number 1..6", key));
+      yaml::expect_keys(entry, {"mass_kg", "cog_mm"});
+      const double mass = yaml::number_in(entry.at("mass_kg"), kLinkMassKg);
+      model.link_masses[*link - 1] = {mass, yaml::vector3_in(entry.at("cog_mm"), kLengthMm)};
     }
   }
-  if (root.has("gravity_m_s2")) model.gravity_m_s2 = root.at("gravity_m_s2").as_vector3();
+  if (root.has("gravity_m_s2"))
+    model.gravity_m_s2 = yaml::vector3_in(root.at("gravity_m_s2"), kGravity);
 
   if (root.has("joint_map")) {
     const yaml::Node map = root.at("joint_map");
+    yaml::expect_keys(map, {"matrix", "offset_deg"});
     if (map.has("matrix")) {
       const yaml::Node matrix = map.at("matrix");
       if (!matrix.node.IsSequence() || matrix.size() != kJointCount)
         throw matrix.error("expected 6 rows of 6 numbers");
       for (int i = 0; i < kJointCount; ++i) {
-        const auto row = matrix.at(i).as_doubles(kJointCount);
+        const auto row = yaml::numbers_in(matrix.at(i), kJointCount, kJointMap);
         for (int j = 0; j < kJointCount; ++j) model.joint_map.matrix(i, j) = row[j];
       }
       if (std::abs(model.joint_map.matrix.determinant()) < 1e-9)
         throw matrix.error("the joint map must be invertible");
     }
     if (map.has("offset_deg")) {
-      const auto offset = map.at("offset_deg").as_doubles(kJointCount);
+      const auto offset = yaml::numbers_in(map.at("offset_deg"), kJointCount, kAngleDeg);
       for (int i = 0; i < kJointCount; ++i) model.joint_map.offset[i] = deg2rad(offset[i]);
     }
   }
@@ -210,25 +229,27 @@ Tool parse_tool(const yaml::Node& root) {
   Tool tool;
   if (root.has("payload")) {
     const yaml::Node payload = root.at("payload");
-    tool.payload.mass_kg = payload.at("mass_kg").as_double();
-    if (tool.payload.mass_kg < 0) throw payload.at("mass_kg").error("mass must not be negative");
-    tool.payload.cog_mm = payload.at("cog_mm").as_vector3();
+    yaml::expect_keys(payload, {"mass_kg", "cog_mm"});
+    tool.payload.mass_kg = yaml::number_in(payload.at("mass_kg"), kPayloadKg);
+    tool.payload.cog_mm = yaml::vector3_in(payload.at("cog_mm"), kLengthMm);
   }
   if (root.has("targets")) {
     const yaml::Node targets = root.at("targets");
     for (const std::string& name : targets.keys()) {
       const yaml::Node entry = targets.get(name);
       Target target{name, Eigen::Vector3d::Zero(), entry.defined()};
-      if (target.known) target.position_mm = entry.as_vector3();
+      if (target.known) target.position_mm = yaml::vector3_in(entry, kLengthMm);
       tool.targets.push_back(target);
     }
   }
   if (root.has("tcp")) {
     const yaml::Node tcp = root.at("tcp");
+    yaml::expect_keys(tcp, {"position_mm", "quaternion_wxyz"});
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    if (tcp.has("position_mm")) T.translation() = tcp.at("position_mm").as_vector3();
+    if (tcp.has("position_mm"))
+      T.translation() = yaml::vector3_in(tcp.at("position_mm"), kLengthMm);
     if (tcp.has("quaternion_wxyz")) {
-      const auto q = tcp.at("quaternion_wxyz").as_doubles(4);
+      const auto q = yaml::numbers_in(tcp.at("quaternion_wxyz"), 4, kUnit);
       Eigen::Quaterniond quat(q[0], q[1], q[2], q[3]);
       if (std::abs(quat.norm() - 1.0) > 1e-6)
         throw tcp.at("quaternion_wxyz")
@@ -241,7 +262,9 @@ Tool parse_tool(const yaml::Node& root) {
 }
 
 Tool load_tool(const std::string& path) {
-  return parse_tool(yaml::load_file(path));
+  const yaml::Node root = yaml::load_file(path);
+  if (root.defined()) yaml::expect_keys(root, {"payload", "targets", "tcp"});
+  return parse_tool(root);
 }
 
 std::string tool_to_yaml(const Tool& tool) {

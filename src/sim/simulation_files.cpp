@@ -1,7 +1,13 @@
 #include "robcal/sim/simulation_files.hpp"
 
+#include <fmt/format.h>
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <utility>
+#include <vector>
+
+#include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -53,18 +59,44 @@ SimulationFiles write_simulation(const std::filesystem::path& dir, const std::st
                                  const SimulationResult& result, const Tool& tool,
                                  const VirtualInstrument& instrument, const TrueRobot& truth,
                                  const std::string& robot_name, const std::string& comment) {
-  SimulationFiles files{dir / (stem + ".csv"), dir / "tool.yaml", dir / "instrument.yaml",
-                        dir / "truth" / "truth.yaml"};
-  // Everything is rendered before the first file is written, so a failure leaves no file.
-  const std::string measurements = write_measurements_csv(result.measurements, tool, comment);
-  const std::string tool_text = tool_to_yaml(tool);
-  const std::string instrument_text = instrument_to_yaml(instrument);
-  const std::string truth_text = truth_to_yaml(truth, robot_name);
-  write_file_atomically(files.measurements, measurements);
-  write_file_atomically(files.tool, tool_text);
-  write_file_atomically(files.instrument, instrument_text);
-  write_file_atomically(files.truth, truth_text);
-  return files;
+  namespace fs = std::filesystem;
+  const std::vector<std::pair<fs::path, std::string>> contents{
+      {stem + ".csv", write_measurements_csv(result.measurements, tool, comment)},
+      {"tool.yaml", tool_to_yaml(tool)},
+      {"instrument.yaml", instrument_to_yaml(instrument)},
+      {fs::path("truth") / "truth.yaml", truth_to_yaml(truth, robot_name)}};
+  // The folder appears whole or not at all: every file is written into a staging folder beside
+  // it first, so a full disk or a crash leaves the target as it was.
+  fs::path target = fs::absolute(dir).lexically_normal();
+  if (!target.has_filename()) target = target.parent_path();
+  std::error_code ec;
+  if (fs::exists(target, ec) && !fs::is_directory(target, ec))
+    throw InputError({dir.string(), 0, 0, "--out"}, "exists and is not a folder");
+  const fs::path staging =
+      target.parent_path() /
+      fmt::format(".{}.partial-{}", target.filename().string(), static_cast<long>(::getpid()));
+  try {
+    fs::remove_all(staging);
+    for (const auto& [name, text] : contents) write_file_atomically(staging / name, text);
+    if (!fs::exists(target) || fs::is_empty(target)) {
+      fs::remove(target, ec);  // an empty folder given as --out
+      fs::rename(staging, target);
+    } else {
+      // The folder holds other files (an earlier run): replace ours one by one, each by rename.
+      fs::create_directories(target / "truth");
+      for (const auto& [name, text] : contents) fs::rename(staging / name, target / name);
+      fs::remove_all(staging);
+    }
+  } catch (const fs::filesystem_error& e) {
+    fs::remove_all(staging, ec);
+    throw InputError({dir.string(), 0, 0, "--out"},
+                     fmt::format("cannot write the simulation folder: {}", e.code().message()));
+  } catch (...) {
+    fs::remove_all(staging, ec);
+    throw;
+  }
+  return {dir / contents[0].first, dir / contents[1].first, dir / contents[2].first,
+          dir / contents[3].first};
 }
 
 }  // namespace robcal

@@ -23,7 +23,8 @@ struct SimulationFiles {
 };
 
 /// Writes the measurements (`stem`.csv), the tool the pipeline is given (`tool`: the nominal
-/// one, not the truth's), the instrument and the truth, each atomically.
+/// one, not the truth's), the instrument and the truth. The folder appears whole or not at all:
+/// the files are written into a staging folder beside it, renamed into place once all exist.
 SimulationFiles write_simulation(const std::filesystem::path& dir, const std::string& stem,
                                  const SimulationResult& result, const Tool& tool,
                                  const VirtualInstrument& instrument, const TrueRobot& truth,

@@ -1,0 +1,75 @@
+#include "flag_checks.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "robcal/io/number_text.hpp"
+
+namespace robcal::cli {
+namespace {
+
+// Flags whose negative values mean nothing: a negative σ or scale is a slip. (--floor-mm may be
+// negative: a robot on a pedestal.)
+constexpr std::array<std::string_view, 7> kNonNegativeFlags{
+    "--error-angle-deg", "--noise-mm",           "--huber-scale",    "--error-length-mm",
+    "--sigma-um",        "--orientation-weight", "--payload-mass-kg"};
+// Counts (of configurations, runs, samples, …): whole numbers from 0 to a bound that keeps what
+// they size in memory. --candidates has its own, larger, bound in the library.
+constexpr std::array<std::string_view, 11> kCountFlags{
+    "--random", "--runs",   "--samples", "--count",      "--task-count", "--seeds",
+    "--kfold",  "--points", "--poses",   "--validation", "--threads"};
+constexpr long kMaxCount = 1'000'000;
+
+/// "" when `text` is a seed (a 64-bit unsigned number), else what is wrong (CLI11 prints it with
+/// the flag).
+std::string check_seed(const std::string& text) {
+  const bool digits = !text.empty() && text.size() <= 20 &&
+                      text.find_first_not_of("0123456789") == std::string::npos;
+  if (digits && (text.size() < 20 || text <= "18446744073709551615")) return {};
+  return fmt::format("seed '{}': expected a whole number 0 .. 18446744073709551615", text);
+}
+
+/// "" when `text` is a count 0 .. kMaxCount, else what is wrong (CLI11 prints it with the flag).
+std::string check_count(const std::string& text) {
+  const std::optional<int64_t> v = parse_integer(text);
+  if (!v || *v < 0 || *v > kMaxCount)
+    return fmt::format("'{}': expected a whole number 0 .. {}", text, kMaxCount);
+  return {};
+}
+
+/// "" when `text` is a number >= 0, else what is wrong (CLI11 prints it with the flag).
+std::string check_non_negative(const std::string& text) {
+  const std::optional<double> v = parse_number(text);
+  if (!v) return describe_bad_number(text);
+  if (*v < 0) return fmt::format("'{}' is negative: expected a value >= 0", text);
+  return {};
+}
+
+void check_flags_of(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    const std::string name = option->get_name(false, true);
+    const auto is = [&](const auto& list) {
+      return std::find(list.begin(), list.end(), name) != list.end();
+    };
+    if (name == "--seed")
+      option->check(CLI::Validator(check_seed, "SEED"));
+    else if (is(kCountFlags) && option->get_type_name().rfind("INT", 0) == 0)
+      option->check(CLI::Validator(check_count, "COUNT"));
+    else if ((is(kNonNegativeFlags) && option->get_expected_max() == 1) || name == "--candidates")
+      option->check(CLI::Validator(check_non_negative, "NON-NEGATIVE"));
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_flags_of(*sub);
+}
+
+}  // namespace
+
+void add_flag_checks(CLI::App& app) {
+  check_flags_of(app);
+}
+
+}  // namespace robcal::cli

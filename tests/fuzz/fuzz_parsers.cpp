@@ -1,0 +1,294 @@
+/// A deterministic mutation fuzzer over every input parser (issue 21): each seed file of
+/// tests/fuzz/corpus/<parser>/ is mutated (bytes flipped, inserted, deleted, chunks repeated,
+/// hostile tokens such as 1e999, NaN, deep nesting, a BOM spliced in) and handed to the parser.
+/// A parser may accept the text or refuse it with an InputError; anything else (another
+/// exception, a crash, a sanitizer report) is a bug, and the input is written as a reproducer.
+/// The inputs of tests/fuzz/crashes/<parser>/ (bugs found before) are replayed first.
+///
+///   robcal_fuzz [--iterations N] [--seconds S] [--seed K] [--parser NAME] [--out DIR] ROOT
+///
+/// ROOT is tests/fuzz. With --seconds the run goes on until that much time has passed per
+/// parser (the long runs); else N mutations per parser (the smoke run of `make test`).
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "robcal/compensate/program_filter.hpp"
+#include "robcal/core/error.hpp"
+#include "robcal/hexapod/session.hpp"
+#include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/io/measurement_file.hpp"
+#include "robcal/io/pose_list_file.hpp"
+#include "robcal/io/robot_file.hpp"
+
+namespace fs = std::filesystem;
+using namespace robcal;
+
+namespace {
+
+std::string read_all(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void write_all(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+}
+
+/// One parser: takes the text (and a scratch file holding it, for the readers that take a
+/// path); returns normally or throws InputError.
+using Target = std::function<void(const std::string& text, const fs::path& file)>;
+
+std::map<std::string, Target> targets(const fs::path& root) {
+  const Tool tool = load_tool((root / "corpus" / "tool" / "tool.yaml").string());
+  const fs::path plan_file = root / "corpus" / "plan" / "plan.json";
+  const auto correct = [](const ProgramPoint& p) {
+    CorrectedPoint c;
+    c.base_T_tcp = p.base_T_tcp;
+    c.base_T_tcp.p.x() += 0.5;  // a real edit, so the rewriting runs
+    c.joints_deg = p.joints_deg;
+    return c;
+  };
+  const auto program = [correct](ProgramLanguage language) {
+    return [correct, language](const std::string& text, const fs::path& file) {
+      ProgramFilterOptions options;
+      options.joints = true;
+      (void)read_program_points(text, language, file.string(), options);
+      (void)filter_program(text, language, file.string(), options, correct);
+    };
+  };
+  return {
+      {"robot", [](const std::string&, const fs::path& f) { (void)load_robot(f.string()); }},
+      {"tool", [](const std::string&, const fs::path& f) { (void)load_tool(f.string()); }},
+      {"model",
+       [](const std::string&, const fs::path& f) { (void)load_calibrated_robot(f.string()); }},
+      {"measurements",
+       [tool](const std::string& text, const fs::path& f) {
+         (void)parse_measurements_csv(text, f.string(), tool);
+       }},
+      {"poses",
+       [](const std::string& text, const fs::path& f) { (void)parse_pose_list(text, f.string()); }},
+      {"rapid", program(ProgramLanguage::Rapid)},
+      {"krl", program(ProgramLanguage::Krl)},
+      {"plan", [](const std::string&, const fs::path& f) { (void)hexapod::load_session_plan(f); }},
+      {"journal",
+       [plan_file](const std::string&, const fs::path& f) {
+         hexapod::Session session(hexapod::load_session_plan(plan_file));
+         (void)hexapod::SessionJournal::replay_read_only(f, session);
+       }},
+  };
+}
+
+/// Tokens that broke parsers before or that parsers must refuse: numbers beyond range or
+/// half-written, non-numbers, structure characters, a BOM, a NUL, long digit runs.
+const std::vector<std::string>& hostile_tokens() {
+  static const std::vector<std::string> tokens{"1e999",
+                                               "-1e999",
+                                               "1e-999",
+                                               "nan",
+                                               "NaN",
+                                               "inf",
+                                               "-inf",
+                                               ".inf",
+                                               "364.35.4",
+                                               "0x1F",
+                                               "1e308",
+                                               "99999999999999999999",
+                                               "-1",
+                                               "-0",
+                                               "+",
+                                               "e",
+                                               "[",
+                                               "]",
+                                               "{",
+                                               "}",
+                                               ",",
+                                               ":",
+                                               "\n",
+                                               "\r\n",
+                                               "\"",
+                                               "'",
+                                               "~",
+                                               "&a ",
+                                               "*a",
+                                               "- ",
+                                               "# ",
+                                               "\xEF\xBB\xBF",
+                                               std::string(1, '\0'),
+                                               "\t",
+                                               "name",
+                                               "B9-T9",
+                                               "END",
+                                               "ENDMODULE",
+                                               ";",
+                                               "=",
+                                               "\\WObj:=wobj1",
+                                               "{X 1e999}",
+                                               "E6POS",
+                                               "robtarget",
+                                               "18446744073709551616",
+                                               "2147483648"};
+  return tokens;
+}
+
+std::string mutate(std::string text, std::mt19937_64& rng) {
+  const auto pick = [&](size_t n) {
+    return n == 0 ? 0 : std::uniform_int_distribution<size_t>(0, n - 1)(rng);
+  };
+  const int edits = 1 + static_cast<int>(pick(4));
+  for (int e = 0; e < edits; ++e) {
+    const size_t at = pick(text.size() + 1);
+    switch (pick(8)) {
+      case 0:  // flip a byte
+        if (!text.empty()) text[std::min(at, text.size() - 1)] = static_cast<char>(pick(256));
+        break;
+      case 1:  // insert a byte
+        text.insert(at, 1, static_cast<char>(pick(256)));
+        break;
+      case 2:  // delete a range
+        text.erase(at, pick(16) + 1);
+        break;
+      case 3: {  // repeat a chunk elsewhere
+        const std::string chunk = text.substr(pick(text.size() + 1), pick(64) + 1);
+        text.insert(pick(text.size() + 1), chunk);
+        break;
+      }
+      case 4:
+      case 5:  // a hostile token
+        text.insert(at, hostile_tokens()[pick(hostile_tokens().size())]);
+        break;
+      case 6: {  // replace a number by a hostile token
+        const size_t digit = text.find_first_of("0123456789", at);
+        if (digit == std::string::npos) break;
+        const size_t end = text.find_first_not_of("0123456789.eE+-", digit);
+        text.replace(digit, (end == std::string::npos ? text.size() : end) - digit,
+                     hostile_tokens()[pick(hostile_tokens().size())]);
+        break;
+      }
+      default: {  // deep nesting or truncation
+        if (pick(2) == 0)
+          text.insert(at, std::string(pick(2) ? 5000 : 300, "[{("[pick(3)]));
+        else
+          text.resize(at);
+      }
+    }
+  }
+  return text;
+}
+
+struct Options {
+  long iterations = 300;
+  double seconds = 0;
+  uint64_t seed = 1;
+  std::string parser;
+  fs::path out;
+  fs::path root;
+};
+
+/// Runs one input; returns false (and saves the input) when the parser failed other than by
+/// an InputError. Counts the inputs accepted (a corpus whose mutants are all refused at the
+/// first byte would test little).
+bool run_one(const Target& target, const std::string& text, const fs::path& scratch,
+             const std::string& parser, const Options& o, long& accepted) {
+  write_all(scratch, text);
+  try {
+    target(text, scratch);
+    ++accepted;
+    return true;
+  } catch (const InputError&) {
+    return true;
+  } catch (const std::exception& e) {
+    std::cerr << "FAIL " << parser << ": " << typeid(e).name() << ": " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "FAIL " << parser << ": unknown exception\n";
+  }
+  const fs::path dir = (o.out.empty() ? o.root / "crashes" : o.out) / parser;
+  fs::create_directories(dir);
+  const fs::path saved = dir / ("found-" + std::to_string(std::hash<std::string>{}(text)));
+  write_all(saved, text);
+  std::cerr << "  input saved as " << saved << "\n";
+  return false;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw std::runtime_error(arg + " needs a value");
+      return argv[++i];
+    };
+    if (arg == "--iterations")
+      o.iterations = std::stol(value());
+    else if (arg == "--seconds")
+      o.seconds = std::stod(value());
+    else if (arg == "--seed")
+      o.seed = std::stoull(value());
+    else if (arg == "--parser")
+      o.parser = value();
+    else if (arg == "--out")
+      o.out = value();
+    else
+      o.root = arg;
+  }
+  if (o.root.empty()) {
+    std::cerr << "usage: robcal_fuzz [--iterations N] [--seconds S] [--seed K] [--parser NAME] "
+                 "[--out DIR] tests/fuzz\n";
+    return 2;
+  }
+  const fs::path scratch_dir =
+      fs::temp_directory_path() / ("robcal-fuzz-" + std::to_string(::getpid()));
+  fs::create_directories(scratch_dir);
+  // A crash ends the process before the input can be saved: it is left here.
+  std::cerr << "inputs are written to " << scratch_dir << " before each run\n";
+  int failures = 0;
+  for (const auto& [parser, target] : targets(o.root)) {
+    if (!o.parser.empty() && o.parser != parser) continue;
+    const fs::path scratch = scratch_dir / ("input-" + parser);
+    std::vector<std::string> seeds;
+    for (const auto& entry : fs::directory_iterator(o.root / "corpus" / parser))
+      seeds.push_back(read_all(entry.path()));
+    std::sort(seeds.begin(), seeds.end());  // directory order is not deterministic
+    long runs = 0, accepted = 0, seeds_accepted = 0;
+    for (const std::string& seed : seeds)
+      failures += !run_one(target, seed, scratch, parser, o, seeds_accepted);
+    if (seeds_accepted != static_cast<long>(seeds.size())) {
+      std::cerr << "FAIL " << parser << ": a seed of the corpus is refused\n";
+      ++failures;
+    }
+    if (fs::is_directory(o.root / "crashes" / parser))
+      for (const auto& entry : fs::directory_iterator(o.root / "crashes" / parser))
+        failures += !run_one(target, read_all(entry.path()), scratch, parser, o, accepted);
+    std::mt19937_64 rng(o.seed ^ std::hash<std::string>{}(parser));
+    const auto start = std::chrono::steady_clock::now();
+    const auto elapsed = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    while (o.seconds > 0 ? elapsed() < o.seconds : runs < o.iterations) {
+      const std::string& seed =
+          seeds[std::uniform_int_distribution<size_t>(0, seeds.size() - 1)(rng)];
+      failures += !run_one(target, mutate(seed, rng), scratch, parser, o, accepted);
+      ++runs;
+    }
+    std::printf("%-13s %7ld inputs in %6.2f s (%.0f/s), %ld accepted, %zu seeds\n", parser.c_str(),
+                runs, elapsed(), runs / std::max(elapsed(), 1e-9), accepted, seeds.size());
+  }
+  fs::remove_all(scratch_dir);
+  if (failures > 0) std::printf("%d failing inputs\n", failures);
+  return failures > 0 ? 1 : 0;
+}
