@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "robcal/compensate/program_filter.hpp"
+#include "robcal/programs/program_filter.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/hexapod/session.hpp"
 #include "robcal/identify/calibrated_robot.hpp"
@@ -83,6 +83,8 @@ std::map<std::string, Target> targets(const fs::path& root) {
        [](const std::string& text, const fs::path& f) { (void)parse_pose_list(text, f.string()); }},
       {"rapid", program(ProgramLanguage::Rapid)},
       {"krl", program(ProgramLanguage::Krl)},
+      {"ls", program(ProgramLanguage::FanucLs)},
+      {"urscript", program(ProgramLanguage::UrScript)},
       {"plan", [](const std::string&, const fs::path& f) { (void)hexapod::load_session_plan(f); }},
       {"journal",
        [plan_file](const std::string&, const fs::path& f) {
