@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <variant>
 
 #include <Eigen/LU>
@@ -405,6 +406,24 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
   }
   CalibratedIkResult r = iterate(seed.joints);
   if (r.status != CalibratedIkStatus::OutsideLimits) return r;
+  // A joint just beyond a limit may be inside one turn back (every joint of a UR spans ±360°):
+  // the nominal seed was inside, but its calibrated answer crossed the limit. Iterated again
+  // from there: with joint scales ≠ 1 a calibrated turn is not exactly 2π.
+  Vector6d turned = r.joints;
+  bool moved = false;
+  for (int i = 0; i < kJointCount; ++i) {
+    const JointLimit& limit = comp.model.limits[i];
+    const double k = turned[i] > limit.upper ? -1.0 : turned[i] < limit.lower ? 1.0 : 0.0;
+    const double candidate = turned[i] + k * 2.0 * std::numbers::pi;
+    if (k != 0 && candidate >= limit.lower && candidate <= limit.upper) {
+      turned[i] = candidate;
+      moved = true;
+    }
+  }
+  if (moved) {
+    const CalibratedIkResult other = iterate(turned);
+    if (other.ok()) return other;
+  }
   // Beyond a limit: another turn of a wide-range joint may be inside.
   const Seed inside = seed_of(comp.geometry, base_T_flange, config, near);
   if (inside.status != CalibratedIkStatus::Converged || inside.joints == seed.joints) return r;
