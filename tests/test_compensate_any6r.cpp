@@ -55,11 +55,11 @@ TEST(CompensateAny6r, Ur10eRoundTripEveryConfigurationBothIterationsAgree) {
   EXPECT_LT(st.worst_deg, 1e-6);
   EXPECT_LT(st.worst_recovery_rad, 1e-6);
   EXPECT_EQ(st.other_turn, 0);
-  std::printf("[%s] %ld draws; worst %.2e mm %.2e deg, agreement %.1e rad, recovery %.1e rad, "
-              "Newton <= %d it, pose shift <= %d it, hand-overs %ld\n",
-              kUr10e, st.draws, st.worst_mm, st.worst_deg, worst_agreement,
-              st.worst_recovery_rad, st.max_newton, st.max_shift,
-              std::accumulate(st.handovers.begin(), st.handovers.end(), 0L));
+  std::printf(
+      "[%s] %ld draws; worst %.2e mm %.2e deg, agreement %.1e rad, recovery %.1e rad, "
+      "Newton <= %d it, pose shift <= %d it, hand-overs %ld\n",
+      kUr10e, st.draws, st.worst_mm, st.worst_deg, worst_agreement, st.worst_recovery_rad,
+      st.max_newton, st.max_shift, std::accumulate(st.handovers.begin(), st.handovers.end(), 0L));
 }
 
 // At the wrist singularity (θ5 = 0) Newton's Jacobian loses rank: a status, never joints

@@ -70,8 +70,7 @@ TEST(OpwFile, RosIndustrialKr6R900FileGivesTheBuiltInRobot) {
   double worst = 0;
   for (int n = 0; n < 1000; ++n) {
     Vector6d q;
-    for (int i = 0; i < kJointCount; ++i)
-      q[i] = std::uniform_real_distribution<double>(-3, 3)(rng);
+    for (int i = 0; i < kJointCount; ++i) q[i] = std::uniform_real_distribution<double>(-3, 3)(rng);
     worst = std::max(worst, (fk(imported, q).p - fk(builtin, q).p).norm());
   }
   EXPECT_LT(worst, 1e-9);

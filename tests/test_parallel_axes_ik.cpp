@@ -57,9 +57,8 @@ Matrix4 dh(double theta, double d, double a, double alpha) {
 struct TextbookUr {
   std::array<double, 6> d, a, alpha;
   explicit TextbookUr(const UrDh& p)
-      : d{p.d1, 0, 0, p.d4, p.d5, p.d6},
-        a{0, p.a2, p.a3, 0, 0, 0},
-        alpha{kPi / 2, 0, 0, kPi / 2, -kPi / 2, 0} {}
+      : d{p.d1, 0, 0, p.d4, p.d5, p.d6}, a{0, p.a2, p.a3, 0, 0, 0}, alpha{kPi / 2, 0,        0,
+                                                                          kPi / 2, -kPi / 2, 0} {}
   [[nodiscard]] Matrix4 link(int i, double theta) const { return dh(theta, d[i], a[i], alpha[i]); }
   [[nodiscard]] Matrix4 fk(const Vector6d& q) const {
     Matrix4 T = Matrix4::Identity();
@@ -79,9 +78,10 @@ struct TextbookUr {
       if (std::abs(c5) > 1) continue;
       for (const double t5 : {std::acos(c5), -std::acos(c5)}) {
         const double s5 = std::sin(t5);
-        const double t6 = std::atan2((-T(0, 1) * s1 + T(1, 1) * c1) / s5,
-                                     (T(0, 0) * s1 - T(1, 0) * c1) / s5);
-        const Matrix4 T14 = link(0, t1).inverse() * T * link(5, t6).inverse() * link(4, t5).inverse();
+        const double t6 =
+            std::atan2((-T(0, 1) * s1 + T(1, 1) * c1) / s5, (T(0, 0) * s1 - T(1, 0) * c1) / s5);
+        const Matrix4 T14 =
+            link(0, t1).inverse() * T * link(5, t6).inverse() * link(4, t5).inverse();
         // Frame 4's origin in frame 1: (a2·c2 + a3·c23, a2·s2 + a3·s23, d4).
         const double px = T14(0, 3), py = T14(1, 3);
         const double c3 = (px * px + py * py - a[1] * a[1] - a[2] * a[2]) / (2 * a[1] * a[2]);
@@ -184,8 +184,8 @@ TEST(UrFamily, AgreesWithTheTextbookSolutionOnRandomPoses) {
       ASSERT_EQ(ours.status, IkStatus::Solved);
       textbook_total += static_cast<int>(expected.size());
       for (const Vector6d& e : expected) {
-        worst_textbook_mm = std::max(worst_textbook_mm,
-                                     (textbook.fk(e).topRightCorner<3, 1>() - target.p).norm());
+        worst_textbook_mm =
+            std::max(worst_textbook_mm, (textbook.fk(e).topRightCorner<3, 1>() - target.p).norm());
         ++textbook_checked_fk;
         bool found = false;
         for (const IkSolution& s : ours) found = found || turn_distance(s.joints, e) < 1e-9;
@@ -207,10 +207,11 @@ TEST(UrFamily, AgreesWithTheTextbookSolutionOnRandomPoses) {
         worst_rad = std::max(worst_rad, rotation_distance(back.R, target.R));
       }
     }
-    std::printf("[ %s ] %d poses, %d textbook solutions (FK worst %.1e mm), %d missed, %d extra, "
-                "%d label mismatches, FK of ours worst %.1e mm / %.1e rad\n",
-                ur.file, poses, textbook_total, worst_textbook_mm, missed, extra, label_mismatch,
-                worst_mm, worst_rad);
+    std::printf(
+        "[ %s ] %d poses, %d textbook solutions (FK worst %.1e mm), %d missed, %d extra, "
+        "%d label mismatches, FK of ours worst %.1e mm / %.1e rad\n",
+        ur.file, poses, textbook_total, worst_textbook_mm, missed, extra, label_mismatch, worst_mm,
+        worst_rad);
     EXPECT_LT(worst_textbook_mm, 1e-8) << "the test's own solution must be right";
     EXPECT_GT(textbook_total, 4 * poses);
     EXPECT_EQ(missed, 0) << ur.file;
@@ -244,8 +245,8 @@ void round_trip_every_branch(const std::string& file, int per_branch) {
     ++total;
     const Pose<double> target = nominal_flange_pose(chain, q);
     const IkBranchResult r = nominal_ik_branch(*g, target, config, q);
-    const double d = r.status == IkStatus::Solved ? (r.solution.joints - q).cwiseAbs().maxCoeff()
-                                                  : 1e9;
+    const double d =
+        r.status == IkStatus::Solved ? (r.solution.joints - q).cwiseAbs().maxCoeff() : 1e9;
     // Near the wrist singularity the pose fixes θ4 and θ6 apart only to about 1e-16/|sin θ5|
     // times the arm's lever ratios (their sum is exact; 2e-9 rad measured at |sin θ5| = 1.4e-5):
     // within |sin θ5| < 1e-4, as in the OPW oracle test, the pose is checked instead.
@@ -268,11 +269,12 @@ void round_trip_every_branch(const std::string& file, int per_branch) {
       if (!found) ++all_failures;
     }
   }
-  std::printf("[ %s ] %d configurations (%d per branch): worst |q − IK(FK(q))| %.1e rad, "
-              "%d failures (%d with |sin θ5| < 1e-4, checked by the pose); "
-              "all-solution result contains q in %d of %d\n",
-              file.c_str(), total, per_branch, worst, failures, near_wrist_singular,
-              all_checked - all_failures, all_checked);
+  std::printf(
+      "[ %s ] %d configurations (%d per branch): worst |q − IK(FK(q))| %.1e rad, "
+      "%d failures (%d with |sin θ5| < 1e-4, checked by the pose); "
+      "all-solution result contains q in %d of %d\n",
+      file.c_str(), total, per_branch, worst, failures, near_wrist_singular,
+      all_checked - all_failures, all_checked);
   EXPECT_EQ(failures, 0);
   EXPECT_EQ(all_failures, 0);
 }

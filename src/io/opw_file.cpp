@@ -78,8 +78,7 @@ OpwParameters parse_opw_parameters(const yaml::Node& root) {
         throw signs.at(i).error(fmt::format("expected 1 or -1, got {}", p.signs[i]));
     }
   }
-  if (p.b != 0.0)
-    throw g.at("b").error("a lateral offset b ≠ 0 is not supported (expected 0)");
+  if (p.b != 0.0) throw g.at("b").error("a lateral offset b ≠ 0 is not supported (expected 0)");
   if (p.c2 == 0.0) throw g.at("c2").error("the upper arm c2 must not be 0");
   return p;
 }

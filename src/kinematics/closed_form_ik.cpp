@@ -12,9 +12,10 @@ std::optional<ClosedFormIk> analyze_closed_form(const RobotModel& model, std::st
   if (auto g = analyze_ortho_parallel(model, &not_ortho)) return ClosedFormIk(std::move(*g));
   if (auto g = analyze_parallel_axes(model, &not_parallel)) return ClosedFormIk(std::move(*g));
   if (why_not)
-    *why_not = fmt::format("not ortho-parallel with a spherical wrist ({}); not three parallel "
-                           "axes with an offset wrist ({})",
-                           not_ortho, not_parallel);
+    *why_not = fmt::format(
+        "not ortho-parallel with a spherical wrist ({}); not three parallel "
+        "axes with an offset wrist ({})",
+        not_ortho, not_parallel);
   return std::nullopt;
 }
 

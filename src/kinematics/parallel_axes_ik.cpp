@@ -8,7 +8,7 @@ namespace robcal {
 namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kLimitTolerance = 1e-9;  // rad, as RobotModel::within_limits
+constexpr double kLimitTolerance = 1e-9;   // rad, as RobotModel::within_limits
 constexpr double kReachTolerance = 1e-10;  // |cos θ3| beyond 1 still taken as a stretched elbow
 // P closer to axis 1 than |δ| by less than this (mm², on r² − δ²) still counts as reached.
 constexpr double kShoulderReachMm2 = 1e-9;

@@ -7,7 +7,8 @@
 /// OPW's internal angles are q_OPW = sign·J − offset, with J the ROS joint values; its zero
 /// pose has the upper arm and forearm upright. In Modified DH (Craig) the same chain is
 ///   link 1 [α, a, θ0, d] = [0, 0, 0, c1],   link 2 = [−90°, a1, −90°, 0],  link 3 = [0, c2, 0, 0],
-///   link 4 = [−90°, −a2, 0, c3],            link 5 = [90°, 0, 0, 0],        link 6 = [−90°, 0, 180°, c4]
+///   link 4 = [−90°, −a2, 0, c3],            link 5 = [90°, 0, 0, 0],        link 6 = [−90°, 0,
+///   180°, c4]
 /// with MDH link angles θ = q_OPW + (0, −90, −90, 0, 0, 180)°: θ = θ0 + q with the joint map
 /// q = diag(sign)·J + (−offset + (0, 0, −90, 0, 0, 0)°). This is the derivation of the built-in
 /// KUKA KR 6 R900 sixx and of tests/data/opw (checked there against opw_kinematics' own poses).

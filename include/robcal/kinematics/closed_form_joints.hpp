@@ -48,8 +48,9 @@ inline Vector6d controller_from_link_angles(const ClosedFormJoints& joints,
 /// MDH link angles θ1..θ6 (rad) from controller joint values (rad).
 inline std::array<double, kJointCount> link_angles_from_controller(const ClosedFormJoints& joints,
                                                                    const Vector6d& controller) {
-  const Vector6d q =
-      joints.map_identity ? controller : Vector6d(joints.map_matrix * controller + joints.map_offset);
+  const Vector6d q = joints.map_identity
+                         ? controller
+                         : Vector6d(joints.map_matrix * controller + joints.map_offset);
   std::array<double, kJointCount> theta;
   for (int i = 0; i < kJointCount; ++i) theta[i] = q[i] + joints.theta_offset[i];
   return theta;

@@ -153,8 +153,8 @@ const IkSolution* nearest_solution(const IkResult& result, const Vector6d& joint
 ArmConfig arm_config(const RobotModel& model, const Vector6d& joints);
 
 /// For tools (CLI, Python): every closed-form solution when the robot has one (closed_form_ik.hpp,
-/// where it is defined), else the damped-least-squares solution from `seed` (numeric_ik.hpp) labelled by arm_config.
-/// Allocates; the hot path is nominal_ik.
+/// where it is defined), else the damped-least-squares solution from `seed` (numeric_ik.hpp)
+/// labelled by arm_config. Allocates; the hot path is nominal_ik.
 struct AnyIkResult {
   IkStatus status = IkStatus::Unreachable;
   std::vector<IkSolution> solutions;
