@@ -22,6 +22,7 @@
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/kinematics/nominal_chain.hpp"
 #include "robcal/kinematics/orientation.hpp"
+#include "test_compensate_support.hpp"
 
 namespace robcal {
 namespace {
@@ -102,13 +103,7 @@ struct TextbookUr {
   }
 };
 
-Vector6d random_joints(const RobotModel& model, std::mt19937_64& rng) {
-  Vector6d q;
-  for (int i = 0; i < kJointCount; ++i)
-    q[i] =
-        std::uniform_real_distribution<double>(model.limits[i].lower, model.limits[i].upper)(rng);
-  return q;
-}
+using test::random_joints;
 
 Matrix4 to_matrix(const Pose<double>& pose) {
   Matrix4 T = Matrix4::Identity();

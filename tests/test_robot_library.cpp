@@ -14,6 +14,7 @@
 #include "robcal/kinematics/closed_form_ik.hpp"
 #include "robcal/kinematics/nominal_chain.hpp"
 #include "robcal/kinematics/orientation.hpp"
+#include "test_compensate_support.hpp"
 
 namespace robcal {
 namespace {
@@ -121,13 +122,7 @@ const std::vector<UrdfChain>& chains() {
   return c;
 }
 
-Vector6d random_joints(const RobotModel& model, std::mt19937_64& rng) {
-  Vector6d q;
-  for (int i = 0; i < kJointCount; ++i)
-    q[i] =
-        std::uniform_real_distribution<double>(model.limits[i].lower, model.limits[i].upper)(rng);
-  return q;
-}
+using test::random_joints;
 
 TEST(RobotLibrary, EveryRobotHasMakerSourceAndReach) {
   const auto names = builtin_robot_names();
