@@ -61,17 +61,24 @@ inline Vector6d random_joints(const RobotModel& model, std::mt19937_64& rng) {
 
 /// BENCHMARKS.md singular labels on the nominal robot: θ5 within `margin_deg` (5°) of 0 or
 /// 180°, elbow stretched or folded within `margin_deg`, or the wrist centre within 50 mm of
-/// axis 1.
+/// axis 1. On the UR family (offset wrist) the elbow is that of the planar arm (frame 4's
+/// origin) and the shoulder's "wrist centre" the point P where axes 5 and 6 meet, 50 mm along
+/// x1 from the plane of axis 1 (the two shoulder solutions meet there); on a spherical wrist
+/// both are the wrist centre, as before.
 inline bool near_singular(const RobotModel& model, const Vector6d& joints, double margin_deg = 5) {
   const auto frames = link_frames(model, PointMass{}, model.nominal().data(), joints.data());
   const auto q = model_joint_angles(model, joints.data());
   const double theta5 = q[4] + model.mdh[4].theta_offset;
   if (std::abs(std::sin(theta5)) < std::sin(deg2rad(margin_deg))) return true;
-  const Eigen::Vector3d upper = frames[2].p - frames[1].p, fore = frames[4].p - frames[2].p;
+  // In the plane of the arm: offsets along axis 3 (the UR's d4) do not move the elbow.
+  const Eigen::Vector3d z3 = frames[2].R.col(2);
+  Eigen::Vector3d upper = frames[2].p - frames[1].p, fore = frames[3].p - frames[2].p;
+  upper -= upper.dot(z3) * z3;
+  fore -= fore.dot(z3) * z3;
   if (upper.normalized().cross(fore.normalized()).norm() < std::sin(deg2rad(margin_deg)))
     return true;
   const Eigen::Vector3d w = frames[4].p - frames[0].p;
-  return std::hypot(w.x(), w.y()) < 50;
+  return std::abs(w.dot(frames[0].R.col(0))) < 50;
 }
 
 /// Newton and pose-shift joints further apart than this are different solutions: those of one

@@ -18,8 +18,13 @@ void run_robots(bool json) {
   nlohmann::json out = nlohmann::json::array();
   for (const std::string& name : builtin_robot_names()) {
     const RobotModel model = load_robot(name);
-    out.push_back({{"name", name}, {"model", model.name}, {"manufacturer", model.manufacturer}});
-    if (!json) fmt::print("{:<22} {}\n", name, model.name);
+    out.push_back({{"name", name},
+                   {"model", model.name},
+                   {"manufacturer", model.manufacturer},
+                   {"reach_mm", model.reach_mm}});
+    if (!json)
+      fmt::print("{:<24} {:<17} {:<24} {}\n", name, model.manufacturer, model.name,
+                 model.reach_mm > 0 ? fmt::format("{:.0f} mm", model.reach_mm) : "reach not given");
   }
   if (json) print_json(out);
 }

@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
+#include <variant>
+
+#include <Eigen/LU>
 
 #include "../kinematics/fast_atan2.hpp"
 #include "robcal/core/error.hpp"
@@ -128,6 +132,29 @@ class WristPartitionedSolver {
   Eigen::Vector3d r_;
 };
 
+/// Solves J·x = e for a wrist that is not spherical, by LU with partial pivoting of J with its
+/// angular rows scaled by kRotationRowScaleMm (so that all rows are in mm and the pivots
+/// compare); singular when the smallest pivot falls below kRankRatio of the largest.
+class FullJacobianSolver {
+ public:
+  bool factor(const Matrix6d& J, const Eigen::Vector3d& /*r*/) {
+    Matrix6d scaled = J;
+    scaled.bottomRows<3>() *= kRotationRowScaleMm;
+    lu_.compute(scaled);
+    const auto pivots = lu_.matrixLU().diagonal().cwiseAbs();
+    return pivots.minCoeff() > kRankRatio * pivots.maxCoeff();  // NaN: false
+  }
+  [[nodiscard]] Vector6d solve(const Vector6d& e) const {
+    Vector6d scaled = e;
+    scaled.tail<3>() *= kRotationRowScaleMm;
+    return lu_.solve(scaled);
+  }
+
+ private:
+  static constexpr double kRotationRowScaleMm = 1000.0;
+  Eigen::PartialPivLU<Matrix6d> lu_;
+};
+
 /// The angle is within tolerance when sin ≤ cos·tolerance (atan x ≤ x: never looser).
 bool within(const PoseError& err, const CalibratedIkOptions& options) {
   return err.position_sq <= options.position_tolerance_mm * options.position_tolerance_mm &&
@@ -143,12 +170,13 @@ CalibratedIkResult finish(const Compensator& comp, const Vector6d& seed, const A
   r.iterations = iterations;
   r.position_error_mm = err.position_mm();
   r.orientation_error_rad = err.orientation_rad();
-  // The labels depend on model joints 1–3 and 5 only: the large moves of 4 and 6 near the
-  // wrist singularity need no check.
+  // On a spherical wrist the labels depend on model joints 1–3 and 5 only: the large moves of 4
+  // and 6 near the wrist singularity need no check (on the UR family 4 moves the point P).
   const Vector6d moved = comp.chain.map_identity ? Vector6d(joints - seed)
                                                  : Vector6d(comp.chain.joint_map * (joints - seed));
-  if (std::max({std::abs(moved[0]), std::abs(moved[1]), std::abs(moved[2]), std::abs(moved[4])}) >
-          kBranchCheckRad &&
+  const double moved4 = comp.spherical_wrist ? 0.0 : std::abs(moved[3]);
+  if (std::max({std::abs(moved[0]), std::abs(moved[1]), std::abs(moved[2]), moved4,
+                std::abs(moved[4])}) > kBranchCheckRad &&
       !(arm_config(comp.model, joints) == (expected ? *expected : arm_config(comp.model, seed))))
     r.status = CalibratedIkStatus::LeftConfiguration;
   else
@@ -174,7 +202,7 @@ struct Seed {
   CalibratedIkStatus status;
   Vector6d joints;
 };
-Seed seed_of(const OrthoParallelGeometry& geometry, const Pose<double>& base_T_flange,
+Seed seed_of(const ClosedFormIk& geometry, const Pose<double>& base_T_flange,
              const ArmConfig& config, const Vector6d& near) {
   const IkBranchResult r = nominal_ik_branch(geometry, base_T_flange, config, near);
   switch (r.status) {
@@ -212,19 +240,18 @@ Compensator make_compensator(const CalibratedRobot& robot,
   Compensator comp;
   comp.model = robot.model;
   std::string why_not;
-  const auto geometry = analyze_ortho_parallel(robot.model, &why_not);
+  const auto geometry = analyze_closed_form(robot.model, &why_not);
   if (!geometry)
     throw InputError(SourceLocation{"", 0, 0, "robot"},
-                     "compensation needs the nominal closed-form inverse (an ortho-parallel robot "
-                     "with a spherical wrist): " +
-                         why_not);
+                     "compensation needs the nominal closed-form inverse: " + why_not);
   comp.geometry = *geometry;
+  comp.spherical_wrist = std::holds_alternative<OrthoParallelGeometry>(*geometry);
   RobotModel widened = robot.model;
   for (JointLimit& limit : widened.limits) {
     limit.lower -= kSeedLimitMarginRad;
     limit.upper += kSeedLimitMarginRad;
   }
-  comp.seed_geometry = *analyze_ortho_parallel(widened);
+  comp.seed_geometry = *analyze_closed_form(widened);
   for (int i = 0; i < kParameterCount; ++i)
     if (!std::isfinite(robot.params[i]))
       throw InputError(SourceLocation{"", 0, 0, parameter_table()[i].name},
@@ -259,13 +286,14 @@ Pose<double> nominal_tcp_pose(const Compensator& comp, const Vector6d& joints) {
 
 namespace {
 
+template <typename Solver>
 CalibratedIkResult newton(const Compensator& comp, const Pose<double>& world_T_tcp,
                           const Vector6d& seed, const ArmConfig* expected,
                           const CalibratedIkOptions& options) {
   Vector6d joints = seed;
   ChainState state;
   Matrix6d J;
-  WristPartitionedSolver solver;
+  Solver solver;
   for (int it = 0;; ++it) {
     const PoseError err = pose_error(world_T_tcp, calibrated_tcp_pose(comp.chain, joints, state));
     if (within(err, options)) return finish(comp, seed, expected, joints, err, it);
@@ -294,6 +322,14 @@ CalibratedIkResult newton(const Compensator& comp, const Pose<double>& world_T_t
     if ((joints - seed).cwiseAbs().maxCoeff() > options.max_joint_change_rad)
       return failed(CalibratedIkStatus::LeftConfiguration, joints, err, it + 1);
   }
+}
+
+CalibratedIkResult newton(const Compensator& comp, const Pose<double>& world_T_tcp,
+                          const Vector6d& seed, const ArmConfig* expected,
+                          const CalibratedIkOptions& options) {
+  return comp.spherical_wrist
+             ? newton<WristPartitionedSolver>(comp, world_T_tcp, seed, expected, options)
+             : newton<FullJacobianSolver>(comp, world_T_tcp, seed, expected, options);
 }
 
 CalibratedIkResult pose_shift(const Compensator& comp, const Pose<double>& world_T_tcp,
@@ -359,7 +395,7 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
   for (const double pull_mm : {1.0, 3.0, 10.0, -1.0, -3.0, -10.0}) {
     if (seed.status != CalibratedIkStatus::NoNominalSolution) break;
     Pose<double> moved = base_T_flange;
-    const Eigen::Vector3d out = moved.p - Eigen::Vector3d(0, 0, comp.geometry.d1);
+    const Eigen::Vector3d out = moved.p - Eigen::Vector3d(0, 0, comp.model.mdh[0].d);
     moved.p -= pull_mm * out.normalized();
     seed = seed_of(comp.seed_geometry, moved, config, near);
   }
@@ -370,6 +406,24 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
   }
   CalibratedIkResult r = iterate(seed.joints);
   if (r.status != CalibratedIkStatus::OutsideLimits) return r;
+  // A joint just beyond a limit may be inside one turn back (every joint of a UR spans ±360°):
+  // the nominal seed was inside, but its calibrated answer crossed the limit. Iterated again
+  // from there: with joint scales ≠ 1 a calibrated turn is not exactly 2π.
+  Vector6d turned = r.joints;
+  bool moved = false;
+  for (int i = 0; i < kJointCount; ++i) {
+    const JointLimit& limit = comp.model.limits[i];
+    const double k = turned[i] > limit.upper ? -1.0 : turned[i] < limit.lower ? 1.0 : 0.0;
+    const double candidate = turned[i] + k * 2.0 * std::numbers::pi;
+    if (k != 0 && candidate >= limit.lower && candidate <= limit.upper) {
+      turned[i] = candidate;
+      moved = true;
+    }
+  }
+  if (moved) {
+    const CalibratedIkResult other = iterate(turned);
+    if (other.ok()) return other;
+  }
   // Beyond a limit: another turn of a wide-range joint may be inside.
   const Seed inside = seed_of(comp.geometry, base_T_flange, config, near);
   if (inside.status != CalibratedIkStatus::Converged || inside.joints == seed.joints) return r;

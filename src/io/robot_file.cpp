@@ -103,11 +103,15 @@ EulerConvention parse_euler(const yaml::Node& node) {
 
 RobotModel parse_robot(const yaml::Node& root) {
   yaml::expect_keys(root, {"name", "manufacturer", "source", "euler", "mdh", "joint_limits_deg",
-                           "masses", "gravity_m_s2", "joint_map"});
+                           "masses", "gravity_m_s2", "joint_map", "reach_mm"});
   RobotModel model;
   model.name = root.at("name").as_string();
   if (root.has("manufacturer")) model.manufacturer = root.at("manufacturer").as_string();
   if (root.has("source")) model.source = root.at("source").as_string();
+  if (root.has("reach_mm")) {
+    model.reach_mm = root.at("reach_mm").as_double();
+    if (model.reach_mm < 0) throw root.at("reach_mm").error("reach must not be negative");
+  }
   if (root.has("euler")) model.euler = parse_euler(root.at("euler"));
 
   const yaml::Node mdh = root.at("mdh");
@@ -176,6 +180,7 @@ void emit_robot_fields(YAML::Emitter& out, const RobotModel& model) {
   if (!model.manufacturer.empty())
     out << YAML::Key << "manufacturer" << YAML::Value << model.manufacturer;
   if (!model.source.empty()) out << YAML::Key << "source" << YAML::Value << model.source;
+  if (model.reach_mm > 0) out << YAML::Key << "reach_mm" << YAML::Value << model.reach_mm;
   out << YAML::Key << "euler" << YAML::Value
       << (model.euler == EulerConvention::ZyxABC ? "ZYX" : "WPR");
   out << YAML::Key << "mdh" << YAML::Comment("alpha_deg, a_mm, theta_offset_deg, d_mm")

@@ -3,14 +3,12 @@
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
-#include <Eigen/LU>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
 
 #include "fast_atan2.hpp"
 #include "robcal/core/units.hpp"
-#include "robcal/kinematics/numeric_ik.hpp"
 
 namespace robcal {
 namespace {
@@ -27,26 +25,13 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kInvTwoPi = 0.5 / std::numbers::pi;
-constexpr double kAngleTolerance = 1e-9;   // rad, for "α = ±90°" in a table written in degrees
-constexpr double kLengthTolerance = 1e-9;  // mm, for "d = 0"
+constexpr double kAngleTolerance = kRightAngleTolerance;
+constexpr double kLengthTolerance = kZeroLengthTolerance;
 constexpr double kLimitTolerance = 1e-9;   // rad, as RobotModel::within_limits
 constexpr double kReachTolerance = 1e-10;  // |cos| beyond 1 still taken as a stretched elbow
 // Below this |sin θ5| θ6 is solved from the full residual rotation, which keeps the pose exact
 // when θ4 is ill-conditioned (near the wrist singularity).
 constexpr double kWristNearSingularSin = 1e-4;
-
-/// ±1 when `alpha` is ±90° (within tolerance), 0 otherwise.
-double right_angle_sign(double alpha) {
-  if (std::abs(alpha - kPi / 2) < kAngleTolerance) return 1.0;
-  if (std::abs(alpha + kPi / 2) < kAngleTolerance) return -1.0;
-  return 0.0;
-}
-
-bool is_integer_matrix(const Matrix6d& m) {
-  for (int i = 0; i < 36; ++i)
-    if (std::abs(m.data()[i] - std::round(m.data()[i])) > 1e-12) return false;
-  return true;
-}
 
 /// Rotation about x by ±90° applied to a vector: Rx(σ·90°)ᵀ·v = (v0, σ·v2, −σ·v1).
 inline Eigen::Vector3d rx90_transpose_times(double sigma, const Eigen::Vector3d& v) {
@@ -473,19 +458,9 @@ std::optional<OrthoParallelGeometry> analyze_ortho_parallel(const RobotModel& mo
   g.psi = std::atan2(-g.s_alpha4 * g.d4, g.a4);
   g.cos_psi = std::cos(g.psi);
   g.sin_psi = std::sin(g.psi);
-  for (int i = 0; i < kJointCount; ++i) g.theta_offset[i] = m[i].theta_offset;
-
-  const Matrix6d& M = model.joint_map.matrix;
-  if (!is_integer_matrix(M)) return fail("joint map matrix is not integer (signs and couplings)");
-  Eigen::FullPivLU<Matrix6d> lu(M);
-  if (!lu.isInvertible()) return fail("joint map matrix is singular");
-  const Matrix6d inverse = lu.inverse();
-  if (!is_integer_matrix(inverse)) return fail("joint map inverse is not integer");
-  g.map_matrix = M;
-  g.map_inverse = inverse.array().round().matrix();
-  g.map_offset = model.joint_map.offset;
-  g.map_identity = model.joint_map.is_identity();
-  g.limits = model.limits;
+  const auto joints = analyze_closed_form_joints(model, why_not);
+  if (!joints) return std::nullopt;
+  static_cast<ClosedFormJoints&>(g) = *joints;
   return g;
 }
 
@@ -528,41 +503,11 @@ ArmConfig arm_config(const RobotModel& model, const Vector6d& joints) {
   const Eigen::Vector3d x1 = frames[0].R.col(0), y1 = frames[0].R.col(1);
   const Eigen::Vector3d S = frames[1].p, E = frames[2].p, W = frames[3].p;
   ArmConfig c{};
-  c.back = (W - frames[0].p).dot(x1) < 0;
+  c.back = (frames[4].p - frames[0].p).dot(x1) < 0;
   const double side = (W - S).cross(E - S).dot(-y1);
   c.down = (c.back ? -side : side) <= 0;
   c.flip = std::sin(model.joint_map.to_model(joints)[4] + model.mdh[4].theta_offset) < 0;
   return c;
-}
-
-AnyIkResult solve_ik(const RobotModel& model, const Pose<double>& world_T_flange,
-                     const Vector6d& seed) {
-  AnyIkResult out;
-  std::string why_not;
-  if (const auto geometry = analyze_ortho_parallel(model, &why_not)) {
-    out.method = "closed form (ortho-parallel, spherical wrist)";
-    const IkResult r = nominal_ik(*geometry, world_T_flange, seed);
-    out.status = r.status;
-    out.solutions.assign(r.begin(), r.end());
-    return out;
-  }
-  out.method =
-      fmt::format("numeric (damped least squares from the seed); not ortho-parallel: {}", why_not);
-  const NumericIkResult r = numeric_ik(model, PointMass{}, model.nominal(), world_T_flange, seed);
-  if (r.status != NumericIkStatus::Converged) {
-    out.status = IkStatus::Unreachable;
-    out.method += fmt::format("; {} after {} iterations, {:.3g} mm and {:.3g}° from the pose",
-                              to_string(r.status), r.iterations, r.position_error_mm,
-                              rad2deg(r.orientation_error_rad));
-    return out;
-  }
-  if (!r.within_limits) {
-    out.status = IkStatus::OutsideLimits;
-    return out;
-  }
-  out.status = IkStatus::Solved;
-  out.solutions.push_back({r.joints, arm_config(model, r.joints), false, false});
-  return out;
 }
 
 }  // namespace robcal

@@ -23,7 +23,7 @@
 
 #include "robcal/compensate/calibrated_chain.hpp"
 #include "robcal/identify/calibrated_robot.hpp"
-#include "robcal/kinematics/inverse_kinematics.hpp"
+#include "robcal/kinematics/closed_form_ik.hpp"
 
 namespace robcal {
 
@@ -74,8 +74,11 @@ inline constexpr double kSeedLimitMarginRad = 0.175;  // 10°
 struct Compensator {
   RobotModel model;
   CalibratedChain chain;
-  OrthoParallelGeometry geometry;       ///< the nominal robot's closed form
-  OrthoParallelGeometry seed_geometry;  ///< the same, limits widened by kSeedLimitMarginRad
+  ClosedFormIk geometry;       ///< the nominal robot's closed form (closed_form_ik.hpp)
+  ClosedFormIk seed_geometry;  ///< the same, limits widened by kSeedLimitMarginRad
+  /// The wrist is spherical (axes 4–6 meet): Newton solves its steps through the wrist
+  /// partition; otherwise (UR family) by a pivoted LU of the whole Jacobian.
+  bool spherical_wrist = true;
   /// The controller's base frame in the world: where the nominal base sits when frame Φ1 is
   /// where the calibrated model puts it, world_T_base = world_A_1(q1=0) · base_A_1(q1=0)⁻¹.
   Pose<double> world_T_base;
@@ -87,7 +90,7 @@ struct Compensator {
 
 /// Builds the compensator of a calibrated robot; `payload` overrides the tool's (the
 /// compliance re-compensates for it). InputError when the robot has no closed-form nominal
-/// inverse (not ortho-parallel) or a parameter is not finite.
+/// inverse (neither ortho-parallel nor of the UR family) or a parameter is not finite.
 Compensator make_compensator(const CalibratedRobot& robot,
                              const std::optional<PointMass>& payload = std::nullopt);
 

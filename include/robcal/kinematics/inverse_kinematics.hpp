@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "robcal/kinematics/closed_form_joints.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/model/robot_model.hpp"
 
@@ -51,8 +52,9 @@ namespace robcal {
 inline constexpr double kWristSingularSin = 1e-8;
 /// Distance (mm) of the wrist centre from axis 1 below which θ1 comes from the seed.
 inline constexpr double kShoulderSingularMm = 1e-9;
-/// Capacity of an IkResult: 8 branches × the equivalent turns of wide-range joints.
-inline constexpr int kMaxIkSolutions = 96;
+/// Capacity of an IkResult: 8 branches × the equivalent turns of wide-range joints (2⁶ when
+/// every joint spans ±360°, as on the UR family).
+inline constexpr int kMaxIkSolutions = 512;
 
 /// The arm configuration of one solution (see the file comment for the definitions). Plain
 /// fields without initialisers keep IkResult's fixed array free to construct.
@@ -100,18 +102,12 @@ struct IkResult {
 
 /// Constants of an ortho-parallel robot precomputed from its MDH table and joint map, so a
 /// solve does no set-up work. Immutable once built; safe to share between threads.
-struct OrthoParallelGeometry {
+struct OrthoParallelGeometry : ClosedFormJoints {
   double d1 = 0, a2 = 0, a3 = 0, a4 = 0, d4 = 0, d6 = 0;
   double s_alpha2 = 1, s_alpha4 = 1, s_alpha5 = 1, s_alpha6 = 1;  ///< signs of the ±90° twists
   double rho = 0;                   ///< |(a4, s_α4·d4)|, forearm length to the wrist centre
   double cos_psi = 1, sin_psi = 0;  ///< direction ψ of the forearm vector in frame 3
   double psi = 0;
-  std::array<double, kJointCount> theta_offset{};  ///< MDH θ offsets, rad
-  Matrix6d map_inverse = Matrix6d::Identity();     ///< controller = map_inverse·(q − offset)
-  Vector6d map_offset = Vector6d::Zero();
-  Matrix6d map_matrix = Matrix6d::Identity();
-  bool map_identity = true;
-  std::array<JointLimit, kJointCount> limits{};
 };
 
 /// The geometry when the model is ortho-parallel with a spherical wrist, else std::nullopt
@@ -149,22 +145,16 @@ IkBranchResult nominal_ik_branch(const OrthoParallelGeometry& geometry,
 /// The solution nearest to `joints` (max-norm over joints), or nullptr when there is none.
 const IkSolution* nearest_solution(const IkResult& result, const Vector6d& joints);
 
-/// Controller joint values (rad) from MDH link angles θ1..θ6 (rad), without limit handling.
-inline Vector6d controller_from_link_angles(const OrthoParallelGeometry& geometry,
-                                            const std::array<double, kJointCount>& theta) {
-  Vector6d q;
-  for (int i = 0; i < kJointCount; ++i) q[i] = theta[i] - geometry.theta_offset[i];
-  if (geometry.map_identity) return q;
-  return geometry.map_inverse * (q - geometry.map_offset);
-}
-
 /// The configuration of controller joints from the link frames, by the definitions above with
-/// W, S, E the origins of frames 4, 2, 3 (meaningful for any six-revolute arm of this shape).
+/// S, E the origins of frames 2, 3 and W the origin of frame 4 for up/down, of frame 5 for
+/// front/back (the same point, the wrist centre, on a spherical wrist; on the UR family,
+/// parallel_axes_ik.hpp, the point of axis 4 in the arm plane and the meeting point of axes 5
+/// and 6). Meaningful for any six-revolute arm of these shapes.
 ArmConfig arm_config(const RobotModel& model, const Vector6d& joints);
 
-/// For tools (CLI, Python): every closed-form solution when the robot is ortho-parallel, else
-/// the damped-least-squares solution from `seed` (numeric_ik.hpp) labelled by arm_config.
-/// Allocates; the hot path is nominal_ik.
+/// For tools (CLI, Python): every closed-form solution when the robot has one (closed_form_ik.hpp,
+/// where it is defined), else the damped-least-squares solution from `seed` (numeric_ik.hpp)
+/// labelled by arm_config. Allocates; the hot path is nominal_ik.
 struct AnyIkResult {
   IkStatus status = IkStatus::Unreachable;
   std::vector<IkSolution> solutions;

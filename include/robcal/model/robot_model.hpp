@@ -60,7 +60,8 @@ enum class EulerConvention { ZyxABC, XyzWPR };
 struct RobotModel {
   std::string name;
   std::string manufacturer;
-  std::string source;  ///< where the numbers come from (data sheet, paper)
+  std::string source;   ///< where the numbers come from (data sheet, paper)
+  double reach_mm = 0;  ///< the data sheet's reach, 0 when not given
   EulerConvention euler = EulerConvention::ZyxABC;
 
   std::array<MdhRow, kJointCount> mdh{};  ///< links 1..6; link 1 must have alpha = a = 0

@@ -1,0 +1,217 @@
+// The robot library (data/robots): every file loads with a maker, a source and a reach; the
+// MDH tables written from ROS-Industrial URDFs and OPW files reproduce the URDF joint chains
+// (origins and axes transcribed here from the xacro files the robot files name); every robot's
+// nominal IK is dispatched (closed form where the geometry has one) and round-trips random
+// configurations of every branch.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <random>
+
+#include "robcal/core/units.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/kinematics/closed_form_ik.hpp"
+#include "robcal/kinematics/nominal_chain.hpp"
+#include "robcal/kinematics/orientation.hpp"
+#include "test_compensate_support.hpp"
+
+namespace robcal {
+namespace {
+
+/// One URDF revolute joint: origin xyz (m), axis; rpy is zero on all chains below.
+struct UrdfJoint {
+  Eigen::Vector3d xyz, axis;
+};
+
+/// A URDF chain from base_link to the flange frame robcal uses (ROS tool0 or KUKA's $FLANGE).
+struct UrdfChain {
+  const char* file;
+  std::array<UrdfJoint, 6> joints;
+  Eigen::Vector3d tool_xyz;
+  Eigen::Vector3d tool_rpy;
+  bool fanuc_j3;  ///< ROS joint 3 = controller J3 + J2
+};
+
+Eigen::Matrix3d rpy(const Eigen::Vector3d& a) {
+  return (Eigen::AngleAxisd(a.z(), Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(a.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(a.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Pose<double> urdf_fk(const UrdfChain& c, Vector6d q) {
+  if (c.fanuc_j3) q[2] += q[1];
+  Pose<double> T;
+  for (int i = 0; i < 6; ++i) {
+    T.p += T.R * (1000.0 * c.joints[i].xyz);
+    T.R = T.R * Eigen::AngleAxisd(q[i], c.joints[i].axis).toRotationMatrix();
+  }
+  T.p += T.R * (1000.0 * c.tool_xyz);
+  T.R = T.R * rpy(c.tool_rpy);
+  return T;
+}
+
+const Eigen::Vector3d X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1);
+const double kPi = std::numbers::pi;
+
+// Transcribed from the xacro files named in each robot file.
+const std::vector<UrdfChain>& chains() {
+  static const std::vector<UrdfChain> c = {
+      {"fanuc-lrmate200id",
+       {{{{0, 0, 0.330}, Z},
+         {{0.050, 0, 0}, Y},
+         {{0, 0, 0.330}, -Y},
+         {{0, 0, 0.035}, -X},
+         {{0.335, 0, 0}, -Y},
+         {{0.080, 0, 0}, -X}}},
+       {0, 0, 0},
+       {kPi, -kPi / 2, 0},
+       true},
+      {"fanuc-crx10ia-l",
+       {{{{0, 0, 0.245}, Z},
+         {{0, 0, 0}, Y},
+         {{0, 0, 0.710}, -Y},
+         {{0, 0, 0}, -X},
+         {{0.540, -0.150, 0}, -Y},
+         {{0.160, 0, 0}, -X}}},
+       {0, 0, 0},
+       {kPi, -kPi / 2, 0},
+       true},
+      {"fanuc-m20ia",
+       {{{{0, 0, 0.525}, Z},
+         {{0.150, 0, 0}, Y},
+         {{0, 0, 0.790}, -Y},
+         {{0, 0, 0.250}, -X},
+         {{0.835, 0, 0}, -Y},
+         {{0.100, 0, 0}, -X}}},
+       {0, 0, 0},
+       {kPi, -kPi / 2, 0},
+       true},
+      {"fanuc-r2000ic-165f",
+       {{{{0, 0, 0.670}, Z},
+         {{0.312, 0, 0}, Y},
+         {{0, 0, 1.075}, -Y},
+         {{0, 0, 0.225}, -X},
+         {{1.280, 0, 0}, -Y},
+         {{0.215, 0, 0}, -X}}},
+       {0, 0, 0},
+       {kPi, -kPi / 2, 0},
+       true},
+      {"yaskawa-gp7",
+       {{{{0, 0, 0.330}, Z},
+         {{0.040, 0, 0}, Y},
+         {{0, 0, 0.445}, -Y},
+         {{0.440, 0, 0.040}, -X},
+         {{0, 0, 0}, -Y},
+         {{0, 0, 0}, -X}}},
+       {0.080, 0, 0},
+       {kPi, -kPi / 2, 0},
+       false},
+      {"kuka-kr10-r1100-sixx",
+       {{{{0, 0, 0.400}, -Z},
+         {{0.025, 0, 0}, Y},
+         {{0.560, 0, 0}, Y},
+         {{0, 0, 0.035}, -X},
+         {{0.515, 0, 0}, Y},
+         {{0.080, 0, 0}, -X}}},
+       {0, 0, 0},
+       {0, kPi / 2, 0},
+       false},
+  };
+  return c;
+}
+
+using test::random_joints;
+
+TEST(RobotLibrary, EveryRobotHasMakerSourceAndReach) {
+  const auto names = builtin_robot_names();
+  EXPECT_GE(names.size(), 23u);
+  for (const std::string& name : names) {
+    const RobotModel model = load_robot(name);
+    EXPECT_FALSE(model.manufacturer.empty()) << name;
+    EXPECT_FALSE(model.source.empty()) << name;
+    EXPECT_GT(model.reach_mm, 0) << name;
+    // The reach stated is what the arm reaches: the flange's largest distance from axis 1 over
+    // random joints lies within 25 % of it (data sheets measure to the wrist centre or flange).
+    std::mt19937_64 rng(7);
+    const NominalChain chain = make_nominal_chain(model);
+    double largest = 0;
+    for (int n = 0; n < 20000; ++n) {
+      const Pose<double> T = nominal_flange_pose(chain, random_joints(model, rng));
+      largest = std::max(largest, std::hypot(T.p.x(), T.p.y()));
+    }
+    EXPECT_NEAR(largest / model.reach_mm, 1.0, 0.25) << name << ": " << largest << " mm";
+  }
+}
+
+TEST(RobotLibrary, MdhTablesReproduceTheUrdfChains) {
+  std::mt19937_64 rng(2511);
+  for (const UrdfChain& c : chains()) {
+    const RobotModel model = load_robot(c.file);
+    const NominalChain chain = make_nominal_chain(model);
+    double worst_mm = 0, worst_rad = 0;
+    for (int n = 0; n < 10000; ++n) {
+      const Vector6d q = random_joints(model, rng);
+      const Pose<double> ours = nominal_flange_pose(chain, q);
+      const Pose<double> urdf = urdf_fk(c, q);
+      worst_mm = std::max(worst_mm, (ours.p - urdf.p).norm());
+      worst_rad = std::max(worst_rad, rotation_distance(ours.R, urdf.R));
+    }
+    EXPECT_LT(worst_mm, 1e-9) << c.file;
+    EXPECT_LT(worst_rad, 1e-12) << c.file;
+  }
+}
+
+// Every robot with a closed form: random configurations labelled by the link frames, the
+// branch solver seeded with them returns them (|sin θ5| ≥ 1e-4; the pose otherwise); robots
+// without one name why and get the numeric solver.
+TEST(RobotLibrary, EveryRobotsIkRoundTripsEveryBranch) {
+  std::mt19937_64 rng(2512);
+  for (const std::string& name : builtin_robot_names()) {
+    const RobotModel model = load_robot(name);
+    std::string why;
+    const auto g = analyze_closed_form(model, &why);
+    if (!g) {
+      EXPECT_EQ(name, "fanuc-crx10ia-l") << why;
+      const Vector6d q = (Vector6d() << 0.3, 0.2, -0.4, 0.5, 0.6, 0.7).finished();
+      const AnyIkResult r = solve_ik(model, nominal_flange_pose(make_nominal_chain(model), q), q);
+      EXPECT_EQ(r.status, IkStatus::Solved) << name;
+      EXPECT_NE(r.method.find("numeric"), std::string::npos) << r.method;
+      continue;
+    }
+    const NominalChain chain = make_nominal_chain(model);
+    std::array<int, 8> count{};
+    int failures = 0, draws = 0;
+    while (*std::min_element(count.begin(), count.end()) < 2000 && draws < 400000) {
+      ++draws;
+      const Vector6d q = random_joints(model, rng);
+      const ArmConfig config = arm_config(model, q);
+      if (count[config.index()] >= 2000) continue;
+      ++count[config.index()];
+      const Pose<double> target = nominal_flange_pose(chain, q);
+      const IkBranchResult r = nominal_ik_branch(*g, target, config, q);
+      if (r.status != IkStatus::Solved) {
+        ++failures;
+        continue;
+      }
+      const double theta5 = model.joint_map.to_model(q)[4] + model.mdh[4].theta_offset;
+      if (std::abs(std::sin(theta5)) >= 1e-4) {
+        failures += (r.solution.joints - q).cwiseAbs().maxCoeff() > 1e-9;
+      } else {
+        const Pose<double> back = nominal_flange_pose(chain, r.solution.joints);
+        failures += (back.p - target.p).norm() > 1e-9;
+      }
+    }
+    std::string counts;
+    for (int c : count) counts += " " + std::to_string(c);
+    std::printf("[ %s, %s ] %d draws, per branch:%s, %d failures\n", name.c_str(),
+                closed_form_name(*g), draws, counts.c_str(), failures);
+    EXPECT_EQ(failures, 0) << name;
+    // A branch the joint limits exclude entirely gets no configurations (none is drawn).
+    for (int c : count) EXPECT_TRUE(c == 2000 || draws == 400000) << name;
+  }
+}
+
+}  // namespace
+}  // namespace robcal
