@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Dense>
@@ -10,6 +11,7 @@
 
 #include "robcal/core/error.hpp"
 #include "robcal/identify/initial_guess.hpp"
+#include "robcal/kinematics/forward_kinematics.hpp"
 
 namespace robcal {
 namespace {
@@ -190,6 +192,55 @@ MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& d
   return synthetic;
 }
 
+/// Requested compliances that no measured configuration loads (METHOD §3: δθ_j = c_j·τ_j) are
+/// taken out of `candidates` and dropped with their real reason: no masses in the robot file,
+/// or a gravity torque below kGravityTorqueFloorNmm in every row (centres of gravity on the
+/// axis, no payload). Their columns would otherwise be rounding noise that a fit turns into
+/// absurd values (−2e7 ± 3e7).
+void drop_unloaded_compliances(const RobotModel& model, const Tool& tool,
+                               const MeasurementSet& data, const Eigen::VectorXd& unknowns,
+                               std::vector<bool>& candidates, IdentificationSetup& setup) {
+  ParameterVector params = unknowns.head<kParameterCount>();
+  params.segment<kJointCount - 1>(kComplianceOffset).setZero();
+  std::array<double, kJointCount - 1> largest{};
+  for (size_t row = 0; row < data.size(); ++row) {
+    const auto q = model_joint_angles(model, row_joints(data, row).data());
+    const auto tau =
+        gravity_torques(model, tool.payload, params.data(), link_angles(model, tool.payload,
+                                                                        params.data(), q));
+    for (int j = 0; j < kJointCount - 1; ++j)
+      largest[static_cast<size_t>(j)] = std::max(largest[static_cast<size_t>(j)], std::abs(tau[static_cast<size_t>(j)]));
+  }
+  bool masses = tool.payload.mass_kg > 0;
+  for (const PointMass& m : model.link_masses) masses = masses || m.mass_kg > 0;
+  std::vector<std::string> names;
+  for (int joint = 2; joint <= kJointCount; ++joint) {
+    const int i = compliance_param(joint);
+    const double tau = largest[static_cast<size_t>(joint - 2)];
+    if (!candidates[static_cast<size_t>(i)] || tau >= kGravityTorqueFloorNmm) continue;
+    candidates[static_cast<size_t>(i)] = false;
+    Dependency dep{i, {}, 1.0, {}};
+    dep.reason =
+        masses ? fmt::format("the gravity torque about axis {} is below {:g} N·mm in every "
+                             "measured configuration (largest {:.2g} N·mm: the centres of "
+                             "gravity lie on the axis{}), so nothing deflects the joint",
+                             joint, kGravityTorqueFloorNmm, tau,
+                             tool.payload.mass_kg > 0 ? "" : " and the tool has no payload")
+               : "the robot file gives no masses ('masses:'), so the gravity torques that "
+                 "deflect the joint are unknown";
+    setup.dropped.push_back(dep);
+    names.push_back(setup.layout.names[static_cast<size_t>(i)]);
+    if (masses)
+      setup.warnings.push_back(fmt::format("{} not identified: {}", names.back(), dep.reason));
+  }
+  if (!masses && !names.empty())
+    setup.warnings.push_back(fmt::format(
+        "the robot file of {} gives no masses ('masses:' with each link's mass_kg and cog_mm) "
+        "and the tool no payload, so the joint compliances ({}) cannot be identified: add the "
+        "masses to the robot file, or calibrate at level kinematic",
+        model.name, fmt::join(names, ", ")));
+}
+
 /// Preferred order for the rank test: extras (target coordinates, ballbar centre) first, then
 /// the model parameters in layout order; of a dependent group the later one is dropped.
 std::vector<int> preference_order(const UnknownLayout& layout, const std::vector<bool>& requested) {
@@ -224,6 +275,49 @@ std::string describe_dependency(const UnknownLayout& layout, const RobotModel& m
   return text;
 }
 
+namespace {
+
+/// Near-dependent groups of the data's design `J` (columns `kept`, in preference order): warned
+/// by name before the fit and, when `resolve`, the latest member of each is held at its start
+/// value (dropped, with the group in its reason) so that the model stays physically sensible.
+void resolve_near_dependencies(const Eigen::MatrixXd& J, bool resolve,
+                               std::vector<int>& kept, IdentificationSetup& setup) {
+  std::vector<int> all(kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) all[i] = static_cast<int>(i);
+  std::vector<int> held;
+  for (Dependency dep : near_dependencies(J, all)) {
+    dep.column = kept[static_cast<size_t>(dep.column)];
+    std::vector<std::string> group = {setup.layout.names[static_cast<size_t>(dep.column)]};
+    for (auto& entry : dep.depends_on) {
+      entry.first = kept[static_cast<size_t>(entry.first)];
+      if (std::abs(entry.second) >= 0.1 && group.size() < 4)
+        group.push_back(setup.layout.names[static_cast<size_t>(entry.first)]);
+    }
+    std::reverse(group.begin(), group.end());
+    const std::string& name = setup.layout.names[static_cast<size_t>(dep.column)];
+    dep.reason = fmt::format(
+        "{}: only their combination is determined by these measurements (correlation {:.5f})",
+        fmt::join(group, ", "), dep.correlation);
+    setup.warnings.push_back(fmt::format(
+        "{}; {}. Add targets off the tool axis or more varied configurations, or choose which "
+        "to hold with --fix",
+        dep.reason,
+        resolve ? fmt::format("{} is held at its nominal value", name)
+                : "fitted anyway (--keep-near-dependent): expect arbitrary values with large σ"));
+    if (!resolve) continue;
+    dep.reason = fmt::format("held at nominal: {}", dep.reason);
+    held.push_back(dep.column);
+    setup.dropped.push_back(dep);
+  }
+  kept.erase(std::remove_if(kept.begin(), kept.end(),
+                            [&](int c) {
+                              return std::find(held.begin(), held.end(), c) != held.end();
+                            }),
+             kept.end());
+}
+
+}  // namespace
+
 IdentificationSetup prepare_identification(const RobotModel& model, const Tool& tool,
                                            const MeasurementSet& data,
                                            const IdentifyOptions& options) {
@@ -247,8 +341,11 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   Eigen::VectorXd u0 = setup.start;
   initial_guess(context, setup.fit_base, u0);
 
+  std::vector<bool> candidates = setup.requested;
+  drop_unloaded_compliances(model, tool, data, u0, candidates, setup);
+
   // The model's own dependencies, on a rich synthetic design.
-  const std::vector<int> order = preference_order(setup.layout, setup.requested);
+  const std::vector<int> order = preference_order(setup.layout, candidates);
   const MeasurementSet synthetic = synthetic_design(model, data);
   ResidualContext synthetic_context = context;
   synthetic_context.data = &synthetic;
@@ -305,6 +402,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
                                  "hold them with --fix",
                                  design.dropped.size(), list));
   }
+  resolve_near_dependencies(J, options.resolve_near_dependencies, kept, setup);
   std::sort(kept.begin(), kept.end());
   setup.free = kept;
   Eigen::MatrixXd Jf;
@@ -319,6 +417,7 @@ FitResult fit_unknowns(const IdentificationSetup& setup, const MeasurementSet& d
   FitResult out;
   out.unknowns = setup.start;
   initial_guess(context, setup.fit_base, out.unknowns);
+  out.start = out.unknowns;
   out.status =
       solve(context, setup.free, setup.scales, setup.options.max_iterations, 0.0, out.unknowns);
   if (setup.options.huber) {

@@ -17,6 +17,10 @@ namespace robcal {
 struct Dependency {
   int column = 0;
   std::vector<std::pair<int, double>> depends_on;  ///< (column, weight), |weight| ≥ 1e-3
+  /// Multiple correlation of the column with the kept ones (1 for an exact dependency).
+  double correlation = 1.0;
+  /// Why, when not a linear dependency (e.g. "gravity torque about axis 4 is below …").
+  std::string reason;
 };
 
 struct RankAnalysis {
@@ -34,5 +38,20 @@ inline constexpr double kRankTolerance = 1e-8;
 /// with an empty dependency (the measurements do not see them).
 RankAnalysis analyse_rank(const Eigen::MatrixXd& J, const std::vector<int>& order,
                           double tolerance = kRankTolerance);
+
+/// Multiple correlation past which a column counts as nearly dependent on the others: with
+/// unit columns K, [(KᵀK)⁻¹]_jj = 1/(1 − R_j²) is the factor by which the others inflate the
+/// variance of unknown j; R_j ≥ 0.999 inflates it ≥ 500 times (σ ≥ 22 times what the column
+/// alone gives), the regime where a fit returns a parameter degrees off with an equally large σ
+/// (one target on the tool axis: link5.theta with link6.a at R = 0.99999). Pairs of the
+/// published three-target designs stay below 0.99.
+inline constexpr double kNearDependenceCorrelation = 0.999;
+
+/// Near-dependent columns of a full-rank J, examined in `order` (indices into J's columns):
+/// while some remaining column's multiple correlation with the others (column-scaled design)
+/// reaches `threshold`, the latest such column in `order` is removed, with its least-squares
+/// combination of the remaining ones (weights as in analyse_rank) and its correlation.
+std::vector<Dependency> near_dependencies(const Eigen::MatrixXd& J, const std::vector<int>& order,
+                                          double threshold = kNearDependenceCorrelation);
 
 }  // namespace robcal
