@@ -35,14 +35,14 @@ double RankAnalysis::condition_number() const {
 }
 
 RankAnalysis analyse_rank(const Eigen::MatrixXd& J, const std::vector<int>& order,
-                          double tolerance) {
+                          double tolerance, double negligible_norm) {
   RankAnalysis out;
   const Eigen::Index m = J.rows();
   Eigen::MatrixXd Q(m, 0);  // orthonormal basis of the kept columns (Gram–Schmidt, twice)
   std::vector<int> pending;
   for (int c : order) {
     const double norm = J.col(c).norm();
-    if (norm == 0.0) {
+    if (norm <= negligible_norm) {
       out.dropped.push_back({c, {}, 1.0, {}});
       continue;
     }

@@ -277,37 +277,74 @@ std::string describe_dependency(const UnknownLayout& layout, const RobotModel& m
 
 namespace {
 
+/// Columns of J (unknowns `columns`) scaled by each unknown's plausible error: mm of effect.
+void scale_to_plausible_errors(const UnknownLayout& layout, const std::vector<int>& columns,
+                               Eigen::MatrixXd& J) {
+  for (size_t c = 0; c < columns.size(); ++c)
+    J.col(static_cast<Eigen::Index>(c)) *= layout.plausible_error(columns[c]);
+}
+
+/// A dropped unknown in words, for the user (warning) and the model file (reason). `columns`
+/// maps the dependency's column indices to unknowns; `held`: the fit holds it at its start.
+void explain_group(const std::vector<int>& columns, const RobotModel& model,
+                   const MeasurementSet& data, const Tool& tool, bool held, Dependency dep,
+                   IdentificationSetup& setup) {
+  dep.column = columns[static_cast<size_t>(dep.column)];
+  for (auto& entry : dep.depends_on) entry.first = columns[static_cast<size_t>(entry.first)];
+  const std::string& name = setup.layout.names[static_cast<size_t>(dep.column)];
+  // On-axis targets: joint 6 turns them in place (link6.theta unseen, link6 couples to link5).
+  bool on_axis = data.kind != MeasurementKind::Poses && !tool.targets.empty();
+  for (const Target& t : tool.targets) on_axis = on_axis && t.known && t.position_mm.head<2>().norm() < 1.0;
+  const std::string advice = fmt::format(
+      "{}add targets off the tool axis or more varied configurations, or choose what to hold "
+      "with --fix",
+      on_axis ? "every target lies on the tool axis (joint 6 turns it in place): " : "");
+  const std::string action =
+      held ? fmt::format("{} is held at its nominal value", name)
+           : "fitted anyway (--keep-near-dependent): expect arbitrary values with large σ";
+  if (dep.depends_on.empty()) {
+    if (dep.reason.empty()) {
+      setup.warnings.push_back(
+          fmt::format("{}: these measurements do not depend on it; {}; {}", name, action, advice));
+      setup.dropped.push_back(dep);
+    }
+    return;
+  }
+  const std::string exact = describe_dependency(setup.layout, model, dep);
+  const bool model_own = exact.find("are parallel") != std::string::npos;
+  std::vector<std::string> group;
+  for (const auto& [other, weight] : dep.depends_on)
+    if (std::abs(weight) >= 0.1 && group.size() < 3)
+      group.push_back(setup.layout.names[static_cast<size_t>(other)]);
+  group.push_back(name);
+  const std::string what =
+      dep.correlation < 1.0
+          ? fmt::format("only their combination is determined by these measurements "
+                        "(correlation {:.5f})",
+                        dep.correlation)
+          : "only their combination is determined by these measurements";
+  if (!model_own)
+    setup.warnings.push_back(
+        fmt::format("{}: {}; {}; {}", fmt::join(group, ", "), what, action, advice));
+  if (!held) return;
+  dep.reason = model_own || dep.correlation >= 1.0
+                   ? "not identifiable: " + exact
+                   : fmt::format("held at nominal: {} with {}", what, fmt::join(group, ", "));
+  setup.dropped.push_back(dep);
+}
+
 /// Near-dependent groups of the data's design `J` (columns `kept`, in preference order): warned
 /// by name before the fit and, when `resolve`, the latest member of each is held at its start
 /// value (dropped, with the group in its reason) so that the model stays physically sensible.
-void resolve_near_dependencies(const Eigen::MatrixXd& J, bool resolve,
+void resolve_near_dependencies(const Eigen::MatrixXd& J, const RobotModel& model,
+                               const MeasurementSet& data, const Tool& tool, bool resolve,
                                std::vector<int>& kept, IdentificationSetup& setup) {
   std::vector<int> all(kept.size());
   for (size_t i = 0; i < kept.size(); ++i) all[i] = static_cast<int>(i);
   std::vector<int> held;
-  for (Dependency dep : near_dependencies(J, all)) {
-    dep.column = kept[static_cast<size_t>(dep.column)];
-    std::vector<std::string> group = {setup.layout.names[static_cast<size_t>(dep.column)]};
-    for (auto& entry : dep.depends_on) {
-      entry.first = kept[static_cast<size_t>(entry.first)];
-      if (std::abs(entry.second) >= 0.1 && group.size() < 4)
-        group.push_back(setup.layout.names[static_cast<size_t>(entry.first)]);
-    }
-    std::reverse(group.begin(), group.end());
-    const std::string& name = setup.layout.names[static_cast<size_t>(dep.column)];
-    dep.reason = fmt::format(
-        "{}: only their combination is determined by these measurements (correlation {:.5f})",
-        fmt::join(group, ", "), dep.correlation);
-    setup.warnings.push_back(fmt::format(
-        "{}; {}. Add targets off the tool axis or more varied configurations, or choose which "
-        "to hold with --fix",
-        dep.reason,
-        resolve ? fmt::format("{} is held at its nominal value", name)
-                : "fitted anyway (--keep-near-dependent): expect arbitrary values with large σ"));
-    if (!resolve) continue;
-    dep.reason = fmt::format("held at nominal: {}", dep.reason);
-    held.push_back(dep.column);
-    setup.dropped.push_back(dep);
+  for (const Dependency& dep : near_dependencies(J, all)) {
+    explain_group(kept, model, data, tool, resolve, dep, setup);
+    if (resolve) held.push_back(kept[static_cast<size_t>(dep.column)]);
   }
   kept.erase(std::remove_if(kept.begin(), kept.end(),
                             [&](int c) {
@@ -351,16 +388,14 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   synthetic_context.data = &synthetic;
   Eigen::MatrixXd J;
   stacked_residuals(synthetic_context, u0, order, nullptr, &J);
+  scale_to_plausible_errors(setup.layout, order, J);
   std::vector<int> positions(order.size());
   for (size_t i = 0; i < order.size(); ++i) positions[i] = static_cast<int>(i);
-  const RankAnalysis structural = analyse_rank(J, positions);
+  const RankAnalysis structural = analyse_rank(J, positions, kRankTolerance, kNegligibleEffectMm);
   std::vector<int> kept;
   for (int p : structural.kept) kept.push_back(order[static_cast<size_t>(p)]);
-  for (Dependency dep : structural.dropped) {
-    dep.column = order[static_cast<size_t>(dep.column)];
-    for (auto& entry : dep.depends_on) entry.first = order[static_cast<size_t>(entry.first)];
-    setup.dropped.push_back(dep);
-  }
+  for (const Dependency& dep : structural.dropped)
+    explain_group(order, model, data, tool, true, dep, setup);
   if (kept.empty())
     throw InputError({data.file, 0, 0, "--level"},
                      "nothing to identify: every requested parameter is fixed or not seen by "
@@ -385,9 +420,10 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
 
   // The data's own design.
   stacked_residuals(context, u0, kept, nullptr, &J);
+  scale_to_plausible_errors(setup.layout, kept, J);
   std::vector<int> all(kept.size());
   for (size_t i = 0; i < kept.size(); ++i) all[i] = static_cast<int>(i);
-  const RankAnalysis design = analyse_rank(J, all);
+  const RankAnalysis design = analyse_rank(J, all, kRankTolerance, kNegligibleEffectMm);
   if (!design.dropped.empty()) {
     std::string list;
     for (Dependency dep : design.dropped) {
@@ -402,7 +438,8 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
                                  "hold them with --fix",
                                  design.dropped.size(), list));
   }
-  resolve_near_dependencies(J, options.resolve_near_dependencies, kept, setup);
+  resolve_near_dependencies(J, model, data, tool, options.resolve_near_dependencies, kept,
+                            setup);
   std::sort(kept.begin(), kept.end());
   setup.free = kept;
   Eigen::MatrixXd Jf;

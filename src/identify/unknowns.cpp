@@ -54,6 +54,21 @@ std::string UnknownLayout::unit(int index) const {
   return is_model(index) ? parameter_table()[index].unit : "mm";
 }
 
+double UnknownLayout::plausible_error(int index) const {
+  if (!is_model(index)) return 1.0;
+  switch (parameter_table()[static_cast<size_t>(index)].kind) {
+    case ParamKind::Length:
+      return 1.0;
+    case ParamKind::Angle:
+      return 1e-3;
+    case ParamKind::Compliance:
+      return 1e-7;
+    case ParamKind::Scale:
+      return 1e-4;
+  }
+  return 1.0;
+}
+
 int UnknownLayout::index(const std::string& name) const {
   for (int i = 0; i < size(); ++i)
     if (names[i] == name) return i;

@@ -34,10 +34,16 @@ struct RankAnalysis {
 /// dependent. Exact dependencies give ~1e-15; identifiable but weakly observed ones ≥ 1e-6.
 inline constexpr double kRankTolerance = 1e-8;
 
-/// Examines the columns of J in `order` (indices into J's columns); zero columns are dropped
-/// with an empty dependency (the measurements do not see them).
+/// Examines the columns of J in `order` (indices into J's columns); zero columns, and columns
+/// whose norm is at most `negligible_norm`, are dropped with an empty dependency (the
+/// measurements do not see them).
 RankAnalysis analyse_rank(const Eigen::MatrixXd& J, const std::vector<int>& order,
-                          double tolerance = kRankTolerance);
+                          double tolerance = kRankTolerance, double negligible_norm = 0.0);
+
+/// Effect (mm, summed in quadrature over every residual) below which an unknown's plausible
+/// error (UnknownLayout::plausible_error) counts as not seen: 1 nm is rounding, not a signal
+/// (a target on joint 6's axis gives link6.theta a column of ~1e-13 mm/rad, not zero).
+inline constexpr double kNegligibleEffectMm = 1e-6;
 
 /// Multiple correlation past which a column counts as nearly dependent on the others: with
 /// unit columns K, [(KᵀK)⁻¹]_jj = 1/(1 − R_j²) is the factor by which the others inflate the

@@ -44,6 +44,10 @@ struct UnknownLayout {
   /// Internal → external unit factor (deg for angles, else 1) and the external unit's name.
   [[nodiscard]] double to_external(int index) const;
   [[nodiscard]] std::string unit(int index) const;
+  /// A plausible error of an unknown (internal units), the physical scale of its column when
+  /// deciding what the measurements see: 1 mm, 1 mrad, 1e-7 rad/N·mm (the published
+  /// compliances are 0.3–6e-7), 1e-4 of a joint scale, 1 mm for extras.
+  [[nodiscard]] double plausible_error(int index) const;
   /// Index of a name, or -1.
   [[nodiscard]] int index(const std::string& name) const;
 };
