@@ -71,7 +71,7 @@ RankAnalysis analyse_rank(const Eigen::MatrixXd& J, const std::vector<int>& orde
 namespace robcal {
 
 std::vector<Dependency> near_dependencies(const Eigen::MatrixXd& J, const std::vector<int>& order,
-                                          double threshold) {
+                                          double noise_mm, double threshold) {
   std::vector<Dependency> out;
   std::vector<int> remaining = order;
   const double inflation_limit = 1.0 / (1.0 - threshold * threshold);
@@ -81,8 +81,11 @@ std::vector<Dependency> near_dependencies(const Eigen::MatrixXd& J, const std::v
     const Eigen::VectorXd inflation =
         N.ldlt().solve(Eigen::MatrixXd::Identity(N.rows(), N.cols())).diagonal();
     Eigen::Index worst = -1;
-    for (Eigen::Index k = 0; k < inflation.size(); ++k)
-      if (inflation[k] >= inflation_limit) worst = k;  // the latest in `order`
+    for (Eigen::Index k = 0; k < inflation.size(); ++k) {
+      const double sigma =
+          noise_mm * std::sqrt(inflation[k]) / J.col(remaining[static_cast<size_t>(k)]).norm();
+      if (inflation[k] >= inflation_limit && sigma > 1.0) worst = k;  // the latest in `order`
+    }
     if (worst < 0) break;
     const int c = remaining[static_cast<size_t>(worst)];
     remaining.erase(remaining.begin() + worst);

@@ -303,11 +303,9 @@ void explain_group(const std::vector<int>& columns, const RobotModel& model,
       held ? fmt::format("{} is held at its nominal value", name)
            : "fitted anyway (--keep-near-dependent): expect arbitrary values with large σ";
   if (dep.depends_on.empty()) {
-    if (dep.reason.empty()) {
-      setup.warnings.push_back(
-          fmt::format("{}: these measurements do not depend on it; {}; {}", name, action, advice));
-      setup.dropped.push_back(dep);
-    }
+    setup.warnings.push_back(
+        fmt::format("{}: these measurements do not depend on it; {}; {}", name, action, advice));
+    setup.dropped.push_back(dep);
     return;
   }
   const std::string exact = describe_dependency(setup.layout, model, dep);
@@ -320,7 +318,7 @@ void explain_group(const std::vector<int>& columns, const RobotModel& model,
   const std::string what =
       dep.correlation < 1.0
           ? fmt::format("only their combination is determined by these measurements "
-                        "(correlation {:.5f})",
+                        "(correlation {:.6f})",
                         dep.correlation)
           : "only their combination is determined by these measurements";
   if (!model_own)
@@ -329,7 +327,7 @@ void explain_group(const std::vector<int>& columns, const RobotModel& model,
   if (!held) return;
   dep.reason = model_own || dep.correlation >= 1.0
                    ? "not identifiable: " + exact
-                   : fmt::format("held at nominal: {} with {}", what, fmt::join(group, ", "));
+                   : fmt::format("held at nominal: {}: {}", fmt::join(group, ", "), what);
   setup.dropped.push_back(dep);
 }
 
@@ -342,7 +340,9 @@ void resolve_near_dependencies(const Eigen::MatrixXd& J, const RobotModel& model
   std::vector<int> all(kept.size());
   for (size_t i = 0; i < kept.size(); ++i) all[i] = static_cast<int>(i);
   std::vector<int> held;
-  for (const Dependency& dep : near_dependencies(J, all)) {
+  const double noise = setup.options.instrument_sigma_mm > 0 ? setup.options.instrument_sigma_mm
+                                                              : kReferenceNoiseMm;
+  for (const Dependency& dep : near_dependencies(J, all, noise)) {
     explain_group(kept, model, data, tool, resolve, dep, setup);
     if (resolve) held.push_back(kept[static_cast<size_t>(dep.column)]);
   }

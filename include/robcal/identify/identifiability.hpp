@@ -45,6 +45,10 @@ RankAnalysis analyse_rank(const Eigen::MatrixXd& J, const std::vector<int>& orde
 /// (a target on joint 6's axis gives link6.theta a column of ~1e-13 mm/rad, not zero).
 inline constexpr double kNegligibleEffectMm = 1e-6;
 
+/// Measurement noise (mm per residual) assumed when deciding near-dependence before a fit and no
+/// instrument σ is stated: a laser tracker's 0.02–0.05 mm, taken at its upper end.
+inline constexpr double kReferenceNoiseMm = 0.05;
+
 /// Multiple correlation past which a column counts as nearly dependent on the others: with
 /// unit columns K, [(KᵀK)⁻¹]_jj = 1/(1 − R_j²) is the factor by which the others inflate the
 /// variance of unknown j; R_j ≥ 0.999 inflates it ≥ 500 times (σ ≥ 22 times what the column
@@ -53,11 +57,15 @@ inline constexpr double kNegligibleEffectMm = 1e-6;
 /// published three-target designs stay below 0.99.
 inline constexpr double kNearDependenceCorrelation = 0.999;
 
-/// Near-dependent columns of a full-rank J, examined in `order` (indices into J's columns):
-/// while some remaining column's multiple correlation with the others (column-scaled design)
-/// reaches `threshold`, the latest such column in `order` is removed, with its least-squares
-/// combination of the remaining ones (weights as in analyse_rank) and its correlation.
+/// Near-dependent columns of a full-rank J whose columns are the effects (mm) of each unknown's
+/// plausible error, examined in `order` (indices into J's columns): while some remaining column
+/// has a multiple correlation with the others of at least `threshold` and is determined worse
+/// than its plausible error (σ = noise_mm·√VIF/‖column‖ > 1: a fit could move it beyond any
+/// real arm's error), the latest such column in `order` is removed, with its least-squares
+/// combination of the remaining ones (weights as in analyse_rank) and its correlation. A
+/// well-determined parameter stays however correlated: holding it would bias the model.
 std::vector<Dependency> near_dependencies(const Eigen::MatrixXd& J, const std::vector<int>& order,
+                                          double noise_mm,
                                           double threshold = kNearDependenceCorrelation);
 
 }  // namespace robcal
