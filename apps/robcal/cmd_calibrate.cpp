@@ -17,7 +17,7 @@ namespace robcal::cli {
 namespace {
 
 struct CalibrateArgs {
-  std::string robot, tool, measurements, level = "full", loss = "none", out;
+  std::string robot, tool, measurements, level = "full", loss = "none", out, units, euler;
   std::vector<std::string> identify, fix;
   double huber_scale = 0;
   double orientation_weight = kDefaultOrientationWeightMm;
@@ -200,7 +200,10 @@ void run_calibrate(const CalibrateArgs& args) {
   check_orientation_weight(args.orientation_weight);
   const RobotModel model = load_robot(args.robot);
   const Tool tool = load_tool(args.tool);
-  const MeasurementFile file = read_measurements_csv(args.measurements, tool);
+  MeasurementFormat format;
+  if (!args.units.empty()) parse_units(args.units, {"", 0, 0, "--units"}, format);
+  if (!args.euler.empty()) format.euler = parse_euler_order(args.euler, {"", 0, 0, "--euler"});
+  const MeasurementFile file = read_measurements_csv(args.measurements, tool, {}, format);
   for (const std::string& w : file.warnings) std::cerr << "warning: " << w << "\n";
   if (args.loss != "none" && args.loss != "huber")
     throw InputError({"", 0, 0, "--loss"},
@@ -258,6 +261,12 @@ const bool registered = register_command(30, [](CLI::App& app) {
   cmd->add_option("--measurements", args->measurements,
                   "Measurement CSV (points, poses or distances)")
       ->required();
+  cmd->add_option("--units", args->units,
+                  "Units of the measurement file when it does not declare them ('# units: m, "
+                  "rad'): a length unit mm or m and/or an angle unit deg or rad");
+  cmd->add_option("--euler", args->euler,
+                  "Rotation order of rx,ry,rz columns when the file does not declare it "
+                  "('# euler: intrinsic ZYX'): intrinsic or extrinsic and an order of X, Y, Z");
   cmd->add_option("--level", args->level, "base, joints, kinematic or full (default full)");
   cmd->add_option("--identify", args->identify,
                   "Also identify the parameters matching this glob (repeatable), e.g. "

@@ -10,6 +10,7 @@
 #include <map>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
 #include "robcal/identify/initial_guess.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 
@@ -152,6 +153,34 @@ int target_of(const MeasurementSet& data, size_t row) {
   return data.kind == MeasurementKind::Points      ? data.points[row].target
          : data.kind == MeasurementKind::Distances ? data.distances[row].target
                                                    : -1;
+}
+
+/// Rows whose joints lie outside the robot's limits: warned with their lines (a typo, a
+/// different controller convention or the wrong robot file), at most 10 listed.
+void warn_joint_limits(const RobotModel& model, const MeasurementSet& data,
+                       std::vector<std::string>& warnings) {
+  std::vector<std::string> rows;
+  for (size_t row = 0; row < data.size(); ++row) {
+    const Vector6d& q = row_joints(data, row);
+    for (int j = 0; j < kJointCount; ++j) {
+      const JointLimit& l = model.limits[static_cast<size_t>(j)];
+      if (q[j] >= l.lower - 1e-9 && q[j] <= l.upper + 1e-9) continue;
+      const int line = data.kind == MeasurementKind::Points  ? data.points[row].line
+                       : data.kind == MeasurementKind::Poses ? data.poses[row].line
+                                                             : data.distances[row].line;
+      rows.push_back(fmt::format("{}:{}: j{} = {:.3f}° outside [{:g}, {:g}]°", data.file, line,
+                                 j + 1, rad2deg(q[j]), rad2deg(l.lower), rad2deg(l.upper)));
+      break;
+    }
+  }
+  if (rows.empty()) return;
+  std::string text = fmt::format(
+      "{} row{} with joints outside the limits of {} (wrong robot file, or another joint "
+      "convention?):",
+      rows.size(), rows.size() > 1 ? "s" : "", model.name);
+  for (size_t i = 0; i < rows.size() && i < 10; ++i) text += "\n  " + rows[i];
+  if (rows.size() > 10) text += fmt::format("\n  and {} more", rows.size() - 10);
+  warnings.push_back(text);
 }
 
 void check_data(const Tool& tool, const MeasurementSet& data) {
@@ -378,6 +407,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   Eigen::VectorXd u0 = setup.start;
   initial_guess(context, setup.fit_base, u0);
 
+  warn_joint_limits(model, data, setup.warnings);
   std::vector<bool> candidates = setup.requested;
   drop_unloaded_compliances(model, tool, data, u0, candidates, setup);
 
