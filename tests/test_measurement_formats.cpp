@@ -83,19 +83,19 @@ TEST(MeasurementFormats, MakersEulerColumnsGiveTheSameRotationAsTheQuaternion) {
   // ABB/KUKA A, B, C = 30, -20, 110 (deg): R = Rz(30)·Ry(−20)·Rx(110).
   const Eigen::Matrix3d R = axis_rotation(2, 30) * axis_rotation(1, -20) * axis_rotation(0, 110);
   const Eigen::Quaterniond q(R);
-  const std::string quat = fmt::format("config,j1,j2,j3,j4,j5,j6,x,y,z,qw,qx,qy,qz\np1,{},1,2,3,"
-                                       "{:.12f},{:.12f},{:.12f},{:.12f}\n",
-                                       kJoints, q.w(), q.x(), q.y(), q.z());
+  const std::string quat = fmt::format(
+      "config,j1,j2,j3,j4,j5,j6,x,y,z,qw,qx,qy,qz\np1,{},1,2,3,"
+      "{:.12f},{:.12f},{:.12f},{:.12f}\n",
+      kJoints, q.w(), q.x(), q.y(), q.z());
   const std::string abc =
       std::string("config,j1,j2,j3,j4,j5,j6,x,y,z,a,b,c\np1,") + kJoints + ",1,2,3,30,-20,110\n";
   const std::string wpr =
       std::string("config,j1,j2,j3,j4,j5,j6,x,y,z,w,p,r\np1,") + kJoints + ",1,2,3,110,-20,30\n";
-  const std::string rxyz = std::string("config,j1,j2,j3,j4,j5,j6,x,y,z,rz,ry,rx\np1,") + kJoints +
-                           ",1,2,3,30,-20,110\n";
+  const std::string rxyz =
+      std::string("config,j1,j2,j3,j4,j5,j6,x,y,z,rz,ry,rx\np1,") + kJoints + ",1,2,3,30,-20,110\n";
   MeasurementFormat extrinsic_xyz;
   extrinsic_xyz.euler = parse_euler_order("extrinsic XYZ", {});
-  for (const auto& [text, format] :
-       std::vector<std::pair<std::string, MeasurementFormat>>{
+  for (const auto& [text, format] : std::vector<std::pair<std::string, MeasurementFormat>>{
            {quat, {}}, {abc, {}}, {wpr, {}}, {rxyz, extrinsic_xyz}}) {
     const MeasurementFile file = parse(text, format);
     ASSERT_EQ(file.measurements.poses.size(), 1u);
@@ -121,15 +121,16 @@ TEST(MeasurementFormats, DeclaredUnitsByHeaderOrOption) {
     EXPECT_LT((m.world_T_tcp.R - R).norm(), 1e-12);
   }
   // Distances in metres.
-  const MeasurementFile d = parse(
-      "# units: m\nconfig,target,j1,j2,j3,j4,j5,j6,length\nc1,A,0,10,20,30,40,50,0.15\n");
+  const MeasurementFile d =
+      parse("# units: m\nconfig,target,j1,j2,j3,j4,j5,j6,length\nc1,A,0,10,20,30,40,50,0.15\n");
   EXPECT_DOUBLE_EQ(d.measurements.distances[0].length_mm, 150.0);
   EXPECT_DOUBLE_EQ(d.measurements.distances[0].joints[1], deg2rad(10.0));
 }
 
 TEST(MeasurementFormats, ByteOrderMarkIsSkipped) {
-  const MeasurementFile file =
-      parse("\xEF\xBB\xBF" "config,target,j1,j2,j3,j4,j5,j6,x,y,z\nc1,A,0,0,0,0,0,0,1,2,3\n");
+  const MeasurementFile file = parse(
+      "\xEF\xBB\xBF"
+      "config,target,j1,j2,j3,j4,j5,j6,x,y,z\nc1,A,0,0,0,0,0,0,1,2,3\n");
   ASSERT_EQ(file.measurements.points.size(), 1u);
   EXPECT_TRUE(file.warnings.empty());
 }
@@ -210,8 +211,8 @@ TEST(MeasurementFormats, BadDeclarationsAndOrientationColumnsNameThePlace) {
     EXPECT_EQ(std::string(e.what()).substr(0, 25), "--units: unknown unit 'fe");
   }
   // An angle column in a points file (it has `target`) is ignored with the usual warning.
-  const MeasurementFile points = parse(
-      "config,target,j1,j2,j3,j4,j5,j6,x,y,z,a\nc1,A,0,0,0,0,0,0,1,2,3,9\n");
+  const MeasurementFile points =
+      parse("config,target,j1,j2,j3,j4,j5,j6,x,y,z,a\nc1,A,0,0,0,0,0,0,1,2,3,9\n");
   ASSERT_EQ(points.warnings.size(), 1u);
   EXPECT_EQ(points.warnings[0], "m.csv:1:12: column 'a' is not used by a points file; ignored");
 }

@@ -49,10 +49,11 @@ nlohmann::json to_json(const CalibrationRun& run, const CalibrateArgs& args, siz
   if (kind == MeasurementKind::Poses)
     out["orientation_weight_mm_per_rad"] = args.orientation_weight;
   out["warnings"] = r.warnings;
-  out["residual_per_row_mm"] = {{"mean", tidy(r.mean_mm)}, {"rms", tidy(r.rms_mm)},
-                                {"max", tidy(r.max_mm)}};
-  out["start_residual_per_row_mm"] = {
-      {"mean", tidy(r.start_mean_mm)}, {"rms", tidy(r.start_rms_mm)}, {"max", tidy(r.start_max_mm)}};
+  out["residual_per_row_mm"] = {
+      {"mean", tidy(r.mean_mm)}, {"rms", tidy(r.rms_mm)}, {"max", tidy(r.max_mm)}};
+  out["start_residual_per_row_mm"] = {{"mean", tidy(r.start_mean_mm)},
+                                      {"rms", tidy(r.start_rms_mm)},
+                                      {"max", tidy(r.start_max_mm)}};
   out["rms_mm"] = tidy(r.rms_mm);
   out["max_mm"] = tidy(r.max_mm);
   if (r.noise_test.tested)
@@ -180,7 +181,8 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
         "cross-validated error{}\n",
         cv ? "" : " (--kfold; too few configurations to run it by default)");
   fmt::print(
-      "predicted position error (from the covariance) over {} configurations in the measured joint ranges "
+      "predicted position error (from the covariance) over {} configurations in the measured joint "
+      "ranges "
       "(seed {}):\n  against the true robot:    mean {:.4f}  rms {:.4f}  max {:.4f} mm\n"
       "  against new measurements:  mean {:.4f}  rms {:.4f} mm (adds σ = {:.4f} mm per "
       "axis of instrument noise)\n",
@@ -190,8 +192,8 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
     fmt::print(
         "cross-validation ({} folds, seed {}{}), held-out error over {} rows: mean {:.4f}  "
         "std {:.4f}  mean+3std {:.4f}  max {:.4f} mm\n",
-        cv->folds, cv->seed, run.cross_validation_for_misfit ? ", run because of the misfit" : "", cv->errors_mm.size(), cv->mean_mm, cv->std_mm, cv->mean_plus_3std_mm(),
-        cv->max_mm);
+        cv->folds, cv->seed, run.cross_validation_for_misfit ? ", run because of the misfit" : "",
+        cv->errors_mm.size(), cv->mean_mm, cv->std_mm, cv->mean_plus_3std_mm(), cv->max_mm);
   for (const std::string& problem : run.problems) fmt::print("PROBLEM: {}\n", problem);
   if (run.problems.empty() || args.force) fmt::print("written {}\n", args.out);
 }

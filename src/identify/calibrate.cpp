@@ -173,6 +173,10 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
     robot.tool.targets[t].position_mm = fit.unknowns.segment<3>(slot);
     robot.tool.targets[t].known = true;
   }
+  if (data.kind == MeasurementKind::Poses) {
+    robot.tool.flange_T_tcp = tcp_frame(context, fit.unknowns);
+    robot.tool.tcp_position_known = robot.tool.tcp_orientation_known = true;
+  }
   bool base = true;
   for (int i = 0; i < kBaseParamCount; ++i)
     base = base && robot.status[static_cast<size_t>(i)] == ParameterStatus::Identified;
@@ -208,7 +212,7 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
   }
   for (const Target& t : robot.tool.targets) targets.push_back(t.position_mm);
   if (data.kind == MeasurementKind::Poses || targets.empty())
-    targets = {Eigen::Vector3d(tool.flange_T_tcp.translation())};
+    targets = {Eigen::Vector3d(robot.tool.flange_T_tcp.translation())};
   std::mt19937_64 rng(options.seed);
   const std::vector<Vector6d> validation =
       sample_configurations(lower, upper, options.prediction_configurations, rng);
@@ -256,9 +260,9 @@ std::string statistics_yaml(const IdentificationResult& result) {
   y << YAML::Key << "max_mm" << YAML::Value << result.max_mm;
   if (result.noise_test.tested)
     y << YAML::Key << "noise_test" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-      << "instrument_sigma_mm" << YAML::Value << result.noise_test.instrument_sigma_mm
-      << YAML::Key << "chi_square" << YAML::Value << result.noise_test.chi_square << YAML::Key
-      << "dof" << YAML::Value << result.noise_test.dof << YAML::Key << "p_value" << YAML::Value
+      << "instrument_sigma_mm" << YAML::Value << result.noise_test.instrument_sigma_mm << YAML::Key
+      << "chi_square" << YAML::Value << result.noise_test.chi_square << YAML::Key << "dof"
+      << YAML::Value << result.noise_test.dof << YAML::Key << "p_value" << YAML::Value
       << result.noise_test.p_value << YAML::EndMap;
   if (!result.warnings.empty()) {
     y << YAML::Key << "warnings" << YAML::Value << YAML::BeginSeq;

@@ -15,15 +15,15 @@ std::vector<std::string> implausible_parameters(const IdentificationResult& resu
     const ParamKind kind = parameter_table()[static_cast<size_t>(i)].kind;
     const double change = u.value - u.nominal;
     if (kind == ParamKind::Length && std::abs(change) > 20)
-      out.push_back(fmt::format("{} moved {:+.3f} mm from nominal (more than 20 mm)", u.name,
-                                change));
+      out.push_back(
+          fmt::format("{} moved {:+.3f} mm from nominal (more than 20 mm)", u.name, change));
     if (kind == ParamKind::Angle && std::abs(change) > 5)
       out.push_back(fmt::format("{} moved {:+.3f}° from nominal (more than 5°)", u.name, change));
     if (kind == ParamKind::Scale && std::abs(u.value - 1) > 0.01)
       out.push_back(fmt::format("{} is {:.5f} (more than 1 % from 1)", u.name, u.value));
     if (kind == ParamKind::Compliance && u.value + 3 * u.std_dev < 0)
-      out.push_back(fmt::format("{} is {:.3g} ± {:.2g} {}: a negative compliance", u.name,
-                                u.value, u.std_dev, u.unit));
+      out.push_back(fmt::format("{} is {:.3g} ± {:.2g} {}: a negative compliance", u.name, u.value,
+                                u.std_dev, u.unit));
   }
   return out;
 }

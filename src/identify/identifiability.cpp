@@ -34,8 +34,8 @@ double RankAnalysis::condition_number() const {
   return singular_values.maxCoeff() / singular_values.minCoeff();
 }
 
-RankAnalysis analyse_rank(const Eigen::MatrixXd& J, const std::vector<int>& order,
-                          double tolerance, double negligible_norm) {
+RankAnalysis analyse_rank(const Eigen::MatrixXd& J, const std::vector<int>& order, double tolerance,
+                          double negligible_norm) {
   RankAnalysis out;
   const Eigen::Index m = J.rows();
   Eigen::MatrixXd Q(m, 0);  // orthonormal basis of the kept columns (Gram–Schmidt, twice)
@@ -84,7 +84,9 @@ std::vector<Dependency> near_dependencies(const Eigen::MatrixXd& J, const std::v
     for (Eigen::Index k = 0; k < inflation.size(); ++k) {
       const double sigma =
           noise_mm * std::sqrt(inflation[k]) / J.col(remaining[static_cast<size_t>(k)]).norm();
-      if (inflation[k] >= inflation_limit && sigma > 1.0) worst = k;  // the latest in `order`
+      // The latest in `order` of the near-dependent ones, or of those the data barely see.
+      if ((inflation[k] >= inflation_limit && sigma > 1.0) || sigma > kUndeterminedFactor)
+        worst = k;
     }
     if (worst < 0) break;
     const int c = remaining[static_cast<size_t>(worst)];

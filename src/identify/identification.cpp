@@ -234,11 +234,11 @@ void drop_unloaded_compliances(const RobotModel& model, const Tool& tool,
   std::array<double, kJointCount - 1> largest{};
   for (size_t row = 0; row < data.size(); ++row) {
     const auto q = model_joint_angles(model, row_joints(data, row).data());
-    const auto tau =
-        gravity_torques(model, tool.payload, params.data(), link_angles(model, tool.payload,
-                                                                        params.data(), q));
+    const auto tau = gravity_torques(model, tool.payload, params.data(),
+                                     link_angles(model, tool.payload, params.data(), q));
     for (int j = 0; j < kJointCount - 1; ++j)
-      largest[static_cast<size_t>(j)] = std::max(largest[static_cast<size_t>(j)], std::abs(tau[static_cast<size_t>(j)]));
+      largest[static_cast<size_t>(j)] =
+          std::max(largest[static_cast<size_t>(j)], std::abs(tau[static_cast<size_t>(j)]));
   }
   bool masses = tool.payload.mass_kg > 0;
   for (const PointMass& m : model.link_masses) masses = masses || m.mass_kg > 0;
@@ -249,14 +249,14 @@ void drop_unloaded_compliances(const RobotModel& model, const Tool& tool,
     if (!candidates[static_cast<size_t>(i)] || tau >= kGravityTorqueFloorNmm) continue;
     candidates[static_cast<size_t>(i)] = false;
     Dependency dep{i, {}, 1.0, {}};
-    dep.reason =
-        masses ? fmt::format("the gravity torque about axis {} is below {:g} N·mm in every "
-                             "measured configuration (largest {:.2g} N·mm: the centres of "
-                             "gravity lie on the axis{}), so nothing deflects the joint",
-                             joint, kGravityTorqueFloorNmm, tau,
-                             tool.payload.mass_kg > 0 ? "" : " and the tool has no payload")
-               : "the robot file gives no masses ('masses:'), so the gravity torques that "
-                 "deflect the joint are unknown";
+    dep.reason = masses ? fmt::format(
+                              "the gravity torque about axis {} is below {:g} N·mm in every "
+                              "measured configuration (largest {:.2g} N·mm: the centres of "
+                              "gravity lie on the axis{}), so nothing deflects the joint",
+                              joint, kGravityTorqueFloorNmm, tau,
+                              tool.payload.mass_kg > 0 ? "" : " and the tool has no payload")
+                        : "the robot file gives no masses ('masses:'), so the gravity torques that "
+                          "deflect the joint are unknown";
     setup.dropped.push_back(dep);
     names.push_back(setup.layout.names[static_cast<size_t>(i)]);
     if (masses)
@@ -323,7 +323,8 @@ void explain_group(const std::vector<int>& columns, const RobotModel& model,
   const std::string& name = setup.layout.names[static_cast<size_t>(dep.column)];
   // On-axis targets: joint 6 turns them in place (link6.theta unseen, link6 couples to link5).
   bool on_axis = data.kind != MeasurementKind::Poses && !tool.targets.empty();
-  for (const Target& t : tool.targets) on_axis = on_axis && t.known && t.position_mm.head<2>().norm() < 1.0;
+  for (const Target& t : tool.targets)
+    on_axis = on_axis && t.known && t.position_mm.head<2>().norm() < 1.0;
   const std::string advice = fmt::format(
       "{}add targets off the tool axis or more varied configurations, or choose what to hold "
       "with --fix",
@@ -331,7 +332,21 @@ void explain_group(const std::vector<int>& columns, const RobotModel& model,
   const std::string action =
       held ? fmt::format("{} is held at its nominal value", name)
            : "fitted anyway (--keep-near-dependent): expect arbitrary values with large σ";
-  if (dep.depends_on.empty()) {
+  if (dep.depends_on.empty() || dep.correlation < kNearDependenceCorrelation) {
+    if (!dep.depends_on.empty()) {  // barely seen, not a combination
+      dep.reason = fmt::format(
+          "held at nominal: these measurements barely see it (σ beyond {:g} "
+          "plausible errors)",
+          kUndeterminedFactor);
+      setup.warnings.push_back(fmt::format(
+          "{}: these measurements barely see it (σ beyond {:g} plausible errors: {:g} {}); {}; {}",
+          name, kUndeterminedFactor,
+          kUndeterminedFactor * setup.layout.plausible_error(dep.column) *
+              setup.layout.to_external(dep.column),
+          setup.layout.unit(dep.column), action, advice));
+      if (held) setup.dropped.push_back(dep);
+      return;
+    }
     setup.warnings.push_back(
         fmt::format("{}: these measurements do not depend on it; {}; {}", name, action, advice));
     setup.dropped.push_back(dep);
@@ -344,12 +359,12 @@ void explain_group(const std::vector<int>& columns, const RobotModel& model,
     if (std::abs(weight) >= 0.1 && group.size() < 3)
       group.push_back(setup.layout.names[static_cast<size_t>(other)]);
   group.push_back(name);
-  const std::string what =
-      dep.correlation < 1.0
-          ? fmt::format("only their combination is determined by these measurements "
-                        "(correlation {:.6f})",
-                        dep.correlation)
-          : "only their combination is determined by these measurements";
+  const std::string what = dep.correlation < 1.0
+                               ? fmt::format(
+                                     "only their combination is determined by these measurements "
+                                     "(correlation {:.6f})",
+                                     dep.correlation)
+                               : "only their combination is determined by these measurements";
   if (!model_own)
     setup.warnings.push_back(
         fmt::format("{}: {}; {}; {}", fmt::join(group, ", "), what, action, advice));
@@ -369,17 +384,16 @@ void resolve_near_dependencies(const Eigen::MatrixXd& J, const RobotModel& model
   std::vector<int> all(kept.size());
   for (size_t i = 0; i < kept.size(); ++i) all[i] = static_cast<int>(i);
   std::vector<int> held;
-  const double noise = setup.options.instrument_sigma_mm > 0 ? setup.options.instrument_sigma_mm
-                                                              : kReferenceNoiseMm;
+  const double noise =
+      setup.options.instrument_sigma_mm > 0 ? setup.options.instrument_sigma_mm : kReferenceNoiseMm;
   for (const Dependency& dep : near_dependencies(J, all, noise)) {
     explain_group(kept, model, data, tool, resolve, dep, setup);
     if (resolve) held.push_back(kept[static_cast<size_t>(dep.column)]);
   }
-  kept.erase(std::remove_if(kept.begin(), kept.end(),
-                            [&](int c) {
-                              return std::find(held.begin(), held.end(), c) != held.end();
-                            }),
-             kept.end());
+  kept.erase(
+      std::remove_if(kept.begin(), kept.end(),
+                     [&](int c) { return std::find(held.begin(), held.end(), c) != held.end(); }),
+      kept.end());
 }
 
 }  // namespace
@@ -408,6 +422,12 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   initial_guess(context, setup.fit_base, u0);
 
   warn_joint_limits(model, data, setup.warnings);
+  if (data.kind == MeasurementKind::Poses && !tool.tcp_given)
+    setup.warnings.push_back(
+        "POSES WITHOUT A TCP: the tool file has no 'tcp', so the measured poses are taken as "
+        "the flange's own frame; if the instrument measures a tool frame, give its pose in the "
+        "flange ('tcp: {position_mm: [x, y, z], quaternion_wxyz: [w, x, y, z]}') or 'tcp: ~' "
+        "to identify it (6 parameters)");
   std::vector<bool> candidates = setup.requested;
   drop_unloaded_compliances(model, tool, data, u0, candidates, setup);
 
@@ -468,8 +488,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
                                  "hold them with --fix",
                                  design.dropped.size(), list));
   }
-  resolve_near_dependencies(J, model, data, tool, options.resolve_near_dependencies, kept,
-                            setup);
+  resolve_near_dependencies(J, model, data, tool, options.resolve_near_dependencies, kept, setup);
   std::sort(kept.begin(), kept.end());
   setup.free = kept;
   Eigen::MatrixXd Jf;

@@ -22,9 +22,9 @@ namespace {
 constexpr std::array<const char*, kJointCount> kJointColumns = {"j1", "j2", "j3", "j4", "j5", "j6"};
 
 /// Columns of each kind, in the order the writer prints them (poses with `orientation`).
-std::vector<std::string> columns_of(
-    MeasurementKind kind,
-    const std::vector<std::string>& orientation = {"qw", "qx", "qy", "qz"}) {
+std::vector<std::string> columns_of(MeasurementKind kind,
+                                    const std::vector<std::string>& orientation = {"qw", "qx", "qy",
+                                                                                   "qz"}) {
   std::vector<std::string> columns = {"config"};
   if (kind != MeasurementKind::Poses) columns.emplace_back("target");
   for (const char* j : kJointColumns) columns.emplace_back(j);
@@ -56,9 +56,8 @@ struct Row {
 /// Reads the fields of the rows by column name, with errors that name the place.
 class RowReader {
  public:
-  RowReader(const std::string& file, const std::map<std::string, int>& columns,
-            double mm_per_unit, double rad_per_unit, const char* length_unit,
-            const char* angle_unit)
+  RowReader(const std::string& file, const std::map<std::string, int>& columns, double mm_per_unit,
+            double rad_per_unit, const char* length_unit, const char* angle_unit)
       : file_(file),
         columns_(columns),
         mm_per_unit_(mm_per_unit),
@@ -143,9 +142,10 @@ struct OrientationColumns {
 /// Column names that look like an orientation: a file with them but no accepted set is refused
 /// rather than read as a points file with the orientation silently ignored.
 bool looks_like_orientation(const std::string& name) {
-  static const std::array<const char*, 26> names = {"qw", "qx", "qy", "qz",
-      "a",    "b",     "c",   "w",    "p",    "r",    "rx",   "ry",    "rz",    "roll",  "pitch",
-      "yaw",  "rotx",  "roty", "rotz", "q1",   "q2",   "q3",   "q4",    "alpha", "beta",  "gamma"};
+  static const std::array<const char*, 26> names = {
+      "qw",   "qx", "qy", "qz", "a",    "b",     "c",    "w",    "p",
+      "r",    "rx", "ry", "rz", "roll", "pitch", "yaw",  "rotx", "roty",
+      "rotz", "q1", "q2", "q3", "q4",   "alpha", "beta", "gamma"};
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
@@ -349,8 +349,9 @@ void parse_units(std::string_view text, const SourceLocation& where, Measurement
     }
   }
   if (!any)
-    throw InputError(where, "no unit given: expected a length unit (mm or m) and/or an angle "
-                            "unit (deg or rad), e.g. 'm, rad'");
+    throw InputError(where,
+                     "no unit given: expected a length unit (mm or m) and/or an angle "
+                     "unit (deg or rad), e.g. 'm, rad'");
 }
 
 EulerOrder parse_euler_order(std::string_view text, const SourceLocation& where) {
@@ -471,9 +472,8 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
 
   const bool metres = format.length == LengthUnit::Metre;
   const bool radians = format.angle == AngleUnit::Radian;
-  const RowReader reader(source_name, columns, metres ? 1000.0 : 1.0,
-                         radians ? 1.0 : deg2rad(1.0), metres ? " (m)" : " (mm)",
-                         radians ? " (rad)" : " (degrees)");
+  const RowReader reader(source_name, columns, metres ? 1000.0 : 1.0, radians ? 1.0 : deg2rad(1.0),
+                         metres ? " (m)" : " (mm)", radians ? " (rad)" : " (degrees)");
   std::unordered_map<std::string, int> seen;  // "config\ntarget" -> line
   for (const Row& row : rows) {
     if (row.fields.size() != header.size())
@@ -511,10 +511,10 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
         m.joints = reader.joints_rad(row);
         if (orientation && !orientation->quaternion) {
           const std::vector<std::string>& n = orientation->names;
-          m.world_T_tcp.R = rotation_from_axis_angles(
-              {reader.angle_rad(row, n[0]), reader.angle_rad(row, n[1]),
-               reader.angle_rad(row, n[2])},
-              orientation->order);
+          m.world_T_tcp.R =
+              rotation_from_axis_angles({reader.angle_rad(row, n[0]), reader.angle_rad(row, n[1]),
+                                         reader.angle_rad(row, n[2])},
+                                        orientation->order);
           m.world_T_tcp.p = reader.xyz(row);
           m.line = row.line;
           set.poses.push_back(std::move(m));

@@ -57,7 +57,10 @@ SimulationFiles write_simulation(const std::filesystem::path& dir, const std::st
                         dir / "truth" / "truth.yaml"};
   // Everything is rendered before the first file is written, so a failure leaves no file.
   const std::string measurements = write_measurements_csv(result.measurements, tool, comment);
-  const std::string tool_text = tool_to_yaml(tool);
+  // A 6D instrument measures the TCP frame: the tool file says which, even when it is the flange.
+  Tool written = tool;
+  written.tcp_given = tool.tcp_given || result.measurements.kind == MeasurementKind::Poses;
+  const std::string tool_text = tool_to_yaml(written);
   const std::string instrument_text = instrument_to_yaml(instrument);
   const std::string truth_text = truth_to_yaml(truth, robot_name);
   write_file_atomically(files.measurements, measurements);

@@ -104,4 +104,27 @@ expect_error "negative orientation weight" "--orientation-weight" calibrate --ro
   --tool "$TMP/cmm/tool.yaml" --measurements "$TMP/cmm/measurements.csv" --orientation-weight -1 \
   --out "$TMP/bad.yaml"
 
+# 4. Shop files: metres without a declaration are refused; declared (header or --units) they
+# calibrate; another robot's model is not written unless --force (exit 1, what to check).
+awk -F, 'NR==1 {print; next} {printf "%s,%s,%s,%s,%s,%s,%s,%s,%.9f,%.9f,%.9f\n", $1,$2,$3,$4,$5,$6,$7,$8,$9/1000,$10/1000,$11/1000}' \
+  $REF/calibration.csv >"$TMP/metres.csv"
+expect_error "metres read as mm" "they look like metres, not millimetres" calibrate \
+  --robot abb-irb120 --tool $REF/tool.yaml --measurements "$TMP/metres.csv" --out "$TMP/bad.yaml"
+expect_error "bad --units" "--units: unknown unit 'inch'" calibrate --robot abb-irb120 \
+  --tool $REF/tool.yaml --measurements "$TMP/metres.csv" --units inch --out "$TMP/bad.yaml"
+"$ROBCAL" calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements "$TMP/metres.csv" \
+  --units m --sigma 0.02 --out "$TMP/metres.yaml" >"$TMP/metres.txt" || fail "--units m failed"
+grep -q "calibrated:               mean 0.0320  rms 0.0338  max 0.0564 mm" "$TMP/metres.txt" ||
+  fail "metres file gives other residuals: $(grep -A2 'residual per row' "$TMP/metres.txt")"
+grep -q "the residuals are the instrument's noise" "$TMP/metres.txt" || fail "noise test missing"
+"$ROBCAL" calibrate --robot kuka-kr6-r900-sixx --tool $REF/tool.yaml \
+  --measurements $REF/calibration.csv --out "$TMP/kuka.yaml" >"$TMP/kuka.txt" 2>"$TMP/kuka.err"
+[[ $? -eq 1 ]] || fail "another robot's model: exit code not 1"
+[[ ! -e "$TMP/kuka.yaml" ]] || fail "another robot's model was written"
+grep -q "not written: the fit is not trustworthy" "$TMP/kuka.err" || fail "no refusal message"
+grep -q "PROBLEM: .*check the robot (--robot" "$TMP/kuka.txt" || fail "no advice what to check"
+"$ROBCAL" calibrate --robot kuka-kr6-r900-sixx --tool $REF/tool.yaml \
+  --measurements $REF/calibration.csv --force --out "$TMP/kuka.yaml" >/dev/null 2>&1
+[[ -s "$TMP/kuka.yaml" ]] || fail "--force did not write the model"
+
 finish calibrate_cli

@@ -42,6 +42,13 @@ struct CalibratedRobot {
 std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
                                      const std::string& statistics_yaml = "");
 
+/// A tool file given beside a calibrated model (`validate --tool`) is used or refused, never
+/// silently ignored: every target it gives coordinates for must be the model's (within 1 µm),
+/// and its payload the model's; InputError naming `tool_path` otherwise. Targets written `~`
+/// take the model's identified coordinates.
+void check_tool_against_model(const CalibratedRobot& robot, const Tool& tool,
+                              const std::string& tool_path);
+
 /// Loads a calibrated model file (errors name the file, line and key).
 CalibratedRobot load_calibrated_robot(const std::string& path);
 

@@ -45,6 +45,10 @@ RankAnalysis analyse_rank(const Eigen::MatrixXd& J, const std::vector<int>& orde
 /// (a target on joint 6's axis gives link6.theta a column of ~1e-13 mm/rad, not zero).
 inline constexpr double kNegligibleEffectMm = 1e-6;
 
+/// σ, in plausible errors, past which the data do not determine an unknown at all: 10 mm or
+/// 10 mrad (0.6°) is beyond any real arm's error, so a fitted value would be noise.
+inline constexpr double kUndeterminedFactor = 10.0;
+
 /// Measurement noise (mm per residual) assumed when deciding near-dependence before a fit and no
 /// instrument σ is stated: a laser tracker's 0.02–0.05 mm, taken at its upper end.
 inline constexpr double kReferenceNoiseMm = 0.05;
@@ -62,8 +66,10 @@ inline constexpr double kNearDependenceCorrelation = 0.999;
 /// has a multiple correlation with the others of at least `threshold` and is determined worse
 /// than its plausible error (σ = noise_mm·√VIF/‖column‖ > 1: a fit could move it beyond any
 /// real arm's error), the latest such column in `order` is removed, with its least-squares
-/// combination of the remaining ones (weights as in analyse_rank) and its correlation. A
-/// well-determined parameter stays however correlated: holding it would bias the model.
+/// combination of the remaining ones (weights as in analyse_rank) and its correlation; so is a
+/// column determined worse than kUndeterminedFactor plausible errors whatever its correlation
+/// (a target 0.02 mm off joint 6's axis barely sees link6.theta). A well-determined parameter
+/// stays however correlated: holding it would bias the model.
 std::vector<Dependency> near_dependencies(const Eigen::MatrixXd& J, const std::vector<int>& order,
                                           double noise_mm,
                                           double threshold = kNearDependenceCorrelation);

@@ -74,15 +74,15 @@ struct IdentificationSetup {
   MeasurementKind kind = MeasurementKind::Points;
   UnknownLayout layout;
   IdentifyOptions options;
-  std::vector<bool> requested;      ///< unknowns the level and patterns free
-  std::vector<int> free;            ///< unknowns fitted (requested minus dropped), layout order
+  std::vector<bool> requested;  ///< unknowns the level and patterns free
+  std::vector<int> free;        ///< unknowns fitted (requested minus dropped), layout order
   /// Unknowns not fitted and why: compliances without gravity torque (reason set), the model's
   /// own dependencies found on the synthetic design, near-dependent ones of the data's design.
   std::vector<Dependency> dropped;
   std::vector<std::string> warnings;  ///< found before fitting, for the user
-  Eigen::VectorXd start;            ///< start values (nominal; extras zero) before the rigid fit
-  Eigen::VectorXd scales;           ///< column scale of each free unknown (1/‖column‖)
-  bool fit_base = false;            ///< all six base parameters free: start with the rigid fit
+  Eigen::VectorXd start;              ///< start values (nominal; extras zero) before the rigid fit
+  Eigen::VectorXd scales;             ///< column scale of each free unknown (1/‖column‖)
+  bool fit_base = false;              ///< all six base parameters free: start with the rigid fit
 };
 
 /// Checks and prepares an identification for measurements like `data` (its rows: joints,

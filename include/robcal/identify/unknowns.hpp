@@ -32,12 +32,16 @@ std::vector<int> level_parameters(CalibrationLevel level);
 
 /// The unknown vector of one calibration: kParameterCount model parameters, then the extras.
 /// Names: the parameters' dotted names, `target.<name>.x|y|z`, `ballbar.centre.x|y|z`,
-/// `ballbar.length_offset` (all extras in mm).
+/// `ballbar.length_offset`, `tcp.x|y|z` (extras in mm), `tcp.rx|ry|rz` (deg outside).
 struct UnknownLayout {
   std::vector<std::string> names;
   std::vector<int> target_slot;  ///< per tool target: index of its x coordinate, or -1 if known
   int centre = -1;               ///< index of ballbar.centre.x (distances only), or -1
   int length_offset = -1;        ///< index of ballbar.length_offset (distances only), or -1
+  /// Poses with a TCP part to identify: index of tcp.x (mm), of tcp.rx (rad: the rotation
+  /// vector φ of flange_T_tcp = start·exp([φ]×)), or -1.
+  int tcp_position = -1;
+  int tcp_rotation = -1;
 
   [[nodiscard]] int size() const { return static_cast<int>(names.size()); }
   [[nodiscard]] bool is_model(int index) const { return index < kParameterCount; }
