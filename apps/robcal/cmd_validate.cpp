@@ -124,6 +124,14 @@ void run_validate(const ValidateOptions& options) {
     // The model's tool holds the identified target coordinates; an older file may have none.
     if (robot.tool.targets.empty()) robot.tool = tool;
     check_tool_against_model(robot, tool, options.tool);
+    for (const Target& t : tool.targets) {
+      const Target& m = robot.tool.targets[static_cast<size_t>(robot.tool.target_index(t.name))];
+      if (t.known && (m.position_mm - t.position_mm).norm() > 1e-3)
+        std::cerr << fmt::format(
+            "note: target '{}': the model's calibrated coordinates are used, "
+            "{:.4f} mm from the tool file's\n",
+            t.name, (m.position_mm - t.position_mm).norm());
+    }
   }
   MeasurementFile file = read_measurements_csv(
       options.measurements, robot.tool,

@@ -95,16 +95,17 @@ void check_tool_against_model(const CalibratedRobot& robot, const Tool& tool,
   for (const Target& t : tool.targets) {
     const int i = robot.tool.target_index(t.name);
     if (i < 0)
-      throw InputError({tool_path, 0, 0, "targets." + t.name},
-                       fmt::format("target '{}' is not a target of the model's tool; {}", t.name,
-                                   advice));
+      throw InputError(
+          {tool_path, 0, 0, "targets." + t.name},
+          fmt::format("target '{}' is not a target of the model's tool; {}", t.name, advice));
     const Eigen::Vector3d& m = robot.tool.targets[static_cast<size_t>(i)].position_mm;
-    if (t.known && (m - t.position_mm).norm() > 1e-3)
+    // Calibration refines nominal coordinates by tenths of mm; 5 mm apart is another tool.
+    if (t.known && (m - t.position_mm).norm() > 5.0)
       throw InputError({tool_path, 0, 0, "targets." + t.name},
                        fmt::format("target '{}' is at ({:g}, {:g}, {:g}) mm here, at ({:.4f}, "
                                    "{:.4f}, {:.4f}) mm in the model; {}",
-                                   t.name, t.position_mm.x(), t.position_mm.y(),
-                                   t.position_mm.z(), m.x(), m.y(), m.z(), advice));
+                                   t.name, t.position_mm.x(), t.position_mm.y(), t.position_mm.z(),
+                                   m.x(), m.y(), m.z(), advice));
   }
   if (std::abs(tool.payload.mass_kg - robot.tool.payload.mass_kg) > 1e-9 ||
       (tool.payload.cog_mm - robot.tool.payload.cog_mm).norm() > 1e-6)

@@ -127,4 +127,18 @@ grep -q "PROBLEM: .*check the robot (--robot" "$TMP/kuka.txt" || fail "no advice
   --measurements $REF/calibration.csv --force --out "$TMP/kuka.yaml" >/dev/null 2>&1
 [[ -s "$TMP/kuka.yaml" ]] || fail "--force did not write the model"
 
+# 5. validate with a calibrated model: --fit-base re-registers a moved instrument (+1 m in x);
+# a tool file that contradicts the model's tool is refused, not silently ignored.
+awk -F, 'NR==1 {print; next} {printf "%s,%s,%s,%s,%s,%s,%s,%s,%.6f,%s,%s\n", $1,$2,$3,$4,$5,$6,$7,$8,$9+1000,$10,$11}' \
+  $REF/validation.csv >"$TMP/moved.csv"
+"$ROBCAL" validate --robot abb-irb120 --tool $REF/tool.yaml --model "$TMP/metres.yaml" \
+  --measurements "$TMP/moved.csv" --fit-base --json >"$TMP/moved.json" || fail "validate --fit-base"
+/usr/bin/python3 -c "
+import json, sys
+d = json.load(open('$TMP/moved.json'))
+assert d['position_error_mm']['mean'] < 0.1, d['position_error_mm']" || fail "base not re-registered"
+sed 's/"1": \[0.0, 0.0, 125.0\]/"1": [0.0, 0.0, 200.0]/' $REF/tool.yaml >"$TMP/other_tool.yaml"
+expect_error "another tool" "target '1' is at (0, 0, 200) mm here" validate --robot abb-irb120 \
+  --tool "$TMP/other_tool.yaml" --model "$TMP/metres.yaml" --measurements $REF/validation.csv
+
 finish calibrate_cli
