@@ -17,7 +17,7 @@ namespace robcal::cli {
 namespace {
 
 struct CalibrateArgs {
-  std::string robot, tool, measurements, level = "full", loss = "none", out, units, euler;
+  std::string robot, tool, measurements, level = "full", loss = "none", out, units, euler, folds;
   std::vector<std::string> identify, fix;
   double huber_scale = 0;
   double orientation_weight = kDefaultOrientationWeightMm;
@@ -31,6 +31,16 @@ const char* status_text(ParameterStatus s) {
   return s == ParameterStatus::Identified ? "identified"
          : s == ParameterStatus::Dropped  ? "dropped"
                                           : "fixed";
+}
+
+nlohmann::json per_fold_json(const CrossValidation& cv) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const FoldErrors& f : cv.per_fold)
+    out.push_back({{"rows", f.rows},
+                   {"mean", tidy(f.mean_mm)},
+                   {"std", tidy(f.std_mm)},
+                   {"max", tidy(f.max_mm)}});
+  return out;
 }
 
 nlohmann::json to_json(const CalibrationRun& run, const CalibrateArgs& args, size_t rows,
@@ -101,6 +111,8 @@ nlohmann::json to_json(const CalibrationRun& run, const CalibrateArgs& args, siz
   if (cv)
     out["cross_validation"] = {{"folds", cv->folds},
                                {"run_because_of_misfit", run.cross_validation_for_misfit},
+                               {"user_folds", cv->user_folds},
+                               {"per_fold", per_fold_json(*cv)},
                                {"seed", cv->seed},
                                {"rows", cv->errors_mm.size()},
                                {"error_mm",
@@ -190,10 +202,16 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
       p.rms_vs_measurements_mm, p.measurement_sigma_mm);
   if (cv)
     fmt::print(
-        "cross-validation ({} folds, seed {}{}), held-out error over {} rows: mean {:.4f}  "
+        "cross-validation ({} folds, {}{}), held-out error over {} rows: mean {:.4f}  "
         "std {:.4f}  mean+3std {:.4f}  max {:.4f} mm\n",
-        cv->folds, cv->seed, run.cross_validation_for_misfit ? ", run because of the misfit" : "",
-        cv->errors_mm.size(), cv->mean_mm, cv->std_mm, cv->mean_plus_3std_mm(), cv->max_mm);
+        cv->folds, cv->user_folds ? "from the folds file" : fmt::format("seed {}", cv->seed),
+        run.cross_validation_for_misfit ? ", run because of the misfit" : "", cv->errors_mm.size(),
+        cv->mean_mm, cv->std_mm, cv->mean_plus_3std_mm(), cv->max_mm);
+  if (cv)
+    for (size_t f = 0; f < cv->per_fold.size(); ++f)
+      fmt::print("  fold {:<3} {:>4} rows  mean {:.4f}  std {:.4f}  max {:.4f} mm\n", f + 1,
+                 cv->per_fold[f].rows, cv->per_fold[f].mean_mm, cv->per_fold[f].std_mm,
+                 cv->per_fold[f].max_mm);
   for (const std::string& problem : run.problems) fmt::print("PROBLEM: {}\n", problem);
   if (run.problems.empty() || args.force) fmt::print("written {}\n", args.out);
 }
@@ -220,7 +238,8 @@ void run_calibrate(const CalibrateArgs& args) {
   options.seed = args.seed;
   options.instrument_sigma_mm = args.sigma;
   options.resolve_near_dependencies = !args.keep_near_dependent;
-  CalibrationRequest request{options, args.kfold};
+  CalibrationRequest request{options, args.kfold, {}};
+  if (!args.folds.empty()) request.folds = read_folds_csv(args.folds);
   const bool progress = !args.json && stdout_is_terminal();
   if (progress) fmt::print("calibrating ({} rows)…\n", file.measurements.size());
   const CalibrationRun run = run_calibration(model, tool, file.measurements, request);
@@ -291,6 +310,9 @@ const bool registered = register_command(30, [](CLI::App& app) {
   cmd->add_flag("--force", args->force,
                 "Write the model even when the fit did not converge or looks implausible");
   cmd->add_option("--kfold", args->kfold, "Estimate accuracy by K-fold cross-validation");
+  cmd->add_option("--folds", args->folds,
+                  "Cross-validate with these folds instead of seeded ones: CSV config,fold "
+                  "(fold 1..K)");
   cmd->add_option("--seed", args->seed,
                   "Seed of the cross-validation folds and predicted-accuracy samples (default 1)");
   cmd->add_flag("--json", args->json, "Machine-readable summary on stdout");

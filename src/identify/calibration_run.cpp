@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "robcal/core/error.hpp"
+
 #include <cmath>
 #include <set>
 
@@ -38,7 +40,14 @@ CalibrationRun run_calibration(const RobotModel& model, const Tool& tool,
     configs.insert(data.kind == MeasurementKind::Points  ? data.points[row].config
                    : data.kind == MeasurementKind::Poses ? data.poses[row].config
                                                          : data.distances[row].config);
-  int folds = request.kfold;
+  if (!request.folds.empty()) {
+    run.cross_validation = cross_validate(model, tool, data, request.options, request.folds);
+    if (request.kfold != 0 && request.kfold != run.cross_validation->folds)
+      throw InputError({"", 0, 0, "--kfold"},
+                       fmt::format("--kfold {} but the folds file has {} folds", request.kfold,
+                                   run.cross_validation->folds));
+  }
+  int folds = request.folds.empty() ? request.kfold : 0;
   if (folds == 0 && !r.noise_test.consistent &&
       static_cast<int>(configs.size()) >= 2 * kMisfitFolds) {
     folds = kMisfitFolds;

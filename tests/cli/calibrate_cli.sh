@@ -141,4 +141,28 @@ sed 's/"1": \[0.0, 0.0, 125.0\]/"1": [0.0, 0.0, 200.0]/' $REF/tool.yaml >"$TMP/o
 expect_error "another tool" "target '1' is at (0, 0, 200) mm here" validate --robot abb-irb120 \
   --tool "$TMP/other_tool.yaml" --model "$TMP/metres.yaml" --measurements $REF/validation.csv
 
+# 6. Cross-validation with the user's folds (config → fold): per-fold and pooled statistics.
+{ echo "config,fold"; awk -F, 'NR>1 {print $1 "," ($1 % 4) + 1}' $REF/calibration.csv; } >"$TMP/folds.csv"
+"$ROBCAL" calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --folds "$TMP/folds.csv" --json --out "$TMP/folds.yaml" >"$TMP/folds.json" || fail "--folds failed"
+/usr/bin/python3 - "$TMP/folds.json" <<'PY' || FAILED=1
+import json, sys
+cv = json.load(open(sys.argv[1]))["cross_validation"]
+folds = cv["per_fold"]
+assert cv["folds"] == 4 and cv["user_folds"] and len(folds) == 4, cv
+assert [f["rows"] for f in folds] == [15, 15, 15, 15], folds
+pooled = sum(f["rows"] * f["mean"] for f in folds) / 60
+assert abs(pooled - cv["error_mm"]["mean"]) < 1e-6, (pooled, cv["error_mm"])
+assert max(f["max"] for f in folds) == cv["error_mm"]["max"], cv
+assert 0.02 < cv["error_mm"]["mean"] < 0.06, cv
+PY
+{ echo "config,fold"; echo "1,1"; echo "2,x"; } >"$TMP/badfolds.csv"
+expect_error "bad fold" "badfolds.csv:3:3 (fold): '2,x': expected config,fold with fold an integer" \
+  calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --folds "$TMP/badfolds.csv" --out "$TMP/bad.yaml"
+{ echo "config,fold"; echo "1,1"; echo "2,2"; } >"$TMP/fewfolds.csv"
+expect_error "config without fold" "configuration '3' of $REF/calibration.csv has no fold" \
+  calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --folds "$TMP/fewfolds.csv" --out "$TMP/bad.yaml"
+
 finish calibrate_cli

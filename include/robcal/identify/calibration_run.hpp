@@ -18,6 +18,9 @@ namespace robcal {
 struct CalibrationRequest {
   IdentifyOptions options;
   int kfold = 0;  ///< K-fold cross-validation (0: only when the noise test fails)
+  /// The user's folds (config → fold 1..K, read_folds_csv); when given, used instead of seeded
+  /// ones, and `kfold`, if set, must equal their K.
+  std::map<std::string, int> folds;
 };
 
 /// Folds used when the noise test fails and no --kfold was given.
