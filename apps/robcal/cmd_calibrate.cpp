@@ -8,8 +8,7 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/identify/cross_validation.hpp"
-#include "robcal/identify/identification.hpp"
+#include "robcal/identify/calibration_run.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -19,13 +18,14 @@ namespace robcal::cli {
 namespace {
 
 struct CalibrateArgs {
-  std::string robot, tool, measurements, level = "full", loss = "none", out;
+  std::string robot, tool, measurements, level = "full", loss = "none", out, units, euler, folds;
   std::vector<std::string> identify, fix;
   double huber_scale = 0;
   double orientation_weight = kDefaultOrientationWeightMm;
+  double sigma = 0;
   int kfold = 0;
   uint64_t seed = 1;
-  bool json = false;
+  bool json = false, keep_near_dependent = false, force = false;
 };
 
 const char* status_text(ParameterStatus s) {
@@ -34,8 +34,20 @@ const char* status_text(ParameterStatus s) {
                                           : "fixed";
 }
 
-nlohmann::json to_json(const IdentificationResult& r, const CrossValidation* cv,
-                       const CalibrateArgs& args, size_t rows, MeasurementKind kind) {
+nlohmann::json per_fold_json(const CrossValidation& cv) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const FoldErrors& f : cv.per_fold)
+    out.push_back({{"rows", f.rows},
+                   {"mean", tidy(f.mean_mm)},
+                   {"std", tidy(f.std_mm)},
+                   {"max", tidy(f.max_mm)}});
+  return out;
+}
+
+nlohmann::json to_json(const CalibrationRun& run, const CalibrateArgs& args, size_t rows,
+                       MeasurementKind kind, bool written) {
+  const IdentificationResult& r = run.result;
+  const CrossValidation* cv = run.cross_validation ? &*run.cross_validation : nullptr;
   nlohmann::json out;
   out["robot"] = r.robot.model.name;
   out["level"] = r.robot.level;
@@ -47,9 +59,20 @@ nlohmann::json to_json(const IdentificationResult& r, const CrossValidation* cv,
   out["identified"] = r.identified_count;
   if (kind == MeasurementKind::Poses)
     out["orientation_weight_mm_per_rad"] = args.orientation_weight;
-  out["initial_rms_mm"] = tidy(r.status.initial_rms_mm);
+  out["warnings"] = r.warnings;
+  out["residual_per_row_mm"] = {
+      {"mean", tidy(r.mean_mm)}, {"rms", tidy(r.rms_mm)}, {"max", tidy(r.max_mm)}};
+  out["start_residual_per_row_mm"] = {{"mean", tidy(r.start_mean_mm)},
+                                      {"rms", tidy(r.start_rms_mm)},
+                                      {"max", tidy(r.start_max_mm)}};
   out["rms_mm"] = tidy(r.rms_mm);
   out["max_mm"] = tidy(r.max_mm);
+  if (r.noise_test.tested)
+    out["noise_test"] = {{"instrument_sigma_mm", r.noise_test.instrument_sigma_mm},
+                         {"chi_square", tidy(r.noise_test.chi_square)},
+                         {"dof", r.noise_test.dof},
+                         {"p_value", r.noise_test.p_value},
+                         {"consistent", r.noise_test.consistent}};
   out["sigma_mm"] = tidy(r.sigma_mm);
   out["condition_number"] = r.condition_number;
   if (r.huber_scale_mm > 0) out["huber_scale_mm"] = tidy(r.huber_scale_mm);
@@ -88,6 +111,9 @@ nlohmann::json to_json(const IdentificationResult& r, const CrossValidation* cv,
        {{"mean", tidy(p.mean_vs_measurements_mm)}, {"rms", tidy(p.rms_vs_measurements_mm)}}}};
   if (cv)
     out["cross_validation"] = {{"folds", cv->folds},
+                               {"run_because_of_misfit", run.cross_validation_for_misfit},
+                               {"user_folds", cv->user_folds},
+                               {"per_fold", per_fold_json(*cv)},
                                {"seed", cv->seed},
                                {"rows", cv->errors_mm.size()},
                                {"error_mm",
@@ -95,22 +121,39 @@ nlohmann::json to_json(const IdentificationResult& r, const CrossValidation* cv,
                                  {"std", tidy(cv->std_mm)},
                                  {"mean_plus_3std", tidy(cv->mean_plus_3std_mm())},
                                  {"max", tidy(cv->max_mm)}}}};
-  out["output"] = args.out;
+  out["problems"] = run.problems;
+  out["output"] = written ? nlohmann::json(args.out) : nlohmann::json(nullptr);
   return out;
 }
 
-void print_report(const IdentificationResult& r, const CrossValidation* cv,
-                  const CalibrateArgs& args, const MeasurementSet& data) {
+void print_report(const CalibrationRun& run, const CalibrateArgs& args,
+                  const MeasurementSet& data) {
+  const IdentificationResult& r = run.result;
+  const CrossValidation* cv = run.cross_validation ? &*run.cross_validation : nullptr;
   fmt::print("calibrated {} at level {} from {} rows of {} ({})\n", r.robot.model.name,
              r.robot.level, data.size(), measurement_kind_name(data.kind), data.file);
   fmt::print("solver: {} after {} iterations ({})\n",
              r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations,
              r.status.message);
-  fmt::print(
-      "residuals: rms {:.4f} mm, max {:.4f} mm (start {:.4f} mm after the rigid fit); "
-      "σ {:.4f} mm per residual ({} residuals, {} unknowns)\n",
-      r.rms_mm, r.max_mm, r.status.initial_rms_mm, r.sigma_mm, r.residual_count,
-      r.identified_count);
+  const char* what = data.kind == MeasurementKind::Distances ? "|length error|"
+                     : data.kind == MeasurementKind::Poses   ? "TCP position error"
+                                                             : "3D position error";
+  fmt::print("residual per row ({}), training data:\n", what);
+  fmt::print("  calibrated:               mean {:.4f}  rms {:.4f}  max {:.4f} mm\n", r.mean_mm,
+             r.rms_mm, r.max_mm);
+  fmt::print("  nominal (rigid fit only): mean {:.4f}  rms {:.4f}  max {:.4f} mm\n",
+             r.start_mean_mm, r.start_rms_mm, r.start_max_mm);
+  fmt::print("σ {:.4f} mm per residual component ({} residuals, {} unknowns)\n", r.sigma_mm,
+             r.residual_count, r.identified_count);
+  if (r.noise_test.tested)
+    fmt::print(
+        "noise test against the instrument's σ {:g} mm: χ² {:.1f} for {} degrees of freedom, "
+        "p = {:.2g}: {}\n",
+        r.noise_test.instrument_sigma_mm, r.noise_test.chi_square, r.noise_test.dof,
+        r.noise_test.p_value,
+        r.noise_test.consistent ? "the residuals are the instrument's noise"
+                                : "the residuals EXCEED what the instrument's noise explains: "
+                                  "the model misses systematic effects (or σ is understated)");
   if (data.kind == MeasurementKind::Poses)
     fmt::print("orientation residuals weighted {:g} mm per rad (--orientation-weight)\n",
                args.orientation_weight);
@@ -145,8 +188,14 @@ void print_report(const IdentificationResult& r, const CrossValidation* cv,
       fmt::print("  config {} (line {}): {:.4f} mm\n", o.config, o.line, o.residual_mm);
   }
   const PredictedAccuracy& p = r.predicted;
+  if (!r.noise_test.consistent)
+    fmt::print(
+        "the covariance-based prediction below counts the misfit as random noise: trust the "
+        "cross-validated error{}\n",
+        cv ? "" : " (--kfold; too few configurations to run it by default)");
   fmt::print(
-      "predicted position error over {} configurations in the measured joint ranges "
+      "predicted position error (from the covariance) over {} configurations in the measured joint "
+      "ranges "
       "(seed {}):\n  against the true robot:    mean {:.4f}  rms {:.4f}  max {:.4f} mm\n"
       "  against new measurements:  mean {:.4f}  rms {:.4f} mm (adds σ = {:.4f} mm per "
       "axis of instrument noise)\n",
@@ -154,18 +203,28 @@ void print_report(const IdentificationResult& r, const CrossValidation* cv,
       p.rms_vs_measurements_mm, p.measurement_sigma_mm);
   if (cv)
     fmt::print(
-        "cross-validation ({} folds, seed {}), held-out error over {} rows: mean {:.4f}  "
+        "cross-validation ({} folds, {}{}), held-out error over {} rows: mean {:.4f}  "
         "std {:.4f}  mean+3std {:.4f}  max {:.4f} mm\n",
-        cv->folds, cv->seed, cv->errors_mm.size(), cv->mean_mm, cv->std_mm, cv->mean_plus_3std_mm(),
-        cv->max_mm);
-  fmt::print("written {}\n", args.out);
+        cv->folds, cv->user_folds ? "from the folds file" : fmt::format("seed {}", cv->seed),
+        run.cross_validation_for_misfit ? ", run because of the misfit" : "", cv->errors_mm.size(),
+        cv->mean_mm, cv->std_mm, cv->mean_plus_3std_mm(), cv->max_mm);
+  if (cv)
+    for (size_t f = 0; f < cv->per_fold.size(); ++f)
+      fmt::print("  fold {:<3} {:>4} rows  mean {:.4f}  std {:.4f}  max {:.4f} mm\n", f + 1,
+                 cv->per_fold[f].rows, cv->per_fold[f].mean_mm, cv->per_fold[f].std_mm,
+                 cv->per_fold[f].max_mm);
+  for (const std::string& problem : run.problems) fmt::print("PROBLEM: {}\n", problem);
+  if (run.problems.empty() || args.force) fmt::print("written {}\n", args.out);
 }
 
 void run_calibrate(const CalibrateArgs& args) {
   check_orientation_weight(args.orientation_weight);
   const RobotModel model = load_robot(args.robot);
   const Tool tool = load_tool(args.tool);
-  const MeasurementFile file = read_measurements_csv(args.measurements, tool);
+  MeasurementFormat format;
+  if (!args.units.empty()) parse_units(args.units, {"", 0, 0, "--units"}, format);
+  if (!args.euler.empty()) format.euler = parse_euler_order(args.euler, {"", 0, 0, "--euler"});
+  const MeasurementFile file = read_measurements_csv(args.measurements, tool, {}, format);
   for (const std::string& w : file.warnings) std::cerr << "warning: " << w << "\n";
   if (args.loss != "none" && args.loss != "huber")
     throw InputError({"", 0, 0, "--loss"},
@@ -178,16 +237,18 @@ void run_calibrate(const CalibrateArgs& args) {
   options.huber_scale_mm = args.huber_scale;
   options.orientation_weight_mm = args.orientation_weight;
   options.seed = args.seed;
+  options.instrument_sigma_mm = args.sigma;
+  options.resolve_near_dependencies = !args.keep_near_dependent;
+  CalibrationRequest request{options, args.kfold, {}};
+  if (!args.folds.empty()) request.folds = read_folds_csv(args.folds);
   const bool progress = !args.json && stdout_is_terminal();
   if (progress) fmt::print("calibrating ({} rows)…\n", file.measurements.size());
-  const IdentificationResult result = calibrate(model, tool, file.measurements, options);
-  CrossValidation cv;
-  if (args.kfold != 0) {
-    if (progress) fmt::print("cross-validating ({} folds)…\n", args.kfold);
-    cv = cross_validate(model, tool, file.measurements, options, args.kfold, args.seed);
-  }
+  const CalibrationRun run = run_calibration(model, tool, file.measurements, request);
+  const IdentificationResult& result = run.result;
+  for (const std::string& w : result.warnings) std::cerr << "warning: " << w << "\n";
   YAML::Node statistics = YAML::Load(statistics_yaml(result));
-  if (args.kfold != 0) {
+  if (run.cross_validation) {
+    const CrossValidation& cv = *run.cross_validation;
     statistics["cross_validation"]["folds"] = cv.folds;
     statistics["cross_validation"]["seed"] = cv.seed;
     statistics["cross_validation"]["mean_mm"] = cv.mean_mm;
@@ -202,17 +263,22 @@ void run_calibrate(const CalibrateArgs& args) {
   provenance.files = {provenance_file("tool", args.tool),
                       provenance_file("measurements", args.measurements)};
   statistics["provenance"] = YAML::Load(provenance_yaml(provenance));
+  if (!run.problems.empty()) statistics["problems"] = run.problems;
   YAML::Emitter emitter;
   emitter.SetDoublePrecision(9);
   emitter << statistics;
-  write_file_atomically(args.out, calibrated_robot_to_yaml(result.robot, emitter.c_str()));
-  if (!result.status.converged)
-    std::cerr << "warning: the solver did not converge: " << result.status.message << "\n";
+  const bool write = run.problems.empty() || args.force;
+  if (write)
+    write_file_atomically(args.out, calibrated_robot_to_yaml(result.robot, emitter.c_str()));
   if (args.json)
-    print_json(to_json(result, args.kfold ? &cv : nullptr, args, file.measurements.size(),
-                       file.measurements.kind));
+    print_json(to_json(run, args, file.measurements.size(), file.measurements.kind, write));
   else
-    print_report(result, args.kfold ? &cv : nullptr, args, file.measurements);
+    print_report(run, args, file.measurements);
+  if (!write)
+    throw std::runtime_error(fmt::format(
+        "{} not written: the fit is not trustworthy ({} problem{} above); fix the cause, or "
+        "write it anyway with --force",
+        args.out, run.problems.size(), run.problems.size() > 1 ? "s" : ""));
 }
 
 const bool registered = register_command(30, [](CLI::App& app) {
@@ -225,6 +291,12 @@ const bool registered = register_command(30, [](CLI::App& app) {
   cmd->add_option("--measurements", args->measurements,
                   "Measurement CSV (points, poses or distances)")
       ->required();
+  cmd->add_option("--units", args->units,
+                  "Units of the measurement file when it does not declare them ('# units: m, "
+                  "rad'): a length unit mm or m and/or an angle unit deg or rad");
+  cmd->add_option("--euler", args->euler,
+                  "Rotation order of rx,ry,rz columns when the file does not declare it "
+                  "('# euler: intrinsic ZYX'): intrinsic or extrinsic and an order of X, Y, Z");
   cmd->add_option("--level", args->level, "base, joints, kinematic or full (default full)");
   cmd->add_option("--identify", args->identify,
                   "Also identify the parameters matching this glob (repeatable), e.g. "
@@ -238,7 +310,18 @@ const bool registered = register_command(30, [](CLI::App& app) {
                   "Poses files: mm per rad of orientation residual, the instrument's ratio of "
                   "position to orientation noise (validate takes the same option)")
       ->capture_default_str();
+  cmd->add_option("--sigma", args->sigma,
+                  "The instrument's stated noise σ per axis in mm: the residuals are tested "
+                  "against it (χ²); a misfit is reported and cross-validated");
+  cmd->add_flag("--keep-near-dependent", args->keep_near_dependent,
+                "Fit near-dependent parameter groups anyway (default: hold the latest of each at "
+                "nominal, warned)");
+  cmd->add_flag("--force", args->force,
+                "Write the model even when the fit did not converge or looks implausible");
   cmd->add_option("--kfold", args->kfold, "Estimate accuracy by K-fold cross-validation");
+  cmd->add_option("--folds", args->folds,
+                  "Cross-validate with these folds instead of seeded ones: CSV config,fold "
+                  "(fold 1..K)");
   cmd->add_option("--seed", args->seed,
                   "Seed of the cross-validation folds and predicted-accuracy samples (default 1)");
   cmd->add_flag("--json", args->json, "Machine-readable summary on stdout");

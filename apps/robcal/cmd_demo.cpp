@@ -114,7 +114,8 @@ void run_demo(const DemoOptions& o) {
                m["mean_plus_3std_mm"].get<double>(), m["max_mm"].get<double>(),
                t["mean_mm"].get<double>(), t["max_mm"].get<double>());
   };
-  row("nominal (rigid base fit)", "-", campaign.nominal_vs_measurements, campaign.nominal_vs_truth);
+  row("nominal (base fit on cal.)", "-", campaign.nominal_vs_measurements,
+      campaign.nominal_vs_truth);
   for (const LevelOutcome& level : campaign.levels)
     row(level_name(level.level), std::to_string(level.fit.identified_count), level.vs_measurements,
         level.vs_truth);

@@ -169,6 +169,15 @@ void run_validate(const ValidateOptions& options) {
                                    robot.model.name, model.name, options.robot));
     // The model's tool holds the identified target coordinates; an older file may have none.
     if (robot.tool.targets.empty()) robot.tool = tool;
+    check_tool_against_model(robot, tool, options.tool);
+    for (const Target& t : tool.targets) {
+      const Target& m = robot.tool.targets[static_cast<size_t>(robot.tool.target_index(t.name))];
+      if (t.known && (m.position_mm - t.position_mm).norm() > 1e-3)
+        std::cerr << fmt::format(
+            "note: target '{}': the model's calibrated coordinates are used, "
+            "{:.4f} mm from the tool file's\n",
+            t.name, (m.position_mm - t.position_mm).norm());
+    }
   }
   MeasurementFile file = read_measurements_csv(
       options.measurements, robot.tool,
@@ -189,7 +198,11 @@ void run_validate(const ValidateOptions& options) {
     return;
   }
   std::string frame = "the model's world frame";
-  if (!robot.base_fitted) {
+  if (options.fit_base && robot.base_fitted) {
+    // A moved instrument or robot: the calibrated model is re-registered, not re-identified.
+    robot = fit_base(robot, set);
+    frame = "the model's base re-registered to these measurements (6 parameters, rigid fit)";
+  } else if (!robot.base_fitted) {
     if (!options.fit_base)
       throw InputError(
           {options.measurements, 0, 0, "--fit-base"},
@@ -304,8 +317,9 @@ const bool registered = register_command(60, [](CLI::App& app) {
                   "The calibration measurements (points or poses): adds the error tables by "
                   "region, the distance to the nearest calibration position");
   cmd->add_flag("--fit-base", options->fit_base,
-                "For a model without a world frame (the nominal robot): first fit its 6 base "
-                "parameters to these measurements (rigid best fit)");
+                "First fit the 6 base parameters to these measurements (rigid best fit): places "
+                "a model without a world frame, re-registers a calibrated one (moved robot or "
+                "instrument)");
   cmd->add_option("--threads", options->threads,
                   "Threads for the all-pairs distance errors (results do not depend on it)")
       ->check(CLI::Range(1, 256))

@@ -39,6 +39,7 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
                                 options.orientation_weight_mm};
   IdentificationResult out;
   out.status = fit.status;
+  out.warnings = setup.warnings;
   out.values = fit.unknowns;
   out.free = setup.free;
   out.huber_scale_mm = fit.huber_scale_mm;
@@ -48,6 +49,19 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
   stacked_residuals(context, fit.unknowns, setup.free, &r, &J);
   const int k = data.residuals_per_row();
   const auto rows = static_cast<Eigen::Index>(data.size());
+  {
+    Eigen::VectorXd r0;
+    stacked_residuals(context, fit.start, {}, &r0, nullptr);
+    double sum = 0, sum_sq = 0;
+    for (Eigen::Index row = 0; row < rows; ++row) {
+      const double e = row_error(r0, k, row);
+      sum += e;
+      sum_sq += e * e;
+      out.start_max_mm = std::max(out.start_max_mm, e);
+    }
+    out.start_mean_mm = sum / static_cast<double>(rows);
+    out.start_rms_mm = std::sqrt(sum_sq / static_cast<double>(rows));
+  }
   out.residual_count = static_cast<int>(r.size());
   out.identified_count = static_cast<int>(setup.free.size());
 
@@ -59,12 +73,13 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
                    magnitudes.begin() + static_cast<long>(magnitudes.size() / 2), magnitudes.end());
   const double robust_sigma = 1.4826 * magnitudes[magnitudes.size() / 2];
   const double outlier_limit = (k == 1 ? 3.3 : 4.0) * robust_sigma;
-  double rss = 0, sum_sq_error = 0;
+  double rss = 0, sum_sq_error = 0, sum_error = 0;
   int inlier_residuals = 0;
   std::map<std::string, std::pair<int, std::pair<double, double>>> by_target;  // rows, (Σe², max)
   for (Eigen::Index row = 0; row < rows; ++row) {
     const double e = row_error(r, k, row);
     sum_sq_error += e * e;
+    sum_error += e;
     out.max_mm = std::max(out.max_mm, e);
     auto& entry = by_target[row_target_name(tool, data, static_cast<size_t>(row))];
     entry.first += 1;
@@ -79,12 +94,22 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
     inlier_residuals += k;
   }
   out.rms_mm = std::sqrt(sum_sq_error / static_cast<double>(rows));
+  out.mean_mm = sum_error / static_cast<double>(rows);
   for (const auto& [name, entry] : by_target)
     out.by_target.push_back(
         {name, entry.first, std::sqrt(entry.second.first / entry.first), entry.second.second});
 
   const int dof = std::max(1, inlier_residuals - out.identified_count);
   out.sigma_mm = std::sqrt(rss / dof);
+  if (options.instrument_sigma_mm > 0) {
+    NoiseTest& t = out.noise_test;
+    t.tested = true;
+    t.instrument_sigma_mm = options.instrument_sigma_mm;
+    t.dof = dof;
+    t.chi_square = rss / (options.instrument_sigma_mm * options.instrument_sigma_mm);
+    t.p_value = chi_square_upper_tail(t.chi_square, dof);
+    t.consistent = t.p_value >= kNoiseTestLevel;
+  }
   out.covariance = design_covariance(J, out.sigma_mm);
   {
     const Eigen::VectorXd s = J.colwise().norm().cwiseInverse();
@@ -128,7 +153,8 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
   for (const Dependency& dep : setup.dropped) {
     status[static_cast<size_t>(dep.column)] = ParameterStatus::Dropped;
     reasons[static_cast<size_t>(dep.column)] =
-        "not identifiable: " + describe_dependency(setup.layout, model, dep);
+        dep.reason.empty() ? "not identifiable: " + describe_dependency(setup.layout, model, dep)
+                           : dep.reason;
   }
   for (size_t c = 0; c < setup.free.size(); ++c)
     status[static_cast<size_t>(setup.free[c])] = ParameterStatus::Identified;
@@ -146,6 +172,10 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
     if (slot < 0) continue;
     robot.tool.targets[t].position_mm = fit.unknowns.segment<3>(slot);
     robot.tool.targets[t].known = true;
+  }
+  if (data.kind == MeasurementKind::Poses) {
+    robot.tool.flange_T_tcp = tcp_frame(context, fit.unknowns);
+    robot.tool.tcp_position_known = robot.tool.tcp_orientation_known = true;
   }
   bool base = true;
   for (int i = 0; i < kBaseParamCount; ++i)
@@ -182,7 +212,7 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
   }
   for (const Target& t : robot.tool.targets) targets.push_back(t.position_mm);
   if (data.kind == MeasurementKind::Poses || targets.empty())
-    targets = {Eigen::Vector3d(tool.flange_T_tcp.translation())};
+    targets = {Eigen::Vector3d(robot.tool.flange_T_tcp.translation())};
   std::mt19937_64 rng(options.seed);
   const std::vector<Vector6d> validation =
       sample_configurations(lower, upper, options.prediction_configurations, rng);
@@ -207,6 +237,13 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
   return out;
 }
 
+double chi_square_upper_tail(double x, int dof) {
+  if (dof <= 0 || x <= 0) return 1.0;
+  const double nu = dof, v = 2.0 / (9.0 * nu);
+  const double z = (std::cbrt(x / nu) - (1.0 - v)) / std::sqrt(v);
+  return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
 std::string statistics_yaml(const IdentificationResult& result) {
   YAML::Emitter y;
   y.SetDoublePrecision(9);
@@ -217,9 +254,21 @@ std::string statistics_yaml(const IdentificationResult& result) {
   y << YAML::Key << "residuals" << YAML::Value << result.residual_count;
   y << YAML::Key << "identified" << YAML::Value << result.identified_count;
   y << YAML::Key << "sigma_mm" << YAML::Value << result.sigma_mm;
-  y << YAML::Key << "initial_rms_mm" << YAML::Value << result.status.initial_rms_mm;
+  y << YAML::Key << "start_rms_mm" << YAML::Value << result.start_rms_mm;
+  y << YAML::Key << "mean_mm" << YAML::Value << result.mean_mm;
   y << YAML::Key << "rms_mm" << YAML::Value << result.rms_mm;
   y << YAML::Key << "max_mm" << YAML::Value << result.max_mm;
+  if (result.noise_test.tested)
+    y << YAML::Key << "noise_test" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "instrument_sigma_mm" << YAML::Value << result.noise_test.instrument_sigma_mm << YAML::Key
+      << "chi_square" << YAML::Value << result.noise_test.chi_square << YAML::Key << "dof"
+      << YAML::Value << result.noise_test.dof << YAML::Key << "p_value" << YAML::Value
+      << result.noise_test.p_value << YAML::EndMap;
+  if (!result.warnings.empty()) {
+    y << YAML::Key << "warnings" << YAML::Value << YAML::BeginSeq;
+    for (const std::string& w : result.warnings) y << w;
+    y << YAML::EndSeq;
+  }
   y << YAML::Key << "condition_number" << YAML::Value << result.condition_number;
   if (result.huber_scale_mm > 0)
     y << YAML::Key << "huber_scale_mm" << YAML::Value << result.huber_scale_mm;

@@ -87,6 +87,33 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
   return std::string(out.c_str()) + "\n";
 }
 
+void check_tool_against_model(const CalibratedRobot& robot, const Tool& tool,
+                              const std::string& tool_path) {
+  const std::string advice =
+      "the model was calibrated with another tool: validate with the tool it was calibrated "
+      "with (the model's 'tool:' section), or calibrate this tool first (calibrate --model)";
+  for (const Target& t : tool.targets) {
+    const int i = robot.tool.target_index(t.name);
+    if (i < 0)
+      throw InputError(
+          {tool_path, 0, 0, "targets." + t.name},
+          fmt::format("target '{}' is not a target of the model's tool; {}", t.name, advice));
+    const Eigen::Vector3d& m = robot.tool.targets[static_cast<size_t>(i)].position_mm;
+    // Calibration refines nominal coordinates by tenths of mm; 5 mm apart is another tool.
+    if (t.known && (m - t.position_mm).norm() > 5.0)
+      throw InputError({tool_path, 0, 0, "targets." + t.name},
+                       fmt::format("target '{}' is at ({:g}, {:g}, {:g}) mm here, at ({:.4f}, "
+                                   "{:.4f}, {:.4f}) mm in the model; {}",
+                                   t.name, t.position_mm.x(), t.position_mm.y(), t.position_mm.z(),
+                                   m.x(), m.y(), m.z(), advice));
+  }
+  if (std::abs(tool.payload.mass_kg - robot.tool.payload.mass_kg) > 1e-9 ||
+      (tool.payload.cog_mm - robot.tool.payload.cog_mm).norm() > 1e-6)
+    throw InputError({tool_path, 0, 0, "payload"},
+                     fmt::format("payload {:g} kg differs from the model's {:g} kg; {}",
+                                 tool.payload.mass_kg, robot.tool.payload.mass_kg, advice));
+}
+
 CalibratedRobot load_calibrated_robot(const std::string& path) {
   const yaml::Node root = yaml::load_file(path);
   const auto& table = parameter_table();

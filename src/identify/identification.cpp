@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Dense>
@@ -9,7 +10,9 @@
 #include <map>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
 #include "robcal/identify/initial_guess.hpp"
+#include "robcal/kinematics/forward_kinematics.hpp"
 
 namespace robcal {
 namespace {
@@ -152,6 +155,34 @@ int target_of(const MeasurementSet& data, size_t row) {
                                                    : -1;
 }
 
+/// Rows whose joints lie outside the robot's limits: warned with their lines (a typo, a
+/// different controller convention or the wrong robot file), at most 10 listed.
+void warn_joint_limits(const RobotModel& model, const MeasurementSet& data,
+                       std::vector<std::string>& warnings) {
+  std::vector<std::string> rows;
+  for (size_t row = 0; row < data.size(); ++row) {
+    const Vector6d& q = row_joints(data, row);
+    for (int j = 0; j < kJointCount; ++j) {
+      const JointLimit& l = model.limits[static_cast<size_t>(j)];
+      if (q[j] >= l.lower - 1e-9 && q[j] <= l.upper + 1e-9) continue;
+      const int line = data.kind == MeasurementKind::Points  ? data.points[row].line
+                       : data.kind == MeasurementKind::Poses ? data.poses[row].line
+                                                             : data.distances[row].line;
+      rows.push_back(fmt::format("{}:{}: j{} = {:.3f}° outside [{:g}, {:g}]°", data.file, line,
+                                 j + 1, rad2deg(q[j]), rad2deg(l.lower), rad2deg(l.upper)));
+      break;
+    }
+  }
+  if (rows.empty()) return;
+  std::string text = fmt::format(
+      "{} row{} with joints outside the limits of {} (wrong robot file, or another joint "
+      "convention?):",
+      rows.size(), rows.size() > 1 ? "s" : "", model.name);
+  for (size_t i = 0; i < rows.size() && i < 10; ++i) text += "\n  " + rows[i];
+  if (rows.size() > 10) text += fmt::format("\n  and {} more", rows.size() - 10);
+  warnings.push_back(text);
+}
+
 void check_data(const Tool& tool, const MeasurementSet& data) {
   if (data.size() == 0) throw InputError({data.file, 0, 0, ""}, "the measurements have no rows");
   for (size_t row = 0; row < data.size(); ++row) {
@@ -190,6 +221,55 @@ MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& d
   return synthetic;
 }
 
+/// Requested compliances that no measured configuration loads (METHOD §3: δθ_j = c_j·τ_j) are
+/// taken out of `candidates` and dropped with their real reason: no masses in the robot file,
+/// or a gravity torque below kGravityTorqueFloorNmm in every row (centres of gravity on the
+/// axis, no payload). Their columns would otherwise be rounding noise that a fit turns into
+/// absurd values (−2e7 ± 3e7).
+void drop_unloaded_compliances(const RobotModel& model, const Tool& tool,
+                               const MeasurementSet& data, const Eigen::VectorXd& unknowns,
+                               std::vector<bool>& candidates, IdentificationSetup& setup) {
+  ParameterVector params = unknowns.head<kParameterCount>();
+  params.segment<kJointCount - 1>(kComplianceOffset).setZero();
+  std::array<double, kJointCount - 1> largest{};
+  for (size_t row = 0; row < data.size(); ++row) {
+    const auto q = model_joint_angles(model, row_joints(data, row).data());
+    const auto tau = gravity_torques(model, tool.payload, params.data(),
+                                     link_angles(model, tool.payload, params.data(), q));
+    for (int j = 0; j < kJointCount - 1; ++j)
+      largest[static_cast<size_t>(j)] =
+          std::max(largest[static_cast<size_t>(j)], std::abs(tau[static_cast<size_t>(j)]));
+  }
+  bool masses = tool.payload.mass_kg > 0;
+  for (const PointMass& m : model.link_masses) masses = masses || m.mass_kg > 0;
+  std::vector<std::string> names;
+  for (int joint = 2; joint <= kJointCount; ++joint) {
+    const int i = compliance_param(joint);
+    const double tau = largest[static_cast<size_t>(joint - 2)];
+    if (!candidates[static_cast<size_t>(i)] || tau >= kGravityTorqueFloorNmm) continue;
+    candidates[static_cast<size_t>(i)] = false;
+    Dependency dep{i, {}, 1.0, {}};
+    dep.reason = masses ? fmt::format(
+                              "the gravity torque about axis {} is below {:g} N·mm in every "
+                              "measured configuration (largest {:.2g} N·mm: the centres of "
+                              "gravity lie on the axis{}), so nothing deflects the joint",
+                              joint, kGravityTorqueFloorNmm, tau,
+                              tool.payload.mass_kg > 0 ? "" : " and the tool has no payload")
+                        : "the robot file gives no masses ('masses:'), so the gravity torques that "
+                          "deflect the joint are unknown";
+    setup.dropped.push_back(dep);
+    names.push_back(setup.layout.names[static_cast<size_t>(i)]);
+    if (masses)
+      setup.warnings.push_back(fmt::format("{} not identified: {}", names.back(), dep.reason));
+  }
+  if (!masses && !names.empty())
+    setup.warnings.push_back(fmt::format(
+        "the robot file of {} gives no masses ('masses:' with each link's mass_kg and cog_mm) "
+        "and the tool no payload, so the joint compliances ({}) cannot be identified: add the "
+        "masses to the robot file, or calibrate at level kinematic",
+        model.name, fmt::join(names, ", ")));
+}
+
 /// Preferred order for the rank test: extras (target coordinates, ballbar centre) first, then
 /// the model parameters in layout order; of a dependent group the later one is dropped.
 std::vector<int> preference_order(const UnknownLayout& layout, const std::vector<bool>& requested) {
@@ -224,6 +304,100 @@ std::string describe_dependency(const UnknownLayout& layout, const RobotModel& m
   return text;
 }
 
+namespace {
+
+/// Columns of J (unknowns `columns`) scaled by each unknown's plausible error: mm of effect.
+void scale_to_plausible_errors(const UnknownLayout& layout, const std::vector<int>& columns,
+                               Eigen::MatrixXd& J) {
+  for (size_t c = 0; c < columns.size(); ++c)
+    J.col(static_cast<Eigen::Index>(c)) *= layout.plausible_error(columns[c]);
+}
+
+/// A dropped unknown in words, for the user (warning) and the model file (reason). `columns`
+/// maps the dependency's column indices to unknowns; `held`: the fit holds it at its start.
+void explain_group(const std::vector<int>& columns, const RobotModel& model,
+                   const MeasurementSet& data, const Tool& tool, bool held, Dependency dep,
+                   IdentificationSetup& setup) {
+  dep.column = columns[static_cast<size_t>(dep.column)];
+  for (auto& entry : dep.depends_on) entry.first = columns[static_cast<size_t>(entry.first)];
+  const std::string& name = setup.layout.names[static_cast<size_t>(dep.column)];
+  // On-axis targets: joint 6 turns them in place (link6.theta unseen, link6 couples to link5).
+  bool on_axis = data.kind != MeasurementKind::Poses && !tool.targets.empty();
+  for (const Target& t : tool.targets)
+    on_axis = on_axis && t.known && t.position_mm.head<2>().norm() < 1.0;
+  const std::string advice = fmt::format(
+      "{}add targets off the tool axis or more varied configurations, or choose what to hold "
+      "with --fix",
+      on_axis ? "every target lies on the tool axis (joint 6 turns it in place): " : "");
+  const std::string action =
+      held ? fmt::format("{} is held at its nominal value", name)
+           : "fitted anyway (--keep-near-dependent): expect arbitrary values with large σ";
+  if (dep.depends_on.empty() || dep.correlation < kNearDependenceCorrelation) {
+    if (!dep.depends_on.empty()) {  // barely seen, not a combination
+      dep.reason = fmt::format(
+          "held at nominal: these measurements barely see it (σ beyond {:g} "
+          "plausible errors)",
+          kUndeterminedFactor);
+      setup.warnings.push_back(fmt::format(
+          "{}: these measurements barely see it (σ beyond {:g} plausible errors: {:g} {}); {}; {}",
+          name, kUndeterminedFactor,
+          kUndeterminedFactor * setup.layout.plausible_error(dep.column) *
+              setup.layout.to_external(dep.column),
+          setup.layout.unit(dep.column), action, advice));
+      if (held) setup.dropped.push_back(dep);
+      return;
+    }
+    setup.warnings.push_back(
+        fmt::format("{}: these measurements do not depend on it; {}; {}", name, action, advice));
+    setup.dropped.push_back(dep);
+    return;
+  }
+  const std::string exact = describe_dependency(setup.layout, model, dep);
+  const bool model_own = exact.find("are parallel") != std::string::npos;
+  std::vector<std::string> group;
+  for (const auto& [other, weight] : dep.depends_on)
+    if (std::abs(weight) >= 0.1 && group.size() < 3)
+      group.push_back(setup.layout.names[static_cast<size_t>(other)]);
+  group.push_back(name);
+  const std::string what = dep.correlation < 1.0
+                               ? fmt::format(
+                                     "only their combination is determined by these measurements "
+                                     "(correlation {:.6f})",
+                                     dep.correlation)
+                               : "only their combination is determined by these measurements";
+  if (!model_own)
+    setup.warnings.push_back(
+        fmt::format("{}: {}; {}; {}", fmt::join(group, ", "), what, action, advice));
+  if (!held) return;
+  dep.reason = model_own || dep.correlation >= 1.0
+                   ? "not identifiable: " + exact
+                   : fmt::format("held at nominal: {}: {}", fmt::join(group, ", "), what);
+  setup.dropped.push_back(dep);
+}
+
+/// Near-dependent groups of the data's design `J` (columns `kept`, in preference order): warned
+/// by name before the fit and, when `resolve`, the latest member of each is held at its start
+/// value (dropped, with the group in its reason) so that the model stays physically sensible.
+void resolve_near_dependencies(const Eigen::MatrixXd& J, const RobotModel& model,
+                               const MeasurementSet& data, const Tool& tool, bool resolve,
+                               std::vector<int>& kept, IdentificationSetup& setup) {
+  std::vector<int> all(kept.size());
+  for (size_t i = 0; i < kept.size(); ++i) all[i] = static_cast<int>(i);
+  std::vector<int> held;
+  const double noise =
+      setup.options.instrument_sigma_mm > 0 ? setup.options.instrument_sigma_mm : kReferenceNoiseMm;
+  for (const Dependency& dep : near_dependencies(J, all, noise)) {
+    explain_group(kept, model, data, tool, resolve, dep, setup);
+    if (resolve) held.push_back(kept[static_cast<size_t>(dep.column)]);
+  }
+  kept.erase(
+      std::remove_if(kept.begin(), kept.end(),
+                     [&](int c) { return std::find(held.begin(), held.end(), c) != held.end(); }),
+      kept.end());
+}
+
+}  // namespace
+
 IdentificationSetup prepare_identification(const RobotModel& model, const Tool& tool,
                                            const MeasurementSet& data,
                                            const IdentifyOptions& options) {
@@ -247,23 +421,31 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   Eigen::VectorXd u0 = setup.start;
   initial_guess(context, setup.fit_base, u0);
 
+  warn_joint_limits(model, data, setup.warnings);
+  if (data.kind == MeasurementKind::Poses && !tool.tcp_given)
+    setup.warnings.push_back(
+        "POSES WITHOUT A TCP: the tool file has no 'tcp', so the measured poses are taken as "
+        "the flange's own frame; if the instrument measures a tool frame, give its pose in the "
+        "flange ('tcp: {position_mm: [x, y, z], quaternion_wxyz: [w, x, y, z]}') or 'tcp: ~' "
+        "to identify it (6 parameters)");
+  std::vector<bool> candidates = setup.requested;
+  drop_unloaded_compliances(model, tool, data, u0, candidates, setup);
+
   // The model's own dependencies, on a rich synthetic design.
-  const std::vector<int> order = preference_order(setup.layout, setup.requested);
+  const std::vector<int> order = preference_order(setup.layout, candidates);
   const MeasurementSet synthetic = synthetic_design(model, data);
   ResidualContext synthetic_context = context;
   synthetic_context.data = &synthetic;
   Eigen::MatrixXd J;
   stacked_residuals(synthetic_context, u0, order, nullptr, &J);
+  scale_to_plausible_errors(setup.layout, order, J);
   std::vector<int> positions(order.size());
   for (size_t i = 0; i < order.size(); ++i) positions[i] = static_cast<int>(i);
-  const RankAnalysis structural = analyse_rank(J, positions);
+  const RankAnalysis structural = analyse_rank(J, positions, kRankTolerance, kNegligibleEffectMm);
   std::vector<int> kept;
   for (int p : structural.kept) kept.push_back(order[static_cast<size_t>(p)]);
-  for (Dependency dep : structural.dropped) {
-    dep.column = order[static_cast<size_t>(dep.column)];
-    for (auto& entry : dep.depends_on) entry.first = order[static_cast<size_t>(entry.first)];
-    setup.dropped.push_back(dep);
-  }
+  for (const Dependency& dep : structural.dropped)
+    explain_group(order, model, data, tool, true, dep, setup);
   if (kept.empty())
     throw InputError({data.file, 0, 0, "--level"},
                      "nothing to identify: every requested parameter is fixed or not seen by "
@@ -288,9 +470,10 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
 
   // The data's own design.
   stacked_residuals(context, u0, kept, nullptr, &J);
+  scale_to_plausible_errors(setup.layout, kept, J);
   std::vector<int> all(kept.size());
   for (size_t i = 0; i < kept.size(); ++i) all[i] = static_cast<int>(i);
-  const RankAnalysis design = analyse_rank(J, all);
+  const RankAnalysis design = analyse_rank(J, all, kRankTolerance, kNegligibleEffectMm);
   if (!design.dropped.empty()) {
     std::string list;
     for (Dependency dep : design.dropped) {
@@ -305,6 +488,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
                                  "hold them with --fix",
                                  design.dropped.size(), list));
   }
+  resolve_near_dependencies(J, model, data, tool, options.resolve_near_dependencies, kept, setup);
   std::sort(kept.begin(), kept.end());
   setup.free = kept;
   Eigen::MatrixXd Jf;
@@ -319,6 +503,7 @@ FitResult fit_unknowns(const IdentificationSetup& setup, const MeasurementSet& d
   FitResult out;
   out.unknowns = setup.start;
   initial_guess(context, setup.fit_base, out.unknowns);
+  out.start = out.unknowns;
   out.status =
       solve(context, setup.free, setup.scales, setup.options.max_iterations, 0.0, out.unknowns);
   if (setup.options.huber) {

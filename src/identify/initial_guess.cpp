@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
+#include <Eigen/Geometry>
 
 #include "robcal/core/error.hpp"
 
@@ -40,6 +41,34 @@ void fit_unknown_targets(const ResidualContext& context, Eigen::VectorXd& unknow
   for (size_t t = 0; t < sum.size(); ++t)
     if (layout.target_slot[t] >= 0 && count[t] > 0)
       unknowns.segment<3>(layout.target_slot[t]) = sum[t] / count[t];
+}
+
+/// Least-squares TCP parts of pose measurements with the base placed: position t from
+/// p_meas = F_k·t (t = mean of F_kᵀ·(p − F_k.p)); rotation from R_meas = F_k.R·S·exp([φ]×), the
+/// rotation nearest to the mean of (F_k.R·S)ᵀ·R_meas (S the tool's start rotation).
+void fit_unknown_tcp(const ResidualContext& context, Eigen::VectorXd& unknowns) {
+  const MeasurementSet& data = *context.data;
+  const UnknownLayout& layout = *context.layout;
+  if (data.kind != MeasurementKind::Poses) return;
+  const ParameterVector params = unknowns.head<kParameterCount>();
+  const Eigen::Matrix3d S = context.tool->flange_T_tcp.linear();
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Zero();
+  for (const PoseMeasurement& m : data.poses) {
+    const Pose<double> F = flange_pose(*context.model, context.tool->payload, params, m.joints);
+    position += F.R.transpose() * (m.world_T_tcp.p - F.p);
+    rotation += (F.R * S).transpose() * m.world_T_tcp.R;
+  }
+  if (layout.tcp_position >= 0)
+    unknowns.segment<3>(layout.tcp_position) = position / static_cast<double>(data.size());
+  if (layout.tcp_rotation >= 0) {
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(rotation,
+                                                Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+    D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
+    const Eigen::AngleAxisd phi(Eigen::Matrix3d(svd.matrixU() * D * svd.matrixV().transpose()));
+    unknowns.segment<3>(layout.tcp_rotation) = phi.angle() * phi.axis();
+  }
 }
 
 void fit_base(const ResidualContext& context, Eigen::VectorXd& unknowns) {
@@ -93,7 +122,7 @@ void initial_guess(const ResidualContext& context, bool fit_base_frame, Eigen::V
     fit_ballbar_centre(context, unknowns);
     return;
   }
-  bool unknown_targets = false;
+  bool unknown_targets = context.layout->tcp_position >= 0 || context.layout->tcp_rotation >= 0;
   for (int slot : context.layout->target_slot) unknown_targets = unknown_targets || slot >= 0;
   // A target without coordinates starts at the flange centre; alternating the rigid fit and
   // the target fit refines both (a few rounds reach millimetres, the fit does the rest).
@@ -101,6 +130,7 @@ void initial_guess(const ResidualContext& context, bool fit_base_frame, Eigen::V
   for (int round = 0; round < rounds; ++round) {
     if (fit_base_frame) fit_base(context, unknowns);
     if (unknown_targets) fit_unknown_targets(context, unknowns);
+    if (unknown_targets) fit_unknown_tcp(context, unknowns);
   }
 }
 

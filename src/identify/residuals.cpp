@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "robcal/core/error.hpp"
@@ -14,6 +15,28 @@ Eigen::Vector3d target_coordinates(const ResidualContext& context, const Eigen::
   const int slot = context.layout->target_slot[static_cast<size_t>(target)];
   return slot < 0 ? context.tool->targets[static_cast<size_t>(target)].position_mm
                   : Eigen::Vector3d(unknowns.segment<3>(slot));
+}
+
+Eigen::Isometry3d tcp_frame(const ResidualContext& context, const Eigen::VectorXd& unknowns) {
+  Eigen::Isometry3d T = context.tool->flange_T_tcp;
+  const UnknownLayout& layout = *context.layout;
+  if (layout.tcp_position >= 0) T.translation() = unknowns.segment<3>(layout.tcp_position);
+  if (layout.tcp_rotation >= 0) {
+    const Eigen::Vector3d phi = unknowns.segment<3>(layout.tcp_rotation);
+    const double angle = phi.norm();
+    if (angle > 0)
+      T.linear() = T.linear() * Eigen::AngleAxisd(angle, phi / angle).toRotationMatrix();
+  }
+  return T;
+}
+
+Eigen::Matrix3d so3_right_jacobian(const Eigen::Vector3d& phi) {
+  Eigen::Matrix3d K;
+  K << 0, -phi.z(), phi.y(), phi.z(), 0, -phi.x(), -phi.y(), phi.x(), 0;
+  const double t = phi.norm();
+  if (t < 1e-6) return Eigen::Matrix3d::Identity() - 0.5 * K + K * K / 6.0;
+  return Eigen::Matrix3d::Identity() - (1 - std::cos(t)) / (t * t) * K +
+         (t - std::sin(t)) / (t * t * t) * K * K;
 }
 
 void check_orientation_weight(double weight_mm) {
@@ -73,8 +96,9 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
     }
     case MeasurementKind::Poses: {
       const PoseMeasurement& m = data.poses[row];
-      const Eigen::Matrix3d R = flange.R * context.tool->flange_T_tcp.linear();
-      const Eigen::Vector3d p = flange * Eigen::Vector3d(context.tool->flange_T_tcp.translation());
+      const Eigen::Isometry3d tcp = tcp_frame(context, unknowns);
+      const Eigen::Matrix3d R = flange.R * tcp.linear();
+      const Eigen::Vector3d p = flange * Eigen::Vector3d(tcp.translation());
       const Eigen::Matrix3d A = R * m.world_T_tcp.R.transpose();
       const double w = context.orientation_weight_mm;
       Eigen::Map<Eigen::Matrix<double, 6, 1>> r(residuals);
@@ -95,6 +119,12 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
       TwistJacobian J;
       regressor.jacobian<6>(P, &J);
       jacobian->leftCols<kParameterCount>() = J;
+      const UnknownLayout& layout = *context.layout;
+      if (layout.tcp_position >= 0) jacobian->block<3, 3>(0, layout.tcp_position) = flange.R;
+      // φ → φ + δ turns the TCP frame by R·J_r(φ)·δ in the world.
+      if (layout.tcp_rotation >= 0)
+        jacobian->block<3, 3>(3, layout.tcp_rotation) =
+            P.block<3, 3>(3, 3) * R * so3_right_jacobian(unknowns.segment<3>(layout.tcp_rotation));
       return;
     }
     case MeasurementKind::Distances: {
@@ -148,7 +178,7 @@ Eigen::Vector3d modelled_position(const ResidualContext& context, const Eigen::V
     case MeasurementKind::Points:
       return flange * target_coordinates(context, unknowns, data.points[row].target);
     case MeasurementKind::Poses:
-      return flange * Eigen::Vector3d(context.tool->flange_T_tcp.translation());
+      return flange * Eigen::Vector3d(tcp_frame(context, unknowns).translation());
     case MeasurementKind::Distances:
       return flange * target_coordinates(context, unknowns, data.distances[row].target);
   }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
 
 namespace robcal {
 
@@ -46,12 +47,37 @@ std::vector<int> level_parameters(CalibrationLevel level) {
   return out;
 }
 
+namespace {
+bool is_rotation(const UnknownLayout& layout, int index) {
+  return layout.tcp_rotation >= 0 && index >= layout.tcp_rotation &&
+         index < layout.tcp_rotation + 3;
+}
+}  // namespace
+
 double UnknownLayout::to_external(int index) const {
+  if (is_rotation(*this, index)) return rad2deg(1.0);
   return is_model(index) ? parameter_table()[index].to_external() : 1.0;
 }
 
 std::string UnknownLayout::unit(int index) const {
+  if (is_rotation(*this, index)) return "deg";
   return is_model(index) ? parameter_table()[index].unit : "mm";
+}
+
+double UnknownLayout::plausible_error(int index) const {
+  if (is_rotation(*this, index)) return 1e-3;
+  if (!is_model(index)) return 1.0;
+  switch (parameter_table()[static_cast<size_t>(index)].kind) {
+    case ParamKind::Length:
+      return 1.0;
+    case ParamKind::Angle:
+      return 1e-3;
+    case ParamKind::Compliance:
+      return 1e-7;
+    case ParamKind::Scale:
+      return 1e-4;
+  }
+  return 1.0;
 }
 
 int UnknownLayout::index(const std::string& name) const {
@@ -71,6 +97,14 @@ UnknownLayout make_unknown_layout(const Tool& tool, MeasurementKind kind) {
     layout.target_slot.push_back(layout.size());
     for (const char* axis : {"x", "y", "z"})
       layout.names.push_back(fmt::format("target.{}.{}", target.name, axis));
+  }
+  if (kind == MeasurementKind::Poses && !tool.tcp_position_known) {
+    layout.tcp_position = layout.size();
+    for (const char* axis : {"x", "y", "z"}) layout.names.push_back(fmt::format("tcp.{}", axis));
+  }
+  if (kind == MeasurementKind::Poses && !tool.tcp_orientation_known) {
+    layout.tcp_rotation = layout.size();
+    for (const char* axis : {"rx", "ry", "rz"}) layout.names.push_back(fmt::format("tcp.{}", axis));
   }
   if (kind == MeasurementKind::Distances) {
     layout.centre = layout.size();

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <unordered_map>
 
@@ -20,8 +21,10 @@ namespace {
 
 constexpr std::array<const char*, kJointCount> kJointColumns = {"j1", "j2", "j3", "j4", "j5", "j6"};
 
-/// Columns of each kind, in the order the writer prints them.
-std::vector<std::string> columns_of(MeasurementKind kind) {
+/// Columns of each kind, in the order the writer prints them (poses with `orientation`).
+std::vector<std::string> columns_of(MeasurementKind kind,
+                                    const std::vector<std::string>& orientation = {"qw", "qx", "qy",
+                                                                                   "qz"}) {
   std::vector<std::string> columns = {"config"};
   if (kind != MeasurementKind::Poses) columns.emplace_back("target");
   for (const char* j : kJointColumns) columns.emplace_back(j);
@@ -31,7 +34,7 @@ std::vector<std::string> columns_of(MeasurementKind kind) {
     for (const char* c : {"x", "y", "z"}) columns.emplace_back(c);
   }
   if (kind == MeasurementKind::Poses)
-    for (const char* c : {"qw", "qx", "qy", "qz"}) columns.emplace_back(c);
+    columns.insert(columns.end(), orientation.begin(), orientation.end());
   return columns;
 }
 
@@ -53,8 +56,14 @@ struct Row {
 /// Reads the fields of the rows by column name, with errors that name the place.
 class RowReader {
  public:
-  RowReader(const std::string& file, const std::map<std::string, int>& columns)
-      : file_(file), columns_(columns) {}
+  RowReader(const std::string& file, const std::map<std::string, int>& columns, double mm_per_unit,
+            double rad_per_unit, const char* length_unit, const char* angle_unit)
+      : file_(file),
+        columns_(columns),
+        mm_per_unit_(mm_per_unit),
+        rad_per_unit_(rad_per_unit),
+        length_unit_(length_unit),
+        angle_unit_(angle_unit) {}
 
   [[nodiscard]] SourceLocation where(const Row& row, const std::string& name) const {
     return {file_, row.line, columns_.at(name) + 1, name};
@@ -86,13 +95,20 @@ class RowReader {
 
   [[nodiscard]] Vector6d joints_rad(const Row& row) const {
     Vector6d q;
-    for (int i = 0; i < kJointCount; ++i)
-      q[i] = deg2rad(number(row, kJointColumns[i], " (degrees)"));
+    for (int i = 0; i < kJointCount; ++i) q[i] = angle_rad(row, kJointColumns[i]);
     return q;
   }
 
+  [[nodiscard]] double angle_rad(const Row& row, const std::string& name) const {
+    return rad_per_unit_ * number(row, name, angle_unit_);
+  }
+
+  [[nodiscard]] double length_mm(const Row& row, const std::string& name) const {
+    return mm_per_unit_ * number(row, name, length_unit_);
+  }
+
   [[nodiscard]] Eigen::Vector3d xyz(const Row& row) const {
-    return {number(row, "x", " (mm)"), number(row, "y", " (mm)"), number(row, "z", " (mm)")};
+    return {length_mm(row, "x"), length_mm(row, "y"), length_mm(row, "z")};
   }
 
   [[nodiscard]] int target(const Row& row, const Tool& tool) const {
@@ -111,12 +127,106 @@ class RowReader {
  private:
   const std::string& file_;
   const std::map<std::string, int>& columns_;
+  double mm_per_unit_, rad_per_unit_;
+  const char* length_unit_;
+  const char* angle_unit_;
 };
 
-MeasurementKind detect_kind(const std::map<std::string, int>& columns, const std::string& file,
-                            int header_line) {
+/// The orientation columns of a poses file and how to turn them into a rotation.
+struct OrientationColumns {
+  std::vector<std::string> names;  ///< qw,qx,qy,qz or the three angle columns (x, y, z order)
+  bool quaternion = true;
+  EulerOrder order;
+};
+
+/// Column names that look like an orientation: a file with them but no accepted set is refused
+/// rather than read as a points file with the orientation silently ignored.
+bool looks_like_orientation(const std::string& name) {
+  static const std::array<const char*, 26> names = {
+      "qw",   "qx", "qy", "qz", "a",    "b",     "c",    "w",    "p",
+      "r",    "rx", "ry", "rz", "roll", "pitch", "yaw",  "rotx", "roty",
+      "rotz", "q1", "q2", "q3", "q4",   "alpha", "beta", "gamma"};
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+/// Finds the orientation columns of a file without `target` (nullopt: none at all).
+std::optional<OrientationColumns> find_orientation(const std::map<std::string, int>& columns,
+                                                   const std::optional<EulerOrder>& declared,
+                                                   const std::string& file, int header_line) {
   const auto has = [&](const char* name) { return columns.count(name) > 0; };
-  if (has("qw") || has("qx") || has("qy") || has("qz")) return MeasurementKind::Poses;
+  std::vector<std::string> found;
+  for (const auto& [name, index] : columns)
+    if (looks_like_orientation(name)) found.push_back(name);
+  if (found.empty()) return std::nullopt;
+  // Any quaternion column: a quaternion file (a missing one is named by the column check).
+  if (has("qw") || has("qx") || has("qy") || has("qz"))
+    return OrientationColumns{{"qw", "qx", "qy", "qz"}, true, {}};
+  const auto complete = [&](std::initializer_list<const char*> set) {
+    return std::all_of(set.begin(), set.end(), has);
+  };
+  std::vector<OrientationColumns> sets;
+  if (complete({"a", "b", "c"})) sets.push_back({{"c", "b", "a"}, false, {{2, 1, 0}, true}});
+  if (complete({"w", "p", "r"})) sets.push_back({{"w", "p", "r"}, false, {{0, 1, 2}, false}});
+  if (complete({"rx", "ry", "rz"})) {
+    if (!declared)
+      throw InputError(
+          {file, header_line, columns.at("rx") + 1, "rx"},
+          "columns rx,ry,rz need their rotation order declared: add a header comment such as "
+          "'# euler: intrinsic ZYX' (or extrinsic; any order of X, Y, Z) or give --euler");
+    sets.push_back({{"rx", "ry", "rz"}, false, *declared});
+  }
+  std::string all;
+  for (const std::string& name : found) all += (all.empty() ? "" : ",") + name;
+  if (sets.size() != 1)
+    throw InputError(
+        {file, header_line, columns.at(found.front()) + 1, found.front()},
+        fmt::format("{} orientation columns: found {}; accepted: qw,qx,qy,qz (unit "
+                    "quaternion), a,b,c (ABB/KUKA, Rz(a)·Ry(b)·Rx(c)), w,p,r (Fanuc, "
+                    "Rz(r)·Ry(p)·Rx(w)) or rx,ry,rz with a declared order ('# euler: intrinsic "
+                    "ZYX'), exactly one set",
+                    sets.empty() ? "unsupported" : "more than one set of", all));
+  return sets.front();
+}
+
+/// Parses the header comments that declare units and the Euler order, before the header row;
+/// a declaration that contradicts the caller's is an error.
+void read_declaration(std::string_view comment, const SourceLocation& where,
+                      MeasurementFormat& format, const MeasurementFormat& declared) {
+  std::string text(csv::trim(comment.substr(1)));
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  MeasurementFormat found;
+  if (text.starts_with("units:")) {
+    parse_units(std::string_view(text).substr(6), where, found);
+  } else if (text.starts_with("euler:")) {
+    found.euler = parse_euler_order(std::string_view(text).substr(6), where);
+  } else {
+    return;
+  }
+  const auto merge = [&](auto& into, const auto& value, const auto& given, const char* what) {
+    if (!value) return;
+    if (given && !(*given == *value))
+      throw InputError(where, fmt::format("the file declares {} other than the command line's "
+                                          "option: remove one of them",
+                                          what));
+    into = value;
+  };
+  merge(format.length, found.length, declared.length, "a length unit");
+  merge(format.angle, found.angle, declared.angle, "an angle unit");
+  if (found.euler && declared.euler &&
+      (found.euler->axes != declared.euler->axes ||
+       found.euler->intrinsic != declared.euler->intrinsic))
+    throw InputError(where,
+                     "the file declares a rotation order other than --euler: remove one of them");
+  if (found.euler) format.euler = found.euler;
+}
+
+MeasurementKind detect_kind(const std::map<std::string, int>& columns,
+                            const std::optional<OrientationColumns>& orientation,
+                            const std::string& file, int header_line) {
+  const auto has = [&](const char* name) { return columns.count(name) > 0; };
+  if (has("qw") || has("qx") || has("qy") || has("qz") || orientation)
+    return MeasurementKind::Poses;
   if (has("x") || has("y") || has("z")) return MeasurementKind::Points;
   if (has("length")) return MeasurementKind::Distances;
   throw InputError({file, header_line, 0, ""},
@@ -150,7 +260,123 @@ double degrees_reading_back(double rad) {
 /// Quaternions must be unit up to what 6-decimal files keep; they are normalised after.
 constexpr double kQuaternionTolerance = 1e-5;
 
+const Vector6d& joints_of(const MeasurementSet& set, size_t row) {
+  return set.kind == MeasurementKind::Points  ? set.points[row].joints
+         : set.kind == MeasurementKind::Poses ? set.poses[row].joints
+                                              : set.distances[row].joints;
+}
+
+/// Refuses undeclared units that look like the other unit (see the file comment): a metre-scale
+/// file read as mm would "calibrate" to hundreds of mm of residual, radians read as degrees to
+/// a robot that barely moved.
+void check_units(const MeasurementSet& set, const MeasurementFormat& format, int header_line,
+                 const std::map<std::string, int>& columns) {
+  constexpr size_t kRows = 5;
+  if (set.size() < kRows) return;
+  const std::string declare =
+      "declare the units with a header comment such as '# units: m, deg' (or the --units "
+      "option); '# units: mm, deg' if they really are";
+  if (!format.length) {
+    double span = 0;
+    const char* column = set.kind == MeasurementKind::Distances ? "length" : "x";
+    if (set.kind == MeasurementKind::Distances) {
+      for (const DistanceMeasurement& m : set.distances) span = std::max(span, m.length_mm);
+    } else {
+      Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+      for (size_t row = 0; row < set.size(); ++row) {
+        const Eigen::Vector3d& p = set.kind == MeasurementKind::Points
+                                       ? set.points[row].position_mm
+                                       : set.poses[row].world_T_tcp.p;
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+      span = (hi - lo).maxCoeff();
+    }
+    if (span < 10)
+      throw InputError(
+          {set.file, header_line, columns.at(column) + 1, column},
+          fmt::format("the {} only {:.4g} mm over {} rows: they look like metres, not "
+                      "millimetres; {}",
+                      set.kind == MeasurementKind::Distances ? "lengths reach" : "positions span",
+                      span, set.size(), declare));
+  }
+  if (!format.angle) {
+    double largest = 0;
+    for (size_t row = 0; row < set.size(); ++row)
+      largest = std::max(largest, joints_of(set, row).cwiseAbs().maxCoeff());
+    if (largest > deg2rad(0.01) && largest <= deg2rad(2 * std::numbers::pi + 1e-6))
+      throw InputError(
+          {set.file, header_line, columns.at("j1") + 1, "j1"},
+          fmt::format("every joint value is within ±{:.3f} over {} rows: they look like radians, "
+                      "not degrees; declare the units with a header comment such as "
+                      "'# units: mm, rad' (or the --units option); '# units: mm, deg' if they "
+                      "really are degrees",
+                      rad2deg(largest), set.size()));
+  }
+}
+
 }  // namespace
+
+Eigen::Matrix3d rotation_from_axis_angles(const Eigen::Vector3d& angles, const EulerOrder& order) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  for (int k = 0; k < 3; ++k) {
+    const int axis = order.axes[static_cast<size_t>(order.intrinsic ? k : 2 - k)];
+    R = R * Eigen::AngleAxisd(angles[axis], Eigen::Vector3d::Unit(axis)).toRotationMatrix();
+  }
+  return R;
+}
+
+void parse_units(std::string_view text, const SourceLocation& where, MeasurementFormat& format) {
+  std::string list(text);
+  std::replace(list.begin(), list.end(), ',', ' ');
+  std::transform(list.begin(), list.end(), list.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  size_t start = 0;
+  bool any = false;
+  while ((start = list.find_first_not_of(' ', start)) != std::string::npos) {
+    const size_t end = std::min(list.find(' ', start), list.size());
+    const std::string unit = list.substr(start, end - start);
+    start = end;
+    any = true;
+    if (unit == "mm" || unit == "m") {
+      format.length = unit == "m" ? LengthUnit::Metre : LengthUnit::Millimetre;
+    } else if (unit == "deg" || unit == "rad") {
+      format.angle = unit == "rad" ? AngleUnit::Radian : AngleUnit::Degree;
+    } else {
+      throw InputError(where, fmt::format("unknown unit '{}': expected a length unit (mm or m) "
+                                          "and/or an angle unit (deg or rad), e.g. 'm, rad'",
+                                          unit));
+    }
+  }
+  if (!any)
+    throw InputError(where,
+                     "no unit given: expected a length unit (mm or m) and/or an angle "
+                     "unit (deg or rad), e.g. 'm, rad'");
+}
+
+EulerOrder parse_euler_order(std::string_view text, const SourceLocation& where) {
+  std::string words(text);
+  std::transform(words.begin(), words.end(), words.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  const std::string_view t = csv::trim(words);
+  const size_t space = t.find(' ');
+  const std::string_view kind = t.substr(0, space);
+  const std::string_view axes = space == std::string_view::npos ? "" : csv::trim(t.substr(space));
+  EulerOrder order;
+  bool valid = (kind == "INTRINSIC" || kind == "EXTRINSIC") && axes.size() == 3;
+  for (size_t k = 0; valid && k < 3; ++k) {
+    const char a = axes[k];
+    valid = a >= 'X' && a <= 'Z' && axes.find(a) == k;
+    order.axes[k] = a - 'X';
+  }
+  if (!valid)
+    throw InputError(where, fmt::format("'{}' is not a rotation order: expected 'intrinsic' or "
+                                        "'extrinsic' and the three axes X, Y, Z in the order of "
+                                        "the rotations, e.g. 'intrinsic ZYX'",
+                                        csv::trim(text)));
+  order.intrinsic = kind == "INTRINSIC";
+  return order;
+}
 
 std::string_view measurement_kind_name(MeasurementKind kind) {
   switch (kind) {
@@ -166,7 +392,10 @@ std::string_view measurement_kind_name(MeasurementKind kind) {
 
 MeasurementFile parse_measurements_csv(std::string_view text, const std::string& source_name,
                                        const Tool& tool,
-                                       const std::vector<MeasurementKind>& accepted) {
+                                       const std::vector<MeasurementKind>& accepted,
+                                       const MeasurementFormat& declared) {
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);  // UTF-8 byte-order mark
+  MeasurementFormat format = declared;
   MeasurementFile result;
   MeasurementSet& set = result.measurements;
   set.file = source_name;
@@ -184,6 +413,8 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
     ++line_number;
     start = newline == std::string_view::npos ? text.size() + 1 : newline + 1;
     const std::string_view content = csv::trim(line);
+    if (!content.empty() && content.front() == '#' && header_line == 0)
+      read_declaration(content, {source_name, line_number, 0, ""}, format, declared);
     if (content.empty() || content.front() == '#') continue;
     if (header_line == 0) {
       header_line = line_number;
@@ -209,14 +440,18 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
       throw InputError({source_name, header_line, static_cast<int>(i) + 1, name},
                        fmt::format("column '{}' appears twice in the header", name));
   }
-  set.kind = detect_kind(columns, source_name, header_line);
+  const std::optional<OrientationColumns> orientation =
+      columns.count("target") ? std::nullopt
+                              : find_orientation(columns, format.euler, source_name, header_line);
+  set.kind = detect_kind(columns, orientation, source_name, header_line);
   const std::string kind_name(measurement_kind_name(set.kind));
   if (!accepted.empty() && std::find(accepted.begin(), accepted.end(), set.kind) == accepted.end())
     throw InputError({source_name, header_line, 0, ""},
                      fmt::format("this is a {} file (by its columns); this command takes {} files",
                                  kind_name, kinds_text(accepted)));
 
-  const std::vector<std::string> required = columns_of(set.kind);
+  const std::vector<std::string> required =
+      orientation ? columns_of(set.kind, orientation->names) : columns_of(set.kind);
   for (const std::string& name : required)
     if (columns.count(name) == 0)
       throw InputError({source_name, header_line, 0, name},
@@ -235,7 +470,10 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
     throw InputError({source_name, header_line, 0, ""},
                      "no measurement rows after the header: expected at least one row");
 
-  const RowReader reader(source_name, columns);
+  const bool metres = format.length == LengthUnit::Metre;
+  const bool radians = format.angle == AngleUnit::Radian;
+  const RowReader reader(source_name, columns, metres ? 1000.0 : 1.0, radians ? 1.0 : deg2rad(1.0),
+                         metres ? " (m)" : " (mm)", radians ? " (rad)" : " (degrees)");
   std::unordered_map<std::string, int> seen;  // "config\ntarget" -> line
   for (const Row& row : rows) {
     if (row.fields.size() != header.size())
@@ -271,6 +509,17 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
         PoseMeasurement m;
         m.config = config;
         m.joints = reader.joints_rad(row);
+        if (orientation && !orientation->quaternion) {
+          const std::vector<std::string>& n = orientation->names;
+          m.world_T_tcp.R =
+              rotation_from_axis_angles({reader.angle_rad(row, n[0]), reader.angle_rad(row, n[1]),
+                                         reader.angle_rad(row, n[2])},
+                                        orientation->order);
+          m.world_T_tcp.p = reader.xyz(row);
+          m.line = row.line;
+          set.poses.push_back(std::move(m));
+          break;
+        }
         const Eigen::Vector4d q(reader.number(row, "qw", ""), reader.number(row, "qx", ""),
                                 reader.number(row, "qy", ""), reader.number(row, "qz", ""));
         if (std::abs(q.norm() - 1.0) > kQuaternionTolerance)
@@ -291,7 +540,7 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
         m.config = config;
         m.target = reader.target(row, tool);
         m.joints = reader.joints_rad(row);
-        m.length_mm = reader.number(row, "length", " (mm)");
+        m.length_mm = reader.length_mm(row, "length");
         if (m.length_mm < 0)
           throw InputError(
               reader.where(row, "length"),
@@ -302,12 +551,14 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
       }
     }
   }
+  check_units(set, format, header_line, columns);
   return result;
 }
 
 MeasurementFile read_measurements_csv(const std::string& path, const Tool& tool,
-                                      const std::vector<MeasurementKind>& accepted) {
-  return parse_measurements_csv(read_text_file(path), path, tool, accepted);
+                                      const std::vector<MeasurementKind>& accepted,
+                                      const MeasurementFormat& format) {
+  return parse_measurements_csv(read_text_file(path), path, tool, accepted, format);
 }
 
 std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,

@@ -247,10 +247,20 @@ Tool parse_tool(const yaml::Node& root) {
       tool.targets.push_back(target);
     }
   }
+  const yaml::Node tcp_entry = root.get("tcp");
+  tool.tcp_given = tcp_entry.node.IsDefined();
+  tool.tcp_position_known = tool.tcp_orientation_known = tcp_entry.defined() || !tool.tcp_given;
   if (root.has("tcp")) {
     const yaml::Node tcp = root.at("tcp");
     yaml::expect_keys(tcp, {"position_mm", "quaternion_wxyz"});
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    // `~` for a part: to be identified from pose measurements.
+    const auto written_null = [&](const char* key) {
+      const yaml::Node part = tcp.get(key);
+      return part.node.IsDefined() && part.node.IsNull();
+    };
+    tool.tcp_position_known = !written_null("position_mm");
+    tool.tcp_orientation_known = !written_null("quaternion_wxyz");
     if (tcp.has("position_mm"))
       T.translation() = yaml::vector3_in(tcp.at("position_mm"), kLengthMm);
     if (tcp.has("quaternion_wxyz")) {
@@ -291,13 +301,21 @@ std::string tool_to_yaml(const Tool& tool) {
       out << YAML::Null;
   }
   out << YAML::EndMap;
-  if (!tool.flange_T_tcp.isApprox(Eigen::Isometry3d::Identity())) {
+  if (tool.tcp_given || !tool.flange_T_tcp.isApprox(Eigen::Isometry3d::Identity())) {
     const Eigen::Quaterniond q(tool.flange_T_tcp.linear());
     const Eigen::Vector3d p = tool.flange_T_tcp.translation();
     out << YAML::Key << "tcp" << YAML::Value << YAML::BeginMap << YAML::Key << "position_mm"
-        << YAML::Value << YAML::Flow << std::vector<double>{p.x(), p.y(), p.z()} << YAML::Key
-        << "quaternion_wxyz" << YAML::Value << YAML::Flow
-        << std::vector<double>{q.w(), q.x(), q.y(), q.z()} << YAML::EndMap;
+        << YAML::Value;
+    if (tool.tcp_position_known)
+      out << YAML::Flow << std::vector<double>{p.x(), p.y(), p.z()};
+    else
+      out << YAML::Null;
+    out << YAML::Key << "quaternion_wxyz" << YAML::Value;
+    if (tool.tcp_orientation_known)
+      out << YAML::Flow << std::vector<double>{q.w(), q.x(), q.y(), q.z()};
+    else
+      out << YAML::Null;
+    out << YAML::EndMap;
   }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";

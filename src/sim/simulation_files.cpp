@@ -59,10 +59,13 @@ SimulationFiles write_simulation(const std::filesystem::path& dir, const std::st
                                  const SimulationResult& result, const Tool& tool,
                                  const VirtualInstrument& instrument, const TrueRobot& truth,
                                  const std::string& robot_name, const std::string& comment) {
+  // A 6D instrument measures the TCP frame: the tool file says which, even when it is the flange.
+  Tool written = tool;
+  written.tcp_given = tool.tcp_given || result.measurements.kind == MeasurementKind::Poses;
   namespace fs = std::filesystem;
   const std::vector<std::pair<fs::path, std::string>> contents{
       {stem + ".csv", write_measurements_csv(result.measurements, tool, comment)},
-      {"tool.yaml", tool_to_yaml(tool)},
+      {"tool.yaml", tool_to_yaml(written)},
       {"instrument.yaml", instrument_to_yaml(instrument)},
       {fs::path("truth") / "truth.yaml", truth_to_yaml(truth, robot_name)}};
   // The folder appears whole or not at all: every file is written into a staging folder beside

@@ -104,4 +104,65 @@ expect_error "negative orientation weight" "--orientation-weight" calibrate --ro
   --tool "$TMP/cmm/tool.yaml" --measurements "$TMP/cmm/measurements.csv" --orientation-weight -1 \
   --out "$TMP/bad.yaml"
 
+# 4. Shop files: metres without a declaration are refused; declared (header or --units) they
+# calibrate; another robot's model is not written unless --force (exit 1, what to check).
+awk -F, 'NR==1 {print; next} {printf "%s,%s,%s,%s,%s,%s,%s,%s,%.9f,%.9f,%.9f\n", $1,$2,$3,$4,$5,$6,$7,$8,$9/1000,$10/1000,$11/1000}' \
+  $REF/calibration.csv >"$TMP/metres.csv"
+expect_error "metres read as mm" "they look like metres, not millimetres" calibrate \
+  --robot abb-irb120 --tool $REF/tool.yaml --measurements "$TMP/metres.csv" --out "$TMP/bad.yaml"
+expect_error "bad --units" "--units: unknown unit 'inch'" calibrate --robot abb-irb120 \
+  --tool $REF/tool.yaml --measurements "$TMP/metres.csv" --units inch --out "$TMP/bad.yaml"
+"$ROBCAL" calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements "$TMP/metres.csv" \
+  --units m --sigma 0.02 --out "$TMP/metres.yaml" >"$TMP/metres.txt" || fail "--units m failed"
+grep -q "calibrated:               mean 0.0320  rms 0.0338  max 0.0564 mm" "$TMP/metres.txt" ||
+  fail "metres file gives other residuals: $(grep -A2 'residual per row' "$TMP/metres.txt")"
+grep -q "the residuals are the instrument's noise" "$TMP/metres.txt" || fail "noise test missing"
+"$ROBCAL" calibrate --robot kuka-kr6-r900-sixx --tool $REF/tool.yaml \
+  --measurements $REF/calibration.csv --out "$TMP/kuka.yaml" >"$TMP/kuka.txt" 2>"$TMP/kuka.err"
+[[ $? -eq 1 ]] || fail "another robot's model: exit code not 1"
+[[ ! -e "$TMP/kuka.yaml" ]] || fail "another robot's model was written"
+grep -q "not written: the fit is not trustworthy" "$TMP/kuka.err" || fail "no refusal message"
+grep -q "PROBLEM: .*check the robot (--robot" "$TMP/kuka.txt" || fail "no advice what to check"
+"$ROBCAL" calibrate --robot kuka-kr6-r900-sixx --tool $REF/tool.yaml \
+  --measurements $REF/calibration.csv --force --out "$TMP/kuka.yaml" >/dev/null 2>&1
+[[ -s "$TMP/kuka.yaml" ]] || fail "--force did not write the model"
+
+# 5. validate with a calibrated model: --fit-base re-registers a moved instrument (+1 m in x);
+# a tool file that contradicts the model's tool is refused, not silently ignored.
+awk -F, 'NR==1 {print; next} {printf "%s,%s,%s,%s,%s,%s,%s,%s,%.6f,%s,%s\n", $1,$2,$3,$4,$5,$6,$7,$8,$9+1000,$10,$11}' \
+  $REF/validation.csv >"$TMP/moved.csv"
+"$ROBCAL" validate --robot abb-irb120 --tool $REF/tool.yaml --model "$TMP/metres.yaml" \
+  --measurements "$TMP/moved.csv" --fit-base --json >"$TMP/moved.json" || fail "validate --fit-base"
+/usr/bin/python3 -c "
+import json, sys
+d = json.load(open('$TMP/moved.json'))
+assert d['position_error_mm']['mean'] < 0.1, d['position_error_mm']" || fail "base not re-registered"
+sed 's/"1": \[0.0, 0.0, 125.0\]/"1": [0.0, 0.0, 200.0]/' $REF/tool.yaml >"$TMP/other_tool.yaml"
+expect_error "another tool" "target '1' is at (0, 0, 200) mm here" validate --robot abb-irb120 \
+  --tool "$TMP/other_tool.yaml" --model "$TMP/metres.yaml" --measurements $REF/validation.csv
+
+# 6. Cross-validation with the user's folds (config → fold): per-fold and pooled statistics.
+{ echo "config,fold"; awk -F, 'NR>1 {print $1 "," ($1 % 4) + 1}' $REF/calibration.csv; } >"$TMP/folds.csv"
+"$ROBCAL" calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --folds "$TMP/folds.csv" --json --out "$TMP/folds.yaml" >"$TMP/folds.json" || fail "--folds failed"
+/usr/bin/python3 - "$TMP/folds.json" <<'PY' || FAILED=1
+import json, sys
+cv = json.load(open(sys.argv[1]))["cross_validation"]
+folds = cv["per_fold"]
+assert cv["folds"] == 4 and cv["user_folds"] and len(folds) == 4, cv
+assert [f["rows"] for f in folds] == [15, 15, 15, 15], folds
+pooled = sum(f["rows"] * f["mean"] for f in folds) / 60
+assert abs(pooled - cv["error_mm"]["mean"]) < 1e-6, (pooled, cv["error_mm"])
+assert max(f["max"] for f in folds) == cv["error_mm"]["max"], cv
+assert 0.02 < cv["error_mm"]["mean"] < 0.06, cv
+PY
+{ echo "config,fold"; echo "1,1"; echo "2,x"; } >"$TMP/badfolds.csv"
+expect_error "bad fold" "badfolds.csv:3:3 (fold): '2,x': expected config,fold with fold an integer" \
+  calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --folds "$TMP/badfolds.csv" --out "$TMP/bad.yaml"
+{ echo "config,fold"; echo "1,1"; echo "2,2"; } >"$TMP/fewfolds.csv"
+expect_error "config without fold" "configuration '3' of $REF/calibration.csv has no fold" \
+  calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --folds "$TMP/fewfolds.csv" --out "$TMP/bad.yaml"
+
 finish calibrate_cli

@@ -43,7 +43,19 @@ struct IdentifyOptions {
   /// joint values with this seed.
   int prediction_configurations = 1000;
   uint64_t seed = 1;
+  /// Near-dependent groups (identifiability.hpp, kNearDependenceCorrelation): true holds the
+  /// latest member of each at its start value (warned, status dropped); false fits them all
+  /// (warned: their values are then arbitrary within a large σ).
+  bool resolve_near_dependencies = true;
+  /// The instrument's stated σ per axis (mm); 0 when not stated. With it the residuals are
+  /// tested against the noise it explains (χ², IdentificationResult::noise_test).
+  double instrument_sigma_mm = 0;
 };
+
+/// Gravity torque below which a joint's compliance cannot show in the measurements (N·mm): a
+/// compliance ten times the published IRB 120 values (1e-5 rad/N·mm) under 0.1 N·mm deflects
+/// the joint by 1e-6 rad, 1 µm at 1 m — below every instrument's resolution.
+inline constexpr double kGravityTorqueFloorNmm = 0.1;
 
 /// How the solver ended (an outcome, not an error).
 struct SolverStatus {
@@ -62,12 +74,15 @@ struct IdentificationSetup {
   MeasurementKind kind = MeasurementKind::Points;
   UnknownLayout layout;
   IdentifyOptions options;
-  std::vector<bool> requested;      ///< unknowns the level and patterns free
-  std::vector<int> free;            ///< unknowns fitted (requested minus dropped), layout order
-  std::vector<Dependency> dropped;  ///< model dependencies found on the synthetic design
-  Eigen::VectorXd start;            ///< start values (nominal; extras zero) before the rigid fit
-  Eigen::VectorXd scales;           ///< column scale of each free unknown (1/‖column‖)
-  bool fit_base = false;            ///< all six base parameters free: start with the rigid fit
+  std::vector<bool> requested;  ///< unknowns the level and patterns free
+  std::vector<int> free;        ///< unknowns fitted (requested minus dropped), layout order
+  /// Unknowns not fitted and why: compliances without gravity torque (reason set), the model's
+  /// own dependencies found on the synthetic design, near-dependent ones of the data's design.
+  std::vector<Dependency> dropped;
+  std::vector<std::string> warnings;  ///< found before fitting, for the user
+  Eigen::VectorXd start;              ///< start values (nominal; extras zero) before the rigid fit
+  Eigen::VectorXd scales;             ///< column scale of each free unknown (1/‖column‖)
+  bool fit_base = false;              ///< all six base parameters free: start with the rigid fit
 };
 
 /// Checks and prepares an identification for measurements like `data` (its rows: joints,
@@ -86,6 +101,7 @@ std::string describe_dependency(const UnknownLayout& layout, const RobotModel& m
 
 /// The fitted unknowns and the solver's outcome.
 struct FitResult {
+  Eigen::VectorXd start;     ///< where the solver started (nominal robot, rigid fit)
   Eigen::VectorXd unknowns;  ///< layout order, internal units
   SolverStatus status;
   double huber_scale_mm = 0;  ///< the threshold used (0 without --loss huber)
@@ -126,14 +142,40 @@ struct SuspectedOutlier {
   double residual_mm = 0;  ///< position residual norm (|length error| for distances)
 };
 
+/// Are the residuals what the instrument's stated noise explains? RSS/σ² against χ²(m − n).
+struct NoiseTest {
+  bool tested = false;  ///< false without a stated instrument σ
+  double instrument_sigma_mm = 0;
+  double chi_square = 0;  ///< RSS / σ²
+  int dof = 0;            ///< m − n
+  double p_value = 1;     ///< P(χ²_dof ≥ chi_square)
+  /// False when p < kNoiseTestLevel: the model misses systematic effects (or σ is
+  /// understated), and the covariance-based prediction would present that misfit as noise.
+  bool consistent = true;
+};
+
+/// Significance level of the noise test: a misfit is reported when a fit this bad would happen
+/// less than once in a thousand calibrations of a perfect model.
+inline constexpr double kNoiseTestLevel = 1e-3;
+
+/// P(χ²_ν ≥ x) by the Wilson–Hilferty cube-root normal approximation (absolute error < 1e-3
+/// for ν ≥ 10; the calibration's ν is in the tens to hundreds).
+double chi_square_upper_tail(double x, int dof);
+
 struct IdentificationResult {
   CalibratedRobot robot;
   SolverStatus status;
   std::vector<UnknownEstimate> unknowns;  ///< every unknown of the layout
+  std::vector<std::string> warnings;      ///< found before fitting (IdentificationSetup)
   int residual_count = 0;
   int identified_count = 0;
-  double sigma_mm = 0;            ///< a-posteriori residual standard deviation √(RSS/(m − n))
-  double rms_mm = 0, max_mm = 0;  ///< over rows, position residual norm
+  double sigma_mm = 0;  ///< a-posteriori residual standard deviation √(RSS/(m − n))
+  /// One definition throughout: per row, the 3D position error (points; the TCP's for poses)
+  /// or |length error| (distances); mean, RMS and maximum over the rows, at the solution and at
+  /// the start (nominal robot placed by the rigid fit).
+  double mean_mm = 0, rms_mm = 0, max_mm = 0;
+  double start_mean_mm = 0, start_rms_mm = 0, start_max_mm = 0;
+  NoiseTest noise_test;
   double huber_scale_mm = 0;
   std::vector<TargetResiduals> by_target;
   std::vector<Correlation> correlations;   ///< strongest (|ρ| ≥ 0.5), at most 10, largest first

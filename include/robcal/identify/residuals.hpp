@@ -67,6 +67,13 @@ void stacked_residuals(const ResidualContext& context, const Eigen::VectorXd& un
 Eigen::Vector3d modelled_position(const ResidualContext& context, const Eigen::VectorXd& unknowns,
                                   size_t row);
 
+/// The TCP frame in the flange (mm) in the unknown vector's state: the tool's, with its
+/// identified parts (tcp.x..z; tcp.rx..rz as φ in flange_T_tcp = start·exp([φ]×)).
+Eigen::Isometry3d tcp_frame(const ResidualContext& context, const Eigen::VectorXd& unknowns);
+
+/// Right Jacobian of SO(3): exp([φ + δ]×) ≈ exp([φ]×)·exp([J_r(φ)·δ]×).
+Eigen::Matrix3d so3_right_jacobian(const Eigen::Vector3d& phi);
+
 /// The coordinates (flange frame, mm) of tool target `target` in the unknown vector's state.
 Eigen::Vector3d target_coordinates(const ResidualContext& context, const Eigen::VectorXd& unknowns,
                                    int target);

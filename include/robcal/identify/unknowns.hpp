@@ -32,18 +32,26 @@ std::vector<int> level_parameters(CalibrationLevel level);
 
 /// The unknown vector of one calibration: kParameterCount model parameters, then the extras.
 /// Names: the parameters' dotted names, `target.<name>.x|y|z`, `ballbar.centre.x|y|z`,
-/// `ballbar.length_offset` (all extras in mm).
+/// `ballbar.length_offset`, `tcp.x|y|z` (extras in mm), `tcp.rx|ry|rz` (deg outside).
 struct UnknownLayout {
   std::vector<std::string> names;
   std::vector<int> target_slot;  ///< per tool target: index of its x coordinate, or -1 if known
   int centre = -1;               ///< index of ballbar.centre.x (distances only), or -1
   int length_offset = -1;        ///< index of ballbar.length_offset (distances only), or -1
+  /// Poses with a TCP part to identify: index of tcp.x (mm), of tcp.rx (rad: the rotation
+  /// vector φ of flange_T_tcp = start·exp([φ]×)), or -1.
+  int tcp_position = -1;
+  int tcp_rotation = -1;
 
   [[nodiscard]] int size() const { return static_cast<int>(names.size()); }
   [[nodiscard]] bool is_model(int index) const { return index < kParameterCount; }
   /// Internal → external unit factor (deg for angles, else 1) and the external unit's name.
   [[nodiscard]] double to_external(int index) const;
   [[nodiscard]] std::string unit(int index) const;
+  /// A plausible error of an unknown (internal units), the physical scale of its column when
+  /// deciding what the measurements see: 1 mm, 1 mrad, 1e-7 rad/N·mm (the published
+  /// compliances are 0.3–6e-7), 1e-4 of a joint scale, 1 mm for extras.
+  [[nodiscard]] double plausible_error(int index) const;
   /// Index of a name, or -1.
   [[nodiscard]] int index(const std::string& name) const;
 };

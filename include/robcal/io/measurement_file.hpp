@@ -6,19 +6,37 @@
 ///
 /// | kind      | columns                                   | units                         |
 /// |-----------|-------------------------------------------|-------------------------------|
-/// | poses     | config,j1..j6,x,y,z,qw,qx,qy,qz           | deg; mm; unit quaternion wxyz |
+/// | poses     | config,j1..j6,x,y,z + orientation         | deg; mm; see below            |
 /// | points    | config,target,j1..j6,x,y,z                | deg; mm (world frame)         |
 /// | distances | config,target,j1..j6,length               | deg; mm                       |
 ///
-/// Any quaternion column makes a poses file; otherwise x/y/z make a points file; otherwise
-/// `length` makes a distances file. Joints are the controller's values in degrees as commanded
-/// (radians in memory). `target` names a target of the tool. Columns the kind does not use are
-/// ignored with a warning.
+/// Orientation of a poses file, as instruments and controllers write it:
+/// - `qw,qx,qy,qz`: unit quaternion;
+/// - `a,b,c`: ABB/KUKA angles, R = Rz(a)·Ry(b)·Rx(c) (intrinsic ZYX);
+/// - `w,p,r`: Fanuc angles, R = Rz(r)·Ry(p)·Rx(w) (extrinsic XYZ, the same matrix);
+/// - `rx,ry,rz`: angles about x, y, z in a declared order, any of the 12: `# euler: intrinsic
+///   ZYX` (R = Rz·Ry·Rx) or `# euler: extrinsic XYZ` (rotations about the fixed axes x, then y,
+///   then z: also R = Rz·Ry·Rx), or MeasurementFormat::euler (the `--euler` option).
+///
+/// Any quaternion column, or a complete set of Euler columns in a file without `target`, makes a
+/// poses file; otherwise x/y/z make a points file; otherwise `length` makes a distances file.
+/// Joints are the controller's values as commanded. `target` names a target of the tool. Columns
+/// the kind does not use are ignored with a warning. A UTF-8 byte-order mark is skipped.
+///
+/// Units: mm and degrees (radians in memory) unless declared by a header comment
+/// `# units: m, rad` (a length unit mm or m, an angle unit deg or rad — for the joints and the
+/// Euler angles — either may be left out) or MeasurementFormat (the `--units` option). Never
+/// guessed: when undeclared values look like the other unit (positions spanning less than
+/// 10 mm, or ballbar lengths below 10 mm, over ≥ 5 rows: metres; every joint within ±2π over
+/// ≥ 5 rows: radians), the file is refused with what to declare.
 
+#include <array>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "robcal/core/error.hpp"
 #include "robcal/measure/measurements.hpp"
 #include "robcal/model/tool.hpp"
 
@@ -34,6 +52,33 @@ struct MeasurementFile {
   std::vector<std::string> warnings;
 };
 
+enum class LengthUnit { Millimetre, Metre };
+enum class AngleUnit { Degree, Radian };
+
+/// Order of the rotations of `rx,ry,rz` columns: `axes` as written ("ZYX": 2, 1, 0);
+/// intrinsic: R = R_axes[0]·R_axes[1]·R_axes[2]; extrinsic: R = R_axes[2]·R_axes[1]·R_axes[0].
+struct EulerOrder {
+  std::array<int, 3> axes{2, 1, 0};
+  bool intrinsic = true;
+};
+
+/// The rotation of angles (rad) about x, y and z (`angles` indexed by axis) composed in `order`.
+Eigen::Matrix3d rotation_from_axis_angles(const Eigen::Vector3d& angles, const EulerOrder& order);
+
+/// What the caller declares about a file (command-line options); unset members come from the
+/// file's header comments or the defaults (mm, deg). A declaration that contradicts the file's
+/// header is an InputError.
+struct MeasurementFormat {
+  std::optional<LengthUnit> length;
+  std::optional<AngleUnit> angle;
+  std::optional<EulerOrder> euler;
+};
+
+/// Parses "m, rad" / "mm" / "rad" (`--units`, `# units:`) into `format`; InputError at `where`.
+void parse_units(std::string_view text, const SourceLocation& where, MeasurementFormat& format);
+/// Parses "intrinsic ZYX" / "extrinsic xyz" (`--euler`, `# euler:`); InputError at `where`.
+EulerOrder parse_euler_order(std::string_view text, const SourceLocation& where);
+
 /// Reads a measurement file.
 /// \param tool      resolves target names to indices into Tool::targets
 /// \param accepted  kinds the calling command can use (empty: any); another kind is an error
@@ -42,13 +87,15 @@ struct MeasurementFile {
 ///   value, unknown target (listing the tool's targets), duplicate row (same config and
 ///   target; same config for poses), quaternion not unit within 1e-5, kind not accepted.
 MeasurementFile read_measurements_csv(const std::string& path, const Tool& tool,
-                                      const std::vector<MeasurementKind>& accepted = {});
+                                      const std::vector<MeasurementKind>& accepted = {},
+                                      const MeasurementFormat& format = {});
 
 /// Same as read_measurements_csv on text already in memory; `source_name` is used in messages
 /// and stored in MeasurementSet::file.
 MeasurementFile parse_measurements_csv(std::string_view text, const std::string& source_name,
                                        const Tool& tool,
-                                       const std::vector<MeasurementKind>& accepted = {});
+                                       const std::vector<MeasurementKind>& accepted = {},
+                                       const MeasurementFormat& format = {});
 
 /// The set as a CSV file of its kind, with the shortest decimal text that reads back to the
 /// same double (joints converted to degrees). `comment` lines, if any, are written first as

@@ -23,6 +23,10 @@ struct Tool {
   PointMass payload;  ///< mass and CoG in the flange frame
   std::vector<Target> targets;
   Eigen::Isometry3d flange_T_tcp = Eigen::Isometry3d::Identity();  ///< TCP frame in the flange
+  bool tcp_given = false;  ///< the tool file has `tcp:` (poses without it are the flange's)
+  /// False when the tool file writes `tcp: ~` or `position_mm: ~` / `quaternion_wxyz: ~`: the
+  /// part is identified from pose measurements (flange_T_tcp holds the start: identity, zero).
+  bool tcp_position_known = true, tcp_orientation_known = true;
 
   /// Index of the target with this name, or -1.
   [[nodiscard]] int target_index(std::string_view name) const {

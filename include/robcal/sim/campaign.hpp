@@ -50,8 +50,8 @@ struct CampaignResult {
   std::vector<PlannedConfiguration> validation_configs;
   SimulationResult validation;        ///< noisy readings
   SimulationResult validation_truth;  ///< the same rows without noise
-  /// The nominal robot rigidly fitted to the validation readings (the best a nominal model
-  /// can do once its base is known: the published tables' "before").
+  /// The nominal robot rigidly fitted to the calibration readings (the published tables'
+  /// "before": the base found from the calibration data, scored on the validation data).
   CalibratedRobot nominal;
   ModelErrors nominal_vs_measurements, nominal_vs_truth;
   std::vector<LevelOutcome> levels;
