@@ -18,7 +18,8 @@
 namespace robcal {
 namespace {
 
-/// The published IRB 120 errors (METHOD §10) placed arbitrarily in a tracker's world.
+/// The published IRB 120 errors (docs/method/11-published-results.md) placed arbitrarily in a
+/// tracker's world.
 ParameterVector true_robot(const RobotModel& model) {
   ParameterVector x = model.nominal();
   const double base[6] = {-812.25, 1503.5, -95.0, 0.25, -0.4, -57.0};

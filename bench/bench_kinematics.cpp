@@ -121,8 +121,9 @@ void Kinematics_NominalIkOneBranch(benchmark::State& state) {
 BENCHMARK(Kinematics_NominalIkOneBranch);
 
 void Kinematics_NumericIkCalibrated(benchmark::State& state) {
-  // A calibrated robot: seeded random errors of METHOD §3's size (0.5 mm, 0.05°) and gravity
-  // compliance with a 2.6 kg payload; the target is its pose, the seed the nominal solution.
+  // A calibrated robot: seeded random errors of docs/method/03-error-model.md's size (0.5 mm,
+  // 0.05°) and gravity compliance with a 2.6 kg payload; the target is its pose, the seed the
+  // nominal solution.
   const RobotModel model = load_robot("abb-irb120");
   const OrthoParallelGeometry geometry = *analyze_ortho_parallel(model);
   std::mt19937_64 rng(kSeed);

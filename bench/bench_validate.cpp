@@ -1,5 +1,6 @@
-// All-pairs distance statistics over 10,000 validation rows (50 million pairs), METHOD §9;
-// 1 and 2 threads (BENCHMARKS.md: compared inside one process, interleaved).
+// All-pairs distance statistics over 10,000 validation rows (50 million pairs),
+// docs/method/09-validation.md; 1 and 2 threads (BENCHMARKS.md: compared inside one process,
+// interleaved).
 
 #include <benchmark/benchmark.h>
 

@@ -7,12 +7,12 @@
 #include "module_registry.hpp"
 #include "py_measurements.hpp"
 #include "robcal/compensate/corrected_targets.hpp"
-#include "robcal/programs/program_filter.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
+#include "robcal/programs/program_filter.hpp"
 #include "robcal/sim/true_robot.hpp"
 
 namespace py = pybind11;
@@ -60,7 +60,7 @@ py::dict pose_dict(const Pose<double>& pose) {
 const bool registered = register_bindings(70, [](py::module_& m) {
   py::class_<PyCompensator>(m, "Compensator",
                             "Calibrated inverse kinematics and corrected targets for one "
-                            "calibrated robot, tool and payload (METHOD §1 step 5)")
+                            "calibrated robot, tool and payload (docs/method/10-compensation.md)")
       .def_static(
           "from_model",
           [](const std::string& model, const std::optional<std::string>& tool,
@@ -203,8 +203,8 @@ const bool registered = register_bindings(70, [](py::module_& m) {
         ProgramFilterOptions options;
         options.joints = joints;
         py::list out;
-        for (const ProgramPoint& p :
-             read_program_points(text, program_language_from_name(language, "language"), "<text>", options)) {
+        for (const ProgramPoint& p : read_program_points(
+                 text, program_language_from_name(language, "language"), "<text>", options)) {
           py::dict d = p.is_joint_target ? py::dict() : pose_dict(p.base_T_tcp);
           d["name"] = p.name;
           d["line"] = p.line;

@@ -48,7 +48,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         return indices_dict(observability_indices(jacobian, configurations));
       },
       py::arg("jacobian"), py::arg("configurations"),
-      "O1…O5 (METHOD §6) of a column-scaled identification Jacobian of n configurations");
+      "O1…O5 (docs/method/05-observability.md) of a column-scaled identification Jacobian of n "
+      "configurations");
   m.def(
       "select_d_optimal",
       [](const Eigen::MatrixXd& rows, int rows_per_candidate, int count, int restarts,

@@ -49,7 +49,7 @@ TriangleSides sides(const std::array<double, 3>& d) {
 }
 
 const bool registered = register_bindings(60, [](py::module_& m) {
-  auto h = m.def_submodule("hexapod", "The ballbar hexapod of METHOD §8 (mm)");
+  auto h = m.def_submodule("hexapod", "The ballbar hexapod of docs/method/07-hexapod.md (mm)");
   h.def(
       "triangle_from_sides",
       [](const std::array<double, 3>& d) {
@@ -65,7 +65,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         return tripod(v1, v2, v3, l1, l2, l3, sign);
       },
       py::arg("v1"), py::arg("v2"), py::arg("v3"), py::arg("l1"), py::arg("l2"), py::arg("l3"),
-      py::arg("sign"), "Tri of METHOD §8; None when there is no real solution");
+      py::arg("sign"), "Tri of docs/method/07-hexapod.md; None when there is no real solution");
   h.def(
       "solve_dkp",
       [](const std::array<double, 3>& base, const std::array<double, 3>& tool,

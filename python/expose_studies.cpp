@@ -32,7 +32,8 @@ const bool registered = register_bindings(80, [](py::module_& m) {
         return json_to_python(published_experiments_json(e));
       },
       py::arg("seed") = 1,
-      "The published simulation experiments (METHOD §10, `robcal experiments`): {seed, "
+      "The published simulation experiments (docs/method/11-published-results.md, `robcal "
+      "experiments`): {seed, "
       "calibration_configurations, validation_configurations, experiments: {a, b, c}}");
 
   m.def(

@@ -126,7 +126,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "Validates a calibrated model file (`model`), or the nominal robot `robot`, (placed by a "
       "rigid best fit when it has no world frame and fit_base=True) against a "
       "points or poses file: position errors overall and per target, histogram, and distance "
-      "errors over every pair of rows (METHOD §9)");
+      "errors over every pair of rows (docs/method/09-validation.md)");
 });
 
 }  // namespace

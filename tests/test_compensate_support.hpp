@@ -23,8 +23,8 @@ inline constexpr const char* kRobots[] = {"abb-irb120", "fanuc-lrmate200ic", "ku
 inline constexpr double kPublishedCompliance[5] = {3.2e-8, 1.3e-7, 6.05e-7, 4.19e-7, 6.47e-7};
 
 /// A calibrated robot: the nominal one placed in a tracker's world with the error magnitudes
-/// of METHOD §10 (links ±0.5 mm / ±0.1°, compliance of the published IRB 120 order), a 2.6 kg
-/// payload and a TCP 150 mm out.
+/// of docs/method/11-published-results.md (links ±0.5 mm / ±0.1°, compliance of the published IRB
+/// 120 order), a 2.6 kg payload and a TCP 150 mm out.
 inline CalibratedRobot random_calibrated(const std::string& name, std::mt19937_64& rng) {
   const RobotModel model = load_robot(name);
   Tool tool;

@@ -1,5 +1,5 @@
-// Configuration design (METHOD §6): observability indices, rank-r information updates,
-// candidates, selection quality against random sets and the continuous D-optimum.
+// Configuration design (docs/method/05-observability.md): observability indices, rank-r information
+// updates, candidates, selection quality against random sets and the continuous D-optimum.
 
 #include <gtest/gtest.h>
 
@@ -267,7 +267,8 @@ TEST(DesignCandidates, ClearErrorsWhenNothingIsFeasible) {
 TEST(DesignMatrixTest, FullModelDropsLink3DAndScalesColumns) {
   const Irb120Design& d = irb120_5000();
   ASSERT_EQ(d.design.candidates(), 5000);
-  // Axes 2 and 3 are parallel: link3.d depends on link2.d and is the one dropped (METHOD §3).
+  // Axes 2 and 3 are parallel: link3.d depends on link2.d and is the one dropped
+  // (docs/method/03-error-model.md).
   ASSERT_EQ(d.design.dropped.size(), 1u);
   EXPECT_EQ(parameter_table()[static_cast<size_t>(d.design.dropped[0])].name, "link3.d");
   EXPECT_EQ(d.design.columns(), 30);

@@ -1,6 +1,6 @@
-// Planning in the simulated cell (METHOD §6, issue 5): every planned configuration is measured
-// by the simulator, the task box, and the closed loop plan → simulate → calibrate against
-// random configurations with the accuracy predicted before measuring.
+// Planning in the simulated cell (docs/method/05-observability.md, issue 5): every planned
+// configuration is measured by the simulator, the task box, and the closed loop plan → simulate →
+// calibrate against random configurations with the accuracy predicted before measuring.
 
 #include <gtest/gtest.h>
 

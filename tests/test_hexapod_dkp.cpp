@@ -1,5 +1,5 @@
-// Ballbar hexapod geometry (METHOD §8): Tri against hand cases, fixture triangles, the DKP round
-// trip in the right assembly mode, ill-posed inputs, the 72 poses and their pruning.
+// Ballbar hexapod geometry (docs/method/07-hexapod.md): Tri against hand cases, fixture triangles,
+// the DKP round trip in the right assembly mode, ill-posed inputs, the 72 poses and their pruning.
 
 #include <gtest/gtest.h>
 
@@ -249,12 +249,12 @@ TEST(HexapodPoses, PruningKeepsOnlyPosesFarFromEachOther) {
 }
 
 TEST(HexapodPoses, PublishedFiftyFourIsTheOrientationRuleJustAbove30Degrees) {
-  // METHOD §8: "closer than ~30° and ~50 mm … the published set keeps 54". For the published
-  // fixtures (300 / 150 / 300 mm, equilateral) the orientation distance (rotation angle between
-  // the tool fixture frames) of the closest pairs is just above 30°, with tool-fixture centres
-  // ≈ 148 mm apart; no pair is within 50 mm and 60°. So 30° and 50 mm together keep all 72, and
-  // 54 = 72 − 18 is what an orientation-only rule just above 30° leaves: the closest pairs are 18
-  // disjoint pairs (a mode-1 pose with a mode-3 one, a mode-2 with a mode-4), each losing one.
+  // docs/method/07-hexapod.md: "closer than ~30° and ~50 mm … the published set keeps 54". For the
+  // published fixtures (300 / 150 / 300 mm, equilateral) the orientation distance (rotation angle
+  // between the tool fixture frames) of the closest pairs is just above 30°, with tool-fixture
+  // centres ≈ 148 mm apart; no pair is within 50 mm and 60°. So 30° and 50 mm together keep all 72,
+  // and 54 = 72 − 18 is what an orientation-only rule just above 30° leaves: the closest pairs are
+  // 18 disjoint pairs (a mode-1 pose with a mode-3 one, a mode-2 with a mode-4), each losing one.
   const std::vector<HexapodPose> poses = enumerate_poses(HexapodGeometry{});
   ASSERT_EQ(poses.size(), 72u);
   const auto angle = [&](size_t i, size_t j) {

@@ -48,7 +48,8 @@ TEST(HexapodGauge, FixtureSidesMustBeWithinTheGaugeReach) {
 }
 
 /// Configurations of the plan with a leg the gauge cannot read when the robot goes where its
-/// nominal model says (the first pass of METHOD §8, before any preliminary calibration).
+/// nominal model says (the first pass of docs/method/07-hexapod.md, before any preliminary
+/// calibration).
 int unreadable_with_nominal_model(double range_mm, int* planned) {
   const RobotModel model = load_robot("fanuc-lrmate200ic");
   auto rng = test::seeded_rng(5);

@@ -1,4 +1,5 @@
-// Hexapod uncertainty (ISO/IEC Guide 98-3) and the world frame from the base cups (METHOD §8).
+// Hexapod uncertainty (ISO/IEC Guide 98-3) and the world frame from the base cups
+// (docs/method/07-hexapod.md).
 
 #include <gtest/gtest.h>
 

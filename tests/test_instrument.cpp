@@ -1,5 +1,5 @@
-// Virtual instruments (METHOD §7): noise statistics against σ, visibility cones and ranges at
-// their edges, and the ballbar's ±1 mm window.
+// Virtual instruments (docs/method/06-instruments.md): noise statistics against σ, visibility cones
+// and ranges at their edges, and the ballbar's ±1 mm window.
 
 #include <gtest/gtest.h>
 

@@ -124,7 +124,7 @@ TEST(MeasurementProgramFormat, RapidModuleWrittenByHand) {
             "MODULE RCMEAS\n"
             "    ! robcal measurement program, part 1 of 1: configurations 1-1 of 1.\n"
             "    ! Each configuration is approached from q - 5 deg on every joint (backlash,\n"
-            "    ! METHOD 6), reached at a fine point, then the arm settles 1 s.\n"
+            "    ! robcal method), reached at a fine point, then the arm settles 1 s.\n"
             "    PROC RCMEAS_run()\n"
             "        VelSet 10, 5000;\n"
             "        ! c1 joints 10.000000 -20.500000 30.000000 0.000000 45.000000 -90.000000\n"

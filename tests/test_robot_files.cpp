@@ -146,8 +146,8 @@ TEST(RobotFiles, FanucLrMate200iCMatchesRosIndustrialOpwParameters) {
   }
   const std::filesystem::path path = *found / file;
   const OpwParameters opw = read_opw(path.string());
-  // The OPW geometry is METHOD §4's table: a1 = link2.a, a2 = −link4.a, c1 = d1, c2 = link3.a,
-  // c3 = link4.d, c4 = link6.d.
+  // The OPW geometry is docs/method/02-frames.md §7's table: a1 = link2.a, a2 = −link4.a, c1 = d1,
+  // c2 = link3.a, c3 = link4.d, c4 = link6.d.
   const RobotModel model = load_robot("fanuc-lrmate200ic");
   EXPECT_NEAR(opw.a1, model.mdh[1].a, 1e-9);
   EXPECT_NEAR(opw.a2, -model.mdh[3].a, 1e-9);

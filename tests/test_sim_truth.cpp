@@ -25,7 +25,8 @@ TEST(SimTruth, PublishedTruthIsTheReferenceDataSetsRobot) {
 }
 
 TEST(SimTruth, PublishedTruthReproducesTheReferenceTargetPositions) {
-  // fk_cases.csv was written by an implementation independent of ours (METHOD §2, §3, §10).
+  // fk_cases.csv was written by an implementation independent of ours (docs/method/02-frames.md,
+  // 03-error-model.md, 11-published-results.md).
   const RobotModel model = load_robot("abb-irb120");
   const TrueRobot truth = published_irb120_truth(model, default_simulation_tool());
   const test::CsvTable cases = test::read_csv(test::data_path("irb120-published/fk_cases.csv"));

@@ -1,6 +1,6 @@
-// Validation (METHOD §9): statistics against hand-computed values, all-pairs distance errors
-// against a naive double loop and across thread counts, position/orientation errors, the rigid
-// base fit, and the reference data set's noise floor.
+// Validation (docs/method/09-validation.md): statistics against hand-computed values, all-pairs
+// distance errors against a naive double loop and across thread counts, position/orientation
+// errors, the rigid base fit, and the reference data set's noise floor.
 
 #include <gtest/gtest.h>
 
@@ -285,8 +285,8 @@ TEST(ValidateReference, NominalRobotIsMillimetresOff) {
       read_measurements_csv(test::data_path("irb120-published/validation.csv"), robot.tool)
           .measurements;
   const ValidationReport report = validate_model(fit_base(nominal, set), set, 2);
-  // METHOD §10: the IRB 120 is 1–5 mm off before calibration (3.168 mm published; 1.394 mm
-  // for a base-only fit in the reference README).
+  // docs/method/11-published-results.md: the IRB 120 is 1–5 mm off before calibration (3.168 mm
+  // published; 1.394 mm for a base-only fit in the reference README).
   EXPECT_GT(report.positions.position_mm.mean, 0.8);
   EXPECT_LT(report.positions.position_mm.mean, 3.5);
   EXPECT_GT(report.distances.stats.mean, 0.3);

@@ -1,5 +1,5 @@
-/// `robcal calibrate`: identify a robot's parameters from measurements (METHOD §5) and write
-/// the calibrated model.
+/// `robcal calibrate`: identify a robot's parameters from measurements
+/// (docs/method/04-identification.md) and write the calibrated model.
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>

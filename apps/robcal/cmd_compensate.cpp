@@ -1,6 +1,6 @@
 /// `robcal compensate`: corrected targets for the controller from wanted world poses and a
 /// calibrated model; `robcal compensate-program`: the same applied to every point of an ABB
-/// RAPID module or a KUKA KRL file (METHOD §1 step 5, §4).
+/// RAPID module or a KUKA KRL file (docs/method/10-compensation.md, 02-frames.md §7).
 
 #include <fmt/format.h>
 

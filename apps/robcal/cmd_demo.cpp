@@ -69,7 +69,8 @@ void run_demo(const DemoOptions& o) {
       fmt::format("{} validation configurations", campaign.validation.measurements.size())};
   data.notes = {
       "Simulated: the true robot is the identified IRB 120 published by Nubiola & "
-      "Bonev (METHOD §10); tracker noise 0.022 mm per axis. Errors are against the "
+      "Bonev (docs/method/11-published-results.md); tracker noise 0.022 mm per axis. Errors are "
+      "against the "
       "simulated validation readings, which carry that noise too."};
   const nlohmann::json report = report_json(data);
   write_file_atomically(out / "report.json", report.dump(1));
@@ -95,7 +96,8 @@ void run_demo(const DemoOptions& o) {
   }
   fmt::print("robcal demo: ABB IRB 120 measured by a simulated laser tracker (seed {})\n", o.seed);
   fmt::print(
-      "  true robot: the published identified IRB 120 (METHOD §10), tracker σ 0.022 mm/axis\n");
+      "  true robot: the published identified IRB 120 (docs/method/11-published-results.md), "
+      "tracker σ 0.022 mm/axis\n");
   fmt::print(
       "  plan: {} configurations chosen D-optimally among {} feasible candidates; {} measured\n",
       campaign.plan.size(), options.candidates, campaign.calibration.measurements.size());
@@ -121,7 +123,8 @@ void run_demo(const DemoOptions& o) {
         level.vs_truth);
   fmt::print(
       "\nPublished, real IRB 120 + laser tracker, 1000 validation configurations "
-      "(METHOD §10):\n  before 3.168 mm mean; after (full model) 0.146 mm mean\n");
+      "(docs/method/11-published-results.md):\n  before 3.168 mm mean; after (full model) 0.146 mm "
+      "mean\n");
   fmt::print(
       "\nwrote {}/ (calibration/, validation/, plan.csv, models/, report.html, report.json) "
       "in {:.1f} s\n",

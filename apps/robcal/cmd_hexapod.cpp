@@ -1,5 +1,5 @@
-/// `robcal hexapod …`: the ballbar hexapod of METHOD §8 — direct kinematics, the 72 poses,
-/// uncertainty, world frame and set-up, planning, the guided session and the simulated run.
+/// `robcal hexapod …`: the ballbar hexapod of docs/method/07-hexapod.md — direct kinematics, the 72
+/// poses, uncertainty, world frame and set-up, planning, the guided session and the simulated run.
 
 #include <fmt/format.h>
 
@@ -387,8 +387,8 @@ void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation
 }
 
 const bool registered = register_command(60, [](CLI::App& app) {
-  auto* hex =
-      app.add_subcommand("hexapod", "The ballbar hexapod: 6D poses from one ballbar (METHOD §8)");
+  auto* hex = app.add_subcommand(
+      "hexapod", "The ballbar hexapod: 6D poses from one ballbar (docs/method/07-hexapod.md)");
   hex->require_subcommand(1);
 
   {

@@ -1,7 +1,8 @@
 /// `robcal hexapod calibrate | export-poses | replan | simulate-readings`: from measurement
-/// sessions of the ballbar hexapod to a calibrated model (METHOD §8, published procedure), the
-/// two-stage way: calibrate on what was measurable, re-plan the configurations that were out of
-/// the ballbar's range on that preliminary model, measure them, calibrate on everything.
+/// sessions of the ballbar hexapod to a calibrated model (docs/method/07-hexapod.md, published
+/// procedure), the two-stage way: calibrate on what was measurable, re-plan the configurations that
+/// were out of the ballbar's range on that preliminary model, measure them, calibrate on
+/// everything.
 
 #include <fmt/format.h>
 

@@ -1,5 +1,5 @@
-/// `robcal plan`: choose the configurations to measure (METHOD §6) and predict the accuracy
-/// they give before measuring.
+/// `robcal plan`: choose the configurations to measure (docs/method/05-observability.md) and
+/// predict the accuracy they give before measuring.
 
 #include <fmt/format.h>
 
@@ -63,7 +63,7 @@ std::string planning_world_help() {
   const std::array<double, 6> b = default_base_placement();
   return fmt::format(
       "World frame: the planning cell's, as `robcal simulate` (robot base at x {} y {} z {} mm, "
-      "α β γ {} {} {} deg, METHOD §2)",
+      "α β γ {} {} {} deg, docs/method/02-frames.md)",
       b[0], b[1], b[2], b[3], b[4], b[5]);
 }
 

@@ -1,6 +1,6 @@
-/// `robcal plan-study`: does planning pay? Closed-loop simulation (METHOD §6, issue 5 items
-/// 5–6) of D-optimal against random configurations at several counts, over several random
-/// true robots, with the accuracy predicted before measuring beside the one achieved.
+/// `robcal plan-study`: does planning pay? Closed-loop simulation (docs/method/05-observability.md,
+/// issue 5 items 5–6) of D-optimal against random configurations at several counts, over several
+/// random true robots, with the accuracy predicted before measuring beside the one achieved.
 
 #include <fmt/format.h>
 

@@ -109,7 +109,8 @@ const bool registered = register_command(80, [](CLI::App& app) {
       "simulate", "Measure a virtual robot with a virtual instrument (files as a real campaign)");
   cmd->add_option("--robot", o->robot, "Built-in robot name or robot file")->capture_default_str();
   cmd->add_option("--truth", o->truth,
-                  "The real robot: published (METHOD §10 IRB 120), random, or a truth file")
+                  "The real robot: published (docs/method/11-published-results.md IRB 120), "
+                  "random, or a truth file")
       ->capture_default_str();
   cmd->add_option("--instrument", o->instrument, "laser-tracker, optical-cmm or ballbar")
       ->capture_default_str();

@@ -1,5 +1,5 @@
 /// `robcal validate`: absolute position errors and all-pairs distance errors of a model against
-/// measurements it was not fitted to (METHOD §9).
+/// measurements it was not fitted to (docs/method/09-validation.md).
 
 #include <fmt/format.h>
 
@@ -106,8 +106,8 @@ void print_class_tables(const std::vector<ClassTable>& tables, bool poses) {
     print("orientation error by class (deg)", [](const ClassRow& r) { return r.orientation_deg; });
 }
 
-/// Ballbar rows (METHOD §9): length errors against a given or identified centre; distances
-/// need no world frame when the centre is identified.
+/// Ballbar rows (docs/method/09-validation.md): length errors against a given or identified centre;
+/// distances need no world frame when the centre is identified.
 void run_ballbar_validation(const ValidateOptions& options, const RobotModel& model,
                             const CalibratedRobot& robot, const MeasurementSet& set) {
   std::optional<Eigen::Vector3d> centre;

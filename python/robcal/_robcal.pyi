@@ -299,7 +299,7 @@ class Compensator:
 
 
 class LaserTracker:
-    """Laser tracker: 3D point of one SMR (METHOD §7)."""
+    """Laser tracker: 3D point of one SMR (docs/method/06-instruments.md)."""
 
     position_mm: Array
     """Tracker position, mm."""
@@ -411,7 +411,7 @@ def validate(robot: str, tool_file: str, measurements: str, model: str = "",
 
 
 def observability_indices(jacobian: ArrayLike, configurations: int) -> Dict[str, float]:
-    """O1…O5 (METHOD §6) of a column-scaled identification Jacobian of n configurations."""
+    """O1…O5 (docs/method/05-observability.md) of a column-scaled identification Jacobian of n configurations."""
 
 
 def select_d_optimal(rows: ArrayLike, rows_per_candidate: int, count: int, restarts: int = -1,
@@ -452,7 +452,7 @@ def read_program_points(text: str, language: str, joints: bool = False) -> List[
 
 
 def experiments(seed: int = 1) -> Dict[str, Any]:
-    """The published simulation experiments (METHOD §10, `robcal experiments`): {seed,
+    """The published simulation experiments (docs/method/11-published-results.md, `robcal experiments`): {seed,
     calibration_configurations, validation_configurations, experiments: {a, b, c}}."""
 
 

@@ -1,4 +1,4 @@
-"""The ballbar hexapod of METHOD §8 (mm): fixtures, direct kinematics, the 72 poses, uncertainty,
+"""The ballbar hexapod of docs/method/07-hexapod.md (mm): fixtures, direct kinematics, the 72 poses, uncertainty,
 world frame, planning and its plan file. The functions are the extension's robcal._robcal.hexapod."""
 from . import _robcal as _ext
 

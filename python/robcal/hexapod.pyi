@@ -1,4 +1,4 @@
-"""The ballbar hexapod of METHOD §8 (mm): fixtures, direct kinematics, the 72 poses, uncertainty,
+"""The ballbar hexapod of docs/method/07-hexapod.md (mm): fixtures, direct kinematics, the 72 poses, uncertainty,
 world frame, planning and its plan file."""
 from typing import Any, Dict, List, Optional, Sequence, Tuple
 
@@ -37,7 +37,7 @@ def triangle_from_sides(sides_mm: Sequence[float]) -> Array:
 
 def tripod(v1: npt.ArrayLike, v2: npt.ArrayLike, v3: npt.ArrayLike, l1: float, l2: float,
            l3: float, sign: int) -> Optional[Array]:
-    """Tri of METHOD §8; None when there is no real solution."""
+    """Tri of docs/method/07-hexapod.md; None when there is no real solution."""
 
 
 def solve_dkp(base_sides_mm: Sequence[float], tool_sides_mm: Sequence[float],

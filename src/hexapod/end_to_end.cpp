@@ -64,7 +64,8 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   EndToEndReport rep;
   rep.robot = model.name;
   // The true robot: random errors, levelled on its table (the relative model keeps gravity along
-  // the base z), carrying the published end-effector (METHOD §3: 2.6 kg at (50, 25, 100) mm).
+  // the base z), carrying the published end-effector (docs/method/03-error-model.md: 2.6 kg at (50,
+  // 25, 100) mm).
   const PointMass payload{2.6, Eigen::Vector3d(50, 25, 100)};
   const TrueRobot truth = levelled_random_truth(model, payload, o.errors, rng);
   const SimulatedHexapodCell cell = set_up_simulated_cell(truth, model, o.cell, rng);

@@ -221,10 +221,10 @@ MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& d
   return synthetic;
 }
 
-/// Requested compliances that no measured configuration loads (METHOD §3: δθ_j = c_j·τ_j) are
-/// taken out of `candidates` and dropped with their real reason: no masses in the robot file,
-/// or a gravity torque below kGravityTorqueFloorNmm in every row (centres of gravity on the
-/// axis, no payload). Their columns would otherwise be rounding noise that a fit turns into
+/// Requested compliances that no measured configuration loads (docs/method/03-error-model.md: δθ_j
+/// = c_j·τ_j) are taken out of `candidates` and dropped with their real reason: no masses in the
+/// robot file, or a gravity torque below kGravityTorqueFloorNmm in every row (centres of gravity on
+/// the axis, no payload). Their columns would otherwise be rounding noise that a fit turns into
 /// absurd values (−2e7 ± 3e7).
 void drop_unloaded_compliances(const RobotModel& model, const Tool& tool,
                                const MeasurementSet& data, const Eigen::VectorXd& unknowns,
@@ -291,7 +291,8 @@ std::string describe_dependency(const UnknownLayout& layout, const RobotModel& m
     text += fmt::format("{}{} ({:+.3f})", i ? ", " : "", layout.names[dep.depends_on[i].first],
                         dep.depends_on[i].second);
   if (dep.depends_on.size() > 4) text += fmt::format(" and {} more", dep.depends_on.size() - 4);
-  // Two d's along parallel consecutive axes move the chain identically (METHOD §3).
+  // Two d's along parallel consecutive axes move the chain identically
+  // (docs/method/03-error-model.md).
   const auto& name = layout.names[dep.column];
   for (const auto& [other, weight] : dep.depends_on) {
     const std::string& o = layout.names[other];

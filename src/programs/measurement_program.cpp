@@ -56,12 +56,13 @@ void check_limits(const MeasurementProgramRequest& r, const std::string& name,
     const JointLimit& l = (*r.limits)[static_cast<size_t>(j)];
     for (const auto& [what, q] : {std::pair{"", target_rad[j]}, {" (approach)", approach_rad[j]}})
       if (q < l.lower || q > l.upper)
-        throw InputError(SourceLocation{"", 0, 0, name},
-                         fmt::format("joint {} at {:.4f} deg{} is outside its limits [{:.4f}, "
-                                     "{:.4f}] deg; the approach moves every joint by -{} deg "
-                                     "(METHOD §6), so a configuration needs that margin",
-                                     j + 1, rad2deg(q), what, rad2deg(l.lower), rad2deg(l.upper),
-                                     r.approach_deg));
+        throw InputError(
+            SourceLocation{"", 0, 0, name},
+            fmt::format("joint {} at {:.4f} deg{} is outside its limits [{:.4f}, "
+                        "{:.4f}] deg; the approach moves every joint by -{} deg "
+                        "(docs/method/05-observability.md), so a configuration needs that margin",
+                        j + 1, rad2deg(q), what, rad2deg(l.lower), rad2deg(l.upper),
+                        r.approach_deg));
   }
 }
 
@@ -198,7 +199,7 @@ std::string header_comment(const MeasurementPart& part, std::string_view prefix,
   return fmt::format(
       "{0} robcal measurement program, part {1} of {2}: configurations {3}-{4} of {5}.\n"
       "{0} Each configuration is approached from q - {6:g} deg on every joint (backlash,\n"
-      "{0} METHOD 6), {7}, then the arm settles {8:g} s.\n",
+      "{0} robcal method), {7}, then the arm settles {8:g} s.\n",
       prefix, part.part, part.parts, first + 1, first + part.visits.size(), r.joints.size(),
       r.approach_deg, stop, r.settle_s);
 }

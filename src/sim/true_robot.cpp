@@ -81,13 +81,15 @@ TrueRobot published_irb120_truth(const RobotModel& model, const Tool& tool,
                          m[5].d == 72 && m[1].a == 0;
   if (!is_irb120)
     throw InputError({"", 0, 0, "--truth"},
-                     fmt::format("the published identified model (METHOD §10) is an ABB IRB 120; "
+                     fmt::format("the published identified model "
+                                 "(docs/method/11-published-results.md) is an ABB IRB 120; "
                                  "robot '{}' is not: use --truth random or a truth file",
                                  model.name));
   TrueRobot truth = make_truth(model, tool, "published");
   ParameterVector& x = truth.robot.params;
   set_base(x, base);
-  // METHOD §10, links 2..6: alpha (deg), a (mm), theta offset (deg), d (mm), compliance.
+  // docs/method/11-published-results.md, links 2..6: alpha (deg), a (mm), theta offset (deg), d
+  // (mm), compliance.
   const double links[5][5] = {{-90.006, 0.134, -89.909, 0.000, 0.032e-6},
                               {-0.011, 270.236, 0.054, 0.006, 0.130e-6},
                               {-90.009, 70.138, -0.027, 302.246, 0.605e-6},

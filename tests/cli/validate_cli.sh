@@ -32,7 +32,7 @@ pe = one["position_error_mm"]
 for key in ("mean", "std", "mean_plus_3std", "max"):
     assert key in pe, key
 assert abs(pe["mean_plus_3std"] - (pe["mean"] + 3 * pe["std"])) < 1e-12
-# Nominal IRB 120 placed by a rigid fit: millimetres off (METHOD §10: 1-5 mm).
+# Nominal IRB 120 placed by a rigid fit: millimetres off (docs/method/11-published-results.md: 1-5 mm).
 assert 0.8 < pe["mean"] < 3.5, pe
 de = one["distance_error_mm"]
 assert de["pairs"] == 1000 * 999 // 2, de["pairs"]

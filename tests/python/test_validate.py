@@ -72,6 +72,6 @@ def test_validate_nominal_robot_with_fitted_base():
     errors = np.array(r["position_errors_mm"])
     assert r["position_error_mm"]["mean"] == pytest.approx(errors.mean(), abs=1e-12)
     assert r["position_error_mm"]["std"] == pytest.approx(errors.std(), abs=1e-12)
-    assert 0.8 < r["position_error_mm"]["mean"] < 3.5  # METHOD §10: 1–5 mm before calibration
+    assert 0.8 < r["position_error_mm"]["mean"] < 3.5  # docs/method/11-published-results.md: 1–5 mm before calibration
     assert sorted(r["per_target"]) == ["1", "2", "3"]
     assert r["distance_error_mm"]["pairs"] == 499500

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
 /// The calibrated robot prepared for inverse kinematics: constants of the error model
-/// (METHOD §2–§3) precomputed once in an immutable CalibratedChain; a solve evaluates the TCP
-/// pose into a per-call ChainState and, only when it needs a step, the exact joint Jacobian
-/// from what that evaluation left there.
+/// (docs/method/02-frames.md, 03-error-model.md) precomputed once in an immutable CalibratedChain;
+/// a solve evaluates the TCP pose into a per-call ChainState and, only when it needs a step, the
+/// exact joint Jacobian from what that evaluation left there.
 ///
 /// Jacobian (world frame, rows v then ω, columns = controller joints, mm/rad and rad/rad):
 ///   with θu the undeflected link angles (θu = scale·q + offset), θ = θu + c·τ(θu) the
@@ -65,7 +65,8 @@ struct ChainState {
 /// std::sin and std::cos, without their calls, which took ~40 % of a fresh chain evaluation.
 void table_sin_cos(double theta, double* s, double* c);
 
-/// Precomputes the chain for `params` (METHOD §3 layout), the payload carried and the tool.
+/// Precomputes the chain for `params` (docs/method/03-error-model.md layout), the payload carried
+/// and the tool.
 CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& params,
                                       const PointMass& payload, const Pose<double>& flange_T_tcp);
 

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// Inverse kinematics of the calibrated robot (METHOD §1 step 5, §4): the controller joints
-/// that put the TCP at a wanted world pose on the calibrated model, compliance included, in
-/// a chosen arm configuration. Two iterations, both seeded by the nominal closed form
-/// (kinematics/inverse_kinematics.hpp):
+/// Inverse kinematics of the calibrated robot (docs/method/10-compensation.md, 02-frames.md §7):
+/// the controller joints that put the TCP at a wanted world pose on the calibrated model,
+/// compliance included, in a chosen arm configuration. Two iterations, both seeded by the nominal
+/// closed form (kinematics/inverse_kinematics.hpp):
 ///
 /// - Newton: j ← j + J⁻¹·e with the exact Jacobian of calibrated_chain.hpp and the world pose
 ///   error e = (p* − p, log(R*·Rᵀ)), the first step from the seed corrected to second order by

@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Units: millimetres and degrees outside, millimetres and radians inside (METHOD §2).
+/// Units: millimetres and degrees outside, millimetres and radians inside
+/// (docs/method/02-frames.md).
 
 #include <numbers>
 

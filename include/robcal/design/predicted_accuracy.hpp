@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// Predicted accuracy of a design before measuring (METHOD §5–§6): the covariance of the
-/// parameters identified from the chosen configurations, C = σ²·(JᵀJ)⁻¹ (Cramér–Rao bound of
-/// an unbiased estimator with independent noise σ per scalar measurement), to be turned into
-/// the position error over a task region by identify's predict_position_error
-/// (identify/accuracy_prediction.hpp).
+/// Predicted accuracy of a design before measuring (docs/method/04-identification.md,
+/// 05-observability.md): the covariance of the parameters identified from the chosen
+/// configurations, C = σ²·(JᵀJ)⁻¹ (Cramér–Rao bound of an unbiased estimator with independent noise
+/// σ per scalar measurement), to be turned into the position error over a task region by identify's
+/// predict_position_error (identify/accuracy_prediction.hpp).
 
 #include <Eigen/Core>
 #include <vector>

@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Choosing `count` calibration configurations among the candidates (METHOD §6):
+/// Choosing `count` calibration configurations among the candidates
+/// (docs/method/05-observability.md):
 /// - the published exchange: a random start of 11, then remove/add single configurations
 ///   while the observability index O1 improves, O1 recomputed by SVD for every trial;
 /// - a fast D-optimal greedy + exchange (+ Fedorov's exchange and restarts, see
@@ -75,10 +76,10 @@ struct DOptimalOptions {
   uint64_t seed = 1;  ///< of the restarts' random starts
 };
 
-/// The published exchange algorithm on O1 (METHOD §6): start from `start_size` random
-/// candidates; repeatedly remove the configuration whose removal most increases O1 (if any
-/// does) and add the candidate whose addition most increases O1 (below `count` the best one
-/// is added even when O1 does not increase, since that many are asked for); stop at `count`
+/// The published exchange algorithm on O1 (docs/method/05-observability.md): start from
+/// `start_size` random candidates; repeatedly remove the configuration whose removal most increases
+/// O1 (if any does) and add the candidate whose addition most increases O1 (below `count` the best
+/// one is added even when O1 does not increase, since that many are asked for); stop at `count`
 /// when no removal improves O1 or a removed configuration would be added straight back.
 /// Every trial recomputes O1 by an SVD of the stacked Jacobian.
 Selection select_published_exchange(const DesignMatrix& design, int count, std::mt19937_64& rng,

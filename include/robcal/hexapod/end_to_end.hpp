@@ -1,12 +1,13 @@
 #pragma once
 /// \file
-/// The simulated end-to-end hexapod calibration (METHOD §8 procedure, §10 LR Mate 200iC
-/// experiment): a true robot with random errors, a base-fixture placement, planning, ballbar
-/// readings with σ and ±range, a preliminary calibration on what was measurable, re-planning of
-/// the rest with the preliminary model, the final calibration, and validation with a simulated
-/// laser tracker on random configurations — absolute errors and all-pairs distance errors —
-/// before and after. The pose-based fit (through `calibrate`, relative model + world frame from
-/// the base cups) is compared with the fit straight from the raw readings (leg_fit.hpp).
+/// The simulated end-to-end hexapod calibration (docs/method/08-world-frame.md §3,
+/// 11-published-results.md (LR Mate 200iC) experiment): a true robot with random errors, a
+/// base-fixture placement, planning, ballbar readings with σ and ±range, a preliminary calibration
+/// on what was measurable, re-planning of the rest with the preliminary model, the final
+/// calibration, and validation with a simulated laser tracker on random configurations — absolute
+/// errors and all-pairs distance errors — before and after. The pose-based fit (through
+/// `calibrate`, relative model + world frame from the base cups) is compared with the fit straight
+/// from the raw readings (leg_fit.hpp).
 
 #include <cstdint>
 #include <random>
@@ -27,7 +28,7 @@ struct EndToEndOptions {
   double angle_deg = 30;  ///< pose pruning
   double distance_mm = 50;
   int validation_configurations = 10000;
-  double tracker_sigma_mm = 0.022;  ///< METHOD §7, laser tracker
+  double tracker_sigma_mm = 0.022;  ///< docs/method/06-instruments.md, laser tracker
   int threads = 2;                  ///< all-pairs statistics
   bool leg_fit = true;              ///< also fit from the raw readings
   /// Hold the base in the pose fits (the published relative model): the fit then keeps the error

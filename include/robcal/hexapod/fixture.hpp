@@ -1,7 +1,8 @@
 #pragma once
 /// \file
-/// The two triangular fixtures of the ballbar hexapod (METHOD §8): cup positions from the three
-/// side lengths measured with the ballbar, and the fixture frame that three cup positions define.
+/// The two triangular fixtures of the ballbar hexapod (docs/method/07-hexapod.md): cup positions
+/// from the three side lengths measured with the ballbar, and the fixture frame that three cup
+/// positions define.
 ///
 /// Convention, used for both fixtures: cup 1 at the origin, cup 2 on +x, cup 3 in the xy plane
 /// with y > 0, so z = (c2 − c1) × (c3 − c1) / |…|. The base cups are numbered counter-clockwise
@@ -44,7 +45,7 @@ struct TriangleSides {
 /// finite, or the triangle inequality broken or within 1e-6 of equality: the cups are collinear).
 std::string triangle_problem(const TriangleSides& sides);
 
-/// Cup positions from the side lengths (METHOD §8): c1 = 0, c2 = (d12, 0, 0),
+/// Cup positions from the side lengths (docs/method/07-hexapod.md): c1 = 0, c2 = (d12, 0, 0),
 /// c3 = (x, y, 0) with x = (d12² − d23² + d31²)/(2·d12) and y = 2·area/d12 (Heron).
 /// Precondition: triangle_problem(sides) is empty (the Jet version cannot throw usefully).
 template <typename T>

@@ -3,8 +3,9 @@
 /// Identification straight from the raw ballbar readings (beyond the published method, which
 /// fits poses from the DKP): one Ceres fit whose residuals are the measured distances —
 /// every leg |B_a − H(q)·T_b| and the fixture sides — and whose unknowns are the robot's
-/// parameters (relative model, METHOD §3: base held), the base cups in the robot frame, the tool
-/// cups in the flange frame and the ballbar's length offset at its leg set-up.
+/// parameters (relative model, docs/method/03-error-model.md: base held), the base cups in the
+/// robot frame, the tool cups in the flange frame and the ballbar's length offset at its leg
+/// set-up.
 ///
 /// Dependencies handled by name: with free tool cups, link6.d and link6.theta only move the cups
 /// (a shift along and a turn about the flange axis) and are held; any further rank deficiency of

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// The measurable poses of the ballbar hexapod (METHOD §8): with every leg at the ballbar's
-/// nominal length, 4 assembly modes × 3 rotations of the tool fixture (0, ±120° about its
+/// The measurable poses of the ballbar hexapod (docs/method/07-hexapod.md): with every leg at the
+/// ballbar's nominal length, 4 assembly modes × 3 rotations of the tool fixture (0, ±120° about its
 /// normal) × 6 permutations of the base cups = 72 poses of the tool fixture relative to the base
 /// fixture; poses closer than given orientation and position distances to an earlier one are
 /// redundant and pruned.
@@ -60,7 +60,8 @@ std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry,
                                          ToolRelabelling relabelling = ToolRelabelling::Rotations);
 
 /// Keeps each pose unless an already kept one is both within `max_angle_rad` in orientation and
-/// `max_distance_mm` between the tool-fixture centroids (METHOD §8 defaults: 30°, 50 mm).
+/// `max_distance_mm` between the tool-fixture centroids (docs/method/07-hexapod.md defaults: 30°,
+/// 50 mm).
 std::vector<HexapodPose> prune_redundant(const std::vector<HexapodPose>& poses,
                                          double max_angle_rad, double max_distance_mm);
 

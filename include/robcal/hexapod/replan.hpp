@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// The re-plan of `robcal hexapod replan` (METHOD §8, the two-stage calibration): the
-/// configurations whose legs were out of the ballbar's range, solved again on the preliminary
+/// The re-plan of `robcal hexapod replan` (docs/method/07-hexapod.md, the two-stage calibration):
+/// the configurations whose legs were out of the ballbar's range, solved again on the preliminary
 /// model for the flange pose that puts every leg at the ballbar's length. The new plan keeps the
 /// first plan's cell and the fixture sides already measured, so the next session asks only for
 /// the legs.

@@ -1,9 +1,10 @@
 #pragma once
 /// \file
-/// Calibration from measured hexapod sessions (`robcal hexapod calibrate`, METHOD §8): the world
-/// frame from the base cups, then either identification on the tool fixture poses that the direct
-/// kinematics gives (`robcal calibrate` on them), or the fit straight from the raw leg lengths
-/// with the cups and the ballbar's offset (leg_fit.hpp), written in the frame of the pose fit.
+/// Calibration from measured hexapod sessions (`robcal hexapod calibrate`,
+/// docs/method/07-hexapod.md): the world frame from the base cups, then either identification on
+/// the tool fixture poses that the direct kinematics gives (`robcal calibrate` on them), or the fit
+/// straight from the raw leg lengths with the cups and the ballbar's offset (leg_fit.hpp), written
+/// in the frame of the pose fit.
 
 #include <optional>
 #include <string>

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// A measurement session's readings as the calibration uses them (METHOD §8, published
-/// procedure): the journal replayed over its plan gives the fixture sides and, per configuration,
-/// the six legs or a "retry"; the plan gives the joints, the leg design and assembly mode of each
-/// configuration, where the robot put the base cups and the tool fixture mount.
+/// A measurement session's readings as the calibration uses them (docs/method/07-hexapod.md,
+/// published procedure): the journal replayed over its plan gives the fixture sides and, per
+/// configuration, the six legs or a "retry"; the plan gives the joints, the leg design and assembly
+/// mode of each configuration, where the robot put the base cups and the tool fixture mount.
 ///
 /// From there: the world frame from the base cups (world_frame.hpp), each configuration's tool
 /// fixture pose by the direct kinematics, expressed in the robot frame through that world frame

@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// A simulated hexapod cell (METHOD §8, published procedure): a true robot (sim/true_robot.hpp)
-/// places the base cups with a setting ball where its nominal model says, the ballbar
-/// (measure/instrument.hpp: σ and ±range) measures the fixture sides and the legs. Everything
-/// the operator would not know — the true cup positions, the true fixture sides — stays in the
-/// cell for the simulation to use and the pipeline never sees.
+/// A simulated hexapod cell (docs/method/07-hexapod.md, published procedure): a true robot
+/// (sim/true_robot.hpp) places the base cups with a setting ball where its nominal model says, the
+/// ballbar (measure/instrument.hpp: σ and ±range) measures the fixture sides and the legs.
+/// Everything the operator would not know — the true cup positions, the true fixture sides — stays
+/// in the cell for the simulation to use and the pipeline never sees.
 ///
 /// Frames: the simulation world is the truth's world (the laser tracker's); the robot frame is
 /// the nominal model's; the hexapod world is the base fixture frame fitted from the cups.
@@ -27,7 +27,7 @@ struct HexapodCellOptions {
   double tool_offset_mm = 100;         ///< tool fixture centroid along the flange z
   double ball_offset_mm = 100;         ///< setting ball along the flange z
   double table_z_mm = 0;
-  double sigma_mm = 0.00051;  ///< ballbar σ (METHOD §7)
+  double sigma_mm = 0.00051;  ///< ballbar σ (docs/method/06-instruments.md)
   double range_mm = 1.0;      ///< ballbar range about its set-up length
 };
 
@@ -68,9 +68,9 @@ std::optional<double> simulate_session_reading(const SimulatedHexapodCell& cell,
                                                const SessionPlan& plan, const SessionStep& step,
                                                std::mt19937_64& rng);
 
-/// Laser-tracker validation readings (METHOD §9): random configurations in the published joint
-/// box (sim/simulator.hpp), the tracker (σ per axis) reading a point of the tool given in the
-/// flange frame of the true robot, registered on the base cups: base fixture frame.
+/// Laser-tracker validation readings (docs/method/09-validation.md): random configurations in the
+/// published joint box (sim/simulator.hpp), the tracker (σ per axis) reading a point of the tool
+/// given in the flange frame of the true robot, registered on the base cups: base fixture frame.
 struct TrackerValidation {
   std::vector<Vector6d> joints;  ///< controller, rad
   Eigen::Matrix3Xd measured;     ///< base fixture frame, mm

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// Uncertainty of the ballbar hexapod (METHOD §8, ISO/IEC Guide 98-3): how the standard
-/// uncertainty σ of each of the 12 measured distances propagates to the tool-cup coordinates.
-/// Sensitivity coefficients are the exact derivatives of the templated cascade (Jets); the Monte
-/// Carlo version draws the distances instead, to confirm the linear propagation.
+/// Uncertainty of the ballbar hexapod (docs/method/07-hexapod.md, ISO/IEC Guide 98-3): how the
+/// standard uncertainty σ of each of the 12 measured distances propagates to the tool-cup
+/// coordinates. Sensitivity coefficients are the exact derivatives of the templated cascade (Jets);
+/// the Monte Carlo version draws the distances instead, to confirm the linear propagation.
 ///
 /// Frame: the base fixture frame built from the measured base sides (b1 at the origin, b2 on x),
 /// so the base sides' uncertainty is part of the result.

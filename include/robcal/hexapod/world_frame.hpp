@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// The world frame from the three base cups, and the set-up that places them (METHOD §8).
+/// The world frame from the three base cups, and the set-up that places them
+/// (docs/method/07-hexapod.md).
 ///
 /// The robot puts a setting ball (its TCP) at three points 300 mm apart according to its own
 /// model, p1..p3 (robot frame); the cups snap on and are locked; the ballbar then measures the

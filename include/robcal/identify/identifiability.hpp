@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// Which unknowns the measurements can determine (METHOD §3, §5): a rank-revealing QR of the
-/// column-scaled identification Jacobian that keeps columns in a preferred order, so that of a
-/// dependent group the later one is dropped (`link3.d`, not `link2.d`, on a robot whose axes
-/// 2 and 3 are parallel), and the null-space vector of each dropped column names what it
-/// depends on.
+/// Which unknowns the measurements can determine (docs/method/03-error-model.md,
+/// 04-identification.md): a rank-revealing QR of the column-scaled identification Jacobian that
+/// keeps columns in a preferred order, so that of a dependent group the later one is dropped
+/// (`link3.d`, not `link2.d`, on a robot whose axes 2 and 3 are parallel), and the null-space
+/// vector of each dropped column names what it depends on.
 
 #include <Eigen/Core>
 #include <string>

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// What a calibration solves for: the robot's parameters (METHOD §3 layout) followed by the
-/// extra unknowns the measurements bring — coordinates of tool targets given without
-/// coordinates, the ballbar's fixed centre and, on request, the ballbar's length offset — and
-/// which of them a calibration level and the user's `--identify`/`--fix` patterns set free.
+/// What a calibration solves for: the robot's parameters (docs/method/03-error-model.md layout)
+/// followed by the extra unknowns the measurements bring — coordinates of tool targets given
+/// without coordinates, the ballbar's fixed centre and, on request, the ballbar's length offset —
+/// and which of them a calibration level and the user's `--identify`/`--fix` patterns set free.
 
 #include <Eigen/Core>
 #include <string>
@@ -15,7 +15,7 @@
 
 namespace robcal {
 
-/// The four calibration levels (METHOD §1, §3).
+/// The four calibration levels (docs/method/01-overview.md, 03-error-model.md).
 enum class CalibrationLevel {
   Base,       ///< the 6 base parameters: the nominal robot placed in the world
   Joints,     ///< + joint offsets link2..6.theta

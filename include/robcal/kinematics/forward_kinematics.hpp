@@ -1,7 +1,8 @@
 #pragma once
 /// \file
-/// Forward kinematics of the error model (METHOD §2–§3), templated on the scalar type so that
-/// `ceres::Jet` gives exact derivatives with respect to joints and parameters.
+/// Forward kinematics of the error model (docs/method/02-frames.md, 03-error-model.md), templated
+/// on the scalar type so that `ceres::Jet` gives exact derivatives with respect to joints and
+/// parameters.
 ///
 /// Frame naming: `world_T_flange` maps flange coordinates to world coordinates. Joint values
 /// passed in are the controller's (rad); the model's joint map turns them into model angles.
@@ -49,7 +50,8 @@ Pose<T> mdh_transform(const T& alpha, const T& a, const T& theta, const T& d) {
   return A;
 }
 
-/// world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1) (METHOD §2).
+/// world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1)
+/// (docs/method/02-frames.md).
 template <typename T>
 Pose<T> base_transform(const T* params, const T& d1, const T& theta1) {
   using std::cos;
@@ -97,9 +99,9 @@ std::array<T, kJointCount> model_joint_angles(const RobotModel& model, const T* 
 }
 
 /// Static gravity torques τ_2..τ_6 (N·mm) about joint axes 2..6 for undeflected joint angles
-/// `theta` (rad, θ_i of links 1..6 before compliance), METHOD §3: τ_i = (Σ_{j≥i} m_j u_j^i ×
-/// g_i)_z. Computed tip to base with the first moment S_i = Σ_{j≥i} m_j u_j^i, so it is O(n).
-/// `payload` (flange frame) is lumped with link 6.
+/// `theta` (rad, θ_i of links 1..6 before compliance), docs/method/03-error-model.md: τ_i =
+/// (Σ_{j≥i} m_j u_j^i × g_i)_z. Computed tip to base with the first moment S_i = Σ_{j≥i} m_j u_j^i,
+/// so it is O(n). `payload` (flange frame) is lumped with link 6.
 template <typename T>
 std::array<T, 5> gravity_torques(const RobotModel& model, const PointMass& payload, const T* params,
                                  const std::array<T, kJointCount>& theta) {
@@ -133,7 +135,7 @@ std::array<T, 5> gravity_torques(const RobotModel& model, const PointMass& paylo
 }
 
 /// Joint angles θ_1..θ_6 (rad) used in the links: θ_i = scale_i·q_i + offset_i (+ c_i·τ_i when
-/// the model has compliance), METHOD §2. `q` are model joint angles.
+/// the model has compliance), docs/method/02-frames.md. `q` are model joint angles.
 template <typename T>
 std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass& payload,
                                        const T* params, const std::array<T, kJointCount>& q) {
@@ -153,8 +155,8 @@ std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass&
 }
 
 /// World poses of the link frames Φ1..Φ6 (frames[5] is the flange, Φ6).
-/// \param params  parameter vector (METHOD §3 layout, internal units), kParameterCount values
-/// \param joints  controller joint values, rad
+/// \param params  parameter vector (docs/method/03-error-model.md layout, internal units),
+/// kParameterCount values \param joints  controller joint values, rad
 template <typename T>
 std::array<Pose<T>, kJointCount> link_frames(const RobotModel& model, const PointMass& payload,
                                              const T* params, const T* joints) {

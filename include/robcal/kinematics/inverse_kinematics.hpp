@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// Closed-form nominal inverse kinematics of ortho-parallel robots with a spherical wrist
-/// (METHOD §4), computed directly from the robot's Modified-DH table, all branches.
+/// (docs/method/02-frames.md §7), computed directly from the robot's Modified-DH table, all
+/// branches.
 ///
 /// Which robots: `analyze_ortho_parallel` accepts an MDH table (links 1..6, θ offsets free) with
 ///   link 1: α = a = 0 (d1 free);           link 2: α = ±90°, d = 0 (a free);

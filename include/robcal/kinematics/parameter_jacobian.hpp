@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// Derivatives of measured quantities with respect to the robot's parameter vector (the
-/// identification Jacobian's blocks, METHOD §5), in internal units (mm per mm, mm per rad).
+/// identification Jacobian's blocks, docs/method/04-identification.md), in internal units (mm per
+/// mm, mm per rad).
 ///
 /// Two implementations of the same derivative: the analytic kinematic regressor (fast, used by
 /// the identification) and automatic differentiation through the templated FK (the reference
@@ -30,7 +31,8 @@ using TwistJacobian = Eigen::Matrix<double, 6, kParameterCount>;
 ///   along x_{i-1}, Trans_z(d_i) along z_i;
 /// - joint offsets, scales and compliances act through the joint angles θ_i, whose column is
 ///   the joint twist (o_i × z_i; z_i) of the deflected chain;
-/// - with compliance, θ_i = θu_i + c_i·τ_i(θu, params) (METHOD §3), so every parameter also
+/// - with compliance, θ_i = θu_i + c_i·τ_i(θu, params) (docs/method/03-error-model.md), so every
+/// parameter also
 ///   moves θ_i through the gravity torque τ_i; its derivative follows from the same elementary
 ///   motions applied to τ_i = z_i · ((Σ_{j≥i} m_j (c_j − o_i)) × g) in the undeflected chain.
 /// Cost: two chain evaluations plus O(parameters × joints) dot products, ≈1 µs.
@@ -81,9 +83,9 @@ class FlangeRegressor {
   bool compliant_ = false;
   Eigen::Matrix3d R_base_xy_;
   std::array<Pose<double>, kJointCount> undeflected_, deflected_;
-  /// Gravity torques of the undeflected chain and what their derivatives need (METHOD §3 in
-  /// world form): v_k = Σ_{j≥k} m_j (c_j − o_k), τ_k = z_k · (v_k × g),
-  /// a_k = z_k × (v_k × g) + v_k × (g × z_k), h_k = g × z_k; suffix first moments C_k and
+  /// Gravity torques of the undeflected chain and what their derivatives need
+  /// (docs/method/03-error-model.md in world form): v_k = Σ_{j≥k} m_j (c_j − o_k), τ_k = z_k · (v_k
+  /// × g), a_k = z_k × (v_k × g) + v_k × (g × z_k), h_k = g × z_k; suffix first moments C_k and
   /// masses M_k of the bodies carried by frame k.
   std::array<double, kJointCount> tau_{};
   Eigen::Matrix<double, 3, kJointCount> a_, h_;

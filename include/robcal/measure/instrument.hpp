@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// The measuring instruments of METHOD §7 as plain descriptions with free functions: what each
-/// one can see (visibility predicates, used by the planner's candidate filter) and what it reads
-/// (noisy measurements, used by the simulator).
+/// The measuring instruments of docs/method/06-instruments.md as plain descriptions with free
+/// functions: what each one can see (visibility predicates, used by the planner's candidate filter)
+/// and what it reads (noisy measurements, used by the simulator).
 ///
 /// Frames: every position and pose passed to these functions must be expressed in one common
 /// frame, the frame the instrument's own placement is given in. The simulator uses the
@@ -21,11 +21,12 @@
 namespace robcal {
 
 /// Laser tracker (FARO ION class): the 3D position of one SMR. The SMR reflects the beam only
-/// while the tracker lies inside its acceptance cone (±30° about the SMR's axis, METHOD §6).
+/// while the tracker lies inside its acceptance cone (±30° about the SMR's axis,
+/// docs/method/05-observability.md).
 struct LaserTracker {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  ///< tracker head
-  /// Standard deviation of the reading along each axis of the common frame, mm (METHOD §7:
-  /// ≈0.022 mm typical).
+  /// Standard deviation of the reading along each axis of the common frame, mm
+  /// (docs/method/06-instruments.md: ≈0.022 mm typical).
   Eigen::Vector3d sigma_mm = Eigen::Vector3d::Constant(0.022);
   double cone_half_angle_deg = 30;
   double min_range_mm = 0;      ///< closer SMRs are not tracked
@@ -56,10 +57,10 @@ Eigen::Vector3d read_point(const LaserTracker& tracker, const Eigen::Vector3d& s
 
 /// Optical CMM (Creaform C-Track class): the 6D pose of a target cluster on the tool. The
 /// cameras see the cluster while one of its faces looks at them within the facing limit
-/// (METHOD §6: face normal within 15° of the line of sight).
+/// (docs/method/05-observability.md: face normal within 15° of the line of sight).
 struct OpticalCmm {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  ///< camera bar centre
-  double sigma_mm = 0.05;               ///< per axis, METHOD §7: 0.040–0.065 mm on bars
+  double sigma_mm = 0.05;  ///< per axis, docs/method/06-instruments.md: 0.040–0.065 mm on bars
   double sigma_orientation_deg = 0.03;  ///< per rotation axis (≈ σ / 100 mm artifact radius)
   double facing_limit_deg = 15;
   double min_range_mm = 1000;  ///< C-Track 780 working volume, about 1.0–4.0 m from the bar
@@ -86,7 +87,8 @@ Pose<double> read_pose(const OpticalCmm& cmm, const Pose<double>& frame_T_tcp,
                        std::mt19937_64& rng);
 
 /// Telescoping ballbar (Renishaw QC20-W class) between a target of the tool and a fixed centre
-/// cup: one length, readable only within ±range of its nominal length (METHOD §7).
+/// cup: one length, readable only within ±range of its nominal length
+/// (docs/method/06-instruments.md).
 struct Ballbar {
   Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();  ///< the fixed cup
   double nominal_length_mm = 100;                       ///< 100, 150 or 300 mm set-ups

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// The robot's parameter vector: every quantity the error model of METHOD §3 may identify,
-/// stored as absolute values in internal units (mm, rad, rad/(N·mm), unitless scale).
+/// The robot's parameter vector: every quantity the error model of docs/method/03-error-model.md
+/// may identify, stored as absolute values in internal units (mm, rad, rad/(N·mm), unitless scale).
 ///
 /// Layout (kParameterCount = 37):
 ///   [0, 6)   base.x base.y base.z (mm), base.alpha base.beta base.gamma (rad):

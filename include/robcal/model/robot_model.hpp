@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// The immutable description of a six-revolute serial robot (METHOD §2–§4): nominal
-/// Modified-DH table, joint limits, controller joint map, link masses and gravity.
-/// Algorithms never modify a model; per-call state lives in their own workspaces.
+/// The immutable description of a six-revolute serial robot (docs/method/02-frames.md,
+/// 03-error-model.md): nominal Modified-DH table, joint limits, controller joint map, link masses
+/// and gravity. Algorithms never modify a model; per-call state lives in their own workspaces.
 
 #include <Eigen/Core>
 #include <array>
@@ -70,7 +70,7 @@ struct RobotModel {
   std::array<PointMass, kJointCount> link_masses{};  ///< links 1..6, CoG in the link frame
   Eigen::Vector3d gravity_m_s2{0, 0, -9.81};         ///< in the world (measurement) frame, levelled
 
-  /// Nominal parameter vector (METHOD §3 layout, internal units).
+  /// Nominal parameter vector (docs/method/03-error-model.md layout, internal units).
   [[nodiscard]] ParameterVector nominal() const;
 
   /// True when the controller joint values are all inside the limits (with `tolerance` rad).

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// Robot program filtering (METHOD §1 step 5): find every point of an ABB RAPID module, a
-/// KUKA KRL .src/.dat file, a Fanuc LS program or a URScript program, hand it to a corrector
-/// in the robot's base frame with the tool active at it, and write the corrected values back
-/// into the text in text order, leaving every other byte (comments, spacing, line endings,
+/// Robot program filtering (docs/method/10-compensation.md): find every point of an ABB RAPID
+/// module, a KUKA KRL .src/.dat file, a Fanuc LS program or a URScript program, hand it to a
+/// corrector in the robot's base frame with the tool active at it, and write the corrected values
+/// back into the text in text order, leaving every other byte (comments, spacing, line endings,
 /// untouched numbers) exactly as it was. The rewritten text is parsed again and must give the
 /// same points with exactly the values written (else nothing is returned). Yaskawa JBI jobs
 /// are not filtered (refused by name).

@@ -1,10 +1,11 @@
 #pragma once
 /// \file
-/// Monte Carlo of the calibration's accuracy against its Cramér–Rao prediction (METHOD §5):
-/// the same calibration configurations are measured again and again with new noise, each set
-/// is calibrated with identify's fast path, and each calibrated model is compared with the
-/// truth at the validation configurations. An efficient estimator's RMS error equals the
-/// prediction √(mean_v tr(J_v C J_vᵀ)), C = σ²(JᵀJ)⁻¹: the ratio is 1.00 up to sampling error.
+/// Monte Carlo of the calibration's accuracy against its Cramér–Rao prediction
+/// (docs/method/04-identification.md): the same calibration configurations are measured again and
+/// again with new noise, each set is calibrated with identify's fast path, and each calibrated
+/// model is compared with the truth at the validation configurations. An efficient estimator's RMS
+/// error equals the prediction √(mean_v tr(J_v C J_vᵀ)), C = σ²(JᵀJ)⁻¹: the ratio is 1.00 up to
+/// sampling error.
 ///
 /// Validation error of run r at configuration v: e_v = p_model(q_v; x̂_r) − p_true(q_v), either
 /// - first order (the default): J_v·(x̂_r − x_true) + b_v, with J_v the exact analytic position

@@ -52,8 +52,9 @@ VirtualInstrument standard_instrument(InstrumentKind kind, const TrueRobot& trut
 Eigen::Vector3d world_from_base(const TrueRobot& truth, const Eigen::Vector3d& p_base_mm);
 
 struct SimulationOptions {
-  /// true: every configuration approached from below (q − 5° on every joint, METHOD §6), which
-  /// cancels backlash; false: the robot moves straight from one configuration to the next.
+  /// true: every configuration approached from below (q − 5° on every joint,
+  /// docs/method/05-observability.md), which cancels backlash; false: the robot moves straight from
+  /// one configuration to the next.
   bool approach_from_below = true;
   double seconds_per_measurement = 20;  ///< clock for thermal drift
 };

@@ -1,11 +1,13 @@
 #pragma once
 /// \file
 /// The "true" robot of a simulation: a CalibratedRobot whose parameters are the real arm's
-/// (METHOD §10's identified IRB 120, or random errors within bounds), plus effects the error
-/// model of METHOD §3 does not contain, so that simulated results are honest about model error:
+/// (docs/method/11-published-results.md's identified IRB 120, or random errors within bounds), plus
+/// effects the error model of docs/method/03-error-model.md does not contain, so that simulated
+/// results are honest about model error:
 ///
 /// - backlash: a joint approached from above stops `backlash_deg` away from where a joint
-///   approached from below does (METHOD §6 approaches every configuration from q − 5°);
+///   approached from below does (docs/method/05-observability.md approaches every configuration
+///   from q − 5°);
 /// - a periodic error of joint 6: δθ6 = A·sin(h·q6 + φ) (gearbox eccentricity);
 /// - mass error: the true masses and centres of gravity differ from the model's (the truth's
 ///   RobotModel and payload hold the true ones; the pipeline uses the robot file's);
@@ -73,16 +75,16 @@ Pose<double> true_flange_pose(const TrueRobot& truth, const Vector6d& joints,
                               const MotionState& motion = {});
 
 /// The base placement of the reference data set (tests/data/irb120-published/truth.yaml): a
-/// laser tracker 1.7 m in front of the robot at the origin of the world, METHOD §10's robot.
-/// Values x, y, z (mm), alpha, beta, gamma (deg).
+/// laser tracker 1.7 m in front of the robot at the origin of the world,
+/// docs/method/11-published-results.md's robot. Values x, y, z (mm), alpha, beta, gamma (deg).
 std::array<double, 6> default_base_placement();
 
 /// The default tool for simulations: the reference data set's tool (payload 2.6 kg at
 /// (−23, 0, 100) mm, SMRs "1", "2", "3").
 Tool default_simulation_tool();
 
-/// The identified IRB 120 of METHOD §10 placed at `base` (x, y, z mm, alpha, beta, gamma deg).
-/// `model` must be the ABB IRB 120 (InputError otherwise).
+/// The identified IRB 120 of docs/method/11-published-results.md placed at `base` (x, y, z mm,
+/// alpha, beta, gamma deg). `model` must be the ABB IRB 120 (InputError otherwise).
 TrueRobot published_irb120_truth(const RobotModel& model, const Tool& tool,
                                  const std::array<double, 6>& base = default_base_placement());
 

@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// Per-axis test (the published per-joint test, METHOD §9): one joint moves through its range
-/// with the others fixed while a target on the arm is measured; every position is reached once
-/// from below and once from above. The target then runs on a circle about the joint's axis:
+/// Per-axis test (the published per-joint test, docs/method/09-validation.md): one joint moves
+/// through its range with the others fixed while a target on the arm is measured; every position is
+/// reached once from below and once from above. The target then runs on a circle about the joint's
+/// axis:
 ///
 /// 1. plane: least-squares plane through all positions (smallest singular vector n of the
 ///    centred positions); axial error e_a = n·(p − p̄);
@@ -38,7 +39,8 @@ struct AxisTestPlanRequest {
   int joint = 0;                     ///< 0-based joint that moves
   double from_rad = 0, to_rad = 0;   ///< its range
   int steps = 12;                    ///< positions (≥ 3), each reached from both sides
-  double approach_rad = 0.0873;      ///< 5°, as METHOD §6 approaches configurations
+  double approach_rad =
+      0.0873;  ///< 5°, as docs/method/05-observability.md approaches configurations
 };
 
 /// The moves: positions from → to, each from below then from above.

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// Ballbar validation (METHOD §9): the length error of each row of a distances file,
-/// e_i = measured length − |p_i − c|, with p_i the model's target position at the row's joints
-/// and c the ballbar's fixed centre, either given (in the model's frame) or identified from
+/// Ballbar validation (docs/method/09-validation.md): the length error of each row of a distances
+/// file, e_i = measured length − |p_i − c|, with p_i the model's target position at the row's
+/// joints and c the ballbar's fixed centre, either given (in the model's frame) or identified from
 /// these rows by least squares (3 unknowns absorbed by the fit, which the report says).
 
 #include <Eigen/Core>

@@ -1,11 +1,12 @@
 #pragma once
 /// \file
-/// Validation errors split by class, as the published tables split them (METHOD §9, §10: the
-/// front/up subsets): by arm configuration (front/back, up/down, flip/no-flip of the row's
-/// joints, ArmConfig's definitions in kinematics/inverse_kinematics.hpp), by target, and by
-/// region (the distance from the row's measured position to the nearest calibration position).
-/// Every class of a table has a row; a class without validation rows has count 0, which
-/// printers show as "no data" (never a mean of nothing).
+/// Validation errors split by class, as the published tables split them
+/// (docs/method/09-validation.md, §10: the front/up subsets): by arm configuration (front/back,
+/// up/down, flip/no-flip of the row's joints, ArmConfig's definitions in
+/// kinematics/inverse_kinematics.hpp), by target, and by region (the distance from the row's
+/// measured position to the nearest calibration position). Every class of a table has a row; a
+/// class without validation rows has count 0, which printers show as "no data" (never a mean of
+/// nothing).
 
 #include <Eigen/Core>
 #include <optional>

@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// The whole validation of METHOD §9 for one model and one measurement set: absolute position
-/// errors (per row, overall, per target, histogram), the same by class (configuration, target,
-/// region) and distance errors over every pair of rows (absolute and signed).
+/// The whole validation of docs/method/09-validation.md for one model and one measurement set:
+/// absolute position errors (per row, overall, per target, histogram), the same by class
+/// (configuration, target, region) and distance errors over every pair of rows (absolute and
+/// signed).
 
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/measure/measurements.hpp"
