@@ -8,7 +8,7 @@ DEBIAN_PACKAGES = build-essential cmake libeigen3-dev libceres-dev libcli11-dev 
   python3-dev python3-numpy python3-pytest libjs-chart.js help2man bash-completion pkgconf \
   python3-pip python3-setuptools python3-wheel
 
-.PHONY: deps build test demo bench experiments format clean browser-deps
+.PHONY: deps build test demo bench experiments format clean browser-deps sanitize
 
 deps:
 	@bash scripts/install-deps.sh $(DEBIAN_PACKAGES)
@@ -35,6 +35,18 @@ bench: build
 
 experiments: build
 	$(BUILD)/robcal experiments --out bench/experiments/results
+
+# The library and the parsers' fuzzer built with AddressSanitizer and UndefinedBehaviorSanitizer
+# (-O1, build-asan/), the unit tests linked to them; then the unit tests and a longer fuzz run of
+# every parser. A report or a leak fails.
+sanitize: deps
+	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DROBCAL_SANITIZE=ON \
+	  -DROBCAL_BUILD_BENCH=OFF -DROBCAL_BUILD_PYTHON=OFF
+	cmake --build build-asan --target robcal_tests robcal_fuzz -j $(JOBS)
+	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  build-asan/robcal_tests --gtest_brief=1
+	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  build-asan/robcal_fuzz --iterations 2000 tests/fuzz
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
