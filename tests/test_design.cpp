@@ -248,7 +248,7 @@ TEST(DesignCandidates, ClearErrorsWhenNothingIsFeasible) {
   options.visible = nullptr;
   options.floor_z_mm = 5000;  // above the robot's reach
   EXPECT_REFUSED(generate_candidates(model, tool, options, rng), InputError,
-                 "(--floor-mm): no feasible candidate configuration in");
+                 "--floor-mm: no feasible candidate configuration in");
   options.floor_z_mm = 0;
   options.constraints.range[2] = {deg2rad(80), deg2rad(90)};  // IRB 120 joint 3 stops at 70°
   try {
@@ -259,7 +259,7 @@ TEST(DesignCandidates, ClearErrorsWhenNothingIsFeasible) {
   }
   options.count = 1'000'000'000;  // `plan --candidates 1e9`: refused before any allocation
   EXPECT_REFUSED(generate_candidates(model, tool, options, rng), InputError,
-                 "(--candidates): expected 1 to 200000 candidates");
+                 "--candidates: expected 1 to 200000 candidates");
   EXPECT_REFUSED(joint_constraints_preset("loose"), InputError,
                  "unknown constraint preset 'loose', expected 'published' or 'none'");
 }
@@ -462,7 +462,7 @@ TEST(DesignSelection, CountBelowIdentifiableParametersIsAnError) {
     EXPECT_NE(std::string(e.what()).find("at least 10"), std::string::npos) << e.what();
   }
   EXPECT_REFUSED(select_d_optimal(d.design, 201), InputError,
-                 "(--count): asked for 201 configurations but only 200 feasible candidates");
+                 "--count: asked for 201 configurations but only 200 feasible candidates");
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "robcal/hexapod/plan_file.hpp"
 
+#include "json_text.hpp"
+
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
@@ -343,12 +345,7 @@ HexapodPlan parse_hexapod_plan(const nlohmann::json& root, const std::string& fi
 }
 
 HexapodPlan read_hexapod_plan(const std::filesystem::path& path) {
-  json root;
-  try {
-    root = json::parse(read_text_file(path));
-  } catch (const json::parse_error& e) {
-    throw InputError({path.string(), 0, 0, ""}, fmt::format("not valid JSON: {}", e.what()));
-  }
+  const json root = parse_json(read_text_file(path), path.string(), 1, "expected a hexapod plan");
   return parse_hexapod_plan(root, path.string());
 }
 

@@ -1,5 +1,7 @@
 #include "robcal/hexapod/session.hpp"
 
+#include "json_text.hpp"
+
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <sys/file.h>
@@ -173,8 +175,6 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
   return plan;
 }
 
-namespace {
-
 /// Parses JSON text (a plan, or one journal line `line`), refusing with the line and column:
 /// a syntax error at the byte the parser stopped on, a number beyond the double range (which
 /// the parser reports without a place) at the number.
@@ -209,8 +209,6 @@ nlohmann::json parse_json(const std::string& text, const std::string& file, int 
                                      number));
   }
 }
-
-}  // namespace
 
 SessionPlan load_session_plan(const std::filesystem::path& path) {
   const std::string text = read_text_file(path);

@@ -43,10 +43,10 @@ expect_error "approach outside the limits" \
 
 # Filtering: the input is never the output.
 cp "$PROGRAMS/pick_place.mod" "$TMP/in.mod"
-expect_error "out = in" "the output is the input program" compensate-program \
+expect_error "out = in" "refusing to overwrite it" compensate-program \
   --model "$TMP/model.yaml" --in "$TMP/in.mod" --out "$TMP/in.mod"
 mkdir -p "$TMP/sub"
-expect_error "out = in through .." "the output is the input program" compensate-program \
+expect_error "out = in through .." "refusing to overwrite it" compensate-program \
   --model "$TMP/model.yaml" --in "$TMP/in.mod" --out "$TMP/sub/../in.mod"
 cmp -s "$TMP/in.mod" "$PROGRAMS/pick_place.mod" || fail "the input was changed"
 

@@ -24,13 +24,13 @@
 #include <string>
 #include <vector>
 
-#include "robcal/programs/program_filter.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/hexapod/session.hpp"
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/programs/program_filter.hpp"
 
 namespace fs = std::filesystem;
 using namespace robcal;
@@ -66,6 +66,10 @@ std::map<std::string, Target> targets(const fs::path& root) {
     return [correct, language](const std::string& text, const fs::path& file) {
       ProgramFilterOptions options;
       options.joints = true;
+      // The tools and frames the seeds use but do not define (as a frames file gives them).
+      options.tools["TOOL_DATA[1]"] = Pose<double>{};
+      options.tools["UT[2]"] = Pose<double>{};
+      options.frames["UF[1]"] = Pose<double>{};
       (void)read_program_points(text, language, file.string(), options);
       (void)filter_program(text, language, file.string(), options, correct);
     };

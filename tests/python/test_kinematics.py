@@ -11,10 +11,15 @@ import robcal
 def test_builtin_robots_load():
     names = robcal.builtin_robots()
     assert "abb-irb120" in names
+    ortho_parallel = set()
     for name in names:
         robot = robcal.load_robot(name)
         assert robot.joint_limits_deg.shape == (6, 2)
-        assert robot.is_ortho_parallel
+        if robot.is_ortho_parallel:
+            ortho_parallel.add(name)
+    assert {"abb-irb120", "fanuc-lrmate200ic", "kuka-kr6-r900-sixx"} <= ortho_parallel
+    # Offset wrists (UR) and the CRX are not ortho-parallel with a spherical wrist.
+    assert not {"universal-robots-ur10e", "fanuc-crx10ia-l"} & ortho_parallel
 
 
 def test_unknown_robot_is_a_value_error():
