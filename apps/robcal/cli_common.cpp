@@ -11,8 +11,8 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/rounding.hpp"
 #include "robcal/core/units.hpp"
-#include "robcal/kinematics/orientation.hpp"
 #include "robcal/io/number_text.hpp"
+#include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::cli {
 

@@ -11,8 +11,8 @@
 #include "robcal/io/yaml_support.hpp"
 #include "robcal/report/provenance.hpp"
 #include "robcal/validate/ballbar_error.hpp"
-#include "robcal/validate/iso9283.hpp"
 #include "robcal/validate/base_fit.hpp"
+#include "robcal/validate/iso9283.hpp"
 
 namespace robcal {
 namespace {
