@@ -101,7 +101,9 @@ Token ProgramLexer::lex_one() {
     // so that number_value() sees a malformed literal whole instead of a valid prefix of it.
     while (!at_end()) {
       const char d = ch();
-      const char before = text_[pos_ - 1];
+      // The character before `d` inside this token (the token's first character is a digit or
+      // a point, never a sign: nothing before it counts).
+      const char before = pos_ > t.offset ? text_[pos_ - 1] : '\0';
       if (std::isalnum(static_cast<unsigned char>(d)) || d == '.' || d == '_' ||
           ((d == '+' || d == '-') && (before == 'e' || before == 'E')))
         ++pos_;
