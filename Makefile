@@ -8,7 +8,7 @@ DEBIAN_PACKAGES = build-essential cmake libeigen3-dev libceres-dev libcli11-dev 
   python3-dev python3-numpy python3-pytest libjs-chart.js help2man bash-completion pkgconf \
   python3-pip python3-setuptools python3-wheel
 
-.PHONY: deps build test demo bench experiments format clean browser-deps sanitize
+.PHONY: deps build test demo bench experiments format tidy clean browser-deps sanitize
 
 deps:
 	@bash scripts/install-deps.sh $(DEBIAN_PACKAGES)
@@ -47,6 +47,11 @@ sanitize: deps
 	  build-asan/robcal_tests --gtest_brief=1
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  build-asan/robcal_fuzz --iterations 2000 tests/fuzz
+
+# clang-tidy with the project's checks (.clang-tidy) over the library and the CLI; any finding fails.
+tidy: build
+	@bash scripts/install-deps.sh clang-tidy
+	run-clang-tidy -p $(BUILD) -j $(JOBS) -quiet '$(CURDIR)/(src|apps/robcal)/'
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
