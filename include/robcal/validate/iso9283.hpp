@@ -2,7 +2,9 @@
 /// \file
 /// ISO 9283:1998 ("Manipulating industrial robots — Performance criteria and related test
 /// methods") pose characteristics: the test cube and its poses P1–P5, and the analysis of
-/// measured cycles. Clause numbers below are those of ISO 9283:1998.
+/// measured cycles. The clause numbers, corner labels and P2–P5 assignment below are from
+/// memory of ISO 9283:1998 and not verified against its (non-public) text; the cube, the 10 %
+/// corner offset and the formulas agree with the public sources listed in docs/validation.md.
 ///
 /// Test cube (clause 6.8.1): the largest cube inside the given workspace region, edges parallel
 /// to the world axes. Corners here: C1 (−,−,−), C2 (+,−,−), C3 (+,+,−), C4 (−,+,−) below and
