@@ -17,9 +17,9 @@ namespace robcal::campaign {
 namespace {
 
 Pose<double> placement(const Eigen::Vector3d& rotation_vector, const Eigen::Vector3d& p) {
-  return {Eigen::AngleAxisd(rotation_vector.norm(), rotation_vector.normalized())
-              .toRotationMatrix(),
-          p};
+  return {
+      Eigen::AngleAxisd(rotation_vector.norm(), rotation_vector.normalized()).toRotationMatrix(),
+      p};
 }
 
 TEST(CampaignWorldFrame, MeasurementsOfAMovedInstrumentRoundTripToTheWorld) {
@@ -53,7 +53,8 @@ TEST(CampaignWorldFrame, MeasurementsOfAMovedInstrumentRoundTripToTheWorld) {
 
     // What the instrument reads, in its own frame.
     MeasurementSet seen_points = world_points, seen_poses = world_poses;
-    for (PointMeasurement& m : seen_points.points) m.position_mm = instrument_T_world * m.position_mm;
+    for (PointMeasurement& m : seen_points.points)
+      m.position_mm = instrument_T_world * m.position_mm;
     for (PoseMeasurement& m : seen_poses.poses) m.world_T_tcp = instrument_T_world * m.world_T_tcp;
     ASSERT_GT((seen_points.points[0].position_mm - world_points.points[0].position_mm).norm(), 100);
 
@@ -81,7 +82,8 @@ TEST(CampaignWorldFrame, DistancesAreUnchangedAndABadFileIsNamed) {
       distances, placement(Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector3d(1, 2, 3)));
   EXPECT_EQ(same.distances[0].length_mm, 150.25);
   try {
-    (void)parse_world_frame("frame: {position_mm: [1, 2], rotation_xyz_deg: [0, 0, 0]}\n", "w.yaml");
+    (void)parse_world_frame("frame: {position_mm: [1, 2], rotation_xyz_deg: [0, 0, 0]}\n",
+                            "w.yaml");
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().file, "w.yaml");

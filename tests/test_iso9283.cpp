@@ -214,12 +214,18 @@ TEST(Iso9283File, ReadsAndNamesBadCells) {
   EXPECT_THROW((void)parse_iso9283_samples("pose,x,y,z\n", "m.csv"), InputError);
 }
 
-TEST(Iso9283Plan, CubePosesAndJointTargets) {
+/// The nominal IRB 120, a region where a 200 mm cube fits, the tool pointing down.
+Iso9283PlanRequest irb120_cube_request() {
   Iso9283PlanRequest request;
   request.robot = CalibratedRobot::nominal(load_robot("abb-irb120"), Tool{});
   request.region_min_mm = Eigen::Vector3d(300, -150, 300);
-  request.region_max_mm = Eigen::Vector3d(500, 150, 520);  // a 200 mm cube fits
+  request.region_max_mm = Eigen::Vector3d(500, 150, 520);
   request.world_R_tcp = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  return request;
+}
+
+TEST(Iso9283Plan, CubePosesAndJointTargets) {
+  Iso9283PlanRequest request = irb120_cube_request();  // a 200 mm cube fits
   request.cycles = 3;
   const Iso9283Plan plan = iso9283_plan(request);
   EXPECT_DOUBLE_EQ(plan.cube_edge_mm, 200);
@@ -271,11 +277,7 @@ TEST(Iso9283Plan, CubePosesAndJointTargets) {
 /// scatter). vAP against the formula written out; the unidirectional cycles (direction 0) alone
 /// give AP and RP although the direction-1 rows are in the same file.
 TEST(Iso9283Plan, MultiDirectionalApproachesAndTheirAnalysis) {
-  Iso9283PlanRequest request;
-  request.robot = CalibratedRobot::nominal(load_robot("abb-irb120"), Tool{});
-  request.region_min_mm = Eigen::Vector3d(300, -150, 300);
-  request.region_max_mm = Eigen::Vector3d(500, 150, 520);
-  request.world_R_tcp = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  Iso9283PlanRequest request = irb120_cube_request();
   request.cycles = 4;
   request.vap_approach_mm = 50;
   const Iso9283Plan plan = iso9283_plan(request);
@@ -357,11 +359,7 @@ TEST(Iso9283Plan, MultiDirectionalApproachesAndTheirAnalysis) {
 /// The cycles through the programs layer: one configuration per move, named by cycle and pose,
 /// joints read back from the URScript written.
 TEST(Iso9283Plan, CyclesWrittenThroughTheProgramsLayer) {
-  Iso9283PlanRequest request;
-  request.robot = CalibratedRobot::nominal(load_robot("abb-irb120"), Tool{});
-  request.region_min_mm = Eigen::Vector3d(300, -150, 300);
-  request.region_max_mm = Eigen::Vector3d(500, 150, 520);
-  request.world_R_tcp = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  Iso9283PlanRequest request = irb120_cube_request();
   request.cycles = 2;
   MeasurementProgramRequest base;
   base.language = ProgramLanguage::UrScript;

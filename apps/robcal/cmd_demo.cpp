@@ -59,7 +59,8 @@ void run_demo(const DemoOptions& o) {
                    fmt::format("robcal demo: validation measurements, seed {}", o.seed + 2));
   write_file_atomically(out / "plan.csv", write_configurations_csv(campaign.plan, tool));
   // The nominal robot with its base fitted on the calibration data: the report's "before".
-  write_file_atomically(out / "models" / "nominal.yaml", calibrated_robot_to_yaml(campaign.nominal));
+  write_file_atomically(out / "models" / "nominal.yaml",
+                        calibrated_robot_to_yaml(campaign.nominal));
   for (const LevelOutcome& level : campaign.levels)
     write_file_atomically(out / "models" / (std::string(level_name(level.level)) + ".yaml"),
                           calibrated_robot_to_yaml(level.fit.robot, statistics_yaml(level.fit)));
@@ -81,8 +82,7 @@ void run_demo(const DemoOptions& o) {
   data.models.front().label = "nominal (base fitted on the calibration data)";
   data.sources.push_back(fmt::format("seed {}", o.seed));
   data.sources.push_back(fmt::format("{} calibration configurations (D-optimal of {})",
-                                     campaign.calibration.measurements.size(),
-                                     options.candidates));
+                                     campaign.calibration.measurements.size(), options.candidates));
   data.notes.push_back(
       "Simulated: the true robot is the identified IRB 120 published by Nubiola & "
       "Bonev (docs/method/11-published-results.md); tracker noise 0.022 mm per axis. Errors are "

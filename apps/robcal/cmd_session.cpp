@@ -12,11 +12,11 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
+#include "robcal/campaign/frames_world.hpp"
 #include "robcal/campaign/instrument_import.hpp"
 #include "robcal/campaign/point_session.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/journal_file.hpp"
-#include "robcal/campaign/frames_world.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 
@@ -130,13 +130,14 @@ void run_session(const SessionOptions& o) {
     comment +=
         "\nmissing (marked by the operator): " + fmt::format("{}", fmt::join(result.missing, ", "));
   if (instrument_T_world)
-    comment += fmt::format("\npositions in the world frame of {} (robcal frames world)",
-                           o.world_frame);
+    comment +=
+        fmt::format("\npositions in the world frame of {} (robcal frames world)", o.world_frame);
   write_file_atomically(
-      o.out, write_measurements_csv(instrument_T_world ? campaign::measurements_in_frame(
-                                                             result.measurements, *instrument_T_world)
-                                                       : result.measurements,
-                                    settings.tool, comment));
+      o.out, write_measurements_csv(
+                 instrument_T_world
+                     ? campaign::measurements_in_frame(result.measurements, *instrument_T_world)
+                     : result.measurements,
+                 settings.tool, comment));
   fmt::print("\nsession complete: {} configurations read, {} missing{}\n",
              result.measurements.points.size(), result.missing.size(),
              result.missing.empty()

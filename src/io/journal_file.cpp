@@ -88,7 +88,9 @@ JournalFile::~JournalFile() {
   if (file_ != nullptr) std::fclose(file_);
 }
 
-std::string JournalFile::text() const { return read_text_file(path_); }
+std::string JournalFile::text() const {
+  return read_text_file(path_);
+}
 
 void JournalFile::truncate(size_t bytes) {
   std::fflush(file_);

@@ -186,5 +186,19 @@ grep -q "paused after 3 of $STEPS steps" "$TMP/s4.txt" || fail "session --follow
 
 expect_error "session journal exists" "pass --resume" \
   "${SESSION[@]}" --journal "$TMP/j1" --out "$TMP/bad.csv"
+# The journal is locked while its session runs (the hexapod session's journal machinery): a
+# second session on it is refused naming the process.
+rm -f "$TMP/fifo" "$TMP/j5"
+mkfifo "$TMP/fifo"
+"$ROBCAL" "${SESSION[@]}" --journal "$TMP/j5" --out "$TMP/s5.csv" <"$TMP/fifo" >/dev/null 2>&1 &
+PID=$!
+exec 3>"$TMP/fifo"
+head -n 1 "$TMP/answers.txt" >&3
+sleep 0.5
+expect_error "session journal in use" "in use by another session (process $PID)" \
+  "${SESSION[@]}" --journal "$TMP/j5" --resume --out "$TMP/bad.csv"
+kill -9 "$PID" 2>/dev/null
+wait "$PID" 2>/dev/null
+exec 3>&-
 
 finish campaign_cli.sh
