@@ -61,8 +61,9 @@ const bool registered = register_bindings(72, [](py::module_& m) {
   m.def(
       "iso9283_plan",
       [](const CalibratedRobot& robot, const Eigen::Vector3d& region_min_mm,
-         const Eigen::Vector3d& region_max_mm, const Eigen::Vector4d& quaternion_wxyz,
-         const std::string& config, int cycles, double vap_approach_mm) {
+         const Eigen::Vector3d& region_max_mm,
+         const std::optional<Eigen::Vector4d>& quaternion_wxyz, const std::string& config,
+         int cycles, double vap_approach_mm) {
         const std::optional<ArmConfig> arm = parse_arm_config(config);
         if (!arm) throw InputError({"", 0, 0, "config"}, "unknown configuration '" + config + "'");
         Iso9283PlanRequest request;
@@ -70,18 +71,20 @@ const bool registered = register_bindings(72, [](py::module_& m) {
         request.region_min_mm = region_min_mm;
         request.region_max_mm = region_max_mm;
         request.world_R_tcp =
-            pose_from_position_quaternion(Eigen::Vector3d::Zero(), quaternion_wxyz).R;
+            pose_from_position_quaternion(Eigen::Vector3d::Zero(),
+                                          quaternion_wxyz.value_or(Eigen::Vector4d(0, 0, 1, 0)))
+                .R;
         request.config = *arm;
         request.cycles = cycles;
         request.vap_approach_mm = vap_approach_mm;
         return plan_dict(iso9283_plan(request), *arm);
       },
       py::arg("robot"), py::arg("region_min_mm"), py::arg("region_max_mm"),
-      py::arg("quaternion_wxyz") = Eigen::Vector4d(0, 0, 1, 0),
-      py::arg("config") = "front-up-noflip", py::arg("cycles") = kIso9283Cycles,
-      py::arg("vap_approach_mm") = 0.0,
-      "The ISO 9283 test cube in a workspace region (world, mm), its poses P1-P5 with joint "
-      "targets from the robot's compensation IK, the cycles and, with vap_approach_mm > 0, the "
+      py::arg("quaternion_wxyz") = py::none(), py::arg("config") = "front-up-noflip",
+      py::arg("cycles") = kIso9283Cycles, py::arg("vap_approach_mm") = 0.0,
+      "The ISO 9283 test cube in a workspace region (world, mm), its poses P1-P5 (tool "
+      "orientation quaternion_wxyz, default 0,0,1,0: pointing down) with joint targets from the "
+      "robot's compensation IK, the cycles and, with vap_approach_mm > 0, the "
       "multi-directional test's pre-poses and moves (`robcal iso9283 plan`); also the pose-list "
       "and cycle CSVs as text");
   m.def(

@@ -482,13 +482,14 @@ def report(model: str, measurements: Sequence[str], calibration: Optional[str] =
 
 
 def iso9283_plan(robot: CalibratedRobot, region_min_mm: ArrayLike, region_max_mm: ArrayLike,
-                 quaternion_wxyz: ArrayLike = ..., config: str = "front-up-noflip",
+                 quaternion_wxyz: Optional[ArrayLike] = None, config: str = "front-up-noflip",
                  cycles: int = 30, vap_approach_mm: float = 0.0) -> Dict[str, Any]:
-    """The ISO 9283 test cube in a workspace region (world, mm), its poses P1-P5 with joint
-    targets from the robot's compensation IK, the cycles and, with vap_approach_mm > 0, the
-    multi-directional test's pre-poses and moves (`robcal iso9283 plan`). Keys: cube_centre_mm,
-    cube_edge_mm, corners_mm, poses, sequence, approaches, vap_sequence, pose_list_csv,
-    cycles_csv, vap_cycles_csv."""
+    """The ISO 9283 test cube in a workspace region (world, mm), its poses P1-P5 (tool
+    orientation quaternion_wxyz, default 0,0,1,0: pointing down) with joint targets from the
+    robot's compensation IK, the cycles and, with vap_approach_mm > 0, the multi-directional
+    test's pre-poses and moves (`robcal iso9283 plan`). Keys: cube_centre_mm, cube_edge_mm,
+    corners_mm, poses, sequence, approaches, vap_sequence, pose_list_csv, cycles_csv,
+    vap_cycles_csv."""
 
 
 def iso9283_analyse(poses: str, measurements: str, min_cycles: int = 30) -> Dict[str, Any]:
