@@ -12,6 +12,8 @@
 #include "robcal/core/units.hpp"
 #include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/kinematics/forward_kinematics.hpp"
+#include "robcal/programs/measurement_program.hpp"
 #include "robcal/validate/iso9283.hpp"
 
 namespace robcal {
@@ -212,12 +214,18 @@ TEST(Iso9283File, ReadsAndNamesBadCells) {
   EXPECT_THROW((void)parse_iso9283_samples("pose,x,y,z\n", "m.csv"), InputError);
 }
 
-TEST(Iso9283Plan, CubePosesAndJointTargets) {
+/// The nominal IRB 120, a region where a 200 mm cube fits, the tool pointing down.
+Iso9283PlanRequest irb120_cube_request() {
   Iso9283PlanRequest request;
   request.robot = CalibratedRobot::nominal(load_robot("abb-irb120"), Tool{});
   request.region_min_mm = Eigen::Vector3d(300, -150, 300);
-  request.region_max_mm = Eigen::Vector3d(500, 150, 520);  // a 200 mm cube fits
+  request.region_max_mm = Eigen::Vector3d(500, 150, 520);
   request.world_R_tcp = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  return request;
+}
+
+TEST(Iso9283Plan, CubePosesAndJointTargets) {
+  Iso9283PlanRequest request = irb120_cube_request();  // a 200 mm cube fits
   request.cycles = 3;
   const Iso9283Plan plan = iso9283_plan(request);
   EXPECT_DOUBLE_EQ(plan.cube_edge_mm, 200);
@@ -261,6 +269,121 @@ TEST(Iso9283Plan, CubePosesAndJointTargets) {
     EXPECT_NE(std::string(e.what()).find("P1 at (2050.000"), std::string::npos) << e.what();
   }
   request.region_max_mm = request.region_min_mm;
+  EXPECT_THROW((void)iso9283_plan(request), InputError);
+}
+
+/// The multi-directional test as planned: every pose approached along +x, +y, +z from a
+/// pre-pose 50 mm back, on a simulated arm that stops 0.05 mm short along the approach (with
+/// scatter). vAP against the formula written out; the unidirectional cycles (direction 0) alone
+/// give AP and RP although the direction-1 rows are in the same file.
+TEST(Iso9283Plan, MultiDirectionalApproachesAndTheirAnalysis) {
+  Iso9283PlanRequest request = irb120_cube_request();
+  request.cycles = 4;
+  request.vap_approach_mm = 50;
+  const Iso9283Plan plan = iso9283_plan(request);
+  ASSERT_EQ(plan.approaches.size(), 5u);
+  for (size_t k = 0; k < 5; ++k)
+    for (int h = 0; h < 3; ++h) {
+      const Iso9283PlannedPose& from = plan.approaches[k][static_cast<size_t>(h)];
+      Eigen::Vector3d back = Eigen::Vector3d::Zero();
+      back[h] = -50;
+      EXPECT_LT((from.world_T_tcp.p - plan.poses[k].world_T_tcp.p - back).norm(), 1e-12);
+      const Pose<double> f = flange_pose(request.robot.model, request.robot.tool.payload,
+                                         request.robot.params, from.joints);
+      EXPECT_LT((f.p - from.world_T_tcp.p).norm(), 1e-6) << from.name;
+      // Same turn of the joints as the pose: a short move, not a flip.
+      EXPECT_LT((from.joints - plan.poses[k].joints).cwiseAbs().maxCoeff(), 0.5) << from.name;
+    }
+  // 3 directions × 4 cycles × 5 poses, each move pair approach → measure.
+  ASSERT_EQ(plan.vap_sequence.size(), 120u);
+  EXPECT_EQ(plan.vap_sequence[0], (Iso9283Move{1, 0, 1, true}));
+  EXPECT_EQ(plan.vap_sequence[1], (Iso9283Move{1, 0, 1, false}));
+  EXPECT_EQ(plan.vap_sequence[3], (Iso9283Move{1, 4, 1, false}));
+  EXPECT_EQ(plan.vap_sequence.back(), (Iso9283Move{4, 1, 3, false}));
+  const std::string csv = iso9283_vap_cycles_csv(plan);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 121);
+  EXPECT_EQ(csv.substr(csv.find('\n') + 1, 16), "1,P1,1,approach,");
+
+  // The attained positions of the simulated arm: commanded − 0.05 u_h + scatter.
+  std::vector<Iso9283Sample> samples;
+  std::vector<Pose<double>> commanded;
+  for (const Iso9283PlannedPose& p : plan.poses) commanded.push_back(p.world_T_tcp);
+  const auto scatter = [](int k) {
+    return Eigen::Vector3d(0.004 * std::sin(1.7 * k), 0.003 * std::cos(2.3 * k),
+                           0.005 * std::sin(0.9 * k + 0.4));
+  };
+  int k = 0;
+  for (const auto& [cycle, pose] : plan.sequence)
+    samples.push_back({pose + 1, cycle, 0, commanded[static_cast<size_t>(pose)].p + scatter(++k),
+                       std::nullopt, 0});
+  for (const Iso9283Move& m : plan.vap_sequence) {
+    if (m.approach) continue;
+    samples.push_back({m.pose + 1, m.cycle, m.direction,
+                       commanded[static_cast<size_t>(m.pose)].p -
+                           0.05 * Eigen::Vector3d::Unit(m.direction - 1) + scatter(++k),
+                       std::nullopt, 0});
+  }
+  const Iso9283Result result = iso9283_analyse({"vap.csv", commanded, samples, 4});
+  ASSERT_EQ(result.poses.size(), 5u);
+  for (const Iso9283PoseFigures& f : result.poses) {
+    SCOPED_TRACE(f.pose);
+    // vAP written out: barycentre of each direction, largest distance between two of them.
+    double bary[3][3] = {};
+    for (const Iso9283Sample& s : samples)
+      if (s.pose == f.pose && s.direction > 0)
+        for (int a = 0; a < 3; ++a) bary[s.direction - 1][a] += s.position_mm[a] / 4;
+    double vap = 0;
+    for (int h = 0; h < 3; ++h)
+      for (int g = h + 1; g < 3; ++g) {
+        double sq = 0;
+        for (int a = 0; a < 3; ++a) sq += (bary[h][a] - bary[g][a]) * (bary[h][a] - bary[g][a]);
+        vap = std::max(vap, std::sqrt(sq));
+      }
+    EXPECT_EQ(f.directions, 3);
+    ASSERT_TRUE(f.vap_mm.has_value());
+    EXPECT_NEAR(*f.vap_mm, vap, 1e-9);
+    EXPECT_NEAR(*f.vap_mm, 0.05 * std::sqrt(2.0), 0.01);  // the stop-short offsets' spread
+    // AP from the unidirectional rows only: their mean offset is the scatter's, < 0.005 mm.
+    double mean[3] = {};
+    for (const Iso9283Sample& s : samples)
+      if (s.pose == f.pose && s.direction == 0)
+        for (int a = 0; a < 3; ++a)
+          mean[a] += (s.position_mm[a] - commanded[static_cast<size_t>(f.pose - 1)].p[a]) / 4;
+    EXPECT_NEAR(f.ap_mm, std::sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]),
+                1e-9);
+    EXPECT_LT(f.ap_mm, 0.01);
+    EXPECT_EQ(f.cycles, 4);
+  }
+}
+
+/// The cycles through the programs layer: one configuration per move, named by cycle and pose,
+/// joints read back from the URScript written.
+TEST(Iso9283Plan, CyclesWrittenThroughTheProgramsLayer) {
+  Iso9283PlanRequest request = irb120_cube_request();
+  request.cycles = 2;
+  MeasurementProgramRequest base;
+  base.language = ProgramLanguage::UrScript;
+  base.approach_deg = 0;
+  EXPECT_THROW((void)iso9283_program_request(iso9283_plan(request), base, true), InputError);
+  request.vap_approach_mm = 40;
+  const Iso9283Plan plan = iso9283_plan(request);
+  for (const bool multidirectional : {false, true}) {
+    SCOPED_TRACE(multidirectional);
+    const MeasurementProgramRequest r = iso9283_program_request(plan, base, multidirectional);
+    ASSERT_EQ(r.names.size(), multidirectional ? 60u : 10u);
+    EXPECT_EQ(r.names[1], multidirectional ? "V01-P1-D1" : "C01-P5");
+    if (multidirectional) EXPECT_EQ(r.names[2], "V01-P5-D1-from");
+    const std::vector<ProgramFile> files = write_measurement_program(r);
+    ASSERT_EQ(files.size(), 1u);
+    const std::vector<JointMove> moves =
+        read_joint_moves(files[0].text, ProgramLanguage::UrScript, files[0].name);
+    ASSERT_EQ(moves.size(), 2 * r.joints.size());  // approach (= q here) and q
+    for (size_t i = 0; i < r.joints.size(); ++i)
+      EXPECT_LT((moves[2 * i + 1].joints_deg - r.joints[i] * kRadToDeg).norm(), 1e-4) << i;
+    // The unidirectional program visits P1 → P5 → P4 → P3 → P2.
+    if (!multidirectional) EXPECT_LT((r.joints[1] - plan.poses[4].joints).norm(), 1e-15);
+  }
+  request.vap_approach_mm = -1;
   EXPECT_THROW((void)iso9283_plan(request), InputError);
 }
 

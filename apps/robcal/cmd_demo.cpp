@@ -12,6 +12,7 @@
 #include "command_registry.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/report/report_workflow.hpp"
 #include "robcal/sim/campaign.hpp"
 #include "robcal/sim/simulation_files.hpp"
 
@@ -39,7 +40,7 @@ void run_demo(const DemoOptions& o) {
   const Tool tool = default_simulation_tool();
   const TrueRobot truth = published_irb120_truth(model, tool);
   const VirtualInstrument tracker = standard_instrument(InstrumentKind::LaserTracker, truth);
-  const std::string chartjs = load_chartjs();  // fail before any work when it is missing
+  (void)load_chartjs();  // fail before any work when it is missing
 
   CampaignOptions options;
   options.seed = o.seed;
@@ -57,24 +58,36 @@ void run_demo(const DemoOptions& o) {
                    "abb-irb120",
                    fmt::format("robcal demo: validation measurements, seed {}", o.seed + 2));
   write_file_atomically(out / "plan.csv", write_configurations_csv(campaign.plan, tool));
+  // The nominal robot with its base fitted on the calibration data: the report's "before".
+  write_file_atomically(out / "models" / "nominal.yaml",
+                        calibrated_robot_to_yaml(campaign.nominal));
   for (const LevelOutcome& level : campaign.levels)
     write_file_atomically(out / "models" / (std::string(level_name(level.level)) + ".yaml"),
                           calibrated_robot_to_yaml(level.fit.robot, statistics_yaml(level.fit)));
-  ReportData data =
-      campaign_report(campaign, "robcal demo: ABB IRB 120, simulated laser tracker", model.name);
-  data.sources = {
-      fmt::format("seed {}", o.seed),
-      fmt::format("{} calibration configurations (D-optimal of {})",
-                  campaign.calibration.measurements.size(), options.candidates),
-      fmt::format("{} validation configurations", campaign.validation.measurements.size())};
-  data.notes = {
+  // The report from the files just written, as `robcal report` builds it: provenance (every
+  // input's SHA-256, instrument, seed) and the classes by region of the calibration set.
+  ReportRequest request;
+  request.title = "robcal demo: ABB IRB 120, simulated laser tracker";
+  request.before = (out / "models" / "nominal.yaml").string();
+  for (size_t k = 0; k + 1 < campaign.levels.size(); ++k)
+    request.between.push_back(
+        (out / "models" / (std::string(level_name(campaign.levels[k].level)) + ".yaml")).string());
+  request.model =
+      (out / "models" / (std::string(level_name(campaign.levels.back().level)) + ".yaml")).string();
+  request.measurements = {(out / "validation" / "measurements.csv").string()};
+  request.calibration = (out / "calibration" / "measurements.csv").string();
+  request.instrument = (out / "validation" / "instrument.yaml").string();
+  request.seed = o.seed;
+  ReportData data = build_report(request).data;
+  data.models.front().label = "nominal (base fitted on the calibration data)";
+  data.sources.push_back(fmt::format("seed {}", o.seed));
+  data.sources.push_back(fmt::format("{} calibration configurations (D-optimal of {})",
+                                     campaign.calibration.measurements.size(), options.candidates));
+  data.notes.push_back(
       "Simulated: the true robot is the identified IRB 120 published by Nubiola & "
       "Bonev (docs/method/11-published-results.md); tracker noise 0.022 mm per axis. Errors are "
-      "against the "
-      "simulated validation readings, which carry that noise too."};
-  const nlohmann::json report = report_json(data);
-  write_file_atomically(out / "report.json", report.dump(1));
-  write_file_atomically(out / "report.html", report_html(report, chartjs));
+      "against the simulated validation readings, which carry that noise too.");
+  write_report(report_json(data), out / "report.html");
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 

@@ -2,6 +2,7 @@
 /// the pose characteristics (AP, RP, vAP, AD, RD) of measured cycles (validate/iso9283.hpp).
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <memory>
@@ -14,6 +15,7 @@
 #include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
+#include "robcal/programs/measurement_program.hpp"
 #include "robcal/report/report.hpp"
 #include "robcal/validate/iso9283.hpp"
 
@@ -23,7 +25,10 @@ namespace {
 struct PlanOptions {
   std::string robot, tool, model, region, orientation = "0,0,1,0", config = "front-up-noflip";
   int cycles = kIso9283Cycles;
+  double vap_approach_mm = 0;
   std::string out_poses = "iso9283-poses.csv", out_cycles = "iso9283-cycles.csv";
+  std::string out_vap_cycles = "iso9283-vap-cycles.csv";
+  std::string program_language, program_dir = "iso9283-programs";
   bool json = false;
 };
 
@@ -56,9 +61,36 @@ void run_plan(const PlanOptions& o) {
   request.world_R_tcp = parse_orientation(o.orientation, "--orientation");
   request.config = parse_config(o.config);
   request.cycles = o.cycles;
+  request.vap_approach_mm = o.vap_approach_mm;
   const Iso9283Plan plan = iso9283_plan(request);
+  // Every program generated before any file is written: a refusal writes nothing.
+  std::vector<MeasurementProgramRequest> programs;
+  if (!o.program_language.empty()) {
+    MeasurementProgramRequest base;
+    base.language = program_language_from_name(o.program_language, "--program");
+    if (base.language == ProgramLanguage::Jbi)
+      throw InputError({"", 0, 0, "--program"},
+                       "a Yaskawa job needs the axes' pulses per degree, which iso9283 does not "
+                       "take: choose rapid, krl, ls or urscript");
+    base.limits = model.limits;
+    base.approach_deg = 0;  // the cycle's own approach, as the standard prescribes
+    for (const bool multidirectional : {false, true}) {
+      if (multidirectional && plan.vap_sequence.empty()) break;
+      programs.push_back(iso9283_program_request(plan, base, multidirectional));
+      programs.back().name = multidirectional ? "ISOVAP" : "ISOCYC";
+      (void)write_measurement_program(programs.back());
+    }
+  }
+  std::vector<std::string> files = {o.out_poses, o.out_cycles};
   write_file_atomically(o.out_poses, iso9283_pose_list_csv(plan, request.config));
   write_file_atomically(o.out_cycles, iso9283_cycles_csv(plan));
+  if (!plan.vap_sequence.empty()) {
+    write_file_atomically(o.out_vap_cycles, iso9283_vap_cycles_csv(plan));
+    files.push_back(o.out_vap_cycles);
+  }
+  for (const MeasurementProgramRequest& program : programs)
+    for (const std::string& path : write_measurement_program_files(program, o.program_dir))
+      files.push_back(path);
   if (o.json) {
     nlohmann::json out;
     out["cube_centre_mm"] = vector_json(plan.cube_centre_mm);
@@ -71,7 +103,8 @@ void run_plan(const PlanOptions& o) {
                               {"joints_deg", joints}});
     }
     out["cycles"] = o.cycles;
-    out["files"] = {o.out_poses, o.out_cycles};
+    out["vap_approach_mm"] = o.vap_approach_mm;
+    out["files"] = files;
     print_json(out);
     return;
   }
@@ -89,10 +122,15 @@ void run_plan(const PlanOptions& o) {
     for (int j = 0; j < kJointCount; ++j) fmt::print(" {:>8.3f}", rad2deg(p.joints[j]));
     fmt::print("\n");
   }
-  fmt::print(
-      "{} cycles P1 → P5 → P4 → P3 → P2 (ISO 9283 clause 7.2.1)\nwrote {} (pose list) and {} "
-      "(joint targets per move)\n",
-      o.cycles, o.out_poses, o.out_cycles);
+  fmt::print("{} cycles P1 → P5 → P4 → P3 → P2 (ISO 9283 pose accuracy and repeatability)\n",
+             o.cycles);
+  if (!plan.vap_sequence.empty())
+    fmt::print(
+        "multi-directional test (vAP): every pose approached along world +x, +y, +z from {:g} mm "
+        "back, {} cycles per direction; measure with direction 1..3 in the measurements file; "
+        "readings at the pre-poses (\"-from\") are not part of the test\n",
+        o.vap_approach_mm, o.cycles);
+  fmt::print("wrote {}\n", fmt::join(files, ", "));
 }
 
 void run_analyse(const AnalyseOptions& o) {
@@ -164,6 +202,18 @@ const bool registered = register_command(65, [](CLI::App& app) {
   p->add_option("--cycles", plan->cycles, "Cycles (the standard: 30)")->capture_default_str();
   p->add_option("--out-poses", plan->out_poses, "Pose-list CSV of P1-P5")->capture_default_str();
   p->add_option("--out-cycles", plan->out_cycles, "Joint targets of every move (CSV, degrees)")
+      ->capture_default_str();
+  p->add_option("--vap-approach", plan->vap_approach_mm,
+                "Also plan the multi-directional test (vAP): approach distance along world +x, "
+                "+y, +z (mm); 0: none")
+      ->capture_default_str();
+  p->add_option("--out-vap-cycles", plan->out_vap_cycles,
+                "Joint targets of the multi-directional test's moves (CSV, degrees)")
+      ->capture_default_str();
+  p->add_option("--program", plan->program_language,
+                "Also write the cycles as robot programs (programs layer): rapid, krl, ls, "
+                "urscript");
+  p->add_option("--program-dir", plan->program_dir, "Folder for the programs")
       ->capture_default_str();
   p->add_flag("--json", plan->json, "Machine-readable output");
   p->callback([plan] { run_plan(*plan); });

@@ -1,9 +1,7 @@
 /// `robcal session`: the guided tracker/CMM-probe session (campaign/point_session.hpp): prompts,
 /// readings typed or piped on stdin, every one journalled and synced at once, `--resume`.
 
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -14,9 +12,11 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
+#include "robcal/campaign/frames_world.hpp"
 #include "robcal/campaign/instrument_import.hpp"
 #include "robcal/campaign/point_session.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/io/journal_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 
@@ -24,7 +24,7 @@ namespace robcal::cli {
 namespace {
 
 struct SessionOptions {
-  std::string configs, tool, journal, out, reference, follow, map;
+  std::string configs, tool, journal, out, reference, follow, map, world_frame;
   int every = 0;
   double follow_timeout_s = 600;
   bool resume = false;
@@ -39,16 +39,6 @@ std::string now_utc() {
       std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
   return fmt::format("{:04d}-{:02d}-{:02d}T{:02d}:{:02d}:{:02d}.{:03d}Z", tm.tm_year + 1900,
                      tm.tm_mon + 1, tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec, ms);
-}
-
-/// Appends one line to the journal and forces it to the disk before the next prompt.
-void append_synced(const std::string& path, const std::string& line) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT, 0644);
-  if (fd < 0) throw InputError({path, 0, 0, ""}, "cannot open the journal for appending");
-  const bool ok = ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size()) &&
-                  ::fsync(fd) == 0;
-  ::close(fd);
-  if (!ok) throw InputError({path, 0, 0, ""}, "cannot write the journal (disk full?)");
 }
 
 void run_session(const SessionOptions& o) {
@@ -66,20 +56,30 @@ void run_session(const SessionOptions& o) {
     throw InputError({"", 0, 0, "--every"}, "drift checks need the reference (--reference NAME)");
   }
   const std::vector<campaign::SessionStep> steps = campaign::session_steps(settings);
+  // Read before the first prompt: a bad frame file must not wait for the end of the session.
+  const std::optional<Pose<double>> instrument_T_world =
+      o.world_frame.empty() ? std::nullopt
+                            : std::optional(campaign::load_world_frame(o.world_frame));
 
-  std::vector<campaign::SessionReading> readings;
-  if (std::filesystem::exists(o.journal)) {
-    if (!o.resume)
-      throw InputError({o.journal, 0, 0, "--journal"},
-                       "the journal exists: pass --resume to continue it, or name a new journal");
-    const std::string text = read_text_file(o.journal);
-    size_t complete = 0;
-    readings = campaign::replay_journal(text, o.journal, steps, &complete);
-    if (complete < text.size()) write_file_atomically(o.journal, text.substr(0, complete));
-    fmt::print("resumed {}: {} of {} steps answered\n", o.journal, readings.size(), steps.size());
-  }
   campaign::ExportFormat format;
   if (!o.map.empty()) format = campaign::parse_export_format(read_text_file(o.map), o.map);
+
+  // The hexapod session's journal machinery (io/journal_file.hpp): exclusive create, lock,
+  // append + sync per reading, torn last line cut on resume. Its lines are this session's.
+  std::vector<campaign::SessionReading> readings;
+  const bool resuming = std::filesystem::exists(o.journal);
+  if (resuming && !o.resume)
+    throw InputError({o.journal, 0, 0, "--journal"},
+                     "the journal exists: pass --resume to continue it, or name a new journal");
+  JournalFile journal =
+      resuming ? JournalFile::open_for_resume(o.journal) : JournalFile::create(o.journal);
+  if (resuming) {
+    const std::string text = journal.text();
+    size_t complete = 0;
+    readings = campaign::replay_journal(text, o.journal, steps, &complete);
+    if (complete < text.size()) journal.truncate(complete);
+    fmt::print("resumed {}: {} of {} steps answered\n", o.journal, readings.size(), steps.size());
+  }
   for (size_t i = readings.size(); i < steps.size();) {
     fmt::print("[{}/{}] {}\n> ", i + 1, steps.size(), steps[i].prompt);
     std::fflush(stdout);
@@ -104,7 +104,7 @@ void run_session(const SessionOptions& o) {
       const Eigen::Vector3d& p = points[i];
       fmt::print("{} {} {} (from {})\n", p.x(), p.y(), p.z(), o.follow);
       readings.push_back({steps[i].key, p, now_utc(), std::nullopt});
-      append_synced(o.journal, campaign::journal_line(readings.back()));
+      journal.append_line(campaign::journal_line(readings.back()));
       ++i;
       continue;
     }
@@ -120,7 +120,7 @@ void run_session(const SessionOptions& o) {
       fmt::print(stderr, "{}; try again\n", e.what());
       continue;
     }
-    append_synced(o.journal, campaign::journal_line(readings.back()));
+    journal.append_line(campaign::journal_line(readings.back()));
     ++i;
   }
   const campaign::SessionResult result = campaign::session_result(settings, steps, readings);
@@ -129,7 +129,15 @@ void run_session(const SessionOptions& o) {
   if (!result.missing.empty())
     comment +=
         "\nmissing (marked by the operator): " + fmt::format("{}", fmt::join(result.missing, ", "));
-  write_file_atomically(o.out, write_measurements_csv(result.measurements, settings.tool, comment));
+  if (instrument_T_world)
+    comment +=
+        fmt::format("\npositions in the world frame of {} (robcal frames world)", o.world_frame);
+  write_file_atomically(
+      o.out, write_measurements_csv(
+                 instrument_T_world
+                     ? campaign::measurements_in_frame(result.measurements, *instrument_T_world)
+                     : result.measurements,
+                 settings.tool, comment));
   fmt::print("\nsession complete: {} configurations read, {} missing{}\n",
              result.measurements.points.size(), result.missing.size(),
              result.missing.empty()
@@ -163,6 +171,9 @@ const bool registered = register_command(77, [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--out", o->out, "Measurement CSV written when the session is complete")
       ->required();
+  cmd->add_option("--world-frame", o->world_frame,
+                  "Frame file of `robcal frames world`: write the positions in that frame (the "
+                  "nests' world) instead of the instrument's (the journal keeps the readings)");
   cmd->callback([o] { run_session(*o); });
 });
 

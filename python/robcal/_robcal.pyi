@@ -479,3 +479,19 @@ def report(model: str, measurements: Sequence[str], calibration: Optional[str] =
     """A calibrated model validated on measurement files beside the nominal robot (or `before`)
     (`robcal report`): the report's JSON as a dict plus `warnings`; with `out` (.html) also the
     self-contained page and the JSON beside it."""
+
+
+def iso9283_plan(robot: CalibratedRobot, region_min_mm: ArrayLike, region_max_mm: ArrayLike,
+                 quaternion_wxyz: Optional[ArrayLike] = None, config: str = "front-up-noflip",
+                 cycles: int = 30, vap_approach_mm: float = 0.0) -> Dict[str, Any]:
+    """The ISO 9283 test cube in a workspace region (world, mm), its poses P1-P5 (tool
+    orientation quaternion_wxyz, default 0,0,1,0: pointing down) with joint targets from the
+    robot's compensation IK, the cycles and, with vap_approach_mm > 0, the multi-directional
+    test's pre-poses and moves (`robcal iso9283 plan`). Keys: cube_centre_mm, cube_edge_mm,
+    corners_mm, poses, sequence, approaches, vap_sequence, pose_list_csv, cycles_csv,
+    vap_cycles_csv."""
+
+
+def iso9283_analyse(poses: str, measurements: str, min_cycles: int = 30) -> Dict[str, Any]:
+    """AP, RP (position, orientation), vAP, AD, RD of measured cycles (`robcal iso9283
+    analyse`): the commanded poses' pose list and the measurements CSV; the CLI's --json."""

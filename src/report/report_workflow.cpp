@@ -105,6 +105,12 @@ ReportBuild build_report(const ReportRequest& o) {
   }
   const std::string after_label = model.level.empty() ? "calibrated" : model.level;
   data.models.push_back(model_errors(before_label, before, validation, calibration));
+  for (const std::string& path : o.between) {
+    const CalibratedRobot other = load_calibrated_robot(path);
+    data.models.push_back(
+        model_errors(other.level.empty() ? path : other.level, other, validation, calibration));
+    data.provenance.files.push_back(provenance_file("model", path));
+  }
   data.models.push_back(model_errors(after_label, model, validation, calibration));
   if (!o.iso9283_poses.empty()) {
     data.iso9283 = iso9283_analyse(

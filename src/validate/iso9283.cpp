@@ -75,6 +75,17 @@ Iso9283PoseFigures pose_figures(int pose, const PoseSamples& s, const Pose<doubl
   return f;
 }
 
+/// A cycle visits P1 → P5 → P4 → P3 → P2 (indices into the plan's poses).
+constexpr std::array<int, 5> kCycleOrder = {0, 4, 3, 2, 1};
+/// The multi-directional test's approach directions h = 1..3.
+constexpr std::array<const char*, 3> kApproachAxis = {"+x", "+y", "+z"};
+
+std::string joints_csv(const Vector6d& joints) {
+  std::string out;
+  for (int j = 0; j < kJointCount; ++j) out += fmt::format(",{:.9f}", rad2deg(joints[j]));
+  return out;
+}
+
 [[noreturn]] void fail(const Iso9283AnalysisRequest& r, int line, const std::string& what) {
   throw InputError({r.file, line, 0, ""}, what);
 }
@@ -109,13 +120,18 @@ Iso9283Plan iso9283_plan(const Iso9283PlanRequest& request) {
     positions.push_back(plan.cube_centre_mm +
                         0.8 * (plan.corners_mm[static_cast<size_t>(corner)] - plan.cube_centre_mm));
 
+  if (!(request.vap_approach_mm >= 0 && request.vap_approach_mm <= 1000))
+    throw InputError({"", 0, 0, "--vap-approach"},
+                     fmt::format("expected 0 (no multi-directional test) to 1000 mm, found {}",
+                                 request.vap_approach_mm));
+
   const Compensator compensator = make_compensator(request.robot);
-  Vector6d near = Vector6d::Zero();
-  for (size_t k = 0; k < positions.size(); ++k) {
+  const auto planned = [&](std::string name, const Eigen::Vector3d& position,
+                           const Vector6d& near) {
     Iso9283PlannedPose pose;
-    pose.name = fmt::format("P{}", k + 1);
+    pose.name = std::move(name);
     pose.world_T_tcp.R = request.world_R_tcp;
-    pose.world_T_tcp.p = positions[k];
+    pose.world_T_tcp.p = position;
     const CalibratedIkResult ik =
         calibrated_ik(compensator, pose.world_T_tcp, request.config, near);
     if (!ik.ok())
@@ -124,14 +140,33 @@ Iso9283Plan iso9283_plan(const Iso9283PlanRequest& request) {
                                    "{} configuration with this orientation: {}. Choose a region "
                                    "well inside the workspace, or another orientation or "
                                    "configuration",
-                                   pose.name, positions[k].x(), positions[k].y(), positions[k].z(),
+                                   pose.name, position.x(), position.y(), position.z(),
                                    request.config.label(), to_string(ik.status)));
     pose.joints = ik.joints;
-    near = ik.joints;  // P2..P5 on the turn of P1's joints
-    plan.poses.push_back(pose);
+    return pose;
+  };
+  Vector6d near = Vector6d::Zero();
+  for (size_t k = 0; k < positions.size(); ++k) {
+    plan.poses.push_back(planned(fmt::format("P{}", k + 1), positions[k], near));
+    near = plan.poses.back().joints;  // P2..P5 on the turn of P1's joints
   }
   for (int cycle = 1; cycle <= request.cycles; ++cycle)
-    for (const int pose : {0, 4, 3, 2, 1}) plan.sequence.emplace_back(cycle, pose);
+    for (const int pose : kCycleOrder) plan.sequence.emplace_back(cycle, pose);
+
+  if (request.vap_approach_mm == 0) return plan;
+  for (const Iso9283PlannedPose& pose : plan.poses) {
+    std::array<Iso9283PlannedPose, 3>& from = plan.approaches.emplace_back();
+    for (int h = 0; h < 3; ++h)
+      from[static_cast<size_t>(h)] = planned(
+          fmt::format("{} approach {}", pose.name, kApproachAxis[h]),
+          pose.world_T_tcp.p - request.vap_approach_mm * Eigen::Vector3d::Unit(h), pose.joints);
+  }
+  for (int direction = 1; direction <= 3; ++direction)
+    for (int cycle = 1; cycle <= request.cycles; ++cycle)
+      for (const int pose : kCycleOrder) {
+        plan.vap_sequence.push_back({cycle, pose, direction, true});
+        plan.vap_sequence.push_back({cycle, pose, direction, false});
+      }
   return plan;
 }
 
@@ -150,11 +185,50 @@ std::string iso9283_cycles_csv(const Iso9283Plan& plan) {
   std::string out = "cycle,pose,j1,j2,j3,j4,j5,j6\n";
   for (const auto& [cycle, pose] : plan.sequence) {
     const Iso9283PlannedPose& p = plan.poses[static_cast<size_t>(pose)];
-    out += fmt::format("{},{}", cycle, p.name);
-    for (int j = 0; j < kJointCount; ++j) out += fmt::format(",{:.9f}", rad2deg(p.joints[j]));
-    out += "\n";
+    out += fmt::format("{},{}", cycle, p.name) + joints_csv(p.joints) + "\n";
   }
   return out;
+}
+
+std::string iso9283_vap_cycles_csv(const Iso9283Plan& plan) {
+  if (plan.vap_sequence.empty()) return {};
+  std::string out = "cycle,pose,direction,move,j1,j2,j3,j4,j5,j6\n";
+  for (const Iso9283Move& m : plan.vap_sequence) {
+    const auto pose = static_cast<size_t>(m.pose);
+    const Iso9283PlannedPose& p =
+        m.approach ? plan.approaches[pose][static_cast<size_t>(m.direction - 1)] : plan.poses[pose];
+    out += fmt::format("{},{},{},{}", m.cycle, plan.poses[pose].name, m.direction,
+                       m.approach ? "approach" : "measure") +
+           joints_csv(p.joints) + "\n";
+  }
+  return out;
+}
+
+MeasurementProgramRequest iso9283_program_request(const Iso9283Plan& plan,
+                                                  MeasurementProgramRequest base,
+                                                  bool multidirectional) {
+  base.names.clear();
+  base.joints.clear();
+  if (!multidirectional) {
+    for (const auto& [cycle, pose] : plan.sequence) {
+      const Iso9283PlannedPose& p = plan.poses[static_cast<size_t>(pose)];
+      base.names.push_back(fmt::format("C{:02}-{}", cycle, p.name));
+      base.joints.push_back(p.joints);
+    }
+    return base;
+  }
+  if (plan.vap_sequence.empty())
+    throw InputError({"", 0, 0, "--vap-approach"},
+                     "the plan has no multi-directional test: give the approach distance (mm)");
+  for (const Iso9283Move& m : plan.vap_sequence) {
+    const auto pose = static_cast<size_t>(m.pose);
+    base.names.push_back(fmt::format("V{:02}-{}-D{}{}", m.cycle, plan.poses[pose].name, m.direction,
+                                     m.approach ? "-from" : ""));
+    base.joints.push_back(m.approach
+                              ? plan.approaches[pose][static_cast<size_t>(m.direction - 1)].joints
+                              : plan.poses[pose].joints);
+  }
+  return base;
 }
 
 Iso9283Result iso9283_analyse(const Iso9283AnalysisRequest& request) {
@@ -164,7 +238,8 @@ Iso9283Result iso9283_analyse(const Iso9283AnalysisRequest& request) {
                                  kIso9283MinimumCycles));
   if (request.samples.empty()) fail(request, 0, "no measured cycles");
   const bool with_orientation = request.samples.front().world_R_tcp.has_value();
-  // (pose, direction) → samples; direction 0 and 1 both count as the unidirectional test.
+  // (pose, direction) → samples. Pose accuracy and repeatability: direction 0 (the
+  // unidirectional cycles) when the pose has it, direction 1 otherwise.
   std::map<std::pair<int, int>, std::vector<const Iso9283Sample*>> groups;
   std::set<std::tuple<int, int, int>> seen;
   for (const Iso9283Sample& s : request.samples) {
@@ -186,19 +261,18 @@ Iso9283Result iso9283_analyse(const Iso9283AnalysisRequest& request) {
   std::map<int, PoseSamples> unidirectional;
   for (int pose = 1; pose <= 5; ++pose) {
     const Pose<double>& commanded = request.commanded[static_cast<size_t>(pose - 1)];
-    std::vector<const Iso9283Sample*> samples;
     std::vector<Eigen::Vector3d> direction_means, direction_orientation;
-    for (int direction = 0; direction <= 3; ++direction) {
+    for (int direction = 1; direction <= 3; ++direction) {
       const auto it = groups.find({pose, direction});
       if (it == groups.end()) continue;
-      if (direction <= 1) samples.insert(samples.end(), it->second.begin(), it->second.end());
-      if (direction >= 1) {
-        const PoseSamples d = collect(it->second, commanded);
-        direction_means.push_back(d.positions.rowwise().mean());
-        if (with_orientation) direction_orientation.push_back(d.deviations_deg.rowwise().mean());
-      }
+      const PoseSamples d = collect(it->second, commanded);
+      direction_means.push_back(d.positions.rowwise().mean());
+      if (with_orientation) direction_orientation.push_back(d.deviations_deg.rowwise().mean());
     }
-    if (samples.empty()) continue;
+    auto unidirectional_group = groups.find({pose, 0});
+    if (unidirectional_group == groups.end()) unidirectional_group = groups.find({pose, 1});
+    if (unidirectional_group == groups.end()) continue;
+    std::vector<const Iso9283Sample*> samples = unidirectional_group->second;
     if (static_cast<int>(samples.size()) < request.min_cycles)
       fail(request, samples.front()->line,
            fmt::format("P{} has {} cycles: at least {} are needed (ISO 9283 clause 6.8 asks for "

@@ -186,5 +186,39 @@ grep -q "paused after 3 of $STEPS steps" "$TMP/s4.txt" || fail "session --follow
 
 expect_error "session journal exists" "pass --resume" \
   "${SESSION[@]}" --journal "$TMP/j1" --out "$TMP/bad.csv"
+# --world-frame: the same answers, written in the frame of a `frames world` file (the
+# instrument 100 mm along x and turned 90° about z in it): m_W = R·m + p.
+printf 'frame: {position_mm: [100, 0, 0], rotation_xyz_deg: [0, 0, 90], sigma: {position_mm: [0, 0, 0], rotation_xyz_deg: [0, 0, 0]}, sigma_noise_mm: 0, rms_mm: 0}\n' >"$TMP/frame.yaml"
+"$ROBCAL" "${SESSION[@]}" --journal "$TMP/j6" --out "$TMP/s6.csv" --world-frame "$TMP/frame.yaml" \
+  <"$TMP/answers.txt" >/dev/null || fail "session --world-frame failed"
+$PY - "$TMP/s0.csv" "$TMP/s6.csv" <<'PY' || fail "session --world-frame: positions"
+import sys
+read = lambda f: [l.strip().split(",") for l in open(f) if l.strip() and not l.startswith("#")][1:]
+a, b = read(sys.argv[1]), read(sys.argv[2])
+assert len(a) == len(b) == 9
+for r, s in zip(a, b):
+    x, y, z = map(float, r[8:11])
+    # instrument_T_world = Trans(100, 0, 0)·Rz(90°): world = Rz(-90°)·(m − (100, 0, 0)).
+    want = (y, -(x - 100), z)
+    assert all(abs(u - float(v)) < 1e-9 for u, v in zip(want, s[8:11])), (r, s)
+PY
+printf 'frame: {position_mm: [1, 2]}\n' >"$TMP/badframe.yaml"
+expect_error "session bad world frame" "badframe.yaml" \
+  "${SESSION[@]}" --journal "$TMP/j7" --out "$TMP/bad.csv" --world-frame "$TMP/badframe.yaml"
+[[ ! -e "$TMP/j7" ]] || fail "session bad world frame: journal created"
+# The journal is locked while its session runs (the hexapod session's journal machinery): a
+# second session on it is refused naming the process.
+rm -f "$TMP/fifo" "$TMP/j5"
+mkfifo "$TMP/fifo"
+"$ROBCAL" "${SESSION[@]}" --journal "$TMP/j5" --out "$TMP/s5.csv" <"$TMP/fifo" >/dev/null 2>&1 &
+PID=$!
+exec 3>"$TMP/fifo"
+head -n 1 "$TMP/answers.txt" >&3
+sleep 0.5
+expect_error "session journal in use" "in use by another session (process $PID)" \
+  "${SESSION[@]}" --journal "$TMP/j5" --resume --out "$TMP/bad.csv"
+kill -9 "$PID" 2>/dev/null
+wait "$PID" 2>/dev/null
+exec 3>&-
 
 finish campaign_cli.sh

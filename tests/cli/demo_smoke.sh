@@ -20,6 +20,22 @@ assert m["full"] < m["kinematic"] < m["nominal"], m
 assert d["vs_truth"]["full"]["mean_mm"] < 0.05, d["vs_truth"]["full"]
 assert d["validation_rows"] == 200, d["validation_rows"]
 PY
+# The demo's own report, built by the report workflow: provenance (inputs with SHA-256, the
+# instrument and its σ, the seed), every level, and the classes including the region ones.
+python3 - "$out/demo/report.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+p = r["provenance"]
+assert p["seed"] == 2 and p["robcal_version"] and p["date_utc"], p
+assert p["instrument"] == "laser-tracker" and abs(p["instrument_sigma_mm"] - 0.022) < 1e-12, p
+roles = [f["role"] for f in p["files"]]
+assert roles.count("model") == 3 and "calibration" in roles and "validation" in roles, roles
+assert all(len(f["sha256"]) == 64 for f in p["files"]), p["files"]
+assert [m["label"] for m in r["models"]] == [
+    "nominal (base fitted on the calibration data)", "base", "kinematic", "full"], r["models"]
+tables = [c["table"] for c in r["models"][-1]["classes"]]
+assert "front/back" in tables and any("region" in t for t in tables), tables
+PY
 
 "$robcal" report --model "$out/demo/models/full.yaml" \
   --measurements "$out/demo/validation/measurements.csv" \

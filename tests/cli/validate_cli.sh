@@ -250,6 +250,23 @@ set -e
 [ $rc -eq 2 ] || fail "unreachable cube: exit $rc"
 grep -q "P1 at (2050.000, 50.000, 50.000) mm is not reachable" "$tmp/err" || fail "message: $(cat "$tmp/err")"
 [ ! -e "$tmp/x.csv" ] || fail "plan written for an unreachable cube"
+# The multi-directional test and the cycles as programs (programs layer): RAPID modules with
+# one configuration per move; a Yaskawa job is refused before anything is written.
+"$robcal" iso9283 plan --robot abb-irb120 --region 300,-150,300,500,150,520 --cycles 2 \
+  --vap-approach 50 --program rapid --program-dir "$tmp/iso-prog" --out-poses "$tmp/v-poses.csv" \
+  --out-cycles "$tmp/v-cycles.csv" --out-vap-cycles "$tmp/v-vap.csv" >"$tmp/v-plan.txt"
+[ "$(wc -l <"$tmp/v-vap.csv")" -eq 61 ] || fail "vAP cycles file: not 60 moves"
+[ "$(grep -c "MoveAbsJ" "$tmp/iso-prog/ISOCYC.mod")" -eq 20 ] || fail "cycle program: not 10 configurations"
+[ "$(grep -c "MoveAbsJ" "$tmp/iso-prog/ISOVAP.mod")" -eq 120 ] || fail "vAP program: not 60 configurations"
+grep -q "V02-P2-D3-from" "$tmp/iso-prog/ISOVAP.mod" || fail "vAP program: pre-pose names"
+set +e
+"$robcal" iso9283 plan --robot abb-irb120 --region 300,-150,300,500,150,520 --program jbi \
+  --program-dir "$tmp/jbi" --out-poses "$tmp/j.csv" --out-cycles "$tmp/jc.csv" >/dev/null 2>"$tmp/err"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "jbi: exit $rc"
+grep -q "pulses per degree" "$tmp/err" || fail "message: $(cat "$tmp/err")"
+[ ! -e "$tmp/j.csv" ] && [ ! -e "$tmp/jbi" ] || fail "files written for a refused program"
 # Axis test: the plan's moves, and a circle of radius 300 mm with a 0.05° step between the two
 # approach sides, analysed exactly.
 "$robcal" axis-test plan --joint 2 --home 0,10,10,0,45,0 --range -30,30 --steps 5 \

@@ -19,6 +19,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "robcal/hexapod/poses.hpp"
+#include "robcal/io/journal_file.hpp"
 
 namespace robcal::hexapod {
 
@@ -127,14 +128,12 @@ class SessionJournal {
   /// Appends one entry and flushes it to the disk before returning.
   void append(const std::string& key, const std::optional<double>& reading);
 
-  SessionJournal(SessionJournal&& other) noexcept;
+  SessionJournal(SessionJournal&& other) noexcept = default;
   SessionJournal& operator=(SessionJournal&&) = delete;
-  ~SessionJournal();
 
  private:
-  SessionJournal(std::filesystem::path path, std::FILE* file);
-  std::filesystem::path path_;
-  std::FILE* file_ = nullptr;
+  explicit SessionJournal(JournalFile file) : file_(std::move(file)) {}
+  JournalFile file_;  ///< create, lock, append + sync, resume: shared with the point session
 };
 
 }  // namespace robcal::hexapod

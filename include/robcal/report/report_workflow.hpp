@@ -20,6 +20,9 @@ struct ReportRequest {
   std::vector<std::string> measurements;  ///< validation files (points or poses), one or more
   std::string calibration;  ///< calibration measurements (error against distance), optional
   std::string before;       ///< model to compare with; empty: the nominal robot, rigid base fit
+  /// Further calibrated models shown between `before` and `model`, in this order (e.g. the lower
+  /// calibration levels), each labelled by its level.
+  std::vector<std::string> between;
   std::string title = "robcal calibration report";
   std::string instrument;  ///< instrument.yaml (name and sigma_mm) for the provenance, optional
   std::optional<uint64_t> seed;  ///< seed of the plan or simulation, for the provenance

@@ -2,7 +2,9 @@
 /// \file
 /// ISO 9283:1998 ("Manipulating industrial robots — Performance criteria and related test
 /// methods") pose characteristics: the test cube and its poses P1–P5, and the analysis of
-/// measured cycles. Clause numbers below are those of ISO 9283:1998.
+/// measured cycles. The clause numbers, corner labels and P2–P5 assignment below are from
+/// memory of ISO 9283:1998 and not verified against its (non-public) text; the cube, the 10 %
+/// corner offset and the formulas agree with the public sources listed in docs/validation.md.
 ///
 /// Test cube (clause 6.8.1): the largest cube inside the given workspace region, edges parallel
 /// to the world axes. Corners here: C1 (−,−,−), C2 (+,−,−), C3 (+,+,−), C4 (−,+,−) below and
@@ -40,6 +42,7 @@
 
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
+#include "robcal/programs/measurement_program.hpp"
 
 namespace robcal {
 
@@ -55,12 +58,24 @@ struct Iso9283PlanRequest {
   Eigen::Matrix3d world_R_tcp = Eigen::Matrix3d::Identity();  ///< the one tool orientation
   ArmConfig config{false, false, false};
   int cycles = kIso9283Cycles;
+  /// > 0: also plan the multi-directional test (vAP): every pose approached along the world
+  /// axes +x, +y, +z (directions 1, 2, 3) from a pre-pose this far back (mm).
+  double vap_approach_mm = 0;
 };
 
 struct Iso9283PlannedPose {
   std::string name;  ///< "P1".."P5"
   Pose<double> world_T_tcp;
   Vector6d joints = Vector6d::Zero();  ///< controller joints, rad (compensation IK)
+};
+
+/// One move of the multi-directional test.
+struct Iso9283Move {
+  int cycle = 1;          ///< 1-based
+  int pose = 0;           ///< index into Iso9283Plan::poses
+  int direction = 1;      ///< 1..3: approached along world +x, +y, +z
+  bool approach = false;  ///< the pre-pose (not measured) or the pose
+  bool operator==(const Iso9283Move&) const = default;
 };
 
 struct Iso9283Plan {
@@ -70,6 +85,12 @@ struct Iso9283Plan {
   std::vector<Iso9283PlannedPose> poses;      ///< P1..P5
   /// The cycles' sequence: indices into `poses`, P1 → P5 → P4 → P3 → P2 per cycle.
   std::vector<std::pair<int, int>> sequence;  ///< (cycle 1-based, pose index)
+  /// Multi-directional test (when vap_approach_mm > 0): approaches[pose index][h − 1] is the
+  /// pre-pose P − d·u_h the pose is approached from, u_1..u_3 = world +x, +y, +z.
+  std::vector<std::array<Iso9283PlannedPose, 3>> approaches;
+  /// Its moves: for each direction h, each cycle, each pose in the cycle's order: the pre-pose
+  /// (`approach` true), then the pose, where it is measured with direction h.
+  std::vector<Iso9283Move> vap_sequence;
 };
 
 /// The test cube, its poses and joint targets.
@@ -82,6 +103,21 @@ Iso9283Plan iso9283_plan(const Iso9283PlanRequest& request);
 std::string iso9283_pose_list_csv(const Iso9283Plan& plan, const ArmConfig& config);
 /// The cycles' joint targets, one row per move: `cycle,pose,j1,…,j6` (degrees).
 std::string iso9283_cycles_csv(const Iso9283Plan& plan);
+/// The multi-directional test's joint targets, one row per move:
+/// `cycle,pose,direction,move,j1,…,j6` (move: approach or measure; degrees). Empty without it.
+std::string iso9283_vap_cycles_csv(const Iso9283Plan& plan);
+
+/// The measurement program of the cycles through the programs layer
+/// (programs/measurement_program.hpp): `base` gives the language, hook and signals; its names
+/// and joints are replaced by the cycles' moves, named `C01-P1` (cycle, pose) for the
+/// unidirectional test, and `V01-P1-D2` (pose) / `V01-P1-D2-from` (pre-pose) for the
+/// multi-directional one. The programs layer approaches each configuration from q − approach_deg
+/// on every joint: `base.approach_deg` = 0 keeps the approach the cycle itself makes (the
+/// standard's). The hook runs at the pre-poses too: their readings are not part of the test.
+/// InputError (key --vap-approach) for a multi-directional program of a plan without it.
+MeasurementProgramRequest iso9283_program_request(const Iso9283Plan& plan,
+                                                  MeasurementProgramRequest base,
+                                                  bool multidirectional);
 
 /// One attained pose of one cycle.
 struct Iso9283Sample {
@@ -133,8 +169,8 @@ struct Iso9283Result {
 };
 
 /// The figures of the measured cycles. Pose accuracy and repeatability use the
-/// unidirectional samples (direction 0, or direction 1 when every sample has a direction);
-/// vAP uses every direction present.
+/// unidirectional samples (a pose's direction 0, or its direction 1 when it has no direction 0);
+/// vAP uses directions 1..3 (at least two of them).
 /// \throws InputError naming the file (and line) for a pose outside 1..5 or without a commanded
 ///   pose, a cycle given twice, fewer than `min_cycles` cycles of a pose, samples mixing with
 ///   and without orientation, P2 and P4 measured in different cycles
