@@ -73,22 +73,4 @@ CampaignResult run_campaign(const TrueRobot& truth, const VirtualInstrument& ins
   return out;
 }
 
-ReportData campaign_report(const CampaignResult& campaign, const std::string& title,
-                           const std::string& robot) {
-  ReportData data;
-  data.title = title;
-  data.robot = robot;
-  data.models.push_back(campaign.nominal_vs_measurements);
-  data.models.back().label = "nominal (base fitted on the calibration data)";
-  for (const LevelOutcome& level : campaign.levels) data.models.push_back(level.vs_measurements);
-  data.distance_to_calibration_mm = distance_to_calibration({campaign.validation.measurements},
-                                                            campaign.calibration.measurements);
-  if (!campaign.levels.empty()) {
-    const IdentificationResult& fit = campaign.levels.back().fit;
-    data.parameters = report_parameters(fit.robot);
-    data.diagnostics = yaml_to_json(statistics_yaml(fit));
-  }
-  return data;
-}
-
 }  // namespace robcal

@@ -63,9 +63,4 @@ CampaignResult run_campaign(const TrueRobot& truth, const VirtualInstrument& ins
                             const RobotModel& model, const Tool& tool,
                             const CampaignOptions& options);
 
-/// The report of a campaign: nominal and every level against the validation readings, the
-/// last level's parameters and diagnostics, distances to the calibration region.
-ReportData campaign_report(const CampaignResult& campaign, const std::string& title,
-                           const std::string& robot);
-
 }  // namespace robcal
