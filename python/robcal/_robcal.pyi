@@ -405,9 +405,21 @@ def pairwise_distance_errors(measured_mm: ArrayLike, modelled_mm: ArrayLike, thr
 
 
 def validate(robot: str, tool_file: str, measurements: str, model: str = "",
-             fit_base: bool = False, threads: int = 2) -> Dict[str, Any]:
-    """Position errors (overall, per target, histogram) and all-pairs distance errors of a
-    calibrated model file or the nominal robot against a points or poses file."""
+             fit_base: bool = False, threads: int = 2, orientation_weight: float = 100.0,
+             ballbar_centre: Optional[ArrayLike] = None, calibration: str = "") -> Dict[str, Any]:
+    """`robcal validate`: a calibrated model file or the nominal robot against a points, poses or
+    distances (ballbar) file; the CLI's --json document plus per-row arrays
+    (position_errors_mm, orientation_errors_deg, pose_errors_mm or length_errors_mm), warnings
+    and notes."""
+
+
+def validate_rows(model: CalibratedRobot, measurements: Measurements, fit_base: bool = False,
+                  threads: int = 2, orientation_weight: float = 100.0,
+                  ballbar_centre: Optional[ArrayLike] = None,
+                  calibration: Optional[Measurements] = None,
+                  name: str = "<arrays>") -> Dict[str, Any]:
+    """validate() of a CalibratedRobot against Measurements (files, dicts or arrays);
+    `calibration` adds the region classes."""
 
 
 def observability_indices(jacobian: ArrayLike, configurations: int) -> Dict[str, float]:
