@@ -153,9 +153,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
 
   m.def(
       "validate_rows",
-      [](const CalibratedRobot& model, const Measurements& measurements, bool fit_base,
-         int threads, double orientation_weight,
-         const std::optional<Eigen::Vector3d>& ballbar_centre,
+      [](const CalibratedRobot& model, const Measurements& measurements, bool fit_base, int threads,
+         double orientation_weight, const std::optional<Eigen::Vector3d>& ballbar_centre,
          const std::optional<Measurements>& calibration, const std::string& name) {
         check_same_targets(model.tool, measurements.tool, name);
         ValidateOptions options = options_of(fit_base, threads, orientation_weight, ballbar_centre);

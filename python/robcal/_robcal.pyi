@@ -360,8 +360,9 @@ def load_calibrated_robot(path: str) -> CalibratedRobot:
     """Loads a calibrated model file written by calibrate."""
 
 
-def fk(robot: RobotModel, joints_deg: ArrayLike) -> Dict[str, Array]:
-    """Flange pose of the nominal robot: {'position_mm', 'quaternion_wxyz'}."""
+def fk(robot: RobotModel, joints_deg: ArrayLike, check_limits: bool = False) -> Dict[str, Any]:
+    """`robcal fk`: flange pose of the nominal robot, {'robot', 'position_mm', 'quaternion_wxyz',
+    'euler_deg': {label: value}}; check_limits refuses joints outside the limits."""
 
 
 def fk_batch(robot: RobotModel, joints_deg: ArrayLike) -> Dict[str, Array]:
@@ -369,8 +370,18 @@ def fk_batch(robot: RobotModel, joints_deg: ArrayLike) -> Dict[str, Array]:
 
 
 def ik(robot: RobotModel, position_mm: ArrayLike, quaternion_wxyz: ArrayLike,
-       seed_joints_deg: Optional[ArrayLike] = None) -> Dict[str, Any]:
-    """Every IK solution of the nominal robot: {'status', 'method', 'solutions'}."""
+       seed_joints_deg: Optional[ArrayLike] = None,
+       require_solution: bool = False) -> Dict[str, Any]:
+    """`robcal ik`: every IK solution of the nominal robot, {'robot', 'status', 'method',
+    'solutions'}; require_solution raises InputError when there is none inside the limits."""
+
+
+def robot_catalogue() -> List[Dict[str, Any]]:
+    """`robcal robots`: [{'name', 'model', 'manufacturer', 'reach_mm'}]."""
+
+
+def robot_description(robot: RobotModel) -> Dict[str, Any]:
+    """`robcal robot show`: name, manufacturer, source, MDH table, joint limits, link masses."""
 
 
 def calibrate(robot: Union[str, RobotModel], tool: Union[str, Measurements], *args: Any,

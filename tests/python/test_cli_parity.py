@@ -35,6 +35,52 @@ def test_fk_and_ik():
     assert [s["config"] for s in c["solutions"]] == [s["config"] for s in p["solutions"]]
     for a, b in zip(c["solutions"], p["solutions"]):
         np.testing.assert_allclose(a["joints_deg"], b["joints_deg"], rtol=0, atol=1e-8)
+    assert c["status"] == p["status"] == "solved" and c["robot"] == p["robot"]
+
+
+def test_fk_euler_and_limits():
+    robot = robcal.load_robot("kuka-kr6-r900-sixx")
+    q = [10, -80, 95, 40, 50, 60]
+    c = cli_json("fk", "--robot", "kuka-kr6-r900-sixx", "--joints", ",".join(map(str, q)))
+    p = robcal.fk(robot, q, check_limits=True)
+    assert list(c["euler_deg"]) == list(p["euler_deg"]) == ["A", "B", "C"]
+    for label, value in c["euler_deg"].items():
+        assert value == pytest.approx(p["euler_deg"][label], abs=1e-9)
+    # The Euler angles are the quaternion's rotation (Z-Y-X, as KUKA writes A, B, C).
+    a, b, cc = np.radians([p["euler_deg"][k] for k in "ABC"])
+    w, x, y, z = p["quaternion_wxyz"]
+    assert np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z)) == pytest.approx(a, abs=1e-12)
+    assert np.arcsin(2 * (w * y - z * x)) == pytest.approx(b, abs=1e-12)
+    assert np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)) == pytest.approx(cc, abs=1e-12)
+    outside = [10, 200, 30, 40, 50, 60]
+    cli = subprocess.run([CLI, "fk", "--robot", "abb-irb120", "--joints",
+                          ",".join(map(str, outside))], capture_output=True, text=True)
+    assert cli.returncode == 2 and "J2=200.000 outside" in cli.stderr
+    with pytest.raises(robcal.InputError, match="J2=200.000 outside"):
+        robcal.fk(robcal.load_robot("abb-irb120"), outside, check_limits=True)
+    robcal.fk(robcal.load_robot("abb-irb120"), outside)  # unchecked by default
+
+
+def test_ik_unreachable_refused_when_required():
+    robot = robcal.load_robot("abb-irb120")
+    pose = [3000, 100, 400, 0, 0, 1, 0]
+    cli = subprocess.run([CLI, "ik", "--robot", "abb-irb120", "--pose",
+                          ",".join(map(str, pose))], capture_output=True, text=True)
+    assert cli.returncode == 2 and "pose unreachable for ABB IRB 120" in cli.stderr
+    with pytest.raises(robcal.InputError, match="pose unreachable for ABB IRB 120"):
+        robcal.ik(robot, pose[:3], pose[3:], require_solution=True)
+    assert robcal.ik(robot, pose[:3], pose[3:])["status"] == "unreachable"
+
+
+def test_robots_and_robot_show():
+    c = cli_json("robots")
+    p = robcal.robot_catalogue()
+    assert c == p and [r["name"] for r in p] == robcal.builtin_robots()
+    c = cli_json("robot", "show", "fanuc-lrmate200ic")
+    robot = robcal.load_robot("fanuc-lrmate200ic")
+    p = robcal.robot_description(robot)
+    assert c == p
+    np.testing.assert_allclose(p["joint_limits_deg"], robot.joint_limits_deg, atol=1e-9)
 
 
 def test_calibrate_and_validate(tmp_path):

@@ -57,7 +57,7 @@ struct ValidateResult {
   ValidationFrame frame = ValidationFrame::Model;
   bool fit_base = false;
   int threads = 2;
-  bool region_classes = false;  ///< calibration positions were given
+  bool region_classes = false;             ///< calibration positions were given
   std::optional<ValidationReport> report;  ///< points and poses sets
   std::optional<BallbarErrors> ballbar;    ///< distances sets
   Histogram ballbar_histogram;             ///< of |length error|, kPositionHistogramBins bins
