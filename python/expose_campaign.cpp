@@ -58,6 +58,13 @@ py::dict target_dict(const std::string& target, const campaign::PointEstimate& p
   return d;
 }
 
+/// A target estimate with the tool file to write.
+py::dict target_file_dict(const campaign::TargetFrameResult& r) {
+  py::dict d = target_dict(r.target, r.point);
+  d["text"] = r.text;
+  return d;
+}
+
 /// The guided session's state outside the CLI's prompt loop: the steps of a plan, the readings
 /// answered so far (replayed from a journal or added), and what they give.
 struct PointSession {
@@ -262,11 +269,8 @@ const bool registered = register_bindings(90, [](py::module_& m) {
       "frames_tool",
       [](const std::string& robot, const std::string& joint5, const std::string& joint6,
          const std::string& target, const std::string& tool, double sigma_mm) {
-        const campaign::TargetFrameResult r =
-            campaign::frames_tool({robot, joint5, joint6, "", target, tool, sigma_mm});
-        py::dict d = target_dict(r.target, r.point);
-        d["text"] = r.text;
-        return d;
+        return target_file_dict(
+            campaign::frames_tool({robot, joint5, joint6, "", target, tool, sigma_mm}));
       },
       py::arg("robot"), py::arg("joint5"), py::arg("joint6"), py::arg("target") = "1",
       py::arg("tool") = "", py::arg("sigma_mm") = 0.0,
@@ -276,11 +280,8 @@ const bool registered = register_bindings(90, [](py::module_& m) {
       "frames_point",
       [](const std::string& robot, const std::string& cell, const std::string& measurements,
          const std::string& target, const std::string& tool, double sigma_mm) {
-        const campaign::TargetFrameResult r =
-            campaign::frames_point({robot, measurements, "", cell, target, tool, sigma_mm});
-        py::dict d = target_dict(r.target, r.point);
-        d["text"] = r.text;
-        return d;
+        return target_file_dict(
+            campaign::frames_point({robot, measurements, "", cell, target, tool, sigma_mm}));
       },
       py::arg("robot"), py::arg("cell"), py::arg("measurements"), py::arg("target") = "1",
       py::arg("tool") = "", py::arg("sigma_mm") = 0.0,

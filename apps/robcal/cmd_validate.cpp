@@ -67,14 +67,10 @@ void print_ballbar(const ValidateResult& result) {
 }
 
 const char* frame_text(ValidationFrame frame) {
-  switch (frame) {
-    case ValidationFrame::Refitted:
-      return "the model's base re-registered to these measurements (6 parameters, rigid fit)";
-    case ValidationFrame::Fitted:
-      return "base fitted to these measurements (6 parameters, rigid best fit)";
-    case ValidationFrame::Model:
-      break;
-  }
+  if (frame == ValidationFrame::Refitted)
+    return "the model's base re-registered to these measurements (6 parameters, rigid fit)";
+  if (frame == ValidationFrame::Fitted)
+    return "base fitted to these measurements (6 parameters, rigid best fit)";
   return "the model's world frame";
 }
 

@@ -28,10 +28,8 @@ nlohmann::json robot_catalogue_json(const std::vector<RobotEntry>& entries) {
 }
 
 nlohmann::json robot_description_json(const RobotModel& model) {
-  nlohmann::json out;
-  out["name"] = model.name;
-  out["manufacturer"] = model.manufacturer;
-  out["source"] = model.source;
+  nlohmann::json out = {
+      {"name", model.name}, {"manufacturer", model.manufacturer}, {"source", model.source}};
   for (int i = 0; i < kJointCount; ++i) {
     const MdhRow& row = model.mdh[i];
     out["mdh"].push_back({{"link", i + 1},

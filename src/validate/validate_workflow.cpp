@@ -197,12 +197,12 @@ nlohmann::json validate_json(const ValidateResult& result) {
     out["pose_error_mm"] = statistics_json(positions.pose_mm);
     out["orientation_weight_mm_per_rad"] = positions.orientation_weight_mm;
   }
-  out["kind"] = measurement_kind_name(result.kind);
-  out["robot"] = result.robot;
-  out["level"] = result.level;
-  out["base_fitted_to_measurements"] = result.fit_base;
-  out["measurements"] = result.measurements;
-  out["threads"] = result.threads;
+  out.update({{"kind", measurement_kind_name(result.kind)},
+              {"robot", result.robot},
+              {"level", result.level},
+              {"base_fitted_to_measurements", result.fit_base},
+              {"measurements", result.measurements},
+              {"threads", result.threads}});
   return out;
 }
 
