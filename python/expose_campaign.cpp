@@ -24,6 +24,10 @@ namespace py = pybind11;
 namespace robcal::python {
 namespace {
 
+Eigen::VectorXd as_vector(const std::vector<double>& v) {
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
 /// The rows of an N×3 array (mm).
 std::vector<Eigen::Vector3d> points_of(const Eigen::MatrixXd& rows, const char* name) {
   if (rows.cols() != 3) throw InputError({"<arrays>", 0, 0, name}, "expected N×3 (mm)");
@@ -204,11 +208,11 @@ const bool registered = register_bindings(90, [](py::module_& m) {
         py::dict d = json_to_python(demo_json(result));
         py::dict measured, truth;
         const CampaignResult& c = result.campaign;
-        measured["nominal"] = c.nominal_vs_measurements.errors_mm;
-        truth["nominal"] = c.nominal_vs_truth.errors_mm;
+        measured["nominal"] = as_vector(c.nominal_vs_measurements.errors_mm);
+        truth["nominal"] = as_vector(c.nominal_vs_truth.errors_mm);
         for (const LevelOutcome& level : c.levels) {
-          measured[py::str(level_name(level.level))] = level.vs_measurements.errors_mm;
-          truth[py::str(level_name(level.level))] = level.vs_truth.errors_mm;
+          measured[py::str(level_name(level.level))] = as_vector(level.vs_measurements.errors_mm);
+          truth[py::str(level_name(level.level))] = as_vector(level.vs_truth.errors_mm);
         }
         d["errors_mm"] = measured;
         d["errors_vs_truth_mm"] = truth;

@@ -110,6 +110,9 @@ nlohmann::json ballbar_json(const ValidateResult& result) {
 ValidateResult validate(CalibratedRobot robot, const MeasurementSet& set,
                         const ValidateOptions& options, const std::string& measurements) {
   check_orientation_weight(options.orientation_weight_mm);
+  if (options.threads < 1 || options.threads > 256)
+    throw InputError({"", 0, 0, "--threads"},
+                     fmt::format("expected 1 to 256 threads, got {}", options.threads));
   ValidateResult result;
   result.robot = robot.model.name;
   result.measurements = measurements;

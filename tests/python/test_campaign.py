@@ -36,7 +36,7 @@ def test_demo_same_summary_and_files_as_the_cli(tmp_path):
         assert open(tmp_path / "cli" / name).read() == open(tmp_path / "py" / name).read(), name
     # The per-row errors are the summaries' rows.
     for label, errors in p["errors_mm"].items():
-        assert len(errors) == 200
+        assert errors.shape == (200,)
         assert p["vs_measurements"][label]["mean_mm"] == pytest.approx(np.mean(errors), rel=1e-12)
         assert p["vs_truth"][label]["max_mm"] == pytest.approx(max(p["errors_vs_truth_mm"][label]),
                                                                rel=1e-12)

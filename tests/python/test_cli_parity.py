@@ -290,6 +290,8 @@ def test_validate_ballbar_file(simulated):
     np.testing.assert_allclose(given["length_errors_mm"], e, rtol=0, atol=1e-9)
     with pytest.raises(robcal.InputError, match="no positions to fit a world frame"):
         robcal.validate("abb-irb120", tool, rows, fit_base=True)
+    with pytest.raises(robcal.InputError, match="expected 1 to 256 threads"):
+        robcal.validate("abb-irb120", tool, rows, threads=0)
 
 
 def test_validate_refuses_a_model_of_another_robot(tmp_path):
