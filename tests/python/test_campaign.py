@@ -11,6 +11,7 @@ import pytest
 
 import robcal
 
+ROOT = os.path.join(os.path.dirname(__file__), "..", "..")
 CLI = os.environ.get("ROBCAL_CLI")
 pytestmark = pytest.mark.skipif(not CLI, reason="ROBCAL_CLI names the robcal program")
 
@@ -135,6 +136,20 @@ def test_frames_base_and_tool_as_the_cli_and_from_arrays(tmp_path):
     # The simulated target is at (30, 0, 200) mm; the published truth's link errors are not
     # modelled by the circle fits: within 2 mm.
     np.testing.assert_allclose(p["position_mm"], [30, 0, 200], atol=2)
+
+    # The same target from 12 random configurations with the default cell's base.
+    run("simulate", "--tool", str(tool), "--random", "12", "--seed", "9", "--out",
+        str(tmp_path / "op"))
+    cell = os.path.join(ROOT, "data", "cells", "default-tracker.yaml")
+    rows = str(tmp_path / "op" / "measurements.csv")
+    c = json.loads(run("frames", "point", "--robot", "abb-irb120", "--cell", cell, "--target", "T",
+                       "--measurements", rows, "--out", str(tmp_path / "point.yaml"),
+                       "--json").stdout)
+    p = robcal.frames_point("abb-irb120", cell, rows, target="T")
+    assert p["text"] == open(tmp_path / "point.yaml").read()
+    assert {k: v for k, v in c.items() if k != "out"} == \
+        {k: v for k, v in p.items() if k not in ("covariance", "text")}
+    np.testing.assert_allclose(p["position_mm"], [30, 0, 200], atol=3)
 
 
 def test_frame_from_nests_recovers_a_known_placement(tmp_path):
