@@ -105,10 +105,15 @@ nlohmann::json ballbar_json(const ValidateResult& result) {
   return out;
 }
 
-}  // namespace
+/// The robot and tool as the refusal's suggested command names them.
+struct Sources {
+  std::string robot = "ROBOT";
+  std::string tool = "TOOL";
+};
 
-ValidateResult validate(CalibratedRobot robot, const MeasurementSet& set,
-                        const ValidateOptions& options, const std::string& measurements) {
+ValidateResult validate_set(CalibratedRobot robot, const MeasurementSet& set,
+                            const ValidateOptions& options, const std::string& measurements,
+                            const Sources& sources) {
   check_orientation_weight(options.orientation_weight_mm);
   if (options.threads < 1 || options.threads > 256)
     throw InputError({"", 0, 0, "--threads"},
@@ -145,11 +150,11 @@ ValidateResult validate(CalibratedRobot robot, const MeasurementSet& set,
         {measurements, 0, 0, "--fit-base"},
         fmt::format("the {} model of {} has no world frame (its base was never fitted), so its "
                     "positions cannot be compared with measured ones. Calibrate at least the "
-                    "base: `robcal calibrate --robot ROBOT --tool TOOL --measurements CAL.csv "
+                    "base: `robcal calibrate --robot {} --tool {} --measurements CAL.csv "
                     "--level base --out model.yaml`, then validate with --model model.yaml; or "
                     "pass --fit-base (Python: fit_base=True) to place it by a rigid best fit to "
                     "these measurements",
-                    robot.level, robot.model.name));
+                    robot.level, robot.model.name, sources.robot, sources.tool));
   if (options.fit_base) {
     result.frame = robot.base_fitted ? ValidationFrame::Refitted : ValidationFrame::Fitted;
     robot = fit_base(robot, set);
@@ -158,6 +163,13 @@ ValidateResult validate(CalibratedRobot robot, const MeasurementSet& set,
   result.report = validate_model(robot, set, options.threads, options.orientation_weight_mm,
                                  options.calibration_mm);
   return result;
+}
+
+}  // namespace
+
+ValidateResult validate(CalibratedRobot robot, const MeasurementSet& set,
+                        const ValidateOptions& options, const std::string& measurements) {
+  return validate_set(std::move(robot), set, options, measurements, {});
 }
 
 ValidateResult validate(const ValidateRequest& request) {
@@ -172,7 +184,8 @@ ValidateResult validate(const ValidateRequest& request) {
         request.calibration, robot.tool, {MeasurementKind::Points, MeasurementKind::Poses});
     options.calibration_mm = measured_positions(calibration.measurements);
   }
-  ValidateResult result = validate(robot, file.measurements, options, request.measurements);
+  ValidateResult result = validate_set(robot, file.measurements, options, request.measurements,
+                                       {request.robot, request.tool});
   result.warnings = std::move(file.warnings);
   result.notes = std::move(notes);
   return result;
