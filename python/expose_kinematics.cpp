@@ -10,9 +10,10 @@
 #include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/io/robot_catalogue.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
-#include "robcal/kinematics/inverse_kinematics.hpp"
+#include "robcal/kinematics/kinematics_workflow.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace py = pybind11;
@@ -74,17 +75,24 @@ const bool registered = register_bindings(10, [](py::module_& m) {
 
   m.def(
       "fk",
-      [](const RobotModel& robot, const Eigen::VectorXd& joints_deg) {
-        const Pose<double> pose =
-            flange_pose(robot, PointMass{}, robot.nominal(), joints_from_deg(joints_deg, "fk"));
-        const Eigen::Quaterniond q = to_quaternion(pose.R);
+      [](const RobotModel& robot, const Eigen::VectorXd& joints_deg, bool check_limits) {
+        const FkReport r =
+            forward_kinematics({robot, joints_from_deg(joints_deg, "fk"), check_limits});
+        const Eigen::Quaterniond q = to_quaternion(r.flange.R);
+        const auto labels = euler_labels(r.euler);
+        py::dict euler;
+        for (int i = 0; i < 3; ++i) euler[py::str(labels[static_cast<size_t>(i)])] = r.euler_deg[i];
         py::dict out;
-        out["position_mm"] = Eigen::Vector3d(pose.p);
+        out["robot"] = r.robot;
+        out["position_mm"] = Eigen::Vector3d(r.flange.p);
         out["quaternion_wxyz"] = Eigen::Vector4d(q.w(), q.x(), q.y(), q.z());
+        out["euler_deg"] = euler;
         return out;
       },
-      py::arg("robot"), py::arg("joints_deg"),
-      "Flange pose of the nominal robot: {'position_mm': [x,y,z], 'quaternion_wxyz': [w,x,y,z]}");
+      py::arg("robot"), py::arg("joints_deg"), py::arg("check_limits") = false,
+      "`robcal fk`: flange pose of the nominal robot, {'robot', 'position_mm': [x,y,z], "
+      "'quaternion_wxyz': [w,x,y,z], 'euler_deg': {label: value}} in the robot's Euler "
+      "convention; check_limits refuses joints outside the limits as the CLI does");
 
   m.def(
       "fk_batch",
@@ -102,13 +110,14 @@ const bool registered = register_bindings(10, [](py::module_& m) {
   m.def(
       "ik",
       [](const RobotModel& robot, const Eigen::Vector3d& position_mm,
-         const Eigen::Vector4d& quaternion_wxyz, std::optional<Eigen::VectorXd> seed_deg) {
-        Pose<double> target;
-        target = pose_from_position_quaternion(position_mm, quaternion_wxyz);
-        const Vector6d seed = seed_deg ? joints_from_deg(*seed_deg, "ik seed") : Vector6d::Zero();
-        const AnyIkResult result = solve_ik(robot, target, seed);
+         const Eigen::Vector4d& quaternion_wxyz, std::optional<Eigen::VectorXd> seed_deg,
+         bool require_solution) {
+        IkRequest request{robot, pose_from_position_quaternion(position_mm, quaternion_wxyz),
+                          Vector6d::Zero(), require_solution};
+        if (seed_deg) request.seed = joints_from_deg(*seed_deg, "ik seed");
+        const IkReport result = inverse_kinematics(request);
         py::list solutions;
-        for (const IkSolution& s : result.solutions) {
+        for (const IkSolution& s : result.ik.solutions) {
           py::dict d;
           d["joints_deg"] = joints_to_deg(s.joints);
           d["config"] = s.config.label();
@@ -116,16 +125,28 @@ const bool registered = register_bindings(10, [](py::module_& m) {
           solutions.append(d);
         }
         py::dict out;
-        out["status"] = to_string(result.status);
-        out["method"] = result.method;
+        out["robot"] = result.robot;
+        out["status"] = to_string(result.ik.status);
+        out["method"] = result.ik.method;
         out["solutions"] = solutions;
         return out;
       },
       py::arg("robot"), py::arg("position_mm"), py::arg("quaternion_wxyz"),
-      py::arg("seed_joints_deg") = py::none(),
-      "Every IK solution of the nominal robot: {'status', 'method', 'solutions': [{'joints_deg', "
-      "'config', 'wrist_singular'}]}; an unreachable pose gives status 'unreachable' and no "
-      "solutions");
+      py::arg("seed_joints_deg") = py::none(), py::arg("require_solution") = false,
+      "`robcal ik`: every IK solution of the nominal robot, {'robot', 'status', 'method', "
+      "'solutions': [{'joints_deg', 'config', 'wrist_singular'}]}; an unreachable pose gives "
+      "status 'unreachable' and no solutions (an InputError with require_solution=True, as the "
+      "CLI)");
+
+  m.def(
+      "robot_catalogue", [] { return json_to_python(robot_catalogue_json(robot_catalogue())); },
+      "`robcal robots`: [{'name', 'model', 'manufacturer', 'reach_mm'}] of the built-in robots");
+  m.def(
+      "robot_description",
+      [](const RobotModel& robot) { return json_to_python(robot_description_json(robot)); },
+      py::arg("robot"),
+      "`robcal robot show`: name, manufacturer, source, MDH table (deg, mm), joint limits (deg), "
+      "link masses (kg)");
 });
 
 }  // namespace

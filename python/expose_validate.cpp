@@ -3,6 +3,7 @@
 // ValueError with the file, line and column.
 
 #include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include "module_registry.hpp"
@@ -12,8 +13,8 @@
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
-#include "robcal/validate/base_fit.hpp"
-#include "robcal/validate/validation.hpp"
+#include "robcal/validate/class_statistics.hpp"
+#include "robcal/validate/validate_workflow.hpp"
 
 namespace py = pybind11;
 
@@ -43,6 +44,55 @@ Eigen::Matrix3Xd positions_from_rows(const Eigen::MatrixXd& rows, const char* na
   if (rows.cols() != 3)
     throw py::value_error(std::string(name) + " must have 3 columns (x, y, z in mm)");
   return rows.transpose();
+}
+
+ValidateOptions options_of(bool fit_base, int threads, double orientation_weight,
+                           const std::optional<Eigen::Vector3d>& ballbar_centre) {
+  ValidateOptions options;
+  options.fit_base = fit_base;
+  options.threads = threads;
+  options.orientation_weight_mm = orientation_weight;
+  options.ballbar_centre_mm = ballbar_centre;
+  return options;
+}
+
+/// The rows' target indices refer to their own tool: the model's must name the same targets.
+void check_same_targets(const Tool& model_tool, const Tool& rows_tool, const std::string& name) {
+  std::vector<std::string> model_targets, row_targets;
+  for (const Target& t : model_tool.targets) model_targets.push_back(t.name);
+  for (const Target& t : rows_tool.targets) row_targets.push_back(t.name);
+  if (!model_targets.empty() && model_targets != row_targets)
+    throw InputError({name, 0, 0, "measurements"},
+                     "the measurements' tool names other targets (or another order) than the "
+                     "model's tool: read them with the model's tool");
+}
+
+template <typename Work>
+ValidateResult run_released(const Work& work) {
+  py::gil_scoped_release release;
+  return work();
+}
+
+py::array_t<double> as_array(const std::vector<double>& v) {
+  return py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
+}
+
+/// validate_json's document, with the per-row errors as arrays, the warnings and the notes.
+py::dict validate_dict(const ValidateResult& result) {
+  py::dict d = json_to_python(validate_json(result));
+  if (result.report) {
+    const PositionErrors& p = result.report->positions;
+    d["position_errors_mm"] = as_array(p.position_error_mm);
+    if (result.kind == MeasurementKind::Poses) {
+      d["orientation_errors_deg"] = as_array(p.orientation_error_deg);
+      d["pose_errors_mm"] = as_array(p.pose_error_mm);
+    }
+  } else {
+    d["length_errors_mm"] = as_array(result.ballbar->length_error_mm);
+  }
+  d["warnings"] = result.warnings;
+  d["notes"] = result.notes;
+  return d;
 }
 
 const bool registered = register_bindings(60, [](py::module_& m) {
@@ -86,47 +136,40 @@ const bool registered = register_bindings(60, [](py::module_& m) {
 
   m.def(
       "validate",
-      [](const std::string& robot_name, const std::string& tool_file,
-         const std::string& measurements, const std::string& model_file, bool fit_base_first,
-         int threads) {
-        const Tool tool = load_tool(tool_file);
-        CalibratedRobot robot = model_file.empty()
-                                    ? CalibratedRobot::nominal(load_robot(robot_name), tool)
-                                    : load_calibrated_robot(model_file);
-        if (robot.tool.targets.empty()) robot.tool = tool;
-        const MeasurementSet set =
-            read_measurements_csv(measurements, robot.tool,
-                                  {MeasurementKind::Points, MeasurementKind::Poses})
-                .measurements;
-        if (!robot.base_fitted && !fit_base_first)
-          throw InputError({measurements, 0, 0, "fit_base"},
-                           "the model has no world frame (its base was never fitted): pass "
-                           "fit_base=True, or calibrate with --level base");
-        if (!robot.base_fitted) robot = fit_base(robot, set);
-        const ValidationReport report = validate_model(robot, set, threads);
-        py::dict d;
-        d["points"] = set.size();
-        d["position_error_mm"] = statistics_dict(report.positions.position_mm);
-        d["position_errors_mm"] = report.positions.position_error_mm;
-        d["position_histogram_mm"] = histogram_dict(report.position_histogram);
-        py::dict per_target;
-        for (const TargetErrorStatistics& t : report.positions.per_target)
-          per_target[py::str(t.target)] = statistics_dict(t.position_mm);
-        d["per_target"] = per_target;
-        if (set.kind == MeasurementKind::Poses)
-          d["orientation_error_deg"] = statistics_dict(report.positions.orientation_deg);
-        py::dict distances = statistics_dict(report.distances.stats);
-        distances["pairs"] = report.distances.stats.count;
-        distances["histogram"] = histogram_dict(report.distances.histogram);
-        d["distance_error_mm"] = distances;
-        return d;
+      [](const std::string& robot, const std::string& tool_file, const std::string& measurements,
+         const std::string& model, bool fit_base, int threads, double orientation_weight,
+         const std::optional<Eigen::Vector3d>& ballbar_centre, const std::string& calibration) {
+        ValidateRequest request{robot, tool_file, model, measurements, calibration, {}};
+        request.options = options_of(fit_base, threads, orientation_weight, ballbar_centre);
+        return validate_dict(run_released([&] { return validate(request); }));
       },
       py::arg("robot"), py::arg("tool_file"), py::arg("measurements"), py::arg("model") = "",
       py::arg("fit_base") = false, py::arg("threads") = 2,
-      "Validates a calibrated model file (`model`), or the nominal robot `robot`, (placed by a "
-      "rigid best fit when it has no world frame and fit_base=True) against a "
-      "points or poses file: position errors overall and per target, histogram, and distance "
-      "errors over every pair of rows (docs/method/09-validation.md)");
+      py::arg("orientation_weight") = kDefaultOrientationWeightMm,
+      py::arg("ballbar_centre") = py::none(), py::arg("calibration") = "",
+      "`robcal validate`: a calibrated model file (`model`), or the nominal robot `robot`, "
+      "against a points, poses or distances (ballbar) file; the CLI's --json document as a dict "
+      "plus per-row arrays (docs/method/09-validation.md)");
+
+  m.def(
+      "validate_rows",
+      [](const CalibratedRobot& model, const Measurements& measurements, bool fit_base, int threads,
+         double orientation_weight, const std::optional<Eigen::Vector3d>& ballbar_centre,
+         const std::optional<Measurements>& calibration, const std::string& name) {
+        check_same_targets(model.tool, measurements.tool, name);
+        ValidateOptions options = options_of(fit_base, threads, orientation_weight, ballbar_centre);
+        if (calibration) options.calibration_mm = measured_positions(calibration->set);
+        ValidateResult result =
+            run_released([&] { return validate(model, measurements.set, options, name); });
+        result.warnings = measurements.warnings;
+        return validate_dict(result);
+      },
+      py::arg("model"), py::arg("measurements"), py::arg("fit_base") = false,
+      py::arg("threads") = 2, py::arg("orientation_weight") = kDefaultOrientationWeightMm,
+      py::arg("ballbar_centre") = py::none(), py::arg("calibration") = py::none(),
+      py::arg("name") = "<arrays>",
+      "validate() of a CalibratedRobot against Measurements (from files, dicts or arrays); "
+      "`calibration` (Measurements) adds the region classes");
 });
 
 }  // namespace

@@ -5,12 +5,9 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/campaign/cell.hpp"
-#include "robcal/campaign/frames_file.hpp"
+#include "robcal/campaign/frames_workflow.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
-#include "robcal/io/measurement_file.hpp"
-#include "robcal/io/robot_file.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -20,26 +17,13 @@ struct FramesOptions {
   std::string measured, nominal;
   double sigma_mm = 0;
   bool json = false;
+
+  [[nodiscard]] campaign::TargetFrameRequest target_request() const {
+    return {robot, first, second, cell, target, tool, sigma_mm};
+  }
 };
 
-campaign::JointSweep read_sweep(const std::string& path, const std::string& target, int joint,
-                                const RobotModel& model) {
-  Tool tool;
-  tool.targets.push_back({target, Eigen::Vector3d::Zero(), false});
-  return campaign::sweep_from_measurements(
-      read_measurements_csv(path, tool, {MeasurementKind::Points}).measurements, joint, model);
-}
-
-nlohmann::json frame_json(const campaign::FrameEstimate& f) {
-  return {{"position_mm", {f.values[0], f.values[1], f.values[2]}},
-          {"rotation_xyz_deg", {rad2deg(f.values[3]), rad2deg(f.values[4]), rad2deg(f.values[5])}},
-          {"sigma_position_mm", {f.sigma[0], f.sigma[1], f.sigma[2]}},
-          {"sigma_rotation_deg", {rad2deg(f.sigma[3]), rad2deg(f.sigma[4]), rad2deg(f.sigma[5])}},
-          {"sigma_noise_mm", f.sigma_mm},
-          {"rms_mm", f.rms_mm}};
-}
-
-void print_frame(const char* what, const campaign::FrameEstimate& f) {
+void print_frame(const std::string& what, const campaign::FrameEstimate& f) {
   fmt::print("{} (value ± 1σ; noise σ {:.4f} mm, fit rms {:.4f} mm)\n", what, f.sigma_mm, f.rms_mm);
   const char* names[] = {"x", "y", "z", "alpha", "beta", "gamma"};
   for (int i = 0; i < 6; ++i)
@@ -49,107 +33,49 @@ void print_frame(const char* what, const campaign::FrameEstimate& f) {
 }
 
 void run_base(const FramesOptions& o) {
-  const RobotModel model = load_robot(o.robot);
-  const campaign::JointSweep s1 = read_sweep(o.first, o.target, 1, model);
-  const campaign::JointSweep s2 = read_sweep(o.second, o.target, 2, model);
-  const campaign::FrameEstimate base = campaign::base_from_sweeps(model, s1, s2, o.sigma_mm);
-  const std::string comment = fmt::format(
-      "robot base of {} from circle fits of the joint-1 sweep {} ({} readings) and the joint-2 "
-      "sweep {} ({} readings) of target {} (robcal frames base)",
-      model.name, o.first, s1.points_mm.size(), o.second, s2.points_mm.size(), o.target);
-  const std::string text =
-      o.cell.empty() ? "# " + comment + "\n" + campaign::robot_base_block(base)
-                     : campaign::cell_with_base(read_text_file(o.cell), o.cell, base, comment);
-  write_file_atomically(o.out, text);
+  const campaign::BaseFrameResult result =
+      campaign::frames_base({o.robot, o.first, o.second, o.target, o.cell, o.sigma_mm});
+  write_file_atomically(o.out, result.text);
   if (o.json) {
-    print_json({{"base", frame_json(base)}, {"out", o.out}});
+    print_json({{"base", campaign::frame_estimate_json(result.base)}, {"out", o.out}});
     return;
   }
-  print_frame(fmt::format("base of {} in the instrument frame", model.name).c_str(), base);
+  print_frame(fmt::format("base of {} in the instrument frame", result.robot), result.base);
   fmt::print("wrote {}{}\n", o.out,
              o.cell.empty() ? " (a robot_base block for the cell file)" : "");
 }
 
-/// Writes the tool (o.tool's, or a new one) with the target at `t`, and prints it.
-void write_target(const FramesOptions& o, const RobotModel& model, const campaign::PointEstimate& t,
-                  const std::string& source) {
-  Tool tool;
-  if (!o.tool.empty()) tool = load_tool(o.tool);
-  int index = tool.target_index(o.target);
-  if (index < 0) {
-    tool.targets.push_back({o.target, Eigen::Vector3d::Zero(), true});
-    index = static_cast<int>(tool.targets.size()) - 1;
-  }
-  tool.targets[static_cast<size_t>(index)] = {o.target, t.position_mm, true};
-  const std::string text = fmt::format(
-      "# target {} from {}: [{:.4f}, {:.4f}, {:.4f}] ± [{:.4f}, {:.4f}, {:.4f}] mm (1σ), noise σ "
-      "{:.4f} mm\n{}",
-      o.target, source, t.position_mm.x(), t.position_mm.y(), t.position_mm.z(), t.sigma.x(),
-      t.sigma.y(), t.sigma.z(), t.sigma_mm, tool_to_yaml(tool));
-  write_file_atomically(o.out, text);
+void print_target(const FramesOptions& o, const campaign::TargetFrameResult& result) {
+  write_file_atomically(o.out, result.text);
   if (o.json) {
-    print_json({{"target", o.target},
-                {"position_mm", {t.position_mm.x(), t.position_mm.y(), t.position_mm.z()}},
-                {"sigma_mm", {t.sigma.x(), t.sigma.y(), t.sigma.z()}},
-                {"sigma_noise_mm", t.sigma_mm},
-                {"out", o.out}});
+    nlohmann::json out = campaign::target_estimate_json(result.target, result.point);
+    out["out"] = o.out;
+    print_json(out);
     return;
   }
-  fmt::print("target {} in the flange frame of {} (value ± 1σ; noise σ {:.4f} mm)\n", o.target,
-             model.name, t.sigma_mm);
+  const campaign::PointEstimate& t = result.point;
+  fmt::print("target {} in the flange frame of {} (value ± 1σ; noise σ {:.4f} mm)\n", result.target,
+             result.robot, t.sigma_mm);
   for (int k = 0; k < 3; ++k)
     fmt::print("  {} {:>12.4f} ± {:.4f} mm\n", static_cast<char>('x' + k), t.position_mm[k],
                t.sigma[k]);
   fmt::print("wrote {}\n", o.out);
 }
 
-void run_tool(const FramesOptions& o) {
-  const RobotModel model = load_robot(o.robot);
-  const campaign::JointSweep s5 = read_sweep(o.first, o.target, 5, model);
-  const campaign::JointSweep s6 = read_sweep(o.second, o.target, 6, model);
-  write_target(o, model, campaign::tool_from_sweeps(model, s5, s6, o.sigma_mm),
-               fmt::format("circle fits of the joint-5 sweep {} and the joint-6 sweep {} (robcal "
-                           "frames tool)",
-                           o.first, o.second));
-}
-
-void run_point(const FramesOptions& o) {
-  const RobotModel model = load_robot(o.robot);
-  const campaign::Cell cell = campaign::load_cell(o.cell);
-  Tool names;
-  names.targets.push_back({o.target, Eigen::Vector3d::Zero(), false});
-  const MeasurementSet set =
-      read_measurements_csv(o.first, names, {MeasurementKind::Points}).measurements;
-  write_target(
-      o, model,
-      campaign::tool_point_from_measurements(model, cell.robot_params(model), set, o.sigma_mm),
-      fmt::format("{} rows of {} with the nominal robot at the base of {} (robcal "
-                  "frames point)",
-                  set.points.size(), o.first, o.cell));
-}
-
 void run_world(const FramesOptions& o) {
-  const campaign::FrameEstimate frame = campaign::frame_from_named_nests(
-      {o.measured, read_text_file(o.measured)}, {o.nominal, read_text_file(o.nominal)}, o.sigma_mm);
-  const Eigen::Vector3d instrument = frame.pose.inverse().p;
-  const std::string text =
-      campaign::frame_yaml("frame", frame,
-                           fmt::format("the frame of {} (nest coordinates) in the instrument's "
-                                       "frame, fitted to the nests measured in {} (robcal frames "
-                                       "world)",
-                                       o.nominal, o.measured)) +
-      fmt::format("instrument_position_mm: [{}, {}, {}]  # the instrument in that frame\n",
-                  instrument.x(), instrument.y(), instrument.z());
-  write_file_atomically(o.out, text);
+  const campaign::NestFrameResult result =
+      campaign::frames_world({o.measured, o.nominal, o.sigma_mm});
+  write_file_atomically(o.out, result.text);
   if (o.json) {
-    print_json({{"frame", frame_json(frame)},
-                {"instrument_position_mm", {instrument.x(), instrument.y(), instrument.z()}},
-                {"out", o.out}});
+    nlohmann::json out = campaign::nest_frame_json(result);
+    out["out"] = o.out;
+    print_json(out);
     return;
   }
-  print_frame("frame of the nests in the instrument frame", frame);
-  fmt::print("instrument in that frame: {:.4f} {:.4f} {:.4f} mm\nwrote {}\n", instrument.x(),
-             instrument.y(), instrument.z(), o.out);
+  print_frame("frame of the nests in the instrument frame", result.frame);
+  const Eigen::Vector3d& i = result.instrument_mm;
+  fmt::print("instrument in that frame: {:.4f} {:.4f} {:.4f} mm\nwrote {}\n", i.x(), i.y(), i.z(),
+             o.out);
 }
 
 const bool registered = register_command(76, [](CLI::App& app) {
@@ -185,7 +111,8 @@ const bool registered = register_command(76, [](CLI::App& app) {
       ->capture_default_str();
   tool->add_option("--tool", tool_o->tool, "Tool file to update (default: a new tool)");
   common(tool, *tool_o);
-  tool->callback([tool_o] { run_tool(*tool_o); });
+  tool->callback(
+      [tool_o] { print_target(*tool_o, campaign::frames_tool(tool_o->target_request())); });
 
   auto point_o = std::make_shared<FramesOptions>();
   auto* point = frames->add_subcommand(
@@ -196,7 +123,8 @@ const bool registered = register_command(76, [](CLI::App& app) {
   point->add_option("--target", point_o->target, "Target measured")->capture_default_str();
   point->add_option("--tool", point_o->tool, "Tool file to update (default: a new tool)");
   common(point, *point_o);
-  point->callback([point_o] { run_point(*point_o); });
+  point->callback(
+      [point_o] { print_target(*point_o, campaign::frames_point(point_o->target_request())); });
 
   auto world_o = std::make_shared<FramesOptions>();
   auto* world = frames->add_subcommand(

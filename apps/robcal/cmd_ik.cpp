@@ -9,7 +9,7 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
-#include "robcal/kinematics/inverse_kinematics.hpp"
+#include "robcal/kinematics/kinematics_workflow.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::cli {
@@ -22,12 +22,6 @@ struct IkOptions {
   bool json = false;
 };
 
-struct PrintedSolution {
-  Vector6d joints;
-  std::string config;
-  bool wrist_singular = false;
-};
-
 Pose<double> parse_pose(const std::string& text) {
   const std::vector<double> v = parse_numbers(text, 7, "--pose");
   try {
@@ -38,51 +32,21 @@ Pose<double> parse_pose(const std::string& text) {
   }
 }
 
-std::vector<PrintedSolution> solve(const RobotModel& model, const Pose<double>& target,
-                                   const Vector6d& seed, std::string& method) {
-  const AnyIkResult result = solve_ik(model, target, seed);
-  method = result.method;
-  if (result.status == IkStatus::Unreachable)
-    throw InputError({"", 0, 0, "--pose"},
-                     fmt::format("pose unreachable for {}: {}", model.name, result.method));
-  if (result.status == IkStatus::OutsideLimits)
-    throw InputError({"", 0, 0, "--pose"},
-                     fmt::format("the pose is reachable by {}, but every solution violates a "
-                                 "joint limit",
-                                 model.name));
-  std::vector<PrintedSolution> out;
-  for (const IkSolution& s : result.solutions)
-    out.push_back({s.joints, s.config.label(), s.wrist_singular});
-  return out;
-}
-
 void run_ik(const IkOptions& o) {
-  const RobotModel model = load_robot(o.robot);
-  const Pose<double> target = parse_pose(o.pose);
-  const Vector6d seed =
-      o.seed.empty() ? Vector6d::Zero() : parse_joints_deg(o.seed, "--seed-joints");
-  std::string method;
-  const std::vector<PrintedSolution> solutions = solve(model, target, seed, method);
+  IkRequest request{load_robot(o.robot), parse_pose(o.pose), Vector6d::Zero(), true};
+  if (!o.seed.empty()) request.seed = parse_joints_deg(o.seed, "--seed-joints");
+  const IkReport result = inverse_kinematics(request);
   if (o.json) {
-    nlohmann::json out;
-    out["robot"] = model.name;
-    out["method"] = method;
-    out["solutions"] = nlohmann::json::array();
-    for (const PrintedSolution& s : solutions) {
-      nlohmann::json joints = nlohmann::json::array();
-      for (int i = 0; i < kJointCount; ++i) joints.push_back(tidy(rad2deg(s.joints[i])));
-      out["solutions"].push_back(
-          {{"joints_deg", joints}, {"config", s.config}, {"wrist_singular", s.wrist_singular}});
-    }
-    print_json(out);
+    print_json(ik_json(result));
     return;
   }
-  fmt::print("{}: {} solution{} ({})\n", model.name, solutions.size(),
-             solutions.size() == 1 ? "" : "s", method);
+  const std::vector<IkSolution>& solutions = result.ik.solutions;
+  fmt::print("{}: {} solution{} ({})\n", result.robot, solutions.size(),
+             solutions.size() == 1 ? "" : "s", result.ik.method);
   fmt::print("  {:<17} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}\n", "config", "J1", "J2", "J3",
              "J4", "J5", "J6");
-  for (const PrintedSolution& s : solutions) {
-    fmt::print("  {:<17}", s.config);
+  for (const IkSolution& s : solutions) {
+    fmt::print("  {:<17}", s.config.label());
     for (int i = 0; i < kJointCount; ++i) fmt::print(" {:>10.4f}", tidy(rad2deg(s.joints[i])));
     fmt::print("{}\n", s.wrist_singular ? "  (wrist singular: J4 kept at the seed)" : "");
   }

@@ -5,7 +5,7 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/campaign/instrument_import.hpp"
+#include "robcal/campaign/import_workflow.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 
@@ -22,32 +22,22 @@ struct ImportOptions {
 };
 
 void run_import(const ImportOptions& o) {
-  campaign::ImportRequest request;
-  request.export_file = {o.export_path, read_text_file(o.export_path)};
-  request.joint_log = {o.log_path, read_text_file(o.log_path)};
-  if (!o.map_path.empty())
-    request.format = campaign::parse_export_format(read_text_file(o.map_path), o.map_path);
-  // Flags override the mapping file.
-  for (const auto& [option, value] : {std::pair{"delimiter", o.delimiter},
-                                      {"decimal", o.decimal},
-                                      {"columns", o.columns},
-                                      {"config-column", o.config_column},
-                                      {"unit", o.unit}})
-    if (!value.empty())
-      campaign::set_export_option(request.format, option, value, std::string("--") + option);
-  request.join = campaign::parse_join_by(o.join, "--join");
-  request.time_tolerance_s = o.tolerance_s;
-  request.default_target = o.target;
-  request.allow_unmeasured = o.allow_unmeasured;
-
-  const campaign::ImportResult result = campaign::import_measurements(request);
+  const campaign::ImportResult result = campaign::import_files({o.export_path,
+                                                                o.log_path,
+                                                                o.map_path,
+                                                                {{"delimiter", o.delimiter},
+                                                                 {"decimal", o.decimal},
+                                                                 {"columns", o.columns},
+                                                                 {"config-column", o.config_column},
+                                                                 {"unit", o.unit}},
+                                                                o.join,
+                                                                o.tolerance_s,
+                                                                o.target,
+                                                                o.allow_unmeasured});
   write_file_atomically(o.out, result.csv);
   if (o.json) {
-    nlohmann::json out;
-    out["rows"] = result.measurements.size();
-    out["kind"] = std::string(measurement_kind_name(result.measurements.kind));
+    nlohmann::json out = campaign::import_json(result);
     out["out"] = o.out;
-    out["warnings"] = result.warnings;
     print_json(out);
     return;
   }

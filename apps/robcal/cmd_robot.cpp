@@ -2,51 +2,32 @@
 
 #include <fmt/format.h>
 
-#include <iostream>
-
 #include "cli_common.hpp"
 #include "command_registry.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/io/robot_catalogue.hpp"
 #include "robcal/io/robot_file.hpp"
-#include "robcal/kinematics/forward_kinematics.hpp"
+#include "robcal/kinematics/kinematics_workflow.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::cli {
 namespace {
 
 void run_robots(bool json) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const std::string& name : builtin_robot_names()) {
-    const RobotModel model = load_robot(name);
-    out.push_back({{"name", name},
-                   {"model", model.name},
-                   {"manufacturer", model.manufacturer},
-                   {"reach_mm", model.reach_mm}});
-    if (!json)
-      fmt::print("{:<24} {:<17} {:<24} {}\n", name, model.manufacturer, model.name,
-                 model.reach_mm > 0 ? fmt::format("{:.0f} mm", model.reach_mm) : "reach not given");
+  const std::vector<RobotEntry> entries = robot_catalogue();
+  if (json) {
+    print_json(robot_catalogue_json(entries));
+    return;
   }
-  if (json) print_json(out);
+  for (const RobotEntry& e : entries)
+    fmt::print("{:<24} {:<17} {:<24} {}\n", e.name, e.manufacturer, e.model,
+               e.reach_mm > 0 ? fmt::format("{:.0f} mm", e.reach_mm) : "reach not given");
 }
 
 void run_robot_show(const std::string& robot, bool json) {
   const RobotModel model = load_robot(robot);
   if (json) {
-    nlohmann::json out;
-    out["name"] = model.name;
-    out["manufacturer"] = model.manufacturer;
-    out["source"] = model.source;
-    for (int i = 0; i < kJointCount; ++i) {
-      const MdhRow& row = model.mdh[i];
-      out["mdh"].push_back({{"link", i + 1},
-                            {"alpha_deg", tidy(rad2deg(row.alpha))},
-                            {"a_mm", row.a},
-                            {"theta_offset_deg", tidy(rad2deg(row.theta_offset))},
-                            {"d_mm", row.d}});
-      out["joint_limits_deg"].push_back(
-          {tidy(rad2deg(model.limits[i].lower)), tidy(rad2deg(model.limits[i].upper))});
-    }
-    print_json(out);
+    print_json(robot_description_json(model));
     return;
   }
   fmt::print("{} ({})\nsource: {}\n\n", model.name, model.manufacturer, model.source);
@@ -63,34 +44,19 @@ void run_robot_show(const std::string& robot, bool json) {
 }
 
 void run_fk(const std::string& robot, const std::string& joints_text, bool json) {
-  const RobotModel model = load_robot(robot);
-  const Vector6d joints = parse_joints_deg(joints_text);
-  if (!model.within_limits(joints)) {
-    std::string detail;
-    for (int i = 0; i < kJointCount; ++i)
-      if (joints[i] < model.limits[i].lower || joints[i] > model.limits[i].upper)
-        detail += fmt::format(" J{}={:.3f} outside [{:.1f}, {:.1f}];", i + 1, rad2deg(joints[i]),
-                              rad2deg(model.limits[i].lower), rad2deg(model.limits[i].upper));
-    throw InputError({"", 0, 0, "--joints"}, "joints outside the robot's limits:" + detail);
-  }
-  const Pose<double> pose = flange_pose(model, PointMass{}, model.nominal(), joints);
-  const Eigen::Quaterniond q = to_quaternion(pose.R);
-  const Eigen::Vector3d euler = euler_angles_deg(pose.R, model.euler);
-  const auto labels = euler_labels(model.euler);
+  const FkReport result =
+      forward_kinematics({load_robot(robot), parse_joints_deg(joints_text), true});
   if (json) {
-    nlohmann::json out;
-    out["robot"] = model.name;
-    out["joints_deg"] = parse_numbers(joints_text, kJointCount, "--joints");
-    out["position_mm"] = {tidy(pose.p.x()), tidy(pose.p.y()), tidy(pose.p.z())};
-    out["quaternion_wxyz"] = {tidy(q.w(), 12), tidy(q.x(), 12), tidy(q.y(), 12), tidy(q.z(), 12)};
-    out["euler_deg"] = {
-        {labels[0], tidy(euler[0])}, {labels[1], tidy(euler[1])}, {labels[2], tidy(euler[2])}};
-    print_json(out);
+    print_json(fk_json(result));
     return;
   }
-  fmt::print("flange of {} (nominal model, base at the origin)\n", model.name);
-  fmt::print("  position   x {:.4f}  y {:.4f}  z {:.4f} mm\n", tidy(pose.p.x()), tidy(pose.p.y()),
-             tidy(pose.p.z()));
+  const Eigen::Vector3d& p = result.flange.p;
+  const Eigen::Quaterniond q = to_quaternion(result.flange.R);
+  const auto labels = euler_labels(result.euler);
+  const Eigen::Vector3d& euler = result.euler_deg;
+  fmt::print("flange of {} (nominal model, base at the origin)\n", result.robot);
+  fmt::print("  position   x {:.4f}  y {:.4f}  z {:.4f} mm\n", tidy(p.x()), tidy(p.y()),
+             tidy(p.z()));
   fmt::print("  quaternion w {:.9f}  x {:.9f}  y {:.9f}  z {:.9f}\n", tidy(q.w(), 12),
              tidy(q.x(), 12), tidy(q.y(), 12), tidy(q.z(), 12));
   fmt::print("  Euler      {} {:.4f}  {} {:.4f}  {} {:.4f} deg\n", labels[0], tidy(euler[0]),

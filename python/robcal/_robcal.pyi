@@ -360,8 +360,9 @@ def load_calibrated_robot(path: str) -> CalibratedRobot:
     """Loads a calibrated model file written by calibrate."""
 
 
-def fk(robot: RobotModel, joints_deg: ArrayLike) -> Dict[str, Array]:
-    """Flange pose of the nominal robot: {'position_mm', 'quaternion_wxyz'}."""
+def fk(robot: RobotModel, joints_deg: ArrayLike, check_limits: bool = False) -> Dict[str, Any]:
+    """`robcal fk`: flange pose of the nominal robot, {'robot', 'position_mm', 'quaternion_wxyz',
+    'euler_deg': {label: value}}; check_limits refuses joints outside the limits."""
 
 
 def fk_batch(robot: RobotModel, joints_deg: ArrayLike) -> Dict[str, Array]:
@@ -369,8 +370,18 @@ def fk_batch(robot: RobotModel, joints_deg: ArrayLike) -> Dict[str, Array]:
 
 
 def ik(robot: RobotModel, position_mm: ArrayLike, quaternion_wxyz: ArrayLike,
-       seed_joints_deg: Optional[ArrayLike] = None) -> Dict[str, Any]:
-    """Every IK solution of the nominal robot: {'status', 'method', 'solutions'}."""
+       seed_joints_deg: Optional[ArrayLike] = None,
+       require_solution: bool = False) -> Dict[str, Any]:
+    """`robcal ik`: every IK solution of the nominal robot, {'robot', 'status', 'method',
+    'solutions'}; require_solution raises InputError when there is none inside the limits."""
+
+
+def robot_catalogue() -> List[Dict[str, Any]]:
+    """`robcal robots`: [{'name', 'model', 'manufacturer', 'reach_mm'}]."""
+
+
+def robot_description(robot: RobotModel) -> Dict[str, Any]:
+    """`robcal robot show`: name, manufacturer, source, MDH table, joint limits, link masses."""
 
 
 def calibrate(robot: Union[str, RobotModel], tool: Union[str, Measurements], *args: Any,
@@ -405,9 +416,21 @@ def pairwise_distance_errors(measured_mm: ArrayLike, modelled_mm: ArrayLike, thr
 
 
 def validate(robot: str, tool_file: str, measurements: str, model: str = "",
-             fit_base: bool = False, threads: int = 2) -> Dict[str, Any]:
-    """Position errors (overall, per target, histogram) and all-pairs distance errors of a
-    calibrated model file or the nominal robot against a points or poses file."""
+             fit_base: bool = False, threads: int = 2, orientation_weight: float = 100.0,
+             ballbar_centre: Optional[ArrayLike] = None, calibration: str = "") -> Dict[str, Any]:
+    """`robcal validate`: a calibrated model file or the nominal robot against a points, poses or
+    distances (ballbar) file; the CLI's --json document plus per-row arrays
+    (position_errors_mm, orientation_errors_deg, pose_errors_mm or length_errors_mm), warnings
+    and notes."""
+
+
+def validate_rows(model: CalibratedRobot, measurements: Measurements, fit_base: bool = False,
+                  threads: int = 2, orientation_weight: float = 100.0,
+                  ballbar_centre: Optional[ArrayLike] = None,
+                  calibration: Optional[Measurements] = None,
+                  name: str = "<arrays>") -> Dict[str, Any]:
+    """validate() of a CalibratedRobot against Measurements (files, dicts or arrays);
+    `calibration` adds the region classes."""
 
 
 def observability_indices(jacobian: ArrayLike, configurations: int) -> Dict[str, float]:
@@ -495,3 +518,88 @@ def iso9283_plan(robot: CalibratedRobot, region_min_mm: ArrayLike, region_max_mm
 def iso9283_analyse(poses: str, measurements: str, min_cycles: int = 30) -> Dict[str, Any]:
     """AP, RP (position, orientation), vAP, AD, RD of measured cycles (`robcal iso9283
     analyse`): the commanded poses' pose list and the measurements CSV; the CLI's --json."""
+
+
+def demo(out: str = "", seed: int = 1, count: int = 50, validation: int = 1000) -> Dict[str, Any]:
+    """`robcal demo`: the whole method on a virtual IRB 120 with a simulated tracker; the CLI's
+    --json summary plus per-row validation errors (errors_mm, errors_vs_truth_mm); writes the
+    folder `out` when given."""
+
+
+def import_measurements(export: str, joints: str, map: str = "", join: str = "order",
+                        time_tolerance: float = 0.5, target: str = "", delimiter: str = "",
+                        decimal: str = "", columns: str = "", unit: str = "",
+                        config_column: str = "",
+                        allow_unmeasured: bool = False) -> Dict[str, Any]:
+    """`robcal import`: an instrument export joined with the joint log; {'rows', 'kind',
+    'warnings', 'csv', 'measurements': Measurements}."""
+
+
+def frames_base(robot: str, joint1: str, joint2: str, target: str = "1", cell: str = "",
+                sigma_mm: float = 0.0) -> Dict[str, Any]:
+    """`robcal frames base`: {'base': frame ± σ with its 6×6 covariance, 'text': file to write}."""
+
+
+def frames_tool(robot: str, joint5: str, joint6: str, target: str = "1", tool: str = "",
+                sigma_mm: float = 0.0) -> Dict[str, Any]:
+    """`robcal frames tool`: the target in the flange frame ± σ, covariance, 'text' (tool file)."""
+
+
+def frames_point(robot: str, cell: str, measurements: str, target: str = "1", tool: str = "",
+                 sigma_mm: float = 0.0) -> Dict[str, Any]:
+    """`robcal frames point`: the target from ≥ 4 configurations with the cell's base."""
+
+
+def frames_world(measured: str, nominal: str, sigma_mm: float = 0.0) -> Dict[str, Any]:
+    """`robcal frames world`: the nests' frame ± σ, the instrument in it, 'text' (frame block)."""
+
+
+def base_from_sweeps(robot: RobotModel, joint1_deg: ArrayLike, points1_mm: ArrayLike,
+                     joint2_deg: ArrayLike, points2_mm: ArrayLike,
+                     sigma_mm: float = 0.0) -> Dict[str, Any]:
+    """frames_base from arrays: each sweep's joints N×6 (deg) and points N×3 (mm)."""
+
+
+def tool_from_sweeps(robot: RobotModel, joint5_deg: ArrayLike, points5_mm: ArrayLike,
+                     joint6_deg: ArrayLike, points6_mm: ArrayLike,
+                     sigma_mm: float = 0.0) -> Dict[str, Any]:
+    """frames_tool from arrays: the target in the flange frame from joint-5 and joint-6 sweeps."""
+
+
+def frame_from_nests(measured_mm: ArrayLike, nominal_mm: ArrayLike,
+                     sigma_mm: float = 0.0) -> Dict[str, Any]:
+    """frames_world from arrays: nests measured (N×3) and their coordinates (N×3), same order."""
+
+
+class PointSession:
+    """The guided tracker/CMM session without its prompt loop: steps, readings, result."""
+
+    def __init__(self, configs: str, tool: Optional[Tool] = None, reference: int = -1,
+                 every: int = 0) -> None:
+        """From a plan file, the tool, the reference configuration's index and the period."""
+
+    steps: List[Dict[str, Any]]
+    """[{'key', 'prompt', 'config', 'drift_check'}] in the order they are asked."""
+    answered: int
+    """Steps answered so far."""
+    next_step: Optional[Dict[str, Any]]
+    """The next step to answer, or None when the session is complete."""
+
+    def replay(self, text: str, file: str = "<journal>") -> int:
+        """Replaces the readings by a journal's text; returns the length of its complete lines."""
+
+    def load_journal(self, path: str) -> int:
+        """Resumes from a journal file: returns the steps answered."""
+
+    def answer(self, line: str, time: str = "") -> str:
+        """Answers the next step as typed ('x y z [°C]' or 'skip'); returns the journal line."""
+
+    def add_reading(self, position_mm: Optional[ArrayLike], time: str = "",
+                    temperature_c: Optional[float] = None) -> str:
+        """Answers the next step with a reading (None: missing); returns the journal line."""
+
+    def journal(self) -> str:
+        """The journal's text for the readings so far."""
+
+    def result(self) -> Dict[str, Any]:
+        """{'measurements': Measurements, 'missing': [...], 'drift': [...]} so far."""

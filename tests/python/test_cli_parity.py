@@ -35,6 +35,52 @@ def test_fk_and_ik():
     assert [s["config"] for s in c["solutions"]] == [s["config"] for s in p["solutions"]]
     for a, b in zip(c["solutions"], p["solutions"]):
         np.testing.assert_allclose(a["joints_deg"], b["joints_deg"], rtol=0, atol=1e-8)
+    assert c["status"] == p["status"] == "solved" and c["robot"] == p["robot"]
+
+
+def test_fk_euler_and_limits():
+    robot = robcal.load_robot("kuka-kr6-r900-sixx")
+    q = [10, -80, 95, 40, 50, 60]
+    c = cli_json("fk", "--robot", "kuka-kr6-r900-sixx", "--joints", ",".join(map(str, q)))
+    p = robcal.fk(robot, q, check_limits=True)
+    assert list(c["euler_deg"]) == list(p["euler_deg"]) == ["A", "B", "C"]
+    for label, value in c["euler_deg"].items():
+        assert value == pytest.approx(p["euler_deg"][label], abs=1e-9)
+    # The Euler angles are the quaternion's rotation (Z-Y-X, as KUKA writes A, B, C).
+    a, b, cc = np.radians([p["euler_deg"][k] for k in "ABC"])
+    w, x, y, z = p["quaternion_wxyz"]
+    assert np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z)) == pytest.approx(a, abs=1e-12)
+    assert np.arcsin(2 * (w * y - z * x)) == pytest.approx(b, abs=1e-12)
+    assert np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)) == pytest.approx(cc, abs=1e-12)
+    outside = [10, 200, 30, 40, 50, 60]
+    cli = subprocess.run([CLI, "fk", "--robot", "abb-irb120", "--joints",
+                          ",".join(map(str, outside))], capture_output=True, text=True)
+    assert cli.returncode == 2 and "J2=200.000 outside" in cli.stderr
+    with pytest.raises(robcal.InputError, match="J2=200.000 outside"):
+        robcal.fk(robcal.load_robot("abb-irb120"), outside, check_limits=True)
+    robcal.fk(robcal.load_robot("abb-irb120"), outside)  # unchecked by default
+
+
+def test_ik_unreachable_refused_when_required():
+    robot = robcal.load_robot("abb-irb120")
+    pose = [3000, 100, 400, 0, 0, 1, 0]
+    cli = subprocess.run([CLI, "ik", "--robot", "abb-irb120", "--pose",
+                          ",".join(map(str, pose))], capture_output=True, text=True)
+    assert cli.returncode == 2 and "pose unreachable for ABB IRB 120" in cli.stderr
+    with pytest.raises(robcal.InputError, match="pose unreachable for ABB IRB 120"):
+        robcal.ik(robot, pose[:3], pose[3:], require_solution=True)
+    assert robcal.ik(robot, pose[:3], pose[3:])["status"] == "unreachable"
+
+
+def test_robots_and_robot_show():
+    c = cli_json("robots")
+    p = robcal.robot_catalogue()
+    assert c == p and [r["name"] for r in p] == robcal.builtin_robots()
+    c = cli_json("robot", "show", "fanuc-lrmate200ic")
+    robot = robcal.load_robot("fanuc-lrmate200ic")
+    p = robcal.robot_description(robot)
+    assert c == p
+    np.testing.assert_allclose(p["joint_limits_deg"], robot.joint_limits_deg, atol=1e-9)
 
 
 def test_calibrate_and_validate(tmp_path):
@@ -55,9 +101,7 @@ def test_calibrate_and_validate(tmp_path):
     c = cli_json("validate", "--robot", "abb-irb120", "--tool", TOOL, "--model", model,
                  "--measurements", validation)
     p = robcal.validate("abb-irb120", TOOL, validation, model=model)
-    for key in ("mean", "std", "max", "min"):
-        assert c["position_error_mm"][key] == pytest.approx(p["position_error_mm"][key], rel=1e-12)
-        assert c["distance_error_mm"][key] == pytest.approx(p["distance_error_mm"][key], rel=1e-12)
+    assert same_document(c, p)
 
 
 def test_hexapod_plan_is_the_same_file(tmp_path):
@@ -180,3 +224,114 @@ def test_hexapod_replan(tmp_path):
     assert {k: v for k, v in c.items() if k != "plan"} == {k: v for k, v in p.items() if k != "plan"}
     assert open(tmp_path / "cli.json").read() == open(tmp_path / "py.json").read()
     assert len(robcal.hexapod.read_plan(str(tmp_path / "py.json"))) == p["replanned"]
+
+
+def same_document(cli, python):
+    """The CLI's --json document equals Python's dict without its per-row arrays and messages:
+    one library function and one serializer behind both."""
+    extra = {"position_errors_mm", "orientation_errors_deg", "pose_errors_mm", "length_errors_mm",
+             "warnings", "notes"}
+    return cli == {k: v for k, v in python.items() if k not in extra}
+
+
+@pytest.fixture(scope="module")
+def simulated(tmp_path_factory):
+    """A ballbar and an optical-CMM (poses) campaign of the published truth, by the CLI."""
+    root = tmp_path_factory.mktemp("sim")
+    for instrument in ("ballbar", "optical-cmm"):
+        subprocess.run([CLI, "simulate", "--instrument", instrument, "--truth", "published",
+                        "--random", "40", "--seed", "5", "--out", str(root / instrument)],
+                       check=True, capture_output=True)
+    return root
+
+
+def test_validate_classes_and_fitted_base():
+    validation = os.path.join(REF, "validation.csv")
+    calibration = os.path.join(REF, "calibration.csv")
+    c = cli_json("validate", "--robot", "abb-irb120", "--tool", TOOL, "--measurements",
+                 validation, "--fit-base", "--calibration", calibration, "--threads", "1")
+    p = robcal.validate("abb-irb120", TOOL, validation, fit_base=True, calibration=calibration,
+                        threads=1)
+    assert same_document(c, p)
+    assert [t["table"] for t in p["classes"]][-1] == "region"
+    errors = p["position_errors_mm"]
+    assert errors.shape == (1000,)
+    assert p["position_error_mm"]["mean"] == pytest.approx(errors.mean(), rel=1e-13)
+    assert p["position_error_mm"]["max"] == errors.max()
+
+
+def test_validate_poses_pose_error(simulated):
+    tool = str(simulated / "optical-cmm" / "tool.yaml")
+    rows = str(simulated / "optical-cmm" / "measurements.csv")
+    c = cli_json("validate", "--robot", "abb-irb120", "--tool", tool, "--measurements", rows,
+                 "--fit-base", "--orientation-weight", "50")
+    p = robcal.validate("abb-irb120", tool, rows, fit_base=True, orientation_weight=50)
+    assert same_document(c, p)
+    assert p["kind"] == "poses" and p["orientation_weight_mm_per_rad"] == 50
+    # The pose error of each row, recomputed from its two parts (docs/method/09-validation.md).
+    expected = np.hypot(p["position_errors_mm"], 50 * np.radians(p["orientation_errors_deg"]))
+    np.testing.assert_allclose(p["pose_errors_mm"], expected, rtol=1e-12)
+    assert p["pose_error_mm"]["mean"] == pytest.approx(expected.mean(), rel=1e-12)
+
+
+def test_validate_ballbar_file(simulated):
+    tool = str(simulated / "ballbar" / "tool.yaml")
+    rows = str(simulated / "ballbar" / "measurements.csv")
+    c = cli_json("validate", "--robot", "abb-irb120", "--tool", tool, "--measurements", rows)
+    p = robcal.validate("abb-irb120", tool, rows)
+    assert same_document(c, p)
+    assert p["kind"] == "distances" and p["ballbar_centre"] == "identified"
+    e = p["length_errors_mm"]
+    assert p["length_error_mm"]["mean"] == pytest.approx(np.abs(e).mean(), rel=1e-12)
+    assert p["length_error_mm"]["signed_mean"] == pytest.approx(e.mean(), abs=1e-12)
+    # The identified centre, given back, reproduces the same errors.
+    given = robcal.validate("abb-irb120", tool, rows, ballbar_centre=p["ballbar_centre_mm"])
+    assert given["ballbar_centre"] == "given"
+    np.testing.assert_allclose(given["length_errors_mm"], e, rtol=0, atol=1e-9)
+    with pytest.raises(robcal.InputError, match="no positions to fit a world frame"):
+        robcal.validate("abb-irb120", tool, rows, fit_base=True)
+    with pytest.raises(robcal.InputError, match="expected 1 to 256 threads"):
+        robcal.validate("abb-irb120", tool, rows, threads=0)
+
+
+def test_validate_refuses_a_model_of_another_robot(tmp_path):
+    model = str(tmp_path / "model.yaml")
+    subprocess.run([CLI, "calibrate", "--robot", "abb-irb120", "--tool", TOOL, "--measurements",
+                    os.path.join(REF, "calibration.csv"), "--level", "base", "--out", model],
+                   check=True, capture_output=True)
+    args = ["--robot", "fanuc-lrmate200ic", "--tool", TOOL, "--model", model, "--measurements",
+            os.path.join(REF, "validation.csv")]
+    cli = subprocess.run([CLI, "validate", *args], capture_output=True, text=True)
+    assert cli.returncode == 2 and "not of the" in cli.stderr
+    with pytest.raises(robcal.InputError, match="this is a model of the ABB IRB 120, not of the"):
+        robcal.validate("fanuc-lrmate200ic", TOOL, os.path.join(REF, "validation.csv"),
+                        model=model)
+
+
+def test_validate_rows_from_arrays_equals_the_file():
+    validation = os.path.join(REF, "validation.csv")
+    tool = robcal.Tool.from_file(TOOL)
+    d = robcal.Measurements.from_file(validation, tool).to_dict()
+    rows = robcal.Measurements.points(tool, d["joints_deg"], d["target"], d["position_mm"])
+    nominal = robcal.CalibratedRobot.nominal(robcal.load_robot("abb-irb120"), tool)
+    p = robcal.validate_rows(nominal, rows, fit_base=True, name=validation)
+    c = cli_json("validate", "--robot", "abb-irb120", "--tool", TOOL, "--measurements",
+                 validation, "--fit-base")
+    # The joints went through degrees and back: equal to ~1e-13 relative, not bit for bit.
+    assert_close(c, {k: v for k, v in p.items() if k in c})
+    assert set(p) - set(c) == {"position_errors_mm", "warnings", "notes"}
+
+
+def assert_close(a, b, path=""):
+    if isinstance(a, dict):
+        assert a.keys() == b.keys(), path
+        for k in a:
+            assert_close(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert len(a) == len(b), path
+        for i, (x, y) in enumerate(zip(a, b)):
+            assert_close(x, y, f"{path}[{i}]")
+    elif isinstance(a, float):
+        assert a == pytest.approx(b, rel=1e-11, abs=1e-12), path
+    else:
+        assert a == b, path
