@@ -10,6 +10,7 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
+#include "robcal/campaign/cell.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
@@ -172,9 +173,13 @@ struct CellOptions {
   double table_z_mm = 0;
   double angle_deg = 30;
   double distance_mm = 50;
+  double tilt_deg = 0;
 
   void add_to(CLI::App* cmd) {
     cmd->add_option("--robot", robot, "Built-in robot name or robot file")->capture_default_str();
+    cmd->add_option("--tilt-deg", tilt_deg,
+                    "Tilt of the base fixture's pivoting platform about the placement's x axis")
+        ->capture_default_str();
     cmd->add_option("--placement", placement,
                     "Rough base-fixture placement in the robot frame: centroid x,y,z of the cups "
                     "(mm) and yaw about z (deg)")
@@ -203,10 +208,29 @@ struct CellOptions {
     r.table_z_mm = table_z_mm;
     r.angle_deg = angle_deg;
     r.distance_mm = distance_mm;
+    r.tilt_deg = tilt_deg;
     return r;
   }
   [[nodiscard]] Pose<double> rough_placement() const {
-    return placement_pose(parse_placement(placement, {"", 0, 0, "--placement"}));
+    return placement_pose(parse_placement(placement, {"", 0, 0, "--placement"}), tilt_deg);
+  }
+};
+
+/// The measuring options of `plan` and `simulate`: gauge and cup screening.
+struct MeasuringOptions {
+  LengthGauge gauge;
+  CupClearance cups;
+
+  void add_to(CLI::App* cmd) {
+    cmd->add_option("--gauge-range-mm", gauge.range_mm,
+                    "The gauge reads within ± this of its set-up length (ballbar ±1, a "
+                    "long-range gauge e.g. 5)")
+        ->capture_default_str();
+    cmd->add_option("--gauge-sigma-mm", gauge.sigma_mm, "Standard uncertainty of one reading")
+        ->capture_default_str();
+    cmd->add_option("--cup-diameter-mm", cups.cup_diameter_mm,
+                    "Outer cup diameter: poses with colliding cups or legs are refused")
+        ->capture_default_str();
   }
 };
 
@@ -232,8 +256,12 @@ void run_setup(const CellOptions& o, double side_mm, bool json) {
 }
 
 void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
-              const std::string& out_path, bool json) {
-  const HexapodPlanRequest request = o.request(geometry_options.geometry());
+              const MeasuringOptions& m, const std::string& cell_path, const std::string& out_path,
+              bool json) {
+  HexapodPlanRequest request = o.request(geometry_options.geometry());
+  request.gauge = m.gauge;
+  request.cups = m.cups;
+  if (!cell_path.empty()) request.workcell = campaign::load_cell(cell_path);
   const RobotModel model = load_robot(o.robot);
   const HexapodPlan plan = plan_hexapod(model, request);
   if (!out_path.empty()) write_hexapod_plan(out_path, plan);
@@ -243,16 +271,19 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
   }
   const PlanOutcome& outcome = *plan.outcome;
   fmt::print(
-      "{}: {} poses enumerated, {} kept after pruning, {} measurable with {} configurations\n",
-      model.name, outcome.poses_enumerated, outcome.poses_kept, outcome.poses_measurable,
-      outcome.configurations_measurable);
+      "{}: {} poses enumerated, {} refused (cups or legs collide), {} kept after pruning, {} "
+      "measurable with {} configurations\n",
+      model.name, outcome.poses_enumerated, outcome.refused.size(), outcome.poses_kept,
+      outcome.poses_measurable, outcome.configurations_measurable);
+  for (const auto& [label, reason] : outcome.refused) fmt::print("{} refused: {}\n", label, reason);
   for (const PlannedPose& p : outcome.poses) {
     std::vector<std::string> labels;
     for (const SessionConfiguration& c : plan.session.configurations)
       if (c.pose == p.label) labels.push_back(c.labels);
-    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {})\n", p.label,
-               p.description, p.ik, p.configurations, fmt::join(labels, " "), p.rejected_table,
-               p.rejected_fixture);
+    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {}{})\n",
+               p.label, p.description, p.ik, p.configurations, fmt::join(labels, " "),
+               p.rejected_table, p.rejected_fixture,
+               request.workcell ? fmt::format(", cell {}", p.rejected_workcell) : "");
   }
   if (!out_path.empty()) fmt::print("plan written to {}\n", out_path);
 }
@@ -335,10 +366,13 @@ void run_session(const std::string& plan_path, const std::string& journal_path, 
 
 // ---- simulate ------------------------------------------------------------------------------
 
-void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation, int threads,
-                  bool leg_fit, bool relative, bool json) {
+void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m, uint64_t seed,
+                  int validation, int threads, bool leg_fit, bool relative, bool json) {
   const RobotModel model = load_robot(cell_options.robot);
   EndToEndOptions o;
+  o.cell.range_mm = m.gauge.range_mm;
+  o.cell.sigma_mm = m.gauge.sigma_mm;
+  o.cups = m.cups;
   o.cell.placement = cell_options.rough_placement();
   o.cell.tool_offset_mm = cell_options.tool_offset_mm;
   o.cell.ball_offset_mm = cell_options.ball_offset_mm;
@@ -357,12 +391,15 @@ void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation
     return;
   }
   fmt::print("Simulated hexapod calibration of a {} (seed {})\n", r.robot, seed);
-  fmt::print("poses: {} enumerated, {} kept, {} measurable; {} configurations planned\n",
-             r.poses_enumerated, r.poses_kept, r.poses_measurable, r.configurations_planned);
   fmt::print(
-      "first pass: {} measured, {} out of the ballbar's range; after the preliminary "
+      "poses: {} enumerated, {} refused (cups or legs collide), {} kept, {} measurable; {} "
+      "configurations planned\n",
+      r.poses_enumerated, r.poses_refused, r.poses_kept, r.poses_measurable,
+      r.configurations_planned);
+  fmt::print(
+      "first pass: {} measured, {} out of the gauge's range (±{} mm); after the preliminary "
       "calibration {} of those measured\n",
-      r.measured_first, r.retried, r.measured_after_replan);
+      r.measured_first, r.retried, m.gauge.range_mm, r.measured_after_replan);
   fmt::print(
       "world frame from the base cups: rms {:.4f} mm; off the true base fixture frame by {:.3f} "
       "mm, "
@@ -468,13 +505,19 @@ const bool registered = register_command(60, [](CLI::App& app) {
         "Robot configurations for every pose, for a base-fixture placement (the session's plan)");
     auto geometry = std::make_shared<GeometryOptions>();
     auto cell = std::make_shared<CellOptions>();
+    auto measuring = std::make_shared<MeasuringOptions>();
+    auto cell_file = std::make_shared<std::string>();
     auto out = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
     geometry->add_to(cmd);
     cell->add_to(cmd);
+    measuring->add_to(cmd);
+    cmd->add_option("--cell", *cell_file,
+                    "Cell file (data/cells/*.yaml): configurations stay above its floor and out of "
+                    "its keep-out boxes");
     cmd->add_option("--out", *out, "Write the plan (JSON) for `robcal hexapod session`");
     cmd->add_flag("--json", *json, "Machine-readable output");
-    cmd->callback([=] { run_plan(*geometry, *cell, *out, *json); });
+    cmd->callback([=] { run_plan(*geometry, *cell, *measuring, *cell_file, *out, *json); });
   }
   {
     auto* cmd = hex->add_subcommand(
@@ -482,6 +525,7 @@ const bool registered = register_command(60, [](CLI::App& app) {
         "Simulated end to end: placement, planning, ballbar readings, preliminary and final "
         "calibration, laser-tracker validation");
     auto cell = std::make_shared<CellOptions>();
+    auto measuring = std::make_shared<MeasuringOptions>();
     auto seed = std::make_shared<uint64_t>(1);
     auto validation = std::make_shared<int>(10000);
     auto threads = std::make_shared<int>(2);
@@ -489,6 +533,7 @@ const bool registered = register_command(60, [](CLI::App& app) {
     auto relative = std::make_shared<bool>(false);
     auto json = std::make_shared<bool>(false);
     cell->add_to(cmd);
+    measuring->add_to(cmd);
     cmd->add_option("--seed", *seed, "Seed of the true robot, the readings and the validation")
         ->capture_default_str();
     cmd->add_option("--validation", *validation, "Random validation configurations")
@@ -501,7 +546,10 @@ const bool registered = register_command(60, [](CLI::App& app) {
                   "it");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback(
-        [=] { run_simulate(*cell, *seed, *validation, *threads, !*no_leg_fit, *relative, *json); });
+        [=] {
+          run_simulate(*cell, *measuring, *seed, *validation, *threads, !*no_leg_fit, *relative,
+                       *json);
+        });
   }
   {
     auto* cmd = hex->add_subcommand(
