@@ -13,10 +13,12 @@
 #include "robcal/campaign/cell.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/identify/unknowns.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/end_to_end_report.hpp"
 #include "robcal/hexapod/geometry_reports.hpp"
+#include "robcal/hexapod/placement_search.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
@@ -288,6 +290,60 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
   if (!out_path.empty()) fmt::print("plan written to {}\n", out_path);
 }
 
+// ---- placement search ------------------------------------------------------------------------
+
+void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
+               const MeasuringOptions& m, const std::string& cell_path,
+               const std::array<std::string, 5>& grid, const std::string& level, int validation,
+               uint64_t seed, int best, bool json) {
+  PlacementSearchRequest request;
+  request.plan = o.request(geometry_options.geometry());
+  request.plan.gauge = m.gauge;
+  request.plan.cups = m.cups;
+  if (!cell_path.empty()) request.plan.workcell = campaign::load_cell(cell_path);
+  static constexpr std::array<const char*, 5> kFlags{"--x-mm", "--y-mm", "--z-mm", "--yaw-deg",
+                                                     "--tilt-deg-grid"};
+  std::array<std::vector<double>*, 5> axes{&request.x_mm, &request.y_mm, &request.z_mm,
+                                           &request.yaw_deg, &request.tilt_deg};
+  for (int i = 0; i < 5; ++i) *axes[i] = parse_numbers(grid[i], -1, kFlags[i]);
+  request.level = parse_calibration_level(level);
+  request.validation_configurations = validation;
+  request.seed = seed;
+  if (best < 1) throw InputError({"", 0, 0, "--best"}, "expected at least 1");
+  request.pair_candidates = std::max(best, 2);
+  const RobotModel model = load_robot(o.robot);
+  const PlacementSearchResult r = search_placements(model, request);
+  if (json) {
+    print_json(placement_search_json(r, best));
+    return;
+  }
+  fmt::print(
+      "{}: {} placements searched; {} of {} {} parameters identifiable from hexapod poses; pose "
+      "σ {:.5f} mm; predicted errors over {} random configurations in the joint limits (seed {})\n",
+      model.name, r.ranked.size(), r.identified_parameters.size(), r.parameters, level,
+      r.pose_sigma_mm, validation, seed);
+  fmt::print("{:>4}  {:<22} {:>6}  {:>5} {:>7} {:>6} {:>8} {:>11} {:>10}\n", "rank", "x,y,z,yaw",
+             "tilt", "poses", "configs", "undet", "O1", "pred. mean", "pred. max");
+  for (int i = 0; i < best && i < static_cast<int>(r.ranked.size()); ++i) {
+    const PlacementScore& s = r.ranked[i];
+    fmt::print("{:>4}  {:<22} {:>6g}  {:>5} {:>7} {:>6} {:>8.4f} {:>11.6f} {:>10.6f}{}\n", i + 1,
+               placement_text(s.placement), s.tilt_deg, s.poses_measurable, s.configurations,
+               s.undetermined, s.observability_o1, s.predicted_mean_mm, s.predicted_max_mm,
+               s.refused.empty() ? "" : "  refused: " + s.refused);
+  }
+  for (int i = 0; i < best && i < static_cast<int>(r.pairs.size()); ++i) {
+    const PlacementPair& p = r.pairs[i];
+    fmt::print(
+        "pair #{} + #{}: {} configurations, predicted mean {:.6f} mm, max {:.6f} mm; half of "
+        "each ({} configurations) {:.6f} mm\n",
+        p.first + 1, p.second + 1, p.configurations, p.predicted_mean_mm, p.predicted_max_mm,
+        p.equal_count_configurations, p.equal_count_mean_mm);
+  }
+  fmt::print(
+      "Predictions assume gauge noise only (no unmodelled errors) and, for pairs, one world frame "
+      "shared by both placements.\n");
+}
+
 // ---- session ---------------------------------------------------------------------------------
 
 /// One operator answer: a reading (mm), "out" (ballbar out of range), "quit", or invalid.
@@ -518,6 +574,47 @@ const bool registered = register_command(60, [](CLI::App& app) {
     cmd->add_option("--out", *out, "Write the plan (JSON) for `robcal hexapod session`");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] { run_plan(*geometry, *cell, *measuring, *cell_file, *out, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "place",
+        "Placement search: plan every base-fixture placement of a grid and rank them by the "
+        "accuracy their configurations predict; best pairs of placements");
+    auto geometry = std::make_shared<GeometryOptions>();
+    auto cell = std::make_shared<CellOptions>();
+    auto measuring = std::make_shared<MeasuringOptions>();
+    auto cell_file = std::make_shared<std::string>();
+    auto grid = std::make_shared<std::array<std::string, 5>>(
+        std::array<std::string, 5>{"350,450,550", "-200,0,200", "200,300", "0", "0"});
+    auto level = std::make_shared<std::string>("kinematic");
+    auto validation = std::make_shared<int>(2000);
+    auto seed = std::make_shared<uint64_t>(1);
+    auto best = std::make_shared<int>(5);
+    auto json = std::make_shared<bool>(false);
+    geometry->add_to(cmd);
+    cell->add_to(cmd);
+    measuring->add_to(cmd);
+    cmd->add_option("--cell", *cell_file, "Cell file: floor and keep-out boxes respected");
+    cmd->add_option("--x-mm", (*grid)[0], "Grid: fixture centroid x values (mm)")
+        ->capture_default_str();
+    cmd->add_option("--y-mm", (*grid)[1], "Grid: centroid y values (mm)")->capture_default_str();
+    cmd->add_option("--z-mm", (*grid)[2], "Grid: centroid z values (mm)")->capture_default_str();
+    cmd->add_option("--yaw-deg", (*grid)[3], "Grid: yaw values (deg)")->capture_default_str();
+    cmd->add_option("--tilt-deg-grid", (*grid)[4], "Grid: platform tilt values (deg)")
+        ->capture_default_str();
+    cmd->add_option("--level", *level, "Parameters to identify: base, joints, kinematic")
+        ->capture_default_str();
+    cmd->add_option("--validation", *validation, "Random configurations the error is predicted on")
+        ->capture_default_str();
+    cmd->add_option("--seed", *seed, "Seed of the validation configurations")
+        ->capture_default_str();
+    cmd->add_option("--best", *best, "How many placements and pairs to list")
+        ->capture_default_str();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] {
+      run_place(*geometry, *cell, *measuring, *cell_file, *grid, *level, *validation, *seed,
+                *best, *json);
+    });
   }
   {
     auto* cmd = hex->add_subcommand(

@@ -37,7 +37,16 @@ boxed=$(json "$tmp/cell.json" "d['configurations_measurable']")
 rejected=$(json "$tmp/cell.json" "sum(p['rejected_workcell'] for p in d['poses'])")
 [ $((boxed + rejected)) = "$free" ] && [ "$rejected" -gt 10 ]
 
+# Placement search: out of reach ranks last with no configuration; pairs beat their members.
+"$ROBCAL" hexapod place --x-mm 1500,350,450 --y-mm 0,200 --z-mm 300 --validation 200 --best 6 \
+  --json > "$tmp/place.json"
+[ "$(json "$tmp/place.json" "[r['configurations'] for r in d['ranked'] if r['placement'].startswith('1500')] == [0, 0]")" = True ]
+[ "$(json "$tmp/place.json" "all(r['configurations'] > 0 for r in d['ranked'][:4])")" = True ]
+[ "$(json "$tmp/place.json" "all(p['predicted_mean_mm'] < min(d['ranked'][p['ranks'][0]-1]['predicted_mean_mm'], d['ranked'][p['ranks'][1]-1]['predicted_mean_mm']) for p in d['pairs'])")" = True ]
+
 set +e
+"$ROBCAL" hexapod place --y-mm "" > /dev/null 2> "$tmp/err"; [ $? = 2 ] || exit 1
+grep -q -- "--y-mm" "$tmp/err"
 "$ROBCAL" hexapod plan --gauge-range-mm 0 > /dev/null 2> "$tmp/err"; [ $? = 2 ] || exit 1
 grep -q "gauge range 0 mm" "$tmp/err"
 "$ROBCAL" hexapod simulate --gauge-sigma-mm 2 > /dev/null 2> "$tmp/err"; [ $? = 2 ] || exit 1
