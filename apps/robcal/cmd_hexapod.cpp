@@ -14,6 +14,7 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/identify/unknowns.hpp"
+#include "robcal/hexapod/device_validation.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/end_to_end_report.hpp"
@@ -137,6 +138,57 @@ void run_uncertainty(const GeometryOptions& options, double sigma_um, uint64_t s
              worst * sigma_um, 2 * worst * sigma_um);
 }
 
+// ---- device validation -----------------------------------------------------------------------
+
+/// The measuring options of `plan`, `place`, `simulate` and `device-validation`: gauge and cup
+/// screening.
+struct MeasuringOptions {
+  LengthGauge gauge;
+  CupClearance cups;
+
+  void add_to(CLI::App* cmd, bool with_cups = true) {
+    cmd->add_option("--gauge-range-mm", gauge.range_mm,
+                    "The gauge reads within ± this of its set-up length (ballbar ±1, a "
+                    "long-range gauge e.g. 5)")
+        ->capture_default_str();
+    cmd->add_option("--gauge-sigma-mm", gauge.sigma_mm, "Standard uncertainty of one reading")
+        ->capture_default_str();
+    if (!with_cups) return;
+    cmd->add_option("--cup-diameter-mm", cups.cup_diameter_mm,
+                    "Outer cup diameter: poses with colliding cups or legs are refused")
+        ->capture_default_str();
+  }
+};
+
+
+void run_device_validation(const GeometryOptions& options, const MeasuringOptions& m,
+                           double reference_sigma_mm, int poses, uint64_t seed, bool json) {
+  DeviceValidationRequest request;
+  request.geometry = options.geometry();
+  request.gauge = m.gauge;
+  request.reference_sigma_mm = reference_sigma_mm;
+  request.poses_per_mode = poses;
+  request.seed = seed;
+  const DeviceValidation v = validate_device(request);
+  if (json) {
+    print_json(device_validation_json(v, request));
+    return;
+  }
+  fmt::print(
+      "Device vs reference instrument: gauge σ {} mm (±{} mm), reference σ {} mm per axis, {} "
+      "poses per mode (legs within ±{:.2f} mm of {} mm), seed {}\n",
+      m.gauge.sigma_mm, m.gauge.range_mm, reference_sigma_mm, poses, 0.8 * m.gauge.range_mm,
+      request.geometry.leg_mm, seed);
+  fmt::print("mode  centroid µm: GUM  vs truth  vs reference (predicted)   orientation °: vs "
+             "truth  vs reference   worst cup\n");
+  for (const ModeValidation& r : v.modes)
+    fmt::print("{:>4}  {:>15.3f} {:>9.3f} {:>13.3f} ({:>9.3f})   {:>20.5f} {:>13.5f}   {:>6.2f} σ\n",
+               r.mode, 1e3 * r.centroid_gum_mm, 1e3 * r.centroid_vs_truth_mm,
+               1e3 * r.centroid_vs_reference_mm, 1e3 * r.centroid_predicted_mm,
+               r.orientation_vs_truth_deg, r.orientation_vs_reference_deg,
+               r.worst_cup_sigma_multiple);
+}
+
 // ---- world frame and set-up -------------------------------------------------------------------
 
 Cups<double> parse_points(const std::string& text, const std::string& flag) {
@@ -218,23 +270,6 @@ struct CellOptions {
   }
 };
 
-/// The measuring options of `plan` and `simulate`: gauge and cup screening.
-struct MeasuringOptions {
-  LengthGauge gauge;
-  CupClearance cups;
-
-  void add_to(CLI::App* cmd) {
-    cmd->add_option("--gauge-range-mm", gauge.range_mm,
-                    "The gauge reads within ± this of its set-up length (ballbar ±1, a "
-                    "long-range gauge e.g. 5)")
-        ->capture_default_str();
-    cmd->add_option("--gauge-sigma-mm", gauge.sigma_mm, "Standard uncertainty of one reading")
-        ->capture_default_str();
-    cmd->add_option("--cup-diameter-mm", cups.cup_diameter_mm,
-                    "Outer cup diameter: poses with colliding cups or legs are refused")
-        ->capture_default_str();
-  }
-};
 
 void run_setup(const CellOptions& o, double side_mm, bool json) {
   const RobotModel model = load_robot(o.robot);
@@ -529,6 +564,28 @@ const bool registered = register_command(60, [](CLI::App& app) {
         ->capture_default_str();
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] { run_uncertainty(*geometry, *sigma, *seed, *samples, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "device-validation",
+        "The hexapod against an independent instrument: pose uncertainty per assembly mode, GUM "
+        "and simulated comparison");
+    auto geometry = std::make_shared<GeometryOptions>();
+    auto measuring = std::make_shared<MeasuringOptions>();
+    auto reference = std::make_shared<double>(0.005);
+    auto poses = std::make_shared<int>(2000);
+    auto seed = std::make_shared<uint64_t>(1);
+    auto json = std::make_shared<bool>(false);
+    geometry->add_to(cmd);
+    measuring->add_to(cmd, false);
+    cmd->add_option("--reference-sigma-mm", *reference,
+                    "Reference instrument σ per axis of a tool cup (CMM ≈ 0.005, tracker 0.022)")
+        ->capture_default_str();
+    cmd->add_option("--poses", *poses, "Random poses per assembly mode")->capture_default_str();
+    cmd->add_option("--seed", *seed, "Seed of the poses and readings")->capture_default_str();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback(
+        [=] { run_device_validation(*geometry, *measuring, *reference, *poses, *seed, *json); });
   }
   {
     auto* cmd = hex->add_subcommand(

@@ -44,7 +44,15 @@ rejected=$(json "$tmp/cell.json" "sum(p['rejected_workcell'] for p in d['poses']
 [ "$(json "$tmp/place.json" "all(r['configurations'] > 0 for r in d['ranked'][:4])")" = True ]
 [ "$(json "$tmp/place.json" "all(p['predicted_mean_mm'] < min(d['ranked'][p['ranks'][0]-1]['predicted_mean_mm'], d['ranked'][p['ranks'][1]-1]['predicted_mean_mm']) for p in d['pairs'])")" = True ]
 
+# Device validation: per mode, device − truth at the GUM figure, device − reference at the
+# combined one (1000 poses per mode: the RMS within a few % of its expectation).
+"$ROBCAL" hexapod device-validation --poses 1000 --reference-sigma-mm 0.001 --json > "$tmp/dev.json"
+[ "$(json "$tmp/dev.json" "[m['mode'] for m in d['modes']]")" = "[1, 2, 3, 4]" ]
+[ "$(json "$tmp/dev.json" "all(abs(m['centroid_vs_truth_mm'] / m['centroid_gum_mm'] - 1) < 0.05 and abs(m['centroid_vs_reference_mm'] / m['centroid_predicted_mm'] - 1) < 0.05 for m in d['modes'])")" = True ]
+
 set +e
+"$ROBCAL" hexapod device-validation --reference-sigma-mm -1 > /dev/null 2> "$tmp/err"; [ $? = 2 ] || exit 1
+grep -q -- "--reference-sigma-mm" "$tmp/err"
 "$ROBCAL" hexapod place --y-mm "" > /dev/null 2> "$tmp/err"; [ $? = 2 ] || exit 1
 grep -q -- "--y-mm" "$tmp/err"
 "$ROBCAL" hexapod plan --gauge-range-mm 0 > /dev/null 2> "$tmp/err"; [ $? = 2 ] || exit 1
