@@ -39,8 +39,8 @@ TEST(HexapodDeviceValidation, ObservedScatterMatchesGumPerModeAgainstTruthAndRef
         "mode %d: centroid GUM %.3f µm, device−truth %.3f µm, device−reference %.3f µm (predicted "
         "%.3f µm); orientation %.5f° vs truth, %.5f° vs reference; worst cup %.2f σ\n",
         m.mode, 1e3 * m.centroid_gum_mm, 1e3 * m.centroid_vs_truth_mm,
-        1e3 * m.centroid_vs_reference_mm, 1e3 * m.centroid_predicted_mm,
-        m.orientation_vs_truth_deg, m.orientation_vs_reference_deg, m.worst_cup_sigma_multiple);
+        1e3 * m.centroid_vs_reference_mm, 1e3 * m.centroid_predicted_mm, m.orientation_vs_truth_deg,
+        m.orientation_vs_reference_deg, m.worst_cup_sigma_multiple);
   }
 }
 

@@ -318,7 +318,8 @@ TEST(HexapodPoses, FacingBaseNumberingKeepsThePublishedFiftyFourAt30DegreesAnd50
   double closest = 180;
   for (size_t i = 0; i < poses.size(); ++i)
     for (size_t j = i + 1; j < poses.size(); ++j) {
-      const double angle = rad2deg(rotation_distance(poses[i].base_T_tool.R, poses[j].base_T_tool.R));
+      const double angle =
+          rad2deg(rotation_distance(poses[i].base_T_tool.R, poses[j].base_T_tool.R));
       const double gap = (centroid(poses[i].tool_cups) - centroid(poses[j].tool_cups)).norm();
       if (angle < 30 && gap < 50) {
         ++pairs;
@@ -333,9 +334,10 @@ TEST(HexapodPoses, FacingBaseNumberingKeepsThePublishedFiftyFourAt30DegreesAnd50
   for (int n : partners) EXPECT_LE(n, 1);  // disjoint
   EXPECT_EQ(pairs, 18);
   EXPECT_EQ(prune_redundant(poses, deg2rad(30), 50).size(), 72u - pairs);
-  std::printf("facing-base numbering: %d disjoint close pairs (closest %.2f deg), 30 deg/50 mm "
-              "keeps %zu\n",
-              pairs, closest, prune_redundant(poses, deg2rad(30), 50).size());
+  std::printf(
+      "facing-base numbering: %d disjoint close pairs (closest %.2f deg), 30 deg/50 mm "
+      "keeps %zu\n",
+      pairs, closest, prune_redundant(poses, deg2rad(30), 50).size());
 }
 
 }  // namespace

@@ -61,8 +61,7 @@ double straight_prediction(const RobotModel& model, const std::vector<Vector6d>&
   const Eigen::VectorXd d = normal.diagonal().cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd scaled = d.asDiagonal() * normal * d.asDiagonal();
   const Eigen::MatrixXd cov = sigma_mm * sigma_mm * d.asDiagonal() *
-                              scaled.ldlt().solve(Eigen::MatrixXd::Identity(p, p)) *
-                              d.asDiagonal();
+                              scaled.ldlt().solve(Eigen::MatrixXd::Identity(p, p)) * d.asDiagonal();
   double sum = 0;
   for (const Vector6d& v : validation) {
     const Eigen::MatrixXd Jv = rows(v, MeasurementKind::Points);
@@ -90,8 +89,10 @@ TEST(HexapodPlacementSearch, RanksReachablePlacementsAndPredictsWhatAStraightCom
       EXPECT_EQ(s.configurations, 0);
       EXPECT_FALSE(s.usable());
     }
-    if (!s.usable()) ++unusable;
-    else EXPECT_EQ(unusable, 0) << "usable placement ranked after an unusable one";
+    if (!s.usable())
+      ++unusable;
+    else
+      EXPECT_EQ(unusable, 0) << "usable placement ranked after an unusable one";
   }
   EXPECT_EQ(unusable, 6);
   for (size_t i = 1; i < r.ranked.size(); ++i)

@@ -89,8 +89,7 @@ TEST(HexapodWorkcell, PlannedConfigurationsStayOutOfTheKeepOutBoxAndAboveTheFloo
     touching += touches(*request.workcell, model, joints(c), tool_flange);
   EXPECT_EQ(touching, rejected);
   std::printf("shelf above the fixture: %d of %d configurations rejected, %d poses measurable\n",
-              rejected, free.outcome->configurations_measurable,
-              boxed.outcome->poses_measurable);
+              rejected, free.outcome->configurations_measurable, boxed.outcome->poses_measurable);
   // The plan file names the cell (provenance: the session does not need it) and keeps the counts.
   nlohmann::json written = hexapod_plan_json(boxed);
   EXPECT_EQ(written["cell_file"], "bench.yaml");
@@ -103,8 +102,7 @@ TEST(HexapodWorkcell, BaseFixtureInsideAKeepOutBoxIsRefusedNamingTheCellFile) {
   HexapodPlanRequest request;
   request.workcell = cell_with_box({400, -50, 200}, {500, 50, 400});  // around the cups' centroid
   request.placement = {450, -173.2, 300, 0};  // B1, B2 outside; B3 at (450, 0, 300)
-  EXPECT_REFUSED(plan_hexapod(load_robot("fanuc-lrmate200ic"), request), InputError,
-                 "base cup B3");
+  EXPECT_REFUSED(plan_hexapod(load_robot("fanuc-lrmate200ic"), request), InputError, "base cup B3");
   EXPECT_REFUSED(plan_hexapod(load_robot("fanuc-lrmate200ic"), request), InputError,
                  "keep-out box 'shelf' of bench.yaml");
 }

@@ -13,7 +13,6 @@
 #include "robcal/campaign/cell.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
-#include "robcal/identify/unknowns.hpp"
 #include "robcal/hexapod/device_validation.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
@@ -26,6 +25,7 @@
 #include "robcal/hexapod/session.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/world_frame.hpp"
+#include "robcal/identify/unknowns.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
@@ -160,7 +160,6 @@ struct MeasuringOptions {
   }
 };
 
-
 void run_device_validation(const GeometryOptions& options, const MeasuringOptions& m,
                            double reference_sigma_mm, int poses, uint64_t seed, bool json) {
   DeviceValidationRequest request;
@@ -179,14 +178,15 @@ void run_device_validation(const GeometryOptions& options, const MeasuringOption
       "poses per mode (legs within ±{:.2f} mm of {} mm), seed {}\n",
       m.gauge.sigma_mm, m.gauge.range_mm, reference_sigma_mm, poses, 0.8 * m.gauge.range_mm,
       request.geometry.leg_mm, seed);
-  fmt::print("mode  centroid µm: GUM  vs truth  vs reference (predicted)   orientation °: vs "
-             "truth  vs reference   worst cup\n");
+  fmt::print(
+      "mode  centroid µm: GUM  vs truth  vs reference (predicted)   orientation °: vs "
+      "truth  vs reference   worst cup\n");
   for (const ModeValidation& r : v.modes)
-    fmt::print("{:>4}  {:>15.3f} {:>9.3f} {:>13.3f} ({:>9.3f})   {:>20.5f} {:>13.5f}   {:>6.2f} σ\n",
-               r.mode, 1e3 * r.centroid_gum_mm, 1e3 * r.centroid_vs_truth_mm,
-               1e3 * r.centroid_vs_reference_mm, 1e3 * r.centroid_predicted_mm,
-               r.orientation_vs_truth_deg, r.orientation_vs_reference_deg,
-               r.worst_cup_sigma_multiple);
+    fmt::print(
+        "{:>4}  {:>15.3f} {:>9.3f} {:>13.3f} ({:>9.3f})   {:>20.5f} {:>13.5f}   {:>6.2f} σ\n",
+        r.mode, 1e3 * r.centroid_gum_mm, 1e3 * r.centroid_vs_truth_mm,
+        1e3 * r.centroid_vs_reference_mm, 1e3 * r.centroid_predicted_mm, r.orientation_vs_truth_deg,
+        r.orientation_vs_reference_deg, r.worst_cup_sigma_multiple);
 }
 
 // ---- world frame and set-up -------------------------------------------------------------------
@@ -270,7 +270,6 @@ struct CellOptions {
   }
 };
 
-
 void run_setup(const CellOptions& o, double side_mm, bool json) {
   const RobotModel model = load_robot(o.robot);
   const nlohmann::json points =
@@ -317,9 +316,9 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
     std::vector<std::string> labels;
     for (const SessionConfiguration& c : plan.session.configurations)
       if (c.pose == p.label) labels.push_back(c.labels);
-    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {}{})\n",
-               p.label, p.description, p.ik, p.configurations, fmt::join(labels, " "),
-               p.rejected_table, p.rejected_fixture,
+    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {}{})\n", p.label,
+               p.description, p.ik, p.configurations, fmt::join(labels, " "), p.rejected_table,
+               p.rejected_fixture,
                request.workcell ? fmt::format(", cell {}", p.rejected_workcell) : "");
   }
   if (!out_path.empty()) fmt::print("plan written to {}\n", out_path);
@@ -669,8 +668,8 @@ const bool registered = register_command(60, [](CLI::App& app) {
         ->capture_default_str();
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
-      run_place(*geometry, *cell, *measuring, *cell_file, *grid, *level, *validation, *seed,
-                *best, *json);
+      run_place(*geometry, *cell, *measuring, *cell_file, *grid, *level, *validation, *seed, *best,
+                *json);
     });
   }
   {
@@ -699,11 +698,9 @@ const bool registered = register_command(60, [](CLI::App& app) {
                   "Pose fits hold the base (the published relative model) instead of identifying "
                   "it");
     cmd->add_flag("--json", *json, "Machine-readable output");
-    cmd->callback(
-        [=] {
-          run_simulate(*cell, *measuring, *seed, *validation, *threads, !*no_leg_fit, *relative,
-                       *json);
-        });
+    cmd->callback([=] {
+      run_simulate(*cell, *measuring, *seed, *validation, *threads, !*no_leg_fit, *relative, *json);
+    });
   }
   {
     auto* cmd = hex->add_subcommand(

@@ -103,18 +103,17 @@ nlohmann::json device_validation_json(const DeviceValidation& v,
                      {"seed", request.seed}};
   out["modes"] = nlohmann::json::array();
   for (const ModeValidation& m : v.modes)
-    out["modes"].push_back({{"mode", m.mode},
-                            {"poses", m.poses},
-                            {"centroid_gum_mm", rounded(m.centroid_gum_mm, 9)},
-                            {"centroid_vs_truth_mm", rounded(m.centroid_vs_truth_mm, 9)},
-                            {"centroid_reference_mm", rounded(m.centroid_reference_mm, 9)},
-                            {"centroid_vs_reference_mm", rounded(m.centroid_vs_reference_mm, 9)},
-                            {"centroid_predicted_mm", rounded(m.centroid_predicted_mm, 9)},
-                            {"orientation_vs_truth_deg", rounded(m.orientation_vs_truth_deg, 9)},
-                            {"orientation_vs_reference_deg",
-                             rounded(m.orientation_vs_reference_deg, 9)},
-                            {"worst_cup_sigma_multiple",
-                             rounded(m.worst_cup_sigma_multiple, 6)}});
+    out["modes"].push_back(
+        {{"mode", m.mode},
+         {"poses", m.poses},
+         {"centroid_gum_mm", rounded(m.centroid_gum_mm, 9)},
+         {"centroid_vs_truth_mm", rounded(m.centroid_vs_truth_mm, 9)},
+         {"centroid_reference_mm", rounded(m.centroid_reference_mm, 9)},
+         {"centroid_vs_reference_mm", rounded(m.centroid_vs_reference_mm, 9)},
+         {"centroid_predicted_mm", rounded(m.centroid_predicted_mm, 9)},
+         {"orientation_vs_truth_deg", rounded(m.orientation_vs_truth_deg, 9)},
+         {"orientation_vs_reference_deg", rounded(m.orientation_vs_reference_deg, 9)},
+         {"worst_cup_sigma_multiple", rounded(m.worst_cup_sigma_multiple, 6)}});
   return out;
 }
 

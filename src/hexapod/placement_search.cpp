@@ -115,7 +115,8 @@ PlacementSearchResult search_placements(const RobotModel& model,
               s.poses_measurable = plan.outcome->poses_measurable;
               for (const SessionConfiguration& c : plan.session.configurations) {
                 Candidate candidate;
-                for (int j = 0; j < kJointCount; ++j) candidate.joints[j] = deg2rad(c.joints_deg[j]);
+                for (int j = 0; j < kJointCount; ++j)
+                  candidate.joints[j] = deg2rad(c.joints_deg[j]);
                 candidate.target = -1;
                 mine.push_back(static_cast<int>(candidates.size()));
                 candidates.push_back(candidate);

@@ -29,14 +29,16 @@ std::string base_fixture_in_workcell(const RobotModel& model, const campaign::Ce
   for (int i = 0; i < 3; ++i) {
     const Eigen::Vector3d p = world_T_robot * base_cups_robot[i];
     if (p.z() < workcell.floor_z_mm)
-      return fmt::format("base cup B{} at z = {:.1f} mm (cell world) is below the floor of {} ({} "
-                         "mm)",
-                         i + 1, p.z(), workcell.file, workcell.floor_z_mm);
+      return fmt::format(
+          "base cup B{} at z = {:.1f} mm (cell world) is below the floor of {} ({} "
+          "mm)",
+          i + 1, p.z(), workcell.file, workcell.floor_z_mm);
     for (const campaign::KeepOutBox& box : workcell.keep_out)
       if (campaign::segment_box_distance(p, p, box) <= 0)
-        return fmt::format("base cup B{} ({:.1f}, {:.1f}, {:.1f} mm, cell world) is inside the "
-                           "keep-out box '{}' of {}",
-                           i + 1, p.x(), p.y(), p.z(), box.name, workcell.file);
+        return fmt::format(
+            "base cup B{} ({:.1f}, {:.1f}, {:.1f} mm, cell world) is inside the "
+            "keep-out box '{}' of {}",
+            i + 1, p.x(), p.y(), p.z(), box.name, workcell.file);
   }
   return {};
 }

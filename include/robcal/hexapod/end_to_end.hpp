@@ -54,7 +54,8 @@ struct CalibrationStage {
 
 struct EndToEndReport {
   std::string robot;
-  int poses_enumerated = 0, poses_refused = 0, poses_kept = 0, poses_measurable = 0, configurations_planned = 0;
+  int poses_enumerated = 0, poses_refused = 0, poses_kept = 0, poses_measurable = 0,
+      configurations_planned = 0;
   int measured_first = 0;  ///< configurations whose six legs were all in range
   int retried = 0;         ///< out of range at first, re-planned with the preliminary model
   int measured_after_replan = 0;

@@ -45,8 +45,8 @@ struct PlacementScore {
   /// Of the parameters the whole grid determines (identified_parameters), those these
   /// configurations leave undetermined (0: all).
   int undetermined = 0;
-  double observability_o1 = 0;      ///< O1 of the scaled pose Jacobian (design/observability.hpp)
-  double predicted_mean_mm = 0;     ///< predicted mean position error over the workspace
+  double observability_o1 = 0;   ///< O1 of the scaled pose Jacobian (design/observability.hpp)
+  double predicted_mean_mm = 0;  ///< predicted mean position error over the workspace
   double predicted_max_mm = 0;
   [[nodiscard]] bool usable() const { return refused.empty() && configurations > 0; }
 };

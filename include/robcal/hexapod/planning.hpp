@@ -66,8 +66,8 @@ struct PosePlan {
   IkStatus ik_status = IkStatus::Unreachable;
   /// Measurable ones, one per arm branch (equivalent joint turns are not counted twice).
   std::vector<PoseConfiguration> configurations;
-  int rejected_table = 0;    ///< IK solutions within limits rejected by the table check
-  int rejected_fixture = 0;  ///< … by the base-fixture check
+  int rejected_table = 0;     ///< IK solutions within limits rejected by the table check
+  int rejected_fixture = 0;   ///< … by the base-fixture check
   int rejected_workcell = 0;  ///< … by the workcell's floor and keep-out boxes
 };
 
