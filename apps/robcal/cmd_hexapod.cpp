@@ -229,15 +229,18 @@ struct CellOptions {
   double distance_mm = 50;
   double tilt_deg = 0;
 
-  void add_to(CLI::App* cmd) {
+  /// `with_placement` false: the command searches placements itself (`place`).
+  void add_to(CLI::App* cmd, bool with_placement = true) {
     cmd->add_option("--robot", robot, "Built-in robot name or robot file")->capture_default_str();
-    cmd->add_option("--tilt-deg", tilt_deg,
-                    "Tilt of the base fixture's pivoting platform about the placement's x axis")
-        ->capture_default_str();
-    cmd->add_option("--placement", placement,
-                    "Rough base-fixture placement in the robot frame: centroid x,y,z of the cups "
-                    "(mm) and yaw about z (deg)")
-        ->capture_default_str();
+    if (with_placement) {
+      cmd->add_option("--tilt-deg", tilt_deg,
+                      "Tilt of the base fixture's pivoting platform about the placement's x axis")
+          ->capture_default_str();
+      cmd->add_option("--placement", placement,
+                      "Rough base-fixture placement in the robot frame: centroid x,y,z of the "
+                      "cups (mm) and yaw about z (deg)")
+          ->capture_default_str();
+    }
     cmd->add_option("--tool-offset-mm", tool_offset_mm,
                     "Tool fixture centroid along the flange z axis (fixture plane ⟂ flange axis)")
         ->capture_default_str();
@@ -336,7 +339,7 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
   request.plan.cups = m.cups;
   if (!cell_path.empty()) request.plan.workcell = campaign::load_cell(cell_path);
   static constexpr std::array<const char*, 5> kFlags{"--x-mm", "--y-mm", "--z-mm", "--yaw-deg",
-                                                     "--tilt-deg-grid"};
+                                                     "--tilt-deg"};
   std::array<std::vector<double>*, 5> axes{&request.x_mm, &request.y_mm, &request.z_mm,
                                            &request.yaw_deg, &request.tilt_deg};
   for (int i = 0; i < 5; ++i) *axes[i] = parse_numbers(grid[i], -1, kFlags[i]);
@@ -648,7 +651,7 @@ const bool registered = register_command(60, [](CLI::App& app) {
     auto best = std::make_shared<int>(5);
     auto json = std::make_shared<bool>(false);
     geometry->add_to(cmd);
-    cell->add_to(cmd);
+    cell->add_to(cmd, false);
     measuring->add_to(cmd);
     cmd->add_option("--cell", *cell_file, "Cell file: floor and keep-out boxes respected");
     cmd->add_option("--x-mm", (*grid)[0], "Grid: fixture centroid x values (mm)")
@@ -656,7 +659,7 @@ const bool registered = register_command(60, [](CLI::App& app) {
     cmd->add_option("--y-mm", (*grid)[1], "Grid: centroid y values (mm)")->capture_default_str();
     cmd->add_option("--z-mm", (*grid)[2], "Grid: centroid z values (mm)")->capture_default_str();
     cmd->add_option("--yaw-deg", (*grid)[3], "Grid: yaw values (deg)")->capture_default_str();
-    cmd->add_option("--tilt-deg-grid", (*grid)[4], "Grid: platform tilt values (deg)")
+    cmd->add_option("--tilt-deg", (*grid)[4], "Grid: platform tilt values (deg)")
         ->capture_default_str();
     cmd->add_option("--level", *level, "Parameters to identify: base, joints, kinematic")
         ->capture_default_str();

@@ -73,7 +73,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   check_axis(request.y_mm, "--y-mm");
   check_axis(request.z_mm, "--z-mm");
   check_axis(request.yaw_deg, "--yaw-deg");
-  check_axis(request.tilt_deg, "--tilt-deg-grid");
+  check_axis(request.tilt_deg, "--tilt-deg");
   const size_t grid = request.x_mm.size() * request.y_mm.size() * request.z_mm.size() *
                       request.yaw_deg.size() * request.tilt_deg.size();
   if (grid > 2000)
