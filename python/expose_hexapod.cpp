@@ -11,8 +11,10 @@
 #include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/hexapod/device_validation.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end_report.hpp"
+#include "robcal/hexapod/placement_search.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/replan.hpp"
@@ -240,6 +242,57 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("table_z_mm") = 0.0, py::arg("angle_deg") = 30.0, py::arg("distance_mm") = 50.0,
       "Plans a hexapod measurement (`robcal hexapod plan`): placement = (x, y, z mm, yaw deg) of "
       "the base cups' centroid in the robot frame");
+  h.def(
+      "place",
+      [](const std::string& robot, const std::vector<double>& x_mm, const std::vector<double>& y_mm,
+         const std::vector<double>& z_mm, const std::vector<double>& yaw_deg,
+         const std::vector<double>& tilt_deg, const std::string& level, int validation,
+         uint64_t seed, int best) {
+        PlacementSearchRequest r;
+        r.plan.robot = robot;
+        r.x_mm = x_mm;
+        r.y_mm = y_mm;
+        r.z_mm = z_mm;
+        r.yaw_deg = yaw_deg;
+        r.tilt_deg = tilt_deg;
+        r.level = parse_calibration_level(level);
+        r.validation_configurations = validation;
+        r.seed = seed;
+        r.pair_candidates = std::max(best, 2);
+        const RobotModel model = load_robot(robot);
+        PlacementSearchResult result;
+        {
+          py::gil_scoped_release release;
+          result = search_placements(model, r);
+        }
+        return json_to_python(placement_search_json(result, best));
+      },
+      py::arg("robot") = "fanuc-lrmate200ic", py::arg("x_mm") = std::vector<double>{350, 450, 550},
+      py::arg("y_mm") = std::vector<double>{-200, 0, 200},
+      py::arg("z_mm") = std::vector<double>{200, 300}, py::arg("yaw_deg") = std::vector<double>{0},
+      py::arg("tilt_deg") = std::vector<double>{0}, py::arg("level") = "kinematic",
+      py::arg("validation") = 2000, py::arg("seed") = 1, py::arg("best") = 5,
+      "Placement search (`robcal hexapod place`): the grid's placements ranked by predicted "
+      "accuracy, and the best pairs; the CLI's JSON as a dict");
+  h.def(
+      "device_validation",
+      [](const std::array<double, 3>& base_sides_mm, const std::array<double, 3>& tool_sides_mm,
+         double leg_mm, double gauge_range_mm, double gauge_sigma_mm, double reference_sigma_mm,
+         int poses, uint64_t seed) {
+        DeviceValidationRequest r;
+        r.geometry = {sides(base_sides_mm), sides(tool_sides_mm), leg_mm};
+        r.gauge = {gauge_range_mm, gauge_sigma_mm};
+        r.reference_sigma_mm = reference_sigma_mm;
+        r.poses_per_mode = poses;
+        r.seed = seed;
+        return json_to_python(device_validation_json(validate_device(r), r));
+      },
+      py::arg("base_sides_mm") = std::array<double, 3>{300, 300, 300},
+      py::arg("tool_sides_mm") = std::array<double, 3>{150, 150, 150}, py::arg("leg_mm") = 300.0,
+      py::arg("gauge_range_mm") = 1.0, py::arg("gauge_sigma_mm") = 0.00051,
+      py::arg("reference_sigma_mm") = 0.005, py::arg("poses") = 2000, py::arg("seed") = 1,
+      "The hexapod against an independent instrument (`robcal hexapod device-validation`): per "
+      "assembly mode, GUM and simulated scatter; the CLI's JSON as a dict");
   h.def(
       "simulate",
       [](const std::string& robot, const std::array<double, 4>& placement, double tool_offset_mm,

@@ -215,7 +215,7 @@ TEST(HexapodPoses, SeventyTwoPosesAllLegsAtNominalLength) {
 
 TEST(HexapodPoses, PruningKeepsOnlyPosesFarFromEachOther) {
   const HexapodGeometry g;  // 300 / 150 / 300, equilateral
-  const std::vector<HexapodPose> poses = enumerate_poses(g);
+  const std::vector<HexapodPose> poses = enumerate_poses(g, ToolRelabelling::Rotations);
   ASSERT_EQ(poses.size(), 72u);
   EXPECT_EQ(prune_redundant(poses, 0, 0).size(), 72u);
   EXPECT_EQ(prune_redundant(poses, 4, 1e6).size(), 1u);
@@ -248,14 +248,16 @@ TEST(HexapodPoses, PruningKeepsOnlyPosesFarFromEachOther) {
   EXPECT_GT(rad2deg(closest), 30);
 }
 
-TEST(HexapodPoses, PublishedFiftyFourIsTheOrientationRuleJustAbove30Degrees) {
-  // docs/method/07-hexapod.md: "closer than ~30° and ~50 mm … the published set keeps 54". For the
-  // published fixtures (300 / 150 / 300 mm, equilateral) the orientation distance (rotation angle
-  // between the tool fixture frames) of the closest pairs is just above 30°, with tool-fixture
-  // centres ≈ 148 mm apart; no pair is within 50 mm and 60°. So 30° and 50 mm together keep all 72,
-  // and 54 = 72 − 18 is what an orientation-only rule just above 30° leaves: the closest pairs are
-  // 18 disjoint pairs (a mode-1 pose with a mode-3 one, a mode-2 with a mode-4), each losing one.
-  const std::vector<HexapodPose> poses = enumerate_poses(HexapodGeometry{});
+TEST(HexapodPoses, RotationOnlyNumberingNeedsAnOrientationRuleAbove30DegreesForFiftyFour) {
+  // The rotation-only numbering (not the default: its modes 1 and 3 face away from the base, see
+  // HexapodPoses.FacingBaseNumberingKeepsThePublishedFiftyFourAt30DegreesAnd50Millimetres). For
+  // the published fixtures (300 / 150 / 300 mm, equilateral) the orientation distance (rotation
+  // angle between the tool fixture frames) of the closest pairs is just above 30°, with
+  // tool-fixture centres ≈ 148 mm apart; no pair is within 50 mm and 60°. So 30° and 50 mm together
+  // keep all 72, and 54 = 72 − 18 only with an orientation-only rule just above 30°: the closest
+  // pairs are 18 disjoint pairs (a mode-1 pose with a mode-3 one, a mode-2 with a mode-4).
+  const std::vector<HexapodPose> poses =
+      enumerate_poses(HexapodGeometry{}, ToolRelabelling::Rotations);
   ASSERT_EQ(poses.size(), 72u);
   const auto angle = [&](size_t i, size_t j) {
     return rad2deg(rotation_distance(poses[i].base_T_tool.R, poses[j].base_T_tool.R));
@@ -301,6 +303,41 @@ TEST(HexapodPoses, PublishedFiftyFourIsTheOrientationRuleJustAbove30Degrees) {
             if (angle(i, j) < closest + 1e-6) return distance(i, j);
         return 0.0;
       }());
+}
+
+TEST(HexapodPoses, FacingBaseNumberingKeepsThePublishedFiftyFourAt30DegreesAnd50Millimetres) {
+  // docs/method/07-hexapod.md §3: "within 30° in orientation and 50 mm … the published set keeps
+  // 54", with the default numbering (tool cups facing the base in every mode). Independent of
+  // prune_redundant's greedy order: the "close" relation (both within 30° and 50 mm) computed here
+  // pair by pair forms disjoint pairs only, so any rule that drops one pose of each close pair
+  // keeps 72 − pairs.
+  const std::vector<HexapodPose> poses = enumerate_poses(HexapodGeometry{});
+  ASSERT_EQ(poses.size(), 72u);
+  std::vector<int> partners(poses.size(), 0);
+  int pairs = 0;
+  double closest = 180;
+  for (size_t i = 0; i < poses.size(); ++i)
+    for (size_t j = i + 1; j < poses.size(); ++j) {
+      const double angle =
+          rad2deg(rotation_distance(poses[i].base_T_tool.R, poses[j].base_T_tool.R));
+      const double gap = (centroid(poses[i].tool_cups) - centroid(poses[j].tool_cups)).norm();
+      if (angle < 30 && gap < 50) {
+        ++pairs;
+        ++partners[i];
+        ++partners[j];
+        // Each pair: a mirrored mode-1 pose with a mode-2 one, or mode 3 with mode 4.
+        EXPECT_EQ(poses[i].mode % 2, 1) << poses[i].label;
+        EXPECT_EQ(poses[j].mode, poses[i].mode + 1) << poses[j].label;
+        closest = std::min(closest, angle);
+      }
+    }
+  for (int n : partners) EXPECT_LE(n, 1);  // disjoint
+  EXPECT_EQ(pairs, 18);
+  EXPECT_EQ(prune_redundant(poses, deg2rad(30), 50).size(), 72u - pairs);
+  std::printf(
+      "facing-base numbering: %d disjoint close pairs (closest %.2f deg), 30 deg/50 mm "
+      "keeps %zu\n",
+      pairs, closest, prune_redundant(poses, deg2rad(30), 50).size());
 }
 
 }  // namespace

@@ -367,7 +367,7 @@ TEST(HexapodCupCollision, RefusesCoincidingCupsCrossingLegsAndLegsThroughCups) {
 TEST(HexapodCupCollision, ScreeningRefusesTheFiftyFourPosesOfAThreeHundredMillimetreToolTriangle) {
   // Issue 20: with a 300 mm tool triangle, 54 of the 72 planned poses put a tool cup on a base cup.
   const HexapodGeometry big{{300, 300, 300}, {300, 300, 300}, 300};
-  const std::vector<HexapodPose> poses = enumerate_poses(big);
+  const std::vector<HexapodPose> poses = enumerate_poses(big, ToolRelabelling::Rotations);
   ASSERT_EQ(poses.size(), 72u);
   const PoseScreening s = screen_poses(poses, big, deg2rad(30), 50, CupClearance{});
   int coincide = 0;
@@ -388,7 +388,7 @@ TEST(HexapodCupCollision, DefaultGeometryRefusesThePosesWhoseToolCupsFaceAwayFro
   // (fixture.hpp), a pose whose tool-fixture normal points away from the base cups' centroid
   // has the ballbar going through the tool plate. Independent criterion: the centroids.
   const HexapodGeometry g;  // 300 / 150 / 300
-  const std::vector<HexapodPose> poses = enumerate_poses(g);
+  const std::vector<HexapodPose> poses = enumerate_poses(g, ToolRelabelling::Rotations);
   const PoseScreening s = screen_poses(poses, g, deg2rad(30), 50, CupClearance{});
   const Cups<double> base = fixture_cups(g.base, "base fixture");
   int facing_away = 0;
@@ -406,15 +406,17 @@ TEST(HexapodCupCollision, DefaultGeometryRefusesThePosesWhoseToolCupsFaceAwayFro
     EXPECT_NE(r.reason.find("crosses the tool fixture"), std::string::npos) << r.reason;
   }
   std::printf(
-      "default geometry: %zu of 72 refused (tool cups facing away), %zu kept after "
+      "rotation-only numbering: %zu of 72 refused (tool cups facing away), %zu kept after "
       "pruning\n",
       s.refused.size(), s.kept.size());
+  // The default numbering turns those 36 to face the base: nothing refused.
+  EXPECT_TRUE(screen_poses(enumerate_poses(g), g, deg2rad(30), 50, CupClearance{}).refused.empty());
 }
 
 TEST(HexapodCupCollision, FacingBaseRelabellingGivesSeventyTwoPosesThatCanBeSetUp) {
   const HexapodGeometry g{{301, 299, 300.5}, {150, 151, 149.5}, 300};
-  const std::vector<HexapodPose> rotations = enumerate_poses(g);
-  const std::vector<HexapodPose> facing = enumerate_poses(g, ToolRelabelling::FacingBase);
+  const std::vector<HexapodPose> rotations = enumerate_poses(g, ToolRelabelling::Rotations);
+  const std::vector<HexapodPose> facing = enumerate_poses(g);  // the default
   ASSERT_EQ(facing.size(), 72u);
   const Cups<double> base = fixture_cups(g.base, "base fixture");
   const Cups<double> tool = fixture_cups(g.tool, "tool fixture");

@@ -10,18 +10,22 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
+#include "robcal/campaign/cell.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/hexapod/device_validation.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/end_to_end_report.hpp"
 #include "robcal/hexapod/geometry_reports.hpp"
+#include "robcal/hexapod/placement_search.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/session.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/world_frame.hpp"
+#include "robcal/identify/unknowns.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
@@ -134,6 +138,57 @@ void run_uncertainty(const GeometryOptions& options, double sigma_um, uint64_t s
              worst * sigma_um, 2 * worst * sigma_um);
 }
 
+// ---- device validation -----------------------------------------------------------------------
+
+/// The measuring options of `plan`, `place`, `simulate` and `device-validation`: gauge and cup
+/// screening.
+struct MeasuringOptions {
+  LengthGauge gauge;
+  CupClearance cups;
+
+  void add_to(CLI::App* cmd, bool with_cups = true) {
+    cmd->add_option("--gauge-range-mm", gauge.range_mm,
+                    "The gauge reads within ± this of its set-up length (ballbar ±1, a "
+                    "long-range gauge e.g. 5)")
+        ->capture_default_str();
+    cmd->add_option("--gauge-sigma-mm", gauge.sigma_mm, "Standard uncertainty of one reading")
+        ->capture_default_str();
+    if (!with_cups) return;
+    cmd->add_option("--cup-diameter-mm", cups.cup_diameter_mm,
+                    "Outer cup diameter: poses with colliding cups or legs are refused")
+        ->capture_default_str();
+  }
+};
+
+void run_device_validation(const GeometryOptions& options, const MeasuringOptions& m,
+                           double reference_sigma_mm, int poses, uint64_t seed, bool json) {
+  DeviceValidationRequest request;
+  request.geometry = options.geometry();
+  request.gauge = m.gauge;
+  request.reference_sigma_mm = reference_sigma_mm;
+  request.poses_per_mode = poses;
+  request.seed = seed;
+  const DeviceValidation v = validate_device(request);
+  if (json) {
+    print_json(device_validation_json(v, request));
+    return;
+  }
+  fmt::print(
+      "Device vs reference instrument: gauge σ {} mm (±{} mm), reference σ {} mm per axis, {} "
+      "poses per mode (legs within ±{:.2f} mm of {} mm), seed {}\n",
+      m.gauge.sigma_mm, m.gauge.range_mm, reference_sigma_mm, poses, 0.8 * m.gauge.range_mm,
+      request.geometry.leg_mm, seed);
+  fmt::print(
+      "mode  centroid µm: GUM  vs truth  vs reference (predicted)   orientation °: vs "
+      "truth  vs reference   worst cup\n");
+  for (const ModeValidation& r : v.modes)
+    fmt::print(
+        "{:>4}  {:>15.3f} {:>9.3f} {:>13.3f} ({:>9.3f})   {:>20.5f} {:>13.5f}   {:>6.2f} σ\n",
+        r.mode, 1e3 * r.centroid_gum_mm, 1e3 * r.centroid_vs_truth_mm,
+        1e3 * r.centroid_vs_reference_mm, 1e3 * r.centroid_predicted_mm, r.orientation_vs_truth_deg,
+        r.orientation_vs_reference_deg, r.worst_cup_sigma_multiple);
+}
+
 // ---- world frame and set-up -------------------------------------------------------------------
 
 Cups<double> parse_points(const std::string& text, const std::string& flag) {
@@ -172,13 +227,20 @@ struct CellOptions {
   double table_z_mm = 0;
   double angle_deg = 30;
   double distance_mm = 50;
+  double tilt_deg = 0;
 
-  void add_to(CLI::App* cmd) {
+  /// `with_placement` false: the command searches placements itself (`place`).
+  void add_to(CLI::App* cmd, bool with_placement = true) {
     cmd->add_option("--robot", robot, "Built-in robot name or robot file")->capture_default_str();
-    cmd->add_option("--placement", placement,
-                    "Rough base-fixture placement in the robot frame: centroid x,y,z of the cups "
-                    "(mm) and yaw about z (deg)")
-        ->capture_default_str();
+    if (with_placement) {
+      cmd->add_option("--tilt-deg", tilt_deg,
+                      "Tilt of the base fixture's pivoting platform about the placement's x axis")
+          ->capture_default_str();
+      cmd->add_option("--placement", placement,
+                      "Rough base-fixture placement in the robot frame: centroid x,y,z of the "
+                      "cups (mm) and yaw about z (deg)")
+          ->capture_default_str();
+    }
     cmd->add_option("--tool-offset-mm", tool_offset_mm,
                     "Tool fixture centroid along the flange z axis (fixture plane ⟂ flange axis)")
         ->capture_default_str();
@@ -203,10 +265,11 @@ struct CellOptions {
     r.table_z_mm = table_z_mm;
     r.angle_deg = angle_deg;
     r.distance_mm = distance_mm;
+    r.tilt_deg = tilt_deg;
     return r;
   }
   [[nodiscard]] Pose<double> rough_placement() const {
-    return placement_pose(parse_placement(placement, {"", 0, 0, "--placement"}));
+    return placement_pose(parse_placement(placement, {"", 0, 0, "--placement"}), tilt_deg);
   }
 };
 
@@ -232,8 +295,12 @@ void run_setup(const CellOptions& o, double side_mm, bool json) {
 }
 
 void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
-              const std::string& out_path, bool json) {
-  const HexapodPlanRequest request = o.request(geometry_options.geometry());
+              const MeasuringOptions& m, const std::string& cell_path, const std::string& out_path,
+              bool json) {
+  HexapodPlanRequest request = o.request(geometry_options.geometry());
+  request.gauge = m.gauge;
+  request.cups = m.cups;
+  if (!cell_path.empty()) request.workcell = campaign::load_cell(cell_path);
   const RobotModel model = load_robot(o.robot);
   const HexapodPlan plan = plan_hexapod(model, request);
   if (!out_path.empty()) write_hexapod_plan(out_path, plan);
@@ -243,18 +310,75 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
   }
   const PlanOutcome& outcome = *plan.outcome;
   fmt::print(
-      "{}: {} poses enumerated, {} kept after pruning, {} measurable with {} configurations\n",
-      model.name, outcome.poses_enumerated, outcome.poses_kept, outcome.poses_measurable,
-      outcome.configurations_measurable);
+      "{}: {} poses enumerated, {} refused (cups or legs collide), {} kept after pruning, {} "
+      "measurable with {} configurations\n",
+      model.name, outcome.poses_enumerated, outcome.refused.size(), outcome.poses_kept,
+      outcome.poses_measurable, outcome.configurations_measurable);
+  for (const auto& [label, reason] : outcome.refused) fmt::print("{} refused: {}\n", label, reason);
   for (const PlannedPose& p : outcome.poses) {
     std::vector<std::string> labels;
     for (const SessionConfiguration& c : plan.session.configurations)
       if (c.pose == p.label) labels.push_back(c.labels);
-    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {})\n", p.label,
+    fmt::print("{}  {:<30} {:<14} {} config(s) {}  (rejected: table {}, fixture {}{})\n", p.label,
                p.description, p.ik, p.configurations, fmt::join(labels, " "), p.rejected_table,
-               p.rejected_fixture);
+               p.rejected_fixture,
+               request.workcell ? fmt::format(", cell {}", p.rejected_workcell) : "");
   }
   if (!out_path.empty()) fmt::print("plan written to {}\n", out_path);
+}
+
+// ---- placement search ------------------------------------------------------------------------
+
+void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
+               const MeasuringOptions& m, const std::string& cell_path,
+               const std::array<std::string, 5>& grid, const std::string& level, int validation,
+               uint64_t seed, int best, bool json) {
+  PlacementSearchRequest request;
+  request.plan = o.request(geometry_options.geometry());
+  request.plan.gauge = m.gauge;
+  request.plan.cups = m.cups;
+  if (!cell_path.empty()) request.plan.workcell = campaign::load_cell(cell_path);
+  static constexpr std::array<const char*, 5> kFlags{"--x-mm", "--y-mm", "--z-mm", "--yaw-deg",
+                                                     "--tilt-deg"};
+  std::array<std::vector<double>*, 5> axes{&request.x_mm, &request.y_mm, &request.z_mm,
+                                           &request.yaw_deg, &request.tilt_deg};
+  for (int i = 0; i < 5; ++i) *axes[i] = parse_numbers(grid[i], -1, kFlags[i]);
+  request.level = parse_calibration_level(level);
+  request.validation_configurations = validation;
+  request.seed = seed;
+  if (best < 1) throw InputError({"", 0, 0, "--best"}, "expected at least 1");
+  request.pair_candidates = std::max(best, 2);
+  const RobotModel model = load_robot(o.robot);
+  const PlacementSearchResult r = search_placements(model, request);
+  if (json) {
+    print_json(placement_search_json(r, best));
+    return;
+  }
+  fmt::print(
+      "{}: {} placements searched; {} of {} {} parameters identifiable from hexapod poses; pose "
+      "σ {:.5f} mm; predicted errors over {} random configurations in the joint limits (seed {})\n",
+      model.name, r.ranked.size(), r.identified_parameters.size(), r.parameters, level,
+      r.pose_sigma_mm, validation, seed);
+  fmt::print("{:>4}  {:<22} {:>6}  {:>5} {:>7} {:>6} {:>8} {:>11} {:>10}\n", "rank", "x,y,z,yaw",
+             "tilt", "poses", "configs", "undet", "O1", "pred. mean", "pred. max");
+  for (int i = 0; i < best && i < static_cast<int>(r.ranked.size()); ++i) {
+    const PlacementScore& s = r.ranked[i];
+    fmt::print("{:>4}  {:<22} {:>6g}  {:>5} {:>7} {:>6} {:>8.4f} {:>11.6f} {:>10.6f}{}\n", i + 1,
+               placement_text(s.placement), s.tilt_deg, s.poses_measurable, s.configurations,
+               s.undetermined, s.observability_o1, s.predicted_mean_mm, s.predicted_max_mm,
+               s.refused.empty() ? "" : "  refused: " + s.refused);
+  }
+  for (int i = 0; i < best && i < static_cast<int>(r.pairs.size()); ++i) {
+    const PlacementPair& p = r.pairs[i];
+    fmt::print(
+        "pair #{} + #{}: {} configurations, predicted mean {:.6f} mm, max {:.6f} mm; half of "
+        "each ({} configurations) {:.6f} mm\n",
+        p.first + 1, p.second + 1, p.configurations, p.predicted_mean_mm, p.predicted_max_mm,
+        p.equal_count_configurations, p.equal_count_mean_mm);
+  }
+  fmt::print(
+      "Predictions assume gauge noise only (no unmodelled errors) and, for pairs, one world frame "
+      "shared by both placements.\n");
 }
 
 // ---- session ---------------------------------------------------------------------------------
@@ -335,10 +459,13 @@ void run_session(const std::string& plan_path, const std::string& journal_path, 
 
 // ---- simulate ------------------------------------------------------------------------------
 
-void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation, int threads,
-                  bool leg_fit, bool relative, bool json) {
+void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m, uint64_t seed,
+                  int validation, int threads, bool leg_fit, bool relative, bool json) {
   const RobotModel model = load_robot(cell_options.robot);
   EndToEndOptions o;
+  o.cell.range_mm = m.gauge.range_mm;
+  o.cell.sigma_mm = m.gauge.sigma_mm;
+  o.cups = m.cups;
   o.cell.placement = cell_options.rough_placement();
   o.cell.tool_offset_mm = cell_options.tool_offset_mm;
   o.cell.ball_offset_mm = cell_options.ball_offset_mm;
@@ -357,12 +484,15 @@ void run_simulate(const CellOptions& cell_options, uint64_t seed, int validation
     return;
   }
   fmt::print("Simulated hexapod calibration of a {} (seed {})\n", r.robot, seed);
-  fmt::print("poses: {} enumerated, {} kept, {} measurable; {} configurations planned\n",
-             r.poses_enumerated, r.poses_kept, r.poses_measurable, r.configurations_planned);
   fmt::print(
-      "first pass: {} measured, {} out of the ballbar's range; after the preliminary "
+      "poses: {} enumerated, {} refused (cups or legs collide), {} kept, {} measurable; {} "
+      "configurations planned\n",
+      r.poses_enumerated, r.poses_refused, r.poses_kept, r.poses_measurable,
+      r.configurations_planned);
+  fmt::print(
+      "first pass: {} measured, {} out of the gauge's range (±{} mm); after the preliminary "
       "calibration {} of those measured\n",
-      r.measured_first, r.retried, r.measured_after_replan);
+      r.measured_first, r.retried, m.gauge.range_mm, r.measured_after_replan);
   fmt::print(
       "world frame from the base cups: rms {:.4f} mm; off the true base fixture frame by {:.3f} "
       "mm, "
@@ -439,6 +569,28 @@ const bool registered = register_command(60, [](CLI::App& app) {
   }
   {
     auto* cmd = hex->add_subcommand(
+        "device-validation",
+        "The hexapod against an independent instrument: pose uncertainty per assembly mode, GUM "
+        "and simulated comparison");
+    auto geometry = std::make_shared<GeometryOptions>();
+    auto measuring = std::make_shared<MeasuringOptions>();
+    auto reference = std::make_shared<double>(0.005);
+    auto poses = std::make_shared<int>(2000);
+    auto seed = std::make_shared<uint64_t>(1);
+    auto json = std::make_shared<bool>(false);
+    geometry->add_to(cmd);
+    measuring->add_to(cmd, false);
+    cmd->add_option("--reference-sigma-mm", *reference,
+                    "Reference instrument σ per axis of a tool cup (CMM ≈ 0.005, tracker 0.022)")
+        ->capture_default_str();
+    cmd->add_option("--poses", *poses, "Random poses per assembly mode")->capture_default_str();
+    cmd->add_option("--seed", *seed, "Seed of the poses and readings")->capture_default_str();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback(
+        [=] { run_device_validation(*geometry, *measuring, *reference, *poses, *seed, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
         "world-frame", "World frame from the base cups: planar least-squares correction");
     auto points = std::make_shared<std::string>();
     auto sides = std::make_shared<std::string>();
@@ -468,13 +620,60 @@ const bool registered = register_command(60, [](CLI::App& app) {
         "Robot configurations for every pose, for a base-fixture placement (the session's plan)");
     auto geometry = std::make_shared<GeometryOptions>();
     auto cell = std::make_shared<CellOptions>();
+    auto measuring = std::make_shared<MeasuringOptions>();
+    auto cell_file = std::make_shared<std::string>();
     auto out = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
     geometry->add_to(cmd);
     cell->add_to(cmd);
+    measuring->add_to(cmd);
+    cmd->add_option("--cell", *cell_file,
+                    "Cell file (data/cells/*.yaml): configurations stay above its floor and out of "
+                    "its keep-out boxes");
     cmd->add_option("--out", *out, "Write the plan (JSON) for `robcal hexapod session`");
     cmd->add_flag("--json", *json, "Machine-readable output");
-    cmd->callback([=] { run_plan(*geometry, *cell, *out, *json); });
+    cmd->callback([=] { run_plan(*geometry, *cell, *measuring, *cell_file, *out, *json); });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "place",
+        "Placement search: plan every base-fixture placement of a grid and rank them by the "
+        "accuracy their configurations predict; best pairs of placements");
+    auto geometry = std::make_shared<GeometryOptions>();
+    auto cell = std::make_shared<CellOptions>();
+    auto measuring = std::make_shared<MeasuringOptions>();
+    auto cell_file = std::make_shared<std::string>();
+    auto grid = std::make_shared<std::array<std::string, 5>>(
+        std::array<std::string, 5>{"350,450,550", "-200,0,200", "200,300", "0", "0"});
+    auto level = std::make_shared<std::string>("kinematic");
+    auto validation = std::make_shared<int>(2000);
+    auto seed = std::make_shared<uint64_t>(1);
+    auto best = std::make_shared<int>(5);
+    auto json = std::make_shared<bool>(false);
+    geometry->add_to(cmd);
+    cell->add_to(cmd, false);
+    measuring->add_to(cmd);
+    cmd->add_option("--cell", *cell_file, "Cell file: floor and keep-out boxes respected");
+    cmd->add_option("--x-mm", (*grid)[0], "Grid: fixture centroid x values (mm)")
+        ->capture_default_str();
+    cmd->add_option("--y-mm", (*grid)[1], "Grid: centroid y values (mm)")->capture_default_str();
+    cmd->add_option("--z-mm", (*grid)[2], "Grid: centroid z values (mm)")->capture_default_str();
+    cmd->add_option("--yaw-deg", (*grid)[3], "Grid: yaw values (deg)")->capture_default_str();
+    cmd->add_option("--tilt-deg", (*grid)[4], "Grid: platform tilt values (deg)")
+        ->capture_default_str();
+    cmd->add_option("--level", *level, "Parameters to identify: base, joints, kinematic")
+        ->capture_default_str();
+    cmd->add_option("--validation", *validation, "Random configurations the error is predicted on")
+        ->capture_default_str();
+    cmd->add_option("--seed", *seed, "Seed of the validation configurations")
+        ->capture_default_str();
+    cmd->add_option("--best", *best, "How many placements and pairs to list")
+        ->capture_default_str();
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] {
+      run_place(*geometry, *cell, *measuring, *cell_file, *grid, *level, *validation, *seed, *best,
+                *json);
+    });
   }
   {
     auto* cmd = hex->add_subcommand(
@@ -482,6 +681,7 @@ const bool registered = register_command(60, [](CLI::App& app) {
         "Simulated end to end: placement, planning, ballbar readings, preliminary and final "
         "calibration, laser-tracker validation");
     auto cell = std::make_shared<CellOptions>();
+    auto measuring = std::make_shared<MeasuringOptions>();
     auto seed = std::make_shared<uint64_t>(1);
     auto validation = std::make_shared<int>(10000);
     auto threads = std::make_shared<int>(2);
@@ -489,6 +689,7 @@ const bool registered = register_command(60, [](CLI::App& app) {
     auto relative = std::make_shared<bool>(false);
     auto json = std::make_shared<bool>(false);
     cell->add_to(cmd);
+    measuring->add_to(cmd);
     cmd->add_option("--seed", *seed, "Seed of the true robot, the readings and the validation")
         ->capture_default_str();
     cmd->add_option("--validation", *validation, "Random validation configurations")
@@ -500,8 +701,9 @@ const bool registered = register_command(60, [](CLI::App& app) {
                   "Pose fits hold the base (the published relative model) instead of identifying "
                   "it");
     cmd->add_flag("--json", *json, "Machine-readable output");
-    cmd->callback(
-        [=] { run_simulate(*cell, *seed, *validation, *threads, !*no_leg_fit, *relative, *json); });
+    cmd->callback([=] {
+      run_simulate(*cell, *measuring, *seed, *validation, *threads, !*no_leg_fit, *relative, *json);
+    });
   }
   {
     auto* cmd = hex->add_subcommand(

@@ -96,6 +96,23 @@ def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, fl
     preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict."""
 
 
+def place(robot: str = "fanuc-lrmate200ic", x_mm: Sequence[float] = ..., y_mm: Sequence[float] = ...,
+          z_mm: Sequence[float] = ..., yaw_deg: Sequence[float] = ...,
+          tilt_deg: Sequence[float] = ..., level: str = "kinematic", validation: int = 2000,
+          seed: int = 1, best: int = 5) -> Dict[str, Any]:
+    """Placement search (`robcal hexapod place`): the grid's placements ranked by predicted
+    accuracy, and the best pairs; the CLI's JSON as a dict."""
+
+
+def device_validation(base_sides_mm: Tuple[float, float, float] = ...,
+                      tool_sides_mm: Tuple[float, float, float] = ..., leg_mm: float = 300.0,
+                      gauge_range_mm: float = 1.0, gauge_sigma_mm: float = 0.00051,
+                      reference_sigma_mm: float = 0.005, poses: int = 2000,
+                      seed: int = 1) -> Dict[str, Any]:
+    """The hexapod against an independent instrument (`robcal hexapod device-validation`): per
+    assembly mode, GUM and simulated scatter; the CLI's JSON as a dict."""
+
+
 def replan(sessions: Sequence[str], model: str, out: str,
            plan: Optional[str] = None) -> Dict[str, Any]:
     """Re-plans the configurations to retry of measured sessions on a preliminary calibrated

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "robcal/core/units.hpp"
+#include "robcal/hexapod/gauge.hpp"
 #include "robcal/hexapod/leg_fit.hpp"
 #include "robcal/hexapod/measurement.hpp"
 #include "robcal/identify/identification.hpp"
@@ -61,6 +62,7 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   if (o.validation_configurations < 2)
     throw InputError({"", 0, 0, "--validation"}, "expected at least 2 configurations");
   if (o.threads < 1) throw InputError({"", 0, 0, "--threads"}, "expected at least 1 thread");
+  check_gauge({o.cell.range_mm, o.cell.sigma_mm}, "--gauge-range-mm", "--gauge-sigma-mm");
   EndToEndReport rep;
   rep.robot = model.name;
   // The true robot: random errors, levelled on its table (the relative model keeps gravity along
@@ -87,10 +89,13 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   // Plan with the measured fixtures.
   const HexapodGeometry measured{cell.base_sides, cell.tool_sides, o.cell.design.leg_mm};
   const std::vector<HexapodPose> all = enumerate_poses(measured);
-  const std::vector<HexapodPose> kept = prune_redundant(all, deg2rad(o.angle_deg), o.distance_mm);
+  const PoseScreening screening =
+      screen_poses(all, measured, deg2rad(o.angle_deg), o.distance_mm, o.cups);
+  const std::vector<HexapodPose>& kept = screening.kept;
   const PlanSummary plan =
       plan_poses(model, cell.cell, fixture_cups(cell.base_sides, "base fixture"), kept);
   rep.poses_enumerated = static_cast<int>(all.size());
+  rep.poses_refused = static_cast<int>(screening.refused.size());
   rep.poses_kept = static_cast<int>(kept.size());
   rep.poses_measurable = plan.measurable_poses;
   rep.configurations_planned = plan.configurations;

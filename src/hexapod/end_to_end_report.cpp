@@ -31,23 +31,26 @@ nlohmann::json stage_json(const CalibrationStage& s) {
 
 nlohmann::json end_to_end_json(const EndToEndReport& r, const EndToEndOptions& options,
                                uint64_t seed) {
-  nlohmann::json out{{"robot", r.robot},
-                     {"seed", seed},
-                     {"poses_enumerated", r.poses_enumerated},
-                     {"poses_kept", r.poses_kept},
-                     {"poses_measurable", r.poses_measurable},
-                     {"configurations_planned", r.configurations_planned},
-                     {"measured_first_pass", r.measured_first},
-                     {"out_of_range_first_pass", r.retried},
-                     {"measured_after_replanning", r.measured_after_replan},
-                     {"world_frame_rms_mm", rounded(r.world_frame_rms_mm, 6)},
-                     {"world_frame_error_mm", rounded(r.world_frame_error_mm, 6)},
-                     {"world_frame_error_deg", rounded(r.world_frame_error_deg, 6)},
-                     {"relative_pose_fit", options.relative_pose_fit},
-                     {"validation_configurations", r.validation_configurations},
-                     {"nominal", figures_json(r.nominal)},
-                     {"preliminary", stage_json(r.preliminary)},
-                     {"final", stage_json(r.final_pose_fit)}};
+  nlohmann::json out{
+      {"robot", r.robot},
+      {"seed", seed},
+      {"poses_enumerated", r.poses_enumerated},
+      {"poses_refused_cups", r.poses_refused},
+      {"poses_kept", r.poses_kept},
+      {"gauge", {{"range_mm", options.cell.range_mm}, {"sigma_mm", options.cell.sigma_mm}}},
+      {"poses_measurable", r.poses_measurable},
+      {"configurations_planned", r.configurations_planned},
+      {"measured_first_pass", r.measured_first},
+      {"out_of_range_first_pass", r.retried},
+      {"measured_after_replanning", r.measured_after_replan},
+      {"world_frame_rms_mm", rounded(r.world_frame_rms_mm, 6)},
+      {"world_frame_error_mm", rounded(r.world_frame_error_mm, 6)},
+      {"world_frame_error_deg", rounded(r.world_frame_error_deg, 6)},
+      {"relative_pose_fit", options.relative_pose_fit},
+      {"validation_configurations", r.validation_configurations},
+      {"nominal", figures_json(r.nominal)},
+      {"preliminary", stage_json(r.preliminary)},
+      {"final", stage_json(r.final_pose_fit)}};
   if (options.leg_fit) {
     out["leg_fit"] = stage_json(r.leg_fit);
     out["leg_fit"]["length_offset_mm"] = rounded(r.leg_fit_offset_mm, 6);

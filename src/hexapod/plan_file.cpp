@@ -80,6 +80,10 @@ HexapodPlanRequest parse_cell(const json& root, const std::string& file) {
   cell.ball_offset_mm = cell_value<double>(root, "ball_offset_mm", file, "a number (mm)");
   if (root.contains("table_z_mm"))
     cell.table_z_mm = cell_value<double>(root, "table_z_mm", file, "a number (mm)");
+  if (root.contains("tilt_deg"))
+    cell.tilt_deg = cell_value<double>(root, "tilt_deg", file, "a number (deg)");
+  if (root.contains("cup_diameter_mm"))
+    cell.cups.cup_diameter_mm = cell_value<double>(root, "cup_diameter_mm", file, "a number (mm)");
   if (root.contains("pruning")) {
     cell.angle_deg = cell_value<double>(root["pruning"], "pruning.angle_deg", file, "deg");
     cell.distance_mm = cell_value<double>(root["pruning"], "pruning.distance_mm", file, "mm");
@@ -93,6 +97,16 @@ PlanOutcome parse_outcome(const json& root, const std::string& file) {
   o.poses_kept = cell_value<int>(root, "poses_kept", file, "a count");
   o.poses_measurable = cell_value<int>(root, "poses_measurable", file, "a count");
   o.configurations_measurable = cell_value<int>(root, "configurations_measurable", file, "a count");
+  if (root.contains("poses_refused")) {
+    if (!root["poses_refused"].is_array())
+      throw InputError({file, 0, 0, "poses_refused"}, "expected a list");
+    for (size_t i = 0; i < root["poses_refused"].size(); ++i) {
+      const std::string key = fmt::format("poses_refused[{}].", i);
+      const json& r = root["poses_refused"][i];
+      o.refused.emplace_back(cell_value<std::string>(r, key + "label", file, "a label"),
+                             cell_value<std::string>(r, key + "reason", file, "a text"));
+    }
+  }
   if (!root.contains("poses")) return o;
   if (!root["poses"].is_array()) throw InputError({file, 0, 0, "poses"}, "expected a list");
   for (size_t i = 0; i < root["poses"].size(); ++i) {
@@ -103,7 +117,10 @@ PlanOutcome parse_outcome(const json& root, const std::string& file) {
                        cell_value<std::string>(p, key + "ik", file, "an IK status"),
                        cell_value<int>(p, key + "configurations", file, "a count"),
                        cell_value<int>(p, key + "rejected_table", file, "a count"),
-                       cell_value<int>(p, key + "rejected_fixture", file, "a count")});
+                       cell_value<int>(p, key + "rejected_fixture", file, "a count"),
+                       p.contains("rejected_workcell")
+                           ? cell_value<int>(p, key + "rejected_workcell", file, "a count")
+                           : 0});
   }
   return o;
 }
@@ -177,9 +194,10 @@ std::string placement_text(const std::array<double, 4>& placement) {
   return fmt::format("{},{},{},{}", placement[0], placement[1], placement[2], placement[3]);
 }
 
-Pose<double> placement_pose(const std::array<double, 4>& placement) {
+Pose<double> placement_pose(const std::array<double, 4>& placement, double tilt_deg) {
   Pose<double> pose;
-  pose.R = Eigen::AngleAxisd(deg2rad(placement[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.R = Eigen::AngleAxisd(deg2rad(placement[3]), Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+           Eigen::AngleAxisd(deg2rad(tilt_deg), Eigen::Vector3d::UnitX()).toRotationMatrix();
   pose.p = Eigen::Vector3d(placement[0], placement[1], placement[2]);
   return pose;
 }
@@ -196,7 +214,7 @@ std::array<SettingBallPoint, 3> plan_setting_ball(const RobotModel& model,
     Pose<double> robot_T_flange;
     robot_T_flange.R =
         Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix() * placement.R;
-    robot_T_flange.p = points[i] + Eigen::Vector3d(0, 0, ball_offset_mm);
+    robot_T_flange.p = points[i] - robot_T_flange.R * Eigen::Vector3d(0, 0, ball_offset_mm);
     out[i].ball_position_mm = points[i];
     if (geometry)
       for (const IkSolution& s : nominal_ik(*geometry, robot_T_flange))
@@ -224,10 +242,15 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   const Cups<double> base_cups = fixture_cups(g.base, "--base-mm");
   fixture_cups(g.tool, "--tool-mm");
   if (!(g.leg_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
+  check_gauge(request.gauge, "--gauge-range-mm", "--gauge-sigma-mm");
+  if (const std::string problem = fixture_range_problem(g, g.tool.d12, request.gauge);
+      !problem.empty())
+    throw InputError({"", 0, 0, "--gauge-range-mm"}, problem);
   const std::vector<HexapodPose> all = enumerate_poses(g);
-  const std::vector<HexapodPose> kept =
-      prune_redundant(all, deg2rad(request.angle_deg), request.distance_mm);
-  const Pose<double> placement = placement_pose(request.placement);
+  const PoseScreening screening =
+      screen_poses(all, g, deg2rad(request.angle_deg), request.distance_mm, request.cups);
+  const std::vector<HexapodPose>& kept = screening.kept;
+  const Pose<double> placement = placement_pose(request.placement, request.tilt_deg);
   // The base fixture frame (B1 origin, B2 on x) for the rough placement of its cup centroid.
   Pose<double> centroid_T_base;
   centroid_T_base.p = -centroid(base_cups);
@@ -235,6 +258,16 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   cell.robot_T_base = placement * centroid_T_base;
   cell.flange_T_tool = default_tool_mount(g.tool, request.tool_offset_mm);
   cell.table_z_mm = request.table_z_mm;
+  cell.workcell = request.workcell;
+  if (request.workcell) {
+    const Cups<double> tool = fixture_cups(g.tool, "--tool-mm");
+    for (int j = 0; j < 3; ++j) cell.tool_cups_flange[j] = cell.flange_T_tool * tool[j];
+    Cups<double> cups_robot;
+    for (int i = 0; i < 3; ++i) cups_robot[i] = cell.robot_T_base * base_cups[i];
+    if (const std::string problem = base_fixture_in_workcell(model, *request.workcell, cups_robot);
+        !problem.empty())
+      throw InputError({request.workcell->file, 0, 0, "--placement"}, problem);
+  }
   const PlanSummary summary = plan_poses(model, cell, base_cups, kept);
 
   HexapodPlan plan;
@@ -242,6 +275,7 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   plan.setting = plan_setting_ball(model, placement, g.leg_mm, request.ball_offset_mm);
   plan.session.tool_nominal_mm = g.tool.d12;
   plan.session.leg_mm = g.leg_mm;
+  plan.session.range_mm = request.gauge.range_mm;
   plan.session.flange_T_tool = cell.flange_T_tool;
   plan.session.setting_points =
       Cups<double>{plan.setting[0].ball_position_mm, plan.setting[1].ball_position_mm,
@@ -251,10 +285,12 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   outcome.poses_kept = static_cast<int>(kept.size());
   outcome.poses_measurable = summary.measurable_poses;
   outcome.configurations_measurable = summary.configurations;
+  for (const PoseScreening::Refused& r : screening.refused)
+    outcome.refused.emplace_back(r.pose.label, r.reason);
   for (const PosePlan& p : summary.poses) {
     outcome.poses.push_back({p.pose.label, p.pose.description(), to_string(p.ik_status),
                              static_cast<int>(p.configurations.size()), p.rejected_table,
-                             p.rejected_fixture});
+                             p.rejected_fixture, p.rejected_workcell});
     for (const PoseConfiguration& c : p.configurations) {
       SessionConfiguration config;
       config.id = static_cast<int>(plan.session.configurations.size()) + 1;
@@ -283,6 +319,9 @@ nlohmann::json hexapod_plan_json(const HexapodPlan& plan) {
     out["geometry"] = {{"base_sides_mm", c.geometry.base.as_array()},
                        {"tool_sides_mm", c.geometry.tool.as_array()}};
     out["placement"] = placement_text(c.placement);
+    if (c.tilt_deg != 0) out["tilt_deg"] = c.tilt_deg;
+    out["cup_diameter_mm"] = c.cups.cup_diameter_mm;
+    if (c.workcell) out["cell_file"] = c.workcell->file;
     out["tool_offset_mm"] = c.tool_offset_mm;
     out["ball_offset_mm"] = c.ball_offset_mm;
     out["table_z_mm"] = c.table_z_mm;
@@ -307,7 +346,11 @@ nlohmann::json hexapod_plan_json(const HexapodPlan& plan) {
                               {"ik", p.ik},
                               {"configurations", p.configurations},
                               {"rejected_table", p.rejected_table},
-                              {"rejected_fixture", p.rejected_fixture}});
+                              {"rejected_fixture", p.rejected_fixture},
+                              {"rejected_workcell", p.rejected_workcell}});
+    out["poses_refused"] = json::array();
+    for (const auto& [label, reason] : o.refused)
+      out["poses_refused"].push_back({{"label", label}, {"reason", reason}});
   }
   out["configurations"] = json::array();
   for (size_t i = 0; i < s.configurations.size(); ++i) {

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
+#include "robcal/campaign/feasibility.hpp"
 #include "robcal/core/error.hpp"
 
 namespace robcal::hexapod {
@@ -11,6 +14,33 @@ Pose<double> default_tool_mount(const TriangleSides& tool_sides, double offset_m
   Pose<double> flange_T_tool;
   flange_T_tool.p = Eigen::Vector3d(0, 0, offset_mm) - centroid(cups);
   return flange_T_tool;
+}
+
+Pose<double> workcell_T_robot(const RobotModel& model, const campaign::Cell& workcell) {
+  // Only the base parameters differ: the flange poses at any joints differ by the base transform.
+  const Vector6d zero = Vector6d::Zero();
+  return flange_pose(model, PointMass{}, workcell.robot_params(model), zero) *
+         flange_pose(model, PointMass{}, model.nominal(), zero).inverse();
+}
+
+std::string base_fixture_in_workcell(const RobotModel& model, const campaign::Cell& workcell,
+                                     const Cups<double>& base_cups_robot) {
+  const Pose<double> world_T_robot = workcell_T_robot(model, workcell);
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d p = world_T_robot * base_cups_robot[i];
+    if (p.z() < workcell.floor_z_mm)
+      return fmt::format(
+          "base cup B{} at z = {:.1f} mm (cell world) is below the floor of {} ({} "
+          "mm)",
+          i + 1, p.z(), workcell.file, workcell.floor_z_mm);
+    for (const campaign::KeepOutBox& box : workcell.keep_out)
+      if (campaign::segment_box_distance(p, p, box) <= 0)
+        return fmt::format(
+            "base cup B{} ({:.1f}, {:.1f}, {:.1f} mm, cell world) is inside the "
+            "keep-out box '{}' of {}",
+            i + 1, p.x(), p.y(), p.z(), box.name, workcell.file);
+  }
+  return {};
 }
 
 Clearance check_clearance(const RobotModel& model, const CellSetup& cell,
@@ -38,6 +68,19 @@ Clearance check_clearance(const RobotModel& model, const CellSetup& cell,
       if (x.z() < c.z() + cell.fixture_margin_mm && (x - c).head<2>().norm() < radius)
         return Clearance::BaseFixture;
     }
+  if (cell.workcell) {
+    Tool tool;
+    for (int i = 0; i < 3; ++i)
+      tool.targets.push_back({fmt::format("T{}", i + 1), cell.tool_cups_flange[i], true});
+    switch (campaign::check_configuration(*cell.workcell, model, tool, joints).reason) {
+      case campaign::Rejection::JointLimits:  // the IK solutions are within the limits already
+      case campaign::Rejection::BelowFloor:
+      case campaign::Rejection::Collision:
+        return Clearance::Workcell;
+      default:  // measurable, or a line-of-sight reason that the ballbar does not have
+        break;
+    }
+  }
   return Clearance::Ok;
 }
 
@@ -74,6 +117,9 @@ PlanSummary plan_poses(const RobotModel& model, const CellSetup& cell,
           break;
         case Clearance::BaseFixture:
           ++plan.rejected_fixture;
+          break;
+        case Clearance::Workcell:
+          ++plan.rejected_workcell;
           break;
         case Clearance::Ok:
           plan.configurations.push_back({s->joints, s->config});

@@ -20,7 +20,8 @@ SimulatedHexapodCell cell_of_plan(const std::string& file, const HexapodPlan& pl
                      "(geometry, placement, tool and ball offsets)");
   HexapodCellOptions cell;
   cell.design = plan.cell->geometry;
-  cell.placement = placement_pose(plan.cell->placement);
+  cell.placement = placement_pose(plan.cell->placement, plan.cell->tilt_deg);
+  cell.range_mm = plan.session.range_mm;
   cell.tool_offset_mm = plan.cell->tool_offset_mm;
   cell.ball_offset_mm = plan.cell->ball_offset_mm;
   const TrueRobot truth = levelled_random_truth(model, payload, EndToEndOptions{}.errors, rng);

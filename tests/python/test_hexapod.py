@@ -79,10 +79,28 @@ def test_world_frame_keeps_the_measured_triangle_closest_to_the_robot_points():
     assert 0 < fit["rms_mm"] < 0.3
 
 
-def test_published_54_poses_is_the_orientation_rule_just_above_30_degrees():
-    # No two poses are within 30° and 50 mm: the default rule keeps all 72; the closest
-    # orientations are 30.2° apart with centres 148 mm apart (18 disjoint pairs), so a rule just
-    # above 30° that ignores position leaves the published 54.
-    assert len(hexapod.enumerate_poses(angle_deg=30.0, distance_mm=50.0)) == 72
-    assert len(hexapod.enumerate_poses(angle_deg=31.0, distance_mm=150.0)) == 54
-    assert len(hexapod.enumerate_poses(angle_deg=30.0, distance_mm=1e6)) == 72
+def test_published_54_poses_at_30_degrees_and_50_mm():
+    # Tool cups numbered to face the base in every assembly mode (docs/method/07-hexapod.md §3):
+    # 18 disjoint pairs are 8.3° and 12 mm apart, so the published rule (30°, 50 mm) keeps
+    # 72 − 18 = 54; no other pair is within 30° and 50 mm.
+    assert len(hexapod.enumerate_poses(angle_deg=30.0, distance_mm=50.0)) == 54
+    assert len(hexapod.enumerate_poses(angle_deg=8.0, distance_mm=1e6)) == 72
+    assert len(hexapod.enumerate_poses(angle_deg=30.0, distance_mm=10.0)) == 72
+
+
+def test_place_ranks_unreachable_last_and_pairs_beat_their_members():
+    r = hexapod.place(x_mm=[1500, 450], y_mm=[-200, 200], z_mm=[300], validation=200, best=4)
+    ranked = r["ranked"]
+    assert [p["configurations"] for p in ranked if p["placement"].startswith("1500")] == [0, 0]
+    assert ranked[0]["configurations"] > 0 and ranked[0]["undetermined"] == 0
+    for pair in r["pairs"]:
+        a, b = (ranked[i - 1]["predicted_mean_mm"] for i in pair["ranks"])
+        assert pair["predicted_mean_mm"] < min(a, b)
+
+
+def test_device_validation_scatter_matches_gum():
+    modes = hexapod.device_validation(poses=1000, reference_sigma_mm=0.001, seed=3)["modes"]
+    assert [m["mode"] for m in modes] == [1, 2, 3, 4]
+    for m in modes:
+        assert abs(m["centroid_vs_truth_mm"] / m["centroid_gum_mm"] - 1) < 0.05
+        assert abs(m["centroid_vs_reference_mm"] / m["centroid_predicted_mm"] - 1) < 0.05

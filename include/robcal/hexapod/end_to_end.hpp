@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "robcal/hexapod/cup_collision.hpp"
 #include "robcal/hexapod/simulation.hpp"
 #include "robcal/sim/true_robot.hpp"
 #include "robcal/validate/error_statistics.hpp"
@@ -27,6 +28,7 @@ struct EndToEndOptions {
   ErrorBounds errors{0.3, 0.1, 0.05e-6, 1.0, 0.1};
   double angle_deg = 30;  ///< pose pruning
   double distance_mm = 50;
+  CupClearance cups;  ///< poses whose cups or legs collide are refused before pruning
   int validation_configurations = 10000;
   double tracker_sigma_mm = 0.022;  ///< docs/method/06-instruments.md, laser tracker
   int threads = 2;                  ///< all-pairs statistics
@@ -52,7 +54,8 @@ struct CalibrationStage {
 
 struct EndToEndReport {
   std::string robot;
-  int poses_enumerated = 0, poses_kept = 0, poses_measurable = 0, configurations_planned = 0;
+  int poses_enumerated = 0, poses_refused = 0, poses_kept = 0, poses_measurable = 0,
+      configurations_planned = 0;
   int measured_first = 0;  ///< configurations whose six legs were all in range
   int retried = 0;         ///< out of range at first, re-planned with the preliminary model
   int measured_after_replan = 0;

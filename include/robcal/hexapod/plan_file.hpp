@@ -17,6 +17,8 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "robcal/core/error.hpp"
+#include "robcal/hexapod/cup_collision.hpp"
+#include "robcal/hexapod/gauge.hpp"
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/session.hpp"
@@ -30,19 +32,28 @@ struct HexapodPlanRequest {
   HexapodGeometry geometry;                 ///< design fixtures and the ballbar's set-up length
   /// Rough base-fixture placement in the robot frame: cup centroid x, y, z (mm), yaw about z (deg).
   std::array<double, 4> placement{450, 0, 300, 0};
+  /// Tilt of the pivoting platform (deg): the cup plane turned about the placement's x axis
+  /// (after the yaw), issue 20.
+  double tilt_deg = 0;
   double tool_offset_mm = 100;  ///< tool fixture centroid along the flange z
   double ball_offset_mm = 100;  ///< setting ball along the flange z
   double table_z_mm = 0;        ///< table plane, robot frame
   double angle_deg = 30;        ///< pruning: redundant when closer in orientation …
   double distance_mm = 50;      ///< … and in position (tool-fixture centroid)
+  LengthGauge gauge;            ///< the session's reading range (gauge.hpp); σ for simulations
+  /// Poses whose cups or legs collide are refused before pruning (cup_collision.hpp).
+  CupClearance cups;
+  /// The user's cell (`--cell`, campaign/cell.hpp): floor and keep-out boxes respected.
+  std::optional<campaign::Cell> workcell;
 };
 
 /// "x,y,z,yaw" (mm, deg) → placement; errors name `where` and say what was expected.
 std::array<double, 4> parse_placement(const std::string& text, const SourceLocation& where);
 /// The placement's "x,y,z,yaw" text, as the plan file stores it.
 std::string placement_text(const std::array<double, 4>& placement);
-/// The rough base-fixture placement (cup centroid frame) in the robot frame.
-Pose<double> placement_pose(const std::array<double, 4>& placement);
+/// The rough base-fixture placement (cup centroid frame) in the robot frame: Trans(x, y, z) ·
+/// Rz(yaw) · Rx(tilt).
+Pose<double> placement_pose(const std::array<double, 4>& placement, double tilt_deg = 0);
 
 /// Where the robot puts the setting ball for one base cup (flange z pointing down, the ball
 /// `ball_offset_mm` below the flange), and the nominal configurations that reach it.
@@ -61,13 +72,15 @@ nlohmann::json setting_ball_json(const std::array<SettingBallPoint, 3>& points);
 /// The planning outcome of one pose, as the plan file lists it.
 struct PlannedPose {
   std::string label, description, ik;
-  int configurations = 0, rejected_table = 0, rejected_fixture = 0;
+  int configurations = 0, rejected_table = 0, rejected_fixture = 0, rejected_workcell = 0;
 };
 
 /// What `robcal hexapod plan` found for the cell.
 struct PlanOutcome {
   int poses_enumerated = 0, poses_kept = 0, poses_measurable = 0, configurations_measurable = 0;
   std::vector<PlannedPose> poses;
+  /// Poses refused before pruning because their cups or legs collide (label, reason).
+  std::vector<std::pair<std::string, std::string>> refused;
 };
 
 /// A re-plan of the configurations to retry on a preliminary model (`robcal hexapod replan`).

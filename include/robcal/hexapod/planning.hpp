@@ -9,9 +9,11 @@
 /// plane z = table_z_mm); the base fixture frame is the world frame of the hexapod
 /// (docs/method/07-hexapod.md).
 
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "robcal/campaign/cell.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/model/robot_model.hpp"
@@ -29,14 +31,28 @@ struct CellSetup {
   /// circumradius + this margin, from the table up to the cup plane + this margin. The upper arm,
   /// forearm and wrist (shoulder–elbow–wrist centre–flange segments) must stay out of it.
   double fixture_margin_mm = 60;
+  /// The user's cell (campaign/cell.hpp, issue 16): its floor and keep-out boxes, in its world
+  /// frame, with the robot at its `robot_base`. The robot's link capsules and the tool cups must
+  /// stay above the floor and out of every box (campaign/feasibility.hpp check_configuration;
+  /// the instrument's line of sight does not apply to the ballbar).
+  std::optional<campaign::Cell> workcell;
+  Cups<double> tool_cups_flange{};  ///< with `workcell`: the tool cups, flange frame
 };
+
+/// The robot frame of the planner (nominal model, base at the origin) in the workcell's world.
+Pose<double> workcell_T_robot(const RobotModel& model, const campaign::Cell& workcell);
+
+/// Empty when the base cups (robot frame) are above the workcell's floor and outside its
+/// keep-out boxes; otherwise which cup and why.
+std::string base_fixture_in_workcell(const RobotModel& model, const campaign::Cell& workcell,
+                                     const Cups<double>& base_cups_robot);
 
 /// Default tool-fixture mount: fixture plane perpendicular to the flange axis, its centroid
 /// `offset_mm` along the flange z, cups opening away from the flange (fixture z = flange z).
 Pose<double> default_tool_mount(const TriangleSides& tool_sides, double offset_mm = 100);
 
 /// Why a configuration was rejected (or Ok).
-enum class Clearance { Ok, Table, BaseFixture };
+enum class Clearance { Ok, Table, BaseFixture, Workcell };
 
 /// One measurable configuration of a pose.
 struct PoseConfiguration {
@@ -50,8 +66,9 @@ struct PosePlan {
   IkStatus ik_status = IkStatus::Unreachable;
   /// Measurable ones, one per arm branch (equivalent joint turns are not counted twice).
   std::vector<PoseConfiguration> configurations;
-  int rejected_table = 0;    ///< IK solutions within limits rejected by the table check
-  int rejected_fixture = 0;  ///< … by the base-fixture check
+  int rejected_table = 0;     ///< IK solutions within limits rejected by the table check
+  int rejected_fixture = 0;   ///< … by the base-fixture check
+  int rejected_workcell = 0;  ///< … by the workcell's floor and keep-out boxes
 };
 
 struct PlanSummary {

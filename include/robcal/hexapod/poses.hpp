@@ -45,19 +45,21 @@ struct HexapodPose {
 
 /// Which relabellings of the tool cups enumerate_poses uses for each assembly mode.
 enum class ToolRelabelling {
-  /// Rotations of the tool fixture only. In assembly modes 1 and 3 these put the tool cups facing
-  /// away from the base: every leg would go through the tool plate (cup_collision.hpp).
-  Rotations,
   /// Rotations, or rotations of the mirrored numbering (odd permutations), whichever makes the
-  /// tool cups face the base cups (fixture normal towards the base cups' centroid).
+  /// tool cups face the base cups (fixture normal towards the base cups' centroid): every pose
+  /// can be set up with cups on one face of the tool plate (docs/method/07-hexapod.md §3).
   FacingBase,
+  /// Rotations of the tool fixture only. In assembly modes 1 and 3 these put the tool cups facing
+  /// away from the base: every leg would go through the tool plate (cup_collision.hpp). Kept to
+  /// show why FacingBase is the default.
+  Rotations,
 };
 
 /// The 72 poses (fewer if some assembly mode has no real solution for these fixtures), in the
 /// order mode, rotation (0, −120, +120), base permutation (lexicographic).
 /// Throws InputError when a fixture's sides do not make a triangle.
 std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry,
-                                         ToolRelabelling relabelling = ToolRelabelling::Rotations);
+                                         ToolRelabelling relabelling = ToolRelabelling::FacingBase);
 
 /// Keeps each pose unless an already kept one is both within `max_angle_rad` in orientation and
 /// `max_distance_mm` between the tool-fixture centroids (docs/method/07-hexapod.md defaults: 30°,
