@@ -4,11 +4,11 @@
 #include <fmt/chrono.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <ctime>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/core/error.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/programs/measurement_program.hpp"
 #include "robcal/sim/simulator.hpp"
@@ -27,26 +27,13 @@ struct ProgramOptions {
   bool json = false;
 };
 
-MeasurementHook parse_hook(const std::string& text) {
-  if (text == "wait") return MeasurementHook::WaitInput;
-  if (text == "pulse") return MeasurementHook::PulseOutput;
-  if (text == "log") return MeasurementHook::LogLine;
-  throw InputError({"", 0, 0, "--hook"}, "expected wait, pulse or log, found '" + text + "'");
-}
-
 void run_program(const ProgramOptions& o, MeasurementProgramRequest request) {
   request.language = program_language_from_name(o.language, "--lang");
-  request.hook = parse_hook(o.hook);
+  request.hook = measurement_hook_from_name(o.hook);
   if (!o.pulses.empty()) {
     const std::vector<double> p = parse_numbers(o.pulses, kJointCount, "--pulses-per-degree");
-    std::array<double, kJointCount> ppd{};
-    for (int j = 0; j < kJointCount; ++j) {
-      if (!(p[j] > 0 && p[j] < 1e7))
-        throw InputError({"", 0, 0, "--pulses-per-degree"},
-                         fmt::format("axis {}: expected a positive pulse count per degree", j + 1));
-      ppd[static_cast<size_t>(j)] = p[j];
-    }
-    request.pulses_per_degree = ppd;
+    request.pulses_per_degree.emplace();
+    std::copy(p.begin(), p.end(), request.pulses_per_degree->begin());
   }
   if (!o.robot.empty()) request.limits = load_robot(o.robot).limits;
   const Tool tool = o.tool.empty() ? Tool{} : load_tool(o.tool);
