@@ -29,9 +29,11 @@ std::optional<std::array<double, kJointCount>> pulses_of(const std::optional<Vec
 const bool registered = register_bindings(71, [](py::module_& m) {
   m.def(
       "read_program_points",
-      [](const std::string& text, const std::string& language, bool joints) {
+      [](const std::string& text, const std::string& language, bool joints,
+         const std::optional<Vector6d>& ppd) {
         ProgramFilterOptions options;
         options.joints = joints;
+        if (ppd) options.pulses_per_degree = *pulses_of(ppd);
         py::list out;
         for (const ProgramPoint& p : read_program_points(
                  text, program_language_from_name(language, "language"), "<text>", options)) {
@@ -49,16 +51,18 @@ const bool registered = register_bindings(71, [](py::module_& m) {
         return out;
       },
       py::arg("text"), py::arg("language"), py::arg("joints") = false,
-      "Every point of a program ('rapid', 'krl', 'ls', 'urscript'), in file order");
+      py::arg("pulses_per_degree") = py::none(),
+      "Every point of a program ('rapid', 'krl', 'ls', 'jbi', 'urscript'), in file order");
 
   m.def(
       "filter_program",
       [](const PyCompensator& compensator, const std::string& text, const std::string& language,
          bool joints, bool keep_going, const std::optional<std::string>& frames,
-         const std::string& file) {
+         const std::string& file, const std::optional<Vector6d>& ppd) {
         ProgramFilterOptions options;
         options.joints = joints;
         options.keep_going = keep_going;
+        if (ppd) options.pulses_per_degree = *pulses_of(ppd);
         if (frames) {
           FramesFile f = read_frames_file(*frames);
           options.tools = std::move(f.tools);
@@ -73,6 +77,7 @@ const bool registered = register_bindings(71, [](py::module_& m) {
       },
       py::arg("compensator"), py::arg("text"), py::arg("language"), py::arg("joints") = false,
       py::arg("keep_going") = false, py::arg("frames") = py::none(), py::arg("file") = "<text>",
+      py::arg("pulses_per_degree") = py::none(),
       "Corrects every target of a program text with a Compensator (the `robcal "
       "compensate-program` summary, plus the corrected 'text' and 'confidence_csv')");
 

@@ -12,6 +12,7 @@
 #include "robcal/compensate/compensate_targets.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/io/robot_pulses.hpp"
 #include "robcal/programs/program_compensation.hpp"
 
 namespace robcal::cli {
@@ -31,7 +32,10 @@ CompensationSetup parse_setup(const ModelOptions& o) {
   CompensationSetup setup;
   setup.robot = load_calibrated_robot(o.model);
   setup.model_file = o.model;
-  if (!o.robot.empty()) setup.expected_robot = load_robot(o.robot).name;
+  if (!o.robot.empty()) {
+    setup.expected_robot = load_robot(o.robot).name;
+    setup.pulses_per_degree = robot_pulses_per_degree(o.robot);
+  }
   if (!o.tool.empty()) setup.tool = load_tool(o.tool);
   if (o.payload_mass.empty() != o.payload_cog.empty())
     throw InputError({"", 0, 0, o.payload_mass.empty() ? "--payload-mass-kg" : "--payload-cog-mm"},
@@ -119,7 +123,8 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
   cmd->add_option("--model", o.model, "Calibrated model file (what `robcal calibrate` writes)")
       ->required();
   cmd->add_option("--robot", o.robot,
-                  "Built-in robot name or robot file (checked against the model)");
+                  "Built-in robot name or robot file (checked against the model; Yaskawa: its "
+                  "pulses_per_degree)");
   cmd->add_option("--tool", o.tool, "Tool file: its TCP and payload replace the model's");
   cmd->add_option("--payload-mass-kg", o.payload_mass,
                   "Payload carried now, if not the tool's (the compliance re-compensates)");
@@ -153,19 +158,21 @@ const bool registered = register_command(70, [](CLI::App& app) {
 
   auto* prog = app.add_subcommand(
       "compensate-program",
-      "Rewrite every target of a RAPID, KRL, Fanuc LS or URScript program with corrected "
+      "Rewrite every target of a RAPID, KRL, Fanuc LS, Yaskawa JBI or URScript program with "
+      "corrected "
       "values for the tool and frame active at it, leaving every other byte as it was");
   auto po = std::make_shared<ModelOptions>();
   auto pf = std::make_shared<ProgramFilterFlags>();
   add_model_options(prog, *po);
   prog->add_option("--in", pf->in,
                    "Program: .mod/.modx/.prg/.sys (RAPID), .src/.dat (KRL), .ls (Fanuc), "
-                   ".script (URScript)")
+                   ".jbi (Yaskawa), .script (URScript)")
       ->required();
   prog->add_option("--out", pf->out, "Corrected program (a new file; the input is kept)")
       ->required();
   prog->add_flag("--joints", pf->joints,
-                 "Also correct joint targets (MoveAbsJ, E6AXIS/AXIS, Fanuc J1..J6)");
+                 "Also correct joint targets (MoveAbsJ, E6AXIS/AXIS, Fanuc J1..J6, Yaskawa "
+                 "pulse positions)");
   prog->add_option("--frames", pf->frames,
                    "Frames file kind,name,x,y,z,qw,qx,qy,qz: tools and work objects/bases the "
                    "program uses but does not define");

@@ -10,6 +10,7 @@
 #include "cli_common.hpp"
 #include "command_registry.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/io/robot_pulses.hpp"
 #include "robcal/programs/measurement_program.hpp"
 #include "robcal/sim/simulator.hpp"
 
@@ -35,7 +36,11 @@ void run_program(const ProgramOptions& o, MeasurementProgramRequest request) {
     request.pulses_per_degree.emplace();
     std::copy(p.begin(), p.end(), request.pulses_per_degree->begin());
   }
-  if (!o.robot.empty()) request.limits = load_robot(o.robot).limits;
+  if (!o.robot.empty()) {
+    request.limits = load_robot(o.robot).limits;
+    if (const auto ppd = robot_pulses_per_degree(o.robot); !request.pulses_per_degree && ppd[0] > 0)
+      request.pulses_per_degree = ppd;
+  }
   const Tool tool = o.tool.empty() ? Tool{} : load_tool(o.tool);
   for (const PlannedConfiguration& c : read_configurations_csv(o.configs, tool)) {
     request.names.push_back(c.name);
@@ -89,7 +94,8 @@ const bool registered = register_command(65, [](CLI::App& app) {
                   "controller's limit: RAPID/KRL 500, LS 250, JBI 400, URScript 1000)");
   cmd->add_option("--tool-number", r->tool_number, "Tool number stored with LS/JBI points");
   cmd->add_option("--pulses-per-degree", o->pulses,
-                  "Yaskawa: encoder pulses per degree of the six axes, comma-separated");
+                  "Yaskawa: encoder pulses per degree of the six axes, comma-separated (default: "
+                  "the --robot file's pulses_per_degree)");
   cmd->add_flag("--json", o->json, "Machine-readable summary on stdout");
   cmd->callback([=] { run_program(*o, *r); });
 });

@@ -458,14 +458,16 @@ def simulate(instrument: str = "laser-tracker", truth: str = "published", count:
     random truth) with a virtual instrument; noise_mm = 0 gives exact readings."""
 
 
-def read_program_points(text: str, language: str, joints: bool = False) -> List[Dict[str, Any]]:
-    """Every point of a program ('rapid', 'krl', 'ls', 'urscript'), in file order: name, line,
+def read_program_points(text: str, language: str, joints: bool = False,
+                        pulses_per_degree: Optional[ArrayLike] = None) -> List[Dict[str, Any]]:
+    """Every point of a program ('rapid', 'krl', 'ls', 'jbi', 'urscript'), in file order: name, line,
     column, joint_target, position_mm/quaternion_wxyz or joints_deg, config, tool, frame."""
 
 
 def filter_program(compensator: Compensator, text: str, language: str, joints: bool = False,
                    keep_going: bool = False, frames: Optional[str] = None,
-                   file: str = "<text>") -> Dict[str, Any]:
+                   file: str = "<text>",
+                   pulses_per_degree: Optional[ArrayLike] = None) -> Dict[str, Any]:
     """Corrects every target of a program text with a Compensator: the `robcal
     compensate-program` summary plus the corrected 'text' and 'confidence_csv'."""
 

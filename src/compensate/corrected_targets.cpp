@@ -115,6 +115,13 @@ std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage la
     return {
         config.flip ? 1 : 0, config.down ? 1 : 0, config.back ? 1 : 0, turn(3), turn(4), turn(5)};
   }
+  if (language == ProgramLanguage::Jbi) {
+    // ///RCONF l,m,n,o,p,q: 0 flip / 1 no-flip, 0 upper / 1 lower arm, 0 front / 1 rear, then
+    // R (axis 4), T (axis 6), S (axis 1) below 180° in magnitude (0) or not (1).
+    const auto beyond = [&](int i) { return std::abs(rad2deg(joints[i])) >= 180.0 - 1e-9 ? 1 : 0; };
+    return {config.flip ? 0 : 1, config.down ? 1 : 0, config.back ? 1 : 0,
+            beyond(3),           beyond(5),           beyond(0)};
+  }
   int s = (config.back ? 1 : 0) | (config.down ? 0 : 2) | (joints[4] <= 0 ? 4 : 0);
   int t = 0;
   for (int i = 0; i < kJointCount; ++i)
@@ -150,11 +157,13 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
         if (point.config.empty()) {
           score = 1;
         } else {
-          // The branch: RAPID cfx, KRL S, Fanuc's three letters.
+          // The branch: RAPID cfx, KRL S, Fanuc's three letters, Yaskawa's first three flags.
           const auto same = [&](size_t k) { return cfg[k] == point.config[k]; };
-          if (language == ProgramLanguage::Rapid     ? !same(3)
-              : language == ProgramLanguage::FanucLs ? !(same(0) && same(1) && same(2))
-                                                     : !same(0))
+          const bool three =
+              language == ProgramLanguage::FanucLs || language == ProgramLanguage::Jbi;
+          if (language == ProgramLanguage::Rapid ? !same(3)
+              : three                            ? !(same(0) && same(1) && same(2))
+                                                 : !same(0))
             continue;
           score = cfg == point.config ? 2 : 1;
         }

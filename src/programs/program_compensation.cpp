@@ -7,6 +7,16 @@
 
 namespace robcal {
 
+namespace {
+
+/// The robot file's pulses per degree unless the options give their own.
+ProgramFilterOptions with_robot_pulses(ProgramFilterOptions options, const Compensation& c) {
+  if (options.pulses_per_degree[0] <= 0) options.pulses_per_degree = c.pulses_per_degree;
+  return options;
+}
+
+}  // namespace
+
 ProgramCompensationResult compensate_program_text(const Compensation& compensation,
                                                   std::string_view text, ProgramLanguage language,
                                                   const std::string& file,
@@ -15,7 +25,7 @@ ProgramCompensationResult compensate_program_text(const Compensation& compensati
   result.in = file;
   result.language = language;
   result.filter =
-      filter_program(text, language, file, options,
+      filter_program(text, language, file, with_robot_pulses(options, compensation),
                      make_program_corrector(compensation.comp, language, &compensation.robot));
   return result;
 }
@@ -23,7 +33,7 @@ ProgramCompensationResult compensate_program_text(const Compensation& compensati
 ProgramCompensationResult compensate_program(const ProgramCompensationRequest& request) {
   const Compensation compensation = prepare_compensation(request.setup);
   const ProgramLanguage language = program_language_from_path(request.in);
-  ProgramFilterOptions options = request.options;
+  ProgramFilterOptions options = with_robot_pulses(request.options, compensation);
   if (!request.frames_file.empty()) {
     FramesFile frames = read_frames_file(request.frames_file);
     options.tools.merge(frames.tools);

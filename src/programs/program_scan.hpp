@@ -80,6 +80,10 @@ ProgramScan scan_krl(std::string_view text, const std::string& file,
 /// back, t4, t5, t6 from CONFIG) or J1..J6 (joint); tool UT[n], frame UF[n].
 ProgramScan scan_ls(std::string_view text, const std::string& file,
                     const ProgramFilterOptions& options);
+/// Yaskawa JBI: the C positions of //POS, pulses (joint) or Cartesian (config = RCONF l..q);
+/// tool TOOL[n], frame USER[n] (ROBOT and BASE: the base frame).
+ProgramScan scan_jbi(std::string_view text, const std::string& file,
+                     const ProgramFilterOptions& options);
 /// URScript: pose literals of motions and assignments (m, rotation vector), tool from set_tcp.
 ProgramScan scan_urscript(std::string_view text, const std::string& file);
 

@@ -110,3 +110,19 @@ def test_cli_and_python_compensate_identically(tmp_path):
     p = comp.compensate_program(str(PROGRAMS / "pick_place.mod"), str(py_prog), joints=True)
     assert cli_prog.read_bytes() == py_prog.read_bytes()
     assert {k: v for k, v in c.items() if k != "out"} == {k: v for k, v in p.items() if k != "out"}
+
+
+def test_filter_yaskawa_job_with_the_nominal_model_changes_nothing(tmp_path):
+    frames = tmp_path / "frames.csv"
+    frames.write_text("kind,name,x,y,z,qw,qx,qy,qz\ntool,TOOL[1],0,0,150,1,0,0,0\n"
+                      "tool,TOOL[2],0,0,200,1,0,0,0\nframe,USER[1],300,0,0,1,0,0,0\n")
+    text = (PROGRAMS / "weld_cell.jbi").read_bytes().decode()
+    nominal = robcal.Compensator.nominal("yaskawa-gp7")
+    r = robcal.filter_program(nominal, text, "jbi", joints=True, keep_going=True,
+                              frames=str(frames), pulses_per_degree=PULSES, file="weld_cell.jbi")
+    assert r["text"] == text
+    assert r["language"] == "jbi"
+    assert r["joint_points"] == 1
+    assert r["cartesian_points"] + len(r["uncorrected"]) == 4
+    with pytest.raises(robcal.InputError, match="pulses per degree"):
+        robcal.filter_program(nominal, text, "jbi", joints=True, frames=str(frames))

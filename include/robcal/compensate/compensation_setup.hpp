@@ -4,6 +4,7 @@
 /// the tool mounted on it and the payload it carries, checked and turned into the compensator
 /// every compensation workflow (targets, programs) starts from.
 
+#include <array>
 #include <optional>
 #include <string>
 
@@ -21,6 +22,8 @@ struct CompensationSetup {
   std::optional<Tool> tool;
   /// The payload carried now, when not the tool's: the compliance re-compensates for it.
   std::optional<PointMass> payload;
+  /// Yaskawa: encoder pulses per degree of each joint (io/robot_pulses.hpp); all zero: unknown.
+  std::array<double, kJointCount> pulses_per_degree{};
 };
 
 /// The calibrated robot with the tool and payload applied, and its compensator. The
@@ -29,6 +32,7 @@ struct CompensationSetup {
 struct Compensation {
   CalibratedRobot robot;
   Compensator comp;
+  std::array<double, kJointCount> pulses_per_degree{};  ///< the setup's
 };
 
 /// Applies the tool and payload and builds the compensator. InputError: the model is not the
