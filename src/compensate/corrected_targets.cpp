@@ -96,9 +96,12 @@ std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows,
   return out;
 }
 
-std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
-                                     const Vector6d& joints) {
-  const ArmConfig config = arm_config(comp.model, joints);
+namespace {
+
+/// maker_configuration of joints whose arm configuration is known (a labelled IK solution):
+/// no forward kinematics.
+std::vector<int> configuration_data(ProgramLanguage language, const Vector6d& joints,
+                                    const ArmConfig& config) {
   if (language == ProgramLanguage::Rapid) {
     // Quadrant of a joint; the tolerance keeps an exact 0° (or 90°...) that the closed form
     // returns as −1e-14 in the quadrant above, as it was written.
@@ -129,6 +132,13 @@ std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage la
   return {s, t};
 }
 
+}  // namespace
+
+std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
+                                     const Vector6d& joints) {
+  return configuration_data(language, joints, arm_config(comp.model, joints));
+}
+
 PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language,
                                       const CalibratedRobot* robot) {
   // The previous point's joints: the branch of KRL points without S/T.
@@ -137,6 +147,7 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
     CorrectedPoint out;
     Pose<double> base_T_tcp;
     Vector6d near;
+    ArmConfig branch{};
     // A point for another tool Tk is the flange pose X·Tk⁻¹: solved as the compensator's TCP
     // T0 at X·Tk⁻¹·T0, and written back as the nominal flange pose times Tk.
     const Pose<double> tool_shift =
@@ -144,6 +155,7 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
     if (point.is_joint_target) {
       near = point.joints_deg * kDegToRad;
       base_T_tcp = nominal_tcp_pose(comp, near);
+      branch = arm_config(comp.model, near);
     } else {
       base_T_tcp = point.base_T_tcp * tool_shift;
       const IkResult all =
@@ -152,7 +164,8 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
       const IkSolution* best = nullptr;
       int best_score = -1;
       for (const IkSolution& s : all) {
-        const std::vector<int> cfg = maker_configuration(comp, language, s.joints);
+        // The solver labels its solutions: no forward kinematics per candidate.
+        const std::vector<int> cfg = configuration_data(language, s.joints, s.config);
         int score = 0;
         if (point.config.empty()) {
           score = 1;
@@ -183,9 +196,9 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
         return out;
       }
       near = best->joints;
+      branch = best->config;
     }
-    const CalibratedIkResult r =
-        calibrated_ik(comp, comp.world_T_base * base_T_tcp, arm_config(comp.model, near), near);
+    const CalibratedIkResult r = calibrated_ik(comp, comp.world_T_base * base_T_tcp, branch, near);
     if (!r.ok()) {
       out.failure = fmt::format("cannot correct: {} ({:.3g} mm from the pose)", to_string(r.status),
                                 r.position_error_mm);
@@ -198,7 +211,7 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
       out.confidence95_mm = position_confidence95_mm(
           *robot, comp.payload, point.flange_T_tcp.value_or(comp.flange_T_tcp), r.joints);
     if (!point.is_joint_target && !point.config.empty())
-      out.config = maker_configuration(comp, language, r.joints);
+      out.config = configuration_data(language, r.joints, branch);
     return out;
   };
 }
