@@ -210,12 +210,7 @@ class JbiScanner {
     size_t offset = line_start_ + column;
     const size_t end = line_start_ + line.size();
     for (;;) {
-      NumberField n;
-      n.present = true;
-      n.begin = offset;
-      n.value = read_number(text_, offset, file_, line_, line_start_);
-      n.end = offset;
-      out.push_back(n);
+      out.push_back(read_number_field(text_, offset, file_, line_, line_start_));
       if (offset >= end) return out;
       if (text_[offset] != ',') fail(offset - line_start_, "expected ',' between the values");
       ++offset;

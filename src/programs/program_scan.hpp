@@ -94,6 +94,11 @@ std::string upper(std::string_view text);
 /// `1e999` and `12abc` are InputErrors at the token.
 double number_value(const std::string& file, const Token& number);
 
+/// A number literal at `text[at]` (read_number: whole and finite, else InputError at
+/// file:line:column) with its byte range; advances `at` past it.
+NumberField read_number_field(std::string_view text, size_t& at, const std::string& file, int line,
+                              size_t line_start);
+
 /// InputError at a token.
 [[noreturn]] void refuse(const std::string& file, const Token& at, const std::string& message);
 

@@ -255,12 +255,7 @@ class UrScanner {
     size_t pos = at + 2;
     for (int k = 0; k < 6; ++k) {
       pos = skip_blanks(pos);
-      NumberField n;
-      n.present = true;
-      n.begin = pos;
-      n.value = read_number(text_, pos, file_, line_, line_start_);
-      n.end = pos;
-      f.push_back(n);
+      f.push_back(read_number_field(text_, pos, file_, line_, line_start_));
       pos = skip_blanks(pos);
       const char want = k < 5 ? ',' : ']';
       if (pos >= text_.size() || text_[pos] != want)
