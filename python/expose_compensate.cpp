@@ -166,7 +166,8 @@ const bool registered = register_bindings(70, [](py::module_& m) {
           "compensate_program",
           [](const PyCompensator& c, const std::string& in, const std::string& out, bool joints,
              bool keep_going, const std::optional<std::string>& frames,
-             const std::optional<std::string>& confidence_out) {
+             const std::optional<std::string>& confidence_out,
+             const std::optional<Vector6d>& pulses_per_degree) {
             ProgramCompensationRequest request;
             request.setup = c.setup;
             request.in = in;
@@ -175,11 +176,14 @@ const bool registered = register_bindings(70, [](py::module_& m) {
             request.confidence_out = confidence_out.value_or("");
             request.options.joints = joints;
             request.options.keep_going = keep_going;
+            if (pulses_per_degree)
+              for (int j = 0; j < kJointCount; ++j)
+                request.options.pulses_per_degree[static_cast<size_t>(j)] = (*pulses_per_degree)[j];
             return json_to_python(nlohmann::json(compensate_program(request)));
           },
           py::arg("in_path"), py::arg("out_path"), py::arg("joints") = false,
           py::arg("keep_going") = false, py::arg("frames") = py::none(),
-          py::arg("confidence_out") = py::none(),
+          py::arg("confidence_out") = py::none(), py::arg("pulses_per_degree") = py::none(),
           "Writes a corrected copy of a robot program (only the points change), as `robcal "
           "compensate-program`; returns its JSON summary")
       .def(

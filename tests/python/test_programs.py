@@ -126,3 +126,10 @@ def test_filter_yaskawa_job_with_the_nominal_model_changes_nothing(tmp_path):
     assert r["cartesian_points"] + len(r["uncorrected"]) == 4
     with pytest.raises(robcal.InputError, match="pulses per degree"):
         robcal.filter_program(nominal, text, "jbi", joints=True, frames=str(frames))
+    # The file face: the same bytes.
+    out = tmp_path / "out.jbi"
+    summary = nominal.compensate_program(str(PROGRAMS / "weld_cell.jbi"), str(out), joints=True,
+                                         keep_going=True, frames=str(frames),
+                                         pulses_per_degree=PULSES)
+    assert out.read_bytes() == (PROGRAMS / "weld_cell.jbi").read_bytes()
+    assert summary["joint_points"] == 1
