@@ -1,5 +1,5 @@
-// Robot programs (issue 17): filtering a 100,000-target program in each language that is
-// filtered (RAPID, KRL, Fanuc LS, URScript), with a fixed shift as the corrector (the parsing,
+// Robot programs (issue 17): filtering a 100,000-target program in each language (RAPID, KRL,
+// Fanuc LS, Yaskawa JBI, URScript), with a fixed shift as the corrector (the parsing,
 // rewriting and re-parsing cost alone) and with the calibrated-IK corrector of a 31-parameter IRB
 // 120 model (every target solved, tool and work object applied); writing the measurement program of
 // 10,000 configurations in each language. Goal: < 1 s per 100,000 targets.
@@ -23,8 +23,9 @@ constexpr int kTargets = 100000;
 
 /// A program of `targets` reachable Cartesian targets of the calibrated IRB 120 (nominal
 /// poses of random joints ≥ 5° from singularities, configuration data written), each used in
-/// one motion, seed kSeed: the flange pose with tool0 (RAPID), tool 0 (KRL), UT 0 (Fanuc);
-/// the TCP pose without set_tcp (URScript: the installation's TCP, the compensator's tool).
+/// one motion, seed kSeed: the flange pose with tool0 (RAPID), tool 0 (KRL), UT 0 (Fanuc), TOOL 0
+/// (Yaskawa, given as the flange); the TCP pose without set_tcp (URScript: the installation's TCP,
+/// the compensator's tool).
 std::string big_program(ProgramLanguage language, const Compensator& comp, int targets) {
   std::mt19937_64 rng(kSeed);
   std::string decl, moves;
@@ -52,6 +53,15 @@ std::string big_program(ProgramLanguage language, const Compensator& comp, int t
             "  LIN {{X {:.4f},Y {:.4f},Z {:.4f},A {:.5f},B {:.5f},C {:.5f},S {},T {}}} ; {}\n",
             pose.p.x(), pose.p.y(), pose.p.z(), abc[0], abc[1], abc[2], cf[0], cf[1], n);
         break;
+      case ProgramLanguage::Jbi:
+        // RCONF before each position (it holds for the positions after it).
+        decl += fmt::format(
+            "///RCONF {},{},{},{},{},{},0,0\nC{:05d}={:.3f},{:.3f},{:.3f},{:.4f},"
+            "{:.4f},{:.4f}\n",
+            cf[0], cf[1], cf[2], cf[3], cf[4], cf[5], n, pose.p.x(), pose.p.y(), pose.p.z(), abc[2],
+            abc[1], abc[0]);
+        moves += fmt::format("MOVL C{:05d} V=100.0\n", n);
+        break;
       case ProgramLanguage::FanucLs:
         moves += fmt::format("{:>6}:L P[{}] 100mm/sec FINE ;\n", n + 1, n + 1);
         decl += fmt::format(
@@ -78,13 +88,22 @@ std::string big_program(ProgramLanguage language, const Compensator& comp, int t
       return "DEF big( )\n  BAS(#TOOL,0)\n" + moves + "END\n";
     case ProgramLanguage::FanucLs:
       return "/PROG  BIG\n/ATTR\n/MN\n" + moves + "/POS\n" + decl + "/END\n";
+    case ProgramLanguage::Jbi:
+      // C00000..C99999: 100,000 positions is the format's own limit.
+      return fmt::format(
+                 "/JOB\n//NAME BIG\n//POS\n///NPOS {},0,0,0,0,0\n///TOOL 0\n"
+                 "///POSTYPE ROBOT\n///RECTAN\n",
+                 targets) +
+             decl + "//INST\n///DATE 2026/01/01 00:00\n///ATTR SC,RW\n///GROUP1 RB1\nNOP\n" +
+             moves + "END\n";
     default:
       return "def big():\n" + moves + "end\n";
   }
 }
 
 constexpr ProgramLanguage kFiltered[] = {ProgramLanguage::Rapid, ProgramLanguage::Krl,
-                                         ProgramLanguage::FanucLs, ProgramLanguage::UrScript};
+                                         ProgramLanguage::FanucLs, ProgramLanguage::Jbi,
+                                         ProgramLanguage::UrScript};
 
 struct Fixture {
   CalibratedRobot robot;
@@ -118,6 +137,7 @@ void BM_FilterProgram100k(benchmark::State& state) {
     // Targets whose calibrated solution leaves the joint limits stay as written (listed).
     ProgramFilterOptions options;
     options.keep_going = true;
+    options.tools["TOOL[0]"] = Pose<double>{};  // Yaskawa tool 0 = the flange here
     const auto result =
         filter_program(text, language, "big", options,
                        calibrated ? make_program_corrector(f.comp, language) : shift);
@@ -133,7 +153,8 @@ void BM_FilterProgram100k(benchmark::State& state) {
 BENCHMARK(BM_FilterProgram100k)
     ->ArgsProduct(
         {{static_cast<int>(ProgramLanguage::Rapid), static_cast<int>(ProgramLanguage::Krl),
-          static_cast<int>(ProgramLanguage::FanucLs), static_cast<int>(ProgramLanguage::UrScript)},
+          static_cast<int>(ProgramLanguage::FanucLs), static_cast<int>(ProgramLanguage::Jbi),
+          static_cast<int>(ProgramLanguage::UrScript)},
          {0, 1}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);

@@ -1,18 +1,19 @@
 // Python bindings of compensation (include/robcal/compensate/): calibrated inverse
-// kinematics, corrected targets and program filtering. Degrees and mm outside.
+// kinematics, corrected targets (compensate_targets) and program filtering
+// (compensate_program). Degrees and mm outside.
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
 #include "module_registry.hpp"
+#include "py_compensator.hpp"
 #include "py_measurements.hpp"
-#include "robcal/compensate/corrected_targets.hpp"
+#include "robcal/compensate/compensate_targets.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
-#include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
-#include "robcal/programs/program_filter.hpp"
+#include "robcal/programs/program_compensation.hpp"
 #include "robcal/sim/true_robot.hpp"
 
 namespace py = pybind11;
@@ -20,41 +21,24 @@ namespace py = pybind11;
 namespace robcal::python {
 namespace {
 
-/// A calibrated robot and its compensator, kept together (the corrector refers to both).
-struct PyCompensator {
-  CalibratedRobot robot;
-  Compensator comp;
-};
-
-PyCompensator make(CalibratedRobot robot, const std::optional<std::string>& tool,
+PyCompensator make(CalibratedRobot robot, const std::string& source,
+                   const std::optional<std::string>& tool,
                    const std::optional<double>& payload_mass_kg,
                    const std::optional<Eigen::Vector3d>& payload_cog_mm) {
-  if (tool) {
-    const Tool t = load_tool(*tool);
-    robot.tool.flange_T_tcp = t.flange_T_tcp;
-    robot.tool.payload = t.payload;
-  }
+  CompensationSetup setup;
+  setup.robot = std::move(robot);
+  setup.model_file = source;
+  if (tool) setup.tool = load_tool(*tool);
   if (payload_mass_kg.has_value() != payload_cog_mm.has_value())
-    throw py::value_error("give both payload_mass_kg and payload_cog_mm");
-  std::optional<PointMass> payload;
-  if (payload_mass_kg) {
-    if (!(*payload_mass_kg >= 0)) throw py::value_error("payload_mass_kg must be 0 or more");
-    payload = PointMass{*payload_mass_kg, *payload_cog_mm};
-  }
-  PyCompensator out{robot, make_compensator(robot, payload)};
-  return out;
+    throw InputError({"", 0, 0, payload_mass_kg ? "payload_cog_mm" : "payload_mass_kg"},
+                     "give both payload_mass_kg and payload_cog_mm");
+  if (payload_mass_kg) setup.payload = PointMass{*payload_mass_kg, *payload_cog_mm};
+  Compensation c = prepare_compensation(setup);
+  return PyCompensator{std::move(setup), std::move(c)};
 }
 
 Pose<double> pose_of(const Eigen::Vector3d& position_mm, const Eigen::Vector4d& quaternion_wxyz) {
   return pose_from_position_quaternion(position_mm, quaternion_wxyz);
-}
-
-py::dict pose_dict(const Pose<double>& pose) {
-  const Eigen::Quaterniond q = to_quaternion(pose.R);
-  py::dict d;
-  d["position_mm"] = Eigen::Vector3d(pose.p);
-  d["quaternion_wxyz"] = Eigen::Vector4d(q.w(), q.x(), q.y(), q.z());
-  return d;
 }
 
 const bool registered = register_bindings(70, [](py::module_& m) {
@@ -65,7 +49,7 @@ const bool registered = register_bindings(70, [](py::module_& m) {
           "from_model",
           [](const std::string& model, const std::optional<std::string>& tool,
              const std::optional<double>& mass, const std::optional<Eigen::Vector3d>& cog) {
-            return make(load_calibrated_robot(model), tool, mass, cog);
+            return make(load_calibrated_robot(model), model, tool, mass, cog);
           },
           py::arg("model"), py::arg("tool") = py::none(), py::arg("payload_mass_kg") = py::none(),
           py::arg("payload_cog_mm") = py::none(), "From a calibrated model file")
@@ -73,22 +57,22 @@ const bool registered = register_bindings(70, [](py::module_& m) {
           "from_truth",
           [](const std::string& truth, const std::optional<std::string>& tool,
              const std::optional<double>& mass, const std::optional<Eigen::Vector3d>& cog) {
-            return make(load_truth(truth).robot, tool, mass, cog);
+            return make(load_truth(truth).robot, truth, tool, mass, cog);
           },
           py::arg("truth"), py::arg("tool") = py::none(), py::arg("payload_mass_kg") = py::none(),
           py::arg("payload_cog_mm") = py::none(), "From a simulation's truth file")
       .def_static(
           "nominal",
           [](const std::string& robot, const std::optional<std::string>& tool) {
-            return make(CalibratedRobot::nominal(load_robot(robot), Tool{}), tool, std::nullopt,
-                        std::nullopt);
+            return make(CalibratedRobot::nominal(load_robot(robot), Tool{}), robot, tool,
+                        std::nullopt, std::nullopt);
           },
           py::arg("robot"), py::arg("tool") = py::none(),
           "The nominal robot at the world origin (compensation changes nothing)")
       .def(
           "tcp_pose",
           [](const PyCompensator& c, const Vector6d& joints_deg) {
-            return pose_dict(calibrated_tcp_pose(c.comp.chain, joints_deg * kDegToRad));
+            return pose_dict(calibrated_tcp_pose(c.c.comp.chain, joints_deg * kDegToRad));
           },
           py::arg("joints_deg"), "TCP pose in the world on the calibrated model")
       .def(
@@ -97,7 +81,7 @@ const bool registered = register_bindings(70, [](py::module_& m) {
             if (joints_deg.cols() != kJointCount)
               throw InputError({"<arrays>", 0, 0, "joints_deg"}, "expected N×6 joints (deg)");
             return pose_arrays(joints_deg.rows(), [&](Eigen::Index r) {
-              return calibrated_tcp_pose(c.comp.chain,
+              return calibrated_tcp_pose(c.c.comp.chain,
                                          Vector6d(joints_deg.row(r).transpose() * kDegToRad));
             });
           },
@@ -120,7 +104,7 @@ const bool registered = register_bindings(70, [](py::module_& m) {
             std::vector<bool> ok;
             for (Eigen::Index r = 0; r < n; ++r) {
               const CalibratedIkResult result = calibrated_ik(
-                  c.comp,
+                  c.c.comp,
                   pose_of(positions_mm.row(r).transpose(), quaternions_wxyz.row(r).transpose()),
                   *arm, Vector6d::Zero(), IkMethod::Newton);
               status.push_back(to_string(result.status));
@@ -129,7 +113,7 @@ const bool registered = register_bindings(70, [](py::module_& m) {
               nominal.row(r).setConstant(NAN);
               if (!result.ok()) continue;
               joints.row(r) = (result.joints * kRadToDeg).transpose();
-              nominal.row(r) = nominal_tcp_pose(c.comp, result.joints).p.transpose();
+              nominal.row(r) = nominal_tcp_pose(c.c.comp, result.joints).p.transpose();
             }
             py::dict d;
             d["joints_deg"] = joints;
@@ -144,13 +128,13 @@ const bool registered = register_bindings(70, [](py::module_& m) {
       .def(
           "nominal_tcp_pose",
           [](const PyCompensator& c, const Vector6d& joints_deg) {
-            return pose_dict(nominal_tcp_pose(c.comp, joints_deg * kDegToRad));
+            return pose_dict(nominal_tcp_pose(c.c.comp, joints_deg * kDegToRad));
           },
           py::arg("joints_deg"), "TCP pose in the base frame on the nominal model")
       .def(
           "config_of",
           [](const PyCompensator& c, const Vector6d& joints_deg) {
-            return arm_config(c.comp.model, joints_deg * kDegToRad).label();
+            return arm_config(c.c.comp.model, joints_deg * kDegToRad).label();
           },
           py::arg("joints_deg"), "Arm configuration label of controller joints")
       .def(
@@ -160,12 +144,10 @@ const bool registered = register_bindings(70, [](py::module_& m) {
              const std::optional<Vector6d>& near_deg, const std::string& method) {
             const auto arm = parse_arm_config(config);
             if (!arm) throw py::value_error("unknown configuration '" + config + "'");
-            if (method != "newton" && method != "pose-shift")
-              throw py::value_error("method must be 'newton' or 'pose-shift'");
             const CalibratedIkResult r =
-                calibrated_ik(c.comp, pose_of(position_mm, quaternion_wxyz), *arm,
+                calibrated_ik(c.c.comp, pose_of(position_mm, quaternion_wxyz), *arm,
                               near_deg.value_or(Vector6d::Zero()) * kDegToRad,
-                              method == "newton" ? IkMethod::Newton : IkMethod::PoseShift);
+                              ik_method_from_name(method, "method"));
             py::dict d;
             d["status"] = to_string(r.status);
             d["ok"] = r.ok();
@@ -173,7 +155,7 @@ const bool registered = register_bindings(70, [](py::module_& m) {
             d["iterations"] = r.iterations;
             d["position_error_mm"] = r.position_error_mm;
             d["orientation_error_deg"] = rad2deg(r.orientation_error_rad);
-            if (r.ok()) d["nominal_target"] = pose_dict(nominal_tcp_pose(c.comp, r.joints));
+            if (r.ok()) d["nominal_target"] = pose_dict(nominal_tcp_pose(c.c.comp, r.joints));
             return d;
           },
           py::arg("position_mm"), py::arg("quaternion_wxyz"), py::arg("config"),
@@ -182,42 +164,60 @@ const bool registered = register_bindings(70, [](py::module_& m) {
           "nominal target to send; status says why when it cannot")
       .def(
           "compensate_program",
-          [](const PyCompensator& c, const std::string& in, const std::string& out, bool joints) {
-            const ProgramLanguage language = program_language_from_path(in);
-            ProgramFilterOptions options;
-            options.joints = joints;
-            const auto result = filter_program(read_text_file(in), language, in, options,
-                                               make_program_corrector(c.comp, language));
-            write_file_atomically(out, result.text);
-            py::dict d;
-            d["cartesian_points"] = result.cartesian_points;
-            d["joint_points"] = result.joint_points;
-            return d;
+          [](const PyCompensator& c, const std::string& in, const std::string& out, bool joints,
+             bool keep_going, const std::optional<std::string>& frames,
+             const std::optional<std::string>& confidence_out,
+             const std::optional<Vector6d>& pulses_per_degree) {
+            ProgramCompensationRequest request;
+            request.setup = c.setup;
+            request.in = in;
+            request.out = out;
+            request.frames_file = frames.value_or("");
+            request.confidence_out = confidence_out.value_or("");
+            request.options.joints = joints;
+            request.options.keep_going = keep_going;
+            if (pulses_per_degree)
+              for (int j = 0; j < kJointCount; ++j)
+                request.options.pulses_per_degree[static_cast<size_t>(j)] = (*pulses_per_degree)[j];
+            return json_to_python(nlohmann::json(compensate_program(request)));
           },
           py::arg("in_path"), py::arg("out_path"), py::arg("joints") = false,
-          "Writes a corrected copy of a RAPID/KRL program (only the points change)");
-
-  m.def(
-      "read_program_points",
-      [](const std::string& text, const std::string& language, bool joints) {
-        ProgramFilterOptions options;
-        options.joints = joints;
-        py::list out;
-        for (const ProgramPoint& p : read_program_points(
-                 text, program_language_from_name(language, "language"), "<text>", options)) {
-          py::dict d = p.is_joint_target ? py::dict() : pose_dict(p.base_T_tcp);
-          d["name"] = p.name;
-          d["line"] = p.line;
-          d["column"] = p.column;
-          d["joint_target"] = p.is_joint_target;
-          if (p.is_joint_target) d["joints_deg"] = Vector6d(p.joints_deg);
-          d["config"] = p.config;
-          out.append(d);
-        }
-        return out;
-      },
-      py::arg("text"), py::arg("language"), py::arg("joints") = false,
-      "Every point of a RAPID ('rapid') or KRL ('krl') program, in file order");
+          py::arg("keep_going") = false, py::arg("frames") = py::none(),
+          py::arg("confidence_out") = py::none(), py::arg("pulses_per_degree") = py::none(),
+          "Writes a corrected copy of a robot program (only the points change), as `robcal "
+          "compensate-program`; returns its JSON summary")
+      .def(
+          "compensate_targets",
+          [](const PyCompensator& c, const std::string& targets, const std::string& method,
+             const std::optional<std::string>& check_truth, const std::optional<std::string>& out) {
+            CompensateTargetsRequest request;
+            request.setup = c.setup;
+            request.targets = read_pose_list(targets);
+            request.targets_file = targets;
+            request.method = ik_method_from_name(method, "method");
+            if (check_truth) request.truth = load_truth(*check_truth);
+            request.out = out.value_or("");
+            const CompensateTargetsResult r = compensate_targets(request);
+            py::dict d = json_to_python(nlohmann::json(r));
+            Eigen::MatrixXd joints(static_cast<Eigen::Index>(r.rows.size()), kJointCount);
+            Eigen::MatrixXd nominal(static_cast<Eigen::Index>(r.rows.size()), 3);
+            std::vector<std::string> names;
+            for (size_t i = 0; i < r.rows.size(); ++i) {
+              const auto row = static_cast<Eigen::Index>(i);
+              joints.row(row) = (r.rows[i].ik.joints * kRadToDeg).transpose();
+              nominal.row(row) = r.rows[i].base_T_tcp_nominal.p.transpose();
+              names.push_back(r.rows[i].name);
+            }
+            d["names"] = names;
+            d["joints_deg"] = joints;
+            d["nominal_position_mm"] = nominal;
+            d["csv"] = r.csv;
+            return d;
+          },
+          py::arg("targets"), py::arg("method") = "newton", py::arg("check_truth") = py::none(),
+          py::arg("out") = py::none(),
+          "Corrected targets for a pose-list file of wanted world poses, as `robcal compensate`: "
+          "its JSON summary plus names, joints_deg N×6, nominal_position_mm N×3 and the CSV text");
 });
 
 }  // namespace

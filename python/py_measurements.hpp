@@ -46,6 +46,15 @@ pybind11::dict pose_arrays(Eigen::Index n, const PoseOf& pose_of) {
   return out;
 }
 
+/// {'position_mm': 3, 'quaternion_wxyz': 4} of one pose.
+inline pybind11::dict pose_dict(const Pose<double>& pose) {
+  const Eigen::Quaterniond q = to_quaternion(pose.R);
+  pybind11::dict d;
+  d["position_mm"] = Eigen::Vector3d(pose.p);
+  d["quaternion_wxyz"] = Eigen::Vector4d(q.w(), q.x(), q.y(), q.z());
+  return d;
+}
+
 /// A dict given where a file is read, as the file's YAML root (named "<dict>" in errors).
 yaml::Node dict_as_file(const pybind11::dict& d);
 

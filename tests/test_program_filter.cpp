@@ -53,6 +53,20 @@ CorrectedPoint known_correction(const ProgramPoint& p) {
   return c;
 }
 
+/// Yaskawa pulses per degree for weld_cell.jbi (any positive values exercise the conversion).
+constexpr std::array<double, kJointCount> kPulses{1341.2, 1341.2, 1341.2, 1092.3, 1092.3, 614.4};
+
+/// The tools and frames the sample programs use without defining them, all identity.
+void sample_frames(ProgramFilterOptions& options) {
+  options.tools["TOOL_DATA[1]"] = Pose<double>{};  // weld_seam.dat's FDAT FP1 names tool 1
+  options.tools["UT[2]"] = Pose<double>{};         // weld_cell.ls: UT 2 and UF 1
+  options.frames["UF[1]"] = Pose<double>{};
+  options.tools["TOOL[1]"] = Pose<double>{};  // weld_cell.jbi: tools 1 and 2, user frame 1
+  options.tools["TOOL[2]"] = Pose<double>{};
+  options.frames["USER[1]"] = Pose<double>{};
+  options.pulses_per_degree = kPulses;
+}
+
 struct FilterCase {
   std::string file;
   bool joints;
@@ -66,9 +80,7 @@ void check_filter(const FilterCase& fc) {
   const ProgramLanguage language = program_language_from_path(path);
   ProgramFilterOptions options;
   options.joints = fc.joints;
-  options.tools["TOOL_DATA[1]"] = Pose<double>{};  // weld_seam.dat's FDAT FP1 names tool 1
-  options.tools["UT[2]"] = Pose<double>{};         // weld_cell.ls: UT 2 and UF 1
-  options.frames["UF[1]"] = Pose<double>{};
+  sample_frames(options);
   const ProgramFilterResult result =
       filter_program(text, language, path, options, known_correction);
   EXPECT_EQ(result.cartesian_points, fc.cartesian);
@@ -91,18 +103,23 @@ void check_filter(const FilterCase& fc) {
   const auto old_points = read_program_points(text, language, path, options);
   const auto new_points = read_program_points(result.text, language, path, options);
   ASSERT_EQ(old_points.size(), new_points.size());
+  // Yaskawa prints whole pulses, 1 µm and 0.0001°; the others 4 decimals of a mm and 9
+  // quaternion decimals (RAPID) or 5 decimals of a degree.
+  const bool jbi = language == ProgramLanguage::Jbi;
   for (size_t i = 0; i < old_points.size(); ++i) {
     const CorrectedPoint want = known_correction(old_points[i]);
     const ProgramPoint& got = new_points[i];
     EXPECT_EQ(got.line, old_points[i].line);
     if (got.is_joint_target) {
-      EXPECT_LT((got.joints_deg - want.joints_deg).cwiseAbs().maxCoeff(), 1e-9);
+      for (int j = 0; j < kJointCount; ++j)
+        EXPECT_LE(std::abs(got.joints_deg[j] - want.joints_deg[j]),
+                  jbi ? 0.5 / kPulses[static_cast<size_t>(j)] : 1e-9)
+            << got.line;
       continue;
     }
-    EXPECT_LT((got.base_T_tcp.p - want.base_T_tcp.p).norm(), 1e-4) << got.line;
+    EXPECT_LT((got.base_T_tcp.p - want.base_T_tcp.p).norm(), jbi ? 1e-3 : 1e-4) << got.line;
     const Eigen::AngleAxisd diff(got.base_T_tcp.R.transpose() * want.base_T_tcp.R);
-    // RAPID: 9-decimal quaternions; KRL: 5-decimal degrees.
-    EXPECT_LT(rad2deg(std::abs(diff.angle())), 2e-5) << got.line;
+    EXPECT_LT(rad2deg(std::abs(diff.angle())), jbi ? 2e-4 : 2e-5) << got.line;
     EXPECT_EQ(got.config, want.config) << got.line;
   }
 }
@@ -137,16 +154,87 @@ TEST(ProgramFilter, UrScriptPosesChangeOffsetsAndToolsStay) {
   check_filter({"pick.script", false, {5, 8, 12}, 4, 0});
 }
 
+TEST(ProgramFilter, YaskawaPositionsChangeBaseAxesAndInstructionsStay) {
+  // weld_cell.jbi (CR LF): C00000..C00003 Cartesian (user frame 1 with tool 1, then the robot
+  // frame with tool 2), C00004 in pulses; BC00000 (a base axis), the comment quoting
+  // "C00000=1,2,3" and the instructions stay.
+  check_filter({"weld_cell.jbi", false, {10, 11, 13, 16}, 4, 0});
+  check_filter({"weld_cell.jbi", true, {10, 11, 13, 16, 19}, 4, 1});
+}
+
+TEST(ProgramFilter, YaskawaPointsReadWithTheirToolFrameAndRconf) {
+  const std::string path = test::data_path("programs/weld_cell.jbi");
+  ProgramFilterOptions options;
+  options.joints = true;
+  options.pulses_per_degree = kPulses;
+  const auto points =
+      read_program_points(read_text_file(path), ProgramLanguage::Jbi, path, options);
+  ASSERT_EQ(points.size(), 5u);
+  EXPECT_EQ(points[0].name, "C00000");
+  EXPECT_EQ(points[0].tool, "TOOL[1]");
+  EXPECT_EQ(points[0].frame, "USER[1]");
+  EXPECT_EQ(points[0].config, (std::vector<int>{0, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(points[2].config, (std::vector<int>{1, 0, 0, 0, 0, 0}));
+  EXPECT_EQ(points[3].tool, "TOOL[2]");
+  EXPECT_EQ(points[3].frame, "");
+  EXPECT_EQ(points[0].column, 8);
+  // C00000 = 412.5, -85.25, 230 mm, (Rx, Ry, Rz) = (180, 0, -15.5)°: R = Rz·Ry·Rx.
+  EXPECT_NEAR((points[0].base_T_tcp.p - Eigen::Vector3d(412.5, -85.25, 230)).norm(), 0, 1e-12);
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(deg2rad(-15.5), Eigen::Vector3d::UnitZ()) *
+                             Eigen::AngleAxisd(deg2rad(180.0), Eigen::Vector3d::UnitX()))
+                                .toRotationMatrix();
+  EXPECT_LT((points[0].base_T_tcp.R - R).norm(), 1e-12);
+  // C00004 = 0, -12000, 8500, 0, -32000, 1500 pulses.
+  EXPECT_TRUE(points[4].is_joint_target);
+  EXPECT_NEAR(points[4].joints_deg[1], -12000 / 1341.2, 1e-12);
+  EXPECT_NEAR(points[4].joints_deg[5], 1500 / 614.4, 1e-12);
+}
+
+TEST(ProgramFilter, YaskawaRefusals) {
+  const auto jbi = [](const std::string& pos) {
+    try {
+      ProgramFilterOptions options;
+      options.joints = true;
+      filter_program("/JOB\r\n//NAME T\n//POS\n" + pos + "//INST\nNOP\nEND\n", ProgramLanguage::Jbi,
+                     "t.jbi", options, known_correction);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string rectan = "///POSTYPE ROBOT\n///RECTAN\n";
+  EXPECT_EQ(jbi("///NPOS 2,0,0,0,0,0\n" + rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6\n"),
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 2 C positions, the job defines 1");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n///POSTYPE PULSE\n///PULSE\nC00000=1,2,3,4,5,6\n"),
+            "t.jbi:7:8: pulse positions need the robot's pulses per degree (robot file key "
+            "pulses_per_degree)");
+  EXPECT_EQ(jbi(rectan + "C00000=1,2,3,4,5,6\n"),
+            "t.jbi:6:1: Cartesian position without a ///RCONF line before it");
+  EXPECT_EQ(jbi(rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6,7\n"),
+            "t.jbi:7:8: expected six values (six-axis robot), found 7");
+  EXPECT_EQ(jbi(rectan + "///RCONF 0,2,0,0,0,0\n"), "t.jbi:6:12: ///RCONF: expected flags 0 or 1");
+  EXPECT_EQ(jbi("///POSTYPE TOOL\n///RECTAN\n///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6\n"),
+            "t.jbi:7:1: Cartesian position of type 'TOOL': expected ROBOT, BASE or USER");
+  EXPECT_EQ(jbi("///POSTYPE BASE\n///RECTAN\n///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6\n"
+                "///PULSE\nBC00000=100\n"),
+            "t.jbi:7:1: Cartesian position in the BASE frame of a robot on a base axis (the job "
+            "has BC positions): the frame moves, the position is not corrected");
+  EXPECT_EQ(jbi(rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3.5.1,4,5,6\n"),
+            "t.jbi:7:12: malformed number '3.5.1'");
+  EXPECT_EQ(jbi(rectan + "///RCONF 0,0,0,0,0,0\nC0000=1,2,3,4,5,6\n"),
+            "t.jbi:7:2: expected a position name with five digits and '=' (C00000=...)");
+  EXPECT_EQ(jbi("MOVL C00000\n"),
+            "t.jbi:4:1: expected a ///pseudo-instruction or a C, BC or EC position in //POS");
+}
+
 TEST(ProgramFilter, IdentityCorrectionKeepsEveryByte) {
-  for (const char* file :
-       {"pick_place.mod", "weld_seam.dat", "weld_seam.src", "weld_cell.ls", "pick.script"}) {
+  for (const char* file : {"pick_place.mod", "weld_seam.dat", "weld_seam.src", "weld_cell.ls",
+                           "pick.script", "weld_cell.jbi"}) {
     const std::string path = test::data_path(std::string("programs/") + file);
     const std::string text = read_text_file(path);
     ProgramFilterOptions options;
     options.joints = true;
-    options.tools["TOOL_DATA[1]"] = Pose<double>{};
-    options.tools["UT[2]"] = Pose<double>{};
-    options.frames["UF[1]"] = Pose<double>{};
+    sample_frames(options);
     const auto result = filter_program(
         text, program_language_from_path(path), path, options, [](const ProgramPoint& p) {
           return CorrectedPoint{p.base_T_tcp, p.config, p.joints_deg, ""};
@@ -254,6 +342,7 @@ TEST(ProgramFilter, CorrectorFailureNamesThePoint) {
 TEST(ProgramFilter, LanguageFromExtension) {
   EXPECT_EQ(program_language_from_path("a/b/MAIN.MOD"), ProgramLanguage::Rapid);
   EXPECT_EQ(program_language_from_path("x.dat"), ProgramLanguage::Krl);
+  EXPECT_EQ(program_language_from_path("WELD.JBI"), ProgramLanguage::Jbi);
   EXPECT_THROW(program_language_from_path("x.txt"), InputError);
 }
 

@@ -11,7 +11,9 @@
 
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/io/robot_pulses.hpp"
 #include "robcal/programs/measurement_program.hpp"
 
 namespace robcal {
@@ -199,6 +201,18 @@ TEST(MeasurementProgramFormat, RefusesWhatTheControllerCannotTake) {
   r = request_for(ProgramLanguage::Krl);
   r.hook = MeasurementHook::LogLine;
   EXPECT_EQ(refusal(r), "--hook: no log instruction is written for krl; use wait or pulse");
+}
+
+TEST(MeasurementProgramFormat, PulsesPerDegreeFromTheRobotFile) {
+  // A built-in robot without the key: zeros (unknown); a robot file with it: its six values.
+  EXPECT_EQ(robot_pulses_per_degree("abb-irb120"), (std::array<double, kJointCount>{}));
+  const std::string path = testing::TempDir() + "/robcal-pulses-robot.yaml";
+  write_file_atomically(path, read_text_file(data_directory() / "robots" / "yaskawa-gp7.yaml") +
+                                  "pulses_per_degree: [1341.2, 1341.2, 1341.2, 1092.3, 1092.3, "
+                                  "614.4]\n");
+  EXPECT_EQ(robot_pulses_per_degree(path),
+            (std::array<double, kJointCount>{1341.2, 1341.2, 1341.2, 1092.3, 1092.3, 614.4}));
+  EXPECT_EQ(load_robot(path).name, "Yaskawa Motoman GP7");  // the kinematic model is unchanged
 }
 
 TEST(MeasurementProgramFormat, ReadersLocateBadText) {

@@ -4,12 +4,13 @@
 #include <fmt/chrono.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <ctime>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/core/error.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/io/robot_pulses.hpp"
 #include "robcal/programs/measurement_program.hpp"
 #include "robcal/sim/simulator.hpp"
 
@@ -27,28 +28,19 @@ struct ProgramOptions {
   bool json = false;
 };
 
-MeasurementHook parse_hook(const std::string& text) {
-  if (text == "wait") return MeasurementHook::WaitInput;
-  if (text == "pulse") return MeasurementHook::PulseOutput;
-  if (text == "log") return MeasurementHook::LogLine;
-  throw InputError({"", 0, 0, "--hook"}, "expected wait, pulse or log, found '" + text + "'");
-}
-
 void run_program(const ProgramOptions& o, MeasurementProgramRequest request) {
   request.language = program_language_from_name(o.language, "--lang");
-  request.hook = parse_hook(o.hook);
+  request.hook = measurement_hook_from_name(o.hook);
   if (!o.pulses.empty()) {
     const std::vector<double> p = parse_numbers(o.pulses, kJointCount, "--pulses-per-degree");
-    std::array<double, kJointCount> ppd{};
-    for (int j = 0; j < kJointCount; ++j) {
-      if (!(p[j] > 0 && p[j] < 1e7))
-        throw InputError({"", 0, 0, "--pulses-per-degree"},
-                         fmt::format("axis {}: expected a positive pulse count per degree", j + 1));
-      ppd[static_cast<size_t>(j)] = p[j];
-    }
-    request.pulses_per_degree = ppd;
+    request.pulses_per_degree.emplace();
+    std::copy(p.begin(), p.end(), request.pulses_per_degree->begin());
   }
-  if (!o.robot.empty()) request.limits = load_robot(o.robot).limits;
+  if (!o.robot.empty()) {
+    request.limits = load_robot(o.robot).limits;
+    if (const auto ppd = robot_pulses_per_degree(o.robot); !request.pulses_per_degree && ppd[0] > 0)
+      request.pulses_per_degree = ppd;
+  }
   const Tool tool = o.tool.empty() ? Tool{} : load_tool(o.tool);
   for (const PlannedConfiguration& c : read_configurations_csv(o.configs, tool)) {
     request.names.push_back(c.name);
@@ -102,7 +94,8 @@ const bool registered = register_command(65, [](CLI::App& app) {
                   "controller's limit: RAPID/KRL 500, LS 250, JBI 400, URScript 1000)");
   cmd->add_option("--tool-number", r->tool_number, "Tool number stored with LS/JBI points");
   cmd->add_option("--pulses-per-degree", o->pulses,
-                  "Yaskawa: encoder pulses per degree of the six axes, comma-separated");
+                  "Yaskawa: encoder pulses per degree of the six axes, comma-separated (default: "
+                  "the --robot file's pulses_per_degree)");
   cmd->add_flag("--json", o->json, "Machine-readable summary on stdout");
   cmd->callback([=] { run_program(*o, *r); });
 });

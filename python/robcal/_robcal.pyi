@@ -294,8 +294,21 @@ class Compensator:
         """solve() over N poses: joints_deg N×6, status, ok, nominal_position_mm (NaN rows where
         ok is False)."""
 
-    def compensate_program(self, in_path: str, out_path: str, joints: bool = False) -> Dict[str, int]:
-        """Writes a corrected copy of a RAPID/KRL program (only the points change)."""
+    def compensate_program(self, in_path: str, out_path: str, joints: bool = False,
+                           keep_going: bool = False, frames: Optional[str] = None,
+                           confidence_out: Optional[str] = None,
+                           pulses_per_degree: Optional[ArrayLike] = None) -> Dict[str, Any]:
+        """Writes a corrected copy of a robot program (only the points change), as `robcal
+        compensate-program`; returns its JSON summary: in, out, language, cartesian_points,
+        joint_points, uncorrected and assumed ([{where, reason}]). pulses_per_degree: the
+        robot's encoder pulses per degree, for Yaskawa pulse positions."""
+
+    def compensate_targets(self, targets: str, method: str = "newton",
+                           check_truth: Optional[str] = None,
+                           out: Optional[str] = None) -> Dict[str, Any]:
+        """Corrected targets for a pose-list file of wanted world poses, as `robcal compensate`:
+        its JSON summary (robot, targets, method, max_residual_mm, closed_loop ...) plus names,
+        joints_deg N×6, nominal_position_mm N×3 and the CSV text."""
 
 
 class LaserTracker:
@@ -470,8 +483,35 @@ def simulate(instrument: str = "laser-tracker", truth: str = "published", count:
     random truth) with a virtual instrument; noise_mm = 0 gives exact readings."""
 
 
-def read_program_points(text: str, language: str, joints: bool = False) -> List[Dict[str, Any]]:
-    """Every point of a RAPID ('rapid') or KRL ('krl') program, in file order."""
+def read_program_points(text: str, language: str, joints: bool = False,
+                        pulses_per_degree: Optional[ArrayLike] = None) -> List[Dict[str, Any]]:
+    """Every point of a program ('rapid', 'krl', 'ls', 'jbi', 'urscript'), in file order: name, line,
+    column, joint_target, position_mm/quaternion_wxyz or joints_deg, config, tool, frame."""
+
+
+def filter_program(compensator: Compensator, text: str, language: str, joints: bool = False,
+                   keep_going: bool = False, frames: Optional[str] = None,
+                   file: str = "<text>",
+                   pulses_per_degree: Optional[ArrayLike] = None) -> Dict[str, Any]:
+    """Corrects every target of a program text with a Compensator: the `robcal
+    compensate-program` summary plus the corrected 'text' and 'confidence_csv'."""
+
+
+def write_measurement_program(language: str, names: Sequence[str], joints_deg: ArrayLike,
+                              name: str = "RCMEAS", hook: str = "wait", signal: int = 1,
+                              settle_s: float = 1.0, approach_deg: float = 5.0,
+                              speed_percent: float = 10.0, max_configs_per_file: int = 0,
+                              tool_number: int = 1,
+                              pulses_per_degree: Optional[ArrayLike] = None,
+                              robot: Optional[str] = None,
+                              date: str = "2000/01/01 00:00") -> List[Dict[str, str]]:
+    """The measurement program visiting each configuration (N×6 joints, deg) from q -
+    approach_deg, as `robcal program`: a list of {'name', 'text'} files."""
+
+
+def read_joint_moves(text: str, language: str,
+                     pulses_per_degree: Optional[ArrayLike] = None) -> Dict[str, Any]:
+    """Every absolute joint move of a program text: joints_deg N×6 and their lines."""
 
 
 def experiments(seed: int = 1) -> Dict[str, Any]:

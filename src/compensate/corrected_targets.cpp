@@ -96,9 +96,12 @@ std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows,
   return out;
 }
 
-std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
-                                     const Vector6d& joints) {
-  const ArmConfig config = arm_config(comp.model, joints);
+namespace {
+
+/// maker_configuration of joints whose arm configuration is known (a labelled IK solution):
+/// no forward kinematics.
+std::vector<int> configuration_data(ProgramLanguage language, const Vector6d& joints,
+                                    const ArmConfig& config) {
   if (language == ProgramLanguage::Rapid) {
     // Quadrant of a joint; the tolerance keeps an exact 0° (or 90°...) that the closed form
     // returns as −1e-14 in the quadrant above, as it was written.
@@ -115,11 +118,25 @@ std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage la
     return {
         config.flip ? 1 : 0, config.down ? 1 : 0, config.back ? 1 : 0, turn(3), turn(4), turn(5)};
   }
+  if (language == ProgramLanguage::Jbi) {
+    // ///RCONF l,m,n,o,p,q: 0 flip / 1 no-flip, 0 upper / 1 lower arm, 0 front / 1 rear, then
+    // R (axis 4), T (axis 6), S (axis 1) below 180° in magnitude (0) or not (1).
+    const auto beyond = [&](int i) { return std::abs(rad2deg(joints[i])) >= 180.0 - 1e-9 ? 1 : 0; };
+    return {config.flip ? 0 : 1, config.down ? 1 : 0, config.back ? 1 : 0,
+            beyond(3),           beyond(5),           beyond(0)};
+  }
   int s = (config.back ? 1 : 0) | (config.down ? 0 : 2) | (joints[4] <= 0 ? 4 : 0);
   int t = 0;
   for (int i = 0; i < kJointCount; ++i)
     if (joints[i] < 0) t |= 1 << i;
   return {s, t};
+}
+
+}  // namespace
+
+std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
+                                     const Vector6d& joints) {
+  return configuration_data(language, joints, arm_config(comp.model, joints));
 }
 
 PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language,
@@ -130,6 +147,7 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
     CorrectedPoint out;
     Pose<double> base_T_tcp;
     Vector6d near;
+    ArmConfig branch{};
     // A point for another tool Tk is the flange pose X·Tk⁻¹: solved as the compensator's TCP
     // T0 at X·Tk⁻¹·T0, and written back as the nominal flange pose times Tk.
     const Pose<double> tool_shift =
@@ -137,6 +155,7 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
     if (point.is_joint_target) {
       near = point.joints_deg * kDegToRad;
       base_T_tcp = nominal_tcp_pose(comp, near);
+      branch = arm_config(comp.model, near);
     } else {
       base_T_tcp = point.base_T_tcp * tool_shift;
       const IkResult all =
@@ -145,16 +164,19 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
       const IkSolution* best = nullptr;
       int best_score = -1;
       for (const IkSolution& s : all) {
-        const std::vector<int> cfg = maker_configuration(comp, language, s.joints);
+        // The solver labels its solutions: no forward kinematics per candidate.
+        const std::vector<int> cfg = configuration_data(language, s.joints, s.config);
         int score = 0;
         if (point.config.empty()) {
           score = 1;
         } else {
-          // The branch: RAPID cfx, KRL S, Fanuc's three letters.
+          // The branch: RAPID cfx, KRL S, Fanuc's three letters, Yaskawa's first three flags.
           const auto same = [&](size_t k) { return cfg[k] == point.config[k]; };
-          if (language == ProgramLanguage::Rapid     ? !same(3)
-              : language == ProgramLanguage::FanucLs ? !(same(0) && same(1) && same(2))
-                                                     : !same(0))
+          const bool three =
+              language == ProgramLanguage::FanucLs || language == ProgramLanguage::Jbi;
+          if (language == ProgramLanguage::Rapid ? !same(3)
+              : three                            ? !(same(0) && same(1) && same(2))
+                                                 : !same(0))
             continue;
           score = cfg == point.config ? 2 : 1;
         }
@@ -174,9 +196,9 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
         return out;
       }
       near = best->joints;
+      branch = best->config;
     }
-    const CalibratedIkResult r =
-        calibrated_ik(comp, comp.world_T_base * base_T_tcp, arm_config(comp.model, near), near);
+    const CalibratedIkResult r = calibrated_ik(comp, comp.world_T_base * base_T_tcp, branch, near);
     if (!r.ok()) {
       out.failure = fmt::format("cannot correct: {} ({:.3g} mm from the pose)", to_string(r.status),
                                 r.position_error_mm);
@@ -189,7 +211,7 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
       out.confidence95_mm = position_confidence95_mm(
           *robot, comp.payload, point.flange_T_tcp.value_or(comp.flange_T_tcp), r.joints);
     if (!point.is_joint_target && !point.config.empty())
-      out.config = maker_configuration(comp, language, r.joints);
+      out.config = configuration_data(language, r.joints, branch);
     return out;
   };
 }

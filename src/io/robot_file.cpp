@@ -1,4 +1,5 @@
 #include "robcal/io/robot_file.hpp"
+#include "robcal/io/robot_pulses.hpp"
 
 #include <dlfcn.h>
 #include <fmt/format.h>
@@ -64,17 +65,41 @@ std::vector<std::string> builtin_robot_names() {
   return names;
 }
 
-RobotModel load_robot(const std::string& name_or_path) {
+namespace {
+
+/// The YAML root of a built-in robot by name or of a robot file by path.
+yaml::Node robot_file_root(const std::string& name_or_path) {
   if (const auto data = find_data_directory(); data && name_or_path.find('/') == std::string::npos)
     if (const fs::path builtin = *data / "robots" / (name_or_path + ".yaml"); fs::exists(builtin))
-      return parse_robot(yaml::load_file(builtin.string()));
-  if (fs::exists(name_or_path)) return parse_robot(yaml::load_file(name_or_path));
+      return yaml::load_file(builtin.string());
+  if (fs::exists(name_or_path)) return yaml::load_file(name_or_path);
   std::string known;
   for (const auto& n : builtin_robot_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError(
       {"", 0, 0, "--robot"},
       fmt::format("unknown robot '{}': not a built-in robot ({}) nor a file", name_or_path,
                   known.empty() ? "no robot library found: set ROBCAL_DATA_DIR" : known));
+}
+
+/// `pulses_per_degree`: six positive numbers; an encoder of up to 2^24 counts per motor turn
+/// behind a gear of up to ~400:1 gives at most ~1e7 pulses per degree.
+std::array<double, kJointCount> pulses_per_degree(const yaml::Node& root) {
+  std::array<double, kJointCount> out{};
+  if (!root.has("pulses_per_degree")) return out;
+  constexpr yaml::Range kPulsesPerDegree{1e-3, 1e7, "pulses/deg"};
+  const auto ppd = yaml::numbers_in(root.at("pulses_per_degree"), kJointCount, kPulsesPerDegree);
+  std::copy(ppd.begin(), ppd.end(), out.begin());
+  return out;
+}
+
+}  // namespace
+
+RobotModel load_robot(const std::string& name_or_path) {
+  return parse_robot(robot_file_root(name_or_path));
+}
+
+std::array<double, kJointCount> robot_pulses_per_degree(const std::string& name_or_path) {
+  return pulses_per_degree(robot_file_root(name_or_path));
 }
 
 namespace {
@@ -103,7 +128,7 @@ EulerConvention parse_euler(const yaml::Node& node) {
 
 RobotModel parse_robot(const yaml::Node& root) {
   yaml::expect_keys(root, {"name", "manufacturer", "source", "euler", "mdh", "joint_limits_deg",
-                           "masses", "gravity_m_s2", "joint_map", "reach_mm"});
+                           "masses", "gravity_m_s2", "joint_map", "reach_mm", "pulses_per_degree"});
   RobotModel model;
   model.name = root.at("name").as_string();
   if (root.has("manufacturer")) model.manufacturer = root.at("manufacturer").as_string();
@@ -113,6 +138,7 @@ RobotModel parse_robot(const yaml::Node& root) {
     if (model.reach_mm < 0) throw root.at("reach_mm").error("reach must not be negative");
   }
   if (root.has("euler")) model.euler = parse_euler(root.at("euler"));
+  pulses_per_degree(root);  // validated here; read by robot_pulses_per_degree (io/robot_pulses.hpp)
 
   const yaml::Node mdh = root.at("mdh");
   if (!mdh.node.IsSequence() || mdh.size() != kJointCount)

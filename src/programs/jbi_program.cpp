@@ -13,11 +13,16 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "measurement_writers.hpp"
+#include "program_scan.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::detail {
 
@@ -126,6 +131,213 @@ std::vector<JointMove> read_jbi_joint_moves(const std::string& text, const std::
     moves.push_back({it->second, line});
   }
   return moves;
+}
+
+}  // namespace robcal::detail
+
+// JBI filtering. The //POS section is a list of pseudo-instructions, each setting a state for the
+// positions after it, and positions (NX100/DX100 "Job Data Format"):
+// - `///NPOS c,bc,ec,p,bp,ex`: the counts of robot (C), base-axis (BC) and station-axis (EC)
+//   teaching positions, then position variables; the loader refuses a job whose counts differ
+//   from the positions defined (checked here for C, BC and EC);
+// - `///USER n` (user frame 0..63), `///TOOL n` (tool 0..63);
+// - `///POSTYPE PULSE|BASE|ROBOT|USER|TOOL|MTOOL` and `///PULSE` or `///RECTAN`: the positions
+//   after are encoder pulses or Cartesian;
+// - `///RCONF l,m,n,o,p,q[,...]`: the configuration of the Cartesian positions after it:
+//   l 0 flip / 1 no-flip, m 0 upper / 1 lower arm, n 0 front / 1 rear, o, p, q: R, T, S (axes
+//   4, 6, 1) below 180° (0) or at or beyond it (1); further values are unused;
+// - `Cnnnnn=j1,...,j6` (pulses) or `Cnnnnn=X,Y,Z,Rx,Ry,Rz` (mm, degrees; R = Rz·Ry·Rx, the
+//   angles about the fixed x, y, z axes); `BCnnnnn=`/`ECnnnnn=` are the base and station axes,
+//   not the arm: kept as written.
+// Targets: C positions in pulses (joint targets: pulses / pulses-per-degree of the robot
+// file, written back as whole pulses) and Cartesian ones in the ROBOT or BASE frame (the same
+// frame for a robot without a base axis: with BC positions in the job, BASE is refused) or in
+// user frame n (frames file name USER[n]), with tool n (TOOL[n]; without a ///TOOL line, the
+// corrector's default tool). RCONF is kept: a correction that needs another is refused.
+// Positions are written with 3 decimals of a mm and 4 of a degree, the controller's own
+// resolution; lines end as written (CR LF or LF).
+namespace robcal::detail {
+namespace {
+
+class JbiScanner {
+ public:
+  JbiScanner(std::string_view text, const std::string& file, const ProgramFilterOptions& options)
+      : text_(text), file_(file), options_(options) {}
+
+  ProgramScan run() {
+    size_t at = 0;
+    bool in_pos = false;
+    while (at < text_.size()) {
+      ++line_;
+      line_start_ = at;
+      size_t end = text_.find('\n', at);
+      if (end == std::string_view::npos) end = text_.size();
+      std::string_view line = text_.substr(at, end - at);
+      if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+      at = end + 1;
+      if (line.starts_with("//POS")) {
+        in_pos = true;
+      } else if (line.starts_with("//INST")) {
+        break;  // instructions: no position data after this
+      } else if (in_pos) {
+        pos_line(line);
+      }
+    }
+    if (npos_line_ > 0)
+      for (int k = 0; k < 3; ++k)
+        if (declared_[static_cast<size_t>(k)] != defined_[static_cast<size_t>(k)])
+          throw InputError(SourceLocation{file_, npos_line_, 9, "///NPOS"},
+                           fmt::format("///NPOS declares {} {} positions, the job defines {}",
+                                       declared_[static_cast<size_t>(k)], kKinds[k],
+                                       defined_[static_cast<size_t>(k)]));
+    if (base_frame_line_ && defined_[1] > 0)
+      throw InputError(SourceLocation{file_, *base_frame_line_, 1, ""},
+                       "Cartesian position in the BASE frame of a robot on a base axis (the job "
+                       "has BC positions): the frame moves, the position is not corrected");
+    return std::move(out_);
+  }
+
+ private:
+  static constexpr const char* kKinds[3] = {"C", "BC", "EC"};
+
+  [[noreturn]] void fail(size_t column, const std::string& what) const {
+    throw InputError(SourceLocation{file_, line_, static_cast<int>(column) + 1, ""}, what);
+  }
+
+  // Comma-separated numbers from `column` to the end of the line, with their byte ranges.
+  std::vector<NumberField> numbers(std::string_view line, size_t column) const {
+    std::vector<NumberField> out;
+    size_t offset = line_start_ + column;
+    const size_t end = line_start_ + line.size();
+    for (;;) {
+      out.push_back(read_number_field(text_, offset, file_, line_, line_start_));
+      if (offset >= end) return out;
+      if (text_[offset] != ',') fail(offset - line_start_, "expected ',' between the values");
+      ++offset;
+    }
+  }
+
+  int integer_after(std::string_view line, size_t column, int lowest, int highest) const {
+    const std::vector<NumberField> n = numbers(line, column);
+    if (n.size() != 1 || n[0].value != std::floor(n[0].value) || n[0].value < lowest ||
+        n[0].value > highest)
+      fail(column, fmt::format("expected one whole number {} to {}", lowest, highest));
+    return static_cast<int>(n[0].value);
+  }
+
+  void pos_line(std::string_view line) {
+    if (line.empty()) return;
+    if (line.starts_with("///NPOS ")) {
+      const std::vector<NumberField> n = numbers(line, 8);
+      if (n.size() != 6) fail(8, "///NPOS: expected six counts c,bc,ec,p,bp,ex");
+      for (int k = 0; k < 3; ++k) declared_[static_cast<size_t>(k)] = static_cast<int>(n[k].value);
+      npos_line_ = line_;
+    } else if (line.starts_with("///USER ")) {
+      user_ = integer_after(line, 8, 0, 63);
+    } else if (line.starts_with("///TOOL ")) {
+      tool_ = integer_after(line, 8, 0, 63);
+    } else if (line.starts_with("///POSTYPE ")) {
+      postype_ = std::string(line.substr(11));
+      static const char* const kTypes[] = {"PULSE", "BASE", "ROBOT", "USER", "TOOL", "MTOOL"};
+      if (std::find(std::begin(kTypes), std::end(kTypes), postype_) == std::end(kTypes))
+        fail(11, fmt::format("unknown position type '{}': expected PULSE, BASE, ROBOT, USER, "
+                             "TOOL or MTOOL",
+                             postype_));
+    } else if (line == "///PULSE") {
+      rectan_ = false;
+    } else if (line == "///RECTAN") {
+      rectan_ = true;
+    } else if (line.starts_with("///RCONF ")) {
+      const std::vector<NumberField> n = numbers(line, 9);
+      if (n.size() < 6) fail(9, "///RCONF: expected at least six flags l,m,n,o,p,q");
+      rconf_.clear();
+      for (const NumberField& f : n) {
+        if (f.value != 0 && f.value != 1)
+          fail(f.begin - line_start_, "///RCONF: expected flags 0 or 1");
+        if (rconf_.size() < 6) rconf_.push_back(static_cast<int>(f.value));
+      }
+    } else if (line.starts_with("///")) {
+      // Other header pseudo-instructions (///COMM, ///ATTR ...) carry no position state.
+    } else if (line.starts_with("BC") || line.starts_with("EC")) {
+      ++defined_[line[0] == 'B' ? 1 : 2];
+      position_name(line, 2);  // checked, kept as written
+    } else if (line.starts_with("C")) {
+      ++defined_[0];
+      position(line);
+    } else {
+      fail(0, "expected a ///pseudo-instruction or a C, BC or EC position in //POS");
+    }
+  }
+
+  // `Cnnnnn=` / `BCnnnnn=`: the name, checked; the values start after it.
+  std::string position_name(std::string_view line, size_t digits_at) const {
+    size_t k = digits_at;
+    while (k < line.size() && std::isdigit(static_cast<unsigned char>(line[k]))) ++k;
+    if (k - digits_at != 5 || k >= line.size() || line[k] != '=')
+      fail(digits_at, "expected a position name with five digits and '=' (C00000=...)");
+    return std::string(line.substr(0, k));
+  }
+
+  void position(std::string_view line) {
+    const std::string name = position_name(line, 1);
+    const size_t values_at = name.size() + 1;
+    const std::vector<NumberField> f = numbers(line, values_at);
+    if (f.size() != kJointCount)
+      fail(values_at, fmt::format("expected six values (six-axis robot), found {}", f.size()));
+    PointSite site;
+    site.point.name = name;
+    site.point.line = line_;
+    site.point.column = static_cast<int>(values_at) + 1;
+    site.fields = f;
+    if (!rectan_) {
+      if (postype_ != "PULSE") fail(0, "pulse data after ///POSTYPE " + postype_);
+      if (!options_.joints) return;
+      if (options_.pulses_per_degree[0] <= 0)
+        fail(values_at,
+             "pulse positions need the robot's pulses per degree (robot file key "
+             "pulses_per_degree)");
+      site.point.is_joint_target = true;
+      for (int j = 0; j < kJointCount; ++j)
+        site.point.joints_deg[j] = f[j].value / options_.pulses_per_degree[static_cast<size_t>(j)];
+      out_.sites.push_back(std::move(site));
+      return;
+    }
+    if (postype_ == "TOOL" || postype_ == "MTOOL" || postype_ == "PULSE" || postype_.empty())
+      fail(0, fmt::format("Cartesian position of type '{}': expected ROBOT, BASE or USER",
+                          postype_.empty() ? "none" : postype_));
+    if (postype_ == "BASE" && !base_frame_line_) base_frame_line_ = line_;
+    if (postype_ == "USER") {
+      if (!user_) fail(0, "///POSTYPE USER without a ///USER line before it");
+      site.point.frame = fmt::format("USER[{}]", *user_);
+    }
+    if (rconf_.empty()) fail(0, "Cartesian position without a ///RCONF line before it");
+    site.point.config = rconf_;
+    if (tool_) site.point.tool = fmt::format("TOOL[{}]", *tool_);
+    site.point.base_T_tcp.p << f[0].value, f[1].value, f[2].value;
+    site.point.base_T_tcp.R = rotation_from_euler_deg(
+        Eigen::Vector3d(f[5].value, f[4].value, f[3].value), EulerConvention::ZyxABC);
+    out_.sites.push_back(std::move(site));
+  }
+
+  std::string_view text_;
+  const std::string& file_;
+  const ProgramFilterOptions& options_;
+  int line_ = 0;
+  size_t line_start_ = 0;
+  int npos_line_ = 0;
+  std::array<int, 3> declared_{}, defined_{};
+  std::optional<int> user_, tool_, base_frame_line_;
+  std::string postype_;
+  bool rectan_ = false;
+  std::vector<int> rconf_;
+  ProgramScan out_;
+};
+
+}  // namespace
+
+ProgramScan scan_jbi(std::string_view text, const std::string& file,
+                     const ProgramFilterOptions& options) {
+  return JbiScanner(text, file, options).run();
 }
 
 }  // namespace robcal::detail

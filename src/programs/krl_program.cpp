@@ -58,14 +58,28 @@ class KrlScanner {
 
  private:
   // `BAS(#TOOL, n)` / `BAS(#BASE, n)`: tool or base n is active for the motions that follow.
+  // Another value (a variable) makes it unknown until the next call or assignment; a malformed
+  // call (`BAS(#TOOL,,1)`, `BAS(#TOOL 1)`) is refused, not skipped: skipping it would leave the
+  // previous tool active for the points after it.
   void bas_call() {
     if (!lexer_.peek().is('(') || lexer_.peek(1).kind != TokenKind::Identifier) return;
     const std::string what = upper(lexer_.peek(1).text);
-    if ((what != "#TOOL" && what != "#BASE") || !lexer_.peek(2).is(',')) return;
-    const Token number = lexer_.peek(3);
-    if (number.kind != TokenKind::Number) return;
-    (what == "#TOOL" ? tool_ : base_) =
-        indexed(what == "#TOOL" ? "TOOL_DATA" : "BASE_DATA", number);
+    if (what != "#TOOL" && what != "#BASE") return;
+    const Token comma = lexer_.peek(2);
+    if (!comma.is(','))
+      refuse(lexer_.file(), comma,
+             fmt::format("expected BAS({}, number), found '{}'", what,
+                         comma.kind == TokenKind::End ? "end of file" : std::string(comma.text)));
+    const Token value = lexer_.peek(3);
+    std::string& active = what == "#TOOL" ? tool_ : base_;
+    if (value.kind == TokenKind::End || value.is(',') || value.is(')'))
+      refuse(lexer_.file(), value,
+             fmt::format("expected the {} number after BAS({},", what == "#TOOL" ? "tool" : "base",
+                         what));
+    if (value.kind == TokenKind::Number && lexer_.peek(4).is(')'))
+      active = indexed(what == "#TOOL" ? "TOOL_DATA" : "BASE_DATA", value);
+    else
+      active = fmt::format("BAS({}, ...) at line {}", what, value.line);
   }
 
   // `$TOOL = TOOL_DATA[n]`, `$BASE = BASE_DATA[n]`; any other value (a literal frame, an

@@ -79,7 +79,7 @@ namespace {
 struct LsPosition {
   int index = 0;  ///< n of P[n]
   int line = 0, column = 0;
-  int uf = 0, ut = 0;
+  int uf = -1, ut = -1;                                    ///< -1: not given
   std::map<std::string, NumberField, std::less<>> values;  ///< X..R or J1..J6
   std::string config;                                      ///< CONFIG text between quotes
   size_t config_column = 0;
@@ -173,7 +173,10 @@ LsProgram parse_ls(std::string_view text, const std::string& file) {
         }
         size_t offset = start + col;
         if (key == "UF" || key == "UT") {
-          (key == "UF" ? current->uf : current->ut) = integer(offset, key.c_str());
+          int& slot = key == "UF" ? current->uf : current->ut;
+          if (slot >= 0)
+            fail(key_start, fmt::format("{} given twice in P[{}]", key, current->index));
+          slot = integer(offset, key.c_str());
         } else {
           const bool joint = key.size() == 2 && key[0] == 'J' && key[1] >= '1' && key[1] <= '6';
           if (!joint && (key.size() != 1 ||
@@ -196,6 +199,10 @@ LsProgram parse_ls(std::string_view text, const std::string& file) {
           offset = start + unit + want.size();
         }
         col = offset - start;
+        // Items are separated by commas: `UF : 1 UT : 2` would read as written by no controller.
+        const size_t next = t.find_first_not_of(" \t", col);
+        if (next != std::string_view::npos && t[next] != ',')
+          fail(next, fmt::format("P[{}]: expected ',' after {}", current->index, key));
       }
     }
   }
@@ -265,6 +272,11 @@ ProgramScan scan_ls(std::string_view text, const std::string& file,
     site.point.name = fmt::format("P[{}]", p.index);
     site.point.line = p.line;
     site.point.column = p.column;
+    if (p.uf < 0 || p.ut < 0)
+      throw InputError(SourceLocation{file, p.line, p.column, site.point.name},
+                       fmt::format("GP1 has no {}: each position names its user frame and tool "
+                                   "(UF : n, UT : n)",
+                                   p.uf < 0 ? "UF" : "UT"));
     site.point.tool = fmt::format("UT[{}]", p.ut);
     site.point.frame = fmt::format("UF[{}]", p.uf);
     if (has_all(p, kCartesian, file)) {

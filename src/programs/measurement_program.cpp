@@ -104,6 +104,13 @@ std::vector<ProgramFile> write_measurement_program(const MeasurementProgramReque
     throw InputError(SourceLocation{"", 0, 0, "--pulses-per-degree"},
                      "a Yaskawa job stores joints in encoder pulses: give the pulses per degree "
                      "of the six axes");
+  if (r.pulses_per_degree)
+    for (int j = 0; j < kJointCount; ++j) {
+      const double ppd = (*r.pulses_per_degree)[static_cast<size_t>(j)];
+      if (!(ppd > 0 && ppd < 1e7))
+        throw InputError(SourceLocation{"", 0, 0, "--pulses-per-degree"},
+                         fmt::format("axis {}: expected a positive pulse count per degree", j + 1));
+    }
   if (r.hook == MeasurementHook::LogLine &&
       (r.language == ProgramLanguage::Krl || r.language == ProgramLanguage::Jbi))
     throw InputError(SourceLocation{"", 0, 0, "--hook"},
@@ -234,4 +241,11 @@ double read_number(std::string_view text, size_t& at, const std::string& file, i
 }
 
 }  // namespace detail
+MeasurementHook measurement_hook_from_name(const std::string& name, const std::string& key) {
+  if (name == "wait") return MeasurementHook::WaitInput;
+  if (name == "pulse") return MeasurementHook::PulseOutput;
+  if (name == "log") return MeasurementHook::LogLine;
+  throw InputError({"", 0, 0, key}, "expected wait, pulse or log, found '" + name + "'");
+}
+
 }  // namespace robcal

@@ -33,12 +33,10 @@ detail::ProgramScan scan(std::string_view text, ProgramLanguage language, const 
       return detail::scan_ls(text, file, options);
     case ProgramLanguage::UrScript:
       return detail::scan_urscript(text, file);
-    default:
-      throw InputError(SourceLocation{file, 0, 0, ""},
-                       fmt::format("program filtering reads ABB RAPID, KUKA KRL, Fanuc LS and "
-                                   "URScript; {} programs are not filtered yet",
-                                   program_language_name(language)));
+    case ProgramLanguage::Jbi:
+      return detail::scan_jbi(text, file, options);
   }
+  throw std::logic_error("program filter: unknown language");
 }
 
 /// Collects the replacements of one program and applies them in text order (a point's
@@ -121,6 +119,14 @@ std::vector<double> rewrite(Rewriter& out, const PointSite& site, const Correcte
   const auto& f = site.fields;
   std::vector<double> expected;
   for (const NumberField& field : f) expected.push_back(field.value);
+  if (site.point.is_joint_target && language == ProgramLanguage::Jbi) {
+    // Whole encoder pulses (the pulses of an unchanged joint print as written).
+    for (int k = 0; k < kJointCount; ++k)
+      expected[k] = out.integer(
+          f[k], static_cast<int>(std::lround(corrected.joints_deg[k] *
+                                             options.pulses_per_degree[static_cast<size_t>(k)])));
+    return expected;
+  }
   if (site.point.is_joint_target) {
     for (int k = 0; k < kJointCount; ++k)
       expected[k] = out.number(f[k], corrected.joints_deg[k], options.angle_decimals);
@@ -141,8 +147,10 @@ std::vector<double> rewrite(Rewriter& out, const PointSite& site, const Correcte
       expected[3 + k] = out.number(f[3 + k], r[k], options.angle_decimals + 3);
     return expected;
   }
+  // Yaskawa: the controller's resolution, 1 µm and 0.0001°.
+  const bool jbi = language == ProgramLanguage::Jbi;
   for (int k = 0; k < 3; ++k)
-    expected[k] = out.number(f[k], corrected.base_T_tcp.p[k], options.position_decimals);
+    expected[k] = out.number(f[k], corrected.base_T_tcp.p[k], jbi ? 3 : options.position_decimals);
   if (language == ProgramLanguage::Rapid) {
     Eigen::Quaterniond q(corrected.base_T_tcp.R);
     // Same hemisphere as the written quaternion, so an unchanged rotation prints unchanged.
@@ -153,15 +161,15 @@ std::vector<double> rewrite(Rewriter& out, const PointSite& site, const Correcte
     for (int k = 0; k < 4; ++k)
       expected[3 + k] = out.number(f[3 + k], wxyz[k], options.quaternion_decimals, written[k]);
   } else {
-    // KRL (A, B, C) and Fanuc (W, P, R) = (C, B, A): R = Rz(A)·Ry(B)·Rx(C).
+    // KRL (A, B, C), Fanuc (W, P, R) and Yaskawa (Rx, Ry, Rz) = (C, B, A): R = Rz(A)·Ry(B)·Rx(C).
     Eigen::Vector3d abc = euler_angles_deg(corrected.base_T_tcp.R, EulerConvention::ZyxABC);
-    if (language == ProgramLanguage::FanucLs) abc = abc.reverse().eval();
+    if (language == ProgramLanguage::FanucLs || jbi) abc = abc.reverse().eval();
     for (int k = 0; k < 3; ++k)
-      expected[3 + k] =
-          out.number(f[3 + k], near_written(abc[k], f[3 + k].value), options.angle_decimals);
+      expected[3 + k] = out.number(f[3 + k], near_written(abc[k], f[3 + k].value),
+                                   jbi ? 4 : options.angle_decimals);
   }
-  // Fanuc CONFIG is letters and turns, kept as written (filter_program checks it still holds).
-  if (!corrected.config.empty() && language != ProgramLanguage::FanucLs) {
+  // Fanuc CONFIG and Yaskawa RCONF are kept as written (filter_program checks they still hold).
+  if (!corrected.config.empty() && language != ProgramLanguage::FanucLs && !jbi) {
     const size_t first = language == ProgramLanguage::Rapid ? 7 : 6;
     for (size_t k = 0; k < corrected.config.size() && first + k < f.size(); ++k)
       expected[first + k] = out.integer(f[first + k], corrected.config[k]);
@@ -228,9 +236,13 @@ const Naming& naming(ProgramLanguage language) {
   static const Naming kKrl{"TOOL_DATA[0]", "BASE_DATA[0]", "base"};
   static const Naming kLs{"UT[0]", "UF[0]", "user frame"};
   static const Naming kUr{"", "", "frame"};  // no frames; no set_tcp: the installation's TCP
+  // Yaskawa: every tool number is a tool file entry (none is the flange by definition); the
+  // robot frame is the base.
+  static const Naming kJbi{"", "", "user frame"};
   return language == ProgramLanguage::Rapid     ? kRapid
          : language == ProgramLanguage::Krl     ? kKrl
          : language == ProgramLanguage::FanucLs ? kLs
+         : language == ProgramLanguage::Jbi     ? kJbi
                                                 : kUr;
 }
 
@@ -279,12 +291,26 @@ ProgramFilterResult filter_program(std::string_view text, ProgramLanguage langua
       point.flange_T_tcp = resolve(tools, point.tool, names.flange, "tool", where);
     point.base_T_tcp = base_T_frame * point.base_T_tcp;
     CorrectedPoint corrected = corrector(point);
-    if (corrected.failure.empty() && language == ProgramLanguage::FanucLs &&
+    if (corrected.failure.empty() &&
+        (language == ProgramLanguage::FanucLs || language == ProgramLanguage::Jbi) &&
         !corrected.config.empty() && corrected.config != point.config)
-      corrected.failure = fmt::format(
-          "the corrected target needs CONFIG [{}], not the written [{}] (flip, down, back, "
-          "turns): rewrite the CONFIG by hand",
-          fmt::join(corrected.config, ","), fmt::join(point.config, ","));
+      corrected.failure =
+          language == ProgramLanguage::FanucLs
+              ? fmt::format(
+                    "the corrected target needs CONFIG [{}], not the written [{}] (flip, "
+                    "down, back, turns): rewrite the CONFIG by hand",
+                    fmt::join(corrected.config, ","), fmt::join(point.config, ","))
+              : fmt::format(
+                    "the corrected target needs ///RCONF {}, not the written {} (no-flip, "
+                    "lower, rear, R, T, S >= 180): give it its own ///RCONF by hand",
+                    fmt::join(corrected.config, ","), fmt::join(point.config, ","));
+    if (corrected.failure.empty() && language == ProgramLanguage::Jbi && point.is_joint_target) {
+      for (int k = 0; k < kJointCount; ++k)
+        if (!(std::abs(corrected.joints_deg[k] *
+                       options.pulses_per_degree[static_cast<size_t>(k)]) < 2e9))
+          corrected.failure = fmt::format("axis {}: {} deg is beyond a 32-bit pulse count", k + 1,
+                                          corrected.joints_deg[k]);
+    }
     if (corrected.failure.empty() &&
         (!corrected.base_T_tcp.p.allFinite() || !corrected.base_T_tcp.R.allFinite() ||
          !corrected.joints_deg.allFinite()))
@@ -298,14 +324,17 @@ ProgramFilterResult filter_program(std::string_view text, ProgramLanguage langua
       continue;
     }
     if (point.tool.empty() && !point.is_joint_target &&
-        (language == ProgramLanguage::Rapid || language == ProgramLanguage::Krl))
+        (language == ProgramLanguage::Rapid || language == ProgramLanguage::Krl ||
+         language == ProgramLanguage::Jbi))
       result.assumed.push_back(
           {where.describe(),
            language == ProgramLanguage::Rapid
                ? "no Move instruction of this module uses it: corrected for the default tool "
                  "in wobj0"
-               : "no FDAT or BAS(#TOOL/#BASE) / $TOOL / $BASE of this file names its tool and "
-                 "base: corrected for the default tool in the robot's base frame"});
+           : language == ProgramLanguage::Krl
+               ? "no FDAT or BAS(#TOOL/#BASE) / $TOOL / $BASE of this file names its tool and "
+                 "base: corrected for the default tool in the robot's base frame"
+               : "no ///TOOL line before it: corrected for the default tool (--tool)"});
     corrected.base_T_tcp = base_T_frame.inverse() * corrected.base_T_tcp;
     expected.push_back(rewrite(out, site, corrected, language, options));
     ++(site.point.is_joint_target ? result.joint_points : result.cartesian_points);

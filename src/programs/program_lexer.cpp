@@ -3,6 +3,7 @@
 #include <cctype>
 #include <charconv>
 
+#include "measurement_writers.hpp"
 #include "program_scan.hpp"
 #include "robcal/core/error.hpp"
 
@@ -40,6 +41,16 @@ double number_value(const std::string& file, const Token& number) {
   if (ec != std::errc() || ptr != last)
     refuse(file, number, fmt::format("malformed number '{}'", number.text));
   return value;
+}
+
+NumberField read_number_field(std::string_view text, size_t& at, const std::string& file, int line,
+                              size_t line_start) {
+  NumberField n;
+  n.present = true;
+  n.begin = at;
+  n.value = read_number(text, at, file, line, line_start);
+  n.end = at;
+  return n;
 }
 
 ProgramLexer::ProgramLexer(std::string_view text, ProgramLanguage language, const std::string& file)

@@ -80,6 +80,10 @@ ProgramScan scan_krl(std::string_view text, const std::string& file,
 /// back, t4, t5, t6 from CONFIG) or J1..J6 (joint); tool UT[n], frame UF[n].
 ProgramScan scan_ls(std::string_view text, const std::string& file,
                     const ProgramFilterOptions& options);
+/// Yaskawa JBI: the C positions of //POS, pulses (joint) or Cartesian (config = RCONF l..q);
+/// tool TOOL[n], frame USER[n] (ROBOT and BASE: the base frame).
+ProgramScan scan_jbi(std::string_view text, const std::string& file,
+                     const ProgramFilterOptions& options);
 /// URScript: pose literals of motions and assignments (m, rotation vector), tool from set_tcp.
 ProgramScan scan_urscript(std::string_view text, const std::string& file);
 
@@ -89,6 +93,11 @@ std::string upper(std::string_view text);
 /// The value of a Number token, which must be one whole finite decimal literal: `364.35.4`,
 /// `1e999` and `12abc` are InputErrors at the token.
 double number_value(const std::string& file, const Token& number);
+
+/// A number literal at `text[at]` (read_number: whole and finite, else InputError at
+/// file:line:column) with its byte range; advances `at` past it.
+NumberField read_number_field(std::string_view text, size_t& at, const std::string& file, int line,
+                              size_t line_start);
 
 /// InputError at a token.
 [[noreturn]] void refuse(const std::string& file, const Token& at, const std::string& message);

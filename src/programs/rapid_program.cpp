@@ -227,15 +227,7 @@ class RapidScanner {
       if (depth == 0 && t.is(',')) {
         piece_start = true;
       } else if (depth == 0 && t.is('\\')) {
-        // \Name or \Name:=value: an optional argument, never a positional one.
-        const Token option = lexer_.next();
-        if (lexer_.peek().text == ":=") {
-          lexer_.next();
-          const Token value = lexer_.peek();
-          if (iequals(option.text, "WObj") && value.kind == TokenKind::Identifier)
-            wobj = value.text;
-          skip_value();
-        }
+        optional_argument(wobj);
       } else {
         if (t.is('(') || t.is('{')) ++depth;
         if (t.is(')') || t.is('}')) --depth;
@@ -252,6 +244,39 @@ class RapidScanner {
       if (k >= 0 && static_cast<size_t>(k) < names.size())
         for (const std::string& name : names[static_cast<size_t>(k)])
           usages_[name].push_back({tool, upper(wobj), line});
+  }
+
+  // `\Name` (a switch) or `\Name:=value`, never a positional argument. The RAPID grammar
+  // wants one identifier after the backslash and a value after `:=`; `tool0\\WObj:=w` or
+  // `\WObj:=` would otherwise pass and leave the points in the wrong frame. The work object
+  // must be a plain name (the frame is looked up by it): anything else (`wobjs{2}`,
+  // `wobj1.uframe`) is refused rather than corrected in the base frame.
+  void optional_argument(std::string& wobj) {
+    const Token option = lexer_.next();
+    if (option.kind != TokenKind::Identifier)
+      refuse(lexer_.file(), option,
+             fmt::format("expected the name of an optional argument after '\\', found '{}'",
+                         option.kind == TokenKind::End ? "end of file" : std::string(option.text)));
+    if (lexer_.peek().text != ":=") {
+      if (iequals(option.text, "WObj"))
+        refuse(lexer_.file(), option, "expected \\WObj:=<work object name>");
+      return;
+    }
+    const Token assign = lexer_.next();
+    const Token value = lexer_.peek();
+    if (value.kind == TokenKind::End || value.is(',') || value.is(';') || value.is('\\'))
+      refuse(lexer_.file(), value.kind == TokenKind::End ? assign : value,
+             fmt::format("expected a value after '\\{}:='", option.text));
+    if (iequals(option.text, "WObj")) {
+      const Token& after = lexer_.peek(1);
+      if (value.kind != TokenKind::Identifier ||
+          !(after.is(',') || after.is(';') || after.is('\\')))
+        refuse(lexer_.file(), value,
+               "expected the name of a work object after '\\WObj:=' (its frame is looked up "
+               "by name)");
+      wobj = value.text;
+    }
+    skip_value();
   }
 
   // The value of an optional argument: up to the next ',' ';' or '\' outside brackets.
@@ -370,6 +395,7 @@ class RapidScanner {
   // the stack of open lists is a vector, so 30,000 nested `[` cost memory, not the call stack.
   Aggregate aggregate(const Token& open) {
     Aggregate tree;
+    tree.reserve(24);  // a robtarget: 5 lists and 17 elements
     tree.push_back({open, true, {}, {}});
     std::vector<size_t> open_lists{0};
     bool just_opened = true;

@@ -177,13 +177,17 @@ class UrScanner {
     } else if ((w == "movel" || w == "movej" || w == "movep" || w == "movec") &&
                text_.compare(next, 1, "(") == 0) {
       size_t arg = skip_blanks(next + 1);
-      for (int k = 0; k < (w == "movec" ? 2 : 1); ++k) {
+      const int targets = w == "movec" ? 2 : 1;
+      for (int k = 0; k < targets; ++k) {
         if (text_.compare(arg, 2, "p[") != 0) return;  // a variable or joint list
         const NumberFields f = pose_literal(arg);
         add_target(f, "", arg);
-        arg = skip_blanks(f.back().end);
-        if (arg >= text_.size() || text_[arg] != ']') return;
-        arg = skip_blanks(arg + 1);
+        arg = skip_blanks(skip_blanks(f.back().end) + 1);  // after the ']'
+        if (k + 1 == targets) {
+          at_ = arg - 1;
+          motion_arguments(arg, w);
+          return;
+        }
         if (arg >= text_.size() || text_[arg] != ',') return;
         arg = skip_blanks(arg + 1);
         at_ = arg - 1;
@@ -197,6 +201,52 @@ class UrScanner {
     }
   }
 
+  // The arguments after a motion's last target, up to its ')': positional values or the
+  // keywords a, v, t, r (movec also mode), `name=value`, comma-separated. A malformed one
+  // (`a==1.2`, `a=`, `,,`, a missing comma, `acc=1`) makes the controller refuse the script, so
+  // it is refused here rather than passed on corrected. Only the motion's own line is read.
+  void motion_arguments(size_t at, std::string_view motion) {
+    const auto fail = [&](size_t pos, const std::string& what) {
+      throw InputError(SourceLocation{file_, line_, column(pos), ""},
+                       fmt::format("{}: {}", motion, what));
+    };
+    const auto ends_line = [&](size_t pos) {
+      return pos >= text_.size() || text_[pos] == '\n' || text_[pos] == '\r' || text_[pos] == '#';
+    };
+    for (;;) {
+      if (ends_line(at)) return;
+      if (text_[at] == ')') return;
+      if (text_[at] != ',') fail(at, "expected ',' or ')' after the target");
+      at = skip_blanks(at + 1);
+      size_t name_end = at;
+      while (name_end < text_.size() &&
+             (std::isalnum(static_cast<unsigned char>(text_[name_end])) || text_[name_end] == '_'))
+        ++name_end;
+      const size_t eq = skip_blanks(name_end);
+      if (name_end > at && eq < text_.size() && text_[eq] == '=') {
+        const std::string_view name = text_.substr(at, name_end - at);
+        if (!(name == "a" || name == "v" || name == "t" || name == "r" ||
+              (motion == "movec" && name == "mode")))
+          fail(at, fmt::format("unknown argument '{}': expected a, v, t or r{}", name,
+                               motion == "movec" ? " or mode" : ""));
+        at = skip_blanks(eq + 1);
+      }
+      // The value: up to ',' or ')' outside brackets.
+      size_t end = at;
+      int depth = 0;
+      while (!ends_line(end) && !(depth == 0 && (text_[end] == ',' || text_[end] == ')'))) {
+        if (text_[end] == '(' || text_[end] == '[') ++depth;
+        if (text_[end] == ')' || text_[end] == ']') --depth;
+        ++end;
+      }
+      if (end == at || text_[at] == '=' ||
+          text_.substr(at, end - at).find_first_not_of(" \t") == std::string_view::npos)
+        fail(at, fmt::format("expected a value, found '{}'",
+                             ends_line(at) ? "end of line" : std::string(1, text_[at])));
+      at = end;
+    }
+  }
+
   using NumberFields = std::vector<NumberField>;
 
   // p[x, y, z, rx, ry, rz] at `at`: six number literals, read whole.
@@ -205,12 +255,7 @@ class UrScanner {
     size_t pos = at + 2;
     for (int k = 0; k < 6; ++k) {
       pos = skip_blanks(pos);
-      NumberField n;
-      n.present = true;
-      n.begin = pos;
-      n.value = read_number(text_, pos, file_, line_, line_start_);
-      n.end = pos;
-      f.push_back(n);
+      f.push_back(read_number_field(text_, pos, file_, line_, line_start_));
       pos = skip_blanks(pos);
       const char want = k < 5 ? ',' : ']';
       if (pos >= text_.size() || text_[pos] != want)

@@ -95,9 +95,17 @@ expect_error "malformed number" "p.src:2:16: malformed number '364.35.4'" compen
 printf 'kind,name,x,y,z,qw,qx,qy,qz\nframe,wTable,350,0,300,2,0,0,0\n' > "$TMP/badframes.csv"
 expect_error "frames file quaternion" "badframes.csv:2:" compensate-program \
   --model "$TMP/model.yaml" --in "$TMP/cell.mod" --out "$TMP/bad.mod" --frames "$TMP/badframes.csv"
-printf '/JOB\n//NAME P\n//POS\n///NPOS 0,0,0,0,0,0\n//INST\nNOP\nEND\n' > "$TMP/p.jbi"
-expect_error "language not filtered" "jbi programs are not filtered yet" compensate-program \
-  --model "$TMP/model.yaml" --in "$TMP/p.jbi" --out "$TMP/bad.jbi"
+# Yaskawa: the measurement job's pulse positions filtered with the robot file's pulses per
+# degree (a copy of the IRB 120 file with pulses_per_degree: the model names that robot).
+expect_error "jbi pulses without the robot's pulses per degree" \
+  "pulse positions need the robot's pulses per degree" compensate-program \
+  --model "$TMP/model.yaml" --in "$TMP/jbi/RCMEAS.jbi" --out "$TMP/bad.jbi" --joints
+{ cat data/robots/abb-irb120.yaml; echo "pulses_per_degree: [1000, 1000, 1000, 800, 800, 500]"; } \
+  > "$TMP/irb120-pulses.yaml"
+"$ROBCAL" compensate-program --model "$TMP/model.yaml" --robot "$TMP/irb120-pulses.yaml" \
+  --in "$TMP/jbi/RCMEAS.jbi" --out "$TMP/jbi_out.jbi" --joints --json > "$TMP/jbi_out.json" ||
+  fail "jbi filtering with --robot pulses"
+grep -q '"joint_points": 4' "$TMP/jbi_out.json" || fail "jbi: 4 joint targets: $(cat "$TMP/jbi_out.json")"
 printf 'def p():\n  movel(p[0.4,0,0.3,0,3.14], a=1)\nend\n' > "$TMP/p.script"
 expect_error "URScript pose" "p.script:2:27: pose p[x, y, z, rx, ry, rz]: expected ','" \
   compensate-program --model "$TMP/model.yaml" --in "$TMP/p.script" --out "$TMP/bad.script"

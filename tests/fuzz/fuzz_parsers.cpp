@@ -70,6 +70,10 @@ std::map<std::string, Target> targets(const fs::path& root) {
       options.tools["TOOL_DATA[1]"] = Pose<double>{};
       options.tools["UT[2]"] = Pose<double>{};
       options.frames["UF[1]"] = Pose<double>{};
+      options.tools["TOOL[1]"] = Pose<double>{};
+      options.tools["TOOL[2]"] = Pose<double>{};
+      options.frames["USER[1]"] = Pose<double>{};
+      options.pulses_per_degree = {1341.2, 1341.2, 1341.2, 1092.3, 1092.3, 614.4};
       (void)read_program_points(text, language, file.string(), options);
       (void)filter_program(text, language, file.string(), options, correct);
     };
@@ -89,6 +93,7 @@ std::map<std::string, Target> targets(const fs::path& root) {
       {"krl", program(ProgramLanguage::Krl)},
       {"ls", program(ProgramLanguage::FanucLs)},
       {"urscript", program(ProgramLanguage::UrScript)},
+      {"jbi", program(ProgramLanguage::Jbi)},
       {"plan", [](const std::string&, const fs::path& f) { (void)hexapod::load_session_plan(f); }},
       {"journal",
        [plan_file](const std::string&, const fs::path& f) {

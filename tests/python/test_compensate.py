@@ -62,7 +62,8 @@ def test_nominal_model_leaves_programs_unchanged(tmp_path):
     nominal = robcal.Compensator.nominal("abb-irb120")
     out = tmp_path / "out.mod"
     counts = nominal.compensate_program(str(PROGRAMS / "pick_place.mod"), str(out), joints=True)
-    assert counts == {"cartesian_points": 6, "joint_points": 2}
+    assert (counts["cartesian_points"], counts["joint_points"]) == (6, 2)
+    assert counts["uncorrected"] == [] and counts["language"] == "rapid"
     assert out.read_bytes() == (PROGRAMS / "pick_place.mod").read_bytes()
 
 

@@ -65,7 +65,8 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
 /// Configuration data as the maker writes it for controller joints (rad): RAPID (cf1, cf4,
 /// cf6, cfx) with cfx = ArmConfig index; KRL (S, T) with S bit 0 = back, bit 1 = up,
 /// bit 2 = A5 ≤ 0, T bit i = (A_{i+1} < 0); Fanuc (flip, down, back, t4, t5, t6), CONFIG's
-/// letters F/N, D/U, B/T and the turn numbers of J4..J6.
+/// letters F/N, D/U, B/T and the turn numbers of J4..J6; Yaskawa ///RCONF (no-flip, lower,
+/// rear, |R| ≥ 180°, |T| ≥ 180°, |S| ≥ 180°).
 std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
                                      const Vector6d& joints);
 

@@ -50,6 +50,10 @@ struct MeasurementProgramRequest {
   std::string date = "2000/01/01 00:00";
 };
 
+/// "wait", "pulse" or "log"; InputError (key `key`) otherwise.
+MeasurementHook measurement_hook_from_name(const std::string& name,
+                                           const std::string& key = "--hook");
+
 /// One file of the program.
 struct ProgramFile {
   std::string name;  ///< file name (program name + extension)

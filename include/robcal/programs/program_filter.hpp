@@ -5,8 +5,7 @@
 /// corrector in the robot's base frame with the tool active at it, and write the corrected values
 /// back into the text in text order, leaving every other byte (comments, spacing, line endings,
 /// untouched numbers) exactly as it was. The rewritten text is parsed again and must give the
-/// same points with exactly the values written (else nothing is returned). Yaskawa JBI jobs
-/// are not filtered (refused by name).
+/// same points with exactly the values written (else nothing is returned).
 ///
 /// Points recognised:
 /// - RAPID: `CONST|PERS|VAR robtarget name[{dims}] := [[x,y,z],[q1..q4],[cf1,cf4,cf6,cfx],
@@ -29,6 +28,11 @@
 /// - Fanuc LS: the /POS positions of group 1: X..R with CONFIG (Cartesian; W, P, R the
 ///   rotations about x, y, z) or J1..J6 (joint, with `joints`); tool UT[n] and user frame
 ///   UF[n] of the position itself. CONFIG is kept: a correction that needs another is refused.
+/// - Yaskawa JBI: the C positions of //POS: Cartesian ones (X, Y, Z, Rx, Ry, Rz; R =
+///   Rz·Ry·Rx) in the ROBOT/BASE frame or user frame USER[n], with tool TOOL[n] of the last
+///   ///TOOL and configuration = the last ///RCONF (flags l..q, kept: a correction that needs
+///   another is refused); with `joints`, pulse positions (pulses / pulses_per_degree). BC and EC
+///   positions (base and station axes) stay as written; ///NPOS counts are checked.
 /// - URScript: pose literals `p[x,y,z,rx,ry,rz]` (m, rotation vector) that are motion targets
 ///   or assigned to a variable; the tool of the last literal set_tcp (none: the installation's,
 ///   the corrector's default); no frames.
@@ -37,6 +41,7 @@
 /// is refused with an InputError naming the file, line and column.
 
 #include <Eigen/Core>
+#include <array>
 #include <functional>
 #include <map>
 #include <optional>
@@ -92,6 +97,9 @@ struct ProgramFilterOptions {
   /// agree with them. RAPID tool0 and wobj0 are the flange and the base frame.
   std::map<std::string, Pose<double>> tools;
   std::map<std::string, Pose<double>> frames;
+  /// Yaskawa: encoder pulses per degree of each joint (the robot file's pulses_per_degree); all
+  /// zero: unknown, and a job with pulse positions is refused when joints are read.
+  std::array<double, kJointCount> pulses_per_degree{};
   /// A point the corrector refuses is left as written and listed in the result instead of
   /// failing the whole program.
   bool keep_going = false;
@@ -125,7 +133,6 @@ std::vector<ProgramPoint> read_program_points(std::string_view text, ProgramLang
 
 /// Corrects every point of a program. Throws InputError (file, line, column) on text it
 /// cannot parse or a point the corrector refuses; never returns a partially corrected text.
-/// Filtering reads RAPID and KRL; the other languages are refused by name.
 ProgramFilterResult filter_program(std::string_view text, ProgramLanguage language,
                                    const std::string& file, const ProgramFilterOptions& options,
                                    const PointCorrector& corrector);

@@ -1,0 +1,49 @@
+#pragma once
+/// \file
+/// The calibrated robot as it is used now (docs/method/10-compensation.md): the calibrated model,
+/// the tool mounted on it and the payload it carries, checked and turned into the compensator
+/// every compensation workflow (targets, programs) starts from.
+
+#include <array>
+#include <optional>
+#include <string>
+
+#include "robcal/compensate/calibrated_ik.hpp"
+#include "robcal/io/robot_file.hpp"
+
+namespace robcal {
+
+struct CompensationSetup {
+  CalibratedRobot robot;
+  std::string model_file = "<model>";  ///< names the model in errors
+  /// When given, the model must be a calibrated robot of this name (`--robot`).
+  std::string expected_robot;
+  /// When given, its TCP and payload replace the model's (`--tool`).
+  std::optional<Tool> tool;
+  /// The payload carried now, when not the tool's: the compliance re-compensates for it.
+  std::optional<PointMass> payload;
+  /// Yaskawa: encoder pulses per degree of each joint (io/robot_pulses.hpp); all zero: unknown.
+  std::array<double, kJointCount> pulses_per_degree{};
+};
+
+/// The calibrated robot with the tool and payload applied, and its compensator. The
+/// compensator and the program correctors made from it refer to `robot`: keep the object where
+/// it was made.
+struct Compensation {
+  CalibratedRobot robot;
+  Compensator comp;
+  std::array<double, kJointCount> pulses_per_degree{};  ///< the setup's
+};
+
+/// Applies the tool and payload and builds the compensator. InputError: the model is not the
+/// expected robot (key "--robot"), the payload mass is outside [0, 10000) kg or not finite
+/// (key "--payload-mass-kg"), its centre of gravity not finite (key "--payload-cog-mm").
+Compensation prepare_compensation(const CompensationSetup& setup);
+
+/// "newton" or "pose-shift"; InputError (key `key`) otherwise.
+IkMethod ik_method_from_name(const std::string& name, const std::string& key = "--method");
+
+/// The name ik_method_from_name reads.
+const char* ik_method_name(IkMethod method);
+
+}  // namespace robcal

@@ -1,0 +1,135 @@
+"""The programs stage from Python: measurement programs written and read back in every language,
+program texts filtered with a calibrated model, and the CLI (`robcal compensate`,
+`compensate-program`) giving the same numbers and bytes as the Python functions, which call the
+same library workflows."""
+import json
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import robcal
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+REF = ROOT / "tests/data/irb120-published"
+PROGRAMS = ROOT / "tests/data/programs"
+CLI = os.environ.get("ROBCAL_CLI")
+# Yaskawa GP7-like encoder resolutions (pulses per degree), only to exercise the conversion.
+PULSES = [1341.2, 1341.2, 1341.2, 1092.3, 1092.3, 614.4]
+
+
+@pytest.mark.parametrize("language", ["rapid", "krl", "ls", "jbi", "urscript"])
+def test_measurement_program_reads_back(language):
+    rng = np.random.default_rng(3)
+    joints = rng.uniform(-60, 60, size=(7, 6))
+    names = [f"C{i:02d}" for i in range(len(joints))]
+    files = robcal.write_measurement_program(language, names, joints, approach_deg=5.0,
+                                             pulses_per_degree=PULSES, max_configs_per_file=4)
+    assert len(files) == 2  # 7 configurations, at most 4 per file
+    moves = np.vstack([robcal.read_joint_moves(f["text"], language, PULSES)["joints_deg"]
+                       for f in files])
+    # Each configuration is reached from q - 5 deg on every joint, then q itself.
+    assert moves.shape == (14, 6)
+    tolerance = 0.5 / np.min(PULSES) if language == "jbi" else 1e-6  # half a pulse
+    np.testing.assert_allclose(moves[1::2], joints, rtol=0, atol=tolerance)
+    np.testing.assert_allclose(moves[0::2], joints - 5.0, rtol=0, atol=tolerance)
+
+
+def test_measurement_program_refusals():
+    with pytest.raises(robcal.InputError, match="pulses per degree"):
+        robcal.write_measurement_program("jbi", ["A"], np.zeros((1, 6)))
+    with pytest.raises(robcal.InputError, match="axis 6: expected a positive pulse count"):
+        robcal.write_measurement_program("jbi", ["A"], np.zeros((1, 6)),
+                                         pulses_per_degree=PULSES[:5] + [0.0])
+    with pytest.raises(robcal.InputError, match="expected wait, pulse or log"):
+        robcal.write_measurement_program("rapid", ["A"], np.zeros((1, 6)), hook="beep")
+    with pytest.raises(robcal.InputError, match="one row of six joints"):
+        robcal.write_measurement_program("rapid", ["A", "B"], np.zeros((1, 6)))
+
+
+def test_filter_program_text_nominal_and_truth(tmp_path):
+    text = (PROGRAMS / "pick_place.mod").read_text()
+    nominal = robcal.Compensator.nominal("abb-irb120")
+    same = robcal.filter_program(nominal, text, "rapid", joints=True)
+    assert same["text"] == text
+    assert (same["cartesian_points"], same["joint_points"]) == (6, 2)
+    truth = robcal.Compensator.from_truth(str(REF / "truth.yaml"))
+    r = robcal.filter_program(truth, text, "rapid", joints=True, file="pick_place.mod")
+    # The text face and the file face are one workflow: same bytes.
+    out = tmp_path / "out.mod"
+    summary = truth.compensate_program(str(PROGRAMS / "pick_place.mod"), str(out), joints=True)
+    assert out.read_text() == r["text"] != text
+    assert summary["cartesian_points"] == r["cartesian_points"] == 6
+    # Every corrected target read back reaches, on the true robot, what the original asked for
+    # on the nominal one: check the Cartesian points through their nominal poses.
+    before = robcal.read_program_points(text, "rapid")
+    after = robcal.read_program_points(r["text"], "rapid")
+    assert [p["name"] for p in before] == [p["name"] for p in after]
+    moved = [np.linalg.norm(a["position_mm"] - b["position_mm"]) for a, b in zip(after, before)]
+    assert 0.05 < max(moved) < 10  # the published IRB 120 is off by about a millimetre
+
+
+@pytest.mark.skipif(not CLI, reason="ROBCAL_CLI names the robcal program")
+def test_cli_and_python_compensate_identically(tmp_path):
+    model = tmp_path / "model.yaml"
+    subprocess.run([CLI, "calibrate", "--robot", "abb-irb120", "--tool", str(REF / "tool.yaml"),
+                    "--measurements", str(REF / "calibration.csv"), "--out", str(model)],
+                   check=True, capture_output=True)
+    truth = str(REF / "truth.yaml")
+    # Wanted poses the robot can reach: the true robot's TCP at three joint sets.
+    true_robot = robcal.Compensator.from_truth(truth, tool=str(REF / "tool.yaml"))
+    rows = ["name,x,y,z,qw,qx,qy,qz"]
+    for i, q in enumerate([[10, 20, 10, 30, 40, 50], [-20, 35, -5, -40, 60, 10], [5, 0, 25, 0, 45, 0]]):
+        pose = true_robot.tcp_pose(np.array(q, dtype=float))
+        rows.append(f"p{i + 1}," + ",".join(f"{v:.6f}" for v in [*pose["position_mm"],
+                                                                  *pose["quaternion_wxyz"]]))
+    targets = tmp_path / "targets.csv"
+    targets.write_text("\n".join(rows) + "\n")
+    cli_out, py_out = tmp_path / "cli.csv", tmp_path / "py.csv"
+    c = json.loads(subprocess.run(
+        [CLI, "compensate", "--model", str(model), "--tool", str(REF / "tool.yaml"),
+         "--targets", str(targets), "--out", str(cli_out), "--check-truth", truth, "--json"],
+        check=True, capture_output=True, text=True).stdout)
+    comp = robcal.Compensator.from_model(str(model), tool=str(REF / "tool.yaml"))
+    p = comp.compensate_targets(str(targets), check_truth=truth, out=str(py_out))
+    assert cli_out.read_bytes() == py_out.read_bytes() == p["csv"].encode()
+    for key in ("robot", "targets", "method", "payload_kg", "max_iterations", "max_residual_mm",
+                "max_confidence95_mm", "closed_loop"):
+        assert c[key] == p[key], key
+    assert p["joints_deg"].shape == (3, 6) and p["names"] == ["p1", "p2", "p3"]
+    assert c["closed_loop"]["compensated"]["max_mm"] < 0.1 < c["closed_loop"]["uncompensated"]["mean_mm"]
+
+    cli_prog, py_prog = tmp_path / "cli.mod", tmp_path / "py.mod"
+    c = json.loads(subprocess.run(
+        [CLI, "compensate-program", "--model", str(model), "--in", str(PROGRAMS / "pick_place.mod"),
+         "--out", str(cli_prog), "--joints", "--json"],
+        check=True, capture_output=True, text=True).stdout)
+    comp = robcal.Compensator.from_model(str(model))
+    p = comp.compensate_program(str(PROGRAMS / "pick_place.mod"), str(py_prog), joints=True)
+    assert cli_prog.read_bytes() == py_prog.read_bytes()
+    assert {k: v for k, v in c.items() if k != "out"} == {k: v for k, v in p.items() if k != "out"}
+
+
+def test_filter_yaskawa_job_with_the_nominal_model_changes_nothing(tmp_path):
+    frames = tmp_path / "frames.csv"
+    frames.write_text("kind,name,x,y,z,qw,qx,qy,qz\ntool,TOOL[1],0,0,150,1,0,0,0\n"
+                      "tool,TOOL[2],0,0,200,1,0,0,0\nframe,USER[1],300,0,0,1,0,0,0\n")
+    text = (PROGRAMS / "weld_cell.jbi").read_bytes().decode()
+    nominal = robcal.Compensator.nominal("yaskawa-gp7")
+    r = robcal.filter_program(nominal, text, "jbi", joints=True, keep_going=True,
+                              frames=str(frames), pulses_per_degree=PULSES, file="weld_cell.jbi")
+    assert r["text"] == text
+    assert r["language"] == "jbi"
+    assert r["joint_points"] == 1
+    assert r["cartesian_points"] + len(r["uncorrected"]) == 4
+    with pytest.raises(robcal.InputError, match="pulses per degree"):
+        robcal.filter_program(nominal, text, "jbi", joints=True, frames=str(frames))
+    # The file face: the same bytes.
+    out = tmp_path / "out.jbi"
+    summary = nominal.compensate_program(str(PROGRAMS / "weld_cell.jbi"), str(out), joints=True,
+                                         keep_going=True, frames=str(frames),
+                                         pulses_per_degree=PULSES)
+    assert out.read_bytes() == (PROGRAMS / "weld_cell.jbi").read_bytes()
+    assert summary["joint_points"] == 1
