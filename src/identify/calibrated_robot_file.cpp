@@ -5,6 +5,7 @@
 
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/io/yaml_checks.hpp"
 #include "robcal/io/yaml_support.hpp"
 
 namespace robcal {
@@ -121,6 +122,9 @@ CalibratedRobot load_calibrated_robot(const std::string& path) {
     throw root.error(
         "not a calibrated model: expected the keys 'robot' and 'parameters' "
         "(a file written by `robcal calibrate`)");
+  // A misspelt key ('covarience:') would silently drop what it holds.
+  yaml::expect_keys(root, {"format", "level", "base_fitted", "robot", "tool", "parameters",
+                           "covariance", "statistics", "reidentified"});
   CalibratedRobot robot;
   robot.model = parse_robot(root.at("robot"));
   robot.tool = root.has("tool") ? parse_tool(root.at("tool")) : Tool{};
@@ -133,6 +137,7 @@ CalibratedRobot load_calibrated_robot(const std::string& path) {
   if (!parameters.node.IsSequence()) throw parameters.error("expected a list of parameters");
   for (size_t k = 0; k < parameters.size(); ++k) {
     const yaml::Node entry = parameters.at(k);
+    yaml::expect_keys(entry, {"name", "unit", "nominal", "value", "std", "status", "reason"});
     const yaml::Node name = entry.at("name");
     const int i = parameter_index(name.as_string());
     if (i < 0) throw name.error(fmt::format("unknown parameter '{}'", name.as_string()));
@@ -148,6 +153,7 @@ CalibratedRobot load_calibrated_robot(const std::string& path) {
   }
   if (root.has("covariance")) {
     const yaml::Node cov = root.at("covariance");
+    yaml::expect_keys(cov, {"units", "parameters", "matrix"});
     const yaml::Node names = cov.at("parameters");
     std::vector<int> index;
     for (size_t k = 0; k < names.size(); ++k) {
