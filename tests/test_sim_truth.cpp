@@ -213,8 +213,7 @@ TEST(SimTruth, BadTruthFilesNameTheKey) {
   }
   // Unknown keys anywhere (issue 21), located, with the nearest known key.
   const std::string good = read_text_file(test::data_path("irb120-published/truth.yaml"));
-  for (const auto& [from, to, expected] :
-       std::vector<std::array<std::string, 3>>{
+  for (const auto& [from, to, expected] : std::vector<std::array<std::string, 3>>{
            {"gravity_m_s2:", "gravty_m_s2:", "did you mean 'gravity_m_s2'?"},
            {"  y_mm:", "  y_mn:", "(base.y_mn): unknown key 'y_mn': did you mean 'y_mm'?"},
            {"  6: [", "  7: [", "(links.7): unknown key '7'"}}) {

@@ -82,8 +82,14 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
     }
     out << YAML::EndSeq << YAML::EndMap;
   }
-  if (!statistics_yaml.empty())
-    out << YAML::Key << "statistics" << YAML::Value << YAML::Load(statistics_yaml);
+  const std::string& statistics = statistics_yaml.empty() ? robot.statistics : statistics_yaml;
+  if (!statistics.empty())
+    out << YAML::Key << "statistics" << YAML::Value << YAML::Load(statistics);
+  if (!robot.reidentified.empty()) {
+    out << YAML::Key << "reidentified" << YAML::Value << YAML::BeginSeq;
+    for (const std::string& record : robot.reidentified) out << YAML::Load(record);
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -150,6 +156,13 @@ CalibratedRobot load_calibrated_robot(const std::string& path) {
     robot.params[i] = entry.at("value").as_double() / table[i].to_external();
     if (entry.has("status")) robot.status[s] = parse_status(entry.at("status"));
     if (entry.has("reason")) robot.reason[s] = entry.at("reason").as_string();
+  }
+  if (root.has("statistics")) robot.statistics = YAML::Dump(root.at("statistics").node);
+  if (root.has("reidentified")) {
+    const yaml::Node records = root.at("reidentified");
+    if (!records.node.IsSequence()) throw records.error("expected a list of re-identifications");
+    for (size_t k = 0; k < records.size(); ++k)
+      robot.reidentified.push_back(YAML::Dump(records.at(k).node));
   }
   if (root.has("covariance")) {
     const yaml::Node cov = root.at("covariance");
