@@ -40,15 +40,15 @@ CalibratedRobot calibrated_robot(std::mt19937_64& rng) {
   return robot;
 }
 
+/// Configurations in the middle 60 % of every joint's range.
 std::vector<Vector6d> configurations(const RobotModel& model, int count, std::mt19937_64& rng) {
-  std::vector<Vector6d> out(static_cast<size_t>(count));
-  for (Vector6d& q : out)
-    for (int j = 0; j < kJointCount; ++j) {
-      const JointLimit& l = model.limits[static_cast<size_t>(j)];
-      const double margin = 0.2 * (l.upper - l.lower);
-      q[j] = std::uniform_real_distribution<double>(l.lower + margin, l.upper - margin)(rng);
-    }
-  return out;
+  Vector6d lower, upper;
+  for (int j = 0; j < kJointCount; ++j) {
+    const JointLimit& l = model.limits[static_cast<size_t>(j)];
+    lower[j] = l.lower + 0.2 * (l.upper - l.lower);
+    upper[j] = l.upper - 0.2 * (l.upper - l.lower);
+  }
+  return sample_configurations(lower, upper, count, rng);
 }
 
 /// Points of `target_mm` (flange frame) measured on the robot with parameters `truth`.

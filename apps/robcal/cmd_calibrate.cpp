@@ -32,8 +32,13 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
                   const MeasurementSet& data) {
   const IdentificationResult& r = run.result;
   const CrossValidation* cv = run.cross_validation ? &*run.cross_validation : nullptr;
-  fmt::print("calibrated {} at level {} from {} rows of {} ({})\n", r.robot.model.name,
-             r.robot.level, data.size(), measurement_kind_name(data.kind), data.file);
+  if (r.reidentification)
+    fmt::print("re-identified {} on the calibrated {} (level {}) from {} rows of {} ({})\n",
+               r.reidentification->what, r.robot.model.name, r.robot.level, data.size(),
+               measurement_kind_name(data.kind), data.file);
+  else
+    fmt::print("calibrated {} at level {} from {} rows of {} ({})\n", r.robot.model.name,
+               r.robot.level, data.size(), measurement_kind_name(data.kind), data.file);
   fmt::print("solver: {} after {} iterations ({})\n",
              r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations,
              r.status.message);
@@ -69,6 +74,8 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
       ++fixed;
       continue;
     }
+    if (r.reidentification && u.status == ParameterStatus::Identified)
+      continue;  // listed below with the values they replace
     if (u.status == ParameterStatus::Dropped) {
       fmt::print("  {:<22} dropped, {}\n", u.name, u.reason);
       continue;
