@@ -10,8 +10,8 @@
 #include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/identify/calibration_output.hpp"
 #include "robcal/identify/cross_validation.hpp"
-#include "robcal/identify/identification.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -252,33 +252,49 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       .def(
           "save",
           [](const IdentificationResult& r, const std::string& path) {
-            write_file_atomically(path, calibrated_robot_to_yaml(r.robot, statistics_yaml(r)));
+            write_file_atomically(path, calibrated_model_file(r, nullptr));
           },
           py::arg("path"), "Writes the calibrated model file (YAML), whole or not at all");
 
   m.def(
       "calibrate",
-      [](const std::string& robot, const std::string& tool, const std::string& measurements,
-         const std::string& level, const std::vector<std::string>& identify,
-         const std::vector<std::string>& fix, const std::string& loss, uint64_t seed) {
-        const RobotModel model = load_robot(robot);
-        const Tool t = load_tool(tool);
-        const MeasurementFile file = read_measurements_csv(measurements, t);
-        return calibrate(model, t, file.measurements,
-                         make_options(level, identify, fix, loss, seed));
+      [](const std::optional<std::string>& robot, const std::optional<std::string>& tool,
+         const std::string& measurements, const std::optional<std::string>& level,
+         const std::vector<std::string>& identify, const std::vector<std::string>& fix,
+         const std::string& loss, uint64_t seed, const std::optional<std::string>& model) {
+        // The CLI's library calls (run_calibration, reidentify), same numbers as `calibrate`.
+        std::optional<Tool> t;
+        if (tool) t = load_tool(*tool);
+        if (!model) {
+          if (!robot || !t) throw InputError({"", 0, 0, "robot"}, "give robot and tool, or model");
+          const MeasurementFile file = read_measurements_csv(measurements, *t);
+          const CalibrationRequest request{
+              make_options(level.value_or("full"), identify, fix, loss, seed), 0, {}};
+          return run_calibration(load_robot(*robot), *t, file.measurements, request).result;
+        }
+        if (robot) throw InputError({"", 0, 0, "robot"}, "model already holds the robot");
+        const CalibratedRobot start = load_calibrated_robot(*model);
+        const MeasurementFile file = read_measurements_csv(measurements, t ? *t : start.tool);
+        CalibrationRequest request{make_options("full", identify, fix, loss, seed), 0, {}};
+        request.options.level =
+            level ? parse_reidentification_level(*level) : CalibrationLevel::Patterns;
+        return reidentify(start, t, file.measurements, request).result;
       },
-      py::arg("robot"), py::arg("tool"), py::arg("measurements"), py::arg("level") = "full",
+      py::arg("robot"), py::arg("tool"), py::arg("measurements"), py::arg("level") = py::none(),
       py::arg("identify") = std::vector<std::string>{}, py::arg("fix") = std::vector<std::string>{},
-      py::arg("loss") = "none", py::arg("seed") = 1,
-      "Calibrate from files: robot name or file, tool file, measurement CSV");
+      py::arg("loss") = "none", py::arg("seed") = 1, py::arg("model") = py::none(),
+      "Calibrate from files: robot name or file, tool file, measurement CSV (level default "
+      "full). With model= (a calibrated model file; robot=None) only what level ('tool', "
+      "'base') or identify asks is re-identified, the rest kept (tool: the new tool, or None)");
 
   m.def(
       "calibrate",
       [](const RobotModel& robot, const Measurements& measurements, const std::string& level,
          const std::vector<std::string>& identify, const std::vector<std::string>& fix,
          const std::string& loss, uint64_t seed) {
-        return calibrate(robot, measurements.tool, measurements.set,
-                         make_options(level, identify, fix, loss, seed));
+        return run_calibration(robot, measurements.tool, measurements.set,
+                               {make_options(level, identify, fix, loss, seed), 0, {}})
+            .result;
       },
       py::arg("robot"), py::arg("measurements"), py::arg("level") = "full",
       py::arg("identify") = std::vector<std::string>{}, py::arg("fix") = std::vector<std::string>{},
@@ -292,9 +308,10 @@ const bool registered = register_bindings(30, [](py::module_& m) {
          const std::string& level, const std::vector<std::string>& identify,
          const std::vector<std::string>& fix, const std::string& loss, uint64_t seed) {
         const Tool t = load_tool(tool);
-        return calibrate(load_robot(robot), t,
-                         points_from_arrays(t, joints_deg, targets, positions_mm).set,
-                         make_options(level, identify, fix, loss, seed));
+        return run_calibration(load_robot(robot), t,
+                               points_from_arrays(t, joints_deg, targets, positions_mm).set,
+                               {make_options(level, identify, fix, loss, seed), 0, {}})
+            .result;
       },
       py::arg("robot"), py::arg("tool"), py::arg("joints_deg"), py::arg("targets"),
       py::arg("positions_mm"), py::arg("level") = "full",

@@ -103,6 +103,12 @@ TEST(CalibratedRobotFile, BadFilesNameFileLineAndKey) {
   expect_error(replace("name: link3.a,", "name: link3.d,"), "given twice");
   expect_error(replace("status: identified", "status: maybe"), "unknown status 'maybe'");
   expect_error(replace("parameters:", "params:"), "not a calibrated model");
+  // Unknown keys (issue 21): a typo would silently drop what the key holds.
+  expect_error(replace("covariance:", "covarience:"),
+               "(covarience): unknown key 'covarience': did you mean 'covariance'?");
+  expect_error(replace("name: link3.a, unit: mm, nominal", "name: link3.a, unit: mm, nominl"),
+               "unknown key 'nominl': did you mean 'nominal'?");
+  expect_error(replace("  units:", "  unit:"), "unknown key 'unit': did you mean 'units'?");
   // Line numbers: the bad value sits on a line of its own.
   expect_error(replace("name: link4.a", "name: [oops"), "YAML syntax error");
 }

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 
@@ -209,6 +210,24 @@ TEST(SimTruth, BadTruthFilesNameTheKey) {
     const std::string message = e.what();
     EXPECT_NE(message.find("warp_drive"), std::string::npos) << message;
     EXPECT_NE(message.find("sim_truth_bad.yaml"), std::string::npos) << message;
+  }
+  // Unknown keys anywhere (issue 21), located, with the nearest known key.
+  const std::string good = read_text_file(test::data_path("irb120-published/truth.yaml"));
+  for (const auto& [from, to, expected] : std::vector<std::array<std::string, 3>>{
+           {"gravity_m_s2:", "gravty_m_s2:", "did you mean 'gravity_m_s2'?"},
+           {"  y_mm:", "  y_mn:", "(base.y_mn): unknown key 'y_mn': did you mean 'y_mm'?"},
+           {"  6: [", "  7: [", "(links.7): unknown key '7'"}}) {
+    std::string bad = good;
+    bad.replace(bad.find(from), from.size(), to);
+    write_file_atomically(path, bad);
+    try {
+      load_truth(path.string());
+      ADD_FAILURE() << "accepted " << to;
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(expected), std::string::npos) << message;
+      EXPECT_NE(message.find("sim_truth_bad.yaml:"), std::string::npos) << message;
+    }
   }
   std::mt19937_64 rng(1);
   TrueRobot truth;

@@ -4,9 +4,11 @@
 
 #include <fmt/format.h>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <streambuf>
 
 #include "robcal/core/error.hpp"
 #include "robcal/core/rounding.hpp"
@@ -66,8 +68,47 @@ ArmConfig parse_config(const std::string& text, const std::string& what) {
   return *config;
 }
 
+namespace {
+/// std::cout's buffer once standard output is reserved for the data: writes straight to the
+/// saved descriptor (write_file_atomically("-") writes through std::cout).
+class DescriptorBuffer final : public std::streambuf {
+ public:
+  explicit DescriptorBuffer(int fd) : fd_(fd) {}
+
+ protected:
+  std::streamsize xsputn(const char* data, std::streamsize size) override {
+    std::streamsize done = 0;
+    while (done < size) {
+      const ssize_t n = ::write(fd_, data + done, static_cast<size_t>(size - done));
+      if (n <= 0) break;
+      done += n;
+    }
+    return done;
+  }
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    const char ch = traits_type::to_char_type(c);
+    return xsputn(&ch, 1) == 1 ? c : traits_type::eof();
+  }
+
+ private:
+  int fd_;
+};
+}  // namespace
+
+void reserve_stdout_for_data() {
+  std::fflush(stdout);
+  std::cout.flush();
+  const int data = ::dup(STDOUT_FILENO);
+  if (data < 0 || ::dup2(STDERR_FILENO, STDOUT_FILENO) < 0)
+    throw std::runtime_error("cannot separate the data on standard output from the report");
+  static DescriptorBuffer buffer(data);
+  std::cout.rdbuf(&buffer);
+}
+
 void print_json(const nlohmann::json& value) {
-  std::cout << value.dump(2) << std::endl;
+  // Through C stdio, as every other printout: with --out - it then goes to standard error.
+  fmt::print("{}\n", value.dump(2));
 }
 
 bool stdout_is_terminal() {

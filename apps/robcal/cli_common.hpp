@@ -25,6 +25,11 @@ Eigen::Matrix3d parse_orientation(const std::string& text, const std::string& wh
 /// An arm configuration label such as "front-up-noflip" (InputError naming `what` otherwise).
 ArmConfig parse_config(const std::string& text, const std::string& what = "--config");
 
+/// `--out -`: standard output then carries the data alone, so that it can be piped; everything
+/// else the command prints (its report, --json, "wrote -") goes to standard error. Call once,
+/// before the command runs.
+void reserve_stdout_for_data();
+
 /// Prints JSON (2-space indent) to stdout.
 void print_json(const nlohmann::json& value);
 

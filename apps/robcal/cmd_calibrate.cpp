@@ -2,13 +2,13 @@
 /// (docs/method/04-identification.md) and write the calibrated model.
 
 #include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include <iostream>
+#include <optional>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/identify/calibration_run.hpp"
+#include "robcal/identify/calibration_output.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -18,7 +18,7 @@ namespace robcal::cli {
 namespace {
 
 struct CalibrateArgs {
-  std::string robot, tool, measurements, level = "full", loss = "none", out, units, euler, folds;
+  std::string robot, tool, model, measurements, level, loss = "none", out, units, euler, folds;
   std::vector<std::string> identify, fix;
   double huber_scale = 0;
   double orientation_weight = kDefaultOrientationWeightMm;
@@ -28,110 +28,17 @@ struct CalibrateArgs {
   bool json = false, keep_near_dependent = false, force = false;
 };
 
-const char* status_text(ParameterStatus s) {
-  return s == ParameterStatus::Identified ? "identified"
-         : s == ParameterStatus::Dropped  ? "dropped"
-                                          : "fixed";
-}
-
-nlohmann::json per_fold_json(const CrossValidation& cv) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const FoldErrors& f : cv.per_fold)
-    out.push_back({{"rows", f.rows},
-                   {"mean", tidy(f.mean_mm)},
-                   {"std", tidy(f.std_mm)},
-                   {"max", tidy(f.max_mm)}});
-  return out;
-}
-
-nlohmann::json to_json(const CalibrationRun& run, const CalibrateArgs& args, size_t rows,
-                       MeasurementKind kind, bool written) {
-  const IdentificationResult& r = run.result;
-  const CrossValidation* cv = run.cross_validation ? &*run.cross_validation : nullptr;
-  nlohmann::json out;
-  out["robot"] = r.robot.model.name;
-  out["level"] = r.robot.level;
-  out["rows"] = rows;
-  out["converged"] = r.status.converged;
-  out["iterations"] = r.status.iterations;
-  out["solver_message"] = r.status.message;
-  out["residuals"] = r.residual_count;
-  out["identified"] = r.identified_count;
-  if (kind == MeasurementKind::Poses)
-    out["orientation_weight_mm_per_rad"] = args.orientation_weight;
-  out["warnings"] = r.warnings;
-  out["residual_per_row_mm"] = {
-      {"mean", tidy(r.mean_mm)}, {"rms", tidy(r.rms_mm)}, {"max", tidy(r.max_mm)}};
-  out["start_residual_per_row_mm"] = {{"mean", tidy(r.start_mean_mm)},
-                                      {"rms", tidy(r.start_rms_mm)},
-                                      {"max", tidy(r.start_max_mm)}};
-  out["rms_mm"] = tidy(r.rms_mm);
-  out["max_mm"] = tidy(r.max_mm);
-  if (r.noise_test.tested)
-    out["noise_test"] = {{"instrument_sigma_mm", r.noise_test.instrument_sigma_mm},
-                         {"chi_square", tidy(r.noise_test.chi_square)},
-                         {"dof", r.noise_test.dof},
-                         {"p_value", r.noise_test.p_value},
-                         {"consistent", r.noise_test.consistent}};
-  out["sigma_mm"] = tidy(r.sigma_mm);
-  out["condition_number"] = r.condition_number;
-  if (r.huber_scale_mm > 0) out["huber_scale_mm"] = tidy(r.huber_scale_mm);
-  out["by_target"] = nlohmann::json::array();
-  for (const auto& t : r.by_target)
-    out["by_target"].push_back({{"target", t.target},
-                                {"rows", t.rows},
-                                {"rms_mm", tidy(t.rms_mm)},
-                                {"max_mm", tidy(t.max_mm)}});
-  out["parameters"] = nlohmann::json::array();
-  for (const auto& u : r.unknowns) {
-    nlohmann::json p = {{"name", u.name},
-                        {"unit", u.unit},
-                        {"nominal", tidy(u.nominal, 12)},
-                        {"value", tidy(u.value, 12)},
-                        {"std", u.std_dev},
-                        {"status", status_text(u.status)}};
-    if (!u.reason.empty()) p["reason"] = u.reason;
-    out["parameters"].push_back(p);
-  }
-  out["correlations"] = nlohmann::json::array();
-  for (const auto& c : r.correlations)
-    out["correlations"].push_back(
-        {{"first", c.first}, {"second", c.second}, {"rho", tidy(c.rho, 6)}});
-  out["suspected_outliers"] = nlohmann::json::array();
-  for (const auto& o : r.outliers)
-    out["suspected_outliers"].push_back(
-        {{"config", o.config}, {"line", o.line}, {"residual_mm", tidy(o.residual_mm)}});
-  const PredictedAccuracy& p = r.predicted;
-  out["predicted_position_error_mm"] = {
-      {"configurations", p.configurations},
-      {"seed", args.seed},
-      {"against_truth",
-       {{"mean", tidy(p.mean_mm)}, {"rms", tidy(p.rms_mm)}, {"max", tidy(p.max_mm)}}},
-      {"against_new_measurements",
-       {{"mean", tidy(p.mean_vs_measurements_mm)}, {"rms", tidy(p.rms_vs_measurements_mm)}}}};
-  if (cv)
-    out["cross_validation"] = {{"folds", cv->folds},
-                               {"run_because_of_misfit", run.cross_validation_for_misfit},
-                               {"user_folds", cv->user_folds},
-                               {"per_fold", per_fold_json(*cv)},
-                               {"seed", cv->seed},
-                               {"rows", cv->errors_mm.size()},
-                               {"error_mm",
-                                {{"mean", tidy(cv->mean_mm)},
-                                 {"std", tidy(cv->std_mm)},
-                                 {"mean_plus_3std", tidy(cv->mean_plus_3std_mm())},
-                                 {"max", tidy(cv->max_mm)}}}};
-  out["problems"] = run.problems;
-  out["output"] = written ? nlohmann::json(args.out) : nlohmann::json(nullptr);
-  return out;
-}
-
 void print_report(const CalibrationRun& run, const CalibrateArgs& args,
                   const MeasurementSet& data) {
   const IdentificationResult& r = run.result;
   const CrossValidation* cv = run.cross_validation ? &*run.cross_validation : nullptr;
-  fmt::print("calibrated {} at level {} from {} rows of {} ({})\n", r.robot.model.name,
-             r.robot.level, data.size(), measurement_kind_name(data.kind), data.file);
+  if (r.reidentification)
+    fmt::print("re-identified {} on the calibrated {} (level {}) from {} rows of {} ({})\n",
+               r.reidentification->what, r.robot.model.name, r.robot.level, data.size(),
+               measurement_kind_name(data.kind), data.file);
+  else
+    fmt::print("calibrated {} at level {} from {} rows of {} ({})\n", r.robot.model.name,
+               r.robot.level, data.size(), measurement_kind_name(data.kind), data.file);
   fmt::print("solver: {} after {} iterations ({})\n",
              r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations,
              r.status.message);
@@ -156,7 +63,7 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
                                   "the model misses systematic effects (or σ is understated)");
   if (data.kind == MeasurementKind::Poses)
     fmt::print("orientation residuals weighted {:g} mm per rad (--orientation-weight)\n",
-               args.orientation_weight);
+               run.options.orientation_weight_mm);
   for (const auto& t : r.by_target)
     fmt::print("  target {:<8} {:>4} rows  rms {:.4f}  max {:.4f} mm\n", t.target, t.rows, t.rms_mm,
                t.max_mm);
@@ -167,6 +74,8 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
       ++fixed;
       continue;
     }
+    if (r.reidentification && u.status == ParameterStatus::Identified)
+      continue;  // listed below with the values they replace
     if (u.status == ParameterStatus::Dropped) {
       fmt::print("  {:<22} dropped, {}\n", u.name, u.reason);
       continue;
@@ -174,7 +83,15 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
     fmt::print("  {:<22} {:>16.6g} ± {:<10.3g} {:<9} (nominal {:.6g})\n", u.name, u.value,
                u.std_dev, u.unit, u.nominal);
   }
-  fmt::print("  ({} parameters held at their nominal values)\n", fixed);
+  fmt::print("  ({} parameters held at their {} values)\n", fixed,
+             r.reidentification ? "calibrated" : "nominal");
+  if (r.reidentification) {
+    fmt::print("re-identified ({}) on the calibrated model, the rest kept:\n",
+               r.reidentification->what);
+    for (const ReidentifiedValue& v : r.reidentification->values)
+      fmt::print("  {:<22} {:>16.6g} ± {:<10.3g} {:<9} (was {:.6g})\n", v.name, v.value, v.std_dev,
+                 v.unit, v.before);
+  }
   if (!r.correlations.empty()) {
     fmt::print("strongest correlations:");
     for (size_t i = 0; i < r.correlations.size() && i < 5; ++i)
@@ -199,7 +116,7 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
       "(seed {}):\n  against the true robot:    mean {:.4f}  rms {:.4f}  max {:.4f} mm\n"
       "  against new measurements:  mean {:.4f}  rms {:.4f} mm (adds σ = {:.4f} mm per "
       "axis of instrument noise)\n",
-      p.configurations, args.seed, p.mean_mm, p.rms_mm, p.max_mm, p.mean_vs_measurements_mm,
+      p.configurations, run.options.seed, p.mean_mm, p.rms_mm, p.max_mm, p.mean_vs_measurements_mm,
       p.rms_vs_measurements_mm, p.measurement_sigma_mm);
   if (cv)
     fmt::print(
@@ -219,18 +136,32 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
 
 void run_calibrate(const CalibrateArgs& args) {
   check_orientation_weight(args.orientation_weight);
-  const RobotModel model = load_robot(args.robot);
-  const Tool tool = load_tool(args.tool);
+  std::optional<CalibratedRobot> start;
+  if (!args.model.empty()) start = load_calibrated_robot(args.model);
+  if (!start && args.robot.empty())
+    throw InputError({"", 0, 0, "--robot"},
+                     "give the robot (--robot) to calibrate, or a calibrated model (--model) to "
+                     "re-identify a part of");
+  if (!start && args.tool.empty())
+    throw InputError({"", 0, 0, "--tool"}, "give the tool file (--tool)");
+  if (start && !args.robot.empty())
+    throw InputError({"", 0, 0, "--robot"},
+                     "--model already holds the robot; give either --robot or --model");
+  std::optional<Tool> tool;
+  if (!args.tool.empty()) tool = load_tool(args.tool);
   MeasurementFormat format;
   if (!args.units.empty()) parse_units(args.units, {"", 0, 0, "--units"}, format);
   if (!args.euler.empty()) format.euler = parse_euler_order(args.euler, {"", 0, 0, "--euler"});
-  const MeasurementFile file = read_measurements_csv(args.measurements, tool, {}, format);
+  const MeasurementFile file =
+      read_measurements_csv(args.measurements, tool ? *tool : start->tool, {}, format);
   for (const std::string& w : file.warnings) std::cerr << "warning: " << w << "\n";
   if (args.loss != "none" && args.loss != "huber")
     throw InputError({"", 0, 0, "--loss"},
                      fmt::format("unknown loss '{}': expected none or huber", args.loss));
   IdentifyOptions options;
-  options.level = parse_calibration_level(args.level);
+  options.level = !start ? parse_calibration_level(args.level.empty() ? "full" : args.level)
+                  : args.level.empty() ? CalibrationLevel::Patterns
+                                       : parse_reidentification_level(args.level);
   options.identify = args.identify;
   options.fix = args.fix;
   options.huber = args.loss == "huber";
@@ -243,35 +174,22 @@ void run_calibrate(const CalibrateArgs& args) {
   if (!args.folds.empty()) request.folds = read_folds_csv(args.folds);
   const bool progress = !args.json && stdout_is_terminal();
   if (progress) fmt::print("calibrating ({} rows)…\n", file.measurements.size());
-  const CalibrationRun run = run_calibration(model, tool, file.measurements, request);
-  const IdentificationResult& result = run.result;
-  for (const std::string& w : result.warnings) std::cerr << "warning: " << w << "\n";
-  YAML::Node statistics = YAML::Load(statistics_yaml(result));
-  if (run.cross_validation) {
-    const CrossValidation& cv = *run.cross_validation;
-    statistics["cross_validation"]["folds"] = cv.folds;
-    statistics["cross_validation"]["seed"] = cv.seed;
-    statistics["cross_validation"]["mean_mm"] = cv.mean_mm;
-    statistics["cross_validation"]["std_mm"] = cv.std_mm;
-    statistics["cross_validation"]["max_mm"] = cv.max_mm;
-  }
+  const CalibrationRun run =
+      start ? reidentify(*start, tool, file.measurements, request)
+            : run_calibration(load_robot(args.robot), *tool, file.measurements, request);
+  for (const std::string& w : run.result.warnings) std::cerr << "warning: " << w << "\n";
   // Where the model came from; `robcal report` shows it with the fit's statistics.
   Provenance provenance = start_provenance_of_process();
-  provenance.robot = model.name;
-  provenance.level = args.level;
+  provenance.robot = run.result.robot.model.name;
+  provenance.level = level_name(options.level);
   provenance.seed = args.seed;
-  provenance.files = {provenance_file("tool", args.tool),
-                      provenance_file("measurements", args.measurements)};
-  statistics["provenance"] = YAML::Load(provenance_yaml(provenance));
-  if (!run.problems.empty()) statistics["problems"] = run.problems;
-  YAML::Emitter emitter;
-  emitter.SetDoublePrecision(9);
-  emitter << statistics;
+  if (start) provenance.files.push_back(provenance_file("model", args.model));
+  if (tool) provenance.files.push_back(provenance_file("tool", args.tool));
+  provenance.files.push_back(provenance_file("measurements", args.measurements));
   const bool write = run.problems.empty() || args.force;
-  if (write)
-    write_file_atomically(args.out, calibrated_robot_to_yaml(result.robot, emitter.c_str()));
+  if (write) write_file_atomically(args.out, calibrated_model_file(run, &provenance));
   if (args.json)
-    print_json(to_json(run, args, file.measurements.size(), file.measurements.kind, write));
+    print_json(calibration_run_json(run, write ? args.out : ""));
   else
     print_report(run, args, file.measurements);
   if (!write)
@@ -286,8 +204,13 @@ const bool registered = register_command(30, [](CLI::App& app) {
       "calibrate",
       "Identify the robot's parameters from measurements and write the calibrated model");
   auto args = std::make_shared<CalibrateArgs>();
-  cmd->add_option("--robot", args->robot, "Built-in robot name or robot file")->required();
-  cmd->add_option("--tool", args->tool, "Tool file (payload, targets, tcp)")->required();
+  cmd->add_option("--robot", args->robot, "Built-in robot name or robot file");
+  cmd->add_option("--model", args->model,
+                  "A calibrated model file to start from instead of --robot: only what --level "
+                  "tool, --level base or --identify asks is re-identified, the rest is kept");
+  cmd->add_option("--tool", args->tool,
+                  "Tool file (payload, targets, tcp); with --model: the new tool (--level tool), "
+                  "else the model's tool is used");
   cmd->add_option("--measurements", args->measurements,
                   "Measurement CSV (points, poses or distances)")
       ->required();
@@ -297,7 +220,9 @@ const bool registered = register_command(30, [](CLI::App& app) {
   cmd->add_option("--euler", args->euler,
                   "Rotation order of rx,ry,rz columns when the file does not declare it "
                   "('# euler: intrinsic ZYX'): intrinsic or extrinsic and an order of X, Y, Z");
-  cmd->add_option("--level", args->level, "base, joints, kinematic or full (default full)");
+  cmd->add_option("--level", args->level,
+                  "base, joints, kinematic or full (default full); with --model also tool (a new "
+                  "tool's points or TCP frame) and no default (say what to re-identify)");
   cmd->add_option("--identify", args->identify,
                   "Also identify the parameters matching this glob (repeatable), e.g. "
                   "'joint*.scale'");

@@ -4,10 +4,14 @@
 #include <fmt/format.h>
 
 #include <memory>
+#include <optional>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
+#include "robcal/campaign/cell.hpp"
+#include "robcal/campaign/cell_planning.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/simulation_files.hpp"
 
@@ -17,7 +21,8 @@ namespace {
 struct SimulateOptions {
   std::string robot = "abb-irb120";
   std::string truth = "published";
-  std::string instrument = "laser-tracker";
+  std::string instrument;  ///< default: the cell's, else laser-tracker
+  std::string cell;
   std::string tool;
   std::string configs;
   int random = 0;
@@ -55,8 +60,35 @@ void run_simulate(const SimulateOptions& o) {
   }
   enable_effects(truth, o.effects, truth_rng);
 
-  const InstrumentKind kind = parse_instrument_kind(o.instrument, "--instrument");
-  const VirtualInstrument instrument = standard_instrument(kind, truth, o.noise_mm);
+  // The cell places the robot and the instrument; without one, the simulator's standard cell
+  // (data/cells/default-tracker.yaml describes the same placement).
+  std::optional<campaign::Cell> cell;
+  if (!o.cell.empty()) cell = campaign::load_cell(o.cell);
+  if (cell && o.truth != "published" && o.truth != "random")
+    throw InputError({"", 0, 0, "--cell"},
+                     "the truth file places the robot ('base:') and so does the cell "
+                     "('robot_base:'): give one of --truth FILE or --cell");
+  const std::string name = !o.instrument.empty() ? o.instrument
+                           : cell                ? instrument_name(cell->instrument.kind)
+                                                 : "laser-tracker";
+  const InstrumentKind kind = parse_instrument_kind(name, "--instrument");
+  if (cell && kind != cell->instrument.kind)
+    throw InputError({"", 0, 0, "--instrument"},
+                     fmt::format("the cell {} holds a {}; --instrument {} contradicts it (leave "
+                                 "it out, or use another cell)",
+                                 o.cell, instrument_name(cell->instrument.kind), name));
+  VirtualInstrument instrument = standard_instrument(kind, truth, o.noise_mm);
+  if (cell) {
+    truth.robot.params.head<6>() = campaign::base_parameters(*cell);
+    const VirtualInstrument placed = campaign::virtual_instrument(*cell, tool);
+    instrument.tracker = placed.tracker;
+    instrument.cmm = placed.cmm;
+    if (o.noise_mm > 0) {
+      instrument.tracker.sigma_mm.setConstant(o.noise_mm);
+      instrument.cmm.sigma_mm = o.noise_mm;
+      instrument.cmm.sigma_orientation_deg = rad2deg(o.noise_mm / 100.0);
+    }
+  }
   std::vector<PlannedConfiguration> configs;
   if (!o.configs.empty()) {
     configs = read_configurations_csv(o.configs, tool);
@@ -75,7 +107,7 @@ void run_simulate(const SimulateOptions& o) {
                                  configs.size(), result.skipped.front()));
   const std::string comment =
       fmt::format("simulated by robcal: robot {}, truth {}, instrument {}, seed {}, noise {}",
-                  model.name, truth.origin, o.instrument, o.seed,
+                  model.name, truth.origin, name, o.seed,
                   o.noise_mm > 0 ? fmt::format("{} mm per axis", o.noise_mm)
                                  : std::string("the instrument's own"));
   const SimulationFiles files =
@@ -83,7 +115,8 @@ void run_simulate(const SimulateOptions& o) {
   if (o.json) {
     nlohmann::json out;
     out["seed"] = o.seed;
-    out["instrument"] = o.instrument;
+    out["instrument"] = name;
+    if (cell) out["cell"] = o.cell;
     out["truth"] = truth.origin;
     out["configurations"] = configs.size();
     out["measured"] = result.measurements.size();
@@ -96,7 +129,7 @@ void run_simulate(const SimulateOptions& o) {
     return;
   }
   fmt::print("simulated {} of {} configurations with a {} (seed {}, truth {})\n",
-             result.measurements.size(), configs.size(), o.instrument, o.seed, truth.origin);
+             result.measurements.size(), configs.size(), name, o.seed, truth.origin);
   for (const std::string& line : result.skipped) fmt::print("  skipped {}\n", line);
   fmt::print("wrote {}\n      {}\n      {}\n      {} (the truth: never give it to the pipeline)\n",
              files.measurements.string(), files.tool.string(), files.instrument.string(),
@@ -112,8 +145,13 @@ const bool registered = register_command(80, [](CLI::App& app) {
                   "The real robot: published (docs/method/11-published-results.md IRB 120), "
                   "random, or a truth file")
       ->capture_default_str();
-  cmd->add_option("--instrument", o->instrument, "laser-tracker, optical-cmm or ballbar")
-      ->capture_default_str();
+  cmd->add_option(
+      "--instrument", o->instrument,
+      "laser-tracker, optical-cmm or ballbar (default: the cell's, else laser-tracker)");
+  cmd->add_option("--cell", o->cell,
+                  "Cell file (data/cells/): the robot base and the instrument's placement, range "
+                  "and line-of-sight rules (default: the simulator's standard cell, "
+                  "data/cells/default-tracker.yaml)");
   cmd->add_option("--tool", o->tool, "Tool file (default: 3 SMRs, 2.6 kg payload)");
   cmd->add_option("--configs", o->configs, "Configurations to measure: config,target,j1..j6 (deg)");
   cmd->add_option("--random", o->random, "Or: this many random measurable configurations");

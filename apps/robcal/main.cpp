@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "cli_common.hpp"
 #include "command_registry.hpp"
 #include "flag_checks.hpp"
 #include "robcal/core/error.hpp"
@@ -85,7 +86,8 @@ void refuse_outputs_over_inputs(const CLI::App& app) {
   for (const CLI::App* command = &app; command != nullptr;) {
     for (const CLI::Option* option : command->get_options()) {
       const std::string flag = option->get_name();
-      const bool output = flag.size() > 3 && flag.compare(flag.size() - 3, 3, "out") == 0;
+      const bool output = (flag.size() > 3 && flag.compare(flag.size() - 3, 3, "out") == 0) ||
+                          flag.rfind("--out-", 0) == 0;
       for (const std::string& value : option->results()) {
         std::error_code ec;
         if (output)
@@ -98,6 +100,8 @@ void refuse_outputs_over_inputs(const CLI::App& app) {
     command = chosen.empty() ? nullptr : chosen.front();
   }
   for (const auto& [flag, path] : outputs) robcal::refuse_overwriting_inputs(path, inputs, flag);
+  for (const auto& output : outputs)
+    if (output.second == "-") return reserve_stdout_for_data();
 }
 }  // namespace
 

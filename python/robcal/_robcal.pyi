@@ -397,10 +397,13 @@ def robot_description(robot: RobotModel) -> Dict[str, Any]:
     """`robcal robot show`: name, manufacturer, source, MDH table, joint limits, link masses."""
 
 
-def calibrate(robot: Union[str, RobotModel], tool: Union[str, Measurements], *args: Any,
-              **kwargs: Any) -> IdentificationResult:
+def calibrate(robot: Union[None, str, RobotModel], tool: Union[None, str, Measurements],
+              *args: Any, **kwargs: Any) -> IdentificationResult:
     """calibrate(robot, tool, measurements, level='full', identify=[], fix=[], loss='none',
-    seed=1) from files, or calibrate(robot_model, measurements, level=..., ...) from objects."""
+    seed=1, model=None) from files, or calibrate(robot_model, measurements, level=..., ...) from
+    objects. With model='calibrated.yaml' (robot=None) only what level ('tool': the new tool's
+    points or TCP frame; 'base': a moved base) or identify asks is re-identified, the rest kept;
+    tool=None then means the model's tool."""
 
 
 def calibrate_points(robot: str, tool: str, joints_deg: ArrayLike, targets: Sequence[str],

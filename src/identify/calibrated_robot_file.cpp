@@ -5,6 +5,7 @@
 
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/io/yaml_checks.hpp"
 #include "robcal/io/yaml_support.hpp"
 
 namespace robcal {
@@ -81,8 +82,14 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
     }
     out << YAML::EndSeq << YAML::EndMap;
   }
-  if (!statistics_yaml.empty())
-    out << YAML::Key << "statistics" << YAML::Value << YAML::Load(statistics_yaml);
+  const std::string& statistics = statistics_yaml.empty() ? robot.statistics : statistics_yaml;
+  if (!statistics.empty())
+    out << YAML::Key << "statistics" << YAML::Value << YAML::Load(statistics);
+  if (!robot.reidentified.empty()) {
+    out << YAML::Key << "reidentified" << YAML::Value << YAML::BeginSeq;
+    for (const std::string& record : robot.reidentified) out << YAML::Load(record);
+    out << YAML::EndSeq;
+  }
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
@@ -121,6 +128,9 @@ CalibratedRobot load_calibrated_robot(const std::string& path) {
     throw root.error(
         "not a calibrated model: expected the keys 'robot' and 'parameters' "
         "(a file written by `robcal calibrate`)");
+  // A misspelt key ('covarience:') would silently drop what it holds.
+  yaml::expect_keys(root, {"format", "level", "base_fitted", "robot", "tool", "parameters",
+                           "covariance", "statistics", "reidentified"});
   CalibratedRobot robot;
   robot.model = parse_robot(root.at("robot"));
   robot.tool = root.has("tool") ? parse_tool(root.at("tool")) : Tool{};
@@ -133,6 +143,7 @@ CalibratedRobot load_calibrated_robot(const std::string& path) {
   if (!parameters.node.IsSequence()) throw parameters.error("expected a list of parameters");
   for (size_t k = 0; k < parameters.size(); ++k) {
     const yaml::Node entry = parameters.at(k);
+    yaml::expect_keys(entry, {"name", "unit", "nominal", "value", "std", "status", "reason"});
     const yaml::Node name = entry.at("name");
     const int i = parameter_index(name.as_string());
     if (i < 0) throw name.error(fmt::format("unknown parameter '{}'", name.as_string()));
@@ -146,8 +157,16 @@ CalibratedRobot load_calibrated_robot(const std::string& path) {
     if (entry.has("status")) robot.status[s] = parse_status(entry.at("status"));
     if (entry.has("reason")) robot.reason[s] = entry.at("reason").as_string();
   }
+  if (root.has("statistics")) robot.statistics = YAML::Dump(root.at("statistics").node);
+  if (root.has("reidentified")) {
+    const yaml::Node records = root.at("reidentified");
+    if (!records.node.IsSequence()) throw records.error("expected a list of re-identifications");
+    for (size_t k = 0; k < records.size(); ++k)
+      robot.reidentified.push_back(YAML::Dump(records.at(k).node));
+  }
   if (root.has("covariance")) {
     const yaml::Node cov = root.at("covariance");
+    yaml::expect_keys(cov, {"units", "parameters", "matrix"});
     const yaml::Node names = cov.at("parameters");
     std::vector<int> index;
     for (size_t k = 0; k < names.size(); ++k) {

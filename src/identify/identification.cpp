@@ -412,7 +412,11 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   setup.options = options;
   setup.requested = select_unknowns(setup.layout, options.level, options.identify, options.fix);
   setup.start = Eigen::VectorXd::Zero(setup.layout.size());
-  setup.start.head<kParameterCount>() = model.nominal();
+  if (options.start_parameters.size() != 0 && options.start_parameters.size() != kParameterCount)
+    throw std::invalid_argument("IdentifyOptions::start_parameters: expected every parameter");
+  setup.start.head<kParameterCount>() = options.start_parameters.size() != 0
+                                            ? ParameterVector(options.start_parameters)
+                                            : model.nominal();
   bool all_base = data.kind != MeasurementKind::Distances;
   for (int i = 0; i < kBaseParamCount; ++i) all_base = all_base && setup.requested[i];
   setup.fit_base = all_base;

@@ -17,6 +17,17 @@ CalibrationLevel parse_calibration_level(const std::string& text) {
       fmt::format("unknown level '{}': expected base, joints, kinematic or full", text));
 }
 
+CalibrationLevel parse_reidentification_level(const std::string& text) {
+  if (text == "tool") return CalibrationLevel::Tool;
+  if (text == "base" || text == "joints" || text == "kinematic" || text == "full")
+    return parse_calibration_level(text);
+  throw InputError(
+      {"", 0, 0, "--level"},
+      fmt::format("unknown level '{}' for a calibrated model (--model): expected tool, base, "
+                  "joints, kinematic or full",
+                  text));
+}
+
 const char* level_name(CalibrationLevel level) {
   switch (level) {
     case CalibrationLevel::Base:
@@ -27,12 +38,17 @@ const char* level_name(CalibrationLevel level) {
       return "kinematic";
     case CalibrationLevel::Full:
       return "full";
+    case CalibrationLevel::Tool:
+      return "tool";
+    case CalibrationLevel::Patterns:
+      return "patterns";
   }
   return "";
 }
 
 std::vector<int> level_parameters(CalibrationLevel level) {
   std::vector<int> out;
+  if (level == CalibrationLevel::Tool || level == CalibrationLevel::Patterns) return out;
   for (int i = 0; i < kBaseParamCount; ++i) out.push_back(i);
   for (int link = 2; link <= kJointCount; ++link) {
     for (int k = 0; k < 4; ++k) {

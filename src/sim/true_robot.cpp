@@ -7,6 +7,7 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/io/yaml_checks.hpp"
 
 namespace robcal {
 namespace {
@@ -236,18 +237,23 @@ std::string truth_to_yaml(const TrueRobot& truth, const std::string& robot_name)
 }
 
 TrueRobot parse_truth(const yaml::Node& root, const std::string& robot, const Tool& tool) {
+  // A typo ('efects:', 'scale:') would silently simulate another robot than the one meant.
+  yaml::expect_keys(root, {"robot", "origin", "base", "links", "scales", "masses", "payload",
+                           "gravity_m_s2", "targets", "effects"});
   const std::string robot_name = root.has("robot") ? root.at("robot").as_string() : robot;
   RobotModel model = load_robot(robot_name);
   TrueRobot truth =
       make_truth(model, tool, root.has("origin") ? root.at("origin").as_string() : "");
   ParameterVector& x = truth.robot.params;
   const yaml::Node base = root.at("base");
+  yaml::expect_keys(base, {"x_mm", "y_mm", "z_mm", "alpha_deg", "beta_deg", "gamma_deg"});
   const char* base_keys[6] = {"x_mm", "y_mm", "z_mm", "alpha_deg", "beta_deg", "gamma_deg"};
   for (int k = 0; k < 6; ++k) {
     const double value = base.at(base_keys[k]).as_double();
     x[k] = k < 3 ? value : deg2rad(value);
   }
   const yaml::Node links = root.at("links");
+  yaml::expect_keys(links, {"2", "3", "4", "5", "6"});
   for (int link = 2; link <= kJointCount; ++link) {
     const std::vector<double> row = links.at(std::to_string(link)).as_doubles(5);
     x[link_param(link, 0)] = deg2rad(row[0]);
@@ -287,10 +293,7 @@ TrueRobot parse_truth(const yaml::Node& root, const std::string& robot, const To
   UnmodelledEffects& fx = truth.effects;
   if (root.has("effects")) {
     const yaml::Node effects = root.at("effects");
-    for (const std::string& key : effects.keys())
-      if (key != "backlash_deg" && key != "j6_periodic" && key != "mass_error" && key != "thermal")
-        throw effects.at(key).error(
-            "unknown effect; expected backlash_deg, j6_periodic, mass_error or thermal");
+    yaml::expect_keys(effects, {"backlash_deg", "j6_periodic", "mass_error", "thermal"});
     if (effects.has("backlash_deg")) {
       fx.backlash = true;
       const std::vector<double> b = effects.at("backlash_deg").as_doubles(kJointCount);
@@ -298,6 +301,7 @@ TrueRobot parse_truth(const yaml::Node& root, const std::string& robot, const To
     }
     if (effects.has("j6_periodic")) {
       const yaml::Node p = effects.at("j6_periodic");
+      yaml::expect_keys(p, {"amplitude_deg", "harmonic", "phase_deg"});
       fx.j6_periodic = true;
       fx.j6_amplitude_deg = p.at("amplitude_deg").as_double();
       fx.j6_harmonic = p.at("harmonic").as_double();
@@ -306,6 +310,7 @@ TrueRobot parse_truth(const yaml::Node& root, const std::string& robot, const To
     if (effects.has("mass_error")) fx.mass_error = effects.at("mass_error").as_double();
     if (effects.has("thermal")) {
       const yaml::Node t = effects.at("thermal");
+      yaml::expect_keys(t, {"expansion_per_kelvin", "temperature_rise_k", "time_constant_s"});
       fx.thermal = true;
       fx.expansion_per_kelvin = t.at("expansion_per_kelvin").as_double();
       fx.temperature_rise_k = t.at("temperature_rise_k").as_double();

@@ -165,4 +165,55 @@ expect_error "config without fold" "configuration '3' of $REF/calibration.csv ha
   calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
   --folds "$TMP/fewfolds.csv" --out "$TMP/bad.yaml"
 
+# 8. Re-use a calibrated robot (issue 13 item 5): --model re-identifies only what is asked.
+"$ROBCAL" calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --level kinematic --out "$TMP/calibrated.yaml" >/dev/null || fail "calibrate for --model"
+"$ROBCAL" calibrate --model "$TMP/calibrated.yaml" --level tool --tool $REF/tool.yaml \
+  --measurements $REF/calibration.csv --json --out "$TMP/newtool.yaml" >"$TMP/newtool.json" ||
+  fail "calibrate --model --level tool"
+head -300 $REF/validation.csv >"$TMP/moved.csv"
+"$ROBCAL" calibrate --model "$TMP/newtool.yaml" --level base --measurements "$TMP/moved.csv" \
+  --json --out "$TMP/moved.yaml" >"$TMP/moved.json" || fail "calibrate --model --level base"
+/usr/bin/python3 - "$TMP" <<'PY' || FAILED=1
+import json, sys, yaml
+tmp = sys.argv[1]
+before = yaml.safe_load(open(f"{tmp}/calibrated.yaml"))
+tool = yaml.safe_load(open(f"{tmp}/newtool.yaml"))
+moved = yaml.safe_load(open(f"{tmp}/moved.yaml"))
+summary = json.load(open(f"{tmp}/newtool.json"))
+values = summary["reidentified"]["values"]
+assert summary["reidentified"]["what"] == "tool" and len(values) == 9, summary["reidentified"]
+for v in values:  # the tool file's coordinates, which the calibration was fitted with
+    assert 0 < v["std"] < 0.05 and abs(v["value"] - v["before"]) < 3 * v["std"] + 0.02, v
+params = lambda m: {p["name"]: (p["value"], p["status"]) for p in m["parameters"]}
+assert params(tool) == params(before), "level tool changed a model parameter"
+assert tool["statistics"] == before["statistics"], "the calibration's statistics were not kept"
+assert tool["reidentified"][0]["what"] == "tool", tool["reidentified"]
+new_targets = {v["name"]: v["value"] for v in values}
+for name, xyz in tool["tool"]["targets"].items():
+    assert all(abs(xyz[k] - new_targets[f"target.{name}.{'xyz'[k]}"]) < 1e-9 for k in range(3))
+# level base: only the six base parameters change, by at most a few σ on the same robot.
+p0, p1 = params(tool), params(moved)
+base = json.load(open(f"{tmp}/moved.json"))["reidentified"]["values"]
+assert sorted(v["name"] for v in base) == sorted(
+    f"base.{k}" for k in ("x", "y", "z", "alpha", "beta", "gamma")), base
+for v in base:
+    assert abs(v["value"] - v["before"]) < 5 * v["std"] + 0.05, v
+for name in p0:
+    if not name.startswith("base."):
+        assert p1[name] == p0[name], name
+assert [r["what"] for r in moved["reidentified"]] == ["tool", "base"], moved["reidentified"]
+assert moved["statistics"]["provenance"] == before["statistics"]["provenance"]
+PY
+head -4 $REF/calibration.csv >"$TMP/three.csv"
+expect_error "tool from 3 points" "level tool: target '1' is measured in 1 configuration; a new tool point needs at least 4" \
+  calibrate --model "$TMP/calibrated.yaml" --level tool --tool $REF/tool.yaml \
+  --measurements "$TMP/three.csv" --out "$TMP/bad.yaml"
+expect_error "--model without a request" "say what to re-identify" calibrate \
+  --model "$TMP/calibrated.yaml" --measurements $REF/calibration.csv --out "$TMP/bad.yaml"
+expect_error "--model and --robot" "give either --robot or --model" calibrate --robot abb-irb120 \
+  --model "$TMP/calibrated.yaml" --level base --measurements $REF/calibration.csv --out "$TMP/bad.yaml"
+expect_error "level tool without --model" "unknown level 'tool'" calibrate --robot abb-irb120 \
+  --tool $REF/tool.yaml --level tool --measurements $REF/calibration.csv --out "$TMP/bad.yaml"
+
 finish calibrate_cli

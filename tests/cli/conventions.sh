@@ -49,10 +49,21 @@ cmp -s <(without_provenance "$TMP/from-file.yaml") <(without_provenance "$TMP/fr
 plan=(plan --robot abb-irb120 --instrument laser-tracker --level kinematic --count 30
       --candidates 400 --seed 3)
 "$ROBCAL" "${plan[@]}" --out "$TMP/plan.csv" >/dev/null || fail "plan --out file"
-"$ROBCAL" "${plan[@]}" --out - >"$TMP/plan-stdout" || fail "plan --out -"
-size=$(stat -c %s "$TMP/plan.csv")
-[[ $size -gt 100 ]] && cmp -s "$TMP/plan.csv" <(head -c "$size" "$TMP/plan-stdout") ||
-  fail "plan --out - does not print the plan file first"
+"$ROBCAL" "${plan[@]}" --out - >"$TMP/plan-stdout" 2>"$TMP/plan-stderr" || fail "plan --out -"
+grep -q '^wrote -$' "$TMP/plan-stderr" || fail "plan --out -: the report is not on stderr"
+# Standard output holds the data alone (no "wrote -" after it); the report goes to stderr.
+[[ $(stat -c %s "$TMP/plan.csv") -gt 100 ]] && cmp -s "$TMP/plan.csv" "$TMP/plan-stdout" ||
+  fail "plan --out - does not print the plan file alone"
+"$ROBCAL" calibrate --robot abb-irb120 --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --level kinematic --json --out - >"$TMP/model-stdout.yaml" 2>"$TMP/calibrate.err" ||
+  fail "calibrate --out -"
+cmp -s <(without_provenance "$TMP/from-file.yaml") <(without_provenance "$TMP/model-stdout.yaml") ||
+  fail "calibrate --out - does not print the model file alone"
+grep -q '"rms_mm"' "$TMP/calibrate.err" && grep -q '"output": "-"' "$TMP/calibrate.err" ||
+  fail "calibrate --out - lost its report (expected on stderr)"
+"$ROBCAL" validate --robot abb-irb120 --tool $REF/tool.yaml --model "$TMP/model-stdout.yaml" \
+  --measurements $REF/validation.csv \
+  >/dev/null 2>&1 || fail "the model written to stdout does not load"
 
 # 4. --out through a symbolic link: the file it names is written, the link stays a link.
 echo old >"$TMP/real.csv"

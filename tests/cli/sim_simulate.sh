@@ -44,4 +44,30 @@ expect_error gremlins --random 5 --effects gremlins
 expect_error "IRB 120" --robot fanuc-lrmate200ic --truth published --random 5
 printf 'config,target,j1,j2,j3,j4,j5,j6\nA,9,10,40,10,0,-30,0\n' > "$out/bad-configs.csv"
 expect_error "bad-configs.csv:2" --configs "$out/bad-configs.csv"
+# --cell (issue 16): the cell places the robot and the instrument. The shipped default cell is the
+# simulator's own placement, so it simulates exactly what no --cell does; a moved cell moves both.
+"$robcal" simulate --cell data/cells/default-tracker.yaml --random 12 --seed 5 \
+  --out "$out/cell-default" > /dev/null
+cmp <(grep -v '^#' "$out/laser-tracker/measurements.csv") \
+  <(grep -v '^#' "$out/cell-default/measurements.csv")
+sed -e 's/position_mm: \[-812.25, 1503.5, -95\]/position_mm: [-700, 1400, -95]/' \
+  -e 's/position_mm: \[0, 0, 0\]/position_mm: [500, -300, 200]/' \
+  data/cells/default-tracker.yaml > "$out/moved-cell.yaml"
+"$robcal" simulate --cell "$out/moved-cell.yaml" --random 12 --seed 5 --json \
+  --out "$out/cell-moved" > "$out/cell-moved.json"
+/usr/bin/python3 - "$out" <<'PY'
+import json, sys, yaml
+out = sys.argv[1]
+truth = yaml.safe_load(open(f"{out}/cell-moved/truth/truth.yaml"))
+assert (truth["base"]["x_mm"], truth["base"]["y_mm"], truth["base"]["z_mm"]) == (-700, 1400, -95), truth["base"]
+assert abs(truth["base"]["gamma_deg"] + 57) < 1e-9, truth["base"]
+instrument = yaml.safe_load(open(f"{out}/cell-moved/instrument.yaml"))
+text = json.dumps(instrument)
+assert "500" in text and "-300" in text, instrument
+assert json.load(open(f"{out}/cell-moved.json"))["cell"].endswith("moved-cell.yaml")
+PY
+expect_error "--truth FILE or --cell" --cell "$out/moved-cell.yaml" --random 5 \
+  --truth "$out/laser-tracker/truth/truth.yaml"
+expect_error "holds a laser-tracker; --instrument optical-cmm contradicts it" --cell "$out/moved-cell.yaml" --random 5 \
+  --instrument optical-cmm
 echo "sim_simulate: ok"

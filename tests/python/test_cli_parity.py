@@ -83,6 +83,26 @@ def test_robots_and_robot_show():
     np.testing.assert_allclose(p["joint_limits_deg"], robot.joint_limits_deg, atol=1e-9)
 
 
+def test_reidentify_base_on_a_calibrated_model(tmp_path):
+    model = str(tmp_path / "model.yaml")
+    cli_json("calibrate", "--robot", "abb-irb120", "--tool", TOOL, "--measurements",
+             os.path.join(REF, "calibration.csv"), "--level", "kinematic", "--out", model)
+    moved = os.path.join(REF, "validation.csv")
+    c = cli_json("calibrate", "--model", model, "--level", "base", "--measurements", moved,
+                 "--out", str(tmp_path / "moved.yaml"))
+    p = robcal.calibrate(None, None, moved, level="base", model=model)
+    by_name = {u.name: u for u in p.parameters}
+    assert c["reidentified"]["what"] == "base" and len(c["reidentified"]["values"]) == 6
+    for v in c["reidentified"]["values"]:
+        assert v["value"] == pytest.approx(by_name[v["name"]].value, rel=0, abs=1e-11)
+        assert v["std"] == pytest.approx(by_name[v["name"]].std, rel=1e-12)
+    # The saved model keeps the calibration and records the re-identification, as the CLI's.
+    p.save(str(tmp_path / "saved.yaml"))
+    saved = robcal.load_calibrated_robot(str(tmp_path / "saved.yaml"))
+    assert saved.level == "kinematic"
+    assert saved.parameters == robcal.load_calibrated_robot(str(tmp_path / "moved.yaml")).parameters
+
+
 def test_calibrate_and_validate(tmp_path):
     model = str(tmp_path / "model.yaml")
     c = cli_json("calibrate", "--robot", "abb-irb120", "--tool", TOOL, "--measurements",

@@ -19,6 +19,20 @@ enum class ParameterStatus { Identified, Fixed, Dropped };
 /// "identified", "fixed" or "dropped", as written in model files and reports.
 const char* status_name(ParameterStatus status);
 
+/// One value of a re-identification (calibrate --model), external units (mm, deg).
+struct ReidentifiedValue {
+  std::string name, unit;
+  double before = 0;  ///< the calibrated value it started from (targets: the tool file's, or 0)
+  double value = 0;
+  double std_dev = 0;
+};
+
+/// What a re-identification changed in a calibrated model, and the fit's statistics.
+struct Reidentification {
+  std::string what;  ///< "tool", "base", or the --identify patterns
+  std::vector<ReidentifiedValue> values;
+};
+
 struct CalibratedRobot {
   RobotModel model;
   ParameterVector params = ParameterVector::Zero();  ///< values in use (internal units)
@@ -31,6 +45,11 @@ struct CalibratedRobot {
   Tool tool;                 ///< the tool, with identified target coordinates filled in
   bool base_fitted = false;  ///< false: no world frame (nominal robot at the origin)
   std::string level;         ///< "nominal", "base", "joints", "kinematic", "full"
+  /// The `statistics` map of the file it was read from (YAML text, provenance included): kept
+  /// verbatim, not interpreted, when only a part of the model is re-identified.
+  std::string statistics;
+  /// The file's `reidentified` records (YAML maps, oldest first), kept verbatim likewise.
+  std::vector<std::string> reidentified;
 
   /// The nominal robot at the world origin (no world frame).
   static CalibratedRobot nominal(const RobotModel& model, const Tool& tool);
@@ -38,7 +57,8 @@ struct CalibratedRobot {
 
 /// Writes the calibrated model as YAML (robot fields + a parameter table with nominal,
 /// identified value, standard deviation, unit, status and reason, + fit statistics given as
-/// an already-built YAML map in `statistics_yaml`, may be empty).
+/// an already-built YAML map in `statistics_yaml`; when empty, the robot's own `statistics`)
+/// and its `reidentified` records.
 std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
                                      const std::string& statistics_yaml = "");
 

@@ -34,6 +34,9 @@ inline constexpr double kImplausibleResidualMm = 2.0;
 inline constexpr double kImplausibleNoiseRatio = 20.0;
 
 struct CalibrationRun {
+  IdentifyOptions options;  ///< as run (the seed, orientation weight… the summaries report)
+  MeasurementKind kind = MeasurementKind::Points;
+  size_t rows = 0;  ///< measurement rows
   IdentificationResult result;
   std::optional<CrossValidation> cross_validation;
   bool cross_validation_for_misfit = false;  ///< run because the noise test failed
@@ -50,5 +53,24 @@ std::vector<std::string> implausible_parameters(const IdentificationResult& resu
 /// fewer than 2·kMisfitFolds configurations skip it), and lists the problems.
 CalibrationRun run_calibration(const RobotModel& model, const Tool& tool,
                                const MeasurementSet& data, const CalibrationRequest& request);
+
+/// Measured configurations a new tool point (per target) or TCP frame needs at level tool:
+/// the 3 (6) unknowns and enough redundancy that their σ means something (≥ 9 degrees of
+/// freedom for a point; the 4-point TCP method of robot controllers).
+inline constexpr int kMinToolConfigurations = 4;
+
+/// `calibrate --model`: starts from a calibrated robot and identifies only what
+/// `request.options` asks — level Tool (every target of `tool`, or its TCP frame from poses),
+/// Base (a moved robot base), Patterns (the `identify` patterns), or a calibration level —
+/// with everything else held at the calibrated values. `tool`: the new tool at level tool;
+/// at the other levels the model's own tool is used and a `tool` given must be it
+/// (check_tool_against_model, errors naming "--tool"). The result's robot is the calibrated one
+/// with the re-identified values, their covariance rows (conditional on the rest, held) and a
+/// Reidentification record; statuses, reasons, statistics and provenance of the rest are kept.
+/// InputError when the request cannot be met: level tool without a tool or without enough
+/// measured configurations (naming the target and its count), Patterns without a pattern, or
+/// what run_calibration refuses.
+CalibrationRun reidentify(const CalibratedRobot& start, const std::optional<Tool>& tool,
+                          const MeasurementSet& data, const CalibrationRequest& request);
 
 }  // namespace robcal

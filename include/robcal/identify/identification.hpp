@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,9 @@ struct IdentifyOptions {
   /// The instrument's stated σ per axis (mm); 0 when not stated. With it the residuals are
   /// tested against the noise it explains (χ², IdentificationResult::noise_test).
   double instrument_sigma_mm = 0;
+  /// Where the model parameters start and are held when not freed (internal units,
+  /// kParameterCount values): a calibrated robot's (reidentify()); empty: the nominal ones.
+  Eigen::VectorXd start_parameters;
 };
 
 /// Gravity torque below which a joint's compliance cannot show in the measurements (N·mm): a
@@ -185,6 +189,9 @@ struct IdentificationResult {
   Eigen::VectorXd values;      ///< all unknowns, internal units
   std::vector<int> free;       ///< the identified unknowns (indices into values)
   Eigen::MatrixXd covariance;  ///< over `free`, internal units
+  /// Set by reidentify(): what was re-identified on a calibrated robot (the rest of `robot`
+  /// is that robot's, unchanged).
+  std::optional<Reidentification> reidentification;
 };
 
 /// Full calibration: prepare, fit, statistics and the calibrated robot (tool with the

@@ -20,11 +20,18 @@ enum class CalibrationLevel {
   Base,       ///< the 6 base parameters: the nominal robot placed in the world
   Joints,     ///< + joint offsets link2..6.theta
   Kinematic,  ///< + every MDH error of links 2..6
-  Full        ///< + compliance of joints 2..6 under gravity
+  Full,       ///< + compliance of joints 2..6 under gravity
+  /// Re-identification of a calibrated robot (calibrate --model, reidentify()): no model
+  /// parameter; the tool's targets, or its TCP frame from poses, are identified.
+  Tool,
+  /// Re-identification of only the parameters the `--identify` patterns name.
+  Patterns
 };
 
 /// "base", "joints", "kinematic", "full" → level; InputError (key "--level") otherwise.
 CalibrationLevel parse_calibration_level(const std::string& text);
+/// The same, and "tool": what `calibrate --model` may re-identify.
+CalibrationLevel parse_reidentification_level(const std::string& text);
 const char* level_name(CalibrationLevel level);
 
 /// Model parameter indices a level frees.

@@ -1,0 +1,28 @@
+#pragma once
+/// \file
+/// What `calibrate` writes and prints, one serializer per result: the calibrated model file of
+/// a CalibrationRun (the robot, the fit's statistics with the cross-validation, the problems
+/// found and where it came from) and its JSON summary. The CLI and Python both use them.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "robcal/identify/calibration_run.hpp"
+#include "robcal/report/provenance.hpp"
+
+namespace robcal {
+
+/// The model file. A fresh calibration writes its statistics (+ cross-validation, problems and
+/// `provenance` when given) under `statistics`; a re-identification (reidentify()) keeps the
+/// calibrated model's statistics and adds a `reidentified` record: what was asked, each value
+/// before and after with its σ, and this fit's statistics.
+std::string calibrated_model_file(const CalibrationRun& run, const Provenance* provenance);
+
+/// The same for a bare identification (no cross-validation, no problems listed).
+std::string calibrated_model_file(const IdentificationResult& result, const Provenance* provenance);
+
+/// The summary `calibrate --json` prints; `written_to`: the model file written, empty when
+/// it was not (the problems say why).
+nlohmann::json calibration_run_json(const CalibrationRun& run, const std::string& written_to);
+
+}  // namespace robcal

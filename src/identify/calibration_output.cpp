@@ -1,0 +1,161 @@
+#include "robcal/identify/calibration_output.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include "robcal/core/rounding.hpp"
+
+namespace robcal {
+namespace {
+
+/// The statistics map: the fit's, then the cross-validation, the problems and the provenance.
+std::string statistics_of(const IdentificationResult& result, const CrossValidation* cv,
+                          const std::vector<std::string>& problems, const Provenance* provenance) {
+  YAML::Node statistics = YAML::Load(statistics_yaml(result));
+  if (cv) {
+    YAML::Node node = statistics["cross_validation"];
+    node["folds"] = cv->folds;
+    node["seed"] = cv->seed;
+    node["mean_mm"] = cv->mean_mm;
+    node["std_mm"] = cv->std_mm;
+    node["max_mm"] = cv->max_mm;
+  }
+  if (provenance) statistics["provenance"] = YAML::Load(provenance_yaml(*provenance));
+  if (!problems.empty()) statistics["problems"] = problems;
+  YAML::Emitter emitter;
+  emitter.SetDoublePrecision(9);
+  emitter << statistics;
+  return emitter.c_str();
+}
+
+std::string model_file(const IdentificationResult& result, const CrossValidation* cv,
+                       const std::vector<std::string>& problems, const Provenance* provenance) {
+  const std::string statistics = statistics_of(result, cv, problems, provenance);
+  if (!result.reidentification) return calibrated_robot_to_yaml(result.robot, statistics);
+  const Reidentification& what = *result.reidentification;
+  YAML::Emitter record;
+  record.SetDoublePrecision(12);
+  record << YAML::BeginMap << YAML::Key << "what" << YAML::Value << what.what;
+  record << YAML::Key << "values" << YAML::Value << YAML::BeginSeq;
+  for (const ReidentifiedValue& v : what.values)
+    record << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << v.name
+           << YAML::Key << "unit" << YAML::Value << v.unit << YAML::Key << "before" << YAML::Value
+           << v.before << YAML::Key << "value" << YAML::Value << v.value << YAML::Key << "std"
+           << YAML::Value << v.std_dev << YAML::EndMap;
+  record << YAML::EndSeq;
+  record << YAML::Key << "statistics" << YAML::Value << YAML::Load(statistics) << YAML::EndMap;
+  CalibratedRobot robot = result.robot;
+  robot.reidentified.emplace_back(record.c_str());
+  return calibrated_robot_to_yaml(robot);
+}
+
+}  // namespace
+
+std::string calibrated_model_file(const CalibrationRun& run, const Provenance* provenance) {
+  return model_file(run.result, run.cross_validation ? &*run.cross_validation : nullptr,
+                    run.problems, provenance);
+}
+
+std::string calibrated_model_file(const IdentificationResult& result,
+                                  const Provenance* provenance) {
+  return model_file(result, nullptr, {}, provenance);
+}
+
+nlohmann::json calibration_run_json(const CalibrationRun& run, const std::string& written_to) {
+  const IdentificationResult& r = run.result;
+  const CrossValidation* cv = run.cross_validation ? &*run.cross_validation : nullptr;
+  nlohmann::json out;
+  out["robot"] = r.robot.model.name;
+  out["level"] = r.robot.level;
+  if (r.reidentification) {
+    nlohmann::json values = nlohmann::json::array();
+    for (const ReidentifiedValue& v : r.reidentification->values)
+      values.push_back({{"name", v.name},
+                        {"unit", v.unit},
+                        {"before", rounded(v.before, 12)},
+                        {"value", rounded(v.value, 12)},
+                        {"std", v.std_dev}});
+    out["reidentified"] = {{"what", r.reidentification->what}, {"values", values}};
+  }
+  out["rows"] = run.rows;
+  out["converged"] = r.status.converged;
+  out["iterations"] = r.status.iterations;
+  out["solver_message"] = r.status.message;
+  out["residuals"] = r.residual_count;
+  out["identified"] = r.identified_count;
+  if (run.kind == MeasurementKind::Poses)
+    out["orientation_weight_mm_per_rad"] = run.options.orientation_weight_mm;
+  out["warnings"] = r.warnings;
+  out["residual_per_row_mm"] = {
+      {"mean", rounded(r.mean_mm)}, {"rms", rounded(r.rms_mm)}, {"max", rounded(r.max_mm)}};
+  out["start_residual_per_row_mm"] = {{"mean", rounded(r.start_mean_mm)},
+                                      {"rms", rounded(r.start_rms_mm)},
+                                      {"max", rounded(r.start_max_mm)}};
+  out["rms_mm"] = rounded(r.rms_mm);
+  out["max_mm"] = rounded(r.max_mm);
+  if (r.noise_test.tested)
+    out["noise_test"] = {{"instrument_sigma_mm", r.noise_test.instrument_sigma_mm},
+                         {"chi_square", rounded(r.noise_test.chi_square)},
+                         {"dof", r.noise_test.dof},
+                         {"p_value", r.noise_test.p_value},
+                         {"consistent", r.noise_test.consistent}};
+  out["sigma_mm"] = rounded(r.sigma_mm);
+  out["condition_number"] = r.condition_number;
+  if (r.huber_scale_mm > 0) out["huber_scale_mm"] = rounded(r.huber_scale_mm);
+  out["by_target"] = nlohmann::json::array();
+  for (const auto& t : r.by_target)
+    out["by_target"].push_back({{"target", t.target},
+                                {"rows", t.rows},
+                                {"rms_mm", rounded(t.rms_mm)},
+                                {"max_mm", rounded(t.max_mm)}});
+  out["parameters"] = nlohmann::json::array();
+  for (const auto& u : r.unknowns) {
+    nlohmann::json p = {{"name", u.name},
+                        {"unit", u.unit},
+                        {"nominal", rounded(u.nominal, 12)},
+                        {"value", rounded(u.value, 12)},
+                        {"std", u.std_dev},
+                        {"status", status_name(u.status)}};
+    if (!u.reason.empty()) p["reason"] = u.reason;
+    out["parameters"].push_back(p);
+  }
+  out["correlations"] = nlohmann::json::array();
+  for (const auto& c : r.correlations)
+    out["correlations"].push_back(
+        {{"first", c.first}, {"second", c.second}, {"rho", rounded(c.rho, 6)}});
+  out["suspected_outliers"] = nlohmann::json::array();
+  for (const auto& o : r.outliers)
+    out["suspected_outliers"].push_back(
+        {{"config", o.config}, {"line", o.line}, {"residual_mm", rounded(o.residual_mm)}});
+  const PredictedAccuracy& p = r.predicted;
+  out["predicted_position_error_mm"] = {
+      {"configurations", p.configurations},
+      {"seed", run.options.seed},
+      {"against_truth",
+       {{"mean", rounded(p.mean_mm)}, {"rms", rounded(p.rms_mm)}, {"max", rounded(p.max_mm)}}},
+      {"against_new_measurements",
+       {{"mean", rounded(p.mean_vs_measurements_mm)}, {"rms", rounded(p.rms_vs_measurements_mm)}}}};
+  if (cv) {
+    nlohmann::json per_fold = nlohmann::json::array();
+    for (const FoldErrors& f : cv->per_fold)
+      per_fold.push_back({{"rows", f.rows},
+                          {"mean", rounded(f.mean_mm)},
+                          {"std", rounded(f.std_mm)},
+                          {"max", rounded(f.max_mm)}});
+    out["cross_validation"] = {{"folds", cv->folds},
+                               {"run_because_of_misfit", run.cross_validation_for_misfit},
+                               {"user_folds", cv->user_folds},
+                               {"per_fold", per_fold},
+                               {"seed", cv->seed},
+                               {"rows", cv->errors_mm.size()},
+                               {"error_mm",
+                                {{"mean", rounded(cv->mean_mm)},
+                                 {"std", rounded(cv->std_mm)},
+                                 {"mean_plus_3std", rounded(cv->mean_plus_3std_mm())},
+                                 {"max", rounded(cv->max_mm)}}}};
+  }
+  out["problems"] = run.problems;
+  out["output"] = written_to.empty() ? nlohmann::json(nullptr) : nlohmann::json(written_to);
+  return out;
+}
+
+}  // namespace robcal
