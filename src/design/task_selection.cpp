@@ -39,7 +39,7 @@ class ISearch {
   using Block = Eigen::Matrix<double, R, R>;
 
   ISearch(const DesignMatrix& design, const Eigen::MatrixXd& B, const std::vector<Vector6d>& joints,
-          const SelectionGuard& guard, int count)
+          const SelectionGuard& guard, int count, const std::vector<char>& in_task)
       : A_(design.rows),
         n_(design.candidates()),
         m_(design.columns()),
@@ -49,7 +49,14 @@ class ISearch {
         guard_(guard),
         edge_limit_(guard_edge_limit(guard, count)),
         in_set_(static_cast<size_t>(n_), 0),
-        edge_(static_cast<size_t>(n_), 0) {
+        edge_(static_cast<size_t>(n_), 0),
+        task_(in_task.empty() ? std::vector<char>(static_cast<size_t>(n_), 0) : in_task),
+        count_(count) {
+    const long task_candidates = std::count(task_.begin(), task_.end(), 1);
+    task_needed_ = guard.enabled ? std::min<int>(static_cast<int>(task_candidates),
+                                                 static_cast<int>(std::ceil(guard.min_task_share *
+                                                                            count - 1e-9)))
+                                 : 0;
     for (int i = 0; i < n_; ++i)
       edge_[static_cast<size_t>(i)] =
           guard.enabled && near_joint_edge(guard, joints[static_cast<size_t>(i)]) ? 1 : 0;
@@ -82,6 +89,8 @@ class ISearch {
     if (in_set_[static_cast<size_t>(i)]) return false;
     if (!guard_.enabled) return true;
     if (edge_[static_cast<size_t>(i)] && edge_count_ >= edge_limit_) return false;
+    const int slots = count_ - static_cast<int>(chosen_.size());
+    if (!task_[static_cast<size_t>(i)] && task_needed_ - task_count_ >= slots) return false;
     for (int j : chosen_)
       if (joint_spacing(guard_, joints_[static_cast<size_t>(i)], joints_[static_cast<size_t>(j)]) <
           guard_.min_spacing)
@@ -128,12 +137,14 @@ class ISearch {
   void insert(int i) {
     in_set_[static_cast<size_t>(i)] = 1;
     edge_count_ += edge_[static_cast<size_t>(i)];
+    task_count_ += task_[static_cast<size_t>(i)];
     chosen_.push_back(i);
     change(i, +1.0);
   }
   void remove(int i) {
     in_set_[static_cast<size_t>(i)] = 0;
     edge_count_ -= edge_[static_cast<size_t>(i)];
+    task_count_ -= task_[static_cast<size_t>(i)];
     chosen_.erase(std::find(chosen_.begin(), chosen_.end(), i));
     change(i, -1.0);
   }
@@ -182,8 +193,9 @@ class ISearch {
   const std::vector<Vector6d>& joints_;
   SelectionGuard guard_;
   int edge_limit_;
-  std::vector<char> in_set_, edge_;
-  int edge_count_ = 0;
+  std::vector<char> in_set_, edge_, task_;
+  int count_;
+  int edge_count_ = 0, task_needed_ = 0, task_count_ = 0;
   std::vector<int> chosen_;
   Eigen::MatrixXd P_, S_, V_;
   double phi_ = 0;
@@ -192,8 +204,9 @@ class ISearch {
 
 template <int R>
 TaskSelection run_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd& B, int count,
-                            const std::vector<Vector6d>& joints, const SelectionGuard& guard) {
-  ISearch<R> search(design, B, joints, guard, count);
+                            const std::vector<Vector6d>& joints, const SelectionGuard& guard,
+                            const std::vector<char>& in_task) {
+  ISearch<R> search(design, B, joints, guard, count, in_task);
   Progress progress("choosing configurations (I-optimal)", count);
   while (static_cast<int>(search.chosen().size()) < count) {
     const auto [best, gained] = search.best_addition();
@@ -264,21 +277,22 @@ double i_criterion(const DesignMatrix& design, const Eigen::MatrixXd& task_infor
 
 TaskSelection select_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd& task_information,
                                int count, const std::vector<Vector6d>& joints,
-                               const SelectionGuard& guard) {
+                               const SelectionGuard& guard, const std::vector<char>& in_task) {
   if (count <= 0 || count > design.candidates())
     throw InputError({"", 0, 0, "--count"},
                      fmt::format("expected 1 to {} configurations (the feasible candidates), got {}",
                                  design.candidates(), count));
   if (static_cast<int>(joints.size()) != design.candidates() ||
-      task_information.rows() != design.columns() || task_information.cols() != design.columns())
+      task_information.rows() != design.columns() || task_information.cols() != design.columns() ||
+      (!in_task.empty() && static_cast<int>(in_task.size()) != design.candidates()))
     throw std::invalid_argument("select_i_optimal: sizes of joints or task information differ");
   switch (design.rows_per_candidate) {
     case 1:
-      return run_i_optimal<1>(design, task_information, count, joints, guard);
+      return run_i_optimal<1>(design, task_information, count, joints, guard, in_task);
     case 3:
-      return run_i_optimal<3>(design, task_information, count, joints, guard);
+      return run_i_optimal<3>(design, task_information, count, joints, guard, in_task);
     case 6:
-      return run_i_optimal<6>(design, task_information, count, joints, guard);
+      return run_i_optimal<6>(design, task_information, count, joints, guard, in_task);
     default:
       throw std::invalid_argument(fmt::format(
           "select_i_optimal: {} rows per candidate (expected 1, 3 or 6)", design.rows_per_candidate));

@@ -45,6 +45,14 @@ JointConstraints default_joint_constraints(const RobotModel& model);
 JointConstraints plan_joint_constraints(const RobotModel& model, const std::string& name,
                                         const std::string& flag = "--constraints");
 
+/// Which candidates are near the task region (the guard's task share, task_selection.hpp): their
+/// TCP inside the bounding box of the task configurations' TCP positions grown by `margin_mm`
+/// (the robot placed by `params`).
+std::vector<char> near_task_region(const RobotModel& model, const Tool& tool,
+                                   const ParameterVector& params,
+                                   const std::vector<Vector6d>& task,
+                                   const std::vector<Candidate>& candidates, double margin_mm);
+
 struct PlanRequest {
   RobotModel model;
   Tool tool;

@@ -35,6 +35,11 @@ struct SelectionGuard {
   double max_edge_share = 0.25;
   /// Any two chosen configurations differ by at least this fraction of the range in some joint.
   double min_spacing = 0.05;
+  /// At least this share of the chosen configurations (rounded up) among the candidates near
+  /// the task region (calibration_planning.hpp near_task_region), when there are such
+  /// candidates: TCP inside the task region's TCP box grown by task_margin_mm.
+  double min_task_share = 0.5;
+  double task_margin_mm = 100;
   /// The constrained joint box the fractions refer to (controller values, rad).
   std::array<JointLimit, kJointCount> box{};
 };
@@ -57,7 +62,7 @@ struct TaskSelection {
 };
 
 /// I-optimal choice of `count` candidates (joints[i] is candidate i's configuration, for the
-/// guard): greedy additions from a small ridge, each the admissible candidate that lowers
+/// guard; in_task[i] ≠ 0 when candidate i is a task-region configuration, empty: none is): greedy additions from a small ridge, each the admissible candidate that lowers
 /// tr(M⁻¹B) most, then exchanges (remove the chosen configuration whose removal raises it
 /// least, add the best admissible candidate) while the criterion decreases. Candidate i's
 /// gain tr((I + A_iPA_iᵀ)⁻¹ V_iV_iᵀ), V_i = A_i P L (B = LLᵀ, P = M⁻¹), is kept current under
@@ -65,7 +70,7 @@ struct TaskSelection {
 /// `--count`) when fewer than `count` candidates, or when the guard leaves fewer admissible.
 TaskSelection select_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd& task_information,
                                int count, const std::vector<Vector6d>& joints,
-                               const SelectionGuard& guard);
+                               const SelectionGuard& guard, const std::vector<char>& in_task = {});
 
 /// tr(M_S⁻¹ B) of a subset (the same ridge as the selection); +∞ when M_S is singular.
 double i_criterion(const DesignMatrix& design, const Eigen::MatrixXd& task_information,
