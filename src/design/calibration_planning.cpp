@@ -424,7 +424,12 @@ PlanResult plan_calibration(const PlanRequest& request) {
   for (const Candidate& c : pool.candidates) pool_joints.push_back(c.joints);
   switch (result.criterion) {
     case SelectionCriterion::IOptimal: {
-      const TaskSelection s = select_i_optimal(design, task_info, request.count, pool_joints, guard);
+      const std::vector<char> in_task =
+          guard.enabled ? near_task_region(model, tool, cell.robot.robot.params, task,
+                                           pool.candidates, guard.task_margin_mm)
+                        : std::vector<char>{};
+      const TaskSelection s =
+          select_i_optimal(design, task_info, request.count, pool_joints, guard, in_task);
       chosen = s.chosen;
       result.exchanges = s.exchanges;
       break;
