@@ -285,6 +285,14 @@ PlanResult plan_calibration(const PlanRequest& request) {
                      fmt::format("expected a positive count, got {}", request.count));
   if (request.noise_mm < 0)
     throw InputError({"", 0, 0, "--noise-mm"}, "expected a non-negative noise");
+  // Streamed in batches, candidates no longer bound memory, only time (about 20 µs each).
+  constexpr int kMaxStreamedCandidates = 1000000;
+  if (request.candidate_configurations.empty() &&
+      (request.candidates <= 0 || request.candidates > kMaxStreamedCandidates))
+    throw InputError({"", 0, 0, "--candidates"},
+                     fmt::format("expected 1 to {} candidates (drawn and scored in batches, about "
+                                 "20 µs each), got {}",
+                                 kMaxStreamedCandidates, request.candidates));
   if (request.pool < 2 * request.count)
     throw InputError({"", 0, 0, "--pool"},
                      fmt::format("expected a pool of at least twice the count ({}), got {}",
