@@ -48,7 +48,12 @@ void BM_Plan50000(benchmark::State& state) {
   state.counters["pooled"] = r.pooled;
   state.counters["predicted_mean_um"] = 1000 * r.predicted_selected.mean_mm;
 }
-BENCHMARK(BM_Plan50000)->ArgName("task_box")->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Plan50000)
+    ->ArgName("task_box")
+    ->Arg(0)
+    ->Arg(1)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace robcal

@@ -2,8 +2,8 @@
 // indices and D-optimal selection on a stacked, column-scaled Jacobian given as a matrix, and the
 // `plan` workflow (design/calibration_planning.hpp) with joint arrays in and out.
 
-#include <pybind11/eigen.h>
 #include <fmt/format.h>
+#include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
 #include <optional>

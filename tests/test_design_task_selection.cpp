@@ -96,7 +96,8 @@ TEST(TaskSelection, GuardCapsEdgesKeepsSpacingAndTheTaskShare) {
   const int count = 20;
   std::vector<char> in_task(static_cast<size_t>(f.design.candidates()), 0);
   for (size_t i = 0; i < in_task.size(); i += 7) in_task[i] = 1;  // 58 "near the task"
-  const TaskSelection s = select_i_optimal(f.design, f.task_info, count, f.joints, f.guard, in_task);
+  const TaskSelection s =
+      select_i_optimal(f.design, f.task_info, count, f.joints, f.guard, in_task);
   int edge = 0, near = 0;
   for (int i : s.chosen) {
     edge += near_joint_edge(f.guard, f.joints[static_cast<size_t>(i)]) ? 1 : 0;
@@ -108,7 +109,7 @@ TEST(TaskSelection, GuardCapsEdgesKeepsSpacingAndTheTaskShare) {
                   f.guard.min_spacing);
   }
   EXPECT_EQ(s.near_edge, edge);
-  EXPECT_LE(edge, 5);  // ⌊0.25 · 20⌋
+  EXPECT_LE(edge, 5);   // ⌊0.25 · 20⌋
   EXPECT_GE(near, 10);  // ⌈0.5 · 20⌉
   // Unguarded, the criterion is at least as good and the edges are not capped.
   SelectionGuard off = f.guard;
@@ -246,9 +247,8 @@ TEST(PlanWorkflow, PlannedConfigurationsRespectTheCell) {
   EXPECT_EQ(r.cell, "test cell");
   EXPECT_GT(r.below_floor, 0);  // floor and keep-out rejections
   for (const PlannedConfiguration& c : r.configurations) {
-    const campaign::Feasibility f =
-        campaign::check_configuration(*request.cell, request.model, request.tool, c.joints,
-                                      c.target);
+    const campaign::Feasibility f = campaign::check_configuration(*request.cell, request.model,
+                                                                  request.tool, c.joints, c.target);
     EXPECT_EQ(f.reason, campaign::Rejection::None) << c.name << ": " << f.detail;
   }
 }

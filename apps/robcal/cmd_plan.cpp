@@ -7,8 +7,8 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/core/error.hpp"
 #include "robcal/campaign/cell.hpp"
+#include "robcal/core/error.hpp"
 #include "robcal/design/calibration_planning.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/pose_list_file.hpp"
@@ -120,8 +120,8 @@ void run_plan(const PlanOptions& o) {
     out["dropped"] = dropped;
     out["criterion"] = criterion_name(r.criterion);
     out["guard"] = request.guard.enabled && r.criterion == SelectionCriterion::IOptimal;
-    out["near_edge"] = {{"selected", r.near_edge}, {"random", r.near_edge_random},
-                        {"limit", r.edge_limit}};
+    out["near_edge"] = {
+        {"selected", r.near_edge}, {"random", r.near_edge_random}, {"limit", r.edge_limit}};
     out["exchanges"] = r.exchanges;
     out["restarts"] = r.restarts;
     out["seed"] = request.seed;
@@ -129,15 +129,14 @@ void run_plan(const PlanOptions& o) {
     out["cell"] = r.cell;
     out["level"] = level;
     out["sigma_mm"] = r.sigma_mm;
-    out["predicted_error_mm"] = {
-        {"task_configurations", r.task_configurations},
-        {"task_region", r.region},
-        {"selected",
-         {{"mean", tidy(r.predicted_selected.mean_mm, 6)},
-          {"max", tidy(r.predicted_selected.max_mm, 6)}}},
-        {"random",
-         {{"mean", tidy(r.predicted_random.mean_mm, 6)},
-          {"max", tidy(r.predicted_random.max_mm, 6)}}}};
+    out["predicted_error_mm"] = {{"task_configurations", r.task_configurations},
+                                 {"task_region", r.region},
+                                 {"selected",
+                                  {{"mean", tidy(r.predicted_selected.mean_mm, 6)},
+                                   {"max", tidy(r.predicted_selected.max_mm, 6)}}},
+                                 {"random",
+                                  {{"mean", tidy(r.predicted_random.mean_mm, 6)},
+                                   {"max", tidy(r.predicted_random.max_mm, 6)}}}};
     out["out"] = o.out;
     print_json(out);
     return;
@@ -148,21 +147,20 @@ void run_plan(const PlanOptions& o) {
         "seen by the instrument)\n",
         r.candidates, request.candidates, r.draws, r.below_floor, r.not_visible);
   if (!request.candidate_configurations.empty() && r.candidates < static_cast<int>(r.draws))
-    fmt::print("note: {} of the {} listed configurations left out ({} outside the joint limits, "
-               "{} with no target the instrument sees)\n",
-               r.draws - r.candidates, r.draws, r.outside_limits, r.not_visible);
+    fmt::print(
+        "note: {} of the {} listed configurations left out ({} outside the joint limits, "
+        "{} with no target the instrument sees)\n",
+        r.draws - r.candidates, r.draws, r.outside_limits, r.not_visible);
   fmt::print(
       "plan for {} with a {} in the {}, level {} ({} identifiable parameters{}), seed {}\n",
       request.model.name, r.instrument, r.cell, level, r.parameters.size(),
       dropped.empty() ? "" : fmt::format("; dropped as dependent: {}", fmt::join(dropped, ", ")),
       request.seed);
-  fmt::print("chose {} of {} feasible candidates{} ({}, {} exchanges{})\n", request.count,
-             r.candidates,
-             r.pooled < r.candidates ? fmt::format(" ({} most informative kept)", r.pooled) : "",
-             criterion_name(r.criterion), r.exchanges,
-             r.criterion == SelectionCriterion::DOptimal
-                 ? fmt::format(", {} restarts", r.restarts)
-                 : "");
+  fmt::print(
+      "chose {} of {} feasible candidates{} ({}, {} exchanges{})\n", request.count, r.candidates,
+      r.pooled < r.candidates ? fmt::format(" ({} most informative kept)", r.pooled) : "",
+      criterion_name(r.criterion), r.exchanges,
+      r.criterion == SelectionCriterion::DOptimal ? fmt::format(", {} restarts", r.restarts) : "");
   fmt::print("near a joint-range edge (within {:.0f} % of a range): {} selected{}, {} random\n\n",
              100 * request.guard.edge_margin, r.near_edge,
              r.criterion == SelectionCriterion::IOptimal && request.guard.enabled

@@ -57,8 +57,9 @@ void run_study(const StudyOptions& o) {
   options.plan.constraints = plan_joint_constraints(model, o.constraints);
   options.criterion = parse_selection_criterion(o.criterion);
   if (options.criterion == SelectionCriterion::Published)
-    throw InputError({"", 0, 0, "--criterion"},
-                     "the published exchange is not offered in the study: expected default, d or i");
+    throw InputError(
+        {"", 0, 0, "--criterion"},
+        "the published exchange is not offered in the study: expected default, d or i");
   options.guard.enabled = !o.no_guard;
   options.effects = o.effects;
   if (!o.cell.empty()) options.cell = campaign::load_cell(o.cell);
@@ -91,12 +92,13 @@ void run_study(const StudyOptions& o) {
       r.candidates);
   fmt::print("task region: {} ({} configurations); nominal robot's mean TCP error {:.3f} mm\n",
              region, r.task_configurations, nominal);
-  fmt::print("planned design: {}{}; effects outside the model: {}\n\n",
-             criterion_name(study_criterion(options)),
-             study_criterion(options) == SelectionCriterion::IOptimal && options.guard.enabled
-                 ? " with the robustness guard"
-                 : "",
-             options.effects.empty() ? "none" : fmt::format("{}", fmt::join(options.effects, ", ")));
+  fmt::print(
+      "planned design: {}{}; effects outside the model: {}\n\n",
+      criterion_name(study_criterion(options)),
+      study_criterion(options) == SelectionCriterion::IOptimal && options.guard.enabled
+          ? " with the robustness guard"
+          : "",
+      options.effects.empty() ? "none" : fmt::format("{}", fmt::join(options.effects, ", ")));
   fmt::print("TCP error after calibration against the truth, over the true robots (mm)\n");
   fmt::print("{:>5} | {:^39} | {:^39} | {:>5}\n", "", "planned", "random", "gain");
   fmt::print("{:>5} | {:>9} {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9} | {:>5}\n", "count", "mean",
@@ -115,15 +117,16 @@ void run_study(const StudyOptions& o) {
     int beaten = 0;
     for (size_t k = 0; k < row.optimal.size(); ++k)
       beaten += row.optimal[k].achieved.mean_mm < row.random[k].achieved.mean_mm ? 1 : 0;
-    fmt::print("count {}: planned better than random on {} of {} true robots; predicted mean "
-               "{:.4f} mm is {:+.0f} % of the achieved {:.4f} mm\n",
-               row.count, beaten, row.optimal.size(), opt.predicted_mean_mm,
-               100 * (opt.predicted_mean_mm / opt.achieved_mean_mm - 1), opt.achieved_mean_mm);
+    fmt::print(
+        "count {}: planned better than random on {} of {} true robots; predicted mean "
+        "{:.4f} mm is {:+.0f} % of the achieved {:.4f} mm\n",
+        row.count, beaten, row.optimal.size(), opt.predicted_mean_mm,
+        100 * (opt.predicted_mean_mm / opt.achieved_mean_mm - 1), opt.achieved_mean_mm);
   }
   fmt::print(
       "\nmean, max: achieved, averaged over the true robots; rms: achieved, quadratic mean over "
       "them; pred.rms: predicted before measuring from the design's parameter covariance "
-      "σ²(JᵀJ)⁻¹; gain: random mean / D-optimal mean\n");
+      "σ²(JᵀJ)⁻¹; gain: random mean / planned mean\n");
 }
 
 const bool registered = register_command(62, [](CLI::App& app) {

@@ -61,8 +61,7 @@ JointConstraints plan_joint_constraints(const RobotModel& model, const std::stri
 }
 
 std::vector<char> near_task_region(const RobotModel& model, const Tool& tool,
-                                   const ParameterVector& params,
-                                   const std::vector<Vector6d>& task,
+                                   const ParameterVector& params, const std::vector<Vector6d>& task,
                                    const std::vector<Candidate>& candidates, double margin_mm) {
   std::vector<char> out(candidates.size(), 0);
   if (task.empty()) return out;
@@ -129,8 +128,8 @@ Eigen::MatrixXd design_rows(const TrueRobot& cell, const DesignSettings& setting
   const int r = design.rows_per_candidate;
   Eigen::MatrixXd out(static_cast<Eigen::Index>(candidates.size()) * r, design.columns());
   for (size_t i = 0; i < candidates.size(); ++i) {
-    const Eigen::MatrixXd full = candidate_jacobian(cell.robot.model, cell.robot.tool,
-                                                    *settings.linearisation, candidates[i], settings);
+    const Eigen::MatrixXd full = candidate_jacobian(
+        cell.robot.model, cell.robot.tool, *settings.linearisation, candidates[i], settings);
     for (int j = 0; j < design.columns(); ++j)
       out.block(static_cast<Eigen::Index>(i) * r, j, r, 1) =
           full.col(design.parameters[static_cast<size_t>(j)]) * design.column_scale[j];
@@ -164,10 +163,10 @@ CandidateSet listed_candidates(const PlanRequest& request, const PlanningCell& c
         seen = campaign::check_configuration(*request.cell, model, request.tool, c.joints, -1)
                    .visible_targets;
       } else if (kind == MeasurementKind::Points) {
-        seen = visible_targets(cell.instrument.tracker,
-                               flange_pose(model, request.tool.payload,
-                                           cell.robot.robot.params, c.joints),
-                               request.tool);
+        seen = visible_targets(
+            cell.instrument.tracker,
+            flange_pose(model, request.tool.payload, cell.robot.robot.params, c.joints),
+            request.tool);
       } else {
         seen = {0};
       }
@@ -260,9 +259,9 @@ std::vector<Vector6d> task_region(const PlanRequest& request, const PlanningCell
   }
   if (request.task_box) {
     const TaskBox& b = *request.task_box;
-    region = fmt::format("TCP box {},{},{},{},{},{} mm (world frame), tool pointing down",
-                         b.min_mm.x(), b.max_mm.x(), b.min_mm.y(), b.max_mm.y(), b.min_mm.z(),
-                         b.max_mm.z());
+    region =
+        fmt::format("TCP box {},{},{},{},{},{} mm (world frame), tool pointing down", b.min_mm.x(),
+                    b.max_mm.x(), b.min_mm.y(), b.max_mm.y(), b.min_mm.z(), b.max_mm.z());
     return task_box_configurations(model, tool, cell.robot.robot.params, constraints, b,
                                    request.task_count, rng);
   }
@@ -310,10 +309,10 @@ PlanResult plan_calibration(const PlanRequest& request) {
   result.cell = cell.name;
   result.instrument = instrument_name(cell.instrument.kind);
   result.sigma_mm = request.noise_mm > 0 ? request.noise_mm : instrument_sigma(cell.instrument);
-  result.task_region_given = !request.task_configurations.empty() ||
-                             !request.task_poses.empty() || request.task_box.has_value();
+  result.task_region_given = !request.task_configurations.empty() || !request.task_poses.empty() ||
+                             request.task_box.has_value();
   result.criterion = request.criterion != SelectionCriterion::Default ? request.criterion
-                     : result.task_region_given ? SelectionCriterion::IOptimal
+                     : result.task_region_given                       ? SelectionCriterion::IOptimal
                                                 : SelectionCriterion::DOptimal;
   std::mt19937_64 rng(request.seed), task_rng(request.seed + 1), sample_rng(request.seed + 2);
   // Listed task poses are solved first so that a pose out of reach stops the run early.
@@ -329,7 +328,7 @@ PlanResult plan_calibration(const PlanRequest& request) {
       plan_design_settings(cell.robot, cell.instrument, request.level);
   const int r = measurement_kind(cell.instrument.kind) == MeasurementKind::Points  ? 3
                 : measurement_kind(cell.instrument.kind) == MeasurementKind::Poses ? 6
-                                                                                  : 1;
+                                                                                   : 1;
   // The candidate stream: the listed configurations in batches, or random draws in the cell.
   const bool listed = !request.candidate_configurations.empty();
   const CandidateSet listed_set =
@@ -376,9 +375,9 @@ PlanResult plan_calibration(const PlanRequest& request) {
       layout = build_design_matrix(model, tool, batch.candidates, design_settings);
       rows = std::move(layout.rows);
       layout.rows.resize(0, rows.cols());
-      task_info = task_information(
-          layout, position_jacobian(model, tool.payload, cell.robot.robot.params,
-                                    layout.parameters, task, tcp));
+      task_info =
+          task_information(layout, position_jacobian(model, tool.payload, cell.robot.robot.params,
+                                                     layout.parameters, task, tcp));
       M_seen = Eigen::MatrixXd::Zero(rows.cols(), rows.cols());
       sample_rows.resize(static_cast<Eigen::Index>(request.count) * r, rows.cols());
     } else {
@@ -388,8 +387,7 @@ PlanResult plan_calibration(const PlanRequest& request) {
     for (size_t i = 0; i < batch.candidates.size(); ++i) {
       const int index = seen + static_cast<int>(i);
       int slot = index;
-      if (index >= request.count)
-        slot = std::uniform_int_distribution<int>(0, index)(sample_rng);
+      if (index >= request.count) slot = std::uniform_int_distribution<int>(0, index)(sample_rng);
       if (slot < request.count) {
         if (index < request.count)
           sample.push_back(batch.candidates[i]);
@@ -403,8 +401,7 @@ PlanResult plan_calibration(const PlanRequest& request) {
     const Eigen::Index old_rows = pool.rows.rows();
     pool.rows.conservativeResize(old_rows + rows.rows(), rows.cols());
     pool.rows.bottomRows(rows.rows()) = rows;
-    pool.candidates.insert(pool.candidates.end(), batch.candidates.begin(),
-                           batch.candidates.end());
+    pool.candidates.insert(pool.candidates.end(), batch.candidates.begin(), batch.candidates.end());
     if (static_cast<int>(pool.candidates.size()) > request.pool) {
       const Eigen::MatrixXd M =
           M_seen / seen +
@@ -418,10 +415,10 @@ PlanResult plan_calibration(const PlanRequest& request) {
   result.candidates = seen;
   result.pooled = static_cast<int>(pool.candidates.size());
   if (request.count > result.pooled)
-    throw InputError({"", 0, 0, "--count"},
-                     fmt::format("{} configurations asked for, only {} feasible candidates{}",
-                                 request.count, result.pooled,
-                                 listed ? " listed" : "; raise --candidates"));
+    throw InputError(
+        {"", 0, 0, "--count"},
+        fmt::format("{} configurations asked for, only {} feasible candidates{}", request.count,
+                    result.pooled, listed ? " listed" : "; raise --candidates"));
   const DesignMatrix design = with_rows(layout, std::move(pool.rows));
   const DesignMatrix random_design = with_rows(layout, sample_rows);
   result.parameters = design.parameters;

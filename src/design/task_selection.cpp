@@ -53,18 +53,20 @@ class ISearch {
         task_(in_task.empty() ? std::vector<char>(static_cast<size_t>(n_), 0) : in_task),
         count_(count) {
     const long task_candidates = std::count(task_.begin(), task_.end(), 1);
-    task_needed_ = guard.enabled ? std::min<int>(static_cast<int>(task_candidates),
-                                                 static_cast<int>(std::ceil(guard.min_task_share *
-                                                                            count - 1e-9)))
-                                 : 0;
+    task_needed_ =
+        guard.enabled
+            ? std::min<int>(static_cast<int>(task_candidates),
+                            static_cast<int>(std::ceil(guard.min_task_share * count - 1e-9)))
+            : 0;
     for (int i = 0; i < n_; ++i)
       edge_[static_cast<size_t>(i)] =
           guard.enabled && near_joint_edge(guard, joints[static_cast<size_t>(i)]) ? 1 : 0;
     P_ = Eigen::MatrixXd::Identity(m_, m_) / kRidge;
     S_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n_) * R, R);
-    for (int i = 0; i < n_; ++i) S_.template middleRows<R>(static_cast<Eigen::Index>(i) * R) =
-        A_.template middleRows<R>(static_cast<Eigen::Index>(i) * R) *
-        A_.template middleRows<R>(static_cast<Eigen::Index>(i) * R).transpose() / kRidge;
+    for (int i = 0; i < n_; ++i)
+      S_.template middleRows<R>(static_cast<Eigen::Index>(i) * R) =
+          A_.template middleRows<R>(static_cast<Eigen::Index>(i) * R) *
+          A_.template middleRows<R>(static_cast<Eigen::Index>(i) * R).transpose() / kRidge;
     V_ = A_ * L_ / kRidge;
     phi_ = (P_ * B_).trace();
   }
@@ -73,7 +75,9 @@ class ISearch {
   [[nodiscard]] double gain(int i) const {
     const Block C = Block::Identity() + S_.template middleRows<R>(static_cast<Eigen::Index>(i) * R);
     const Eigen::LLT<Block> llt(C);
-    return llt.matrixL().solve(V_.template middleRows<R>(static_cast<Eigen::Index>(i) * R)).squaredNorm();
+    return llt.matrixL()
+        .solve(V_.template middleRows<R>(static_cast<Eigen::Index>(i) * R))
+        .squaredNorm();
   }
   /// Rise of Φ by removing chosen candidate i (+∞ when the rest is singular).
   [[nodiscard]] double loss(int i) const {
@@ -81,7 +85,9 @@ class ISearch {
     const Eigen::LLT<Block> llt(C);
     if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 1e-9))
       return kInf;
-    return llt.matrixL().solve(V_.template middleRows<R>(static_cast<Eigen::Index>(i) * R)).squaredNorm();
+    return llt.matrixL()
+        .solve(V_.template middleRows<R>(static_cast<Eigen::Index>(i) * R))
+        .squaredNorm();
   }
 
   /// Whether candidate i may join the chosen set (the guard's cap and spacing).
@@ -164,7 +170,8 @@ class ISearch {
     const Eigen::Matrix<double, Eigen::Dynamic, R> AW = A_ * W;
     for (int j = 0; j < n_; ++j) {
       const auto b = AW.template middleRows<R>(static_cast<Eigen::Index>(j) * R);
-      S_.template middleRows<R>(static_cast<Eigen::Index>(j) * R).noalias() -= sign * (b * b.transpose());
+      S_.template middleRows<R>(static_cast<Eigen::Index>(j) * R).noalias() -=
+          sign * (b * b.transpose());
     }
     V_.noalias() -= sign * (AW * (W.transpose() * L_));
     if (++updates_ % kRefreshEvery == 0) refresh();
@@ -233,8 +240,7 @@ TaskSelection run_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd& B
 
 }  // namespace
 
-Eigen::MatrixXd task_information(const DesignMatrix& design,
-                                 const Eigen::MatrixXd& task_jacobian) {
+Eigen::MatrixXd task_information(const DesignMatrix& design, const Eigen::MatrixXd& task_jacobian) {
   const Eigen::MatrixXd Js = task_jacobian * design.column_scale.asDiagonal();
   const double t = std::max<double>(1.0, static_cast<double>(task_jacobian.rows()) / 3.0);
   return Js.transpose() * Js / t;
@@ -245,8 +251,7 @@ bool near_joint_edge(const SelectionGuard& guard, const Vector6d& joints) {
     const JointLimit& r = guard.box[static_cast<size_t>(k)];
     const double width = r.upper - r.lower;
     if (!(width > 0)) continue;
-    if (std::min(joints[k] - r.lower, r.upper - joints[k]) < guard.edge_margin * width)
-      return true;
+    if (std::min(joints[k] - r.lower, r.upper - joints[k]) < guard.edge_margin * width) return true;
   }
   return false;
 }
@@ -279,9 +284,10 @@ TaskSelection select_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd
                                int count, const std::vector<Vector6d>& joints,
                                const SelectionGuard& guard, const std::vector<char>& in_task) {
   if (count <= 0 || count > design.candidates())
-    throw InputError({"", 0, 0, "--count"},
-                     fmt::format("expected 1 to {} configurations (the feasible candidates), got {}",
-                                 design.candidates(), count));
+    throw InputError(
+        {"", 0, 0, "--count"},
+        fmt::format("expected 1 to {} configurations (the feasible candidates), got {}",
+                    design.candidates(), count));
   if (static_cast<int>(joints.size()) != design.candidates() ||
       task_information.rows() != design.columns() || task_information.cols() != design.columns() ||
       (!in_task.empty() && static_cast<int>(in_task.size()) != design.candidates()))
@@ -294,8 +300,9 @@ TaskSelection select_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd
     case 6:
       return run_i_optimal<6>(design, task_information, count, joints, guard, in_task);
     default:
-      throw std::invalid_argument(fmt::format(
-          "select_i_optimal: {} rows per candidate (expected 1, 3 or 6)", design.rows_per_candidate));
+      throw std::invalid_argument(
+          fmt::format("select_i_optimal: {} rows per candidate (expected 1, 3 or 6)",
+                      design.rows_per_candidate));
   }
 }
 

@@ -68,7 +68,7 @@ VirtualInstrument study_instrument(const PlanStudyOptions& options, const TrueRo
 SelectionCriterion study_criterion(const PlanStudyOptions& options) {
   if (options.criterion != SelectionCriterion::Default) return options.criterion;
   return options.task_box || !options.task_poses.empty() ? SelectionCriterion::IOptimal
-                                                          : SelectionCriterion::DOptimal;
+                                                         : SelectionCriterion::DOptimal;
 }
 
 StudySummary summarize(const std::vector<StudyOutcome>& outcomes) {

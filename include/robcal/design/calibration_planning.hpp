@@ -49,8 +49,7 @@ JointConstraints plan_joint_constraints(const RobotModel& model, const std::stri
 /// TCP inside the bounding box of the task configurations' TCP positions grown by `margin_mm`
 /// (the robot placed by `params`).
 std::vector<char> near_task_region(const RobotModel& model, const Tool& tool,
-                                   const ParameterVector& params,
-                                   const std::vector<Vector6d>& task,
+                                   const ParameterVector& params, const std::vector<Vector6d>& task,
                                    const std::vector<Candidate>& candidates, double margin_mm);
 
 struct PlanRequest {
@@ -85,18 +84,18 @@ struct PlanRequest {
 };
 
 struct PlanResult {
-  std::vector<PlannedConfiguration> configurations;  ///< C1, C2, … in selection order
+  std::vector<PlannedConfiguration> configurations;             ///< C1, C2, … in selection order
   SelectionCriterion criterion = SelectionCriterion::DOptimal;  ///< the one used
-  int candidates = 0;         ///< feasible candidates found (drawn or listed and usable)
-  int pooled = 0;             ///< kept for the selection (≤ request.pool)
+  int candidates = 0;  ///< feasible candidates found (drawn or listed and usable)
+  int pooled = 0;      ///< kept for the selection (≤ request.pool)
   long draws = 0, below_floor = 0, not_visible = 0;
-  int outside_limits = 0;     ///< listed candidates outside the joint limits (left out)
+  int outside_limits = 0;                ///< listed candidates outside the joint limits (left out)
   std::vector<int> parameters, dropped;  ///< layout indices
   ObservabilityIndices selected, random;
   double d_efficiency_selected = 0, d_efficiency_random = 0;  ///< against the pool's optimum
   int exchanges = 0, restarts = 0;
   int near_edge = 0, near_edge_random = 0;  ///< chosen configurations near a joint-range edge
-  int edge_limit = 0;                        ///< the guard's cap (count when off)
+  int edge_limit = 0;                       ///< the guard's cap (count when off)
   double sigma_mm = 0;
   std::string region;  ///< the task region, in words
   int task_configurations = 0;

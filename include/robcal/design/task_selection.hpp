@@ -62,11 +62,12 @@ struct TaskSelection {
 };
 
 /// I-optimal choice of `count` candidates (joints[i] is candidate i's configuration, for the
-/// guard; in_task[i] ≠ 0 when candidate i is a task-region configuration, empty: none is): greedy additions from a small ridge, each the admissible candidate that lowers
-/// tr(M⁻¹B) most, then exchanges (remove the chosen configuration whose removal raises it
-/// least, add the best admissible candidate) while the criterion decreases. Candidate i's
-/// gain tr((I + A_iPA_iᵀ)⁻¹ V_iV_iᵀ), V_i = A_i P L (B = LLᵀ, P = M⁻¹), is kept current under
-/// the rank-r changes of P, so a step costs O(N r² m). Deterministic. InputError (key
+/// guard; in_task[i] ≠ 0 when candidate i is a task-region configuration, empty: none is): greedy
+/// additions from a small ridge, each the admissible candidate that lowers tr(M⁻¹B) most, then
+/// exchanges (remove the chosen configuration whose removal raises it least, add the best
+/// admissible candidate) while the criterion decreases. Candidate i's gain tr((I + A_iPA_iᵀ)⁻¹
+/// V_iV_iᵀ), V_i = A_i P L (B = LLᵀ, P = M⁻¹), is kept current under the rank-r changes of P, so a
+/// step costs O(N r² m). Deterministic. InputError (key
 /// `--count`) when fewer than `count` candidates, or when the guard leaves fewer admissible.
 TaskSelection select_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd& task_information,
                                int count, const std::vector<Vector6d>& joints,
