@@ -1,14 +1,21 @@
 // Python bindings of the configuration design (include/robcal/design/): observability
-// indices and D-optimal selection on a stacked, column-scaled Jacobian given as a matrix.
+// indices and D-optimal selection on a stacked, column-scaled Jacobian given as a matrix, and the
+// `plan` workflow (design/calibration_planning.hpp) with joint arrays in and out.
 
+#include <fmt/format.h>
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <optional>
 #include <random>
 
 #include "module_registry.hpp"
+#include "robcal/campaign/cell.hpp"
+#include "robcal/core/units.hpp"
+#include "robcal/design/calibration_planning.hpp"
 #include "robcal/design/observability.hpp"
 #include "robcal/design/selection.hpp"
+#include "robcal/io/robot_file.hpp"
 
 namespace py = pybind11;
 
@@ -79,6 +86,94 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       },
       py::arg("rows"), py::arg("rows_per_candidate"), py::arg("subset"),
       "Certified D-efficiency of a subset against the continuous D-optimum");
+  m.def(
+      "plan",
+      [](const std::string& robot, const std::optional<std::string>& tool,
+         const std::string& instrument, const std::string& level, int count, int candidates,
+         const std::optional<Eigen::MatrixXd>& candidate_joints_deg, uint64_t seed,
+         const std::string& constraints, double floor_mm, double noise_mm,
+         const std::string& criterion, bool guard, const std::optional<std::string>& cell,
+         const std::optional<Eigen::MatrixXd>& task_joints_deg,
+         const std::optional<std::string>& task_box, int task_count) {
+        PlanRequest request;
+        request.model = load_robot(robot);
+        request.tool = tool ? load_tool(*tool) : default_simulation_tool();
+        request.instrument = parse_instrument_kind(instrument, "instrument");
+        request.level = parse_calibration_level(level);
+        request.count = count;
+        request.candidates = candidates;
+        request.seed = seed;
+        request.constraints = plan_joint_constraints(request.model, constraints, "constraints");
+        request.floor_mm = floor_mm;
+        request.noise_mm = noise_mm;
+        request.criterion = parse_selection_criterion(criterion, "criterion");
+        request.guard.enabled = guard;
+        if (cell) request.cell = campaign::load_cell(*cell);
+        const auto joints_of = [](const Eigen::MatrixXd& deg, const char* name) {
+          if (deg.cols() != kJointCount || !deg.allFinite())
+            throw py::value_error(std::string(name) + " must be an N×6 array of finite degrees");
+          std::vector<Vector6d> out;
+          for (Eigen::Index i = 0; i < deg.rows(); ++i)
+            out.push_back(deg.row(i).transpose().unaryExpr([](double d) { return deg2rad(d); }));
+          return out;
+        };
+        if (candidate_joints_deg) {
+          for (const Vector6d& q : joints_of(*candidate_joints_deg, "candidate_joints_deg"))
+            request.candidate_configurations.push_back(
+                {fmt::format("M{}", request.candidate_configurations.size() + 1), q, -1});
+          request.candidates_file = "candidate_joints_deg";
+        }
+        if (task_joints_deg) {
+          request.task_configurations = joints_of(*task_joints_deg, "task_joints_deg");
+          request.task_configurations_file = "task_joints_deg";
+        }
+        if (task_box) request.task_box = parse_task_box(*task_box, "task_box");
+        request.task_count = task_count;
+        PlanResult r;
+        {
+          py::gil_scoped_release release;
+          r = plan_calibration(request);
+        }
+        Eigen::MatrixXd joints(static_cast<Eigen::Index>(r.configurations.size()), kJointCount);
+        std::vector<int> targets;
+        for (size_t k = 0; k < r.configurations.size(); ++k) {
+          for (int j = 0; j < kJointCount; ++j)
+            joints(static_cast<Eigen::Index>(k), j) = rad2deg(r.configurations[k].joints[j]);
+          targets.push_back(r.configurations[k].target);
+        }
+        py::dict out;
+        out["joints_deg"] = joints;
+        out["targets"] = targets;
+        out["criterion"] = criterion_name(r.criterion);
+        out["candidates"] = r.candidates;
+        out["pooled"] = r.pooled;
+        out["selected"] = indices_dict(r.selected);
+        out["random"] = indices_dict(r.random);
+        out["d_efficiency"] = r.d_efficiency_selected;
+        out["d_efficiency_random"] = r.d_efficiency_random;
+        out["near_edge"] = r.near_edge;
+        out["near_edge_random"] = r.near_edge_random;
+        out["edge_limit"] = r.edge_limit;
+        out["sigma_mm"] = r.sigma_mm;
+        out["task_region"] = r.region;
+        out["task_configurations"] = r.task_configurations;
+        out["predicted_mean_mm"] = r.predicted_selected.mean_mm;
+        out["predicted_max_mm"] = r.predicted_selected.max_mm;
+        out["predicted_random_mean_mm"] = r.predicted_random.mean_mm;
+        out["predicted_random_max_mm"] = r.predicted_random.max_mm;
+        out["cell"] = r.cell;
+        return out;
+      },
+      py::arg("robot") = "abb-irb120", py::arg("tool") = py::none(),
+      py::arg("instrument") = "laser-tracker", py::arg("level") = "full", py::arg("count") = 40,
+      py::arg("candidates") = 5000, py::arg("candidate_joints_deg") = py::none(),
+      py::arg("seed") = 1, py::arg("constraints") = "auto", py::arg("floor_mm") = 50.0,
+      py::arg("noise_mm") = 0.0, py::arg("criterion") = "default", py::arg("guard") = true,
+      py::arg("cell") = py::none(), py::arg("task_joints_deg") = py::none(),
+      py::arg("task_box") = py::none(), py::arg("task_count") = 1000,
+      "Choose calibration configurations and predict their accuracy (`robcal plan`): "
+      "joints_deg (count×6) and targets of the chosen configurations, indices for them and for "
+      "a random choice, predicted TCP error over the task region (mm)");
 });
 
 }  // namespace

@@ -529,6 +529,18 @@ def montecarlo(runs: int = 1000, poses: int = 50, validation: int = 1000, thread
     prediction (`robcal montecarlo`): observed and predicted errors (mm), their ratio."""
 
 
+def plan(robot: str = "abb-irb120", tool: Optional[str] = None,
+         instrument: str = "laser-tracker", level: str = "full", count: int = 40,
+         candidates: int = 5000, candidate_joints_deg: Optional[Array] = None,
+         seed: int = 1, constraints: str = "auto", floor_mm: float = 50.0,
+         noise_mm: float = 0.0, criterion: str = "default", guard: bool = True,
+         cell: Optional[str] = None, task_joints_deg: Optional[Array] = None,
+         task_box: Optional[str] = None, task_count: int = 1000) -> Dict[str, Any]:
+    """Choose calibration configurations and predict their accuracy (`robcal plan`):
+    joints_deg (count×6) and targets of the chosen configurations, indices for them and for a
+    random choice, predicted TCP error over the task region (mm)."""
+
+
 def plan_study(robot: str = "abb-irb120", tool: Optional[str] = None,
                instrument: str = "laser-tracker", level: str = "full",
                counts: Sequence[int] = ..., seeds: int = 4, seed: int = 1,

@@ -6,7 +6,10 @@
 #include <cmath>
 #include <numeric>
 
+#include "robcal/campaign/cell_planning.hpp"
+#include "robcal/campaign/feasibility.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
 #include "robcal/design/observability.hpp"
 #include "robcal/design/predicted_accuracy.hpp"
 #include "robcal/identify/accuracy_prediction.hpp"
@@ -41,7 +44,32 @@ RegionError error_against_truth(const TrueRobot& truth, const ParameterVector& p
   return region_error(errors);
 }
 
+/// The study's cell around a true robot: the truth placed at the cell's base (plus its random
+/// base error), the cell's instrument, and candidates by the cell's feasibility checks.
+std::array<double, 6> base_placement_deg(const PlanStudyOptions& options) {
+  if (!options.cell) return default_base_placement();
+  std::array<double, 6> out = options.cell->robot_base;
+  for (size_t i = 3; i < 6; ++i) out[i] = rad2deg(out[i]);
+  return out;
+}
+
+VirtualInstrument study_instrument(const PlanStudyOptions& options, const TrueRobot& truth) {
+  if (!options.cell) return standard_instrument(options.instrument, truth, options.noise_mm);
+  VirtualInstrument out = campaign::virtual_instrument(*options.cell, truth.robot.tool);
+  if (options.noise_mm > 0) {
+    out.tracker.sigma_mm.setConstant(options.noise_mm);
+    out.cmm.sigma_mm = options.noise_mm;
+  }
+  return out;
+}
+
 }  // namespace
+
+SelectionCriterion study_criterion(const PlanStudyOptions& options) {
+  if (options.criterion != SelectionCriterion::Default) return options.criterion;
+  return options.task_box || !options.task_poses.empty() ? SelectionCriterion::IOptimal
+                                                         : SelectionCriterion::DOptimal;
+}
 
 StudySummary summarize(const std::vector<StudyOutcome>& outcomes) {
   StudySummary s;
@@ -71,23 +99,33 @@ PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
     result.seeds.push_back(s);
     std::mt19937_64 truth_rng(s), candidate_rng(s + 1), subset_rng(s + 2), task_rng(s + 3),
         noise_rng(s + 4);
-    const TrueRobot truth = random_truth(model, tool, options.bounds, truth_rng);
-    const VirtualInstrument instrument =
-        standard_instrument(options.instrument, truth, options.noise_mm);
+    TrueRobot truth =
+        random_truth(model, tool, options.bounds, truth_rng, base_placement_deg(options));
+    if (!options.effects.empty()) enable_effects(truth, options.effects, truth_rng);
+    const VirtualInstrument instrument = study_instrument(options, truth);
     const double sigma = instrument_sigma(instrument);
     result.sigma_mm = sigma;
     // What the planner knows: the nominal robot placed like the truth.
     const TrueRobot cell = planning_cell(model, tool, truth.robot.params.head<kBaseParamCount>());
-    const CandidateSet pool = instrument_candidates(cell, instrument, options.plan, candidate_rng);
-    const DesignMatrix design = build_design_matrix(
-        model, tool, pool.candidates, plan_design_settings(cell, instrument, options.plan.level));
-    if (largest > design.candidates())
+    const std::array<JointLimit, kJointCount> box =
+        constrained_joint_box(model, options.plan.constraints);
+    CandidateSet pool;
+    if (options.cell) {
+      campaign::CellCandidateOptions cell_options;
+      cell_options.box = box;
+      cell_options.count = options.plan.candidates;
+      pool = campaign::candidate_set(
+          campaign::feasible_candidates(*options.cell, model, tool, cell_options, candidate_rng));
+    } else {
+      pool = instrument_candidates(cell, instrument, options.plan, candidate_rng);
+    }
+    const int drawn = static_cast<int>(pool.candidates.size());
+    if (largest > drawn)
       throw InputError({"", 0, 0, "--counts"},
                        fmt::format("a count of {} needs more than the {} feasible candidates; "
                                    "raise --candidates",
-                                   largest, design.candidates()));
-    result.candidates =
-        k == 0 ? design.candidates() : std::min(result.candidates, design.candidates());
+                                   largest, drawn));
+    result.candidates = k == 0 ? drawn : std::min(result.candidates, drawn);
 
     std::vector<Vector6d> task;
     if (!options.task_poses.empty()) {
@@ -107,7 +145,16 @@ PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
     result.task_configurations = static_cast<int>(task.size());
     result.nominal.push_back(error_against_truth(truth, cell.robot.params, task));
 
-    std::vector<int> shuffled(static_cast<size_t>(design.candidates()));
+    // The guard's task share: candidates whose TCP lies in the task region's TCP box.
+    const SelectionCriterion criterion = study_criterion(options);
+    const std::vector<char> in_task =
+        criterion == SelectionCriterion::IOptimal && options.guard.enabled
+            ? near_task_region(model, tool, cell.robot.params, task, pool.candidates,
+                               options.guard.task_margin_mm)
+            : std::vector<char>{};
+    const DesignMatrix design = build_design_matrix(
+        model, tool, pool.candidates, plan_design_settings(cell, instrument, options.plan.level));
+    std::vector<int> shuffled(static_cast<size_t>(drawn));
     std::iota(shuffled.begin(), shuffled.end(), 0);
     std::shuffle(shuffled.begin(), shuffled.end(), subset_rng);
     const std::vector<Eigen::Vector3d> tcp{tool.flange_T_tcp.translation()};
@@ -131,8 +178,22 @@ PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
       out.O1 = observability_indices(design, subset).O1;
       return out;
     };
+    Eigen::MatrixXd task_info;
+    std::vector<Vector6d> pool_joints;
+    SelectionGuard guard = options.guard;
+    guard.box = box;
+    if (criterion == SelectionCriterion::IOptimal) {
+      task_info = task_information(design, position_jacobian(model, tool.payload, cell.robot.params,
+                                                             design.parameters, task, tcp));
+      for (const Candidate& c : pool.candidates) pool_joints.push_back(c.joints);
+    }
+    const auto planned = [&](int count) {
+      if (criterion == SelectionCriterion::IOptimal)
+        return select_i_optimal(design, task_info, count, pool_joints, guard, in_task).chosen;
+      return select_d_optimal(design, count).chosen;
+    };
     for (StudyRow& row : result.rows) {
-      row.optimal.push_back(outcome(select_d_optimal(design, row.count).chosen));
+      row.optimal.push_back(outcome(planned(row.count)));
       row.random.push_back(
           outcome(std::vector<int>(shuffled.begin(), shuffled.begin() + row.count)));
     }

@@ -140,4 +140,26 @@ printf 'payload: {mass_kg: 1, cog_mm: [0, 0, 50]}\ntargets: {}\n' >"$TMP/empty_t
 expect_error "tool without targets" "no targets" plan --tool "$TMP/empty_tool.yaml" \
   --candidates 50 --out "$TMP/bad.csv"
 
+# 12. Task-aware default with a task box, the shipped default cell, and the user's candidates.
+DATA="$(dirname "$0")/../../data"
+"$ROBCAL" plan --count 12 --candidates 400 --task-count 60 --task-box -500,-300,1100,1300,150,350 \
+  --cell "$DATA/cells/default-tracker.yaml" --json --out "$TMP/cell.csv" >"$TMP/cell.json" ||
+  fail "plan --cell failed: $(cat "$TMP/cell.json")"
+/usr/bin/python3 - "$TMP/cell.json" <<'PY' || FAILED=1
+import json, sys
+d = json.load(open(sys.argv[1]))
+ok = d["criterion"] == "I-optimal" and d["guard"] and d["near_edge"]["selected"] <= d["near_edge"]["limit"] == 3
+if not ok: print("FAIL: task-aware plan in the default cell", d)
+sys.exit(0 if ok else 1)
+PY
+"$ROBCAL" plan --count 10 --candidates-file "$TMP/configs.csv" --out "$TMP/sub.csv" >/dev/null ||
+  fail "plan --candidates-file failed"
+/usr/bin/python3 - "$TMP/configs.csv" "$TMP/sub.csv" <<'PY' || FAILED=1
+import csv, sys
+rows = lambda f: [[float(r[f"j{i}"]) for i in range(1, 7)] for r in csv.DictReader(open(f))]
+given, chosen = rows(sys.argv[1]), rows(sys.argv[2])
+listed = lambda c: any(max(abs(a - b) for a, b in zip(c, g)) < 1e-9 for g in given)
+if len(chosen) != 10 or not all(listed(c) for c in chosen): print("FAIL: chosen rows not among the listed ones", chosen); sys.exit(1)
+PY
+
 finish plan_cli

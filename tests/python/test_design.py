@@ -45,3 +45,20 @@ def test_restarts_never_lower_the_determinant():
 def test_bad_input_raises_value_error():
     with pytest.raises(ValueError):
         robcal._robcal.select_d_optimal(np.ones((10, 3)), 3, 2)
+
+
+def test_plan_returns_joint_arrays_and_selects_among_given_ones():
+    task_box = "-500,-300,1100,1300,150,350"
+    r = robcal.plan(count=10, candidates=300, task_count=40, task_box=task_box)
+    assert r["joints_deg"].shape == (10, 6)
+    assert r["criterion"] == "I-optimal"
+    assert r["near_edge"] <= r["edge_limit"] == 2
+    assert 0 < r["predicted_mean_mm"] < r["predicted_random_mean_mm"]
+    # Among the user's configurations: every chosen row is one of them.
+    given = robcal.plan(count=30, candidates=300, criterion="d", task_count=40)["joints_deg"]
+    chosen = robcal.plan(count=12, candidate_joints_deg=given, criterion="d", task_count=40)
+    assert chosen["candidates"] == 30
+    for row in chosen["joints_deg"]:
+        assert np.min(np.max(np.abs(given - row), axis=1)) < 1e-9
+    with pytest.raises(robcal.InputError, match="--criterion|criterion"):
+        robcal.plan(count=12, criterion="x")

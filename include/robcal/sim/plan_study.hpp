@@ -11,6 +11,8 @@
 #include <optional>
 #include <vector>
 
+#include "robcal/campaign/cell.hpp"
+#include "robcal/design/calibration_planning.hpp"
 #include "robcal/design/task_region.hpp"
 #include "robcal/sim/calibration_plan.hpp"
 #include "robcal/sim/true_robot.hpp"
@@ -32,7 +34,19 @@ struct PlanStudyOptions {
   std::string task_poses_file;
   std::optional<TaskBox> task_box;
   int task_count = 200;
+  /// The planned design: Default is `plan`'s default (I-optimal with the guard when a task box
+  /// or poses are given, else D-optimal); Published is not offered here.
+  SelectionCriterion criterion = SelectionCriterion::Default;
+  SelectionGuard guard;  ///< its box is set from the constraints
+  /// Effects the model does not contain, switched on in every true robot (sim/true_robot.hpp
+  /// enable_effects names: backlash, j6-periodic, mass-error, thermal).
+  std::vector<std::string> effects;
+  /// The cell (robot base, instrument, floor, keep-out boxes); empty: the simulator's cell.
+  std::optional<campaign::Cell> cell;
 };
+
+/// The criterion the study's planned design uses for `options` (Default resolved).
+SelectionCriterion study_criterion(const PlanStudyOptions& options);
 
 /// Position error of the TCP over the task region, mm.
 struct RegionError {

@@ -1,0 +1,119 @@
+#pragma once
+/// \file
+/// The `plan` workflow (docs/method/05-observability.md): choose the configurations to measure in a
+/// cell and predict the accuracy they give before measuring. Candidates are drawn in the cell
+/// (the simulator's standard cell, or a cell file), or read from the user's list; they are
+/// generated and scored in streaming batches so that memory stays bounded whatever their number;
+/// the choice is I-optimal over the task region with a robustness guard when a task region is
+/// given, else D-optimal; a random choice of the same count is scored beside it.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "robcal/campaign/cell.hpp"
+#include "robcal/design/candidates.hpp"
+#include "robcal/design/observability.hpp"
+#include "robcal/design/task_region.hpp"
+#include "robcal/design/task_selection.hpp"
+#include "robcal/identify/accuracy_prediction.hpp"
+#include "robcal/identify/unknowns.hpp"
+#include "robcal/sim/calibration_plan.hpp"
+
+namespace robcal {
+
+enum class SelectionCriterion {
+  Default,    ///< I-optimal when a task region is given, else D-optimal
+  DOptimal,   ///< fast D-optimal (selection.hpp select_d_optimal)
+  IOptimal,   ///< task-aware (task_selection.hpp), with the guard
+  Published,  ///< the published exchange on O1
+};
+
+/// "default", "d", "i" or "published"; InputError naming `flag` otherwise.
+SelectionCriterion parse_selection_criterion(const std::string& text,
+                                             const std::string& flag = "--criterion");
+const char* criterion_name(SelectionCriterion criterion);
+
+/// The joint constraints `plan` applies by default: the published ones for the robot they were
+/// published for (the ABB IRB 120, docs/method/05-observability.md), the robot file's own joint
+/// limits for every other robot.
+JointConstraints default_joint_constraints(const RobotModel& model);
+
+/// A preset name: "auto" (default_joint_constraints), "robot" (the robot file's limits only),
+/// "published" or "none" (= "robot"). InputError naming `flag` otherwise.
+JointConstraints plan_joint_constraints(const RobotModel& model, const std::string& name,
+                                        const std::string& flag = "--constraints");
+
+/// Which candidates are near the task region (the guard's task share, task_selection.hpp): their
+/// TCP inside the bounding box of the task configurations' TCP positions grown by `margin_mm`
+/// (the robot placed by `params`).
+std::vector<char> near_task_region(const RobotModel& model, const Tool& tool,
+                                   const ParameterVector& params, const std::vector<Vector6d>& task,
+                                   const std::vector<Candidate>& candidates, double margin_mm);
+
+struct PlanRequest {
+  RobotModel model;
+  Tool tool;
+  InstrumentKind instrument = InstrumentKind::LaserTracker;  ///< ignored with a cell
+  CalibrationLevel level = CalibrationLevel::Full;
+  int count = 40;
+  int candidates = 5000;  ///< random candidates to draw (not with candidate_configurations)
+  uint64_t seed = 1;
+  std::optional<JointConstraints> constraints;  ///< empty: default_joint_constraints(model)
+  double floor_mm = 50;                         ///< without a cell (the cell has its floor)
+  double noise_mm = 0;                          ///< > 0 replaces the instrument's σ
+  SelectionCriterion criterion = SelectionCriterion::Default;
+  SelectionGuard guard;  ///< its box is set from the constraints
+  /// The cell (campaign/cell.hpp); empty: the simulator's standard cell.
+  std::optional<campaign::Cell> cell;
+  /// The user's candidate configurations (e.g. already measured); empty: random candidates.
+  std::vector<PlannedConfiguration> candidate_configurations;
+  std::string candidates_file;  ///< where they were read from (messages)
+  /// Task region: configurations, else TCP poses (world frame), else a TCP box, else random
+  /// configurations in the constrained joint box above the floor.
+  std::vector<Vector6d> task_configurations;
+  std::string task_configurations_file;
+  std::vector<ListedPose> task_poses;
+  std::string task_poses_file;
+  std::optional<TaskBox> task_box;
+  int task_count = 1000;
+  /// Candidates kept for the selection: larger draws are scored in batches of this size and
+  /// only the most informative this many kept (see plan_calibration).
+  int pool = 5000;
+};
+
+struct PlanResult {
+  std::vector<PlannedConfiguration> configurations;             ///< C1, C2, … in selection order
+  SelectionCriterion criterion = SelectionCriterion::DOptimal;  ///< the one used
+  int candidates = 0;  ///< feasible candidates found (drawn or listed and usable)
+  int pooled = 0;      ///< kept for the selection (≤ request.pool)
+  long draws = 0, below_floor = 0, not_visible = 0;
+  int outside_limits = 0;                ///< listed candidates outside the joint limits (left out)
+  std::vector<int> parameters, dropped;  ///< layout indices
+  ObservabilityIndices selected, random;
+  double d_efficiency_selected = 0, d_efficiency_random = 0;  ///< against the pool's optimum
+  int exchanges = 0, restarts = 0;
+  int near_edge = 0, near_edge_random = 0;  ///< chosen configurations near a joint-range edge
+  int edge_limit = 0;                       ///< the guard's cap (count when off)
+  double sigma_mm = 0;
+  std::string region;  ///< the task region, in words
+  int task_configurations = 0;
+  bool task_region_given = false;
+  PredictedAccuracy predicted_selected, predicted_random;
+  std::string instrument;  ///< its name
+  std::string cell;        ///< the cell's name ("simulator standard cell" without a file)
+};
+
+/// Plans a calibration. Random candidates are drawn in batches of `request.pool`; while the
+/// pool is full, every new batch's design rows are scored together with the pool's and only
+/// the `pool` candidates with the greatest leverage tr(A_i M⁻¹ A_iᵀ) under the information M of
+/// everything drawn so far are kept (the D-optimal design is supported on high-leverage
+/// candidates, Harman & Pronzato 2007), half of them among candidates away from the joint-range
+/// edges when the guard is on; I-optimal choice scores leverage through the task information,
+/// tr(A_i M⁻¹ B M⁻¹ A_iᵀ). The random comparison set is a uniform sample of every feasible
+/// candidate (reservoir sampling), not of the pool. Throws InputError for bad requests (keys
+/// as the CLI's flags).
+PlanResult plan_calibration(const PlanRequest& request);
+
+}  // namespace robcal
