@@ -93,6 +93,14 @@ nlohmann::json to_json(const CalibrationRun& run, const CalibrateArgs& args, siz
     if (!u.reason.empty()) p["reason"] = u.reason;
     out["parameters"].push_back(p);
   }
+  out["groups"] = nlohmann::json::array();
+  for (const GroupSignificance& g : group_significance(r.robot))
+    if (g.enabled)
+      out["groups"].push_back({{"name", g.group},
+                               {"identified", g.identified},
+                               {"wald", tidy(g.wald)},
+                               {"p_value", g.p_value},
+                               {"significant", g.significant}});
   out["correlations"] = nlohmann::json::array();
   for (const auto& c : r.correlations)
     out["correlations"].push_back(
@@ -175,6 +183,13 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
                u.std_dev, u.unit, u.nominal);
   }
   fmt::print("  ({} parameters held at their nominal values)\n", fixed);
+  for (const GroupSignificance& g : group_significance(r.robot))
+    if (g.enabled)
+      fmt::print("group {}: Wald {:.1f} for {} parameters, p = {:.2g}: {}\n", g.group, g.wald,
+                 g.identified, g.p_value,
+                 g.significant ? "significant"
+                               : "NOT significant: the data do not show this effect, the group "
+                                 "can be left out");
   if (!r.correlations.empty()) {
     fmt::print("strongest correlations:");
     for (size_t i = 0; i < r.correlations.size() && i < 5; ++i)
