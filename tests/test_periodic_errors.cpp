@@ -265,6 +265,24 @@ TEST(PeriodicErrors, JointNeverTurnedIsRefusedWithTheDependency) {
   EXPECT_FALSE(joint6_group(group_significance(r.robot)).enabled);
 }
 
+// A true robot may carry periodic errors in its parameters: the truth file writes the joints that
+// have one (degrees) and reads them back.
+TEST(PeriodicErrors, TruthFileRoundTrip) {
+  TrueRobot truth = published_truth(false);
+  truth.robot.params[periodic_param(2, 1, true)] = deg2rad(0.004);
+  truth.robot.params[periodic_param(6, 2, false)] = deg2rad(-0.007);
+  const std::string text = truth_to_yaml(truth, "abb-irb120");
+  EXPECT_NE(text.find("periodic_deg"), std::string::npos);
+  const TrueRobot back = parse_truth(yaml::parse(text, "truth.yaml"));
+  for (int i = kPeriodicOffset; i < kParameterCount; ++i)
+    EXPECT_NEAR(back.robot.params[i], truth.robot.params[i], 1e-15) << parameter_table()[i].name;
+  std::string bad = text;
+  const size_t at = bad.find("periodic_deg:\n  2:");
+  ASSERT_NE(at, std::string::npos) << text;
+  bad[at + 16] = '7';  // a joint the robot does not have
+  EXPECT_THROW(parse_truth(yaml::parse(bad, "truth.yaml")), InputError);
+}
+
 TEST(PeriodicErrors, ModelFileShowsTheEnabledGroupOnlyAndRoundTrips) {
   const Campaign gear = simulate(published_truth(true), 0.01, 1903);
   const IdentificationResult with = fit(gear.calibration, true);
