@@ -54,7 +54,8 @@ PY
 grep -q "group joint6.periodic: .*NOT significant" "$TMP/clean.txt" ||
   fail "no significance line: $(grep group "$TMP/clean.txt")"
 # A model written with the group reads back (validate uses it).
-"$ROBCAL" validate --model "$TMP/gear.yaml" --measurements "$TMP/gear/measurements.csv" \
+"$ROBCAL" validate --robot abb-irb120 --tool "$TMP/gear/tool.yaml" --model "$TMP/gear.yaml" \
+  --measurements "$TMP/gear/measurements.csv" \
   >"$TMP/validate.txt" || fail "validate with a periodic model failed"
 
 expect_error "pattern matching nothing" "joint7.periodic*" calibrate --robot abb-irb120 \
