@@ -31,9 +31,13 @@ struct IkFixture {
   CalibratedRobot calibrated;
   Compensator comp;
   std::vector<IkCase> cases;
-  IkFixture(const std::string& robot, int count, bool singular) {
+  /// `periodic`: with periodic joint errors too (every opt-in group of issue 19).
+  IkFixture(const std::string& robot, int count, bool singular, bool periodic = false) {
     std::mt19937_64 rng(kSeed);
     calibrated = test::random_calibrated(robot, rng);
+    if (periodic)
+      for (int i = kPeriodicOffset; i < kParameterCount; ++i)
+        calibrated.params[i] = deg2rad(0.01 * std::uniform_real_distribution<double>(-1, 1)(rng));
     comp = make_compensator(calibrated);
     while (static_cast<int>(cases.size()) < count) {
       const Vector6d q = test::random_joints(calibrated.model, rng);
@@ -53,8 +57,8 @@ using Clock = std::chrono::steady_clock;
 /// One target per benchmark iteration, timed alone; counters: median and p99 of those
 /// per-target times (the reading of the clock included: `clock_overhead_us`), success and
 /// mean iterations over the fixture.
-void calibrated_ik_bench(benchmark::State& state, IkMethod method) {
-  const IkFixture& f = irb120_fixture();
+void calibrated_ik_bench(benchmark::State& state, IkMethod method,
+                         const IkFixture& f = irb120_fixture()) {
   std::vector<double> us;
   us.reserve(1 << 20);
   size_t i = 0;
@@ -98,6 +102,12 @@ void BM_CalibratedIkPoseShift(benchmark::State& state) {
   calibrated_ik_bench(state, IkMethod::PoseShift);
 }
 BENCHMARK(BM_CalibratedIkNewton)->UseManualTime();
+/// Issue 19: the model with every opt-in group enabled (periodic joint errors), ≤ 3 µs median.
+void BM_CalibratedIkNewtonAllGroups(benchmark::State& state) {
+  static const IkFixture fixture("abb-irb120", 10000, false, true);
+  calibrated_ik_bench(state, IkMethod::Newton, fixture);
+}
+BENCHMARK(BM_CalibratedIkNewtonAllGroups)->UseManualTime();
 BENCHMARK(BM_CalibratedIkPoseShift)->UseManualTime();
 
 /// The nominal single-branch closed form alone: the seed's share of the calibrated IK time.

@@ -1,6 +1,7 @@
 // The analytic identification Jacobian (kinematic regressor) against Ceres automatic
 // differentiation through the templated FK and against central finite differences, every
-// column, with and without compliance, on the IRB 120 and on the Fanuc (coupled joint map).
+// column (periodic joint errors included), with and without compliance, on the IRB 120 and on
+// the Fanuc (coupled joint map).
 
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
@@ -22,7 +23,8 @@ Vector6d random_joints(const RobotModel& model, std::mt19937_64& rng) {
   return q;
 }
 
-/// Parameters with every error of the model perturbed: base, links, compliance and scales.
+/// Parameters with every error of the model perturbed: base, links, compliance, scales and the
+/// periodic joint errors (opt-in group, docs/method/03-error-model.md §5).
 ParameterVector perturbed(const RobotModel& model, std::mt19937_64& rng, bool compliance) {
   ParameterVector x = model.nominal();
   std::normal_distribution<double> n(0.0, 1.0);
@@ -32,6 +34,7 @@ ParameterVector perturbed(const RobotModel& model, std::mt19937_64& rng, bool co
   }
   for (int j = 2; j <= 6; ++j) x[compliance_param(j)] = compliance ? 5e-7 * (1 + n(rng)) : 0.0;
   for (int j = 1; j <= 6; ++j) x[scale_param(j)] = 1.0 + 0.01 * n(rng);
+  for (int i = kPeriodicOffset; i < kParameterCount; ++i) x[i] = deg2rad(0.05 * n(rng));
   return x;
 }
 

@@ -92,6 +92,13 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
       fmt::print("  {:<22} {:>16.6g} ± {:<10.3g} {:<9} (was {:.6g})\n", v.name, v.value, v.std_dev,
                  v.unit, v.before);
   }
+  for (const GroupSignificance& g : group_significance(r.robot))
+    if (g.enabled)
+      fmt::print("group {}: Wald {:.1f} for {} parameters, p = {:.2g}: {}\n", g.group, g.wald,
+                 g.identified, g.p_value,
+                 g.significant ? "significant"
+                               : "NOT significant: the data do not show this effect, the group "
+                                 "can be left out");
   if (!r.correlations.empty()) {
     fmt::print("strongest correlations:");
     for (size_t i = 0; i < r.correlations.size() && i < 5; ++i)

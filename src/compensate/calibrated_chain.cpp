@@ -102,6 +102,10 @@ CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVe
   }
   for (int i = 0; i < kJointCount; ++i) {
     c.scale[i] = params[scale_param(i + 1)];
+    for (int k = 0; k < kPeriodicPerJoint; ++k) {
+      c.periodic[i][k] = params[periodic_param(i + 1, 1, false) + k];
+      c.has_periodic[i] = c.has_periodic[i] || c.periodic[i][k] != 0.0;
+    }
     c.mass[i] = model.link_masses[i].mass_kg;
     c.moment[i] = model.link_masses[i].mass_kg * model.link_masses[i].cog_mm;
   }
@@ -119,7 +123,17 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
                                  ChainState& state) {
   const Vector6d q = c.map_identity ? joints : Vector6d(c.joint_map * joints + c.joint_offset);
   for (int i = 0; i < kJointCount; ++i) {
-    const double theta = c.scale[i] * q[i] + c.theta_offset[i] + (i == 0 ? c.base_gamma : 0.0);
+    double theta = c.scale[i] * q[i] + c.theta_offset[i] + (i == 0 ? c.base_gamma : 0.0);
+    state.rate[i] = c.scale[i];
+    if (c.has_periodic[i]) {
+      // δθ = Σ_h (cos_h·cos hq + sin_h·sin hq), docs/method/03-error-model.md §5, and its slope.
+      double s1, c1;
+      table_sin_cos(q[i], &s1, &c1);
+      const double c2 = c1 * c1 - s1 * s1, s2 = 2 * s1 * c1;
+      const auto& e = c.periodic[i];
+      theta += e[0] * c1 + e[1] * s1 + e[2] * c2 + e[3] * s2;
+      state.rate[i] += -e[0] * s1 + e[1] * c1 + 2 * (-e[2] * s2 + e[3] * c2);
+    }
     const double step = theta - state.theta[i];
     if (state.has_angles && std::abs(step) < kSeriesShiftLimitRad) {
       sin_cos_shifted(state.sin_theta[i], state.cos_theta[i], step, &state.sin_theta[i],
@@ -191,7 +205,7 @@ void calibrated_jacobian(const CalibratedChain& c, const ChainState& state, Matr
         dtau(i - 1, k) = k <= i ? y[i].dot(w[k]) : y[k].dot(w[i]);
     J.noalias() += J_c * dtau;
   }
-  for (int k = 0; k < kJointCount; ++k) J.col(k) *= c.scale[k];
+  for (int k = 0; k < kJointCount; ++k) J.col(k) *= state.rate[k];
   if (!c.map_identity) J = J * c.joint_map;
 }
 
@@ -202,7 +216,7 @@ Vector6d calibrated_jacobian_derivative(const CalibratedChain& c, const ChainSta
   // Σ_k ν_k·z_k × (ṗ − ȯ_k) = ω_v × ṗ − Σ_k ν_k·z_k × ȯ_k, ω_v = Σ_k ν_k·z_k: one pass. Link
   // 0 is still (ż_1 = ȯ_1 = 0) and only starts ω and ω_v.
   const Eigen::Vector3d z_1 = state.frames[0].R.col(2);
-  Eigen::Vector3d omega = (c.scale[0] * du[0]) * z_1, omega_v = (c.scale[0] * dv[0]) * z_1,
+  Eigen::Vector3d omega = (state.rate[0] * du[0]) * z_1, omega_v = (state.rate[0] * dv[0]) * z_1,
                   o_dot = Eigen::Vector3d::Zero(), linear = Eigen::Vector3d::Zero(),
                   angular = Eigen::Vector3d::Zero();
   for (int k = 1; k < kJointCount; ++k) {
@@ -210,11 +224,11 @@ Vector6d calibrated_jacobian_derivative(const CalibratedChain& c, const ChainSta
     o_dot += omega.cross(f.p - state.frames[k - 1].p);
     const Eigen::Vector3d z = f.R.col(2);
     const Eigen::Vector3d z_dot = omega.cross(z);
-    const double nu = c.scale[k] * dv[k];
+    const double nu = state.rate[k] * dv[k];
     linear += nu * (z_dot.cross(state.tcp_p - f.p) - z.cross(o_dot));
     angular += nu * z_dot;
     omega_v += nu * z;
-    omega += (c.scale[k] * du[k]) * z;
+    omega += (state.rate[k] * du[k]) * z;
   }
   const Eigen::Vector3d p_dot = o_dot + omega.cross(state.tcp_p - state.frames[kJointCount - 1].p);
   Vector6d out;

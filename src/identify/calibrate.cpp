@@ -147,8 +147,10 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
     const bool in_level = !setup.layout.is_model(i) ||
                           std::find(level_set.begin(), level_set.end(), i) != level_set.end();
     if (setup.requested[i]) continue;
-    reasons[static_cast<size_t>(i)] =
-        in_level ? "held by --fix" : fmt::format("not identified at level {}", robot.level);
+    reasons[static_cast<size_t>(i)] = in_level ? "held by --fix"
+                                      : setup.layout.is_model(i) && is_opt_in(i)
+                                          ? "opt-in group, not asked for (--identify)"
+                                          : fmt::format("not identified at level {}", robot.level);
   }
   for (const Dependency& dep : setup.dropped) {
     status[static_cast<size_t>(dep.column)] = ParameterStatus::Dropped;

@@ -50,9 +50,17 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
   emit_robot_fields(out, robot.model);
   out << YAML::EndMap;
   out << YAML::Key << "tool" << YAML::Value << YAML::Load(tool_to_yaml(robot.tool));
+  // Opt-in groups (docs/method/03-error-model.md §5) appear only when enabled: a file without
+  // them reads back as the same robot (absent parameters are nominal and fixed).
+  const std::vector<GroupSignificance> groups = group_significance(robot);
+  std::array<bool, kParameterCount> shown;
+  shown.fill(true);
+  for (size_t g = 0; g < groups.size(); ++g)
+    for (int i : opt_in_groups()[g].params) shown[static_cast<size_t>(i)] = groups[g].enabled;
   out << YAML::Key << "parameters" << YAML::Value << YAML::BeginSeq;
   std::vector<int> identified;
   for (int i = 0; i < kParameterCount; ++i) {
+    if (!shown[static_cast<size_t>(i)]) continue;
     const double f = table[i].to_external();
     const auto s = static_cast<size_t>(i);
     const double variance = has_covariance ? robot.covariance(i, i) : 0.0;
@@ -81,6 +89,19 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
       out << YAML::Flow << row;
     }
     out << YAML::EndSeq << YAML::EndMap;
+  }
+  bool any_group = false;
+  for (const GroupSignificance& g : groups) any_group = any_group || g.enabled;
+  if (any_group) {
+    out << YAML::Key << "groups" << YAML::Value << YAML::BeginSeq;
+    for (const GroupSignificance& g : groups) {
+      if (!g.enabled) continue;
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << g.group
+          << YAML::Key << "identified" << YAML::Value << g.identified << YAML::Key << "wald"
+          << YAML::Value << g.wald << YAML::Key << "p_value" << YAML::Value << g.p_value
+          << YAML::Key << "significant" << YAML::Value << g.significant << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
   }
   const std::string& statistics = statistics_yaml.empty() ? robot.statistics : statistics_yaml;
   if (!statistics.empty())
@@ -130,7 +151,7 @@ CalibratedRobot load_calibrated_robot(const std::string& path) {
         "(a file written by `robcal calibrate`)");
   // A misspelt key ('covarience:') would silently drop what it holds.
   yaml::expect_keys(root, {"format", "level", "base_fitted", "robot", "tool", "parameters",
-                           "covariance", "statistics", "reidentified"});
+                           "covariance", "groups", "statistics", "reidentified"});
   CalibratedRobot robot;
   robot.model = parse_robot(root.at("robot"));
   robot.tool = root.has("tool") ? parse_tool(root.at("tool")) : Tool{};

@@ -118,6 +118,14 @@ nlohmann::json calibration_run_json(const CalibrationRun& run, const std::string
     if (!u.reason.empty()) p["reason"] = u.reason;
     out["parameters"].push_back(p);
   }
+  out["groups"] = nlohmann::json::array();
+  for (const GroupSignificance& g : group_significance(r.robot))
+    if (g.enabled)
+      out["groups"].push_back({{"name", g.group},
+                               {"identified", g.identified},
+                               {"wald", tidy(g.wald)},
+                               {"p_value", g.p_value},
+                               {"significant", g.significant}});
   out["correlations"] = nlohmann::json::array();
   for (const auto& c : r.correlations)
     out["correlations"].push_back(

@@ -40,13 +40,17 @@ std::array<Pose<double>, kJointCount> chain(const RobotModel& model, const doubl
   return F;
 }
 
-/// Undeflected link angles θu_1..θu_6 (θ_1 with the base γ) of model joint values q.
+/// Undeflected link angles θu_1..θu_6 (θ_1 with the base γ) of model joint values q, the
+/// periodic errors included (`basis`: periodic_basis of each q).
 std::array<double, kJointCount> undeflected_angles(const RobotModel& model, const double* x,
-                                                   const Vector6d& q) {
+                                                   const Vector6d& q, const PeriodicBasis& basis) {
   std::array<double, kJointCount> theta;
   theta[0] = x[scale_param(1)] * q[0] + model.mdh[0].theta_offset + x[5];
   for (int link = 2; link <= kJointCount; ++link)
     theta[link - 1] = x[scale_param(link)] * q[link - 1] + x[link_param(link, 2)];
+  for (int joint = 1; joint <= kJointCount; ++joint)
+    for (int k = 0; k < kPeriodicPerJoint; ++k)
+      theta[joint - 1] += x[periodic_param(joint, 1, false) + k] * basis[joint - 1][k];
   return theta;
 }
 
@@ -69,7 +73,8 @@ PreparedConfiguration prepare_configuration(const RobotModel& model,
                                             const Vector6d& joints) {
   PreparedConfiguration out;
   out.q = model.joint_map.matrix * joints + model.joint_map.offset;
-  out.theta = undeflected_angles(model, reference.data(), out.q);
+  for (int k = 0; k < kJointCount; ++k) out.basis[k] = periodic_basis(out.q[k]);
+  out.theta = undeflected_angles(model, reference.data(), out.q, out.basis);
   for (int k = 0; k < kJointCount; ++k) sin_cos(out.theta[k], &out.s[k], &out.c[k]);
   return out;
 }
@@ -77,9 +82,12 @@ PreparedConfiguration prepare_configuration(const RobotModel& model,
 FlangeRegressor::FlangeRegressor(const RobotModel& model, const PointMass& payload,
                                  const ParameterVector& params, const ParameterTrig& trig,
                                  const PreparedConfiguration& configuration)
-    : q_(configuration.q), c_(Vector6d::Zero()), R_base_xy_(trig.R_base_xy) {
+    : q_(configuration.q),
+      c_(Vector6d::Zero()),
+      basis_(configuration.basis),
+      R_base_xy_(trig.R_base_xy) {
   const double* x = params.data();
-  const std::array<double, kJointCount> theta_u = undeflected_angles(model, x, q_);
+  const std::array<double, kJointCount> theta_u = undeflected_angles(model, x, q_, basis_);
   std::array<double, kJointCount> s_u, c_u;
   for (int k = 0; k < kJointCount; ++k)
     sin_cos_shifted(configuration.s[k], configuration.c[k], theta_u[k] - configuration.theta[k],
@@ -182,10 +190,14 @@ void FlangeRegressor::jacobian(const Eigen::Matrix<double, K, 6>& P,
       J.col(it).noalias() += PZ * dtheta.col(f);
     }
   }
+  // Scales and periodic errors move θu_j by q_j and by the periodic basis at q_j: the column of
+  // θu_j (joint twist, plus the deflections it causes) times that factor.
   for (int joint = 1; joint <= kJointCount; ++joint) {
-    const int i = scale_param(joint);
-    J.col(i) = q_[joint - 1] * PZ.col(joint - 1);
-    if (compliant_) J.col(i).noalias() += q_[joint - 1] * (PZ * dtheta.col(joint - 1));
+    Rows joint_column = PZ.col(joint - 1);
+    if (compliant_) joint_column.noalias() += PZ * dtheta.col(joint - 1);
+    J.col(scale_param(joint)) = q_[joint - 1] * joint_column;
+    for (int k = 0; k < kPeriodicPerJoint; ++k)
+      J.col(periodic_param(joint, 1, false) + k) = basis_[joint - 1][k] * joint_column;
   }
 }
 

@@ -32,9 +32,33 @@ const std::array<ParameterInfo, kParameterCount>& parameter_table() {
     }
     for (int joint = 1; joint <= 6; ++joint)
       t[scale_param(joint)] = {fmt::format("joint{}.scale", joint), ParamKind::Scale, "1"};
+    for (int joint = 1; joint <= kJointCount; ++joint)
+      for (int h = 1; h <= kPeriodicHarmonics; ++h)
+        for (const bool sine : {false, true})
+          t[periodic_param(joint, h, sine)] = {
+              fmt::format("joint{}.periodic{}.{}", joint, h, sine ? "sin" : "cos"),
+              ParamKind::Angle, "deg"};
     return t;
   }();
   return table;
+}
+
+const std::vector<ParameterGroup>& opt_in_groups() {
+  static const std::vector<ParameterGroup> groups = [] {
+    std::vector<ParameterGroup> g;
+    for (int joint = 1; joint <= kJointCount; ++joint) {
+      ParameterGroup group{fmt::format("joint{}.periodic", joint), {}};
+      for (int k = 0; k < kPeriodicPerJoint; ++k)
+        group.params.push_back(periodic_param(joint, 1, false) + k);
+      g.push_back(group);
+    }
+    return g;
+  }();
+  return groups;
+}
+
+bool is_opt_in(int index) {
+  return index >= kPeriodicOffset && index < kParameterCount;
 }
 
 int parameter_index(std::string_view name) {

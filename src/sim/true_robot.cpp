@@ -198,7 +198,21 @@ std::string truth_to_yaml(const TrueRobot& truth, const std::string& robot_name)
                                x[compliance_param(link)]};
   out << YAML::EndMap;
   out << YAML::Key << "scales" << YAML::Value << YAML::Flow
-      << std::vector<double>(x.data() + kScaleOffset, x.data() + kParameterCount);
+      << std::vector<double>(x.data() + kScaleOffset, x.data() + kScaleOffset + kJointCount);
+  // Periodic joint errors (opt-in group, docs/method/03-error-model.md §5), joints that have one.
+  bool periodic = false;
+  for (int i = kPeriodicOffset; i < kParameterCount; ++i) periodic = periodic || x[i] != 0.0;
+  if (periodic) {
+    out << YAML::Key << "periodic_deg" << YAML::Value << YAML::BeginMap;
+    for (int joint = 1; joint <= kJointCount; ++joint) {
+      std::vector<double> row;
+      for (int k = 0; k < kPeriodicPerJoint; ++k)
+        row.push_back(rad2deg(x[periodic_param(joint, 1, false) + k]));
+      if (row != std::vector<double>(kPeriodicPerJoint, 0.0))
+        out << YAML::Key << joint << YAML::Value << YAML::Flow << row;
+    }
+    out << YAML::EndMap;
+  }
   out << YAML::Key << "masses" << YAML::Value << YAML::BeginMap;
   for (int link = 1; link <= kJointCount; ++link) {
     const PointMass& mass = truth.robot.model.link_masses[static_cast<size_t>(link - 1)];
@@ -265,6 +279,17 @@ TrueRobot parse_truth(const yaml::Node& root, const std::string& robot, const To
   if (root.has("scales")) {
     const std::vector<double> scales = root.at("scales").as_doubles(kJointCount);
     for (int i = 0; i < kJointCount; ++i) x[kScaleOffset + i] = scales[static_cast<size_t>(i)];
+  }
+  if (root.has("periodic_deg")) {  // joint: [cos 1, sin 1, cos 2, sin 2] (deg)
+    const yaml::Node periodic = root.at("periodic_deg");
+    for (const std::string& key : periodic.keys()) {
+      const int joint = key.size() == 1 ? key[0] - '0' : 0;
+      if (joint < 1 || joint > kJointCount)
+        throw periodic.at(key).error("expected a joint number 1..6");
+      const std::vector<double> row = periodic.at(key).as_doubles(kPeriodicPerJoint);
+      for (int k = 0; k < kPeriodicPerJoint; ++k)
+        x[periodic_param(joint, 1, false) + k] = deg2rad(row[static_cast<size_t>(k)]);
+    }
   }
   // The masses listed are all the arm has: links not listed carry none.
   RobotModel& true_model = truth.robot.model;

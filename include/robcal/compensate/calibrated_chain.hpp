@@ -6,9 +6,10 @@
 /// exact joint Jacobian from what that evaluation left there.
 ///
 /// Jacobian (world frame, rows v then ω, columns = controller joints, mm/rad and rad/rad):
-///   with θu the undeflected link angles (θu = scale·q + offset), θ = θu + c·τ(θu) the
-///   deflected ones and q = M·j + offset the model angles from controller joints j,
-///   J = J_θ · (I + diag(c)·∂τ/∂θu) · diag(scale) · M,
+///   with θu the undeflected link angles (θu = scale·q + offset + δθ(q), δθ the periodic joint
+///   errors), θ = θu + c·τ(θu) the deflected ones and q = M·j + offset the model angles from
+///   controller joints j,
+///   J = J_θ · (I + diag(c)·∂τ/∂θu) · diag(scale + δθ'(q)) · M,
 /// J_θ the geometric Jacobian of the deflected chain (column k: [z_k × (p_tcp − o_k); z_k]).
 /// The gravity torque τ_i = z_i · (V_i × g), with M_i, C_i the mass and first moment of links
 /// i..6 and the payload (world frame) and V_i = C_i − M_i·o_i, has the derivatives
@@ -37,6 +38,9 @@ struct CalibratedChain {
   std::array<double, kJointCount> cos_alpha{}, sin_alpha{}, a{}, d{};  ///< links 2..6 at [1..5]
   std::array<double, kJointCount> theta_offset{};  ///< link 1: the model's θ offset
   std::array<double, kJointCount> scale{};
+  /// Periodic error coefficients of each joint (jointI.periodicH.cos|sin, rad).
+  std::array<std::array<double, kPeriodicPerJoint>, kJointCount> periodic{};
+  std::array<bool, kJointCount> has_periodic{};
   std::array<double, kJointCount> compliance{};  ///< [0] = 0 (joint 1 has none)
   bool compliant = false;
   std::array<double, kJointCount> mass{};             ///< link 6 includes the payload
@@ -58,6 +62,7 @@ struct ChainState {
   Eigen::Vector3d tcp_p;
   bool has_angles = false;
   std::array<double, kJointCount> theta{}, cos_theta{}, sin_theta{};  ///< θu (θ1 with γ_base)
+  std::array<double, kJointCount> rate{};  ///< dθu/dq: scale + the periodic error's slope
 };
 
 /// sin θ and cos θ from a table at the multiples of 2π/256 and the angle-addition series for
@@ -82,12 +87,13 @@ void calibrated_jacobian(const CalibratedChain& chain, const ChainState& state, 
 /// d/dt [J(j + t·along)·v] at t = 0, at the joints j of the last calibrated_tcp_pose into
 /// `state`; with v = along, the second derivative (p̈, ω̇) of the TCP's motion, so that the pose
 /// at j + along is the one at j moved by J·along + ½·(p̈, ω̇) to second order. For the rigid
-/// deflected chain: with link angle rates δ = scale·(M·along), ν = scale·(M·v), link k − 1
+/// deflected chain: with link angle rates δ = rate·(M·along), ν = rate·(M·v), link k − 1
 /// turning at ω_{k−1} = Σ_{i<k} δ_i·z_i and origin o_k moving at ȯ_k = ȯ_{k−1} + ω_{k−1} ×
 /// (o_k − o_{k−1}), the axes turn at ż_k = ω_{k−1} × z_k and, ṗ being the TCP's velocity,
 ///   d(J·v)/dt = Σ_k ν_k·(ż_k × (p − o_k) + z_k × (ṗ − ȯ_k), ż_k).
 /// The compliance's own change (the deflection varying along the motion, up to ~3 % of the
-/// whole) is left out: this serves Newton steps, whose answers the forward model verifies.
+/// whole) and the periodic errors' curvature (below 1e-3 of the rate) are left out: this serves
+/// Newton steps, whose answers the forward model verifies.
 Vector6d calibrated_jacobian_derivative(const CalibratedChain& chain, const ChainState& state,
                                         const Vector6d& along, const Vector6d& v);
 

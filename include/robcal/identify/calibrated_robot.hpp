@@ -55,6 +55,26 @@ struct CalibratedRobot {
   static CalibratedRobot nominal(const RobotModel& model, const Tool& tool);
 };
 
+/// Significance of an opt-in parameter group (docs/method/03-error-model.md §5): the Wald
+/// statistic W = dᵀ·C⁻¹·d of the group's identified parameters d (deviations from nominal, C
+/// their covariance) against χ² with as many degrees of freedom. A group whose effect the data
+/// do not show gives W ≈ dof; `significant` when P(χ²_dof ≥ W) < kGroupSignificanceLevel.
+struct GroupSignificance {
+  std::string group;     ///< e.g. "joint6.periodic"
+  bool enabled = false;  ///< some parameter of the group identified, or non-zero
+  int identified = 0;    ///< parameters of the group identified (the test's degrees of freedom)
+  double wald = 0;
+  double p_value = 1;
+  bool significant = false;
+};
+
+/// Level of the group test: as strict as the noise test (kNoiseTestLevel), so that a group the
+/// data do not need is almost never called significant.
+inline constexpr double kGroupSignificanceLevel = 1e-3;
+
+/// Every opt-in group of `robot` (model/parameters.hpp: opt_in_groups), enabled or not.
+std::vector<GroupSignificance> group_significance(const CalibratedRobot& robot);
+
 /// Writes the calibrated model as YAML (robot fields + a parameter table with nominal,
 /// identified value, standard deviation, unit, status and reason, + fit statistics given as
 /// an already-built YAML map in `statistics_yaml`; when empty, the robot's own `statistics`)

@@ -134,8 +134,20 @@ std::array<T, 5> gravity_torques(const RobotModel& model, const PointMass& paylo
   return tau;
 }
 
-/// Joint angles θ_1..θ_6 (rad) used in the links: θ_i = scale_i·q_i + offset_i (+ c_i·τ_i when
-/// the model has compliance), docs/method/02-frames.md. `q` are model joint angles.
+/// The periodic error's basis at model joint angle q (rad), in the layout's order of
+/// jointI.periodicH.cos|sin: cos q, sin q, cos 2q, sin 2q (docs/method/03-error-model.md §5).
+template <typename T>
+std::array<T, kPeriodicPerJoint> periodic_basis(const T& q) {
+  static_assert(kPeriodicHarmonics == 2, "the basis below lists two harmonics");
+  using std::cos;
+  using std::sin;
+  const T c = cos(q), s = sin(q);
+  return {c, s, c * c - s * s, T(2) * s * c};
+}
+
+/// Joint angles θ_1..θ_6 (rad) used in the links: θ_i = scale_i·q_i + offset_i + δθ_i(q_i) (+
+/// c_i·τ_i when the model has compliance), δθ_i the periodic error, docs/method/02-frames.md,
+/// 03-error-model.md. `q` are model joint angles.
 template <typename T>
 std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass& payload,
                                        const T* params, const std::array<T, kJointCount>& q) {
@@ -143,6 +155,14 @@ std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass&
   theta[0] = params[scale_param(1)] * q[0] + T(model.mdh[0].theta_offset);
   for (int link = 2; link <= kJointCount; ++link)
     theta[link - 1] = params[scale_param(link)] * q[link - 1] + params[link_param(link, 2)];
+  for (int joint = 1; joint <= kJointCount; ++joint) {
+    const T* e = params + periodic_param(joint, 1, false);
+    bool periodic = false;
+    for (int k = 0; k < kPeriodicPerJoint; ++k) periodic = periodic || detail::is_nonzero(e[k]);
+    if (!periodic) continue;
+    const std::array<T, kPeriodicPerJoint> b = periodic_basis(q[joint - 1]);
+    for (int k = 0; k < kPeriodicPerJoint; ++k) theta[joint - 1] += e[k] * b[k];
+  }
   bool compliant = false;
   for (int link = 2; link <= kJointCount; ++link)
     compliant = compliant || detail::is_nonzero(params[compliance_param(link)]);

@@ -29,8 +29,8 @@ using TwistJacobian = Eigen::Matrix<double, 6, kParameterCount>;
 /// - each geometric parameter is an elementary motion along the chain: a base translation, a
 ///   rotation about a base axis, a link's Rot_x(α_i) about x_{i-1} through o_{i-1}, Trans_x(a_i)
 ///   along x_{i-1}, Trans_z(d_i) along z_i;
-/// - joint offsets, scales and compliances act through the joint angles θ_i, whose column is
-///   the joint twist (o_i × z_i; z_i) of the deflected chain;
+/// - joint offsets, scales, periodic errors and compliances act through the joint angles θ_i,
+///   whose column is the joint twist (o_i × z_i; z_i) of the deflected chain;
 /// - with compliance, θ_i = θu_i + c_i·τ_i(θu, params) (docs/method/03-error-model.md), so every
 /// parameter also
 ///   moves θ_i through the gravity torque τ_i; its derivative follows from the same elementary
@@ -53,8 +53,10 @@ ParameterTrig parameter_trig(const ParameterVector& params);
 /// γ) with their sines and cosines at reference parameters. Near the reference the link angles
 /// move by small shifts (joint offset and scale errors), whose sine and cosine follow from a
 /// short series: an evaluation makes no trigonometric call.
+using PeriodicBasis = std::array<std::array<double, kPeriodicPerJoint>, kJointCount>;
 struct PreparedConfiguration {
   Vector6d q = Vector6d::Zero();  ///< model joint values (joint map applied)
+  PeriodicBasis basis{};          ///< periodic_basis of each q (the periodic errors' factors)
   std::array<double, kJointCount> theta{}, s{}, c{};
 };
 PreparedConfiguration prepare_configuration(const RobotModel& model,
@@ -80,6 +82,7 @@ class FlangeRegressor {
 
  private:
   Vector6d q_, c_;  ///< model joint values; compliances (c_[0] = 0)
+  PeriodicBasis basis_;
   bool compliant_ = false;
   Eigen::Matrix3d R_base_xy_;
   std::array<Pose<double>, kJointCount> undeflected_, deflected_;

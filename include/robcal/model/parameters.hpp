@@ -3,13 +3,16 @@
 /// The robot's parameter vector: every quantity the error model of docs/method/03-error-model.md
 /// may identify, stored as absolute values in internal units (mm, rad, rad/(N·mm), unitless scale).
 ///
-/// Layout (kParameterCount = 37):
+/// Layout (kParameterCount = 61):
 ///   [0, 6)   base.x base.y base.z (mm), base.alpha base.beta base.gamma (rad):
 ///            world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1)
 ///   [6, 26)  linkI.alpha (rad), linkI.a (mm), linkI.theta (rad, the joint zero offset),
 ///            linkI.d (mm) for I = 2..6 (MDH, Craig)
 ///   [26, 31) jointI.compliance (rad per N·mm of gravity torque) for I = 2..6
 ///   [31, 37) jointI.scale (unitless, θ_real = scale · q + offset; level 1) for I = 1..6
+///   [37, 61) jointI.periodicH.cos, jointI.periodicH.sin (rad) for I = 1..6, H = 1, 2: the
+///            periodic joint error δθ_I = Σ_H (cos_H·cos(H·q_I) + sin_H·sin(H·q_I)), an opt-in
+///            group (docs/method/03-error-model.md §5), zero and fixed unless asked for.
 /// The 31 of the published full model are the first 31; scales are fixed unless asked for.
 
 #include <array>
@@ -24,7 +27,10 @@ inline constexpr int kBaseParamCount = 6;
 inline constexpr int kLinkParamOffset = 6;
 inline constexpr int kComplianceOffset = 26;
 inline constexpr int kScaleOffset = 31;
-inline constexpr int kParameterCount = 37;
+inline constexpr int kPeriodicOffset = 37;
+inline constexpr int kPeriodicHarmonics = 2;  ///< first and second harmonic of the joint angle
+inline constexpr int kPeriodicPerJoint = 2 * kPeriodicHarmonics;
+inline constexpr int kParameterCount = kPeriodicOffset + kJointCount * kPeriodicPerJoint;
 
 /// Index of MDH quantity k (0 alpha, 1 a, 2 theta, 3 d) of link i (2..6).
 constexpr int link_param(int link, int k) {
@@ -39,6 +45,12 @@ constexpr int scale_param(int joint) {
   return kScaleOffset + (joint - 1);
 }
 
+/// Index of the periodic error of joint i (1..6), harmonic h (1..kPeriodicHarmonics), cosine
+/// (sine = false) or sine term.
+constexpr int periodic_param(int joint, int harmonic, bool sine) {
+  return kPeriodicOffset + kPeriodicPerJoint * (joint - 1) + 2 * (harmonic - 1) + (sine ? 1 : 0);
+}
+
 enum class ParamKind { Length, Angle, Compliance, Scale };
 
 /// Name, kind and external unit of one parameter of the layout.
@@ -50,8 +62,22 @@ struct ParameterInfo {
   [[nodiscard]] double to_external() const;
 };
 
-/// The 37 parameters in layout order.
+/// The kParameterCount parameters in layout order.
 const std::array<ParameterInfo, kParameterCount>& parameter_table();
+
+/// Opt-in parameter groups (docs/method/03-error-model.md §5): parameters outside every
+/// calibration level, enabled by pattern (`--identify 'joint6.periodic*'`), written to model
+/// files and reported with their significance only when enabled.
+struct ParameterGroup {
+  std::string name;         ///< e.g. "joint6.periodic"
+  std::vector<int> params;  ///< indices in the layout
+};
+
+/// The opt-in groups: one periodic group per joint ("joint1.periodic" .. "joint6.periodic").
+const std::vector<ParameterGroup>& opt_in_groups();
+
+/// True for a parameter of an opt-in group.
+bool is_opt_in(int index);
 
 /// Index of a parameter by its dotted name, or -1.
 int parameter_index(std::string_view name);
