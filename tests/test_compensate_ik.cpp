@@ -8,9 +8,9 @@
 #include <Eigen/Geometry>
 #include <numbers>
 
+#include "refusal.hpp"
 #include "robcal/compensate/calibrated_ik.hpp"
 #include "test_compensate_support.hpp"
-#include "refusal.hpp"
 #include "test_support.hpp"
 
 namespace robcal {

@@ -103,9 +103,8 @@ inline bool nominal_seed_elsewhere(const Compensator& comp, const Pose<double>& 
   }
   const Vector6d sv = Eigen::JacobiSVD<Matrix6d>(J).singularValues();
   if (sv[5] < 0.01 * sv[0]) return true;
-  const IkBranchResult r =
-      nominal_ik_branch(comp.geometry, comp.base_T_world * wanted * comp.tcp_T_flange, config,
-                        joints);
+  const IkBranchResult r = nominal_ik_branch(
+      comp.geometry, comp.base_T_world * wanted * comp.tcp_T_flange, config, joints);
   return r.status != IkStatus::Solved || (r.solution.joints - joints).cwiseAbs().maxCoeff() > 0.1;
 }
 
@@ -127,7 +126,7 @@ struct RoundTripStats {
   long draws = 0;                               ///< joint vectors drawn, singular ones included
   double worst_mm = 0, worst_deg = 0;           ///< calibrated FK of the answers against the pose
   double worst_recovery_rad = 0;                ///< Newton against the drawn joints, same turn
-  long other_turn = 0;  ///< answers a full turn of a wide-range joint from the drawn joints
+  long other_turn = 0;      ///< answers a full turn of a wide-range joint from the drawn joints
   long seed_elsewhere = 0;  ///< draws skipped by nominal_seed_elsewhere (general arms)
   int max_newton = 0, max_shift = 0;  ///< iterations
   std::string first_failure, first_handover;
@@ -138,9 +137,10 @@ struct RoundTripStats {
 
 /// Round trip calibrated FK(calibrated IK(pose)) = pose over `per_config` random reachable
 /// poses in each of the 8 configurations: joints drawn uniformly inside the limits (at most
-/// `max_draws`), ≥ 5° from the singular labels (on a general arm, not nominal_seed_elsewhere), their calibrated TCP pose solved by both
-/// iterations in the configuration of the drawn joints, seeded near them, and the two answers
-/// compared. Inside the limits and away from singularities the drawn joints are the answer.
+/// `max_draws`), ≥ 5° from the singular labels (on a general arm, not nominal_seed_elsewhere),
+/// their calibrated TCP pose solved by both iterations in the configuration of the drawn joints,
+/// seeded near them, and the two answers compared. Inside the limits and away from singularities
+/// the drawn joints are the answer.
 inline RoundTripStats round_trip(const CalibratedRobot& robot, const Compensator& comp,
                                  long per_config, long max_draws, std::mt19937_64& rng) {
   RoundTripStats st;

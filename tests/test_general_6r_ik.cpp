@@ -26,7 +26,8 @@ RobotModel random_6r(std::mt19937_64& rng) {
   RobotModel m;
   m.name = "random 6R";
   m.mdh[0] = {0.0, 0.0, twist(rng), length(rng)};
-  for (int i = 1; i < kJointCount; ++i) m.mdh[i] = {twist(rng), length(rng), twist(rng), length(rng)};
+  for (int i = 1; i < kJointCount; ++i)
+    m.mdh[i] = {twist(rng), length(rng), twist(rng), length(rng)};
   for (JointLimit& l : m.limits) l = {-kPi, kPi};
   return m;
 }
@@ -119,41 +120,57 @@ int missed_by_solver(const RobotModel& model, const IkResult& r, const Pose<doub
   for (int s = 0; s < starts; ++s) {
     Vector6d seed;
     for (double& x : seed) x = std::uniform_real_distribution<double>(-kPi, kPi)(rng);
-    const NumericIkResult n = numeric_ik(model, PointMass{}, model.nominal(), target, seed, options);
+    const NumericIkResult n =
+        numeric_ik(model, PointMass{}, model.nominal(), target, seed, options);
     if (n.status != NumericIkStatus::Converged) continue;
     bool known = false;
     for (const Vector6d& v : seen) known = known || wrapped_distance(v, n.joints) < 1e-6;
     if (known) continue;
     seen.push_back(n.joints);
     bool returned = false;
-    for (const IkSolution& sol : r) returned = returned || wrapped_distance(sol.joints, n.joints) < 1e-6;
+    for (const IkSolution& sol : r)
+      returned = returned || wrapped_distance(sol.joints, n.joints) < 1e-6;
     missed += !returned;
   }
   numeric_found += static_cast<int>(seen.size());
   return missed;
 }
 
+struct SearchCount {
+  int returned = 0, numeric = 0, missed = 0;
+};
+
+/// missed_by_solver on `poses` random poses of `model`.
+void search_poses(const RobotModel& model, const General6rGeometry& g, int poses,
+                  std::mt19937_64& rng, SearchCount& n) {
+  const NominalChain chain = make_nominal_chain(model);
+  for (int k = 0; k < poses; ++k) {
+    const Pose<double> target = nominal_flange_pose(chain, uniform_joints(model, rng));
+    const IkResult r = nominal_ik(g, target);
+    n.returned += r.count;
+    n.missed += missed_by_solver(model, r, target, 200, rng, n.numeric);
+  }
+}
+
+void expect_nothing_missed(const char* what, const SearchCount& n) {
+  std::printf("[%s] solver %d solutions, multi-start search %d, missed %d\n", what, n.returned,
+              n.numeric, n.missed);
+  EXPECT_EQ(n.missed, 0) << what;
+  EXPECT_GE(n.returned, n.numeric) << what;
+}
+
 // Exhaustive numeric search: 200 random starts per pose on 8 random geometries × 4 poses find
 // nothing the solver missed (and, over all poses, as many distinct solutions as it returns).
 TEST(General6rIk, MultiStartNumericSearchFindsNothingMore) {
   auto rng = test::seeded_rng(1503);
-  int missed = 0, numeric = 0, returned = 0;
+  SearchCount n;
   for (int robot = 0; robot < 8; ++robot) {
     const RobotModel model = random_6r(rng);
     const auto g = analyze_general_6r(model);
     ASSERT_TRUE(g);
-    const NominalChain chain = make_nominal_chain(model);
-    for (int k = 0; k < 4; ++k) {
-      const Pose<double> target = nominal_flange_pose(chain, uniform_joints(model, rng));
-      const IkResult r = nominal_ik(*g, target);
-      returned += r.count;
-      missed += missed_by_solver(model, r, target, 200, rng, numeric);
-    }
+    search_poses(model, *g, 4, rng, n);
   }
-  std::printf("[random 6R, 32 poses] solver %d solutions, multi-start search %d, missed %d\n",
-              returned, numeric, missed);
-  EXPECT_EQ(missed, 0);
-  EXPECT_GE(returned, numeric);
+  expect_nothing_missed("random 6R, 32 poses", n);
 }
 
 // The Fanuc CRX-10iA/L (offset wrist, up to 16 solutions): round trip with limits and turns,
@@ -181,17 +198,9 @@ TEST(General6rIk, FanucCrxEverySolution) {
   for (JointLimit& l : free.limits) l = {-kPi, kPi};
   const auto gf = analyze_general_6r(free);
   ASSERT_TRUE(gf);
-  const NominalChain chain = make_nominal_chain(free);
-  int missed = 0, numeric = 0, returned = 0;
-  for (int k = 0; k < 10; ++k) {
-    const Pose<double> target = nominal_flange_pose(chain, uniform_joints(free, rng));
-    const IkResult r = nominal_ik(*gf, target);
-    returned += r.count;
-    missed += missed_by_solver(free, r, target, 200, rng, numeric);
-  }
-  std::printf("[CRX-10iA/L, 10 poses] solver %d solutions, multi-start search %d, missed %d\n",
-              returned, numeric, missed);
-  EXPECT_EQ(missed, 0);
+  SearchCount n;
+  search_poses(free, *gf, 10, rng, n);
+  expect_nothing_missed("CRX-10iA/L, 10 poses", n);
 }
 
 // On robots with a closed form the general method returns the same solution set.
@@ -221,12 +230,14 @@ TEST(General6rIk, AgreesWithTheClosedForms) {
       bool same = a.count == b.count;
       for (const IkSolution& s : a) {
         bool found = false;
-        for (const IkSolution& t : b) found = found || (s.joints - t.joints).cwiseAbs().maxCoeff() < 1e-7;
+        for (const IkSolution& t : b)
+          found = found || (s.joints - t.joints).cwiseAbs().maxCoeff() < 1e-7;
         same = same && found;
       }
       differ += !same;
     }
-    std::printf("[%s] general vs closed form: %d poses compared, %d differ\n", name, compared, differ);
+    std::printf("[%s] general vs closed form: %d poses compared, %d differ\n", name, compared,
+                differ);
     EXPECT_EQ(differ, 0) << name;
   }
 }

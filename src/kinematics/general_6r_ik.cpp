@@ -45,7 +45,9 @@ Pose<double> rot_z(double theta) {
   return out;
 }
 
-Pose<double> scaled(const Pose<double>& pose, double scale) { return {pose.R, pose.p / scale}; }
+Pose<double> scaled(const Pose<double>& pose, double scale) {
+  return {pose.R, pose.p / scale};
+}
 
 /// The 14 equations of the header from the origin p and z axis l of one side.
 Equations equations(const Pose<double>& side) {
@@ -57,10 +59,10 @@ Equations equations(const Pose<double>& side) {
 }
 
 /// Weights turning values at kNodes into coefficients of {1, cos θ, sin θ}.
-const Eigen::Matrix3d kNodeWeights = (Eigen::Matrix3d() << 1.0 / 3, 1.0 / 3, 1.0 / 3, 2.0 / 3,
-                                      -1.0 / 3, -1.0 / 3, 0.0, 1.0 / std::sqrt(3.0),
-                                      -1.0 / std::sqrt(3.0))
-                                         .finished();
+const Eigen::Matrix3d kNodeWeights =
+    (Eigen::Matrix3d() << 1.0 / 3, 1.0 / 3, 1.0 / 3, 2.0 / 3, -1.0 / 3, -1.0 / 3, 0.0,
+     1.0 / std::sqrt(3.0), -1.0 / std::sqrt(3.0))
+        .finished();
 
 /// (1 + x²)·(1, cos θ, sin θ) as coefficients of (1, x, x²), θ = φ + 2·atan(x): row = power.
 Eigen::Matrix3d half_angle(double phi) {
@@ -91,7 +93,9 @@ Frames forward(const General6rGeometry& g, const Angles& theta) {
   return f;
 }
 
-double wrap(double angle) { return std::remainder(angle, 2.0 * kPi); }
+double wrap(double angle) {
+  return std::remainder(angle, 2.0 * kPi);
+}
 
 /// Newton on the exact chain from `theta`; true when it reproduces `target` within the
 /// acceptance tolerances.
@@ -103,8 +107,8 @@ bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& thet
     e.head<3>() = target.p - f.flange.p;
     const Eigen::AngleAxisd aa(Eigen::Matrix3d(target.R * f.flange.R.transpose()));
     e.tail<3>() = aa.angle() * aa.axis();
-    const bool accepted = e.head<3>().norm() <= kAcceptPositionMm &&
-                          e.tail<3>().norm() <= kAcceptOrientationRad;
+    const bool accepted =
+        e.head<3>().norm() <= kAcceptPositionMm && e.tail<3>().norm() <= kAcceptOrientationRad;
     // Once accepted, go on while a step still gains (quadratic convergence down to rounding).
     const double error = e.head<3>().norm() / g.length_scale + e.tail<3>().norm();
     if (it == kNewtonIterations || (accepted && error > 0.25 * previous)) return accepted;
@@ -126,8 +130,8 @@ bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& thet
 /// of K2·Rz(θ3)·K3·Rz(θ4)·K4·Rz(θ5)·K5 must map by Rz(θ1)·K1·Rz(θ2) onto those of T'.
 void solve_first_and_last(const std::array<Pose<double>, 5>& K, const Pose<double>& Tp,
                           Angles& theta) {
-  const Pose<double> G = K[1] * rot_z(theta[2]) * K[2] * rot_z(theta[3]) * K[3] *
-                         rot_z(theta[4]) * K[4];
+  const Pose<double> G =
+      K[1] * rot_z(theta[2]) * K[2] * rot_z(theta[3]) * K[3] * rot_z(theta[4]) * K[4];
   const Eigen::Vector3d t = Tp.p, l = Tp.R.col(2);
   // u = K1·Rz(θ2)·g, w = K1·Rz(θ2)·n; the invariants of Rz(θ1) give five equations of degree
   // one in θ2: u_z, w_z, u·u, u·w, (u×w)_z equal those of t, l.
@@ -181,8 +185,7 @@ ArmConfig label(const Frames& f, double theta5) {
 
 }  // namespace
 
-std::optional<General6rGeometry> analyze_general_6r(const RobotModel& model,
-                                                    std::string* why_not) {
+std::optional<General6rGeometry> analyze_general_6r(const RobotModel& model, std::string* why_not) {
   const auto joints = analyze_closed_form_joints(model, why_not);
   if (!joints) return std::nullopt;
   General6rGeometry g;
@@ -362,9 +365,7 @@ IkResult nominal_ik(const General6rGeometry& geometry, const Pose<double>& world
     const ArmConfig config = label(forward(geometry, theta[k]), theta[k][4]);
     if (branch_mask & (1u << config.index())) sink.add(theta[k], config, false, false);
   }
-  result.count = sink.count();
-  result.branches_reached = sink.branches_reached();
-  result.status = sink.status();
+  sink.finish(result);
   return result;
 }
 

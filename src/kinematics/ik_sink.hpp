@@ -22,7 +22,7 @@ inline constexpr double kIkLimitTolerance = 1e-9;  // rad, as RobotModel::within
 class IkSink {
  public:
   IkSink(const ClosedFormJoints& joints, const Vector6d& seed, IkSolution* solutions, int capacity,
-       bool nearest_turn_only)
+         bool nearest_turn_only)
       : joints_(joints),
         seed_(seed),
         solutions_(solutions),
@@ -73,6 +73,12 @@ class IkSink {
     return IkStatus::Solved;
   }
   [[nodiscard]] int count() const { return count_; }
+  /// Count, branches reached and status into `result`, whose array this sink filled.
+  void finish(IkResult& result) const {
+    result.count = count_;
+    result.branches_reached = branches_reached_;
+    result.status = status();
+  }
   [[nodiscard]] int branches_reached() const { return branches_reached_; }
 
  private:

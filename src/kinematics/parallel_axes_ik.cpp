@@ -134,9 +134,7 @@ IkResult nominal_ik(const ParallelAxesGeometry& geometry, const Pose<double>& wo
   IkResult result;
   IkSink sink(geometry, seed, result.solutions.data(), kMaxIkSolutions, false);
   solve(geometry, world_T_flange, seed, branch_mask, sink);
-  result.count = sink.count();
-  result.branches_reached = sink.branches_reached();
-  result.status = sink.status();
+  sink.finish(result);
   return result;
 }
 

@@ -63,8 +63,9 @@ std::optional<General6rGeometry> analyze_general_6r(const RobotModel& model,
 
 /// MDH link angles θ1..θ6 (rad) of every real solution for `world_T_flange`, before joint
 /// limits and turns; returns how many (≤ kMaxGeneral6rSolutions) were written to `out`.
-int general_6r_link_angles(const General6rGeometry& geometry, const Pose<double>& world_T_flange,
-                           std::array<std::array<double, kJointCount>, kMaxGeneral6rSolutions>& out);
+int general_6r_link_angles(
+    const General6rGeometry& geometry, const Pose<double>& world_T_flange,
+    std::array<std::array<double, kJointCount>, kMaxGeneral6rSolutions>& out);
 
 /// Every solution of the branches in `branch_mask` with every turn inside the limits.
 IkResult nominal_ik(const General6rGeometry& geometry, const Pose<double>& world_T_flange,
