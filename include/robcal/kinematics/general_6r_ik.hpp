@@ -25,11 +25,14 @@
 /// forward kinematics and kept only when it reproduces the pose within 1e-9 mm and 1e-11 rad;
 /// duplicates (within 1e-6 rad) are merged.
 ///
-/// Limits of the method: geometries for which the eliminated system is degenerate (special
-/// shapes with many zero lengths) are detected — the leading 12×12 coefficient singular for
-/// every shift tried — and refused by `analyze_general_6r`; such robots are normally covered by
-/// the closed forms. Near a singularity (a continuum of solutions) the solutions returned are
-/// the ones Newton reaches; they are exact, the continuum is not enumerated.
+/// Limits of the method: on special shapes (many zero lengths and twists) the elimination
+/// started at joint 1 degenerates; `analyze_general_6r` takes the first cyclic start of the loop
+/// (cyclic_shift) on which three arbitrary configurations are found again, and refuses the
+/// robot when none is. A double eigenvalue (two solutions sharing the eliminated angle: seen on a
+/// CRX-10iA-like arm with equal 540 mm upper arm and forearm, 2 poses in 16,000) leaves one of
+/// the two to Newton's choice, so one solution can be missed there. Near a singularity (a
+/// continuum of solutions) the solutions returned are the ones Newton reaches; they are exact,
+/// the continuum is not enumerated.
 ///
 /// Labels: arm_config's definitions (inverse_kinematics.hpp); on a general arm up to two
 /// solutions share a label. Joint limits and turns as for the closed forms.
