@@ -1,5 +1,6 @@
 // Any six-axis robot (issue 15): the UR family's closed form and the calibrated IK seeded by it,
-// on the UR10e, inputs generated here from fixed seeds.
+// on the UR10e, and the general 6R inverse (CRX, random 6R; goal ≤ 20 µs all solutions),
+// inputs generated here from fixed seeds.
 //   Nominal IK with every solution: all 8 branches with every turn inside the UR's ±360° limits
 //   (2⁶ turns per branch: up to 512 solutions), and the same with the limits narrowed to ±180°
 //   (the 8 branches alone; the issue's goal ≤ 0.5 µs); one branch (nominal_ik_branch).
@@ -25,17 +26,17 @@ namespace {
 constexpr std::uint64_t kSeed = 20261124;
 constexpr int kInputs = 1024;
 
+template <typename Geometry>
 struct NominalInputs {
-  ParallelAxesGeometry geometry;
+  Geometry geometry;
   std::vector<Pose<double>> poses;
   std::vector<Vector6d> joints;
 };
 
-/// Flange poses of random joints of the UR10e, whose limits are set to ±`limit_deg`.
-NominalInputs ur10e_inputs(double limit_deg) {
-  RobotModel model = load_robot("universal-robots-ur10e");
-  for (JointLimit& l : model.limits) l = {-deg2rad(limit_deg), deg2rad(limit_deg)};
-  NominalInputs in{*analyze_parallel_axes(model), {}, {}};
+/// Flange poses of random joints of `model`.
+template <typename Geometry>
+NominalInputs<Geometry> inputs_for(const RobotModel& model, Geometry geometry) {
+  NominalInputs<Geometry> in{std::move(geometry), {}, {}};
   const NominalChain chain = make_nominal_chain(model);
   std::mt19937_64 rng(kSeed);
   for (int k = 0; k < kInputs; ++k) {
@@ -46,8 +47,15 @@ NominalInputs ur10e_inputs(double limit_deg) {
   return in;
 }
 
-void nominal_all(benchmark::State& state, double limit_deg) {
-  const NominalInputs in = ur10e_inputs(limit_deg);
+/// The UR10e with its limits set to ±`limit_deg`.
+NominalInputs<ParallelAxesGeometry> ur10e_inputs(double limit_deg) {
+  RobotModel model = load_robot("universal-robots-ur10e");
+  for (JointLimit& l : model.limits) l = {-deg2rad(limit_deg), deg2rad(limit_deg)};
+  return inputs_for(model, *analyze_parallel_axes(model));
+}
+
+template <typename Geometry>
+void nominal_all(benchmark::State& state, const NominalInputs<Geometry>& in) {
   size_t k = 0;
   long solutions = 0, solves = 0;
   for (auto _ : state) {
@@ -61,14 +69,35 @@ void nominal_all(benchmark::State& state, double limit_deg) {
 }
 
 void Any6r_Ur10eNominalIkEveryTurn(benchmark::State& state) {
-  nominal_all(state, 360);
+  nominal_all(state, ur10e_inputs(360));
 }
 BENCHMARK(Any6r_Ur10eNominalIkEveryTurn);
 
 void Any6r_Ur10eNominalIk8Branches(benchmark::State& state) {
-  nominal_all(state, 180);
+  nominal_all(state, ur10e_inputs(180));
 }
 BENCHMARK(Any6r_Ur10eNominalIk8Branches);
+
+// The general 6R inverse (every real solution, up to 16) on the Fanuc CRX-10iA/L with its
+// limits set to ±180° (each solution once), and on a random 6R geometry (fixed seed).
+void Any6r_CrxGeneralIkAllSolutions(benchmark::State& state) {
+  RobotModel model = load_robot("fanuc-crx10ia-l");
+  for (JointLimit& l : model.limits) l = {-deg2rad(180), deg2rad(180)};
+  nominal_all(state, inputs_for(model, *analyze_general_6r(model)));
+}
+BENCHMARK(Any6r_CrxGeneralIkAllSolutions);
+
+void Any6r_Random6rGeneralIkAllSolutions(benchmark::State& state) {
+  std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> twist(-180.0, 180.0), length(-400.0, 400.0);
+  RobotModel model;
+  model.mdh[0] = {0.0, 0.0, 0.0, length(rng)};
+  for (int i = 1; i < kJointCount; ++i)
+    model.mdh[i] = {deg2rad(twist(rng)), length(rng), deg2rad(twist(rng)), length(rng)};
+  for (JointLimit& l : model.limits) l = {-deg2rad(180), deg2rad(180)};
+  nominal_all(state, inputs_for(model, *analyze_general_6r(model)));
+}
+BENCHMARK(Any6r_Random6rGeneralIkAllSolutions);
 
 void Any6r_Ur10eNominalIkBranch(benchmark::State& state) {
   const NominalInputs in = ur10e_inputs(360);

@@ -1,5 +1,6 @@
-// Calibrated inverse kinematics and closed-loop compensation of the UR family (issue 15): the
-// nominal seeds come from the parallel-axes closed form (parallel_axes_ik.hpp) and Newton
+// Calibrated inverse kinematics and closed-loop compensation of the UR family and the Fanuc CRX
+// (issue 15): the nominal seeds come from the parallel-axes closed form (parallel_axes_ik.hpp) or
+// the general 6R inverse (general_6r_ik.hpp) and Newton
 // solves its steps by a pivoted LU (the wrist is not spherical). Same guarantees as for the
 // ortho-parallel robots (test_compensate_ik.cpp, test_compensate_closed_loop.cpp).
 
@@ -17,6 +18,7 @@ namespace robcal {
 namespace {
 
 constexpr const char* kUr10e = "universal-robots-ur10e";
+constexpr const char* kCrx = "fanuc-crx10ia-l";
 
 TEST(CompensateAny6r, Ur10eChainMatchesTemplatedForwardKinematics) {
   auto rng = test::seeded_rng(151);
@@ -33,13 +35,13 @@ TEST(CompensateAny6r, Ur10eChainMatchesTemplatedForwardKinematics) {
   }
 }
 
-// As CompensateIk.RoundTripEveryConfigurationBothIterationsAgree, for the UR10e: 150 poses per
+// As CompensateIk.RoundTripEveryConfigurationBothIterationsAgree: 150 poses per
 // configuration ≥ 5° from the singular labels, both iterations converge within 1e-6 mm / 1e-6°
 // by the calibrated model, recover the drawn joints and agree.
-TEST(CompensateAny6r, Ur10eRoundTripEveryConfigurationBothIterationsAgree) {
+void round_trip_every_configuration(const char* name, std::uint64_t seed) {
   constexpr long kPerConfig = 150;
-  auto rng = test::seeded_rng(152);
-  const CalibratedRobot robot = test::random_calibrated(kUr10e, rng);
+  auto rng = test::seeded_rng(seed);
+  const CalibratedRobot robot = test::random_calibrated(name, rng);
   const Compensator comp = make_compensator(robot);
   const test::RoundTripStats st = test::round_trip(robot, comp, kPerConfig, 2'000'000, rng);
   double worst_agreement = 0;
@@ -57,9 +59,20 @@ TEST(CompensateAny6r, Ur10eRoundTripEveryConfigurationBothIterationsAgree) {
   EXPECT_EQ(st.other_turn, 0);
   std::printf(
       "[%s] %ld draws; worst %.2e mm %.2e deg, agreement %.1e rad, recovery %.1e rad, "
-      "Newton <= %d it, pose shift <= %d it, hand-overs %ld\n",
-      kUr10e, st.draws, st.worst_mm, st.worst_deg, worst_agreement, st.worst_recovery_rad,
-      st.max_newton, st.max_shift, std::accumulate(st.handovers.begin(), st.handovers.end(), 0L));
+      "Newton <= %d it, pose shift <= %d it, hand-overs %ld, nominal seed elsewhere %ld\n",
+      name, st.draws, st.worst_mm, st.worst_deg, worst_agreement, st.worst_recovery_rad,
+      st.max_newton, st.max_shift, std::accumulate(st.handovers.begin(), st.handovers.end(), 0L),
+      st.seed_elsewhere);
+  EXPECT_LT(st.seed_elsewhere, st.draws / 20);
+}
+
+TEST(CompensateAny6r, Ur10eRoundTripEveryConfigurationBothIterationsAgree) {
+  round_trip_every_configuration(kUr10e, 152);
+}
+
+// The Fanuc CRX: nominal seeds from the general 6R inverse (general_6r_ik.hpp).
+TEST(CompensateAny6r, FanucCrxRoundTripEveryConfigurationBothIterationsAgree) {
+  round_trip_every_configuration(kCrx, 155);
 }
 
 // At the wrist singularity (θ5 = 0) Newton's Jacobian loses rank: a status, never joints
@@ -88,13 +101,13 @@ TEST(CompensateAny6r, Ur10eAtTheWristSingularityNeverAWrongAnswer) {
   EXPECT_EQ(converged + reported, 50);
 }
 
-// Closing the loop in simulation: a UR10e with random errors (ErrorBounds defaults), measured
+// Closing the loop in simulation: a robot with random errors (ErrorBounds defaults), measured
 // by a simulated laser tracker (σ = 0.01 mm), calibrated, its corrected targets commanded to
 // the true robot: the compensated error is the noise propagated through the fit.
-TEST(CompensateAny6r, Ur10eClosedLoopCompensatedErrorAtTheNoiseFloor) {
-  const RobotModel model = load_robot(kUr10e);
+void closed_loop_at_the_noise_floor(const char* name, std::uint64_t seed) {
+  const RobotModel model = load_robot(name);
   const Tool tool = default_simulation_tool();
-  std::mt19937_64 rng(154);
+  std::mt19937_64 rng(seed);
   const TrueRobot truth = random_truth(model, tool, ErrorBounds{}, rng);
   const VirtualInstrument tracker = standard_instrument(InstrumentKind::LaserTracker, truth, 0.01);
   RandomConfigurationOptions options;
@@ -121,14 +134,22 @@ TEST(CompensateAny6r, Ur10eClosedLoopCompensatedErrorAtTheNoiseFloor) {
   const auto corrected = correct_targets(comp, calibrated, wanted, "wanted", IkMethod::Newton);
   const ClosedLoopReport report = closed_loop_check(comp, truth, wanted, corrected);
   std::printf(
-      "UR10e closed loop, 200 poses: compensated mean %.4f max %.4f mm (max %.4f deg); "
+      "[%s] closed loop, 200 poses: compensated mean %.4f max %.4f mm (max %.4f deg); "
       "uncompensated mean %.4f max %.4f mm\n",
-      report.compensated.mean_mm, report.compensated.max_mm, report.compensated.max_deg,
+      name, report.compensated.mean_mm, report.compensated.max_mm, report.compensated.max_deg,
       report.uncompensated.mean_mm, report.uncompensated.max_mm);
   EXPECT_EQ(report.compensated.count, 200);
   EXPECT_GT(report.uncompensated.mean_mm, 0.3);
   EXPECT_LT(report.compensated.max_mm, 0.1);
   EXPECT_LT(report.compensated.mean_mm, 0.05 * report.uncompensated.mean_mm);
+}
+
+TEST(CompensateAny6r, Ur10eClosedLoopCompensatedErrorAtTheNoiseFloor) {
+  closed_loop_at_the_noise_floor(kUr10e, 154);
+}
+
+TEST(CompensateAny6r, FanucCrxClosedLoopCompensatedErrorAtTheNoiseFloor) {
+  closed_loop_at_the_noise_floor(kCrx, 156);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <numbers>
 
+#include "refusal.hpp"
 #include "robcal/compensate/calibrated_ik.hpp"
 #include "test_compensate_support.hpp"
 #include "test_support.hpp"
@@ -364,10 +365,15 @@ TEST(CompensateIk, ReportsWhatItCannotSolve) {
   std::printf("within 0.5° of the wrist singularity: %d converged (verified), %d refused\n",
               converged, refused);
   EXPECT_GT(converged, 150);  // of 400 solves (226 with this seed)
-  // A robot without a closed-form nominal inverse is refused up front.
+  // A robot of any other geometry gets the general 6R inverse; one whose joint map has no
+  // integer inverse (a full turn of a joint would not be one of the model) is refused up front.
   RobotModel bent = robot.model;
   bent.mdh[2].alpha = deg2rad(10);
-  EXPECT_THROW(make_compensator(CalibratedRobot::nominal(bent, Tool{})), InputError);
+  EXPECT_NO_THROW(make_compensator(CalibratedRobot::nominal(bent, Tool{})));
+  RobotModel coupled = robot.model;
+  coupled.joint_map.matrix(2, 1) = 0.5;
+  EXPECT_REFUSED(make_compensator(CalibratedRobot::nominal(coupled, Tool{})), InputError,
+                 "joint map matrix is not integer");
 }
 
 }  // namespace

@@ -4,10 +4,12 @@
 // issue 7.
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <array>
 #include <random>
 #include <string>
+#include <variant>
 
 #include "robcal/compensate/calibrated_ik.hpp"
 #include "robcal/core/units.hpp"
@@ -81,6 +83,31 @@ inline bool near_singular(const RobotModel& model, const Vector6d& joints, doubl
   return std::abs(w.dot(frames[0].R.col(0))) < 50;
 }
 
+/// On a general arm (general_6r_ik.hpp) up to two solutions share a label, and near a fold of
+/// the nominal map (the Fanuc CRX: two solutions of one label 4e-4 rad apart, or a pair about to
+/// turn complex) the calibrated pose may have no nominal solution near the drawn joints: the
+/// calibrated inverse then rightly returns the other solution of the label. True when the
+/// nominal seed for `wanted` lies more than 0.1 rad from `joints`; always false on the closed
+/// forms (one solution per label). Also true where the nominal joint Jacobian (rotation rows
+/// × 500 mm) is conditioned worse than 100: next to such a fold Newton may not converge.
+inline bool nominal_seed_elsewhere(const Compensator& comp, const Pose<double>& wanted,
+                                   const ArmConfig& config, const Vector6d& joints) {
+  if (!std::holds_alternative<General6rGeometry>(comp.geometry)) return false;
+  const auto frames =
+      link_frames(comp.model, PointMass{}, comp.model.nominal().data(), joints.data());
+  Matrix6d J;
+  for (int i = 0; i < kJointCount; ++i) {
+    const Eigen::Vector3d z = frames[i].R.col(2);
+    J.block<3, 1>(0, i) = z.cross(frames[5].p - frames[i].p);
+    J.block<3, 1>(3, i) = 500.0 * z;
+  }
+  const Vector6d sv = Eigen::JacobiSVD<Matrix6d>(J).singularValues();
+  if (sv[5] < 0.01 * sv[0]) return true;
+  const IkBranchResult r = nominal_ik_branch(
+      comp.geometry, comp.base_T_world * wanted * comp.tcp_T_flange, config, joints);
+  return r.status != IkStatus::Solved || (r.solution.joints - joints).cwiseAbs().maxCoeff() > 0.1;
+}
+
 /// Newton and pose-shift joints further apart than this are different solutions: those of one
 /// pose lie ≥ 0.1 rad apart, while two answers within the tolerance of one solution (≥ 5° from
 /// singularities) differ by up to 5e-7 rad (BM_RoundTrip100k, Fanuc LR Mate 200iC: pose shift
@@ -99,7 +126,8 @@ struct RoundTripStats {
   long draws = 0;                               ///< joint vectors drawn, singular ones included
   double worst_mm = 0, worst_deg = 0;           ///< calibrated FK of the answers against the pose
   double worst_recovery_rad = 0;                ///< Newton against the drawn joints, same turn
-  long other_turn = 0;  ///< answers a full turn of a wide-range joint from the drawn joints
+  long other_turn = 0;      ///< answers a full turn of a wide-range joint from the drawn joints
+  long seed_elsewhere = 0;  ///< draws skipped by nominal_seed_elsewhere (general arms)
   int max_newton = 0, max_shift = 0;  ///< iterations
   std::string first_failure, first_handover;
   [[nodiscard]] bool complete(long per_config) const {
@@ -109,9 +137,10 @@ struct RoundTripStats {
 
 /// Round trip calibrated FK(calibrated IK(pose)) = pose over `per_config` random reachable
 /// poses in each of the 8 configurations: joints drawn uniformly inside the limits (at most
-/// `max_draws`), ≥ 5° from the singular labels, their calibrated TCP pose solved by both
-/// iterations in the configuration of the drawn joints, seeded near them, and the two answers
-/// compared. Inside the limits and away from singularities the drawn joints are the answer.
+/// `max_draws`), ≥ 5° from the singular labels (on a general arm, not nominal_seed_elsewhere),
+/// their calibrated TCP pose solved by both iterations in the configuration of the drawn joints,
+/// seeded near them, and the two answers compared. Inside the limits and away from singularities
+/// the drawn joints are the answer.
 inline RoundTripStats round_trip(const CalibratedRobot& robot, const Compensator& comp,
                                  long per_config, long max_draws, std::mt19937_64& rng) {
   RoundTripStats st;
@@ -124,6 +153,11 @@ inline RoundTripStats round_trip(const CalibratedRobot& robot, const Compensator
     if (st.poses[index] >= per_config) continue;
     ++st.poses[index];
     const Pose<double> wanted = calibrated_tcp_pose(comp.chain, q);
+    if (nominal_seed_elsewhere(comp, wanted, config, q)) {
+      --st.poses[index];
+      ++st.seed_elsewhere;
+      continue;
+    }
     const CalibratedIkResult newton = calibrated_ik(comp, wanted, config, q, IkMethod::Newton);
     const CalibratedIkResult shift = calibrated_ik(comp, wanted, config, q, IkMethod::PoseShift);
     const auto where = [&] {

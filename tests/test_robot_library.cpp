@@ -164,22 +164,15 @@ TEST(RobotLibrary, MdhTablesReproduceTheUrdfChains) {
 }
 
 // Every robot with a closed form: random configurations labelled by the link frames, the
-// branch solver seeded with them returns them (|sin θ5| ≥ 1e-4; the pose otherwise); robots
-// without one name why and get the numeric solver.
+// branch solver seeded with them returns them (|sin θ5| ≥ 1e-4; the pose otherwise); every
+// robot has one (the general 6R inverse for the CRX).
 TEST(RobotLibrary, EveryRobotsIkRoundTripsEveryBranch) {
   std::mt19937_64 rng(2512);
   for (const std::string& name : builtin_robot_names()) {
     const RobotModel model = load_robot(name);
     std::string why;
     const auto g = analyze_closed_form(model, &why);
-    if (!g) {
-      EXPECT_EQ(name, "fanuc-crx10ia-l") << why;
-      const Vector6d q = (Vector6d() << 0.3, 0.2, -0.4, 0.5, 0.6, 0.7).finished();
-      const AnyIkResult r = solve_ik(model, nominal_flange_pose(make_nominal_chain(model), q), q);
-      EXPECT_EQ(r.status, IkStatus::Solved) << name;
-      EXPECT_NE(r.method.find("numeric"), std::string::npos) << r.method;
-      continue;
-    }
+    ASSERT_TRUE(g) << name << ": " << why;
     const NominalChain chain = make_nominal_chain(model);
     std::array<int, 8> count{};
     int failures = 0, draws = 0;

@@ -1,6 +1,7 @@
 /// `robcal ik`: inverse kinematics of the nominal robot, every solution with its configuration.
-/// Ortho-parallel robots use the closed form (all branches and turns inside the limits); other
-/// robots the damped-least-squares solver from the seed, which gives one solution.
+/// The robot's closed form or, for any other 6R arm, the general 6R method (kinematics/
+/// closed_form_ik.hpp: every solution, every turn inside the limits); the damped-least-squares
+/// solver from the seed (one solution) only for a joint map without an integer inverse.
 
 #include <fmt/format.h>
 

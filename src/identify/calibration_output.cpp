@@ -123,7 +123,7 @@ nlohmann::json calibration_run_json(const CalibrationRun& run, const std::string
     if (g.enabled)
       out["groups"].push_back({{"name", g.group},
                                {"identified", g.identified},
-                               {"wald", tidy(g.wald)},
+                               {"wald", rounded(g.wald)},
                                {"p_value", g.p_value},
                                {"significant", g.significant}});
   out["correlations"] = nlohmann::json::array();

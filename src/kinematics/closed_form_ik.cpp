@@ -8,21 +8,24 @@
 namespace robcal {
 
 std::optional<ClosedFormIk> analyze_closed_form(const RobotModel& model, std::string* why_not) {
-  std::string not_ortho, not_parallel;
+  std::string not_ortho, not_parallel, not_general;
   if (auto g = analyze_ortho_parallel(model, &not_ortho)) return ClosedFormIk(std::move(*g));
   if (auto g = analyze_parallel_axes(model, &not_parallel)) return ClosedFormIk(std::move(*g));
+  if (auto g = analyze_general_6r(model, &not_general)) return ClosedFormIk(std::move(*g));
   if (why_not)
     *why_not = fmt::format(
         "not ortho-parallel with a spherical wrist ({}); not three parallel "
-        "axes with an offset wrist ({})",
-        not_ortho, not_parallel);
+        "axes with an offset wrist ({}); no general 6R inverse ({})",
+        not_ortho, not_parallel, not_general);
   return std::nullopt;
 }
 
 const char* closed_form_name(const ClosedFormIk& geometry) {
-  return std::holds_alternative<OrthoParallelGeometry>(geometry)
-             ? "ortho-parallel, spherical wrist"
-             : "three parallel axes, offset wrist";
+  if (std::holds_alternative<OrthoParallelGeometry>(geometry))
+    return "ortho-parallel, spherical wrist";
+  if (std::holds_alternative<ParallelAxesGeometry>(geometry))
+    return "three parallel axes, offset wrist";
+  return "general 6R, eigenvalue method";
 }
 
 IkResult nominal_ik(const ClosedFormIk& geometry, const Pose<double>& world_T_flange,
@@ -42,7 +45,9 @@ AnyIkResult solve_ik(const RobotModel& model, const Pose<double>& world_T_flange
   AnyIkResult out;
   std::string why_not;
   if (const auto geometry = analyze_closed_form(model, &why_not)) {
-    out.method = fmt::format("closed form ({})", closed_form_name(*geometry));
+    out.method = std::holds_alternative<General6rGeometry>(*geometry)
+                     ? fmt::format("every real solution ({})", closed_form_name(*geometry))
+                     : fmt::format("closed form ({})", closed_form_name(*geometry));
     const IkResult r = nominal_ik(*geometry, world_T_flange, seed);
     out.status = r.status;
     out.solutions.assign(r.begin(), r.end());

@@ -4,82 +4,14 @@
 #include <cmath>
 #include <numbers>
 
+#include "ik_sink.hpp"
+
 namespace robcal {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-constexpr double kLimitTolerance = 1e-9;   // rad, as RobotModel::within_limits
 constexpr double kReachTolerance = 1e-10;  // |cos θ3| beyond 1 still taken as a stretched elbow
 // P closer to axis 1 than |δ| by less than this (mm², on r² − δ²) still counts as reached.
 constexpr double kShoulderReachMm2 = 1e-9;
-
-/// Where the candidates go: every turn inside the limits into an array, or per branch only the
-/// turn nearest the seed; counts the branches that reach the pose before the limits.
-class Sink {
- public:
-  Sink(const ClosedFormJoints& joints, const Vector6d& seed, IkSolution* solutions, int capacity,
-       bool nearest_turn_only)
-      : joints_(joints),
-        seed_(seed),
-        solutions_(solutions),
-        capacity_(capacity),
-        nearest_turn_only_(nearest_turn_only) {}
-
-  void add(const std::array<double, kJointCount>& theta, const ArmConfig& config,
-           bool wrist_singular, bool shoulder_singular) {
-    ++branches_reached_;
-    Vector6d j = controller_from_link_angles(joints_, theta);
-    // Each joint to its lowest turn at or above the lower limit; the further turns that fit.
-    std::array<int, kJointCount> turns{};
-    for (int i = 0; i < kJointCount; ++i) {
-      const double lower = joints_.limits[i].lower - kLimitTolerance;
-      const double upper = joints_.limits[i].upper + kLimitTolerance;
-      j[i] -= kTwoPi * std::floor((j[i] - lower) / kTwoPi);
-      if (!(j[i] <= upper)) return;  // NaN is outside
-      turns[i] = 1 + static_cast<int>(std::floor((upper - j[i]) / kTwoPi));
-      if (nearest_turn_only_) {
-        const double k = std::round((seed_[i] - j[i]) / kTwoPi);
-        j[i] += kTwoPi * std::clamp(k, 0.0, static_cast<double>(turns[i] - 1));
-        turns[i] = 1;
-      }
-    }
-    // Every combination of the turns, joint 0 fastest.
-    std::array<int, kJointCount> k{};
-    while (true) {
-      if (count_ == capacity_) {
-        truncated_ = true;
-        return;
-      }
-      IkSolution& s = solutions_[count_++];
-      s.joints = j;
-      for (int i = 0; i < kJointCount; ++i) s.joints[i] += kTwoPi * k[i];
-      s.config = config;
-      s.wrist_singular = wrist_singular;
-      s.shoulder_singular = shoulder_singular;
-      int i = 0;
-      while (i < kJointCount && ++k[i] == turns[i]) k[i++] = 0;
-      if (i == kJointCount) return;
-    }
-  }
-
-  [[nodiscard]] IkStatus status() const {
-    if (truncated_) return IkStatus::Truncated;
-    if (branches_reached_ == 0) return IkStatus::Unreachable;
-    if (count_ == 0) return IkStatus::OutsideLimits;
-    return IkStatus::Solved;
-  }
-  [[nodiscard]] int count() const { return count_; }
-  [[nodiscard]] int branches_reached() const { return branches_reached_; }
-
- private:
-  const ClosedFormJoints& joints_;
-  const Vector6d& seed_;
-  IkSolution* solutions_;
-  int capacity_;
-  bool nearest_turn_only_;
-  int count_ = 0, branches_reached_ = 0;
-  bool truncated_ = false;
-};
 
 /// Mask bits of every branch with the given shoulder, elbow and flip choices (bit 0: the
 /// value false is allowed, bit 1: true), so that a solution standing for coinciding branches
@@ -94,7 +26,7 @@ unsigned branch_bits(unsigned backs, unsigned downs, unsigned flips) {
 
 /// The derivation of the header, branch by branch.
 void solve(const ParallelAxesGeometry& g, const Pose<double>& T, const Vector6d& seed,
-           unsigned mask, Sink& out) {
+           unsigned mask, IkSink& out) {
   const std::array<double, kJointCount> seed_theta = link_angles_from_controller(g, seed);
   const Eigen::Vector3d X = T.R.col(0), Y = T.R.col(1), Z = T.R.col(2);
   const Eigen::Vector3d P = T.p - g.d6 * Z;
@@ -200,11 +132,9 @@ std::optional<ParallelAxesGeometry> analyze_parallel_axes(const RobotModel& mode
 IkResult nominal_ik(const ParallelAxesGeometry& geometry, const Pose<double>& world_T_flange,
                     const Vector6d& seed, unsigned branch_mask) {
   IkResult result;
-  Sink sink(geometry, seed, result.solutions.data(), kMaxIkSolutions, false);
+  IkSink sink(geometry, seed, result.solutions.data(), kMaxIkSolutions, false);
   solve(geometry, world_T_flange, seed, branch_mask, sink);
-  result.count = sink.count();
-  result.branches_reached = sink.branches_reached();
-  result.status = sink.status();
+  sink.finish(result);
   return result;
 }
 
@@ -212,7 +142,7 @@ IkBranchResult nominal_ik_branch(const ParallelAxesGeometry& geometry,
                                  const Pose<double>& world_T_flange, const ArmConfig& config,
                                  const Vector6d& seed) {
   IkBranchResult result;
-  Sink sink(geometry, seed, &result.solution, 1, true);
+  IkSink sink(geometry, seed, &result.solution, 1, true);
   solve(geometry, world_T_flange, seed, 1u << config.index(), sink);
   result.status = sink.status();
   return result;

@@ -35,6 +35,26 @@ grep -q "front-up-noflip" "$TMP/home.txt" || fail "ik home: no front-up-noflip l
 grep -q "wrist singular" "$TMP/home.txt" || fail "ik home: the wrist singularity is not flagged"
 grep -qE -- "-15\.0000" "$TMP/home.txt" || fail "ik home: J4 not kept at the seed -15"
 
+# 2b. The Fanuc CRX (general 6R inverse): the fk joints among 12 solutions, every one of which
+# fk maps back onto the pose (1e-6 mm in the printed digits).
+"$ROBCAL" fk --robot fanuc-crx10ia-l --joints 10,20,30,40,50,60 --json >"$TMP/crx_fk.json" || fail "crx fk failed"
+CRX_POSE=$(/usr/bin/python3 -c "import json; d=json.load(open('$TMP/crx_fk.json')); print(','.join(repr(v) for v in d['position_mm']+d['quaternion_wxyz']))")
+"$ROBCAL" ik --robot fanuc-crx10ia-l --pose "$CRX_POSE" --json >"$TMP/crx_ik.json" || fail "crx ik failed"
+grep -q "general 6R" <("$ROBCAL" ik --robot fanuc-crx10ia-l --pose "$CRX_POSE") || fail "crx ik: method not named"
+/usr/bin/python3 - "$TMP/crx_ik.json" "$TMP/crx_fk.json" "$ROBCAL" <<'PY' || fail "crx ik round trip"
+import json, subprocess, sys
+sols = json.load(open(sys.argv[1]))["solutions"]
+want = json.load(open(sys.argv[2]))["position_mm"]
+assert len(sols) == 12, len(sols)
+assert min(max(abs(a - b) for a, b in zip(s["joints_deg"], [10, 20, 30, 40, 50, 60])) for s in sols) < 1e-6
+for s in sols:
+    out = subprocess.run([sys.argv[3], "fk", "--robot", "fanuc-crx10ia-l", "--joints",
+                          ",".join(repr(v) for v in s["joints_deg"]), "--json"],
+                         capture_output=True, text=True, check=True).stdout
+    got = json.loads(out)["position_mm"]
+    assert max(abs(a - b) for a, b in zip(got, want)) < 1e-6, (s, got, want)
+PY
+
 # 3. Bad input.
 expect_error "unknown robot" "unknown robot 'no-such-robot'" fk --robot no-such-robot --joints 0,0,0,0,0,0
 expect_error "unknown robot (ik)" "unknown robot" ik --robot no-such-robot --pose 300,0,500,1,0,0,0

@@ -1,0 +1,82 @@
+#pragma once
+/// \file
+/// Nominal inverse kinematics of any six-revolute arm written in Modified DH, every real
+/// solution (up to 16): Raghavan and Roth's elimination solved as an eigenvalue problem (Manocha
+/// and Canny), for the robots neither closed form (inverse_kinematics.hpp, parallel_axes_ik.hpp)
+/// accepts — the Fanuc CRX, Kinova/Doosan-like wrists, random 6R geometries.
+///
+/// Chain (θ_i the MDH link angles, nominal robot, base at the origin):
+///   T = B·Rz(θ1)·K1·Rz(θ2)·K2·Rz(θ3)·K3·Rz(θ4)·K4·Rz(θ5)·K5·Rz(θ6),
+///   B = Trans_z(d1), K_i = Rot_x(α_{i+1})·Trans_x(a_{i+1})·Trans_z(d_{i+1}).
+/// With T' = B⁻¹·T, Rz(θ3)·K3·Rz(θ4)·K4·Rz(θ5)·K5·Rz(θ6) = K2⁻¹·Rz(−θ2)·K1⁻¹·Rz(−θ1)·T'.
+/// The origin p and z axis l of both sides do not depend on θ6. From them, 14 scalar
+/// equations: l, p, p·p, p·l, p×l, l·(p·p) − 2·p·(p·l); each is a trigonometric polynomial of
+/// degree one in every angle, so the left sides are 27 coefficients over
+/// {1, cos θ3, sin θ3}⊗{1, cos θ4, sin θ4}⊗{1, cos θ5, sin θ5} (fixed per robot) and the right
+/// sides 9 over {1, cos θ1, sin θ1}⊗{1, cos θ2, sin θ2} (per pose). Both are found exactly by
+/// interpolation at three equally spaced angles per variable — no symbolic expansion.
+/// The 8 non-constant θ1θ2 monomials are eliminated by the left null space of their 14×8
+/// coefficient matrix: 6 equations in θ3, θ4, θ5. Half-angle tangents x_i = tan((θ_i − φ_i)/2)
+/// (fixed shifts φ_i keep the roots away from x = ∞), times (1 + x4²)(1 + x5²)(1 + x3²), and
+/// the 6 equations again multiplied by x4 give M(x3)·v = 0, M = M0 + M1·x3 + M2·x3² (12×12),
+/// v = (x4^i·x5^j), i ≤ 3, j ≤ 2. Its real eigenvalues (24×24 companion matrix) are the θ3 of
+/// the solutions, v gives θ4 and θ5; θ2 from the 3×5 linear system of the two-rotation
+/// subproblem, θ1 and θ6 from the pose. Every candidate is polished by Newton on the exact
+/// forward kinematics and kept only when it reproduces the pose within 1e-9 mm and 1e-11 rad;
+/// duplicates (within 1e-6 rad) are merged.
+///
+/// Limits of the method: on special shapes (many zero lengths and twists) the elimination
+/// started at joint 1 degenerates; `analyze_general_6r` takes the first cyclic start of the loop
+/// (cyclic_shift) on which three arbitrary configurations are found again, and refuses the
+/// robot when none is. A double eigenvalue (two solutions sharing the eliminated angle: seen on a
+/// CRX-10iA-like arm with equal 540 mm upper arm and forearm, 2 poses in 16,000) leaves one of
+/// the two to Newton's choice, so one solution can be missed there. Near a singularity (a
+/// continuum of solutions) the solutions returned are the ones Newton reaches; they are exact,
+/// the continuum is not enumerated.
+///
+/// Labels: arm_config's definitions (inverse_kinematics.hpp); on a general arm up to two
+/// solutions share a label. Joint limits and turns as for the closed forms.
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+
+#include "robcal/kinematics/closed_form_joints.hpp"
+#include "robcal/kinematics/inverse_kinematics.hpp"
+
+namespace robcal {
+
+/// The most real solutions a 6R arm has.
+inline constexpr int kMaxGeneral6rSolutions = 16;
+
+/// Constants of a 6R arm for the eigenvalue method. Immutable once built.
+struct General6rGeometry : ClosedFormJoints {
+  Pose<double> base;                 ///< B, mm
+  std::array<Pose<double>, 5> link;  ///< K1..K5, mm
+  double length_scale = 1;           ///< mm; lengths are divided by it inside the elimination
+  /// Which joint plays θ1 in the elimination: the loop Rz(θ1)·K1⋯Rz(θ6)·(B⁻¹·T)⁻¹ = I is
+  /// started at joint 1 + cyclic_shift, the first start on which the elimination is regular.
+  int cyclic_shift = 0;
+};
+
+/// The geometry of any model with an integer joint map, else std::nullopt with `why_not`
+/// (if given) saying what fails.
+std::optional<General6rGeometry> analyze_general_6r(const RobotModel& model,
+                                                    std::string* why_not = nullptr);
+
+/// MDH link angles θ1..θ6 (rad) of every real solution for `world_T_flange`, before joint
+/// limits and turns; returns how many (≤ kMaxGeneral6rSolutions) were written to `out`.
+int general_6r_link_angles(
+    const General6rGeometry& geometry, const Pose<double>& world_T_flange,
+    std::array<std::array<double, kJointCount>, kMaxGeneral6rSolutions>& out);
+
+/// Every solution of the branches in `branch_mask` with every turn inside the limits.
+IkResult nominal_ik(const General6rGeometry& geometry, const Pose<double>& world_T_flange,
+                    const Vector6d& seed = Vector6d::Zero(), unsigned branch_mask = kAllBranches);
+
+/// Of the solutions labelled `config`, the one nearest `seed` (max-norm over joints).
+IkBranchResult nominal_ik_branch(const General6rGeometry& geometry,
+                                 const Pose<double>& world_T_flange, const ArmConfig& config,
+                                 const Vector6d& seed);
+
+}  // namespace robcal

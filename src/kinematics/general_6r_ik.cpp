@@ -1,0 +1,382 @@
+#include "robcal/kinematics/general_6r_ik.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <numbers>
+
+#include "ik_sink.hpp"
+#include "robcal/model/parameters.hpp"
+
+namespace robcal {
+namespace {
+
+using Equations = Eigen::Matrix<double, 14, 1>;
+using Matrix12 = Eigen::Matrix<double, 12, 12>;
+using Matrix24 = Eigen::Matrix<double, 24, 24>;
+using Angles = std::array<double, kJointCount>;
+
+constexpr double kPi = std::numbers::pi;
+/// Interpolation nodes 0, 2π/3, 4π/3: a degree-one trigonometric polynomial is fixed by them.
+constexpr double kNodes[3] = {0.0, 2.0 * kPi / 3.0, 4.0 * kPi / 3.0};
+/// Shifts φ of the half-angle substitutions (θ4, θ5 fixed; θ3 the first of these whose leading
+/// coefficient is well conditioned). Arbitrary values, away from the 0 and ±90° of real robots.
+constexpr double kShift4 = 0.7137, kShift5 = -1.2911;
+constexpr double kShifts3[4] = {0.4123, 1.9371, -2.4417, -0.9853};
+/// Leading coefficient rcond below which the next θ3 shift is tried.
+constexpr double kWellConditioned = 1e-8;
+/// An eigenvalue is a real candidate when |Im| ≤ this · (1 + |λ|); near-double roots come out
+/// as complex pairs this close, and Newton decides.
+constexpr double kRealEigenvalue = 1e-4;
+/// Acceptance of a polished candidate, and the distance below which two are the same.
+constexpr double kAcceptPositionMm = 1e-9;
+constexpr double kAcceptOrientationRad = 1e-11;
+constexpr double kSameSolutionRad = 1e-6;
+constexpr int kNewtonIterations = 20;
+
+Pose<double> rot_z(double theta) {
+  const double c = std::cos(theta), s = std::sin(theta);
+  Pose<double> out;
+  out.R << c, -s, 0, s, c, 0, 0, 0, 1;
+  return out;
+}
+
+Pose<double> scaled(const Pose<double>& pose, double scale) {
+  return {pose.R, pose.p / scale};
+}
+
+/// The 14 equations of the header from the origin p and z axis l of one side.
+Equations equations(const Pose<double>& side) {
+  const Eigen::Vector3d p = side.p, l = side.R.col(2);
+  const double pp = p.dot(p), pl = p.dot(l);
+  Equations e;
+  e << l, p, pp, pl, p.cross(l), l * pp - 2.0 * pl * p;
+  return e;
+}
+
+/// Weights turning values at kNodes into coefficients of {1, cos θ, sin θ}.
+const Eigen::Matrix3d kNodeWeights =
+    (Eigen::Matrix3d() << 1.0 / 3, 1.0 / 3, 1.0 / 3, 2.0 / 3, -1.0 / 3, -1.0 / 3, 0.0,
+     1.0 / std::sqrt(3.0), -1.0 / std::sqrt(3.0))
+        .finished();
+
+/// (1 + x²)·(1, cos θ, sin θ) as coefficients of (1, x, x²), θ = φ + 2·atan(x): row = power.
+Eigen::Matrix3d half_angle(double phi) {
+  const double c = std::cos(phi), s = std::sin(phi);
+  Eigen::Matrix3d H;
+  H << 1, c, s, 0, -2 * s, 2 * c, 1, -c, -s;
+  return H;
+}
+
+/// Pose of the chain's flange and, if asked, each joint's axis origin and direction.
+struct Frames {
+  Pose<double> flange;
+  std::array<Eigen::Vector3d, kJointCount> origin, axis;
+  std::array<Pose<double>, kJointCount> frame;
+};
+
+Frames forward(const General6rGeometry& g, const Angles& theta) {
+  Frames f;
+  Pose<double> F = g.base;
+  for (int i = 0; i < kJointCount; ++i) {
+    F = F * rot_z(theta[i]);
+    f.frame[i] = F;
+    f.origin[i] = F.p;
+    f.axis[i] = F.R.col(2);
+    if (i < kJointCount - 1) F = F * g.link[i];
+  }
+  f.flange = F;
+  return f;
+}
+
+double wrap(double angle) {
+  return std::remainder(angle, 2.0 * kPi);
+}
+
+/// Newton on the exact chain from `theta`; true when it reproduces `target` within the
+/// acceptance tolerances.
+bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& theta) {
+  double previous = std::numeric_limits<double>::infinity();
+  for (int it = 0;; ++it) {
+    const Frames f = forward(g, theta);
+    Eigen::Matrix<double, 6, 1> e;
+    e.head<3>() = target.p - f.flange.p;
+    const Eigen::AngleAxisd aa(Eigen::Matrix3d(target.R * f.flange.R.transpose()));
+    e.tail<3>() = aa.angle() * aa.axis();
+    const bool accepted =
+        e.head<3>().norm() <= kAcceptPositionMm && e.tail<3>().norm() <= kAcceptOrientationRad;
+    // Once accepted, go on while a step still gains (quadratic convergence down to rounding).
+    const double error = e.head<3>().norm() / g.length_scale + e.tail<3>().norm();
+    if (it == kNewtonIterations || (accepted && error > 0.25 * previous)) return accepted;
+    previous = error;
+    Matrix6d J;
+    for (int i = 0; i < kJointCount; ++i) {
+      J.block<3, 1>(0, i) = f.axis[i].cross(f.flange.p - f.origin[i]);
+      J.block<3, 1>(3, i) = f.axis[i];
+    }
+    Vector6d step = J.partialPivLu().solve(e);
+    if (!step.allFinite()) return accepted;
+    const double largest = step.cwiseAbs().maxCoeff();
+    if (largest > 0.3) step *= 0.3 / largest;  // far from a root: stay in its basin
+    for (int i = 0; i < kJointCount; ++i) theta[i] += step[i];
+  }
+}
+
+/// θ2, then θ1 and θ6, once θ3, θ4, θ5 are known (scaled lengths): the origin g and z axis n
+/// of K2·Rz(θ3)·K3·Rz(θ4)·K4·Rz(θ5)·K5 must map by Rz(θ1)·K1·Rz(θ2) onto those of T'.
+void solve_first_and_last(const std::array<Pose<double>, 5>& K, const Pose<double>& Tp,
+                          Angles& theta) {
+  const Pose<double> G =
+      K[1] * rot_z(theta[2]) * K[2] * rot_z(theta[3]) * K[3] * rot_z(theta[4]) * K[4];
+  const Eigen::Vector3d t = Tp.p, l = Tp.R.col(2);
+  // u = K1·Rz(θ2)·g, w = K1·Rz(θ2)·n; the invariants of Rz(θ1) give five equations of degree
+  // one in θ2: u_z, w_z, u·u, u·w, (u×w)_z equal those of t, l.
+  auto residuals = [&](double theta2) {
+    const Pose<double> M = K[0] * rot_z(theta2) * G;
+    const Eigen::Vector3d u = M.p, w = M.R.col(2);
+    Eigen::Matrix<double, 5, 1> r;
+    r << u.z() - t.z(), w.z() - l.z(), u.dot(u) - t.dot(t), u.dot(w) - t.dot(l),
+        u.cross(w).z() - t.cross(l).z();
+    return r;
+  };
+  Eigen::Matrix<double, 5, 3> values, A;
+  for (int k = 0; k < 3; ++k) values.col(k) = residuals(kNodes[k]);
+  const Eigen::Matrix<double, 5, 3> coeff = values * kNodeWeights.transpose();  // 1, cos, sin
+  A << coeff.col(1), coeff.col(2), coeff.col(0);
+  for (int r = 0; r < 5; ++r) {
+    const double n = A.row(r).norm();
+    if (n > 0) A.row(r) /= n;
+  }
+  const Eigen::JacobiSVD<Eigen::Matrix<double, 5, 3>> svd(A, Eigen::ComputeFullV);
+  const Eigen::Vector3d v = svd.matrixV().col(2);
+  const double sign = v[2] < 0 ? -1.0 : 1.0;
+  theta[1] = std::atan2(sign * v[1], sign * v[0]);
+  const Pose<double> M = K[0] * rot_z(theta[1]) * G;
+  const Eigen::Vector3d u = M.p, w = M.R.col(2);
+  const double cross = u.x() * t.y() - u.y() * t.x() + w.x() * l.y() - w.y() * l.x();
+  const double dot = u.x() * t.x() + u.y() * t.y() + w.x() * l.x() + w.y() * l.y();
+  theta[0] = std::atan2(cross, dot);
+  const Eigen::Matrix3d R6 = (rot_z(theta[0]) * M).R.transpose() * Tp.R;
+  theta[5] = std::atan2(R6(1, 0), R6(0, 0));
+}
+
+/// A fixed mixing of k ≥ 6 equations into 6 (only when the θ1θ2 coefficients lose rank).
+Eigen::MatrixXd mixing(int k) {
+  Eigen::MatrixXd m(6, k);
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < k; ++j) m(i, j) = i == j ? 1.0 : 0.25 * std::sin(1.0 + 7.0 * i + 3.0 * j);
+  return m;
+}
+
+ArmConfig label(const Frames& f, double theta5) {
+  const Eigen::Vector3d x1 = f.frame[0].R.col(0), y1 = f.frame[0].R.col(1);
+  const Eigen::Vector3d S = f.frame[1].p, E = f.frame[2].p, W = f.frame[3].p;
+  ArmConfig c{};
+  c.back = (f.frame[4].p - f.frame[0].p).dot(x1) < 0;
+  const double side = (W - S).cross(E - S).dot(-y1);
+  c.down = (c.back ? -side : side) <= 0;
+  c.flip = std::sin(theta5) < 0;
+  return c;
+}
+
+}  // namespace
+
+std::optional<General6rGeometry> analyze_general_6r(const RobotModel& model, std::string* why_not) {
+  const auto joints = analyze_closed_form_joints(model, why_not);
+  if (!joints) return std::nullopt;
+  General6rGeometry g;
+  static_cast<ClosedFormJoints&>(g) = *joints;
+  const ParameterVector p = model.nominal();
+  g.base.p = Eigen::Vector3d(0, 0, model.mdh[0].d);
+  double length = std::abs(model.mdh[0].d);
+  for (int link = 2; link <= kJointCount; ++link) {
+    g.link[link - 2] = detail::mdh_transform(p[link_param(link, 0)], p[link_param(link, 1)], 0.0,
+                                             p[link_param(link, 3)]);
+    length += std::abs(p[link_param(link, 1)]) + std::abs(p[link_param(link, 3)]);
+  }
+  g.length_scale = std::max(length, 1.0);
+  // The elimination degenerates on some special shapes for some choices of the eliminated
+  // joint: take the first cyclic shift of the loop on which three arbitrary configurations
+  // are found again.
+  const std::array<Angles, 3> probes = {Angles{0.3, -0.7, 1.1, 0.5, -1.3, 0.9},
+                                        Angles{-2.1, 0.4, -0.6, 2.5, 0.8, -1.7},
+                                        Angles{1.4, 1.9, 2.6, -0.4, 2.2, 0.1}};
+  for (g.cyclic_shift = 0; g.cyclic_shift < kJointCount; ++g.cyclic_shift) {
+    bool all_found = true;
+    for (const Angles& probe : probes) {
+      std::array<Angles, kMaxGeneral6rSolutions> found;
+      const int n = general_6r_link_angles(g, forward(g, probe).flange, found);
+      bool again = false;
+      for (int k = 0; k < n && !again; ++k) {
+        double d = 0;
+        for (int i = 0; i < kJointCount; ++i)
+          d = std::max(d, std::abs(wrap(found[k][i] - probe[i])));
+        again = d < 1e-6;
+      }
+      all_found = all_found && again;
+    }
+    if (all_found) return g;
+  }
+  if (why_not)
+    *why_not =
+        "the general 6R elimination is degenerate for this geometry with every choice of the "
+        "eliminated joint (test poses not found again)";
+  return std::nullopt;
+}
+
+int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world_T_flange,
+                           std::array<Angles, kMaxGeneral6rSolutions>& out) {
+  const double L = g.length_scale;
+  // The loop Rz(θ1)·J1⋯Rz(θ6)·J6 = I with J_i = K_i (i ≤ 5), J6 = T'⁻¹, started at joint
+  // 1 + cyclic_shift: φ_i = θ_{i+shift}, K_i in the header's equations becomes J_{i+shift}.
+  std::array<Pose<double>, kJointCount> loop;
+  for (int i = 0; i < 5; ++i) loop[i] = scaled(g.link[i], L);
+  loop[5] = scaled(g.base.inverse() * world_T_flange, L).inverse();
+  std::array<Pose<double>, 5> K;
+  for (int i = 0; i < 5; ++i) K[i] = loop[(i + g.cyclic_shift) % kJointCount];
+  const Pose<double> Tp = loop[(5 + g.cyclic_shift) % kJointCount].inverse();
+  const Eigen::Matrix3d& W = kNodeWeights;
+  // Left sides at the 27 node triples, interpolated over {1, cos, sin} of φ3, φ4, φ5.
+  Eigen::Matrix<double, 14, 27> left_values, left = Eigen::Matrix<double, 14, 27>::Zero();
+  for (int k3 = 0; k3 < 3; ++k3)
+    for (int k4 = 0; k4 < 3; ++k4)
+      for (int k5 = 0; k5 < 3; ++k5)
+        left_values.col(9 * k3 + 3 * k4 + k5) = equations(
+            rot_z(kNodes[k3]) * K[2] * rot_z(kNodes[k4]) * K[3] * rot_z(kNodes[k5]) * K[4]);
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      for (int c = 0; c < 3; ++c)
+        for (int k3 = 0; k3 < 3; ++k3)
+          for (int k4 = 0; k4 < 3; ++k4)
+            for (int k5 = 0; k5 < 3; ++k5)
+              left.col(9 * a + 3 * b + c) +=
+                  W(a, k3) * W(b, k4) * W(c, k5) * left_values.col(9 * k3 + 3 * k4 + k5);
+  // Right sides at the 9 node pairs, interpolated over {1, cos, sin} of φ1, φ2.
+  Eigen::Matrix<double, 14, 9> values, Q = Eigen::Matrix<double, 14, 9>::Zero();
+  const Pose<double> K1inv = K[0].inverse(), K2inv = K[1].inverse();
+  for (int k1 = 0; k1 < 3; ++k1)
+    for (int k2 = 0; k2 < 3; ++k2)
+      values.col(3 * k1 + k2) =
+          equations(K2inv * rot_z(-kNodes[k2]) * K1inv * rot_z(-kNodes[k1]) * Tp);
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      for (int k1 = 0; k1 < 3; ++k1)
+        for (int k2 = 0; k2 < 3; ++k2)
+          Q.col(3 * a + b) += W(a, k1) * W(b, k2) * values.col(3 * k1 + k2);
+  // Left side minus the constant term of the right; eliminate the other 8 by the left null space.
+  Eigen::Matrix<double, 14, 27> P = left;
+  P.col(0) -= Q.col(0);
+  const Eigen::Matrix<double, 14, 8> Q8 = Q.rightCols<8>();
+  const Eigen::JacobiSVD<Eigen::Matrix<double, 14, 8>> svd(Q8, Eigen::ComputeFullU);
+  int rank = 0;
+  for (int i = 0; i < 8; ++i)
+    if (svd.singularValues()[i] > 1e-10 * svd.singularValues()[0]) ++rank;
+  const int k = 14 - rank;
+  Eigen::Matrix<double, 6, 27> S;
+  if (k == 6)
+    S = svd.matrixU().rightCols<6>().transpose() * P;
+  else
+    S = mixing(k) * svd.matrixU().rightCols(k).transpose() * P;
+  // Half-angle polynomials in x4, x5 for each trigonometric term a of θ3.
+  const Eigen::Matrix3d H4 = half_angle(kShift4), H5 = half_angle(kShift5);
+  std::array<Eigen::Matrix<double, 6, 9>, 3> poly;
+  for (int a = 0; a < 3; ++a) {
+    poly[a].setZero();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int b = 0; b < 3; ++b)
+          for (int c = 0; c < 3; ++c)
+            poly[a].col(3 * i + j) += H4(i, b) * H5(j, c) * S.col(9 * a + 3 * b + c);
+  }
+  // M(x3) = M0 + M1·x3 + M2·x3², choosing the θ3 shift whose M2 is best conditioned.
+  std::array<Matrix12, 3> M;
+  double phi3 = kShifts3[0], best_rcond = -1;
+  for (const double shift : kShifts3) {
+    const Eigen::Matrix3d H3 = half_angle(shift);
+    std::array<Matrix12, 3> trial;
+    for (int power = 0; power < 3; ++power) {
+      const Eigen::Matrix<double, 6, 9> E =
+          H3(power, 0) * poly[0] + H3(power, 1) * poly[1] + H3(power, 2) * poly[2];
+      trial[power].setZero();
+      trial[power].block<6, 9>(0, 0) = E;  // monomials x4^i·x5^j at column 3i + j
+      trial[power].block<6, 9>(6, 3) = E;  // the same times x4
+    }
+    const double rcond = trial[2].partialPivLu().rcond();
+    if (rcond > best_rcond) {
+      best_rcond = rcond;
+      phi3 = shift;
+      M = trial;
+    }
+    if (rcond > kWellConditioned) break;
+  }
+  if (!(best_rcond > 1e-15)) return 0;
+  const Eigen::PartialPivLU<Matrix12> lead(M[2]);
+  Matrix24 C = Matrix24::Zero();
+  C.block<12, 12>(0, 12).setIdentity();
+  C.block<12, 12>(12, 0) = -lead.solve(M[0]);
+  C.block<12, 12>(12, 12) = -lead.solve(M[1]);
+  const Eigen::EigenSolver<Matrix24> eigen(C, true);
+  if (eigen.info() != Eigen::Success) return 0;
+  int count = 0;
+  for (int e = 0; e < 24 && count < kMaxGeneral6rSolutions; ++e) {
+    const std::complex<double> lambda = eigen.eigenvalues()[e];
+    if (lambda.imag() < 0 || lambda.imag() > kRealEigenvalue * (1 + std::abs(lambda))) continue;
+    Eigen::Matrix<std::complex<double>, 12, 1> vc = eigen.eigenvectors().col(e).head<12>();
+    int top = 0;
+    vc.cwiseAbs().maxCoeff(&top);
+    vc *= std::conj(vc[top]) / std::abs(vc[top]);
+    const Eigen::Matrix<double, 12, 1> v = vc.real();
+    int m4 = 0, m5 = 0;
+    for (int m = 0; m < 9; ++m)  // x4 from v[m + 3]/v[m], i ≤ 2
+      if (std::abs(v[m]) > std::abs(v[m4])) m4 = m;
+    for (int m = 0; m < 12; ++m)  // x5 from v[m + 1]/v[m], j ≤ 1
+      if (m % 3 != 2 && std::abs(v[m]) > std::abs(v[m5])) m5 = m;
+    Angles phi{};
+    phi[2] = phi3 + 2.0 * std::atan(lambda.real());
+    phi[3] = kShift4 + 2.0 * std::atan(v[m4 + 3] / v[m4]);
+    phi[4] = kShift5 + 2.0 * std::atan(v[m5 + 1] / v[m5]);
+    solve_first_and_last(K, Tp, phi);
+    Angles theta;
+    for (int i = 0; i < kJointCount; ++i) theta[(i + g.cyclic_shift) % kJointCount] = phi[i];
+    if (!polish(g, world_T_flange, theta)) continue;
+    for (double& t : theta) t = wrap(t);
+    bool duplicate = false;
+    for (int s = 0; s < count && !duplicate; ++s) {
+      double d = 0;
+      for (int i = 0; i < kJointCount; ++i) d = std::max(d, std::abs(wrap(out[s][i] - theta[i])));
+      duplicate = d < kSameSolutionRad;
+    }
+    if (!duplicate) out[count++] = theta;
+  }
+  return count;
+}
+
+IkResult nominal_ik(const General6rGeometry& geometry, const Pose<double>& world_T_flange,
+                    const Vector6d& seed, unsigned branch_mask) {
+  std::array<Angles, kMaxGeneral6rSolutions> theta;
+  const int n = general_6r_link_angles(geometry, world_T_flange, theta);
+  IkResult result;
+  IkSink sink(geometry, seed, result.solutions.data(), kMaxIkSolutions, false);
+  for (int k = 0; k < n; ++k) {
+    const ArmConfig config = label(forward(geometry, theta[k]), theta[k][4]);
+    if (branch_mask & (1u << config.index())) sink.add(theta[k], config, false, false);
+  }
+  sink.finish(result);
+  return result;
+}
+
+IkBranchResult nominal_ik_branch(const General6rGeometry& geometry,
+                                 const Pose<double>& world_T_flange, const ArmConfig& config,
+                                 const Vector6d& seed) {
+  const IkResult all = nominal_ik(geometry, world_T_flange, seed, 1u << config.index());
+  IkBranchResult result;
+  result.status = all.status == IkStatus::Truncated ? IkStatus::Solved : all.status;
+  if (const IkSolution* nearest = nearest_solution(all, seed)) result.solution = *nearest;
+  return result;
+}
+
+}  // namespace robcal

@@ -1,0 +1,246 @@
+// The general 6R inverse (general_6r_ik.hpp) on random geometries, the Fanuc CRX and the robots
+// with closed forms: every returned solution reproduces the pose, the generating joints are
+// found, and a dense multi-start numeric search finds no solution the solver missed.
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <numbers>
+#include <random>
+
+#include "robcal/io/robot_file.hpp"
+#include "robcal/kinematics/closed_form_ik.hpp"
+#include "robcal/kinematics/general_6r_ik.hpp"
+#include "robcal/kinematics/nominal_chain.hpp"
+#include "robcal/kinematics/numeric_ik.hpp"
+#include "test_support.hpp"
+
+namespace robcal {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// A random 6R arm: twists anywhere, lengths and offsets within ±400 mm, joints ±180°.
+RobotModel random_6r(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> twist(-kPi, kPi), length(-400.0, 400.0);
+  RobotModel m;
+  m.name = "random 6R";
+  m.mdh[0] = {0.0, 0.0, twist(rng), length(rng)};
+  for (int i = 1; i < kJointCount; ++i)
+    m.mdh[i] = {twist(rng), length(rng), twist(rng), length(rng)};
+  for (JointLimit& l : m.limits) l = {-kPi, kPi};
+  return m;
+}
+
+Vector6d uniform_joints(const RobotModel& m, std::mt19937_64& rng) {
+  Vector6d q;
+  for (int i = 0; i < kJointCount; ++i)
+    q[i] = std::uniform_real_distribution<double>(m.limits[i].lower, m.limits[i].upper)(rng);
+  return q;
+}
+
+double wrapped_distance(const Vector6d& a, const Vector6d& b) {
+  double d = 0;
+  for (int i = 0; i < kJointCount; ++i)
+    d = std::max(d, std::abs(std::remainder(a[i] - b[i], 2 * kPi)));
+  return d;
+}
+
+struct RoundTrip {
+  int poses = 0, missed = 0, inexact = 0;
+  double worst_mm = 0, worst_rad = 0;
+  std::array<int, kMaxGeneral6rSolutions + 1> histogram{};
+};
+
+/// FK of random joints, solved: the joints are among the solutions and each reproduces the pose.
+void round_trip(const RobotModel& model, const General6rGeometry& g, int poses,
+                std::mt19937_64& rng, RoundTrip& st) {
+  const NominalChain chain = make_nominal_chain(model);
+  for (int k = 0; k < poses; ++k) {
+    const Vector6d q = uniform_joints(model, rng);
+    const Pose<double> target = nominal_flange_pose(chain, q);
+    const IkResult r = nominal_ik(g, target, q);
+    ++st.poses;
+    ++st.histogram[std::min(r.count, kMaxGeneral6rSolutions)];
+    bool found = false;
+    for (const IkSolution& s : r) {
+      const Pose<double> back = nominal_flange_pose(chain, s.joints);
+      const double mm = (back.p - target.p).norm();
+      const double rad = Eigen::AngleAxisd(Eigen::Matrix3d(back.R * target.R.transpose())).angle();
+      st.worst_mm = std::max(st.worst_mm, mm);
+      st.worst_rad = std::max(st.worst_rad, rad);
+      st.inexact += mm > 1e-9 || rad > 1e-11;
+      found = found || wrapped_distance(s.joints, q) < 1e-9;
+      EXPECT_EQ(s.config, arm_config(model, s.joints));
+    }
+    st.missed += !found;
+  }
+}
+
+// 100 random geometries × 40 poses: the generating joints always found, every solution exact.
+TEST(General6rIk, RandomGeometriesRoundTrip) {
+  auto rng = test::seeded_rng(1502);
+  RoundTrip st;
+  int refused = 0;
+  for (int robot = 0; robot < 100; ++robot) {
+    const RobotModel model = random_6r(rng);
+    std::string why;
+    const auto g = analyze_general_6r(model, &why);
+    if (!g) {
+      ++refused;
+      continue;
+    }
+    round_trip(model, *g, 40, rng, st);
+  }
+  std::string hist;
+  int odd = 0;
+  for (int n = 0; n <= kMaxGeneral6rSolutions; ++n) {
+    if (n % 2) odd += st.histogram[n];
+    if (st.histogram[n]) hist += fmt::format(" {}:{}", n, st.histogram[n]);
+  }
+  std::printf("[random 6R] %d poses, %d missed, %d inexact, worst %.2e mm %.2e rad; solutions%s\n",
+              st.poses, st.missed, st.inexact, st.worst_mm, st.worst_rad, hist.c_str());
+  EXPECT_EQ(refused, 0);
+  EXPECT_EQ(st.missed, 0);
+  EXPECT_EQ(st.inexact, 0);
+  // Real roots of a real polynomial of degree 16 come in even numbers away from double roots:
+  // an odd count would be a missed (or invented) solution.
+  EXPECT_EQ(odd, 0);
+}
+
+/// Solutions a damped-least-squares search from `starts` random seeds converges to, which the
+/// solver did not return (identity joint map: controller joints are link angles minus offsets).
+int missed_by_solver(const RobotModel& model, const IkResult& r, const Pose<double>& target,
+                     int starts, std::mt19937_64& rng, int& numeric_found) {
+  int missed = 0;
+  std::vector<Vector6d> seen;
+  NumericIkOptions options;
+  options.position_tolerance_mm = 1e-9;
+  options.orientation_tolerance_rad = 1e-12;
+  for (int s = 0; s < starts; ++s) {
+    Vector6d seed;
+    for (double& x : seed) x = std::uniform_real_distribution<double>(-kPi, kPi)(rng);
+    const NumericIkResult n =
+        numeric_ik(model, PointMass{}, model.nominal(), target, seed, options);
+    if (n.status != NumericIkStatus::Converged) continue;
+    bool known = false;
+    for (const Vector6d& v : seen) known = known || wrapped_distance(v, n.joints) < 1e-6;
+    if (known) continue;
+    seen.push_back(n.joints);
+    bool returned = false;
+    for (const IkSolution& sol : r)
+      returned = returned || wrapped_distance(sol.joints, n.joints) < 1e-6;
+    missed += !returned;
+  }
+  numeric_found += static_cast<int>(seen.size());
+  return missed;
+}
+
+struct SearchCount {
+  int returned = 0, numeric = 0, missed = 0;
+};
+
+/// missed_by_solver on `poses` random poses of `model`.
+void search_poses(const RobotModel& model, const General6rGeometry& g, int poses,
+                  std::mt19937_64& rng, SearchCount& n) {
+  const NominalChain chain = make_nominal_chain(model);
+  for (int k = 0; k < poses; ++k) {
+    const Pose<double> target = nominal_flange_pose(chain, uniform_joints(model, rng));
+    const IkResult r = nominal_ik(g, target);
+    n.returned += r.count;
+    n.missed += missed_by_solver(model, r, target, 200, rng, n.numeric);
+  }
+}
+
+void expect_nothing_missed(const char* what, const SearchCount& n) {
+  std::printf("[%s] solver %d solutions, multi-start search %d, missed %d\n", what, n.returned,
+              n.numeric, n.missed);
+  EXPECT_EQ(n.missed, 0) << what;
+  EXPECT_GE(n.returned, n.numeric) << what;
+}
+
+// Exhaustive numeric search: 200 random starts per pose on 8 random geometries × 4 poses find
+// nothing the solver missed (and, over all poses, as many distinct solutions as it returns).
+TEST(General6rIk, MultiStartNumericSearchFindsNothingMore) {
+  auto rng = test::seeded_rng(1503);
+  SearchCount n;
+  for (int robot = 0; robot < 8; ++robot) {
+    const RobotModel model = random_6r(rng);
+    const auto g = analyze_general_6r(model);
+    ASSERT_TRUE(g);
+    search_poses(model, *g, 4, rng, n);
+  }
+  expect_nothing_missed("random 6R, 32 poses", n);
+}
+
+// The Fanuc CRX-10iA/L (offset wrist, up to 16 solutions): round trip with limits and turns,
+// and the multi-start search on 10 poses.
+TEST(General6rIk, FanucCrxEverySolution) {
+  const RobotModel model = load_robot("fanuc-crx10ia-l");
+  std::string why;
+  const auto closed = analyze_closed_form(model, &why);
+  ASSERT_TRUE(closed) << why;
+  ASSERT_TRUE(std::holds_alternative<General6rGeometry>(*closed));
+  const General6rGeometry& g = std::get<General6rGeometry>(*closed);
+  auto rng = test::seeded_rng(1504);
+  RoundTrip st;
+  round_trip(model, g, 1500, rng, st);
+  std::string hist;
+  for (int n = 0; n <= kMaxGeneral6rSolutions; ++n)
+    if (st.histogram[n]) hist += fmt::format(" {}:{}", n, st.histogram[n]);
+  std::printf("[CRX-10iA/L] %d poses, %d missed, %d inexact, worst %.2e mm %.2e rad; solutions%s\n",
+              st.poses, st.missed, st.inexact, st.worst_mm, st.worst_rad, hist.c_str());
+  EXPECT_EQ(st.missed, 0);
+  EXPECT_EQ(st.inexact, 0);
+  // Multi-start search in link angles: the same robot without joint map and limits.
+  RobotModel free = model;
+  free.joint_map = JointMap{};
+  for (JointLimit& l : free.limits) l = {-kPi, kPi};
+  const auto gf = analyze_general_6r(free);
+  ASSERT_TRUE(gf);
+  SearchCount n;
+  search_poses(free, *gf, 10, rng, n);
+  expect_nothing_missed("CRX-10iA/L, 10 poses", n);
+}
+
+// On robots with a closed form the general method returns the same solution set.
+TEST(General6rIk, AgreesWithTheClosedForms) {
+  auto rng = test::seeded_rng(1505);
+  for (const char* name : {"abb-irb120", "kuka-kr16-2", "universal-robots-ur10e", "fanuc-m20ia"}) {
+    const RobotModel model = load_robot(name);
+    const auto closed = analyze_closed_form(model);
+    ASSERT_TRUE(closed) << name;
+    std::string why;
+    const auto g = analyze_general_6r(model, &why);
+    if (!g) {
+      std::printf("[%s] general method refused: %s\n", name, why.c_str());
+      continue;
+    }
+    const NominalChain chain = make_nominal_chain(model);
+    int differ = 0, compared = 0;
+    for (int k = 0; k < 300; ++k) {
+      const Vector6d q = uniform_joints(model, rng);
+      const Pose<double> target = nominal_flange_pose(chain, q);
+      const IkResult a = nominal_ik(*closed, target, q), b = nominal_ik(*g, target, q);
+      // Away from the wrist singularities the closed forms' sets are finite and exact.
+      bool singular = false;
+      for (const IkSolution& s : a) singular = singular || s.wrist_singular || s.shoulder_singular;
+      if (singular) continue;
+      ++compared;
+      bool same = a.count == b.count;
+      for (const IkSolution& s : a) {
+        bool found = false;
+        for (const IkSolution& t : b)
+          found = found || (s.joints - t.joints).cwiseAbs().maxCoeff() < 1e-7;
+        same = same && found;
+      }
+      differ += !same;
+    }
+    std::printf("[%s] general vs closed form: %d poses compared, %d differ\n", name, compared,
+                differ);
+    EXPECT_EQ(differ, 0) << name;
+  }
+}
+
+}  // namespace
+}  // namespace robcal
