@@ -253,7 +253,7 @@ std::string truth_to_yaml(const TrueRobot& truth, const std::string& robot_name)
 TrueRobot parse_truth(const yaml::Node& root, const std::string& robot, const Tool& tool) {
   // A typo ('efects:', 'scale:') would silently simulate another robot than the one meant.
   yaml::expect_keys(root, {"robot", "origin", "base", "links", "scales", "masses", "payload",
-                           "gravity_m_s2", "targets", "effects"});
+                           "gravity_m_s2", "targets", "effects", "periodic_deg"});
   const std::string robot_name = root.has("robot") ? root.at("robot").as_string() : robot;
   RobotModel model = load_robot(robot_name);
   TrueRobot truth =
