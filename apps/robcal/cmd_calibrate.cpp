@@ -68,10 +68,10 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
     fmt::print("  target {:<8} {:>4} rows  rms {:.4f}  max {:.4f} mm\n", t.target, t.rows, t.rms_mm,
                t.max_mm);
   fmt::print("\nparameters (value ± 1σ; nominal):\n");
-  int fixed = 0;
+  int fixed = 0, opt_in = 0;
   for (const auto& u : r.unknowns) {
     if (u.status == ParameterStatus::Fixed) {
-      ++fixed;
+      ++(u.opt_in_not_asked ? opt_in : fixed);
       continue;
     }
     if (r.reidentification && u.status == ParameterStatus::Identified)
@@ -83,8 +83,9 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
     fmt::print("  {:<22} {:>16.6g} ± {:<10.3g} {:<9} (nominal {:.6g})\n", u.name, u.value,
                u.std_dev, u.unit, u.nominal);
   }
-  fmt::print("  ({} parameters held at their {} values)\n", fixed,
-             r.reidentification ? "calibrated" : "nominal");
+  fmt::print("  ({} parameters held at their {} values{})\n", fixed,
+             r.reidentification ? "calibrated" : "nominal",
+             opt_in > 0 ? fmt::format("; {} opt-in terms not asked for", opt_in) : "");
   if (r.reidentification) {
     fmt::print("re-identified ({}) on the calibrated model, the rest kept:\n",
                r.reidentification->what);

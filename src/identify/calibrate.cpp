@@ -194,6 +194,7 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
     e.value = fit.unknowns[i] * f;
     e.status = status[static_cast<size_t>(i)];
     e.reason = reasons[static_cast<size_t>(i)];
+    e.opt_in_not_asked = !setup.requested[i] && setup.layout.is_model(i) && is_opt_in(i);
     const auto it = std::find(setup.free.begin(), setup.free.end(), i);
     if (it != setup.free.end()) {
       const auto c = it - setup.free.begin();
