@@ -12,6 +12,7 @@
 #include <fstream>
 #include <random>
 
+#include "refusal.hpp"
 #include "robcal/campaign/cell.hpp"
 #include "robcal/campaign/frames.hpp"
 #include "robcal/campaign/frames_file.hpp"
@@ -89,7 +90,8 @@ TEST(CampaignFrames, CircleFitExactOnNoiseFreeArcsAndOrientedByTheAngles) {
   for (double& a : reversed) a = -a;
   EXPECT_LT((fit_circle(points, reversed).axis + axis).norm(), 1e-12);
   // Collinear points are refused.
-  EXPECT_THROW(fit_circle({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}}, {0, 1, 2, 3}), InputError);
+  EXPECT_REFUSED(fit_circle({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}}, {0, 1, 2, 3}), InputError,
+                 "the points lie on one line: a circle needs an arc that spans a plane");
 }
 
 TEST(CampaignFrames, CircleFitAgreesWithTheNeuebotIrb140Recording) {
@@ -226,7 +228,8 @@ TEST(CampaignFrames, ToolPointFromPivotPosesIsRecoveredWithinItsSigma) {
   }
   expect_sigma_honest<3>(errors, sigmas, "pivot tool point");
   EXPECT_NEAR(estimated_sigma, 0.05, 0.004);
-  EXPECT_THROW(tool_point_from_poses(std::vector<Pose<double>>(4)), InputError);  // all alike
+  EXPECT_REFUSED(tool_point_from_poses(std::vector<Pose<double>>(4)), InputError,
+                 "the flange orientations are too alike to fix the tool point");  // all alike
 }
 
 TEST(CampaignFrames, FrameFromFourTableNestsIsRecoveredWithinItsSigma) {
@@ -250,9 +253,9 @@ TEST(CampaignFrames, FrameFromFourTableNestsIsRecoveredWithinItsSigma) {
     sigmas.push_back(frame.sigma);
   }
   expect_sigma_honest<6>(errors, sigmas, "nest frame");
-  EXPECT_THROW(
+  EXPECT_REFUSED(
       frame_from_nests({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}),
-      InputError);
+      InputError, "the nests lie on one line: they cannot fix a frame");
 }
 
 TEST(CampaignFrames, NominalModelWithTheCircleFitBaseValidatesLikeTheSimulatedTruthSays) {
@@ -338,7 +341,8 @@ TEST(CampaignFramesFile, SweepsAreCheckedRowByRowAndTheBaseReplacesOnlyItsBlock)
   EXPECT_TRUE(parsed.base_measured);
   EXPECT_DOUBLE_EQ(parsed.robot_base[0], -800);
   EXPECT_NEAR(parsed.robot_base[5], deg2rad(-57), 1e-15);
-  EXPECT_THROW(cell_with_base("format: robcal-cell\n", "cell.yaml", base, ""), InputError);
+  EXPECT_REFUSED(cell_with_base("format: robcal-cell\n", "cell.yaml", base, ""), InputError,
+                 "cell.yaml (robot_base): no top-level 'robot_base:' line to replace");
 }
 
 TEST(CampaignFrames, ToolPointFromMeasuredConfigurationsWithTheCellsBase) {

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <string>
 
+#include "refusal.hpp"
 #include "robcal/campaign/instrument_import.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/measurement_file.hpp"
@@ -358,7 +359,8 @@ TEST(CampaignImport, AGrowingExportGivesItsCompleteLinesOnly) {
   const auto points = read_export_points({"live.csv", "name;x;y;z\nP1;1,5;2;3\nP2;4;5"}, format);
   ASSERT_EQ(points.size(), 1u);
   EXPECT_EQ(points[0], Eigen::Vector3d(1.5, 2, 3));
-  EXPECT_THROW(read_export_points({"live.csv", "name;x;y;z\nP1;1,5;2;x3\n"}, format), InputError);
+  EXPECT_REFUSED(read_export_points({"live.csv", "name;x;y;z\nP1;1,5;2;x3\n"}, format), InputError,
+                 "live.csv:2:10 (z): 'x3' is not a number");
 }
 
 TEST(CampaignImport, DialectDetection) {

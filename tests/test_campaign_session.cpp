@@ -8,6 +8,7 @@
 
 #include <random>
 
+#include "refusal.hpp"
 #include "robcal/campaign/point_session.hpp"
 #include "robcal/io/robot_file.hpp"
 
@@ -90,8 +91,10 @@ TEST(CampaignSession, AJournalCutAtAnyByteResumesToTheSameMeasurements) {
 
 TEST(CampaignSession, BadAnswersAndForeignJournalsAreRefused) {
   const Fixture f;
-  EXPECT_THROW(parse_answer("1 2", f.steps[0], "t"), InputError);
-  EXPECT_THROW(parse_answer("1 2 x", f.steps[0], "t"), InputError);
+  EXPECT_REFUSED(parse_answer("1 2", f.steps[0], "t"), InputError,
+                 "reading (" + f.steps[0].key + "): expected 'x y z' in mm");
+  EXPECT_REFUSED(parse_answer("1 2 x", f.steps[0], "t"), InputError,
+                 "reading (z): 'x' is not a number: expected a coordinate in mm");
   EXPECT_FALSE(parse_answer(" skip ", f.steps[0], "t").position_mm.has_value());
   const SessionReading r = parse_answer("1,2.5,-3, 21.5", f.steps[0], "t");
   EXPECT_EQ(*r.position_mm, Eigen::Vector3d(1, 2.5, -3));

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "refusal.hpp"
 #include "robcal/campaign/frames.hpp"
 #include "robcal/campaign/frames_file.hpp"
 #include "robcal/campaign/frames_world.hpp"
@@ -89,7 +90,8 @@ TEST(CampaignWorldFrame, DistancesAreUnchangedAndABadFileIsNamed) {
     EXPECT_EQ(e.where().file, "w.yaml");
     EXPECT_NE(std::string(e.what()).find("position_mm"), std::string::npos) << e.what();
   }
-  EXPECT_THROW((void)parse_world_frame("base: {}\n", "w.yaml"), InputError);
+  EXPECT_REFUSED((void)parse_world_frame("base: {}\n", "w.yaml"), InputError,
+                 "w.yaml:1:1: missing key 'frame'");
 }
 
 }  // namespace

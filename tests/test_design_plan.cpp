@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/design/predicted_accuracy.hpp"
@@ -97,9 +98,12 @@ TEST(DesignPlan, TaskBoxConfigurationsPutTheTcpInTheBox) {
     }
   }
   // Bad boxes: a clear error naming the flag.
-  EXPECT_THROW(parse_task_box("1,2,3", "--task-box"), InputError);
-  EXPECT_THROW(parse_task_box("1,0,0,1,0,1", "--task-box"), InputError);
-  EXPECT_THROW(parse_task_box("a,1,0,1,0,1", "--task-box"), InputError);
+  EXPECT_REFUSED(parse_task_box("1,2,3", "--task-box"), InputError,
+                 "--task-box: expected xmin,xmax,ymin,ymax,zmin,zmax (6 numbers, mm), found 3");
+  EXPECT_REFUSED(parse_task_box("1,0,0,1,0,1", "--task-box"), InputError,
+                 "--task-box: x range [1, 0] has min > max");
+  EXPECT_REFUSED(parse_task_box("a,1,0,1,0,1", "--task-box"), InputError,
+                 "--task-box: expected a number (mm), found 'a'");
   try {
     task_box_configurations(model, tool, cell.robot.params, constraints,
                             parse_task_box("5000,6000,0,100,0,100", "--task-box"), 5, rng);

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "refusal.hpp"
 #include "robcal/campaign/feasibility.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
@@ -163,7 +164,8 @@ TEST(PlanWorkflow, DefaultConstraintsComeFromTheRobotFile) {
   int raised = 0;
   for (const PlannedConfiguration& c : r.configurations) raised += c.joints[1] < 0 ? 1 : 0;
   EXPECT_GT(raised, 0);
-  EXPECT_THROW(plan_joint_constraints(ur, "publised"), InputError);
+  EXPECT_REFUSED(plan_joint_constraints(ur, "publised"), InputError,
+                 "--constraints: unknown constraint preset 'publised', expected 'auto'");
 }
 
 TEST(PlanWorkflow, CriterionDefaultsToTaskAwareWithATaskRegion) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/cup_collision.hpp"
@@ -223,8 +224,10 @@ TEST(HexapodFourCup, GumUncertaintyAgreesWithMonteCarloWithinOnePercent) {
   const std::vector<CupUncertainty> mc =
       four_cup_uncertainty_monte_carlo(solved.request, s, sigma, 60000, rng);
   ASSERT_EQ(mc.size(), 4u);
-  EXPECT_THROW(four_cup_uncertainty_monte_carlo(solved.request, s, 0, 100, rng), InputError);
-  EXPECT_THROW(four_cup_uncertainty_monte_carlo(solved.request, s, sigma, 1, rng), InputError);
+  EXPECT_REFUSED(four_cup_uncertainty_monte_carlo(solved.request, s, 0, 100, rng), InputError,
+                 "Monte Carlo needs σ > 0 and at least 2 samples (σ = 0 mm, 100 samples)");
+  EXPECT_REFUSED(four_cup_uncertainty_monte_carlo(solved.request, s, sigma, 1, rng), InputError,
+                 "Monte Carlo needs σ > 0 and at least 2 samples (σ = 0.00051 mm, 1 samples)");
   double worst_ratio = 0;
   for (int j = 0; j < 4; ++j) {
     SCOPED_TRACE(s.uncertainty[j].cup);
@@ -380,7 +383,9 @@ TEST(HexapodCupCollision, ScreeningRefusesTheFiftyFourPosesOfAThreeHundredMillim
     for (const auto& r : s.refused) EXPECT_NE(k.label, r.pose.label);
   std::printf("300 mm tool triangle: %zu refused (%d coinciding cups), %zu kept\n",
               s.refused.size(), coincide, s.kept.size());
-  EXPECT_THROW(screen_poses(poses, big, deg2rad(30), 50, CupClearance{0}), InputError);
+  EXPECT_REFUSED(
+      screen_poses(poses, big, deg2rad(30), 50, CupClearance{0}), InputError,
+      "--cup-diameter-mm (cup_diameter_mm): expected a positive cup diameter in mm, found 0");
 }
 
 TEST(HexapodCupCollision, DefaultGeometryRefusesThePosesWhoseToolCupsFaceAwayFromTheBase) {

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "refusal.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -111,8 +112,10 @@ TEST(HexapodPlanFile, PlacementText) {
   const std::array<double, 4> p = parse_placement(" 450, -12.5,300 ,90", {"", 0, 0, "--placement"});
   EXPECT_EQ(p, (std::array<double, 4>{450, -12.5, 300, 90}));
   EXPECT_EQ(placement_text(p), "450,-12.5,300,90");
-  EXPECT_THROW(parse_placement("1,2,3,x", {"", 0, 0, "--placement"}), InputError);
-  EXPECT_THROW(parse_placement("1,2,3,nan", {"", 0, 0, "--placement"}), InputError);
+  EXPECT_REFUSED(parse_placement("1,2,3,x", {"", 0, 0, "--placement"}), InputError,
+                 "--placement: '1,2,3,x': expected \"x,y,z,yaw\" (mm, deg)");
+  EXPECT_REFUSED(parse_placement("1,2,3,nan", {"", 0, 0, "--placement"}), InputError,
+                 "--placement: '1,2,3,nan': expected \"x,y,z,yaw\" (mm, deg)");
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
@@ -128,9 +129,17 @@ TEST(HexapodWorldFrame, NoisyPointsMatchTheClosedFormProcrustesFit) {
 TEST(HexapodWorldFrame, CollinearPointsAndBadSidesAreErrors) {
   const Cups<double> line{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(300, 0, 0),
                           Eigen::Vector3d(600, 0, 0)};
-  EXPECT_THROW(fit_world_frame(line, {300, 300, 300}), InputError);
+  EXPECT_REFUSED(fit_world_frame(line, {300, 300, 300}), InputError,
+                 "robot points: the three points the robot placed the base cups at are collinear");
   const Cups<double> p = fixture_cups({300, 300, 300}, "base");
-  EXPECT_THROW(fit_world_frame(p, {300, 10, 10}), InputError);
+  EXPECT_REFUSED(
+      fit_world_frame(p, {300, 10, 10}), InputError,
+      "base fixture sides: sides d12 = 300, d23 = 10, d31 = 10 mm break the triangle inequality");
+  // The place is named once, not repeated in front of the problem.
+  EXPECT_EQ(test::refusal_message([&] {
+              (void)fit_world_frame(p, {300, 10, 10});
+            }).rfind("base fixture sides: sides", 0),
+            0u);
 }
 
 TEST(HexapodWorldFrame, SettingBallPointsAreAnEquilateralTriangleAroundThePlacement) {

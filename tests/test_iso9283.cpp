@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/pose_list_file.hpp"
@@ -180,10 +181,12 @@ TEST(Iso9283Analyse, TooFewCyclesIsAClearError) {
               std::string::npos)
         << e.what();
   }
-  EXPECT_THROW((void)iso9283_analyse({"hand.csv", d.commanded, d.samples, 1}), InputError);
+  EXPECT_REFUSED((void)iso9283_analyse({"hand.csv", d.commanded, d.samples, 1}), InputError,
+                 "--min-cycles: at least 2 cycles are needed for a standard deviation");
   std::vector<Iso9283Sample> twice = d.samples;
   twice.push_back(twice.front());
-  EXPECT_THROW((void)iso9283_analyse({"hand.csv", d.commanded, twice, 4}), InputError);
+  EXPECT_REFUSED((void)iso9283_analyse({"hand.csv", d.commanded, twice, 4}), InputError,
+                 "hand.csv: cycle 1 of P1 (direction 0) is given twice");
 }
 
 TEST(Iso9283File, ReadsAndNamesBadCells) {
@@ -211,7 +214,8 @@ TEST(Iso9283File, ReadsAndNamesBadCells) {
     EXPECT_EQ(e.where().key, "y");
     EXPECT_EQ(e.where().column, 8);
   }
-  EXPECT_THROW((void)parse_iso9283_samples("pose,x,y,z\n", "m.csv"), InputError);
+  EXPECT_REFUSED((void)parse_iso9283_samples("pose,x,y,z\n", "m.csv"), InputError,
+                 "m.csv:1:1: expected the header pose,cycle,x,y,z");
 }
 
 /// The nominal IRB 120, a region where a 200 mm cube fits, the tool pointing down.
@@ -269,7 +273,8 @@ TEST(Iso9283Plan, CubePosesAndJointTargets) {
     EXPECT_NE(std::string(e.what()).find("P1 at (2050.000"), std::string::npos) << e.what();
   }
   request.region_max_mm = request.region_min_mm;
-  EXPECT_THROW((void)iso9283_plan(request), InputError);
+  EXPECT_REFUSED((void)iso9283_plan(request), InputError,
+                 "--region: the workspace region must be a box min < max on every axis (mm)");
 }
 
 /// The multi-directional test as planned: every pose approached along +x, +y, +z from a
@@ -364,7 +369,9 @@ TEST(Iso9283Plan, CyclesWrittenThroughTheProgramsLayer) {
   MeasurementProgramRequest base;
   base.language = ProgramLanguage::UrScript;
   base.approach_deg = 0;
-  EXPECT_THROW((void)iso9283_program_request(iso9283_plan(request), base, true), InputError);
+  EXPECT_REFUSED(
+      (void)iso9283_program_request(iso9283_plan(request), base, true), InputError,
+      "--vap-approach: the plan has no multi-directional test: give the approach distance (mm)");
   request.vap_approach_mm = 40;
   const Iso9283Plan plan = iso9283_plan(request);
   for (const bool multidirectional : {false, true}) {
@@ -384,7 +391,8 @@ TEST(Iso9283Plan, CyclesWrittenThroughTheProgramsLayer) {
     if (!multidirectional) EXPECT_LT((r.joints[1] - plan.poses[4].joints).norm(), 1e-15);
   }
   request.vap_approach_mm = -1;
-  EXPECT_THROW((void)iso9283_plan(request), InputError);
+  EXPECT_REFUSED((void)iso9283_plan(request), InputError,
+                 "--vap-approach: expected 0 (no multi-directional test) to 1000 mm, found -1");
 }
 
 }  // namespace

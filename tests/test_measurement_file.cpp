@@ -8,6 +8,7 @@
 #include <fstream>
 #include <random>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/measurement_file.hpp"
@@ -314,10 +315,12 @@ TEST(MeasurementFileWriter, RoundTripsEveryKind) {
 TEST(MeasurementFileWriter, RefusesLabelsThatCsvCannotHold) {
   MeasurementSet set = random_set(MeasurementKind::Points, 1, 1);
   set.points[0].config = "a,b";
-  EXPECT_THROW((void)write_measurements_csv(set, three_target_tool()), InputError);
+  EXPECT_REFUSED((void)write_measurements_csv(set, three_target_tool()), InputError,
+                 "config: configuration label 'a,b' cannot be written to CSV");
   set.points[0].config = "ok";
   set.points[0].target = 5;
-  EXPECT_THROW((void)write_measurements_csv(set, three_target_tool()), InputError);
+  EXPECT_REFUSED((void)write_measurements_csv(set, three_target_tool()), InputError,
+                 "target: target index 5 is not a target of the tool (3 targets)");
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "refusal.hpp"
 #include "robcal/compensate/calibrated_ik.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/identify/cross_validation.hpp"
@@ -280,7 +281,8 @@ TEST(PeriodicErrors, TruthFileRoundTrip) {
   const size_t at = bad.find("periodic_deg:\n  2:");
   ASSERT_NE(at, std::string::npos) << text;
   bad[at + 16] = '7';  // a joint the robot does not have
-  EXPECT_THROW(parse_truth(yaml::parse(bad, "truth.yaml")), InputError);
+  EXPECT_REFUSED(parse_truth(yaml::parse(bad, "truth.yaml")), InputError,
+                 "truth.yaml:19:6 (periodic_deg.7): expected a joint number 1..6");
 }
 
 TEST(PeriodicErrors, ModelFileShowsTheEnabledGroupOnlyAndRoundTrips) {

@@ -6,6 +6,7 @@
 #include <regex>
 #include <set>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -343,7 +344,8 @@ TEST(ProgramFilter, LanguageFromExtension) {
   EXPECT_EQ(program_language_from_path("a/b/MAIN.MOD"), ProgramLanguage::Rapid);
   EXPECT_EQ(program_language_from_path("x.dat"), ProgramLanguage::Krl);
   EXPECT_EQ(program_language_from_path("WELD.JBI"), ProgramLanguage::Jbi);
-  EXPECT_THROW(program_language_from_path("x.txt"), InputError);
+  EXPECT_REFUSED(program_language_from_path("x.txt"), InputError,
+                 "x.txt: unknown program type: expected an ABB RAPID module");
 }
 
 }  // namespace

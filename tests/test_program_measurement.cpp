@@ -9,6 +9,7 @@
 #include <random>
 #include <regex>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -166,7 +167,8 @@ TEST(MeasurementProgramFormat, ControllerCountsMatchTheContent) {
   EXPECT_NE(jbi.find("\nC00013="), std::string::npos);
   EXPECT_EQ(jbi.find("\nC00014="), std::string::npos);
   jbi.replace(jbi.find("///NPOS 14"), 10, "///NPOS 15");
-  EXPECT_THROW(read_joint_moves(jbi, ProgramLanguage::Jbi, "x.jbi", kPulses), InputError);
+  EXPECT_REFUSED(read_joint_moves(jbi, ProgramLanguage::Jbi, "x.jbi", kPulses), InputError,
+                 "x.jbi (///NPOS): ///NPOS declares 15 C variables, the job defines 14");
 }
 
 std::string refusal(const MeasurementProgramRequest& r) {

@@ -12,6 +12,7 @@
 #include <regex>
 #include <sstream>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
@@ -209,7 +210,8 @@ TEST(ReportProvenance, CommandLineAndJson) {
   EXPECT_TRUE(j["seed"].is_null());
   EXPECT_TRUE(j["instrument_sigma_mm"].is_null());
   EXPECT_EQ(j["files"][0]["role"], "model");
-  EXPECT_THROW((void)provenance_file("model", "/nonexistent/file"), InputError);
+  EXPECT_REFUSED((void)provenance_file("model", "/nonexistent/file"), InputError,
+                 "/nonexistent/file: cannot open for reading");
 }
 
 /// A report the way `robcal report` builds it, on the reference data set: the nominal robot

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -197,9 +198,11 @@ TEST(SimSimulator, ConfigurationFilesRoundTripAndBadRowsAreLocated) {
     EXPECT_EQ(e.where().key, "j5");
   }
   write_file_atomically(path, "config,target,j1,j2,j3,j4,j5,j6\nA,7,0,10,20,30,40,50\n");
-  EXPECT_THROW(read_configurations_csv(path.string(), tool), InputError);
+  EXPECT_REFUSED(read_configurations_csv(path.string(), tool), InputError,
+                 "sim_configs.csv:2:3 (target): unknown target '7'; the tool has 1, 2, 3");
   write_file_atomically(path, "config,j1,j2,j3,j4,j5\n");
-  EXPECT_THROW(read_configurations_csv(path.string(), tool), InputError);
+  EXPECT_REFUSED(read_configurations_csv(path.string(), tool), InputError,
+                 "sim_configs.csv:1 (j6): missing column");
 }
 
 TEST(SimSimulator, SameSeedSameMeasurements) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -63,7 +64,8 @@ TEST(SimTruth, ReferenceTruthFileLoadsAsTheSameRobot) {
 }
 
 TEST(SimTruth, PublishedTruthRefusesAnotherRobot) {
-  EXPECT_THROW(published_irb120_truth(load_robot("fanuc-lrmate200ic"), Tool{}), InputError);
+  EXPECT_REFUSED(published_irb120_truth(load_robot("fanuc-lrmate200ic"), Tool{}), InputError,
+                 "is an ABB IRB 120; robot 'FANUC LR Mate 200iC' is not");
 }
 
 TEST(SimTruth, RandomTruthStaysWithinBoundsAndIsSeeded) {
@@ -231,7 +233,8 @@ TEST(SimTruth, BadTruthFilesNameTheKey) {
   }
   std::mt19937_64 rng(1);
   TrueRobot truth;
-  EXPECT_THROW(enable_effects(truth, {"gremlins"}, rng), InputError);
+  EXPECT_REFUSED(enable_effects(truth, {"gremlins"}, rng), InputError,
+                 "--effects: unknown effect 'gremlins'; expected backlash");
 }
 
 }  // namespace

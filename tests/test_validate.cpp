@@ -9,6 +9,7 @@
 #include <numbers>
 #include <random>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/measurement_file.hpp"
@@ -48,8 +49,10 @@ TEST(ValidateHistogram, BinsClampAndMerge) {
   const Histogram merged = merge_bins(h, 2);
   EXPECT_EQ(merged.counts, (std::vector<uint64_t>{4, 4}));
   EXPECT_DOUBLE_EQ(merged.bin_width(), 0.5);
-  EXPECT_THROW((void)merge_bins(h, 3), std::invalid_argument);
-  EXPECT_THROW((void)make_histogram(values, 4, 1.0, 1.0), std::invalid_argument);
+  EXPECT_REFUSED((void)merge_bins(h, 3), std::invalid_argument,
+                 "merge_bins: factor 3 does not divide 4 bins");
+  EXPECT_REFUSED((void)make_histogram(values, 4, 1.0, 1.0), std::invalid_argument,
+                 "upper > lower, got 4 bins over [1, 1)");
 
   const std::string text = histogram_text(h, "mm", 10);
   EXPECT_NE(text.find("   0.00 –    0.25 mm |##########|          3   37.5%"), std::string::npos)
@@ -92,13 +95,15 @@ TEST(ValidatePairwise, FewerThanTwoRowsHaveNoPairs) {
   EXPECT_EQ(r.stats.count, 0u);
   EXPECT_EQ(r.stats.mean, 0.0);
   EXPECT_EQ(r.histogram.total(), 0u);
-  EXPECT_THROW((void)pairwise_distance_errors(one, Eigen::Matrix3Xd::Ones(3, 2)),
-               std::invalid_argument);
+  EXPECT_REFUSED((void)pairwise_distance_errors(one, Eigen::Matrix3Xd::Ones(3, 2)),
+                 std::invalid_argument, "1 measured and 2 modelled positions");
   Eigen::Matrix3Xd bad = Eigen::Matrix3Xd::Ones(3, 2);
   bad(1, 1) = NAN;
-  EXPECT_THROW((void)pairwise_distance_errors(bad, bad), std::invalid_argument);
+  EXPECT_REFUSED((void)pairwise_distance_errors(bad, bad), std::invalid_argument,
+                 "positions must be finite and within ±1e12 mm");
   bad(1, 1) = 2e12;  // beyond what single-precision squares hold
-  EXPECT_THROW((void)pairwise_distance_errors(bad, one.replicate(1, 2)), std::invalid_argument);
+  EXPECT_REFUSED((void)pairwise_distance_errors(bad, one.replicate(1, 2)), std::invalid_argument,
+                 "positions must be finite and within ±1e12 mm");
 }
 
 /// N positions in a 1.6 m cube; the "model" sees them moved rigidly (a frame it does not
@@ -448,7 +453,9 @@ TEST(ValidateBallbar, IdentifiedCentreIsTheTrueOneForExactLengths) {
   // Too few rows to locate a centre: an InputError naming the way out.
   MeasurementSet three = set;
   three.distances.resize(3);
-  EXPECT_THROW((void)ballbar_errors(robot, three, std::nullopt), InputError);
+  EXPECT_REFUSED(
+      (void)ballbar_errors(robot, three, std::nullopt), InputError,
+      "--ballbar-centre: cannot locate the ballbar centre: the distances need at least four rows");
 }
 
 TEST(ValidatePositions, TargetWithoutCoordinatesIsNamed) {

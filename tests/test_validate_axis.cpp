@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -115,15 +116,19 @@ TEST(ValidateAxisTest, NoiseFreeIsExactAndTiltOfTheNominalAxisIsSeen) {
 
 TEST(ValidateAxisTest, RefusesTooLittleData) {
   std::vector<AxisTestSample> few(4);
-  EXPECT_THROW((void)axis_test_analyse(few), InputError);
+  EXPECT_REFUSED((void)axis_test_analyse(few), InputError,
+                 "an axis test needs at least 6 positions, found 4");
   std::vector<AxisTestSample> one_side;
   for (int k = 0; k < 8; ++k)
     one_side.push_back({0.1 * k, false, Eigen::Vector3d(std::cos(0.1 * k), std::sin(0.1 * k), 0)});
-  EXPECT_THROW((void)axis_test_analyse(one_side), InputError);
+  EXPECT_REFUSED((void)axis_test_analyse(one_side), InputError,
+                 "side: the backlash needs positions approached from below and from above, found "
+                 "only 'below' rows");
   AxisTestPlanRequest plan;
   plan.steps = 2;
   plan.to_rad = 1;
-  EXPECT_THROW((void)axis_test_moves(plan), InputError);
+  EXPECT_REFUSED((void)axis_test_moves(plan), InputError,
+                 "--steps: expected at least 3 positions, found 2");
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/simulator.hpp"
@@ -94,13 +95,17 @@ TEST(ValidateBallbarPath, UnreachableAndBadRequests) {
   EXPECT_EQ(ballbar_path_csv(path, "1"), "config,target,j1,j2,j3,j4,j5,j6\n");
   request = irb120_request();
   request.length_mm = 0;
-  EXPECT_THROW((void)ballbar_path(request), InputError);
+  EXPECT_REFUSED((void)ballbar_path(request), InputError,
+                 "--length: expected a positive length in mm, found 0");
   request = irb120_request();
   request.elevations_deg = {90};
-  EXPECT_THROW((void)ballbar_path(request), InputError);
+  EXPECT_REFUSED((void)ballbar_path(request), InputError,
+                 "--elevations: elevations must lie strictly within ±90°, found 90°");
   request = irb120_request();
   request.target = 7;
-  EXPECT_THROW((void)ballbar_path(request), InputError);
+  EXPECT_REFUSED((void)ballbar_path(request), InputError,
+                 "--target: the ball's target must be a target of the tool with known coordinates; "
+                 "target index 7 is not");
 }
 
 }  // namespace

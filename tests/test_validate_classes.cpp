@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "refusal.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -115,8 +116,9 @@ TEST(ValidateClasses, EmptyClassSaysNoData) {
   EXPECT_EQ(value_or_no_data(report.classes[0].rows[0].position_mm,
                              report.classes[0].rows[0].position_mm.mean, 3),
             fmt::format("{:.3f}", report.positions.position_mm.mean));
-  EXPECT_THROW((void)class_tables(robot, front, report.positions, std::nullopt, {50, 25}),
-               std::invalid_argument);
+  EXPECT_REFUSED((void)class_tables(robot, front, report.positions, std::nullopt, {50, 25}),
+                 std::invalid_argument,
+                 "class_tables: region edges must be positive and ascending");
 }
 
 TEST(ValidateClasses, OrientationErrorsOfPosesByClass) {
@@ -155,7 +157,8 @@ TEST(ValidateClasses, DistanceToNearest) {
   const std::vector<double> d = distance_to_nearest(points, anchors);
   EXPECT_DOUBLE_EQ(d[0], 5.0);  // (3, 4, 0) to the origin
   EXPECT_DOUBLE_EQ(d[1], 5.0);  // (14, 0, 3) to (10, 0, 0)
-  EXPECT_THROW((void)distance_to_nearest(points, Eigen::Matrix3Xd(3, 0)), std::invalid_argument);
+  EXPECT_REFUSED((void)distance_to_nearest(points, Eigen::Matrix3Xd(3, 0)), std::invalid_argument,
+                 "distance_to_nearest: no anchor positions");
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/hexapod/geometry_reports.hpp"
 #include "robcal/sim/monte_carlo_study.hpp"
@@ -38,7 +39,8 @@ TEST(WorkflowReports, ClosestPairIsWherePruningStarts) {
   const nlohmann::json j = hexapod::pose_selection_json(none);
   EXPECT_EQ(j["enumerated"], none.enumerated.size());
   EXPECT_EQ(j["poses"].size(), none.kept.size());
-  EXPECT_THROW(hexapod::select_poses(g, -1, 0), InputError);
+  EXPECT_REFUSED(hexapod::select_poses(g, -1, 0), InputError,
+                 "--angle-deg: expected a non-negative threshold in degrees, found -1");
 }
 
 TEST(WorkflowReports, UncertaintyWorstCaseIsTheLargestCupNorm) {
@@ -52,8 +54,10 @@ TEST(WorkflowReports, UncertaintyWorstCaseIsTheLargestCupNorm) {
   EXPECT_LT(s.monte_carlo_max_relative_difference, 0.1);
   const nlohmann::json j = hexapod::uncertainty_study_json(s);
   EXPECT_NEAR(j["worst_norm_um"].get<double>(), worst * 0.51, 1e-4);
-  EXPECT_THROW(hexapod::uncertainty_study(g, 0, 7, 2000), InputError);
-  EXPECT_THROW(hexapod::uncertainty_study(g, 0.51, 7, 99), InputError);
+  EXPECT_REFUSED(hexapod::uncertainty_study(g, 0, 7, 2000), InputError,
+                 "--sigma-um: expected a positive σ in µm, found 0");
+  EXPECT_REFUSED(hexapod::uncertainty_study(g, 0.51, 7, 99), InputError,
+                 "--samples: expected at least 100 samples, found 99");
 }
 
 TEST(WorkflowReports, PlanStudyOptionsAreCheckedByName) {

@@ -79,10 +79,10 @@ SessionReading parse_answer(const std::string& line, const SessionStep& step,
   if (word == "skip" || word == "missing") return reading;
   const std::vector<std::string> fields = fields_of(word);
   if (fields.size() != 3 && fields.size() != 4)
-    throw InputError(
-        fmt::format("expected 'x y z' in mm (and optionally the temperature in °C) "
-                    "or 'skip', got '{}'",
-                    word));
+    throw InputError({"reading", 0, 0, step.key},
+                     fmt::format("expected 'x y z' in mm (and optionally the temperature in °C) "
+                                 "or 'skip', got '{}'",
+                                 word));
   Eigen::Vector3d p;
   for (int k = 0; k < 3; ++k)
     p[k] = parse_number(fields[static_cast<size_t>(k)], '.',

@@ -68,7 +68,8 @@ PoseScreening screen_poses(const std::vector<HexapodPose>& poses, const HexapodG
                            const CupClearance& clearance) {
   if (!std::isfinite(clearance.cup_diameter_mm) || clearance.cup_diameter_mm <= 0)
     throw InputError(
-        fmt::format("cup diameter {} mm is not a positive length", clearance.cup_diameter_mm));
+        {"", 0, 0, "--cup-diameter-mm (cup_diameter_mm)"},
+        fmt::format("expected a positive cup diameter in mm, found {}", clearance.cup_diameter_mm));
   const Cups<double> base = fixture_cups(geometry.base, "base fixture");
   const std::vector<Eigen::Vector3d> base_cups(base.begin(), base.end());
   PoseScreening out;

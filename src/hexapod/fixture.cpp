@@ -28,7 +28,7 @@ std::string triangle_problem(const TriangleSides& s) {
 
 Cups<double> fixture_cups(const TriangleSides& sides, const std::string& what) {
   if (const std::string problem = triangle_problem(sides); !problem.empty())
-    throw InputError({"", 0, 0, what}, what + ": " + problem);
+    throw InputError({"", 0, 0, what}, problem);
   return triangle_from_sides(sides.d12, sides.d23, sides.d31);
 }
 

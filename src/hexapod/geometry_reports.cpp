@@ -38,8 +38,13 @@ nlohmann::json world_frame_json(const WorldFrameFit& fit) {
 }
 
 PoseSelection select_poses(const HexapodGeometry& geometry, double angle_deg, double distance_mm) {
-  if (!(angle_deg >= 0) || !(distance_mm >= 0))
-    throw InputError({"", 0, 0, "--angle-deg/--distance-mm"}, "expected non-negative thresholds");
+  if (!(angle_deg >= 0))
+    throw InputError(
+        {"", 0, 0, "--angle-deg"},
+        fmt::format("expected a non-negative threshold in degrees, found {}", angle_deg));
+  if (!(distance_mm >= 0))
+    throw InputError({"", 0, 0, "--distance-mm"},
+                     fmt::format("expected a non-negative threshold in mm, found {}", distance_mm));
   PoseSelection s;
   s.angle_deg = angle_deg;
   s.distance_mm = distance_mm;
@@ -85,8 +90,12 @@ nlohmann::json pose_selection_json(const PoseSelection& s) {
 
 UncertaintyStudy uncertainty_study(const HexapodGeometry& geometry, double sigma_um, uint64_t seed,
                                    int samples) {
-  if (!(sigma_um > 0)) throw InputError({"", 0, 0, "--sigma-um"}, "expected a positive σ");
-  if (samples < 100) throw InputError({"", 0, 0, "--samples"}, "expected at least 100 samples");
+  if (!(sigma_um > 0))
+    throw InputError({"", 0, 0, "--sigma-um"},
+                     fmt::format("expected a positive σ in µm, found {}", sigma_um));
+  if (samples < 100)
+    throw InputError({"", 0, 0, "--samples"},
+                     fmt::format("expected at least 100 samples, found {}", samples));
   UncertaintyStudy s;
   s.sigma_um = sigma_um;
   s.seed = seed;

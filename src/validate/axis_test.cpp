@@ -58,7 +58,9 @@ void fit_circle(const Eigen::Matrix2Xd& q, Eigen::Vector2d& centre, double& radi
 std::vector<AxisTestMove> axis_test_moves(const AxisTestPlanRequest& request) {
   if (request.joint < 0 || request.joint >= kJointCount)
     throw InputError({"", 0, 0, "--joint"}, "expected a joint 1..6");
-  if (request.steps < 3) throw InputError({"", 0, 0, "--steps"}, "at least 3 positions");
+  if (request.steps < 3)
+    throw InputError({"", 0, 0, "--steps"},
+                     fmt::format("expected at least 3 positions, found {}", request.steps));
   if (!(request.to_rad > request.from_rad))
     throw InputError({"", 0, 0, "--range"}, "expected a range from < to");
   std::vector<AxisTestMove> moves;
@@ -97,8 +99,10 @@ AxisTestResult axis_test_analyse(const std::vector<AxisTestSample>& input) {
   const auto above = std::count_if(input.begin(), input.end(),
                                    [](const AxisTestSample& s) { return s.from_above; });
   if (above == 0 || above == static_cast<long>(input.size()))
-    throw InputError({"", 0, 0, ""},
-                     "the backlash needs positions approached from below and from above");
+    throw InputError({"", 0, 0, "side"},
+                     fmt::format("the backlash needs positions approached from below and from "
+                                 "above, found only '{}' rows",
+                                 above == 0 ? "below" : "above"));
   // Joint order, for unwrapping the angle.
   std::vector<AxisTestSample> samples = input;
   std::stable_sort(

@@ -28,20 +28,27 @@ int BallbarPath::problems() const {
 }
 
 BallbarPath ballbar_path(const BallbarPathRequest& request) {
-  if (!(request.length_mm > 0) || !(request.range_mm > 0))
-    throw InputError({"", 0, 0, "--length"}, "the bar's length and range must be positive (mm)");
+  if (!(request.length_mm > 0))
+    throw InputError({"", 0, 0, "--length"},
+                     fmt::format("expected a positive length in mm, found {}", request.length_mm));
+  if (!(request.range_mm > 0))
+    throw InputError({"", 0, 0, "--range"},
+                     fmt::format("expected a positive range in mm, found {}", request.range_mm));
   if (request.points_per_ring < 3)
     throw InputError({"", 0, 0, "--points"}, "at least 3 points per ring");
   if (!(request.axis.norm() > 0) || !request.axis.allFinite())
     throw InputError({"", 0, 0, "--axis"}, "the axis must be a non-zero direction");
   for (const double e : request.elevations_deg)
     if (!(std::abs(e) < 90))
-      throw InputError({"", 0, 0, "--elevations"}, "elevations must lie strictly within ±90°");
+      throw InputError({"", 0, 0, "--elevations"},
+                       fmt::format("elevations must lie strictly within ±90°, found {}°", e));
   const auto& targets = request.robot.tool.targets;
   if (request.target < 0 || request.target >= static_cast<int>(targets.size()) ||
       !targets[static_cast<size_t>(request.target)].known)
     throw InputError({"", 0, 0, "--target"},
-                     "the ball's target must be a target of the tool with known coordinates");
+                     fmt::format("the ball's target must be a target of the tool with known "
+                                 "coordinates; target index {} is not (the tool has {} targets)",
+                                 request.target, targets.size()));
 
   const CalibratedRobot commanding = ball_as_tcp(request.robot, request.target);
   const CalibratedRobot reading =
