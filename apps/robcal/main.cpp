@@ -39,7 +39,7 @@ struct Stage {
   std::vector<std::string> commands;
 };
 const std::vector<Stage>& stages() {
-  static const std::vector<Stage> list = {
+  static const std::vector<Stage> kStages = {
       {"1. Model", {"robots", "robot", "fk", "ik"}},
       {"2. Plan", {"plan", "plan-study"}},
       {"3. Measure", {"program", "simulate", "import", "frames", "session"}},
@@ -49,7 +49,7 @@ const std::vector<Stage>& stages() {
       {"Ballbar hexapod (every stage)", {"hexapod"}},
       {"Reports", {"report"}},
       {"Simulation studies", {"demo", "montecarlo", "experiments"}}};
-  return list;
+  return kStages;
 }
 
 /// Index of the stage of `command` in stages(); unknown commands come last, under "Other".

@@ -146,9 +146,9 @@ Cell parse_cell(const std::string& yaml_text, const std::string& file) {
   only_keys(base, {"position_mm", "rotation_xyz_deg", "source", "sigma"});
   const Eigen::Vector3d p = base.at("position_mm").as_vector3();
   const Eigen::Vector3d r = base.at("rotation_xyz_deg").as_vector3();
-  for (int i = 0; i < 3; ++i) {
-    cell.robot_base[static_cast<size_t>(i)] = p[i];
-    cell.robot_base[static_cast<size_t>(i + 3)] = deg2rad(r[i]);
+  for (size_t i = 0; i < 3; ++i) {
+    cell.robot_base[i] = p[static_cast<Eigen::Index>(i)];
+    cell.robot_base[i + 3] = deg2rad(r[static_cast<Eigen::Index>(i)]);
   }
   if (base.has("source")) {
     const std::string source = base.at("source").as_string();

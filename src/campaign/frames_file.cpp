@@ -122,8 +122,8 @@ std::string cell_with_base(const std::string& cell_text, const std::string& cell
          (cell_text[end + 1] == ' ' || cell_text[end + 1] == '\t' || cell_text[end + 1] == '\n'))
     end = cell_text.find('\n', end + 1);
   end = end == std::string::npos ? cell_text.size() : end + 1;
-  const std::string out = cell_text.substr(0, start) + comment_lines(comment) +
-                          robot_base_block(base) + cell_text.substr(end);
+  std::string out = cell_text.substr(0, start) + comment_lines(comment) + robot_base_block(base) +
+                    cell_text.substr(end);
   parse_cell(out, cell_file);
   return out;
 }
@@ -146,11 +146,11 @@ std::vector<NamedPoint> read_named_points(const NamedText& file) {
     if (r == 0 && row.fields[1].size() == 1 && (row.fields[1] == "x" || row.fields[1] == "X"))
       continue;  // the header
     Eigen::Vector3d p;
-    for (int k = 0; k < 3; ++k)
-      p[k] = parse_number(row.fields[static_cast<size_t>(k + 1)], table.dialect.decimal,
-                          field_location(table, row, static_cast<size_t>(k + 1),
-                                         std::string(1, static_cast<char>('x' + k))),
-                          "a coordinate in mm");
+    for (size_t k = 0; k < 3; ++k)
+      p[static_cast<Eigen::Index>(k)] = parse_number(
+          row.fields[k + 1], table.dialect.decimal,
+          field_location(table, row, k + 1, std::string(1, static_cast<char>('x' + k))),
+          "a coordinate in mm");
     points.push_back({row.fields[0], p, row.line});
   }
   return points;

@@ -55,7 +55,7 @@ ColumnName normalise(const std::string& raw) {
 
 /// Names instrument software gives each role (normalised).
 const std::map<std::string, std::vector<std::string>>& role_aliases() {
-  static const std::map<std::string, std::vector<std::string>> aliases = {
+  static const std::map<std::string, std::vector<std::string>> kAliases = {
       {"x", {"x"}},
       {"y", {"y"}},
       {"z", {"z"}},
@@ -70,7 +70,7 @@ const std::map<std::string, std::vector<std::string>>& role_aliases() {
        {"target", "point", "point name", "name", "target name", "label", "id", "point id"}},
       {"config", {"config", "configuration", "pose"}},
       {"time", {"time", "timestamp", "time stamp", "date/time", "datetime"}}};
-  return aliases;
+  return kAliases;
 }
 
 /// The columns of a table: names (normalised), units, the line of the header (0: none), and
@@ -112,6 +112,7 @@ Columns resolve_columns(const TextTable& table, const std::vector<std::string>& 
       const auto column = by_name.find(lower(mapped->second));
       if (column == by_name.end()) {
         std::vector<std::string> names;
+        names.reserve(by_name.size());
         for (const auto& [name, index] : by_name) names.push_back(name);
         throw InputError({table.file, c.header_line, 0, role},
                          fmt::format("the {} column is said to be '{}', which the file does not "

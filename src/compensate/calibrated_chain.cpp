@@ -23,13 +23,13 @@ constexpr double kStepLow = static_cast<double>(kStep - kStepHigh);
 /// sin and cos of k·2π/256, each correctly rounded (long double); built on first use, so that
 /// no other static initialiser can see it empty.
 const std::array<std::array<double, 2>, kTableSize>& sin_cos_table() {
-  static const auto table = [] {
+  static const auto kTable = [] {
     std::array<std::array<double, 2>, kTableSize> t{};
     for (int k = 0; k < kTableSize; ++k)
       t[k] = {static_cast<double>(std::sin(k * kStep)), static_cast<double>(std::cos(k * kStep))};
     return t;
   }();
-  return table;
+  return kTable;
 }
 
 }  // namespace

@@ -421,7 +421,7 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
     }
   }
   if (moved) {
-    const CalibratedIkResult other = iterate(turned);
+    CalibratedIkResult other = iterate(turned);
     if (other.ok()) return other;
   }
   // Beyond a limit: another turn of a wide-range joint may be inside.

@@ -284,7 +284,7 @@ FourCupDkpResult solve_four_cup_dkp(const FourCupDkpRequest& request) {
     // the side the cascade keeps (design T1 above the base plane).
     if (!(cup(problem, fit.x, problem.base_count + result.design.tool[0]).z() > 0)) continue;
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(fit.J, Eigen::ComputeThinU | Eigen::ComputeThinV);
-    const Eigen::VectorXd sv = svd.singularValues();
+    const Eigen::VectorXd& sv = svd.singularValues();
     if (!(sv[sv.size() - 1] > 1e-9 * sv[0])) {
       rank_problem = fmt::format(
           "the distances do not determine the cups (assembly mode {}: the fit's Jacobian has "

@@ -42,7 +42,7 @@ Prediction predict(const Context& c, const std::vector<int>& subset) {
   }
   // Columns are RMS-scaled over all candidates (design_matrix.hpp): a relative rank threshold.
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(c.design.stacked(subset));
-  const Eigen::VectorXd s = svd.singularValues();
+  const Eigen::VectorXd& s = svd.singularValues();
   int rank = 0;
   for (Eigen::Index i = 0; i < s.size(); ++i) rank += s[i] > 1e-9 * s[0];
   p.undetermined = c.asked - rank;

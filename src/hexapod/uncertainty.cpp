@@ -22,10 +22,10 @@ std::array<CupUncertainty, 3> uncertainties_from_variances(const Eigen::Matrix<d
 }  // namespace
 
 const std::array<std::string, kDistanceCount>& distance_names() {
-  static const std::array<std::string, kDistanceCount> names{"b12",   "b23",   "b31",   "t12",
-                                                             "t23",   "t31",   "rho11", "rho12",
-                                                             "rho21", "rho22", "rho23", "rho31"};
-  return names;
+  static const std::array<std::string, kDistanceCount> kNames{"b12",   "b23",   "b31",   "t12",
+                                                              "t23",   "t31",   "rho11", "rho12",
+                                                              "rho21", "rho22", "rho23", "rho31"};
+  return kNames;
 }
 
 Distances<double> nominal_distances(const HexapodGeometry& g) {

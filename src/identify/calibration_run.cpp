@@ -78,7 +78,8 @@ CalibrationRun run_calibration(const RobotModel& model, const Tool& tool,
         "the residual σ {:.4f} mm is more than {:g} times the instrument's σ {:.4f} mm: {}",
         r.sigma_mm, kImplausibleNoiseRatio, r.noise_test.instrument_sigma_mm, check));
   for (const std::string& p : implausible_parameters(r))
-    run.problems.push_back(p + ": no real arm is that far from its data sheet; " + check);
+    run.problems.push_back(
+        fmt::format("{}: no real arm is that far from its data sheet; {}", p, check));
   return run;
 }
 

@@ -49,6 +49,7 @@ const char* level_name(CalibrationLevel level) {
 std::vector<int> level_parameters(CalibrationLevel level) {
   std::vector<int> out;
   if (level == CalibrationLevel::Tool || level == CalibrationLevel::Patterns) return out;
+  out.reserve(kParameterCount);
   for (int i = 0; i < kBaseParamCount; ++i) out.push_back(i);
   for (int link = 2; link <= kJointCount; ++link) {
     for (int k = 0; k < 4; ++k) {

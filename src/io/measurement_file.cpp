@@ -142,11 +142,11 @@ struct OrientationColumns {
 /// Column names that look like an orientation: a file with them but no accepted set is refused
 /// rather than read as a points file with the orientation silently ignored.
 bool looks_like_orientation(const std::string& name) {
-  static const std::array<const char*, 26> names = {
+  static const std::array<const char*, 26> kNames = {
       "qw",   "qx", "qy", "qz", "a",    "b",     "c",    "w",    "p",
       "r",    "rx", "ry", "rz", "roll", "pitch", "yaw",  "rotx", "roty",
       "rotz", "q1", "q2", "q3", "q4",   "alpha", "beta", "gamma"};
-  return std::find(names.begin(), names.end(), name) != names.end();
+  return std::find(kNames.begin(), kNames.end(), name) != kNames.end();
 }
 
 /// Finds the orientation columns of a file without `target` (nullopt: none at all).

@@ -43,7 +43,7 @@ inline constexpr std::array<double, 9> kAtanEighths = [] {
 
 /// atan2(y, x) in [−π, π], with std::atan2's values at ±0, ±∞ and NaN.
 inline double fast_atan2(double y, double x) {
-  constexpr const std::array<double, 9>& table = detail::kAtanEighths;
+  constexpr const std::array<double, 9>& kTable = detail::kAtanEighths;
   const double ax = std::abs(x), ay = std::abs(y);
   // Operand order makes a NaN x reach lo and a NaN y reach hi, so t is NaN for either; 0/0 and
   // ∞/∞ are taken as 0 and 1.
@@ -63,8 +63,8 @@ inline double fast_atan2(double y, double x) {
   p = p * u2 - 1.0 / 3;
   // atan(k/8) by selects rather than an indexed load, which vector units without a gather
   // (SSE2) cannot do.
-  double atan_c = table[0];
-  for (int j = 1; j <= 8; ++j) atan_c = c >= 0.125 * j ? table[j] : atan_c;
+  double atan_c = kTable[0];
+  for (int j = 1; j <= 8; ++j) atan_c = c >= 0.125 * j ? kTable[j] : atan_c;
   const double r = atan_c + (u + u * u2 * p);
   // Octant restored by arithmetic on ±1 factors rather than selects, which compilers turn into
   // branches that random inputs mispredict: r → π/2 − r when steep, r → π − r when x < 0.

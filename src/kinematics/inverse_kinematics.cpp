@@ -16,7 +16,8 @@ namespace {
 // The solver is compiled twice, for AVX2 (4 lanes) and for any x86-64 (SSE2, 2 lanes), and
 // the copy the processor runs is picked at load time; flatten keeps every helper inside the
 // copy (a helper left in the SSE2 encoding measured twice as slow, called from the AVX2 one).
-#if defined(__x86_64__) && defined(__GNUC__)
+// (GCC only: clang refuses flatten on a multiversioned function.)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define ROBCAL_VECTOR_CLONES __attribute__((target_clones("avx2", "default"), flatten))
 #else
 #define ROBCAL_VECTOR_CLONES
@@ -122,14 +123,14 @@ class Solver {
     // Planar arm for front (r = +|W_xy|) and back (r = −|W_xy|): W at (r, 0, h) in frame 1,
     // w = W − shoulder in frame 2's plane, w = Rz(θ2)·v (see the header).
     const double h = wrist_.z() - g_.d1;
-    std::array<double, 2> w_x, w_y, D, inv_D, kappa, sigma;
+    std::array<double, 2> w_x, w_y, D, D_inv, kappa, sigma;
     std::array<bool, 2> reach;
     for (int b = 0; b < 2; ++b) {
       const double r = b == 0 ? rxy : -rxy;
       w_x[b] = r - g_.a2;
       w_y[b] = g_.s_alpha2 * h;
       D[b] = w_x[b] * w_x[b] + w_y[b] * w_y[b];
-      inv_D[b] = 1.0 / D[b];
+      D_inv[b] = 1.0 / D[b];
       const double k = (D[b] - elbow_sum_sq_) * elbow_inv_product_;
       reach[b] = std::abs(k) <= 1.0 + kReachTolerance && (mask_ & shoulder_mask(b)) != 0;
       kappa[b] = std::clamp(k, -1.0, 1.0);
@@ -166,8 +167,8 @@ class Solver {
         const double vx = g_.a3 + g_.rho * kappa[b], vy = g_.rho * sphi;
         const double dot = vx * w_x[b] + vy * w_y[b];
         const double cross = vx * w_y[b] - vy * w_x[b];
-        const double c2 = D[b] > 0 ? dot * inv_D[b] : 1.0;
-        const double s2 = D[b] > 0 ? cross * inv_D[b] : 0.0;
+        const double c2 = D[b] > 0 ? dot * D_inv[b] : 1.0;
+        const double s2 = D[b] > 0 ? cross * D_inv[b] : 0.0;
         ArmSolution& arm = arms[n];
         arm.c23 = c2 * c3 - s2 * s3;
         arm.s23 = s2 * c3 + c2 * s3;

@@ -11,7 +11,7 @@ double ParameterInfo::to_external() const {
 }
 
 const std::array<ParameterInfo, kParameterCount>& parameter_table() {
-  static const std::array<ParameterInfo, kParameterCount> table = [] {
+  static const std::array<ParameterInfo, kParameterCount> kTable = [] {
     std::array<ParameterInfo, kParameterCount> t;
     const char* base_names[] = {"x", "y", "z", "alpha", "beta", "gamma"};
     for (int k = 0; k < 6; ++k) {
@@ -40,11 +40,11 @@ const std::array<ParameterInfo, kParameterCount>& parameter_table() {
               ParamKind::Angle, "deg"};
     return t;
   }();
-  return table;
+  return kTable;
 }
 
 const std::vector<ParameterGroup>& opt_in_groups() {
-  static const std::vector<ParameterGroup> groups = [] {
+  static const std::vector<ParameterGroup> kGroups = [] {
     std::vector<ParameterGroup> g;
     for (int joint = 1; joint <= kJointCount; ++joint) {
       ParameterGroup group{fmt::format("joint{}.periodic", joint), {}};
@@ -54,7 +54,7 @@ const std::vector<ParameterGroup>& opt_in_groups() {
     }
     return g;
   }();
-  return groups;
+  return kGroups;
 }
 
 bool is_opt_in(int index) {

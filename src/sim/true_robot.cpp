@@ -206,6 +206,7 @@ std::string truth_to_yaml(const TrueRobot& truth, const std::string& robot_name)
     out << YAML::Key << "periodic_deg" << YAML::Value << YAML::BeginMap;
     for (int joint = 1; joint <= kJointCount; ++joint) {
       std::vector<double> row;
+      row.reserve(kPeriodicPerJoint);
       for (int k = 0; k < kPeriodicPerJoint; ++k)
         row.push_back(rad2deg(x[periodic_param(joint, 1, false) + k]));
       if (row != std::vector<double>(kPeriodicPerJoint, 0.0))

@@ -124,7 +124,7 @@ struct UnknownEstimate {
   double value = 0;
   double std_dev = 0;  ///< 0 unless identified
   ParameterStatus status = ParameterStatus::Fixed;
-  std::string reason;  ///< why fixed or dropped
+  std::string reason;             ///< why fixed or dropped
   bool opt_in_not_asked = false;  ///< an opt-in group's term (e.g. periodic) left out as asked
 };
 
