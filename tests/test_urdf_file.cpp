@@ -160,6 +160,17 @@ TEST(UrdfFile, EveryBuiltInRobotRoundTrips) {
       EXPECT_NEAR(back.model.limits[i].upper, model.limits[i].upper, 1e-15);
       EXPECT_NEAR(back.model.link_masses[i].mass_kg, model.link_masses[i].mass_kg, 1e-15);
     }
+    // Without sign flips or offsets the URDF's joint frames are the MDH frames: the table
+    // itself comes back (angles compared on the circle).
+    if (model.joint_map.is_identity())
+      for (int i = 0; i < 6; ++i) {
+        const MdhRow &a = model.mdh[i], &b = back.model.mdh[i];
+        EXPECT_NEAR(std::remainder(a.alpha - b.alpha, 2 * std::numbers::pi), 0, 1e-12) << i;
+        EXPECT_NEAR(std::remainder(a.theta_offset - b.theta_offset, 2 * std::numbers::pi), 0, 1e-12)
+            << i;
+        EXPECT_NEAR(a.a, b.a, 1e-9) << i;
+        EXPECT_NEAR(a.d, b.d, 1e-9) << i;
+      }
     double worst_mm = 0, worst_rad = 0, worst_cog = 0;
     for (int k = 0; k < 200; ++k) {
       const Vector6d j = random_joints(rng);

@@ -51,6 +51,10 @@ MdhRow mdh_row(const Eigen::Isometry3d& rel) {
   return row;
 }
 
+double snap_zero(double x, double below) {
+  return std::abs(x) < below ? 0.0 : x;
+}
+
 struct ChainLink {
   urdf::JointConstSharedPtr joint;
   int follows = -1;                 ///< index of the previous movable joint, -1: none
@@ -242,6 +246,9 @@ UrdfImport robot_from_urdf(const std::string& xml, const std::string& path,
                                  out.joint_names[i], out.joint_names[i + 1]));
       x = perp.normalized();
     }
+    // Of the two directions of the normal, the one nearer the joint frame's x: a URDF written
+    // from MDH frames (robot_to_urdf) gives its table back.
+    if (x.dot(w.movable[i].world_T_joint.linear().col(0)) < 0) x = -x;
     F[i] = frame(origin, x, z);
     const double a = (point[i + 1] - origin).dot(x);
     foot = origin + a * x;
@@ -260,11 +267,20 @@ UrdfImport robot_from_urdf(const std::string& xml, const std::string& path,
   model.mdh[0].d = F[0].translation().z();
   model.mdh[0].theta_offset = std::atan2(-R1(0, 1), R1(0, 0));
   for (int i = 1; i < kJointCount; ++i) model.mdh[i] = mdh_row(F[i - 1].inverse() * F[i]);
+  // Rounding leaves ~1e-14 mm and ~1e-16 rad where the URDF means zero (and -0): print zeros.
+  for (MdhRow& row : model.mdh) {
+    row.alpha = snap_zero(row.alpha, 1e-14);
+    row.theta_offset = snap_zero(row.theta_offset, 1e-14);
+    row.a = snap_zero(row.a, 1e-11);
+    row.d = snap_zero(row.d, 1e-11);
+  }
   out.params = model.nominal();
   out.params[0] = F[0].translation().x();
   out.params[1] = F[0].translation().y();
   out.params[3] = std::atan2(-R1(1, 2), R1(2, 2));
   out.params[4] = std::atan2(R1(0, 2), std::hypot(R1(1, 2), R1(2, 2)));
+  for (int k : {0, 1}) out.params[k] = snap_zero(out.params[k], 1e-11);
+  for (int k : {3, 4}) out.params[k] = snap_zero(out.params[k], 1e-14);
 
   for (int i = 0; i < kJointCount; ++i) {
     const urdf::Joint& joint = *w.movable[i].joint;
@@ -276,7 +292,10 @@ UrdfImport robot_from_urdf(const std::string& xml, const std::string& path,
       refuse(path, fmt::format("joint '{}': lower limit {} ≥ upper limit {} rad", joint.name,
                                model.limits[i].lower, model.limits[i].upper));
     const ChainLink& c = w.movable[i];
-    if (c.mass > 0) model.link_masses[i] = {c.mass, F[i].inverse() * (c.moment / c.mass)};
+    if (c.mass > 0) {
+      model.link_masses[i] = {c.mass, F[i].inverse() * (c.moment / c.mass)};
+      for (double& v : model.link_masses[i].cog_mm) v = snap_zero(v, 1e-11);
+    }
   }
   return out;
 }
