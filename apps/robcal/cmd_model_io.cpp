@@ -37,8 +37,8 @@ void run_import(const ImportOptions& o) {
 }
 
 void run_export(const ExportOptions& o) {
-  const ModelExportResult r = export_model({o.robot, o.model, o.seed});
-  write_file_atomically(o.out, r.urdf);
+  const ModelExportResult r = export_model({o.robot, o.model, o.format, o.seed});
+  write_file_atomically(o.out, r.text);
   for (const std::string& what : r.left_out) fmt::print("warning: not in the URDF: {}\n", what);
   if (r.left_out_max_mm > 0)
     fmt::print(
@@ -69,15 +69,18 @@ auto ex = std::make_shared<ExportOptions>();
 auto* exp = model->add_subcommand(
     "export",
     "Write a robot or a calibrated model as URDF (rigid geometry, limits, masses, "
-    "the tool's tcp as link 'tcp'); says what URDF cannot hold and what that costs");
+    "the tool's tcp as link 'tcp'; says what URDF cannot hold and what that costs) or as its "
+    "MDH parameter table with σ (CSV)");
 exp->add_option("--robot", ex->robot, "Built-in robot name or robot file (nominal model)");
 exp->add_option("--model", ex->model, "Calibrated model file (calibrate --out)");
-exp->add_option("--format", ex->format, "Output format")
-    ->check(CLI::IsMember({"urdf"}))
+exp->add_option("--format", ex->format,
+                "urdf, or mdh-csv: the parameter table (name, unit, nominal, value, std, status; "
+                "mm and deg)")
+    ->check(CLI::IsMember({"urdf", "mdh-csv"}))
     ->capture_default_str();
 exp->add_option("--seed", ex->seed, "Seed of the configurations that measure the cost")
     ->capture_default_str();
-exp->add_option("--out", ex->out, "Output URDF")->required();
+exp->add_option("--out", ex->out, "Output URDF or CSV")->required();
 exp->callback([ex] { run_export(*ex); });
 });
 

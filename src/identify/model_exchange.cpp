@@ -5,6 +5,7 @@
 
 #include "robcal/core/error.hpp"
 #include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/identify/parameter_csv.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 
@@ -36,6 +37,10 @@ ModelExportResult export_model(const ModelExportRequest& request) {
   const CalibratedRobot robot = request.model.empty()
                                     ? CalibratedRobot::nominal(load_robot(request.robot), Tool{})
                                     : load_calibrated_robot(request.model);
+  if (request.format == "mdh-csv") return {parameter_table_csv(robot), {}};
+  if (request.format != "urdf")
+    throw InputError(SourceLocation{"", 0, 0, "--format"},
+                     "unknown format '" + request.format + "' (expected urdf or mdh-csv)");
   const Eigen::Isometry3d* tcp = robot.tool.tcp_given ? &robot.tool.flange_T_tcp : nullptr;
   UrdfExport urdf = robot_to_urdf(robot.model, robot.params, tcp);
   ModelExportResult out{std::move(urdf.xml), std::move(urdf.left_out)};

@@ -41,6 +41,21 @@ grep -q "warning: not in the URDF: joint2.compliance" "$TMP/cal.txt" || fail "no
 grep -q "mm RMS, .* mm at most (2000 configurations within the limits, seed 4)" "$TMP/cal.txt" ||
   fail "no cost of the left-out compliance: $(cat "$TMP/cal.txt")"
 grep -q '<link name="tool0"/>' "$TMP/cal.urdf" || fail "calibrated URDF has no tool0 link"
+# The same model's parameter table: link 3's a identified with a σ, as in the model file.
+"$ROBCAL" model export --model "$TMP/cal.yaml" --format mdh-csv --out "$TMP/cal.csv" >/dev/null ||
+  fail "export mdh-csv"
+/usr/bin/python3 - "$TMP/cal.csv" "$TMP/cal.yaml" <<'PY' || fail "mdh-csv differs from the model file"
+import csv, sys, yaml
+rows = {r["name"]: r for r in csv.DictReader(open(sys.argv[1]))}
+model = {p["name"]: p for p in yaml.safe_load(open(sys.argv[2]))["parameters"]}
+bad = [n for n, p in model.items()
+       if abs(float(rows[n]["value"]) - p["value"]) > 1e-9 * max(1, abs(p["value"]))
+       or abs(float(rows[n]["std"]) - p["std"]) > 1e-9 * max(1e-9, p["std"])
+       or rows[n]["status"] != p["status"]]
+ok = not bad and rows["link3.a"]["status"] == "identified" and float(rows["link3.a"]["std"]) > 0
+print("mismatch:", bad) if bad else None
+sys.exit(0 if ok else 1)
+PY
 
 # 4. Bad input: exit 2, the file and the joint named, nothing written.
 sed 's/name="joint_3" type="revolute"/name="joint_3" type="prismatic"/' \
