@@ -111,9 +111,12 @@ void walk(const urdf::ModelInterface& urdf, const urdf::LinkConstSharedPtr& link
       case urdf::Joint::CONTINUOUS:
         for (const ChainLink& c : w.movable)
           if (c.follows == moved_by)
-            refuse(path, fmt::format("joints '{}' and '{}' both follow link '{}': a tree, not a "
-                                     "serial chain",
-                                     c.joint->name, joint->name, link->name));
+            refuse(path,
+                   fmt::format("joints '{}' and '{}' both hang on the part moved by {}: a "
+                               "tree, not a serial chain",
+                               c.joint->name, joint->name,
+                               moved_by < 0 ? std::string("nothing (the base)")
+                                            : "joint '" + w.movable[moved_by].joint->name + "'"));
         next = static_cast<int>(w.movable.size());
         w.movable.push_back({joint, moved_by, world_T_joint, 0, Eigen::Vector3d::Zero()});
         break;
@@ -326,8 +329,10 @@ UrdfExport robot_to_urdf(const RobotModel& model, const ParameterVector& params,
   const auto sign = [&](int i) { return diagonal ? M(i, i) : 1.0; };
   const auto offset = [&](int i) { return diagonal ? model.joint_map.offset[i] : 0.0; };
 
-  std::string xml = fmt::format("<?xml version=\"1.0\"?>\n<robot name=\"{}\">\n",
-                                model.name.empty() ? "robot" : model.name);
+  std::string name;  // an XML attribute value
+  for (char ch : model.name.empty() ? std::string("robot") : model.name)
+    name += ch == '&' ? "&amp;" : ch == '<' ? "&lt;" : ch == '"' ? "&quot;" : std::string(1, ch);
+  std::string xml = fmt::format("<?xml version=\"1.0\"?>\n<robot name=\"{}\">\n", name);
   xml += "  <link name=\"base_link\"/>\n";
   for (int i = 0; i < kJointCount; ++i) {
     const int link = i + 1;

@@ -9,8 +9,9 @@
 /// the conversion is exact: FK equals the URDF's to rounding. The root link is the world frame;
 /// when axis 1 is not the root's z axis the placement goes to the base parameters (x, y, alpha,
 /// beta). The flange (frame 6) is the tip link when it lies on axis 6 with z along it (tool0 of
-/// ROS-Industrial and UR descriptions); otherwise `flange_T_tip` holds the rest. The URDF's
-/// joint values are the controller's (joint 1 reversed through the joint map when its axis
+/// ROS-Industrial and UR descriptions); otherwise `flange_T_tip` holds the rest. A continuous
+/// joint gets the limits ±360°; masses before joint 1 are left out (they move with nothing). The
+/// URDF's joint values are the controller's (joint 1 reversed through the joint map when its axis
 /// points down, joint 6 when it points against the tip's z). Inertial masses and CoGs (folded per
 /// moving link) become link masses.
 ///
