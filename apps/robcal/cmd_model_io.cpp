@@ -49,7 +49,8 @@ void run_export(const ExportOptions& o) {
 }
 
 const bool registered = register_command(15, [](CLI::App& app) {
-  auto* model = app.add_subcommand("model", "Robot models in from URDF and out to URDF");
+  auto* model = app.add_subcommand(
+      "model", "Robot models in from URDF, out to URDF or an MDH table with σ (CSV)");
   model->require_subcommand(1);
 
   auto in = std::make_shared<ImportOptions>();
