@@ -40,7 +40,7 @@ struct Stage {
 };
 const std::vector<Stage>& stages() {
   static const std::vector<Stage> kStages = {
-      {"1. Model", {"robots", "robot", "fk", "ik"}},
+      {"1. Model", {"robots", "robot", "fk", "ik", "model"}},
       {"2. Plan", {"plan", "plan-study"}},
       {"3. Measure", {"program", "simulate", "import", "frames", "session"}},
       {"4. Identify", {"calibrate"}},

@@ -25,7 +25,7 @@ for line in open(sys.argv[1]):
         sections[current] = []
     elif current and re.match(r"^  [a-z]", line):
         sections[current].append(line.split()[0])
-want = {"1. Model": ["robots", "robot", "fk", "ik"], "2. Plan": ["plan", "plan-study"],
+want = {"1. Model": ["robots", "robot", "fk", "ik", "model"], "2. Plan": ["plan", "plan-study"],
         "3. Measure": ["program", "simulate", "import", "frames", "session"], "4. Identify": ["calibrate"], "5. Validate": ["validate", "iso9283", "axis-test", "ballbar-path"],
         "6. Compensate": ["compensate", "compensate-program"]}
 errors = [f"{k}: {sections.get(k)} (expected {v})" for k, v in want.items()
