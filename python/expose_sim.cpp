@@ -10,6 +10,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/measure/instrument.hpp"
+#include "robcal/sim/simulate_workflow.hpp"
 #include "robcal/sim/simulator.hpp"
 
 namespace py = pybind11;
@@ -22,29 +23,16 @@ py::dict simulate(const std::string& instrument_name, const std::string& truth_n
                   uint64_t seed, double noise_mm) {
   if (count < 1) throw py::value_error("count must be positive");
   if (noise_mm < 0) throw py::value_error("noise_mm must not be negative");
-  const RobotModel model = load_robot("abb-irb120");
-  const Tool tool = default_simulation_tool();
-  std::mt19937_64 truth_rng(seed), config_rng(seed + 1), noise_rng(seed + 2);
-  TrueRobot truth;
-  if (truth_name == "published")
-    truth = published_irb120_truth(model, tool);
-  else if (truth_name == "random")
-    truth = random_truth(model, tool, ErrorBounds{}, truth_rng);
-  else
-    throw py::value_error("truth must be 'published' or 'random'");
-  VirtualInstrument instrument =
-      standard_instrument(parse_instrument_kind(instrument_name, "instrument"), truth, noise_mm);
-  if (noise_mm == 0) {  // exact readings
-    instrument.tracker.sigma_mm.setZero();
-    instrument.cmm.sigma_mm = 0;
-    instrument.cmm.sigma_orientation_deg = 0;
-    instrument.ballbar.sigma_mm = 0;
-  }
-  RandomConfigurationOptions options;
-  options.box = published_joint_box(model);
-  const auto configs = random_configurations(truth, instrument, count, config_rng, options);
-  const MeasurementSet set =
-      simulate_measurements(truth, instrument, configs, noise_rng).measurements;
+  SimulateRequest request;
+  request.instrument = instrument_name;
+  request.truth = truth_name;
+  request.random = count;
+  request.seed = seed;
+  request.noise_mm = noise_mm;
+  request.exact = noise_mm == 0;
+  const SimulateResult result = run_simulation(request);
+  const MeasurementSet& set = result.simulation.measurements;
+  const Tool& tool = result.tool;
   const Eigen::Index n = static_cast<Eigen::Index>(set.size());
   Eigen::MatrixXd joints(n, kJointCount), values(n, set.residuals_per_row() == 1 ? 1 : 3);
   py::list names, targets;

@@ -297,6 +297,7 @@ std::vector<PlannedConfiguration> random_configurations(const TrueRobot& truth,
         case InstrumentKind::Ballbar:
           break;
       }
+      if (options.accept && !options.accept(config)) continue;
       configs.push_back(config);
       found = true;
     }

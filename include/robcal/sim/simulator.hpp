@@ -5,6 +5,7 @@
 /// is the same MeasurementSet a real instrument's file gives, so the pipeline cannot tell the
 /// difference.
 
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -82,6 +83,9 @@ struct RandomConfigurationOptions {
   double min_target_height_mm = 50;           ///< above the robot's base plane
   std::string name_prefix = "R";
   int max_attempts = 2000;  ///< per configuration, before giving up with an InputError
+  /// A further rule a draw must keep (e.g. a cell's keep-out boxes and line of sight), asked
+  /// once the draw is measurable; empty: none.
+  std::function<bool(const PlannedConfiguration&)> accept;
 };
 
 /// `count` random configurations the instrument can measure on the true robot, uniform in the
