@@ -114,7 +114,7 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
   {
     const Eigen::VectorXd s = J.colwise().norm().cwiseInverse();
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J * s.asDiagonal());
-    const Eigen::VectorXd sv = svd.singularValues();
+    const Eigen::VectorXd& sv = svd.singularValues();
     out.condition_number = sv.minCoeff() > 0 ? sv.maxCoeff() / sv.minCoeff() : 0.0;
   }
 

@@ -121,7 +121,7 @@ Tool tool_to_identify(Tool tool, const MeasurementSet& data) {
 }
 
 std::string what_was_asked(const IdentifyOptions& options) {
-  const std::string patterns = fmt::format("{}", fmt::join(options.identify, " "));
+  std::string patterns = fmt::format("{}", fmt::join(options.identify, " "));
   if (options.level == CalibrationLevel::Patterns) return patterns;
   return patterns.empty() ? level_name(options.level)
                           : fmt::format("{} {}", level_name(options.level), patterns);

@@ -26,18 +26,18 @@ Linearization linearize(const RobotModel& model, const PointMass& payload,
   for (int i = 0; i < kJointCount; ++i) q[i] = Jet(joints[i], i);
   const Pose<Jet> pose = flange_pose<Jet>(model, payload, params.data(), q.data());
   Linearization out;
-  Eigen::Matrix3d dR[kJointCount];
+  Eigen::Matrix3d R_dot[kJointCount];
   for (int r = 0; r < 3; ++r) {
     out.pose.p[r] = pose.p[r].a;
     out.jacobian.block<1, 6>(r, 0) = pose.p[r].v.transpose();
     for (int c = 0; c < 3; ++c) {
       out.pose.R(r, c) = pose.R(r, c).a;
-      for (int j = 0; j < kJointCount; ++j) dR[j](r, c) = pose.R(r, c).v[j];
+      for (int j = 0; j < kJointCount; ++j) R_dot[j](r, c) = pose.R(r, c).v[j];
     }
   }
   for (int j = 0; j < kJointCount; ++j) {
-    // ω^ = dR·Rᵀ is skew-symmetric; take its axial vector.
-    const Eigen::Matrix3d W = dR[j] * out.pose.R.transpose();
+    // ω^ = R_dot·Rᵀ is skew-symmetric; take its axial vector.
+    const Eigen::Matrix3d W = R_dot[j] * out.pose.R.transpose();
     out.jacobian.block<3, 1>(3, j) =
         0.5 * Eigen::Vector3d(W(2, 1) - W(1, 2), W(0, 2) - W(2, 0), W(1, 0) - W(0, 1));
   }

@@ -118,6 +118,7 @@ std::vector<double> rewrite(Rewriter& out, const PointSite& site, const Correcte
                             ProgramLanguage language, const ProgramFilterOptions& options) {
   const auto& f = site.fields;
   std::vector<double> expected;
+  expected.reserve(f.size());
   for (const NumberField& field : f) expected.push_back(field.value);
   if (site.point.is_joint_target && language == ProgramLanguage::Jbi) {
     // Whole encoder pulses (the pulses of an unchanged joint print as written).
@@ -370,7 +371,7 @@ ProgramFilterResult filter_program_file(const std::string& in, const std::string
       throw InputError({o, 0, 0, o == out ? "--out" : "--confidence-out"},
                        "the output is the input program: give a new file (the original is kept)");
   }
-  const ProgramFilterResult result =
+  ProgramFilterResult result =
       filter_program(read_text_file(in), language, in, options, corrector);
   write_file_atomically(out, result.text);
   if (!confidence_out.empty()) write_file_atomically(confidence_out, result.confidence_csv);

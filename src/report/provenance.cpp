@@ -113,6 +113,7 @@ Provenance start_provenance_of_process() {
   std::ifstream in("/proc/self/cmdline", std::ios::binary);
   for (std::string arg; std::getline(in, arg, '\0');) args.push_back(arg);
   std::vector<const char*> argv;
+  argv.reserve(args.size());
   for (const std::string& a : args) argv.push_back(a.c_str());
   return start_provenance(static_cast<int>(argv.size()), argv.data());
 }
