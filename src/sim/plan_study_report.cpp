@@ -70,6 +70,7 @@ nlohmann::json plan_study_json(const PlanStudyResult& r, const PlanStudyOptions&
   nlohmann::json out;
   out["seeds"] = r.seeds;
   out["instrument"] = instrument_name(options.instrument);
+  out["cell"] = options.cell ? options.cell->name : "the simulator's standard cell";
   out["level"] = level_name(options.plan.level);
   out["sigma_mm"] = r.sigma_mm;
   out["candidates"] = r.candidates;

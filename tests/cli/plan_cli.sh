@@ -162,4 +162,31 @@ listed = lambda c: any(max(abs(a - b) for a, b in zip(c, g)) < 1e-9 for g in giv
 if len(chosen) != 10 or not all(listed(c) for c in chosen): print("FAIL: chosen rows not among the listed ones", chosen); sys.exit(1)
 PY
 
+# 13. plan-study in a cell with a fixture: its name in the report, and the study runs in it.
+cat >"$TMP/fixture-cell.yaml" <<'YAML'
+format: robcal-cell
+name: fixture cell
+robot_base:
+  position_mm: [-812.25, 1503.5, -95]
+  rotation_xyz_deg: [0.25, -0.4, -57]
+instrument:
+  kind: laser-tracker
+  position_mm: [0, 0, 0]
+  range_mm: [0, 35000]
+  cone_half_angle_deg: 30
+floor_z_mm: -95
+link_radius_mm: 60
+keep_out:
+  - {name: fixture, min_mm: [-700, 1000, -95], max_mm: [-300, 1300, 400]}
+YAML
+"$ROBCAL" plan-study --cell "$TMP/fixture-cell.yaml" --seeds 1 --counts 20 --candidates 300 \
+  --task-count 50 --json >"$TMP/study-cell.json" || fail "plan-study --cell failed"
+/usr/bin/python3 - "$TMP/study-cell.json" <<'PY' || FAILED=1
+import json, sys
+d = json.load(open(sys.argv[1]))
+if d["cell"] != "fixture cell" or d["rows"][0]["optimal"]["per_seed"][0]["measured"] < 15:
+    print("FAIL: plan-study in the fixture cell", {k: d[k] for k in d if k != "rows"}); sys.exit(1)
+PY
+expect_error "cannot open" "nowhere.yaml" plan-study --cell "$TMP/nowhere.yaml" --seeds 1
+
 finish plan_cli
