@@ -97,6 +97,7 @@ void run_plan(const PlanOptions& o) {
     out["cube_edge_mm"] = plan.cube_edge_mm;
     for (const Iso9283PlannedPose& p : plan.poses) {
       std::vector<double> joints;
+      joints.reserve(kJointCount);
       for (int j = 0; j < kJointCount; ++j) joints.push_back(rad2deg(p.joints[j]));
       out["poses"].push_back({{"name", p.name},
                               {"position_mm", vector_json(p.world_T_tcp.p)},

@@ -36,7 +36,7 @@ CircleFit fit_circle(const std::vector<Eigen::Vector3d>& points,
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   for (const auto& p : points) scatter += (p - mean) * (p - mean).transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
-  const Eigen::Vector3d spread = eigen.eigenvalues();  // ascending
+  const Eigen::Vector3d& spread = eigen.eigenvalues();  // ascending
   if (spread[1] <= 1e-12 * std::max(spread[2], 1e-300))
     throw InputError("the points lie on one line: a circle needs an arc that spans a plane");
   Eigen::Vector3d n = eigen.eigenvectors().col(0);

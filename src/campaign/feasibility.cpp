@@ -179,13 +179,12 @@ std::vector<Capsule> link_capsules(const RobotModel& model, const ParameterVecto
   std::vector<Capsule> capsules;
   const Eigen::Vector3d foot(params[0], params[1], params[2]);
   capsules.push_back({"base", foot, frames[0].p, radius_mm});
-  for (int i = 0; i < kJointCount - 1; ++i) {
-    const Eigen::Vector3d elbow =
-        frames[static_cast<size_t>(i)].p +
-        params[link_param(i + 2, 1)] * frames[static_cast<size_t>(i)].R.col(0);
+  for (size_t i = 0; i + 1 < kJointCount; ++i) {
+    const int link = static_cast<int>(i) + 2;
+    const Eigen::Vector3d elbow = frames[i].p + params[link_param(link, 1)] * frames[i].R.col(0);
     const std::string name = fmt::format("link {}", i + 1);
-    capsules.push_back({name, frames[static_cast<size_t>(i)].p, elbow, radius_mm});
-    capsules.push_back({name, elbow, frames[static_cast<size_t>(i + 1)].p, radius_mm});
+    capsules.push_back({name, frames[i].p, elbow, radius_mm});
+    capsules.push_back({name, elbow, frames[i + 1].p, radius_mm});
   }
   return capsules;
 }

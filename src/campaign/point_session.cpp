@@ -131,8 +131,8 @@ std::vector<SessionReading> replay_journal(const std::string& text, const std::s
       r.time = f[2];
     } else if (f.size() == 5 || f.size() == 6) {
       Eigen::Vector3d p;
-      for (int k = 0; k < 3; ++k)
-        p[k] = parse_number(f[static_cast<size_t>(k + 1)], '.', where, "a coordinate in mm");
+      for (size_t k = 0; k < 3; ++k)
+        p[static_cast<Eigen::Index>(k)] = parse_number(f[k + 1], '.', where, "a coordinate in mm");
       r.position_mm = p;
       r.time = f[4];
       if (f.size() == 6) r.temperature_c = parse_number(f[5], '.', where, "a temperature in °C");

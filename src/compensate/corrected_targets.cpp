@@ -15,7 +15,7 @@ namespace {
 
 /// χ²(3 degrees of freedom) at 95 %: a 3-D Gaussian lies within √(7.815·σ²) of its mean
 /// along its longest axis with 95 % probability (conservative for the other axes).
-constexpr double kChi2_3_95 = 7.814727903;
+constexpr double kChiSquare3Dof95 = 7.814727903;
 
 }  // namespace
 
@@ -31,7 +31,7 @@ std::optional<double> position_confidence95_mm(const CalibratedRobot& robot,
                                     &J);
   const Eigen::Matrix3d S = J * robot.covariance * J.transpose();
   const double largest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S).eigenvalues().maxCoeff();
-  return std::sqrt(kChi2_3_95 * std::max(largest, 0.0));
+  return std::sqrt(kChiSquare3Dof95 * std::max(largest, 0.0));
 }
 
 std::vector<CorrectedTarget> correct_targets(const Compensator& comp, const CalibratedRobot& robot,

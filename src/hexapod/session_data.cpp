@@ -186,6 +186,7 @@ SessionData load_sessions(const std::vector<std::string>& sessions,
     throw InputError({"", 0, 0, "--plan"},
                      "--plan goes with one journal; give several sessions as directories");
   std::vector<SessionData> all;
+  all.reserve(sessions.size());
   for (const std::string& s : sessions) all.push_back(load_session_data(s, plan));
   return merge_sessions(all);
 }

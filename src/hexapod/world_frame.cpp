@@ -24,15 +24,15 @@ WorldFrameFit fit_world_frame(const Cups<double>& p, const TriangleSides& measur
   Eigen::Vector3d x = Eigen::Vector3d::Zero();  // (x, y, φ), from the identity
   const auto residuals = [&](const Eigen::Vector3d& t, Eigen::Matrix<double, 6, 3>* J) {
     const double c = std::cos(t[2]), s = std::sin(t[2]);
-    Eigen::Matrix2d R, dR;
+    Eigen::Matrix2d R, R_dot;
     R << c, -s, s, c;
-    dR << -s, -c, c, -s;
+    R_dot << -s, -c, c, -s;
     Eigen::Matrix<double, 6, 1> r;
     for (Eigen::Index i = 0; i < 3; ++i) {
       r.segment<2>(2 * i) = a[i] - (R * q2[i] + t.head<2>());
       if (J) {
         J->block<2, 2>(2 * i, 0) = -Eigen::Matrix2d::Identity();
-        J->block<2, 1>(2 * i, 2) = -dR * q2[i];
+        J->block<2, 1>(2 * i, 2) = -R_dot * q2[i];
       }
     }
     return r;

@@ -39,7 +39,7 @@ yaml::Node opw_section(const yaml::Node& root, std::string& prefix) {
     if (root.has(prefix + "geometric_parameters")) return root;
     if (!root.node.IsMap()) break;
     for (const std::string& key : root.keys()) {
-      const yaml::Node child = root.at(key);
+      yaml::Node child = root.at(key);
       if (child.node.IsMap() && child.has(prefix + "geometric_parameters")) return child;
     }
   }
