@@ -371,8 +371,7 @@ ProgramFilterResult filter_program_file(const std::string& in, const std::string
       throw InputError({o, 0, 0, o == out ? "--out" : "--confidence-out"},
                        "the output is the input program: give a new file (the original is kept)");
   }
-  ProgramFilterResult result =
-      filter_program(read_text_file(in), language, in, options, corrector);
+  ProgramFilterResult result = filter_program(read_text_file(in), language, in, options, corrector);
   write_file_atomically(out, result.text);
   if (!confidence_out.empty()) write_file_atomically(confidence_out, result.confidence_csv);
   return result;
