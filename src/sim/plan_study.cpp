@@ -30,15 +30,16 @@ RegionError region_error(const std::vector<double>& errors) {
   return out;
 }
 
-/// TCP error of the robot with `params` against the truth at every task configuration.
-RegionError error_against_truth(const TrueRobot& truth, const ParameterVector& params,
-                                const std::vector<Vector6d>& task) {
-  const RobotModel& model = truth.robot.model;
-  const Eigen::Vector3d tcp = truth.robot.tool.flange_T_tcp.translation();
+/// TCP error against the truth at every task configuration of the model the user holds: the
+/// robot file's masses and the tool file's payload with `params` (the truth's own masses differ
+/// under a mass error, and the user's compensation does not know them).
+RegionError error_against_truth(const TrueRobot& truth, const RobotModel& model, const Tool& tool,
+                                const ParameterVector& params, const std::vector<Vector6d>& task) {
+  const Eigen::Vector3d tcp = tool.flange_T_tcp.translation();
   std::vector<double> errors;
   errors.reserve(task.size());
   for (const Vector6d& q : task)
-    errors.push_back((flange_pose(model, truth.robot.tool.payload, params, q) * tcp -
+    errors.push_back((flange_pose(model, tool.payload, params, q) * tcp -
                       true_flange_pose(truth, q) * tcp)
                          .norm());
   return region_error(errors);
@@ -143,7 +144,7 @@ PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
         task.push_back(c.joints);
     }
     result.task_configurations = static_cast<int>(task.size());
-    result.nominal.push_back(error_against_truth(truth, cell.robot.params, task));
+    result.nominal.push_back(error_against_truth(truth, model, tool, cell.robot.params, task));
 
     // The guard's task share: candidates whose TCP lies in the task region's TCP box.
     const SelectionCriterion criterion = study_criterion(options);
@@ -170,7 +171,7 @@ PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
       out.measured = static_cast<int>(measured.measurements.size());
       const IdentificationResult fit = calibrate(model, tool, measured.measurements, identify);
       out.converged = fit.status.converged;
-      out.achieved = error_against_truth(truth, fit.robot.params, task);
+      out.achieved = error_against_truth(truth, model, tool, fit.robot.params, task);
       const PredictedAccuracy predicted = predict_position_error(
           model, tool.payload, cell.robot.params, design.parameters,
           design_parameter_covariance(design, subset, sigma), task, tcp, sigma);
