@@ -4,12 +4,14 @@
 #include <fmt/format.h>
 
 #include <memory>
+#include <optional>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
 #include "robcal/campaign/cell.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/design/calibration_planning.hpp"
+#include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -39,6 +41,8 @@ struct PlanOptions {
   std::string task_box;
   std::string task_poses;
   int task_count = 1000;
+  std::string prior_model;
+  std::optional<double> misfit_mm;
   std::string out;
   bool json = false;
 };
@@ -96,6 +100,11 @@ PlanRequest plan_request(const PlanOptions& o) {
     request.task_poses_file = o.task_poses;
   }
   request.task_count = o.task_count;
+  if (!o.prior_model.empty()) {
+    request.prior_model = load_calibrated_robot(o.prior_model);
+    request.prior_model_file = o.prior_model;
+  }
+  request.misfit_mm = o.misfit_mm;
   return request;
 }
 
@@ -131,12 +140,24 @@ void run_plan(const PlanOptions& o) {
     out["sigma_mm"] = r.sigma_mm;
     out["predicted_error_mm"] = {{"task_configurations", r.task_configurations},
                                  {"task_region", r.region},
+                                 {"basis", "instrument noise only"},
                                  {"selected",
                                   {{"mean", tidy(r.predicted_selected.mean_mm, 6)},
+                                   {"rms", tidy(r.predicted_selected.rms_mm, 6)},
                                    {"max", tidy(r.predicted_selected.max_mm, 6)}}},
                                  {"random",
                                   {{"mean", tidy(r.predicted_random.mean_mm, 6)},
+                                   {"rms", tidy(r.predicted_random.rms_mm, 6)},
                                    {"max", tidy(r.predicted_random.max_mm, 6)}}}};
+    if (r.misfit)
+      out["predicted_error_with_misfit_mm"] = {
+          {"misfit_rms", tidy(r.misfit->misfit_mm, 6)},
+          {"source", r.misfit->source},
+          {"held_out_rms", tidy(r.misfit->held_out_rms_mm, 6)},
+          {"held_out_noise", tidy(r.misfit->noise_mm, 6)},
+          {"held_out_parameter_noise", tidy(r.misfit->parameter_noise_mm, 6)},
+          {"selected", {{"rms", tidy(r.predicted_rms_with_misfit_selected, 6)}}},
+          {"random", {{"rms", tidy(r.predicted_rms_with_misfit_random, 6)}}}};
     out["out"] = o.out;
     print_json(out);
     return;
@@ -177,12 +198,31 @@ void run_plan(const PlanOptions& o) {
   row("O4", r.selected.O4, r.random.O4);
   row("O5", r.selected.O5, r.random.O5);
   row("D-eff", r.d_efficiency_selected, r.d_efficiency_random);
-  fmt::print("\npredicted TCP error after calibration (σ = {} mm, {} task configurations: {}):\n",
-             r.sigma_mm, r.task_configurations, r.region);
-  fmt::print("  selected: mean {:.4f} mm, max {:.4f} mm\n", r.predicted_selected.mean_mm,
-             r.predicted_selected.max_mm);
-  fmt::print("  random:   mean {:.4f} mm, max {:.4f} mm\n", r.predicted_random.mean_mm,
-             r.predicted_random.max_mm);
+  fmt::print("\npredicted TCP error after calibration ({} task configurations: {})\n",
+             r.task_configurations, r.region);
+  fmt::print(
+      "from instrument noise only (σ = {} mm, σ²(JᵀJ)⁻¹: as if the model held every effect of "
+      "the robot):\n",
+      r.sigma_mm);
+  fmt::print("  selected: mean {:.4f}  rms {:.4f}  max {:.4f} mm\n", r.predicted_selected.mean_mm,
+             r.predicted_selected.rms_mm, r.predicted_selected.max_mm);
+  fmt::print("  random:   mean {:.4f}  rms {:.4f}  max {:.4f} mm\n", r.predicted_random.mean_mm,
+             r.predicted_random.rms_mm, r.predicted_random.max_mm);
+  if (r.misfit) {
+    fmt::print("with the model misfit, {:.4f} mm rms ({}{}), the expected accuracy:\n",
+               r.misfit->misfit_mm, r.misfit->source,
+               r.misfit->held_out_rms_mm > 0
+                   ? fmt::format(", less its noise {:.4f} and parameter noise {:.4f} mm",
+                                 r.misfit->noise_mm, r.misfit->parameter_noise_mm)
+                   : "");
+    fmt::print("  selected: rms {:.4f} mm\n", r.predicted_rms_with_misfit_selected);
+    fmt::print("  random:   rms {:.4f} mm\n", r.predicted_rms_with_misfit_random);
+  } else {
+    fmt::print(
+        "note: a real robot adds the misfit its model leaves (effects the model does not "
+        "contain), which no choice of configurations removes; for the expected accuracy give "
+        "--prior-model (a calibration of this robot with --kfold) or --misfit-mm\n");
+  }
   fmt::print("wrote {}\n", o.out);
 }
 
@@ -255,6 +295,14 @@ const bool registered = register_command(60, [](CLI::App& app) {
                   "Task configurations drawn (box or random) when no --task-configs or "
                   "--task-poses file")
       ->capture_default_str();
+  auto* prior_option = cmd->add_option(
+      "--prior-model", o->prior_model,
+      "A calibrated model of this robot with its cross-validation (calibrate --kfold 5 --sigma "
+      "S): its held-out error, less noise, is the model misfit added to the prediction");
+  cmd->add_option("--misfit-mm", o->misfit_mm,
+                  "The model misfit (RMS systematic TCP error a calibration leaves, mm) added to "
+                  "the prediction, when known from elsewhere")
+      ->excludes(prior_option);
   cmd->add_option("--out", o->out, "Output CSV: config,target,j1..j6 (deg)")->required();
   cmd->add_flag("--json", o->json, "Machine-readable output");
   cmd->callback([o] { run_plan(*o); });

@@ -37,6 +37,7 @@ struct StudyOptions {
   std::string task_box;
   std::string task_poses;
   int task_count = 200;
+  int prior_count = 60;
   bool json = false;
 };
 
@@ -72,6 +73,7 @@ void run_study(const StudyOptions& o) {
     options.task_poses_file = o.task_poses;
   }
   options.task_count = o.task_count;
+  options.prior_count = o.prior_count;
   check_plan_study_options(options);
   const Tool tool = o.tool.empty() ? default_simulation_tool() : load_tool(o.tool);
 
@@ -100,16 +102,28 @@ void run_study(const StudyOptions& o) {
           : "",
       options.effects.empty() ? "none" : fmt::format("{}", fmt::join(options.effects, ", ")));
   fmt::print("TCP error after calibration against the truth, over the true robots (mm)\n");
-  fmt::print("{:>5} | {:^39} | {:^39} | {:>5}\n", "", "planned", "random", "gain");
-  fmt::print("{:>5} | {:>9} {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9} | {:>5}\n", "count", "mean",
-             "rms", "pred.rms", "max", "mean", "rms", "pred.rms", "max", "");
+  if (!r.misfit.empty()) {
+    double misfit = 0;
+    for (const MisfitAllowance& m : r.misfit)
+      misfit += m.misfit_mm * m.misfit_mm / static_cast<double>(r.misfit.size());
+    fmt::print(
+        "prior calibration of each true robot: {} random configurations, {}-fold "
+        "cross-validated; misfit allowance {:.4f} mm rms over the robots\n",
+        options.prior_count, options.prior_folds, std::sqrt(misfit));
+  }
+  fmt::print("\n");
+  fmt::print("{:>5} | {:^49} | {:^49} | {:>5}\n", "", "planned", "random", "gain");
+  fmt::print("{:>5} | {:>9} {:>9} {:>9} {:>9} {:>9} | {:>9} {:>9} {:>9} {:>9} {:>9} | {:>5}\n",
+             "count", "mean", "rms", "pred.rms", "+misfit", "max", "mean", "rms", "pred.rms",
+             "+misfit", "max", "");
   for (const StudyRow& row : r.rows) {
     const StudySummary opt = summarize(row.optimal), rnd = summarize(row.random);
     fmt::print(
-        "{:>5} | {:>9.4f} {:>9.4f} {:>9.4f} {:>9.4f} | {:>9.4f} {:>9.4f} {:>9.4f} {:>9.4f} | "
-        "{:>5.2f}\n",
+        "{:>5} | {:>9.4f} {:>9.4f} {:>9.4f} {:>9.4f} {:>9.4f} | {:>9.4f} {:>9.4f} {:>9.4f} "
+        "{:>9.4f} {:>9.4f} | {:>5.2f}\n",
         row.count, opt.achieved_mean_mm, opt.achieved_rms_mm, opt.predicted_rms_mm,
-        opt.achieved_max_mm, rnd.achieved_mean_mm, rnd.achieved_rms_mm, rnd.predicted_rms_mm,
+        opt.predicted_rms_with_misfit_mm, opt.achieved_max_mm, rnd.achieved_mean_mm,
+        rnd.achieved_rms_mm, rnd.predicted_rms_mm, rnd.predicted_rms_with_misfit_mm,
         rnd.achieved_max_mm, rnd.achieved_mean_mm / opt.achieved_mean_mm);
   }
   for (const StudyRow& row : r.rows) {
@@ -118,15 +132,21 @@ void run_study(const StudyOptions& o) {
     for (size_t k = 0; k < row.optimal.size(); ++k)
       beaten += row.optimal[k].achieved.mean_mm < row.random[k].achieved.mean_mm ? 1 : 0;
     fmt::print(
-        "count {}: planned better than random on {} of {} true robots; predicted mean "
-        "{:.4f} mm is {:+.0f} % of the achieved {:.4f} mm\n",
-        row.count, beaten, row.optimal.size(), opt.predicted_mean_mm,
-        100 * (opt.predicted_mean_mm / opt.achieved_mean_mm - 1), opt.achieved_mean_mm);
+        "count {}: planned better than random on {} of {} true robots; predicted rms {:.4f} mm "
+        "(noise only) is {:+.0f} % of the achieved {:.4f} mm{}\n",
+        row.count, beaten, row.optimal.size(), opt.predicted_rms_mm,
+        100 * (opt.predicted_rms_mm / opt.achieved_rms_mm - 1), opt.achieved_rms_mm,
+        r.misfit.empty()
+            ? ""
+            : fmt::format(", with the misfit {:.4f} mm {:+.0f} %", opt.predicted_rms_with_misfit_mm,
+                          100 * (opt.predicted_rms_with_misfit_mm / opt.achieved_rms_mm - 1)));
   }
   fmt::print(
       "\nmean, max: achieved, averaged over the true robots; rms: achieved, quadratic mean over "
       "them; pred.rms: predicted before measuring from the design's parameter covariance "
-      "σ²(JᵀJ)⁻¹; gain: random mean / planned mean\n");
+      "σ²(JᵀJ)⁻¹ (instrument noise only); +misfit: √(pred.rms² + m²), m the prior calibration's "
+      "cross-validated misfit (docs/method/05-observability.md §6); gain: random mean / planned "
+      "mean\n");
 }
 
 const bool registered = register_command(62, [](CLI::App& app) {
@@ -173,6 +193,10 @@ const bool registered = register_command(62, [](CLI::App& app) {
                   "CSV (mm), solved by inverse kinematics for each true robot's placement")
       ->excludes(box_option);
   cmd->add_option("--task-count", o->task_count, "Task configurations (box or random)")
+      ->capture_default_str();
+  cmd->add_option("--prior-count", o->prior_count,
+                  "A prior calibration of each true robot from this many random configurations, "
+                  "5-fold cross-validated, for the misfit-aware prediction (0: none)")
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Machine-readable output");
   cmd->callback([o] { run_study(*o); });

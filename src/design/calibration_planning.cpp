@@ -296,6 +296,10 @@ PlanResult plan_calibration(const PlanRequest& request) {
     throw InputError({"", 0, 0, "--pool"},
                      fmt::format("expected a pool of at least twice the count ({}), got {}",
                                  2 * request.count, request.pool));
+  if (request.prior_model && request.misfit_mm)
+    throw InputError({"", 0, 0, "--misfit-mm"},
+                     "give the misfit either from a prior model (--prior-model) or directly "
+                     "(--misfit-mm), not both");
   const RobotModel& model = request.model;
   const Tool& tool = request.tool;
   const PlanningCell cell = planning_cell_of(request);
@@ -309,6 +313,13 @@ PlanResult plan_calibration(const PlanRequest& request) {
   result.cell = cell.name;
   result.instrument = instrument_name(cell.instrument.kind);
   result.sigma_mm = request.noise_mm > 0 ? request.noise_mm : instrument_sigma(cell.instrument);
+  // Resolved before the candidates are drawn, so that a prior model without a cross-validation
+  // stops the run at once.
+  if (request.prior_model)
+    result.misfit =
+        misfit_from_prior_model(*request.prior_model, request.prior_model_file, result.sigma_mm);
+  else if (request.misfit_mm)
+    result.misfit = misfit_given(*request.misfit_mm);
   result.task_region_given = !request.task_configurations.empty() || !request.task_poses.empty() ||
                              request.task_box.has_value();
   result.criterion = request.criterion != SelectionCriterion::Default ? request.criterion
@@ -473,6 +484,12 @@ PlanResult plan_calibration(const PlanRequest& request) {
   };
   result.predicted_selected = predict(design, chosen);
   result.predicted_random = predict(random_design, all_random);
+  if (result.misfit) {
+    result.predicted_rms_with_misfit_selected =
+        rms_with_misfit(result.predicted_selected, *result.misfit);
+    result.predicted_rms_with_misfit_random =
+        rms_with_misfit(result.predicted_random, *result.misfit);
+  }
   result.configurations = planned_configurations(pool.candidates, chosen);
   return result;
 }

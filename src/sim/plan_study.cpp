@@ -13,6 +13,7 @@
 #include "robcal/design/observability.hpp"
 #include "robcal/design/predicted_accuracy.hpp"
 #include "robcal/identify/accuracy_prediction.hpp"
+#include "robcal/identify/cross_validation.hpp"
 #include "robcal/identify/identification.hpp"
 
 namespace robcal {
@@ -39,9 +40,9 @@ RegionError error_against_truth(const TrueRobot& truth, const RobotModel& model,
   std::vector<double> errors;
   errors.reserve(task.size());
   for (const Vector6d& q : task)
-    errors.push_back((flange_pose(model, tool.payload, params, q) * tcp -
-                      true_flange_pose(truth, q) * tcp)
-                         .norm());
+    errors.push_back(
+        (flange_pose(model, tool.payload, params, q) * tcp - true_flange_pose(truth, q) * tcp)
+            .norm());
   return region_error(errors);
 }
 
@@ -82,10 +83,13 @@ StudySummary summarize(const std::vector<StudyOutcome>& outcomes) {
     s.achieved_max_mm += o.achieved.max_mm / n;
     s.predicted_mean_mm += o.predicted.mean_mm / n;
     s.predicted_rms_mm += o.predicted.rms_mm * o.predicted.rms_mm / n;
+    s.predicted_rms_with_misfit_mm +=
+        o.predicted_rms_with_misfit_mm * o.predicted_rms_with_misfit_mm / n;
     s.O1 += o.O1 / n;
   }
   s.achieved_rms_mm = std::sqrt(s.achieved_rms_mm);
   s.predicted_rms_mm = std::sqrt(s.predicted_rms_mm);
+  s.predicted_rms_with_misfit_mm = std::sqrt(s.predicted_rms_with_misfit_mm);
   return s;
 }
 
@@ -162,6 +166,37 @@ PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
     IdentifyOptions identify;
     identify.level = options.plan.level;
     identify.seed = s;
+    // The prior calibration: random candidates measured and cross-validated, as the user would
+    // before planning; its misfit is what no design of this model removes.
+    MisfitAllowance misfit;
+    if (options.prior_count > 0) {
+      std::mt19937_64 prior_rng(s + 5);
+      std::vector<int> prior(static_cast<size_t>(drawn));
+      std::iota(prior.begin(), prior.end(), 0);
+      std::shuffle(prior.begin(), prior.end(), prior_rng);
+      prior.resize(static_cast<size_t>(std::min(options.prior_count, drawn)));
+      const MeasurementSet measured =
+          simulate_measurements(truth, instrument, planned_configurations(pool.candidates, prior),
+                                prior_rng)
+              .measurements;
+      const IdentificationResult fit = calibrate(model, tool, measured, identify);
+      const CrossValidation cv =
+          cross_validate(model, tool, measured, identify, options.prior_folds, s);
+      PriorCrossValidation p;
+      p.mean_mm = cv.mean_mm;
+      p.std_mm = cv.std_mm;
+      p.folds = cv.folds;
+      p.row_dimension = measured.kind == MeasurementKind::Distances ? 1 : 3;
+      p.instrument_sigma_mm = sigma;
+      p.predicted_rms_mm = fit.predicted.rms_mm;
+      p.sigma_posterior_mm = fit.sigma_mm;
+      misfit = misfit_from_cross_validation(p);
+      misfit.source = fmt::format(
+          "prior calibration from {} random configurations, {}-fold "
+          "cross-validated",
+          prior.size(), cv.folds);
+      result.misfit.push_back(misfit);
+    }
     const auto outcome = [&](const std::vector<int>& subset) {
       StudyOutcome out;
       const std::vector<PlannedConfiguration> configs =
@@ -176,6 +211,7 @@ PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
           model, tool.payload, cell.robot.params, design.parameters,
           design_parameter_covariance(design, subset, sigma), task, tcp, sigma);
       out.predicted = {predicted.mean_mm, predicted.rms_mm, predicted.max_mm};
+      out.predicted_rms_with_misfit_mm = rms_with_misfit(predicted, misfit);
       out.O1 = observability_indices(design, subset).O1;
       return out;
     };

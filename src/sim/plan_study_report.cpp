@@ -13,21 +13,24 @@ namespace {
 nlohmann::json design_json(const std::vector<StudyOutcome>& outcomes) {
   nlohmann::json per_seed = nlohmann::json::array();
   for (const StudyOutcome& o : outcomes)
-    per_seed.push_back({{"achieved_mean_mm", rounded(o.achieved.mean_mm, 6)},
-                        {"achieved_rms_mm", rounded(o.achieved.rms_mm, 6)},
-                        {"achieved_max_mm", rounded(o.achieved.max_mm, 6)},
-                        {"predicted_mean_mm", rounded(o.predicted.mean_mm, 6)},
-                        {"predicted_rms_mm", rounded(o.predicted.rms_mm, 6)},
-                        {"predicted_max_mm", rounded(o.predicted.max_mm, 6)},
-                        {"O1", rounded(o.O1, 6)},
-                        {"measured", o.measured},
-                        {"converged", o.converged}});
+    per_seed.push_back(
+        {{"achieved_mean_mm", rounded(o.achieved.mean_mm, 6)},
+         {"achieved_rms_mm", rounded(o.achieved.rms_mm, 6)},
+         {"achieved_max_mm", rounded(o.achieved.max_mm, 6)},
+         {"predicted_mean_mm", rounded(o.predicted.mean_mm, 6)},
+         {"predicted_rms_mm", rounded(o.predicted.rms_mm, 6)},
+         {"predicted_max_mm", rounded(o.predicted.max_mm, 6)},
+         {"predicted_rms_with_misfit_mm", rounded(o.predicted_rms_with_misfit_mm, 6)},
+         {"O1", rounded(o.O1, 6)},
+         {"measured", o.measured},
+         {"converged", o.converged}});
   const StudySummary s = summarize(outcomes);
   return {{"achieved_mean_mm", rounded(s.achieved_mean_mm, 6)},
           {"achieved_rms_mm", rounded(s.achieved_rms_mm, 6)},
           {"achieved_max_mm", rounded(s.achieved_max_mm, 6)},
           {"predicted_mean_mm", rounded(s.predicted_mean_mm, 6)},
           {"predicted_rms_mm", rounded(s.predicted_rms_mm, 6)},
+          {"predicted_rms_with_misfit_mm", rounded(s.predicted_rms_with_misfit_mm, 6)},
           {"O1", rounded(s.O1, 6)},
           {"per_seed", per_seed}};
 }
@@ -48,6 +51,13 @@ void check_plan_study_options(const PlanStudyOptions& options) {
                      fmt::format("expected at least 1, got {}", options.task_count));
   if (options.noise_mm < 0)
     throw InputError({"", 0, 0, "--noise-mm"}, "expected a non-negative noise");
+  // Each fold model of the prior must identify the full model: 20 configurations leave 16 per
+  // fold at 5 folds, 48 residuals for 30 unknowns.
+  constexpr int kMinPriorCount = 20;
+  if (options.prior_count != 0 && options.prior_count < kMinPriorCount)
+    throw InputError({"", 0, 0, "--prior-count"},
+                     fmt::format("expected 0 (no prior calibration) or at least {}, got {}",
+                                 kMinPriorCount, options.prior_count));
 }
 
 std::string task_region_description(const PlanStudyOptions& options) {
@@ -77,6 +87,13 @@ nlohmann::json plan_study_json(const PlanStudyResult& r, const PlanStudyOptions&
   out["task_region"] = task_region_description(options);
   out["task_configurations"] = r.task_configurations;
   out["nominal_mean_mm"] = rounded(nominal_mean_mm(r), 6);
+  out["prior_count"] = options.prior_count;
+  out["misfit_mm"] = nlohmann::json::array();
+  for (const MisfitAllowance& m : r.misfit)
+    out["misfit_mm"].push_back({{"misfit", rounded(m.misfit_mm, 6)},
+                                {"held_out_rms", rounded(m.held_out_rms_mm, 6)},
+                                {"noise", rounded(m.noise_mm, 6)},
+                                {"parameter_noise", rounded(m.parameter_noise_mm, 6)}});
   out["rows"] = nlohmann::json::array();
   for (const StudyRow& row : r.rows)
     out["rows"].push_back({{"count", row.count},

@@ -14,6 +14,7 @@
 
 #include "robcal/campaign/cell.hpp"
 #include "robcal/design/candidates.hpp"
+#include "robcal/design/misfit_allowance.hpp"
 #include "robcal/design/observability.hpp"
 #include "robcal/design/task_region.hpp"
 #include "robcal/design/task_selection.hpp"
@@ -81,6 +82,12 @@ struct PlanRequest {
   /// Candidates kept for the selection: larger draws are scored in batches of this size and
   /// only the most informative this many kept (see plan_calibration).
   int pool = 5000;
+  /// The model misfit (misfit_allowance.hpp): a prior calibration of this robot with its
+  /// cross-validation (its file for messages), or a value given directly; neither: unknown, and
+  /// the prediction is the noise-only one, labelled so.
+  std::optional<CalibratedRobot> prior_model;
+  std::string prior_model_file;
+  std::optional<double> misfit_mm;
 };
 
 struct PlanResult {
@@ -100,7 +107,11 @@ struct PlanResult {
   std::string region;  ///< the task region, in words
   int task_configurations = 0;
   bool task_region_given = false;
-  PredictedAccuracy predicted_selected, predicted_random;
+  PredictedAccuracy predicted_selected, predicted_random;  ///< noise only: σ²(JᵀJ)⁻¹
+  /// When the misfit is known: its allowance and the RMS TCP error over the task region
+  /// expected with it, √(rms² + m²) (rms_with_misfit).
+  std::optional<MisfitAllowance> misfit;
+  double predicted_rms_with_misfit_selected = 0, predicted_rms_with_misfit_random = 0;
   std::string instrument;  ///< its name
   std::string cell;        ///< the cell's name ("simulator standard cell" without a file)
 };

@@ -43,6 +43,11 @@ struct PlanStudyOptions {
   std::vector<std::string> effects;
   /// The cell (robot base, instrument, floor, keep-out boxes); empty: the simulator's cell.
   std::optional<campaign::Cell> cell;
+  /// A prior calibration of each true robot, as a user would have run before planning: this
+  /// many random candidates measured and cross-validated (prior_folds folds); its misfit
+  /// allowance (design/misfit_allowance.hpp) gives the misfit-aware prediction. 0: none.
+  int prior_count = 60;
+  int prior_folds = 5;
 };
 
 /// The criterion the study's planned design uses for `options` (Default resolved).
@@ -57,6 +62,8 @@ struct RegionError {
 struct StudyOutcome {
   RegionError achieved;   ///< calibrated model against the truth
   RegionError predicted;  ///< before measuring: √tr(J_v C J_vᵀ) with C from the design
+  /// √(predicted rms² + m²), m the prior calibration's misfit allowance (0 without a prior).
+  double predicted_rms_with_misfit_mm = 0;
   double O1 = 0;
   int measured = 0;  ///< configurations the simulator measured (every planned one)
   bool converged = false;
@@ -68,8 +75,9 @@ struct StudyRow {
 };
 
 struct PlanStudyResult {
-  std::vector<uint64_t> seeds;       ///< s of each true robot
-  std::vector<RegionError> nominal;  ///< nominal robot (placed like the truth), per seed
+  std::vector<uint64_t> seeds;          ///< s of each true robot
+  std::vector<RegionError> nominal;     ///< nominal robot (placed like the truth), per seed
+  std::vector<MisfitAllowance> misfit;  ///< from each robot's prior calibration (if any)
   double sigma_mm = 0;
   int candidates = 0;  ///< feasible candidates per seed (the smallest)
   int task_configurations = 0;
@@ -78,7 +86,8 @@ struct PlanStudyResult {
 
 /// Runs the study on `model` with `tool`. True robot k uses s = seed + 10k: the truth from
 /// seed s, candidates s + 1, random subsets s + 2, task region s + 3, measurement noise
-/// s + 4 (one stream per robot, drawn in row order). `progress`, when set, is called after
+/// s + 4 (one stream per robot, drawn in row order), the prior calibration s + 5 (its
+/// configurations, then its noise; its folds seed s). `progress`, when set, is called after
 /// each true robot.
 PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
                                const PlanStudyOptions& options,
@@ -90,6 +99,7 @@ PlanStudyResult run_plan_study(const RobotModel& model, const Tool& tool,
 struct StudySummary {
   double achieved_mean_mm = 0, achieved_rms_mm = 0, achieved_max_mm = 0;
   double predicted_mean_mm = 0, predicted_rms_mm = 0;
+  double predicted_rms_with_misfit_mm = 0;  ///< quadratic mean, like the RMS
   double O1 = 0;
 };
 
