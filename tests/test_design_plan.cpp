@@ -287,6 +287,7 @@ TEST(DesignPlan, ClosedLoopStudyOptimalBeatsRandomAndMatchesThePrediction) {
   options.seed = 3;
   options.plan.candidates = 800;
   options.task_count = 100;
+  options.prior_count = 0;  // no effects outside the model: nothing for a prior to measure
   expect_closed_loop_properties(run_plan_study(model, tool, options), "joint box");
   // The same over a box of TCP positions (world frame) in front of the robot. Over a small
   // region the error concentrates in a few parameter directions, so one robot's RMS scatters

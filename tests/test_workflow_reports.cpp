@@ -82,6 +82,11 @@ TEST(WorkflowReports, PlanStudyOptionsAreCheckedByName) {
   o = PlanStudyOptions{};
   o.noise_mm = -1;
   EXPECT_EQ(key_of(o), "--noise-mm");
+  o = PlanStudyOptions{};
+  o.prior_count = 19;  // too few for 5 fold models of the full level
+  EXPECT_EQ(key_of(o), "--prior-count");
+  o.prior_count = 0;
+  EXPECT_EQ(key_of(o), "accepted");
   PlanStudyOptions box;
   box.task_box = TaskBox{Eigen::Vector3d(300, -100, 200), Eigen::Vector3d(500, 100, 400)};
   EXPECT_EQ(task_region_description(box),
