@@ -189,4 +189,37 @@ if d["cell"] != "fixture cell" or d["rows"][0]["optimal"]["per_seed"][0]["measur
 PY
 expect_error "cannot open" "nowhere.yaml" plan-study --cell "$TMP/nowhere.yaml" --seeds 1
 
+# 14. The model misfit: without it the prediction is labelled noise-only and says what is
+# missing; with --misfit-mm it is added in quadrature (docs/method/05-observability.md §6);
+# plan-study's prior calibration gives every true robot its allowance.
+"$ROBCAL" plan --count 12 --candidates 300 --task-count 40 --out "$TMP/m.csv" >"$TMP/m.txt" ||
+  fail "plan without misfit failed"
+grep -qF "from instrument noise only" "$TMP/m.txt" || fail "noise-only prediction not labelled"
+grep -qF "note: a real robot adds the misfit" "$TMP/m.txt" || fail "no note on the misfit"
+"$ROBCAL" plan --count 12 --candidates 300 --task-count 40 --misfit-mm 0.04 --json \
+  --out "$TMP/m.csv" >"$TMP/m.json" || fail "plan --misfit-mm failed"
+/usr/bin/python3 - "$TMP/m.json" <<'PY' || FAILED=1
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+noise, m = d["predicted_error_mm"], d["predicted_error_with_misfit_mm"]
+want = math.hypot(noise["selected"]["rms"], 0.04)
+ok = noise["basis"] == "instrument noise only" and m["misfit_rms"] == 0.04 and abs(m["selected"]["rms"] - want) < 1e-5
+if not ok: print("FAIL: plan --misfit-mm", noise, m)
+sys.exit(0 if ok else 1)
+PY
+"$ROBCAL" plan-study --counts 20 --seeds 2 --candidates 300 --task-count 40 \
+  --effects mass-error --json >"$TMP/study-misfit.json" || fail "plan-study with a prior failed"
+/usr/bin/python3 - "$TMP/study-misfit.json" <<'PY' || FAILED=1
+import json, sys
+d = json.load(open(sys.argv[1]))
+o = d["rows"][0]["optimal"]
+ok = d["prior_count"] == 60 and len(d["misfit_mm"]) == 2 and any(m["misfit"] > 0 for m in d["misfit_mm"]) \
+    and o["predicted_rms_with_misfit_mm"] > o["predicted_rms_mm"]
+if not ok: print("FAIL: plan-study misfit", d["misfit_mm"], o["predicted_rms_mm"], o["predicted_rms_with_misfit_mm"])
+sys.exit(0 if ok else 1)
+PY
+expect_error "misfit twice" "excludes" plan --misfit-mm 0.1 --prior-model "$TMP/none.yaml" \
+  --out "$TMP/bad.csv"
+expect_error "prior count" "--prior-count" plan-study --prior-count 5 --seeds 1
+
 finish plan_cli
