@@ -12,7 +12,6 @@
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
-#include "robcal/report/provenance.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -186,14 +185,8 @@ void run_calibrate(const CalibrateArgs& args) {
       start ? reidentify(*start, tool, file.measurements, request)
             : run_calibration(load_robot(args.robot), *tool, file.measurements, request);
   for (const std::string& w : run.result.warnings) std::cerr << "warning: " << w << "\n";
-  // Where the model came from; `robcal report` shows it with the fit's statistics.
-  Provenance provenance = start_provenance_of_process();
-  provenance.robot = run.result.robot.model.name;
-  provenance.level = level_name(options.level);
-  provenance.seed = args.seed;
-  if (start) provenance.files.push_back(provenance_file("model", args.model));
-  if (tool) provenance.files.push_back(provenance_file("tool", args.tool));
-  provenance.files.push_back(provenance_file("measurements", args.measurements));
+  const Provenance provenance =
+      calibration_provenance(run, {args.model, args.tool, args.measurements});
   const bool write = run.problems.empty() || args.force;
   if (write) write_file_atomically(args.out, calibrated_model_file(run, &provenance));
   if (args.json)

@@ -166,4 +166,16 @@ nlohmann::json calibration_run_json(const CalibrationRun& run, const std::string
   return out;
 }
 
+Provenance calibration_provenance(const CalibrationRun& run, const CalibrationInputs& inputs) {
+  Provenance provenance = start_provenance_of_process();
+  provenance.robot = run.result.robot.model.name;
+  provenance.level = level_name(run.options.level);
+  provenance.seed = run.options.seed;
+  if (!inputs.model.empty()) provenance.files.push_back(provenance_file("model", inputs.model));
+  if (!inputs.tool.empty()) provenance.files.push_back(provenance_file("tool", inputs.tool));
+  if (!inputs.measurements.empty())
+    provenance.files.push_back(provenance_file("measurements", inputs.measurements));
+  return provenance;
+}
+
 }  // namespace robcal

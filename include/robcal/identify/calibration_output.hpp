@@ -21,6 +21,18 @@ std::string calibrated_model_file(const CalibrationRun& run, const Provenance* p
 /// The same for a bare identification (no cross-validation, no problems listed).
 std::string calibrated_model_file(const IdentificationResult& result, const Provenance* provenance);
 
+/// The files a calibration read; an empty path was not given.
+struct CalibrationInputs {
+  std::string model;         ///< the calibrated model it started from (calibrate --model)
+  std::string tool;          ///< the tool file
+  std::string measurements;  ///< the measurement file
+};
+
+/// Where a calibrated model came from, as `calibrate` records it under statistics.provenance:
+/// this process's command line, the robot, the level and seed of `run`, and every input file
+/// with its SHA-256 (InputError naming a file that cannot be read).
+Provenance calibration_provenance(const CalibrationRun& run, const CalibrationInputs& inputs);
+
 /// The summary `calibrate --json` prints; `written_to`: the model file written, empty when
 /// it was not (the problems say why).
 nlohmann::json calibration_run_json(const CalibrationRun& run, const std::string& written_to);
