@@ -15,6 +15,7 @@
 #include "robcal/design/calibration_planning.hpp"
 #include "robcal/design/observability.hpp"
 #include "robcal/design/selection.hpp"
+#include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/io/robot_file.hpp"
 
 namespace py = pybind11;
@@ -94,7 +95,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          const std::string& constraints, double floor_mm, double noise_mm,
          const std::string& criterion, bool guard, const std::optional<std::string>& cell,
          const std::optional<Eigen::MatrixXd>& task_joints_deg,
-         const std::optional<std::string>& task_box, int task_count) {
+         const std::optional<std::string>& task_box, int task_count,
+         const std::optional<std::string>& prior_model, const std::optional<double>& misfit_mm) {
         PlanRequest request;
         request.model = load_robot(robot);
         request.tool = tool ? load_tool(*tool) : default_simulation_tool();
@@ -129,6 +131,11 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         }
         if (task_box) request.task_box = parse_task_box(*task_box, "task_box");
         request.task_count = task_count;
+        if (prior_model) {
+          request.prior_model = load_calibrated_robot(*prior_model);
+          request.prior_model_file = *prior_model;
+        }
+        request.misfit_mm = misfit_mm;
         PlanResult r;
         {
           py::gil_scoped_release release;
@@ -161,6 +168,19 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         out["predicted_max_mm"] = r.predicted_selected.max_mm;
         out["predicted_random_mean_mm"] = r.predicted_random.mean_mm;
         out["predicted_random_max_mm"] = r.predicted_random.max_mm;
+        out["predicted_rms_mm"] = r.predicted_selected.rms_mm;  // instrument noise only
+        out["predicted_random_rms_mm"] = r.predicted_random.rms_mm;
+        if (r.misfit) {
+          py::dict misfit;
+          misfit["misfit_rms_mm"] = r.misfit->misfit_mm;
+          misfit["source"] = r.misfit->source;
+          misfit["held_out_rms_mm"] = r.misfit->held_out_rms_mm;
+          misfit["held_out_noise_mm"] = r.misfit->noise_mm;
+          misfit["held_out_parameter_noise_mm"] = r.misfit->parameter_noise_mm;
+          misfit["predicted_rms_mm"] = r.predicted_rms_with_misfit_selected;
+          misfit["predicted_random_rms_mm"] = r.predicted_rms_with_misfit_random;
+          out["with_misfit"] = misfit;
+        }
         out["cell"] = r.cell;
         return out;
       },
@@ -171,9 +191,12 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("noise_mm") = 0.0, py::arg("criterion") = "default", py::arg("guard") = true,
       py::arg("cell") = py::none(), py::arg("task_joints_deg") = py::none(),
       py::arg("task_box") = py::none(), py::arg("task_count") = 1000,
+      py::arg("prior_model") = py::none(), py::arg("misfit_mm") = py::none(),
       "Choose calibration configurations and predict their accuracy (`robcal plan`): "
       "joints_deg (count×6) and targets of the chosen configurations, indices for them and for "
-      "a random choice, predicted TCP error over the task region (mm)");
+      "a random choice, predicted TCP error over the task region (mm) from instrument noise "
+      "only, and with_misfit when the misfit is known (prior_model: a calibrated model file "
+      "with its cross-validation; or misfit_mm)");
 });
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <optional>
 
 #include "module_registry.hpp"
+#include "robcal/campaign/cell.hpp"
+#include "robcal/design/calibration_planning.hpp"
 #include "robcal/design/candidates.hpp"
 #include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -70,14 +72,17 @@ const bool registered = register_bindings(80, [](py::module_& m) {
          const std::string& instrument, const std::string& level, const std::vector<int>& counts,
          int seeds, uint64_t seed, int candidates, const std::string& constraints, double floor_mm,
          double noise_mm, const std::optional<std::string>& task_box,
-         const std::optional<std::string>& task_poses, int task_count) {
+         const std::optional<std::string>& task_poses, int task_count, const std::string& criterion,
+         bool guard, const std::vector<std::string>& effects,
+         const std::optional<std::string>& cell, int prior_count) {
+        const RobotModel model = load_robot(robot);
         PlanStudyOptions options;
         options.counts = counts;
         options.seeds = seeds;
         options.seed = seed;
         options.plan.level = parse_calibration_level(level);
         options.plan.candidates = candidates;
-        options.plan.constraints = joint_constraints_preset(constraints, "constraints");
+        options.plan.constraints = plan_joint_constraints(model, constraints, "constraints");
         options.plan.floor_mm = floor_mm;
         options.instrument = parse_instrument_kind(instrument, "instrument");
         options.noise_mm = noise_mm;
@@ -87,8 +92,12 @@ const bool registered = register_bindings(80, [](py::module_& m) {
           options.task_poses_file = *task_poses;
         }
         options.task_count = task_count;
+        options.criterion = parse_selection_criterion(criterion, "criterion");
+        options.guard.enabled = guard;
+        options.effects = effects;
+        if (cell) options.cell = campaign::load_cell(*cell);
+        options.prior_count = prior_count;
         check_plan_study_options(options);
-        const RobotModel model = load_robot(robot);
         const Tool t = tool ? load_tool(*tool) : default_simulation_tool();
         PlanStudyResult result;
         {
@@ -100,12 +109,18 @@ const bool registered = register_bindings(80, [](py::module_& m) {
       py::arg("robot") = "abb-irb120", py::arg("tool") = py::none(),
       py::arg("instrument") = "laser-tracker", py::arg("level") = "full",
       py::arg("counts") = std::vector<int>{15, 20, 30, 40, 60}, py::arg("seeds") = 4,
-      py::arg("seed") = 1, py::arg("candidates") = 2000, py::arg("constraints") = "published",
+      py::arg("seed") = 1, py::arg("candidates") = 2000, py::arg("constraints") = "auto",
       py::arg("floor_mm") = 50.0, py::arg("noise_mm") = 0.0, py::arg("task_box") = py::none(),
       py::arg("task_poses") = py::none(), py::arg("task_count") = 200,
-      "D-optimal against random configurations at several counts over random true robots "
+      py::arg("criterion") = "default", py::arg("guard") = true,
+      py::arg("effects") = std::vector<std::string>{}, py::arg("cell") = py::none(),
+      py::arg("prior_count") = 60,
+      "Planned against random configurations at several counts over random true robots "
       "(`robcal plan-study`); task_box \"xmin,xmax,ymin,ymax,zmin,zmax\" (mm) or task_poses (a "
-      "pose-list file) set the task region");
+      "pose-list file) set the task region; criterion default, d or i; effects outside the "
+      "model (backlash, j6-periodic, mass-error, thermal); cell a cell file; prior_count random "
+      "configurations of each robot's prior calibration for the misfit-aware prediction (0: "
+      "none)");
 });
 
 }  // namespace

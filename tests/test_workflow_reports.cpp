@@ -87,6 +87,8 @@ TEST(WorkflowReports, PlanStudyOptionsAreCheckedByName) {
   EXPECT_EQ(key_of(o), "--prior-count");
   o.prior_count = 0;
   EXPECT_EQ(key_of(o), "accepted");
+  o.criterion = SelectionCriterion::Published;
+  EXPECT_EQ(key_of(o), "--criterion");
   PlanStudyOptions box;
   box.task_box = TaskBox{Eigen::Vector3d(300, -100, 200), Eigen::Vector3d(500, 100, 400)};
   EXPECT_EQ(task_region_description(box),

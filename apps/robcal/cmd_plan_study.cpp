@@ -57,10 +57,6 @@ void run_study(const StudyOptions& o) {
   const RobotModel model = load_robot(o.robot);
   options.plan.constraints = plan_joint_constraints(model, o.constraints);
   options.criterion = parse_selection_criterion(o.criterion);
-  if (options.criterion == SelectionCriterion::Published)
-    throw InputError(
-        {"", 0, 0, "--criterion"},
-        "the published exchange is not offered in the study: expected default, d or i");
   options.guard.enabled = !o.no_guard;
   options.effects = o.effects;
   if (!o.cell.empty()) options.cell = campaign::load_cell(o.cell);

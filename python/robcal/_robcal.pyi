@@ -535,20 +535,27 @@ def plan(robot: str = "abb-irb120", tool: Optional[str] = None,
          seed: int = 1, constraints: str = "auto", floor_mm: float = 50.0,
          noise_mm: float = 0.0, criterion: str = "default", guard: bool = True,
          cell: Optional[str] = None, task_joints_deg: Optional[Array] = None,
-         task_box: Optional[str] = None, task_count: int = 1000) -> Dict[str, Any]:
+         task_box: Optional[str] = None, task_count: int = 1000,
+         prior_model: Optional[str] = None, misfit_mm: Optional[float] = None) -> Dict[str, Any]:
     """Choose calibration configurations and predict their accuracy (`robcal plan`):
     joints_deg (count×6) and targets of the chosen configurations, indices for them and for a
-    random choice, predicted TCP error over the task region (mm)."""
+    random choice, predicted TCP error over the task region (mm) from instrument noise only,
+    and with_misfit when the misfit is known (prior_model: a calibrated model file with its
+    cross-validation; or misfit_mm)."""
 
 
 def plan_study(robot: str = "abb-irb120", tool: Optional[str] = None,
                instrument: str = "laser-tracker", level: str = "full",
                counts: Sequence[int] = ..., seeds: int = 4, seed: int = 1,
-               candidates: int = 2000, constraints: str = "published", floor_mm: float = 50.0,
+               candidates: int = 2000, constraints: str = "auto", floor_mm: float = 50.0,
                noise_mm: float = 0.0, task_box: Optional[str] = None,
-               task_poses: Optional[str] = None, task_count: int = 200) -> Dict[str, Any]:
-    """D-optimal against random configurations at several counts over random true robots
-    (`robcal plan-study`); task_box or task_poses set the task region."""
+               task_poses: Optional[str] = None, task_count: int = 200,
+               criterion: str = "default", guard: bool = True, effects: Sequence[str] = ...,
+               cell: Optional[str] = None, prior_count: int = 60) -> Dict[str, Any]:
+    """Planned against random configurations at several counts over random true robots
+    (`robcal plan-study`); task_box or task_poses set the task region; criterion default, d or
+    i; effects outside the model; cell a cell file; prior_count configurations of each robot's
+    prior calibration for the misfit-aware prediction (0: none)."""
 
 
 def report(model: str, measurements: Sequence[str], calibration: Optional[str] = None,

@@ -51,6 +51,10 @@ void check_plan_study_options(const PlanStudyOptions& options) {
                      fmt::format("expected at least 1, got {}", options.task_count));
   if (options.noise_mm < 0)
     throw InputError({"", 0, 0, "--noise-mm"}, "expected a non-negative noise");
+  if (options.criterion == SelectionCriterion::Published)
+    throw InputError(
+        {"", 0, 0, "--criterion"},
+        "the published exchange is not offered in the study: expected default, d or i");
   // Each fold model of the prior must identify the full model: 20 configurations leave 16 per
   // fold at 5 folds, 48 residuals for 30 unknowns.
   constexpr int kMinPriorCount = 20;

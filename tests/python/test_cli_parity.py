@@ -170,6 +170,42 @@ def test_simulation_studies(tmp_path):
         robcal.plan_study(counts=[0])
 
 
+def test_plan_study_criterion_effects_cell_and_prior(tmp_path):
+    cell = tmp_path / "cell.yaml"
+    cell.write_text("format: robcal-cell\nname: parity cell\nrobot_base:\n"
+                    "  position_mm: [-812.25, 1503.5, -95]\n  rotation_xyz_deg: [0.25, -0.4, -57]\n"
+                    "instrument:\n  kind: laser-tracker\n  position_mm: [0, 0, 0]\n"
+                    "  range_mm: [0, 35000]\n  cone_half_angle_deg: 30\nfloor_z_mm: -95\n")
+    box = "-500,-300,1100,1300,150,350"
+    c = cli_json("plan-study", "--counts", "20", "--seeds", "2", "--candidates", "300",
+                 "--task-count", "40", "--task-box", box, "--criterion", "i", "--no-guard",
+                 "--effects", "mass-error,backlash", "--cell", str(cell), "--prior-count", "30")
+    p = robcal.plan_study(counts=[20], seeds=2, candidates=300, task_count=40, task_box=box,
+                          criterion="i", guard=False, effects=["mass-error", "backlash"],
+                          cell=str(cell), prior_count=30)
+    assert c == p
+    assert p["cell"] == "parity cell" and p["prior_count"] == 30 and len(p["misfit_mm"]) == 2
+    o = p["rows"][0]["optimal"]
+    assert o["predicted_rms_with_misfit_mm"] >= o["predicted_rms_mm"] > 0
+    with pytest.raises(robcal.InputError, match="--criterion"):
+        robcal.plan_study(counts=[20], criterion="published")
+    with pytest.raises(robcal.InputError, match="unknown effect .gravity-waves."):
+        robcal.plan_study(counts=[20], seeds=1, candidates=200, effects=["gravity-waves"])
+
+
+def test_plan_misfit(tmp_path):
+    out = str(tmp_path / "c.csv")
+    c = cli_json("plan", "--count", "12", "--candidates", "300", "--task-count", "40",
+                 "--misfit-mm", "0.04", "--out", out)
+    p = robcal.plan(count=12, candidates=300, task_count=40, misfit_mm=0.04)
+    assert c["predicted_error_mm"]["selected"]["rms"] == pytest.approx(p["predicted_rms_mm"], abs=1e-6)
+    w = c["predicted_error_with_misfit_mm"]
+    assert w["selected"]["rms"] == pytest.approx(p["with_misfit"]["predicted_rms_mm"], abs=1e-6)
+    assert p["with_misfit"]["predicted_rms_mm"] == pytest.approx(
+        np.hypot(p["predicted_rms_mm"], 0.04), abs=1e-12)
+    assert "with_misfit" not in robcal.plan(count=12, candidates=300, task_count=40)
+
+
 def test_hexapod_simulate():
     c = cli_json("hexapod", "simulate", "--seed", "3", "--validation", "300", "--no-leg-fit")
     p = robcal.hexapod.simulate(seed=3, validation=300, leg_fit=False)

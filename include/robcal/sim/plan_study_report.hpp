@@ -12,7 +12,8 @@
 namespace robcal {
 
 /// Throws InputError naming the option (as its flag: "--seeds") unless the counts are positive
-/// whole numbers, seeds ≥ 1, task count ≥ 1 and noise ≥ 0.
+/// whole numbers, seeds ≥ 1, task count ≥ 1, noise ≥ 0, the criterion not the published
+/// exchange, and the prior count 0 or at least 20.
 void check_plan_study_options(const PlanStudyOptions& options);
 
 /// "TCP poses of FILE", "TCP box x0,x1,y0,y1,z0,z1 mm (world frame), tool pointing down" or
