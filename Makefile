@@ -36,6 +36,12 @@ bench: build
 
 experiments: build
 	$(BUILD)/robcal experiments --out bench/experiments/results
+	# Pose selection under effects the model does not contain (README results, issue 13 item 7).
+	for effects in backlash,j6-periodic mass-error backlash,j6-periodic,mass-error; do \
+	  $(BUILD)/robcal plan-study --task-box -500,-300,1100,1300,150,350 --effects $$effects \
+	    --seeds 16 --counts 20,40 --candidates 2000 --task-count 200 --json \
+	    > bench/experiments/results/plan-study-$$effects.json || exit 1; \
+	done
 
 # The library and the parsers' fuzzer built with AddressSanitizer and UndefinedBehaviorSanitizer
 # (-O1, build-asan/), the unit tests linked to them; then the unit tests and a longer fuzz run of

@@ -182,6 +182,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
           out["with_misfit"] = misfit;
         }
         out["cell"] = r.cell;
+        out["notes"] = r.notes;
         return out;
       },
       py::arg("robot") = "abb-irb120", py::arg("tool") = py::none(),

@@ -170,10 +170,20 @@ TEST(PlanWorkflow, DefaultConstraintsComeFromTheRobotFile) {
 
 TEST(PlanWorkflow, CriterionDefaultsToTaskAwareWithATaskRegion) {
   PlanRequest request = small_request("abb-irb120");
-  EXPECT_EQ(plan_calibration(request).criterion, SelectionCriterion::DOptimal);
+  const PlanResult d = plan_calibration(request);
+  EXPECT_EQ(d.criterion, SelectionCriterion::DOptimal);
+  // D-optimality rests on the edges, past the guard's cap: the user is told (6 of 12 here).
+  EXPECT_GT(d.near_edge, 3);
+  ASSERT_EQ(d.notes.size(), 1u);
+  EXPECT_NE(d.notes[0].find(fmt::format("{} of 12 configurations are near a joint-range edge "
+                                        "(the guard allows 3)",
+                                        d.near_edge)),
+            std::string::npos)
+      << d.notes[0];
   request.task_box = TaskBox{{-500, 1100, 150}, {-300, 1300, 350}};
   const PlanResult r = plan_calibration(request);
   EXPECT_EQ(r.criterion, SelectionCriterion::IOptimal);
+  EXPECT_TRUE(r.notes.empty());
   EXPECT_LE(r.near_edge, r.edge_limit);
   EXPECT_EQ(r.edge_limit, 3);  // ⌊0.25 · 12⌋
   EXPECT_LT(r.predicted_selected.mean_mm, r.predicted_random.mean_mm);

@@ -132,6 +132,7 @@ void run_plan(const PlanOptions& o) {
     out["near_edge"] = {
         {"selected", r.near_edge}, {"random", r.near_edge_random}, {"limit", r.edge_limit}};
     out["exchanges"] = r.exchanges;
+    out["notes"] = r.notes;
     out["restarts"] = r.restarts;
     out["seed"] = request.seed;
     out["instrument"] = r.instrument;
@@ -188,6 +189,7 @@ void run_plan(const PlanOptions& o) {
                  ? fmt::format(" (guard: at most {})", r.edge_limit)
                  : "",
              r.near_edge_random);
+  for (const std::string& note : r.notes) fmt::print("note: {}\n\n", note);
   fmt::print("index      selected        random\n");
   const auto row = [](const char* name, double a, double b) {
     fmt::print("{:<6} {:>12.6g}  {:>12.6g}\n", name, a, b);
@@ -220,7 +222,8 @@ void run_plan(const PlanOptions& o) {
   } else {
     fmt::print(
         "note: a real robot adds the misfit its model leaves (effects the model does not "
-        "contain), which no choice of configurations removes; for the expected accuracy give "
+        "contain), which this noise-only prediction does not show; for the expected accuracy "
+        "give "
         "--prior-model (a calibration of this robot with --kfold) or --misfit-mm\n");
   }
   fmt::print("wrote {}\n", o.out);

@@ -476,6 +476,18 @@ PlanResult plan_calibration(const PlanRequest& request) {
   for (int i : chosen)
     result.near_edge += near_joint_edge(guard, pool.candidates[static_cast<size_t>(i)].joints);
   for (const Candidate& c : sample) result.near_edge_random += near_joint_edge(guard, c.joints);
+  // Without the guard (a criterion other than I) the design may rest on the edges, where the
+  // effects outside the model are largest (docs/method/05-observability.md §5): say so.
+  if (result.criterion != SelectionCriterion::IOptimal &&
+      result.near_edge > guard_edge_limit(guard, request.count))
+    result.notes.push_back(fmt::format(
+        "{} of {} configurations are near a joint-range edge (the guard allows {}), where effects "
+        "the model does not contain are largest; {}",
+        result.near_edge, request.count, guard_edge_limit(guard, request.count),
+        result.task_region_given
+            ? "--criterion i (the default with a task region) applies the guard"
+            : "with a task region (--task-box, --task-poses, --task-configs) or --criterion i "
+              "the guard applies"));
 
   const auto predict = [&](const DesignMatrix& d, const std::vector<int>& subset) {
     return predict_position_error(model, tool.payload, cell.robot.robot.params, d.parameters,

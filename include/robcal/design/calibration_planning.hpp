@@ -114,6 +114,9 @@ struct PlanResult {
   double predicted_rms_with_misfit_selected = 0, predicted_rms_with_misfit_random = 0;
   std::string instrument;  ///< its name
   std::string cell;        ///< the cell's name ("simulator standard cell" without a file)
+  /// What the user should know about the choice (e.g. a D-optimal design resting on the
+  /// joint-range edges, which the guard would have capped), one sentence each.
+  std::vector<std::string> notes;
 };
 
 /// Plans a calibration. Random candidates are drawn in batches of `request.pool`; while the

@@ -3,7 +3,7 @@
 /// The systematic error a calibration of this model leaves on this robot (model misfit), for the
 /// accuracy `plan` predicts (docs/method/05-observability.md §6). The covariance prediction
 /// σ²(JᵀJ)⁻¹ counts only instrument noise; the effects the model does not contain add an error
-/// that no choice of configurations removes. It is measured by a prior calibration's
+/// that more configurations do not remove. It is measured by a prior calibration's
 /// cross-validation: a held-out error e holds the misfit m, the held-out measurement's noise and
 /// the fold model's parameter noise, E[e²] = m² + d·σ² + p², so m² = E[e²] − d·σ² − p².
 
