@@ -265,24 +265,5 @@ TEST(PlanWorkflow, PlannedConfigurationsRespectTheCell) {
   }
 }
 
-TEST(PlanStudy, TaskAwarePlanBeatsRandomWithJ6PeriodicError) {
-  const RobotModel model = load_robot("abb-irb120");
-  const Tool tool = default_simulation_tool();
-  PlanStudyOptions options;
-  options.counts = {30};
-  options.seeds = 3;
-  options.plan.candidates = 500;
-  options.task_count = 60;
-  options.task_box = TaskBox{{-500, 1100, 150}, {-300, 1300, 350}};
-  options.effects = {"backlash", "j6-periodic"};
-  options.prior_count = 0;  // the misfit-aware prediction: test_design_misfit.cpp
-  ASSERT_EQ(study_criterion(options), SelectionCriterion::IOptimal);
-  const PlanStudyResult small = run_plan_study(model, tool, options);
-  EXPECT_TRUE(small.misfit.empty());
-  const StudySummary planned = summarize(small.rows[0].optimal),
-                     random = summarize(small.rows[0].random);
-  EXPECT_LT(planned.achieved_mean_mm, random.achieved_mean_mm);
-}
-
 }  // namespace
 }  // namespace robcal
