@@ -165,6 +165,26 @@ PlanStudyOptions small_study(std::vector<std::string> effects, int seeds) {
   return options;
 }
 
+TEST(MisfitAllowance, UnreadableStatisticsAreRefusedByKey) {
+  CalibratedRobot prior;
+  prior.statistics = "cross_validation: {folds: 5, mean_mm: abc, std_mm: 0.01}\n";
+  EXPECT_REFUSED(misfit_from_prior_model(prior, "m.yaml", 0.02), InputError,
+                 "m.yaml (statistics): unreadable fit statistics");
+  prior.statistics = "cross_validation: {folds: 1, mean_mm: 0.05, std_mm: 0.01}\n";
+  EXPECT_REFUSED(misfit_from_prior_model(prior, "m.yaml", 0.02), InputError,
+                 "m.yaml (statistics.cross_validation): expected a non-negative mean_mm and "
+                 "std_mm and at least 2 folds");
+  prior.statistics = "just text";
+  EXPECT_REFUSED(misfit_from_prior_model(prior, "m.yaml", 0.02), InputError,
+                 "the prior model holds no cross-validation");
+  // A well-formed record without the optional parts: σ from the caller, no parameter noise.
+  prior.statistics = "cross_validation: {folds: 5, mean_mm: 0.04, std_mm: 0.03}\n";
+  const MisfitAllowance m = misfit_from_prior_model(prior, "m.yaml", 0.01);
+  EXPECT_NEAR(m.misfit_mm, std::sqrt(0.04 * 0.04 + 0.03 * 0.03 - 3 * 0.01 * 0.01), 1e-12);
+  EXPECT_NE(m.source.find("m.yaml: 5-fold cross-validated error rms 0.0500 mm"), std::string::npos)
+      << m.source;
+}
+
 TEST(PlanStudy, TaskAwarePlanBeatsRandomWithJ6PeriodicError) {
   PlanStudyOptions options = small_study({"backlash", "j6-periodic"}, 3);
   options.prior_count = 0;

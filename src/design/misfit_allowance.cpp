@@ -31,8 +31,8 @@ MisfitAllowance misfit_from_cross_validation(const PriorCrossValidation& prior) 
 MisfitAllowance misfit_from_prior_model(const CalibratedRobot& prior, const std::string& path,
                                         double sigma_mm) {
   const YAML::Node statistics = YAML::Load(prior.statistics);
-  const YAML::Node cv = statistics ? statistics["cross_validation"] : YAML::Node();
-  if (!cv || !cv["mean_mm"] || !cv["std_mm"] || !cv["folds"])
+  const YAML::Node cv = statistics.IsMap() ? statistics["cross_validation"] : YAML::Node();
+  if (!cv || !cv.IsMap() || !cv["mean_mm"] || !cv["std_mm"] || !cv["folds"])
     throw InputError({path, 0, 0, "statistics.cross_validation"},
                      "the prior model holds no cross-validation, so its misfit is unknown: "
                      "calibrate it with --kfold 5 (and --sigma, the instrument's σ), or give "
