@@ -1,6 +1,7 @@
 /// `robcal plan-study`: does planning pay? Closed-loop simulation (docs/method/05-observability.md,
-/// issue 5 items 5–6) of D-optimal against random configurations at several counts, over several
-/// random true robots, with the accuracy predicted before measuring beside the one achieved.
+/// issue 5 items 5–6) of planned against random configurations at several counts, over several
+/// random true robots, with the accuracy predicted before measuring (noise only, and with a prior
+/// calibration's misfit) beside the one achieved.
 
 #include <fmt/format.h>
 
@@ -149,7 +150,8 @@ const bool registered = register_command(62, [](CLI::App& app) {
   auto o = std::make_shared<StudyOptions>();
   auto* cmd = app.add_subcommand(
       "plan-study",
-      "Closed-loop simulation: D-optimal against random configurations at several counts");
+      "Closed-loop simulation: planned against random configurations at several counts, "
+      "predicted against achieved accuracy");
   cmd->add_option("--robot", o->robot, "Built-in robot name or robot file")->capture_default_str();
   cmd->add_option("--tool", o->tool, "Tool file (default: 3 SMRs, 2.6 kg payload)");
   cmd->add_option("--instrument", o->instrument, "laser-tracker, optical-cmm or ballbar")
