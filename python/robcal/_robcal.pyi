@@ -584,10 +584,10 @@ def demo(out: str = "", seed: int = 1, count: int = 50, validation: int = 1000) 
 def import_measurements(export: str, joints: str, map: str = "", join: str = "order",
                         time_tolerance: float = 0.5, target: str = "", delimiter: str = "",
                         decimal: str = "", columns: str = "", unit: str = "",
-                        config_column: str = "",
-                        allow_unmeasured: bool = False) -> Dict[str, Any]:
+                        config_column: str = "", allow_unmeasured: bool = False,
+                        world_frame: str = "") -> Dict[str, Any]:
     """`robcal import`: an instrument export joined with the joint log; {'rows', 'kind',
-    'warnings', 'csv', 'measurements': Measurements}."""
+    'warnings', 'csv', 'measurements': Measurements}; positions in a `frames world` frame."""
 
 
 def frames_base(robot: str, joint1: str, joint2: str, target: str = "1", cell: str = "",
@@ -657,4 +657,13 @@ class PointSession:
         """The journal's text for the readings so far."""
 
     def result(self) -> Dict[str, Any]:
-        """{'measurements': Measurements, 'missing': [...], 'drift': [...]} so far."""
+        """{'measurements': Measurements, 'read', 'missing', 'drift'} so far."""
+
+
+def point_session(configs: str, journal: str, out: str,
+                  answers: Optional[Sequence[str]] = None, tool: str = "", reference: str = "",
+                  every: int = 0, resume: bool = False, follow: str = "", map: str = "",
+                  follow_timeout_s: float = 600.0, world_frame: str = "") -> Dict[str, Any]:
+    """`robcal session` on files: answers from `answers` (or `follow`, an export as it grows),
+    each journalled at once; {'status', 'steps', 'answered', 'resumed', 'configurations',
+    'read', 'missing', 'drift', 'measurements', 'csv', 'transcript', 'refused'}."""
