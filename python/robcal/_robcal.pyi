@@ -517,9 +517,10 @@ def read_joint_moves(text: str, language: str,
     """Every absolute joint move of a program text: joints_deg N×6 and their lines."""
 
 
-def experiments(seed: int = 1) -> Dict[str, Any]:
+def experiments(seed: int = 1, out: str = "") -> Dict[str, Any]:
     """The published simulation experiments (docs/method/11-published-results.md, `robcal experiments`): {seed,
-    calibration_configurations, validation_configurations, experiments: {a, b, c}}."""
+    calibration_configurations, validation_configurations, experiments: {a, b, c}}; with `out`
+    also 'seconds' and results.json, results.md written there."""
 
 
 def montecarlo(runs: int = 1000, poses: int = 50, validation: int = 1000, threads: int = 2,
@@ -553,10 +554,12 @@ def plan_study(robot: str = "abb-irb120", tool: Optional[str] = None,
 
 def report(model: str, measurements: Sequence[str], calibration: Optional[str] = None,
            before: Optional[str] = None, title: str = "robcal calibration report",
-           out: Optional[str] = None) -> Dict[str, Any]:
+           out: Optional[str] = None, instrument: str = "", seed: Optional[int] = None,
+           iso9283_poses: str = "", iso9283_measurements: str = "", iso9283_min_cycles: int = 30,
+           ballbar: str = "") -> Dict[str, Any]:
     """A calibrated model validated on measurement files beside the nominal robot (or `before`)
     (`robcal report`): the report's JSON as a dict plus `warnings`; with `out` (.html) also the
-    self-contained page and the JSON beside it."""
+    self-contained page and the JSON beside it; provenance, ISO 9283 and ballbar sections."""
 
 
 def iso9283_plan(robot: CalibratedRobot, region_min_mm: ArrayLike, region_max_mm: ArrayLike,
@@ -573,6 +576,36 @@ def iso9283_plan(robot: CalibratedRobot, region_min_mm: ArrayLike, region_max_mm
 def iso9283_analyse(poses: str, measurements: str, min_cycles: int = 30) -> Dict[str, Any]:
     """AP, RP (position, orientation), vAP, AD, RD of measured cycles (`robcal iso9283
     analyse`): the commanded poses' pose list and the measurements CSV; the CLI's --json."""
+
+
+def iso9283_plan_files(robot: str, region_min_mm: ArrayLike, region_max_mm: ArrayLike,
+                       tool: str = "", model: str = "",
+                       quaternion_wxyz: Optional[ArrayLike] = None,
+                       config: str = "front-up-noflip", cycles: int = 30,
+                       vap_approach_mm: float = 0.0, out_poses: str = "iso9283-poses.csv",
+                       out_cycles: str = "iso9283-cycles.csv",
+                       out_vap_cycles: str = "iso9283-vap-cycles.csv", program: str = "",
+                       program_dir: str = "iso9283-programs") -> Dict[str, Any]:
+    """`robcal iso9283 plan` on files: writes the pose list, the cycles (vAP cycles, programs)
+    and returns the CLI's --json document."""
+
+
+def axis_test_plan(joint: int, home_deg: ArrayLike, from_deg: float, to_deg: float,
+                   steps: int = 12, approach_deg: float = 5.0, out: str = "") -> Dict[str, Any]:
+    """`robcal axis-test plan`: {'csv': the moves file's text, 'moves'}; written to `out`."""
+
+
+def axis_test_analyse(measurements: str) -> Dict[str, Any]:
+    """`robcal axis-test analyse`: circle, backlash and errors of one joint; the CLI's --json."""
+
+
+def ballbar_path(robot: str, tool: str, target: str, centre_mm: ArrayLike, length_mm: float,
+                 out: str, model: str = "", reading_model: str = "", range_mm: float = 1.0,
+                 axis: ArrayLike = ..., elevations_deg: Sequence[float] = ..., points: int = 12,
+                 quaternion_wxyz: Optional[ArrayLike] = None,
+                 config: str = "front-up-noflip") -> Dict[str, Any]:
+    """`robcal ballbar-path`: the checked path written to `out`; the CLI's --json document plus
+    'joints_deg' (N×6) and 'predicted_offsets_mm'."""
 
 
 def demo(out: str = "", seed: int = 1, count: int = 50, validation: int = 1000) -> Dict[str, Any]:

@@ -127,3 +127,134 @@ def test_import_in_a_world_frame(campaign, tmp_path):
     assert out.read_text() == py["csv"] and py["world_frame"] == str(frame)
     np.testing.assert_allclose(py["measurements"].to_dict()["position_mm"], world, rtol=0,
                                atol=1e-9)
+
+
+REF = os.path.join(os.path.dirname(__file__), "..", "data", "irb120-published")
+TOOL = os.path.join(REF, "tool.yaml")
+REGION = [300, -150, 300, 500, 150, 520]
+
+
+def cli_json(*args, cwd=None):
+    import json
+    out = subprocess.run([CLI, *args, "--json"], check=True, capture_output=True, text=True,
+                         cwd=cwd)
+    return json.loads(out.stdout)
+
+
+def test_iso9283_plan_and_analyse(tmp_path):
+    (tmp_path / "c").mkdir()
+    (tmp_path / "p").mkdir()
+    c = cli_json("iso9283", "plan", "--robot", "abb-irb120", "--region",
+                 ",".join(map(str, REGION)), "--cycles", "3", "--vap-approach", "40",
+                 "--program", "krl", cwd=tmp_path / "c")
+    p = robcal.iso9283_plan_files("abb-irb120", REGION[:3], REGION[3:], cycles=3,
+                                  vap_approach_mm=40, program="krl",
+                                  out_poses=str(tmp_path / "p" / "iso9283-poses.csv"),
+                                  out_cycles=str(tmp_path / "p" / "iso9283-cycles.csv"),
+                                  out_vap_cycles=str(tmp_path / "p" / "iso9283-vap-cycles.csv"),
+                                  program_dir=str(tmp_path / "p" / "iso9283-programs"))
+    assert [os.path.relpath(f, tmp_path / "p") for f in p["files"]] == c["files"]
+    assert {k: v for k, v in p.items() if k != "files"} == \
+        {k: v for k, v in c.items() if k != "files"}
+    for f in c["files"]:
+        assert (tmp_path / "c" / f).read_bytes() == (tmp_path / "p" / f).read_bytes(), f
+    # The array-level iso9283_plan gives the same poses.
+    nominal = robcal.CalibratedRobot.nominal(robcal.load_robot("abb-irb120"))
+    arrays = robcal.iso9283_plan(nominal, REGION[:3], REGION[3:], cycles=3)
+    for a, b in zip(arrays["poses"], p["poses"]):
+        np.testing.assert_allclose(a["joints_deg"], b["joints_deg"], rtol=0, atol=1e-12)
+    with pytest.raises(robcal.InputError, match="pulses per degree"):
+        robcal.iso9283_plan_files("abb-irb120", REGION[:3], REGION[3:], program="jbi",
+                                  out_poses=str(tmp_path / "x.csv"))
+    assert not os.path.exists(tmp_path / "x.csv")
+    # Measured cycles 0.05 mm off in x: AP 0.05 mm for every pose, by both.
+    poses = os.path.join(tmp_path, "c", "iso9283-poses.csv")
+    rows = [r.split(",") for r in open(poses).read().splitlines()[1:]]
+    meas = tmp_path / "meas.csv"
+    meas.write_text("pose,cycle,x,y,z\n" + "".join(
+        f"{r[0]},{k},{float(r[1]) + 0.05},{float(r[2]) + 0.001 * k},{r[3]}\n"
+        for k in range(1, 4) for r in rows))
+    c = cli_json("iso9283", "analyse", "--poses", poses, "--measurements", str(meas),
+                 "--min-cycles", "3")
+    p = robcal.iso9283_analyse(poses, str(meas), min_cycles=3)
+    assert {k: v for k, v in c.items() if k not in ("measurements", "min_cycles")} == p
+    assert all(abs(x["AP_mm"] - np.hypot(0.05, 0.002)) < 1e-9 for x in p["poses"])
+
+
+def test_axis_test(tmp_path):
+    subprocess.run([CLI, "axis-test", "plan", "--joint", "3", "--home", "0,10,10,0,45,0",
+                    "--range", "-20,40", "--steps", "7", "--approach", "3", "--out",
+                    str(tmp_path / "c.csv")], check=True, capture_output=True)
+    p = robcal.axis_test_plan(3, [0, 10, 10, 0, 45, 0], -20, 40, steps=7, approach_deg=3,
+                              out=str(tmp_path / "p.csv"))
+    assert (tmp_path / "c.csv").read_text() == (tmp_path / "p.csv").read_text() == p["csv"]
+    assert p["moves"] == 14 and p["csv"].count(",below,") == 7
+    # A circle of radius 250 mm about an axis through (10, 0), 0.03° between the two sides.
+    f = tmp_path / "axis.csv"
+    lines = ["joint_deg,side,x,y,z"]
+    for k in range(9):
+        q = -20 + 60 * k / 8
+        for side, b in (("below", 0.0), ("above", 0.03)):
+            a = np.radians(q + b)
+            lines.append(f"{q},{side},{250 * np.cos(a) + 10},{250 * np.sin(a)},400")
+    f.write_text("\n".join(lines) + "\n")
+    c = cli_json("axis-test", "analyse", "--measurements", str(f))
+    p = robcal.axis_test_analyse(str(f))
+    assert c == p
+    assert p["backlash_deg"] == pytest.approx(0.03, abs=1e-9)
+    assert p["radius_mm"] == pytest.approx(250, abs=1e-9)
+
+
+def test_ballbar_path(tmp_path):
+    args = ["--robot", "abb-irb120", "--tool", TOOL, "--target", "1", "--centre", "400,0,300",
+            "--length", "100", "--elevations", "-30,0,30", "--points", "8"]
+    c = cli_json("ballbar-path", *args, "--out", str(tmp_path / "c.csv"))
+    p = robcal.ballbar_path("abb-irb120", TOOL, "1", [400, 0, 300], 100, str(tmp_path / "p.csv"),
+                            elevations_deg=[-30, 0, 30], points=8)
+    assert (tmp_path / "c.csv").read_text() == (tmp_path / "p.csv").read_text()
+    assert c["points"] == p["points"] == 24 and p["joints_deg"].shape == (24, 6)
+    # The commanding model predicts its own readings: exactly the bar's length.
+    assert c["largest_predicted_offset_mm"] == p["largest_predicted_offset_mm"] < 1e-9
+    written = np.array([[float(v) for v in r.split(",")[2:]]
+                        for r in (tmp_path / "p.csv").read_text().splitlines()[1:]])
+    np.testing.assert_allclose(written, p["joints_deg"], rtol=0, atol=1e-9)
+    with pytest.raises(robcal.InputError, match="12 of 12 path points fail the checks"):
+        robcal.ballbar_path("abb-irb120", TOOL, "1", [3000, 0, 300], 100, str(tmp_path / "x.csv"))
+    assert not os.path.exists(tmp_path / "x.csv")
+
+
+def test_report_with_provenance_and_iso9283(tmp_path):
+    import json
+    model = str(tmp_path / "model.yaml")
+    robcal.calibrate("abb-irb120", TOOL, os.path.join(REF, "calibration.csv")).save(model)
+    validation = os.path.join(REF, "validation.csv")
+    instrument = tmp_path / "instrument.yaml"
+    instrument.write_text("instrument: laser-tracker\nposition_mm: [0, 0, 0]\n"
+                          "sigma_mm: [0.022, 0.022, 0.022]\ncone_half_angle_deg: 30\n")
+    plan = robcal.iso9283_plan_files("abb-irb120", REGION[:3], REGION[3:], cycles=30,
+                                     out_poses=str(tmp_path / "poses.csv"),
+                                     out_cycles=str(tmp_path / "cycles.csv"))
+    meas = tmp_path / "iso.csv"
+    meas.write_text("pose,cycle,x,y,z\n" + "".join(
+        f"{x['name']},{k},{x['position_mm'][0] + 0.02},{x['position_mm'][1]},"
+        f"{x['position_mm'][2] + 0.001 * (k % 3)}\n"
+        for k in range(1, 31) for x in plan["poses"]))
+    args = ["--instrument", str(instrument), "--seed", "17", "--iso9283-poses",
+            str(tmp_path / "poses.csv"), "--iso9283-measurements", str(meas)]
+    try:
+        c = cli_json("report", "--model", model, "--measurements", validation, *args,
+                     "--out", str(tmp_path / "cli.html"))
+    except subprocess.CalledProcessError as e:
+        if "Chart.js" in e.stderr:
+            pytest.skip("Chart.js (libjs-chart.js) is not installed")
+        raise
+    p = robcal.report(model, [validation], instrument=str(instrument), seed=17,
+                      iso9283_poses=str(tmp_path / "poses.csv"),
+                      iso9283_measurements=str(meas), out=str(tmp_path / "py.html"))
+    assert p.pop("warnings") == []
+    cp, pp = c.pop("provenance"), p.pop("provenance")
+    for key in ("files", "robot", "level", "robcal_version", "seed", "instrument",
+                "instrument_sigma_mm"):
+        assert cp.get(key) == pp.get(key), key
+    assert pp["seed"] == 17 and pp["instrument_sigma_mm"] == pytest.approx(0.022, rel=1e-12)
+    assert c == p and "iso9283" in json.dumps(p)
