@@ -481,9 +481,13 @@ def ballbar_readable(ballbar: Ballbar, length_mm: float) -> bool:
 
 
 def simulate(instrument: str = "laser-tracker", truth: str = "published", count: int = 20,
-             seed: int = 1, noise_mm: float = 0.0) -> Dict[str, Any]:
-    """Measures `count` random measurable configurations of a virtual IRB 120 (published or
-    random truth) with a virtual instrument; noise_mm = 0 gives exact readings."""
+             seed: int = 1, noise_mm: float = 0.0, robot: str = "abb-irb120", cell: str = "",
+             tool: str = "", configs: str = "", effects: Sequence[str] = ...,
+             approach: str = "below", error_length_mm: float = ...,
+             error_angle_deg: float = ..., out: str = "") -> Dict[str, Any]:
+    """`robcal simulate`: `count` random measurable configurations (or the `configs` file's) of
+    a virtual robot measured by a virtual instrument; noise_mm = 0 gives exact readings; files
+    written to `out` when given; 'summary' is the CLI's --json."""
 
 
 def read_program_points(text: str, language: str, joints: bool = False,

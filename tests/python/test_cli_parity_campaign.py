@@ -258,3 +258,22 @@ def test_report_with_provenance_and_iso9283(tmp_path):
         assert cp.get(key) == pp.get(key), key
     assert pp["seed"] == 17 and pp["instrument_sigma_mm"] == pytest.approx(0.022, rel=1e-12)
     assert c == p and "iso9283" in json.dumps(p)
+
+
+def test_simulate_writes_the_clis_files(tmp_path):
+    cell = os.path.join(os.path.dirname(__file__), "..", "..", "data", "cells",
+                        "default-tracker.yaml")
+    c = cli_json("simulate", "--random", "8", "--seed", "5", "--cell", cell, "--effects",
+                 "backlash", "--noise-mm", "0.03", "--out", str(tmp_path / "c"))
+    p = robcal.simulate(count=8, seed=5, cell=cell, effects=["backlash"], noise_mm=0.03,
+                        out=str(tmp_path / "p"))
+    summary = p["summary"]
+    assert {k: v for k, v in summary.items() if k != "files"} == \
+        {k: v for k, v in c.items() if k != "files"}
+    for name in ("measurements.csv", "tool.yaml", "instrument.yaml"):
+        assert (tmp_path / "c" / name).read_text() == (tmp_path / "p" / name).read_text(), name
+    rows = read_rows(tmp_path / "p" / "measurements.csv")
+    np.testing.assert_allclose(p["position_mm"], [[float(v) for v in r[8:11]] for r in rows],
+                               rtol=0, atol=1e-9)
+    with pytest.raises(robcal.InputError, match="--approach"):
+        robcal.simulate(count=3, approach="sideways")
