@@ -183,7 +183,8 @@ const bool registered = register_bindings(72, [](py::module_& m) {
       [](const std::string& robot, const std::string& tool, const std::string& target,
          const Eigen::Vector3d& centre_mm, double length_mm, const std::string& out,
          const std::string& model, const std::string& reading_model, double range_mm,
-         const Eigen::Vector3d& axis, const std::vector<double>& elevations_deg, int points,
+         const std::optional<Eigen::Vector3d>& axis,
+         const std::optional<std::vector<double>>& elevations_deg, int points,
          const std::optional<Eigen::Vector4d>& quaternion_wxyz, const std::string& config) {
         BallbarPathFilesRequest request;
         request.robot = robot;
@@ -194,8 +195,8 @@ const bool registered = register_bindings(72, [](py::module_& m) {
         request.centre_mm = centre_mm;
         request.length_mm = length_mm;
         request.range_mm = range_mm;
-        request.axis = axis;
-        request.elevations_deg = elevations_deg;
+        if (axis) request.axis = *axis;
+        if (elevations_deg) request.elevations_deg = *elevations_deg;
         request.points_per_ring = points;
         request.world_R_tcp = orientation_of(quaternion_wxyz);
         request.config = arm_config_of(config, "config");
@@ -215,11 +216,12 @@ const bool registered = register_bindings(72, [](py::module_& m) {
       },
       py::arg("robot"), py::arg("tool"), py::arg("target"), py::arg("centre_mm"),
       py::arg("length_mm"), py::arg("out"), py::arg("model") = "", py::arg("reading_model") = "",
-      py::arg("range_mm") = 1.0, py::arg("axis") = Eigen::Vector3d::UnitZ().eval(),
-      py::arg("elevations_deg") = std::vector<double>{0.0}, py::arg("points") = 12,
+      py::arg("range_mm") = 1.0, py::arg("axis") = py::none(),
+      py::arg("elevations_deg") = py::none(), py::arg("points") = 12,
       py::arg("quaternion_wxyz") = py::none(), py::arg("config") = "front-up-noflip",
       "`robcal ballbar-path`: the path around a taught centre checked (reachable, predicted "
-      "readings within the bar's range) and written to `out`; the CLI's --json document plus "
+      "readings within the bar's range) and written to `out` (axis: the circle's normal, default "
+      "world z; elevations_deg: the rings, default [0]); the CLI's --json document plus "
       "every point's joints (N×6, deg) and predicted reading − length (mm)");
 });
 

@@ -605,7 +605,8 @@ def axis_test_analyse(measurements: str) -> Dict[str, Any]:
 
 def ballbar_path(robot: str, tool: str, target: str, centre_mm: ArrayLike, length_mm: float,
                  out: str, model: str = "", reading_model: str = "", range_mm: float = 1.0,
-                 axis: ArrayLike = ..., elevations_deg: Sequence[float] = ..., points: int = 12,
+                 axis: Optional[ArrayLike] = None,
+                 elevations_deg: Optional[Sequence[float]] = None, points: int = 12,
                  quaternion_wxyz: Optional[ArrayLike] = None,
                  config: str = "front-up-noflip") -> Dict[str, Any]:
     """`robcal ballbar-path`: the checked path written to `out`; the CLI's --json document plus
