@@ -72,6 +72,21 @@ Eigen::Matrix3d orientation_of(const std::optional<Eigen::Vector4d>& quaternion_
   return pose_from_position_quaternion(Eigen::Vector3d::Zero(), *quaternion_wxyz).R;
 }
 
+/// The test's request from the arguments of iso9283_plan and iso9283_plan_files (no robot yet).
+Iso9283PlanRequest test_of(const Eigen::Vector3d& region_min_mm,
+                           const Eigen::Vector3d& region_max_mm,
+                           const std::optional<Eigen::Vector4d>& quaternion_wxyz,
+                           const std::string& config, int cycles, double vap_approach_mm) {
+  Iso9283PlanRequest request;
+  request.region_min_mm = region_min_mm;
+  request.region_max_mm = region_max_mm;
+  request.world_R_tcp = orientation_of(quaternion_wxyz);
+  request.config = arm_config_of(config, "config");
+  request.cycles = cycles;
+  request.vap_approach_mm = vap_approach_mm;
+  return request;
+}
+
 const bool registered = register_bindings(72, [](py::module_& m) {
   m.def(
       "iso9283_plan",
@@ -79,16 +94,10 @@ const bool registered = register_bindings(72, [](py::module_& m) {
          const Eigen::Vector3d& region_max_mm,
          const std::optional<Eigen::Vector4d>& quaternion_wxyz, const std::string& config,
          int cycles, double vap_approach_mm) {
-        const ArmConfig arm = arm_config_of(config, "config");
-        Iso9283PlanRequest request;
+        Iso9283PlanRequest request =
+            test_of(region_min_mm, region_max_mm, quaternion_wxyz, config, cycles, vap_approach_mm);
         request.robot = robot;
-        request.region_min_mm = region_min_mm;
-        request.region_max_mm = region_max_mm;
-        request.world_R_tcp = orientation_of(quaternion_wxyz);
-        request.config = arm;
-        request.cycles = cycles;
-        request.vap_approach_mm = vap_approach_mm;
-        return plan_dict(iso9283_plan(request), arm);
+        return plan_dict(iso9283_plan(request), request.config);
       },
       py::arg("robot"), py::arg("region_min_mm"), py::arg("region_max_mm"),
       py::arg("quaternion_wxyz") = py::none(), py::arg("config") = "front-up-noflip",
@@ -120,12 +129,8 @@ const bool registered = register_bindings(72, [](py::module_& m) {
         request.robot = robot;
         request.tool = tool;
         request.model = model;
-        request.region_min_mm = region_min_mm;
-        request.region_max_mm = region_max_mm;
-        request.world_R_tcp = orientation_of(quaternion_wxyz);
-        request.config = arm_config_of(config, "config");
-        request.cycles = cycles;
-        request.vap_approach_mm = vap_approach_mm;
+        request.test =
+            test_of(region_min_mm, region_max_mm, quaternion_wxyz, config, cycles, vap_approach_mm);
         request.out_poses = out_poses;
         request.out_cycles = out_cycles;
         request.out_vap_cycles = out_vap_cycles;
@@ -192,14 +197,15 @@ const bool registered = register_bindings(72, [](py::module_& m) {
         request.target = target;
         request.model = model;
         request.reading_model = reading_model;
-        request.centre_mm = centre_mm;
-        request.length_mm = length_mm;
-        request.range_mm = range_mm;
-        if (axis) request.axis = *axis;
-        if (elevations_deg) request.elevations_deg = *elevations_deg;
-        request.points_per_ring = points;
-        request.world_R_tcp = orientation_of(quaternion_wxyz);
-        request.config = arm_config_of(config, "config");
+        BallbarPathRequest& path = request.path;
+        path.centre_mm = centre_mm;
+        path.length_mm = length_mm;
+        path.range_mm = range_mm;
+        if (axis) path.axis = *axis;
+        if (elevations_deg) path.elevations_deg = *elevations_deg;
+        path.points_per_ring = points;
+        path.world_R_tcp = orientation_of(quaternion_wxyz);
+        path.config = arm_config_of(config, "config");
         request.out = out;
         const BallbarPathFiles files = ballbar_path_files(request);
         py::dict d = json_to_python(ballbar_path_json(files));

@@ -21,7 +21,7 @@ struct Options {
 };
 
 void run(Options o) {
-  BallbarPathFilesRequest& request = o.request;
+  BallbarPathRequest& request = o.request.path;
   const std::vector<double> c = parse_numbers(o.centre, 3, "--centre");
   request.centre_mm = Eigen::Vector3d(c[0], c[1], c[2]);
   const std::vector<double> a = parse_numbers(o.axis, 3, "--axis");
@@ -31,7 +31,7 @@ void run(Options o) {
   request.elevations_deg = parse_numbers(o.elevations, static_cast<int>(rings), "--elevations");
   request.world_R_tcp = parse_orientation(o.orientation, "--orientation");
   request.config = parse_config(o.config);
-  const BallbarPathFiles result = ballbar_path_files(request);
+  const BallbarPathFiles result = ballbar_path_files(o.request);
   if (o.json) {
     print_json(ballbar_path_json(result));
     return;
@@ -44,7 +44,7 @@ void run(Options o) {
   fmt::print(
       "predicted readings within {:.4f} mm of the length ({}; the bar reads ±{:g} mm)\nwrote {}\n",
       result.largest_offset_mm,
-      request.reading_model.empty() ? "the commanding model itself" : request.reading_model,
+      o.request.reading_model.empty() ? "the commanding model itself" : o.request.reading_model,
       request.range_mm, result.out);
 }
 
@@ -63,13 +63,14 @@ const bool registered = register_command(67, [](CLI::App& app) {
   cmd->add_option("--reading-model", o->request.reading_model,
                   "Model that predicts the readings (e.g. a calibrated one; default: --model)");
   cmd->add_option("--centre", o->centre, "Taught centre X,Y,Z (mm, world)")->required();
-  cmd->add_option("--length", o->request.length_mm, "The bar's length (mm)")->required();
-  cmd->add_option("--range", o->request.range_mm, "The bar reads length ± range (mm)")
+  cmd->add_option("--length", o->request.path.length_mm, "The bar's length (mm)")->required();
+  cmd->add_option("--range", o->request.path.range_mm, "The bar reads length ± range (mm)")
       ->capture_default_str();
   cmd->add_option("--axis", o->axis, "Circle normal / sphere pole")->capture_default_str();
   cmd->add_option("--elevations", o->elevations, "Ring elevations (deg), comma separated")
       ->capture_default_str();
-  cmd->add_option("--points", o->request.points_per_ring, "Points per ring")->capture_default_str();
+  cmd->add_option("--points", o->request.path.points_per_ring, "Points per ring")
+      ->capture_default_str();
   cmd->add_option("--orientation", o->orientation, "TCP orientation qw,qx,qy,qz")
       ->capture_default_str();
   cmd->add_option("--config", o->config, "Arm configuration")->capture_default_str();

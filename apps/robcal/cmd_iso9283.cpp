@@ -28,13 +28,13 @@ struct AnalyseOptions {
 };
 
 void run_plan(PlanOptions o) {
-  Iso9283PlanFilesRequest& request = o.request;
+  Iso9283PlanRequest& request = o.request.test;
   const std::vector<double> box = parse_numbers(o.region, 6, "--region");
   request.region_min_mm = Eigen::Vector3d(box[0], box[1], box[2]);
   request.region_max_mm = Eigen::Vector3d(box[3], box[4], box[5]);
   request.world_R_tcp = parse_orientation(o.orientation, "--orientation");
   request.config = parse_config(o.config);
-  const Iso9283PlanFiles result = iso9283_plan_files(request);
+  const Iso9283PlanFiles result = iso9283_plan_files(o.request);
   const Iso9283Plan& plan = result.plan;
   if (o.json) {
     print_json(iso9283_plan_json(result));
@@ -43,8 +43,9 @@ void run_plan(PlanOptions o) {
   fmt::print(
       "ISO 9283 test cube for {} ({} model): edge {:.3f} mm, centre ({:.3f}, {:.3f}, {:.3f}) "
       "mm; poses on the plane C1-C2-C7-C8, configuration {}\n",
-      result.robot, result.level, plan.cube_edge_mm, plan.cube_centre_mm.x(),
-      plan.cube_centre_mm.y(), plan.cube_centre_mm.z(), result.config.label());
+      result.test.robot.model.name, result.test.robot.level, plan.cube_edge_mm,
+      plan.cube_centre_mm.x(), plan.cube_centre_mm.y(), plan.cube_centre_mm.z(),
+      result.test.config.label());
   fmt::print(
       "  pose          x          y          z |      J1       J2       J3       J4       "
       "J5       J6 (deg)\n");
@@ -55,13 +56,13 @@ void run_plan(PlanOptions o) {
     fmt::print("\n");
   }
   fmt::print("{} cycles P1 → P5 → P4 → P3 → P2 (ISO 9283 pose accuracy and repeatability)\n",
-             result.cycles);
+             result.test.cycles);
   if (!plan.vap_sequence.empty())
     fmt::print(
         "multi-directional test (vAP): every pose approached along world +x, +y, +z from {:g} mm "
         "back, {} cycles per direction; measure with direction 1..3 in the measurements file; "
         "readings at the pre-poses (\"-from\") are not part of the test\n",
-        result.vap_approach_mm, result.cycles);
+        result.test.vap_approach_mm, result.test.cycles);
   fmt::print("wrote {}\n", fmt::join(result.files, ", "));
 }
 
@@ -130,14 +131,14 @@ const bool registered = register_command(65, [](CLI::App& app) {
                 "TCP orientation at every pose, quaternion qw,qx,qy,qz (world)")
       ->capture_default_str();
   p->add_option("--config", plan->config, "Arm configuration")->capture_default_str();
-  p->add_option("--cycles", plan->request.cycles, "Cycles (the standard: 30)")
+  p->add_option("--cycles", plan->request.test.cycles, "Cycles (the standard: 30)")
       ->capture_default_str();
   p->add_option("--out-poses", plan->request.out_poses, "Pose-list CSV of P1-P5")
       ->capture_default_str();
   p->add_option("--out-cycles", plan->request.out_cycles,
                 "Joint targets of every move (CSV, degrees)")
       ->capture_default_str();
-  p->add_option("--vap-approach", plan->request.vap_approach_mm,
+  p->add_option("--vap-approach", plan->request.test.vap_approach_mm,
                 "Also plan the multi-directional test (vAP): approach distance along world +x, "
                 "+y, +z (mm); 0: none")
       ->capture_default_str();

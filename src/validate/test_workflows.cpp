@@ -38,7 +38,7 @@ Eigen::Matrix3d iso9283_default_orientation() {
 }
 
 Iso9283PlanFiles iso9283_plan_files(const Iso9283PlanFilesRequest& r) {
-  Iso9283PlanRequest request;
+  Iso9283PlanRequest request = r.test;
   const RobotModel model = load_robot(r.robot);
   const Tool tool = r.tool.empty() ? Tool{} : load_tool(r.tool);
   request.robot = CalibratedRobot::nominal(model, tool);
@@ -47,14 +47,7 @@ Iso9283PlanFiles iso9283_plan_files(const Iso9283PlanFilesRequest& r) {
     // The tool file names the TCP of this test; the model keeps its identified targets.
     if (!r.tool.empty()) request.robot.tool.flange_T_tcp = tool.flange_T_tcp;
   }
-  request.region_min_mm = r.region_min_mm;
-  request.region_max_mm = r.region_max_mm;
-  request.world_R_tcp = r.world_R_tcp;
-  request.config = r.config;
-  request.cycles = r.cycles;
-  request.vap_approach_mm = r.vap_approach_mm;
-  Iso9283PlanFiles out{iso9283_plan(request), model.name, request.robot.level, r.config, r.cycles,
-                       r.vap_approach_mm,     {}};
+  Iso9283PlanFiles out{request, iso9283_plan(request), {}};
   const Iso9283Plan& plan = out.plan;
   // Every program generated before any file is written: a refusal writes nothing.
   std::vector<MeasurementProgramRequest> programs;
@@ -75,7 +68,7 @@ Iso9283PlanFiles iso9283_plan_files(const Iso9283PlanFilesRequest& r) {
     }
   }
   out.files = {r.out_poses, r.out_cycles};
-  write_file_atomically(r.out_poses, iso9283_pose_list_csv(plan, r.config));
+  write_file_atomically(r.out_poses, iso9283_pose_list_csv(plan, request.config));
   write_file_atomically(r.out_cycles, iso9283_cycles_csv(plan));
   if (!plan.vap_sequence.empty()) {
     write_file_atomically(r.out_vap_cycles, iso9283_vap_cycles_csv(plan));
@@ -99,8 +92,8 @@ nlohmann::json iso9283_plan_json(const Iso9283PlanFiles& files) {
     out["poses"].push_back(
         {{"name", p.name}, {"position_mm", vector_json(p.world_T_tcp.p)}, {"joints_deg", joints}});
   }
-  out["cycles"] = files.cycles;
-  out["vap_approach_mm"] = files.vap_approach_mm;
+  out["cycles"] = files.test.cycles;
+  out["vap_approach_mm"] = files.test.vap_approach_mm;
   out["files"] = files.files;
   return out;
 }
@@ -147,21 +140,13 @@ BallbarPathFiles ballbar_path_files(const BallbarPathFilesRequest& r) {
     if (robot.tool.targets.empty()) robot.tool = tool;
     return robot;
   };
-  BallbarPathRequest request;
+  BallbarPathRequest request = r.path;
   request.robot = r.model.empty() ? CalibratedRobot::nominal(model, tool) : model_of(r.model);
   if (!r.reading_model.empty()) request.reading_model = model_of(r.reading_model);
   request.target = request.robot.tool.target_index(r.target);
   if (request.target < 0)
     throw InputError({r.tool, 0, 0, "--target"},
                      fmt::format("no target '{}' in the tool", r.target));
-  request.centre_mm = r.centre_mm;
-  request.axis = r.axis;
-  request.length_mm = r.length_mm;
-  request.range_mm = r.range_mm;
-  request.elevations_deg = r.elevations_deg;
-  request.points_per_ring = r.points_per_ring;
-  request.world_R_tcp = r.world_R_tcp;
-  request.config = r.config;
   BallbarPathFiles out{ballbar_path(request), 0, r.out};
   const BallbarPath& path = out.path;
   if (path.problems() > 0) {

@@ -24,7 +24,7 @@ CalibratedRobot load_model_of(const std::string& path, const RobotModel& robot,
 
 // ---- ISO 9283 -------------------------------------------------------------------------------
 
-/// The tool orientation of the test poses unless asked otherwise: pointing down (the
+/// The tool orientation of the tests' poses unless asked otherwise: pointing down (the
 /// quaternion 0,0,1,0, a half turn about the world y axis).
 Eigen::Matrix3d iso9283_default_orientation();
 
@@ -32,12 +32,13 @@ struct Iso9283PlanFilesRequest {
   std::string robot;  ///< built-in name or robot file
   std::string tool;   ///< tool file (its TCP); empty: the flange
   std::string model;  ///< calibrated model (joint targets compensated); empty: the nominal robot
-  Eigen::Vector3d region_min_mm = Eigen::Vector3d::Zero();  ///< workspace region (world)
-  Eigen::Vector3d region_max_mm = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d world_R_tcp = iso9283_default_orientation();
-  ArmConfig config{false, false, false};  ///< front-up-noflip
-  int cycles = kIso9283Cycles;
-  double vap_approach_mm = 0;  ///< > 0: also the multi-directional test
+  /// Region, orientation (default pointing down), configuration, cycles, vAP approach; its
+  /// robot is the one the files give.
+  Iso9283PlanRequest test = [] {
+    Iso9283PlanRequest t;
+    t.world_R_tcp = iso9283_default_orientation();
+    return t;
+  }();
   std::string out_poses = "iso9283-poses.csv";
   std::string out_cycles = "iso9283-cycles.csv";
   std::string out_vap_cycles = "iso9283-vap-cycles.csv";
@@ -46,12 +47,8 @@ struct Iso9283PlanFilesRequest {
 };
 
 struct Iso9283PlanFiles {
+  Iso9283PlanRequest test;  ///< as planned (with the robot of the files)
   Iso9283Plan plan;
-  std::string robot;  ///< the robot's name
-  std::string level;  ///< the commanding model's level ("nominal" or the calibration's)
-  ArmConfig config;
-  int cycles = 0;
-  double vap_approach_mm = 0;
   std::vector<std::string> files;  ///< every file written, in order
 };
 
@@ -91,14 +88,13 @@ struct BallbarPathFilesRequest {
   std::string target;         ///< the target carrying the ball
   std::string model;          ///< commands the path; empty: the nominal robot
   std::string reading_model;  ///< predicts the readings; empty: the commanding model
-  Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();
-  double length_mm = 0;
-  double range_mm = 1.0;
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
-  std::vector<double> elevations_deg = {0};
-  int points_per_ring = 12;
-  Eigen::Matrix3d world_R_tcp = iso9283_default_orientation();
-  ArmConfig config{false, false, false};
+  /// Centre, length, range, axis, rings, orientation (default pointing down), configuration;
+  /// its robot, reading model and target are the ones the files give.
+  BallbarPathRequest path = [] {
+    BallbarPathRequest p;
+    p.world_R_tcp = iso9283_default_orientation();
+    return p;
+  }();
   std::string out;  ///< configurations CSV
 };
 
