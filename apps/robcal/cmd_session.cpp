@@ -1,4 +1,4 @@
-/// `robcal session`: the guided tracker/CMM-probe session (campaign/point_session.hpp): prompts,
+/// `robcal session`: the guided tracker/CMM-probe session (campaign/session_workflow.hpp): prompts,
 /// readings typed or piped on stdin, every one journalled and synced at once, `--resume`.
 
 #include <fmt/format.h>
