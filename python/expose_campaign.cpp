@@ -12,6 +12,7 @@
 #include "robcal/campaign/frames_workflow.hpp"
 #include "robcal/campaign/import_workflow.hpp"
 #include "robcal/campaign/point_session.hpp"
+#include "robcal/campaign/session_workflow.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -178,23 +179,55 @@ void expose_session(py::module_& m) {
           [](const PointSession& s) {
             const campaign::SessionResult r =
                 campaign::session_result(s.settings, s.steps, s.readings);
-            py::list drift;
-            for (const campaign::DriftCheck& d : r.drift) {
-              py::dict entry;
-              entry["key"] = d.key;
-              entry["drift_mm"] = d.drift_mm;
-              entry["time"] = d.time;
-              entry["temperature_c"] = d.temperature_c;
-              drift.append(entry);
-            }
-            py::dict out;
+            py::dict out = json_to_python(campaign::session_result_json(r));
             out["measurements"] = Measurements{r.measurements, s.settings.tool, {}};
-            out["missing"] = r.missing;
-            out["drift"] = drift;
             return out;
           },
-          "{'measurements': Measurements, 'missing': [config…], 'drift': [{'key', 'drift_mm', "
-          "'time', 'temperature_c'}]} of the readings so far");
+          "{'measurements': Measurements, 'read', 'missing': [config…], 'drift': [{'key', "
+          "'drift_mm', 'time', 'temperature_c'}]} of the readings so far");
+
+  m.def(
+      "point_session",
+      [](const std::string& configs, const std::string& journal, const std::string& out,
+         const std::optional<std::vector<std::string>>& answers, const std::string& tool,
+         const std::string& reference, int every, bool resume, const std::string& follow,
+         const std::string& map, double follow_timeout_s, const std::string& world_frame) {
+        std::string transcript;
+        std::vector<std::string> refused;
+        size_t next = 0;
+        const std::vector<std::string> lines = answers.value_or(std::vector<std::string>{});
+        const campaign::SessionIo io{[&](const std::string& text) { transcript += text; },
+                                     [&](const std::string& error) { refused.push_back(error); },
+                                     [&](std::string& line) {
+                                       if (next >= lines.size()) return false;
+                                       line = lines[next++];
+                                       return true;
+                                     },
+                                     {}};
+        const campaign::PointSessionRun run = [&] {
+          py::gil_scoped_release release;
+          return campaign::run_point_session({configs, tool, journal, resume, reference, every,
+                                              follow, map, follow_timeout_s, out, world_frame},
+                                             io);
+        }();
+        py::dict d = json_to_python(campaign::point_session_json(run));
+        d["measurements"] = Measurements{run.result.measurements, run.tool, {}};
+        d["csv"] = run.csv;
+        d["transcript"] = transcript;
+        d["refused"] = refused;
+        return d;
+      },
+      py::arg("configs"), py::arg("journal"), py::arg("out"), py::arg("answers") = py::none(),
+      py::arg("tool") = "", py::arg("reference") = "", py::arg("every") = 0,
+      py::arg("resume") = false, py::arg("follow") = "", py::arg("map") = "",
+      py::arg("follow_timeout_s") = 600.0, py::arg("world_frame") = "",
+      "`robcal session`: the guided session on files, its answers (lines 'x y z [°C]' or "
+      "'skip') from `answers` or, with `follow`, from an instrument export as it grows; every "
+      "reading journalled at once, `resume` continues a journal. {'status': complete or "
+      "paused-…, 'steps', 'answered', 'resumed', 'configurations', 'read', 'missing', 'drift', "
+      "'measurements' (Measurements, instrument frame), 'csv' (the file written to `out` when "
+      "complete, in the world frame with `world_frame`), 'transcript' (the prompts), 'refused' "
+      "(answers asked again)}");
 }
 
 const bool registered = register_bindings(90, [](py::module_& m) {
@@ -228,7 +261,8 @@ const bool registered = register_bindings(90, [](py::module_& m) {
       [](const std::string& export_path, const std::string& joints, const std::string& map,
          const std::string& join, double time_tolerance, const std::string& target,
          const std::string& delimiter, const std::string& decimal, const std::string& columns,
-         const std::string& unit, const std::string& config_column, bool allow_unmeasured) {
+         const std::string& unit, const std::string& config_column, bool allow_unmeasured,
+         const std::string& world_frame) {
         campaign::ImportResult r = campaign::import_files({export_path,
                                                            joints,
                                                            map,
@@ -240,7 +274,8 @@ const bool registered = register_bindings(90, [](py::module_& m) {
                                                            join,
                                                            time_tolerance,
                                                            target,
-                                                           allow_unmeasured});
+                                                           allow_unmeasured,
+                                                           world_frame});
         py::dict d = json_to_python(campaign::import_json(r));
         d["csv"] = r.csv;
         d["measurements"] = Measurements{std::move(r.measurements), r.targets, r.warnings};
@@ -250,8 +285,11 @@ const bool registered = register_bindings(90, [](py::module_& m) {
       py::arg("time_tolerance") = 0.5, py::arg("target") = "", py::arg("delimiter") = "",
       py::arg("decimal") = "", py::arg("columns") = "", py::arg("unit") = "",
       py::arg("config_column") = "", py::arg("allow_unmeasured") = false,
+      py::arg("world_frame") = "",
       "`robcal import`: an instrument export joined with the joint log; {'rows', 'kind', "
-      "'warnings', 'csv' (the measurement file's text), 'measurements' (Measurements)}");
+      "'warnings', 'csv' (the measurement file's text), 'measurements' (Measurements)}; with "
+      "world_frame (a `robcal frames world` file) the positions in that frame and "
+      "'world_frame'");
 
   m.def(
       "frames_base",

@@ -20,17 +20,30 @@ namespace {
 
 /// A simulated campaign as arrays: what `robcal simulate` writes, in memory.
 py::dict simulate(const std::string& instrument_name, const std::string& truth_name, int count,
-                  uint64_t seed, double noise_mm) {
-  if (count < 1) throw py::value_error("count must be positive");
-  if (noise_mm < 0) throw py::value_error("noise_mm must not be negative");
+                  uint64_t seed, double noise_mm, const std::string& robot, const std::string& cell,
+                  const std::string& tool_file, const std::string& configs,
+                  const std::vector<std::string>& effects, const std::string& approach,
+                  double error_length_mm, double error_angle_deg, const std::string& out_dir) {
   SimulateRequest request;
+  request.robot = robot;
   request.instrument = instrument_name;
   request.truth = truth_name;
-  request.random = count;
+  request.cell = cell;
+  request.tool = tool_file;
+  request.configs = configs;
+  request.random = configs.empty() ? count : 0;  // the configurations file, else `count` random
   request.seed = seed;
   request.noise_mm = noise_mm;
   request.exact = noise_mm == 0;
-  const SimulateResult result = run_simulation(request);
+  request.effects = effects;
+  request.approach = approach;
+  request.error_length_mm = error_length_mm;
+  request.error_angle_deg = error_angle_deg;
+  request.out = out_dir;
+  const SimulateResult result = [&] {
+    py::gil_scoped_release release;
+    return run_simulation(request);
+  }();
   const MeasurementSet& set = result.simulation.measurements;
   const Tool& tool = result.tool;
   const Eigen::Index n = static_cast<Eigen::Index>(set.size());
@@ -64,6 +77,7 @@ py::dict simulate(const std::string& instrument_name, const std::string& truth_n
   out["target"] = targets;
   out["joints_deg"] = joints;
   out[set.kind == MeasurementKind::Distances ? "length_mm" : "position_mm"] = values;
+  out["summary"] = json_to_python(simulation_json(result));
   return out;
 }
 
@@ -108,10 +122,17 @@ const bool registered = register_bindings(40, [](py::module_& m) {
 
   m.def("simulate", &simulate, py::arg("instrument") = "laser-tracker",
         py::arg("truth") = "published", py::arg("count") = 20, py::arg("seed") = 1,
-        py::arg("noise_mm") = 0.0,
-        "Measures `count` random measurable configurations of a virtual IRB 120 (published or "
-        "random truth) with a virtual instrument; noise_mm = 0 gives exact readings. Returns a "
-        "dict of config, target, joints_deg (n×6) and position_mm (n×3) or length_mm (n×1).");
+        py::arg("noise_mm") = 0.0, py::arg("robot") = "abb-irb120", py::arg("cell") = "",
+        py::arg("tool") = "", py::arg("configs") = "",
+        py::arg("effects") = std::vector<std::string>{}, py::arg("approach") = "below",
+        py::arg("error_length_mm") = ErrorBounds{}.length_mm,
+        py::arg("error_angle_deg") = ErrorBounds{}.angle_deg, py::arg("out") = "",
+        "`robcal simulate`: measures `count` random measurable configurations (or those of the "
+        "`configs` file) of a virtual robot (published, random or a truth file, with unmodelled "
+        "`effects`) with a virtual instrument placed by `cell`; noise_mm = 0 gives exact "
+        "readings (the CLI's --noise-mm 0 means the instrument's own σ). With `out` the files "
+        "of a real campaign are written there. Returns a dict of config, target, joints_deg "
+        "(n×6) and position_mm (n×3) or length_mm (n×1), and 'summary' (the CLI's --json).");
 });
 
 }  // namespace

@@ -25,33 +25,33 @@ namespace {
 const bool registered = register_bindings(80, [](py::module_& m) {
   m.def(
       "experiments",
-      [](uint64_t seed) {
-        PublishedExperiments e;
-        {
+      [](uint64_t seed, const std::string& out) {
+        const nlohmann::json j = [&] {
           py::gil_scoped_release release;
-          e = run_published_experiments(seed);
-        }
-        return json_to_python(published_experiments_json(e));
+          return out.empty()
+                     ? published_experiments_json(run_published_experiments(seed))
+                     : published_experiments_run_json(run_published_experiments_files(seed, out));
+        }();
+        return json_to_python(j);
       },
-      py::arg("seed") = 1,
+      py::arg("seed") = 1, py::arg("out") = "",
       "The published simulation experiments (docs/method/11-published-results.md, `robcal "
-      "experiments`): {seed, "
-      "calibration_configurations, validation_configurations, experiments: {a, b, c}}");
+      "experiments`): {seed, calibration_configurations, validation_configurations, "
+      "experiments: {a, b, c}}; with `out` (a folder) also timed ('seconds') and written there "
+      "as results.json and results.md, as the CLI does");
 
   m.def(
       "montecarlo",
       [](int runs, int poses, int validation, int threads, uint64_t seed, double noise_mm,
          const std::string& level, bool optimal_plan, const std::string& validation_model) {
-        MonteCarloStudyRequest request;
-        request.options.runs = runs;
-        request.options.poses = poses;
-        request.options.validation = validation;
-        request.options.threads = threads;
-        request.options.seed = seed;
-        request.options.level = parse_calibration_level(level);
-        request.options.optimal_plan = optimal_plan;
-        request.options.validation_model = parse_validation_model(validation_model);
-        request.noise_mm = noise_mm;
+        MonteCarloOptions options;
+        options.runs = runs;
+        options.poses = poses;
+        options.validation = validation;
+        options.threads = threads;
+        options.seed = seed;
+        const MonteCarloStudyRequest request = monte_carlo_study_request(
+            options, noise_mm, level, optimal_plan ? "optimal" : "random", validation_model);
         MonteCarloStudy study;
         {
           py::gil_scoped_release release;

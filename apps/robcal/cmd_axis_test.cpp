@@ -9,10 +9,8 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
-#include "robcal/io/atomic_file.hpp"
-#include "robcal/validate/axis_test.hpp"
+#include "robcal/validate/test_workflows.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -37,8 +35,7 @@ void run_plan(const PlanOptions& o) {
   request.to_rad = deg2rad(range[1]);
   request.steps = o.steps;
   request.approach_rad = deg2rad(o.approach_deg);
-  const std::vector<AxisTestMove> moves = axis_test_moves(request);
-  write_file_atomically(o.out, axis_test_moves_csv(moves));
+  (void)axis_test_plan_file(request, o.out);
   fmt::print(
       "axis test of joint {}: {} positions from {:g}° to {:g}°, each approached from {:g}° "
       "below and above; measure the target after every 'below'/'above' move\nwrote {}\n",
@@ -46,24 +43,11 @@ void run_plan(const PlanOptions& o) {
 }
 
 void run_analyse(const AnalyseOptions& o) {
-  const AxisTestResult r = axis_test_analyse(read_axis_test_samples(o.measurements));
-  const auto stats = [](const ErrorStatistics& s, double sigma) {
-    return nlohmann::json{{"mean_abs", s.mean}, {"max_abs", s.max}, {"sigma", sigma}};
-  };
+  const AxisTestResult r = axis_test_analyse_file(o.measurements);
   if (o.json) {
-    print_json(
-        {{"samples", r.samples},
-         {"axis_direction", {r.axis_direction.x(), r.axis_direction.y(), r.axis_direction.z()}},
-         {"axis_point_mm", {r.axis_point_mm.x(), r.axis_point_mm.y(), r.axis_point_mm.z()}},
-         {"radius_mm", r.radius_mm},
-         {"scale", r.scale},
-         {"backlash_deg", r.backlash_deg},
-         {"backlash_sigma_deg", r.backlash_sigma_deg},
-         {"axis_sigma_deg", r.tilt_sigma_deg},
-         {"tangential_mm", stats(r.tangential_mm, r.tangential_sigma_mm)},
-         {"radial_mm", stats(r.radial_mm, r.radial_sigma_mm)},
-         {"axial_mm", stats(r.axial_mm, r.axial_sigma_mm)},
-         {"measurements", o.measurements}});
+    nlohmann::json out = axis_test_json(r);
+    out["measurements"] = o.measurements;
+    print_json(out);
     return;
   }
   fmt::print("axis test from {}: {} positions\n", o.measurements, r.samples);

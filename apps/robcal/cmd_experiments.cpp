@@ -3,13 +3,10 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
-#include <filesystem>
 #include <memory>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/io/atomic_file.hpp"
 #include "robcal/sim/experiments.hpp"
 
 namespace robcal::cli {
@@ -22,24 +19,17 @@ struct ExperimentOptions {
 };
 
 void run_experiments(const ExperimentOptions& o) {
-  const auto started = std::chrono::steady_clock::now();
   const bool progress = !o.json && stdout_is_terminal();
-  const PublishedExperiments e = run_published_experiments(o.seed, [&](const std::string& what) {
-    if (progress) fmt::print("{}\n", what);
-  });
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  nlohmann::json all = published_experiments_json(e);
-  all["seconds"] = seconds;
-  const std::string md = published_experiments_markdown(e);
-  const std::filesystem::path out(o.out);
-  write_file_atomically(out / "results.json", all.dump(2) + "\n");
-  write_file_atomically(out / "results.md", md);
+  const PublishedExperimentsRun run =
+      run_published_experiments_files(o.seed, o.out, [&](const std::string& what) {
+        if (progress) fmt::print("{}\n", what);
+      });
   if (o.json) {
-    print_json(all);
+    print_json(published_experiments_run_json(run));
     return;
   }
-  fmt::print("{}\nwrote {}/results.json and results.md ({:.1f} s)\n", md, out.string(), seconds);
+  fmt::print("{}\nwrote {}/results.json and results.md ({:.1f} s)\n",
+             published_experiments_markdown(run.experiments), o.out, run.seconds);
 }
 
 const bool registered = register_command(96, [](CLI::App& app) {

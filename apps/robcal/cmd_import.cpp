@@ -16,7 +16,7 @@ struct ImportOptions {
   std::string export_path, log_path, map_path, out;
   std::string join = "order";
   double tolerance_s = 0.5;
-  std::string target, delimiter, decimal, columns, unit, config_column;
+  std::string target, delimiter, decimal, columns, unit, config_column, world_frame;
   bool allow_unmeasured = false;
   bool json = false;
 };
@@ -33,7 +33,8 @@ void run_import(const ImportOptions& o) {
                                                                 o.join,
                                                                 o.tolerance_s,
                                                                 o.target,
-                                                                o.allow_unmeasured});
+                                                                o.allow_unmeasured,
+                                                                o.world_frame});
   write_file_atomically(o.out, result.csv);
   if (o.json) {
     nlohmann::json out = campaign::import_json(result);
@@ -45,6 +46,8 @@ void run_import(const ImportOptions& o) {
   fmt::print("imported {} {} rows from {} joined by {} with {}\nwrote {}\n",
              result.measurements.size(), measurement_kind_name(result.measurements.kind),
              o.export_path, o.join, o.log_path, o.out);
+  if (!result.world_frame.empty())
+    fmt::print("positions in the world frame of {}\n", result.world_frame);
 }
 
 const bool registered = register_command(75, [](CLI::App& app) {
@@ -77,6 +80,9 @@ const bool registered = register_command(75, [](CLI::App& app) {
                   "Length unit of the export: mm or m (default: header, else mm)");
   cmd->add_flag("--allow-unmeasured", o->allow_unmeasured,
                 "Import even when some joint-log rows have no reading (listed as warnings)");
+  cmd->add_option("--world-frame", o->world_frame,
+                  "Frame file of `robcal frames world`: write the positions (and orientations) "
+                  "in that frame (the nests' world) instead of the instrument's");
   cmd->add_option("--out", o->out, "Measurement CSV to write")->required();
   cmd->add_flag("--json", o->json, "Machine-readable output");
   cmd->callback([o] { run_import(*o); });

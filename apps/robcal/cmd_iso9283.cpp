@@ -4,31 +4,20 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <algorithm>
 #include <memory>
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
-#include "robcal/io/atomic_file.hpp"
-#include "robcal/io/pose_list_file.hpp"
-#include "robcal/io/robot_file.hpp"
-#include "robcal/kinematics/orientation.hpp"
-#include "robcal/programs/measurement_program.hpp"
 #include "robcal/report/report.hpp"
-#include "robcal/validate/iso9283.hpp"
+#include "robcal/validate/test_workflows.hpp"
 
 namespace robcal::cli {
 namespace {
 
 struct PlanOptions {
-  std::string robot, tool, model, region, orientation = "0,0,1,0", config = "front-up-noflip";
-  int cycles = kIso9283Cycles;
-  double vap_approach_mm = 0;
-  std::string out_poses = "iso9283-poses.csv", out_cycles = "iso9283-cycles.csv";
-  std::string out_vap_cycles = "iso9283-vap-cycles.csv";
-  std::string program_language, program_dir = "iso9283-programs";
+  Iso9283PlanFilesRequest request;
+  std::string region, orientation = "0,0,1,0", config = "front-up-noflip";
   bool json = false;
 };
 
@@ -38,82 +27,25 @@ struct AnalyseOptions {
   bool json = false;
 };
 
-nlohmann::json vector_json(const Eigen::Vector3d& v) {
-  return {v.x(), v.y(), v.z()};
-}
-
-void run_plan(const PlanOptions& o) {
-  Iso9283PlanRequest request;
-  const RobotModel model = load_robot(o.robot);
-  const Tool tool = o.tool.empty() ? Tool{} : load_tool(o.tool);
-  request.robot = CalibratedRobot::nominal(model, tool);
-  if (!o.model.empty()) {
-    request.robot = load_calibrated_robot(o.model);
-    if (request.robot.model.name != model.name)
-      throw InputError({o.model, 0, 0, "--model"},
-                       fmt::format("this is a model of the {}, not of the {}",
-                                   request.robot.model.name, model.name));
-    if (!o.tool.empty()) request.robot.tool.flange_T_tcp = tool.flange_T_tcp;
-  }
+void run_plan(PlanOptions o) {
+  Iso9283PlanRequest& request = o.request.test;
   const std::vector<double> box = parse_numbers(o.region, 6, "--region");
   request.region_min_mm = Eigen::Vector3d(box[0], box[1], box[2]);
   request.region_max_mm = Eigen::Vector3d(box[3], box[4], box[5]);
   request.world_R_tcp = parse_orientation(o.orientation, "--orientation");
   request.config = parse_config(o.config);
-  request.cycles = o.cycles;
-  request.vap_approach_mm = o.vap_approach_mm;
-  const Iso9283Plan plan = iso9283_plan(request);
-  // Every program generated before any file is written: a refusal writes nothing.
-  std::vector<MeasurementProgramRequest> programs;
-  if (!o.program_language.empty()) {
-    MeasurementProgramRequest base;
-    base.language = program_language_from_name(o.program_language, "--program");
-    if (base.language == ProgramLanguage::Jbi)
-      throw InputError({"", 0, 0, "--program"},
-                       "a Yaskawa job needs the axes' pulses per degree, which iso9283 does not "
-                       "take: choose rapid, krl, ls or urscript");
-    base.limits = model.limits;
-    base.approach_deg = 0;  // the cycle's own approach, as the standard prescribes
-    for (const bool multidirectional : {false, true}) {
-      if (multidirectional && plan.vap_sequence.empty()) break;
-      programs.push_back(iso9283_program_request(plan, base, multidirectional));
-      programs.back().name = multidirectional ? "ISOVAP" : "ISOCYC";
-      (void)write_measurement_program(programs.back());
-    }
-  }
-  std::vector<std::string> files = {o.out_poses, o.out_cycles};
-  write_file_atomically(o.out_poses, iso9283_pose_list_csv(plan, request.config));
-  write_file_atomically(o.out_cycles, iso9283_cycles_csv(plan));
-  if (!plan.vap_sequence.empty()) {
-    write_file_atomically(o.out_vap_cycles, iso9283_vap_cycles_csv(plan));
-    files.push_back(o.out_vap_cycles);
-  }
-  for (const MeasurementProgramRequest& program : programs)
-    for (const std::string& path : write_measurement_program_files(program, o.program_dir))
-      files.push_back(path);
+  const Iso9283PlanFiles result = iso9283_plan_files(o.request);
+  const Iso9283Plan& plan = result.plan;
   if (o.json) {
-    nlohmann::json out;
-    out["cube_centre_mm"] = vector_json(plan.cube_centre_mm);
-    out["cube_edge_mm"] = plan.cube_edge_mm;
-    for (const Iso9283PlannedPose& p : plan.poses) {
-      std::vector<double> joints;
-      joints.reserve(kJointCount);
-      for (int j = 0; j < kJointCount; ++j) joints.push_back(rad2deg(p.joints[j]));
-      out["poses"].push_back({{"name", p.name},
-                              {"position_mm", vector_json(p.world_T_tcp.p)},
-                              {"joints_deg", joints}});
-    }
-    out["cycles"] = o.cycles;
-    out["vap_approach_mm"] = o.vap_approach_mm;
-    out["files"] = files;
-    print_json(out);
+    print_json(iso9283_plan_json(result));
     return;
   }
   fmt::print(
       "ISO 9283 test cube for {} ({} model): edge {:.3f} mm, centre ({:.3f}, {:.3f}, {:.3f}) "
       "mm; poses on the plane C1-C2-C7-C8, configuration {}\n",
-      model.name, request.robot.level, plan.cube_edge_mm, plan.cube_centre_mm.x(),
-      plan.cube_centre_mm.y(), plan.cube_centre_mm.z(), request.config.label());
+      result.test.robot.model.name, result.test.robot.level, plan.cube_edge_mm,
+      plan.cube_centre_mm.x(), plan.cube_centre_mm.y(), plan.cube_centre_mm.z(),
+      result.test.config.label());
   fmt::print(
       "  pose          x          y          z |      J1       J2       J3       J4       "
       "J5       J6 (deg)\n");
@@ -124,19 +56,18 @@ void run_plan(const PlanOptions& o) {
     fmt::print("\n");
   }
   fmt::print("{} cycles P1 → P5 → P4 → P3 → P2 (ISO 9283 pose accuracy and repeatability)\n",
-             o.cycles);
+             result.test.cycles);
   if (!plan.vap_sequence.empty())
     fmt::print(
         "multi-directional test (vAP): every pose approached along world +x, +y, +z from {:g} mm "
         "back, {} cycles per direction; measure with direction 1..3 in the measurements file; "
         "readings at the pre-poses (\"-from\") are not part of the test\n",
-        o.vap_approach_mm, o.cycles);
-  fmt::print("wrote {}\n", fmt::join(files, ", "));
+        result.test.vap_approach_mm, result.test.cycles);
+  fmt::print("wrote {}\n", fmt::join(result.files, ", "));
 }
 
 void run_analyse(const AnalyseOptions& o) {
-  const Iso9283Result r =
-      iso9283_analyse(read_iso9283_request(o.poses, o.measurements, o.min_cycles));
+  const Iso9283Result r = iso9283_analyse_files(o.poses, o.measurements, o.min_cycles);
   if (o.json) {
     nlohmann::json out = iso9283_json(r);
     out["measurements"] = o.measurements;
@@ -188,9 +119,9 @@ const bool registered = register_command(65, [](CLI::App& app) {
       "plan",
       "The test cube in a workspace region, its poses P1-P5 and the joint targets of the "
       "cycles (compensation IK of the model)");
-  p->add_option("--robot", plan->robot, "Built-in robot name or robot file")->required();
-  p->add_option("--tool", plan->tool, "Tool file (its TCP); default: the flange");
-  p->add_option("--model", plan->model,
+  p->add_option("--robot", plan->request.robot, "Built-in robot name or robot file")->required();
+  p->add_option("--tool", plan->request.tool, "Tool file (its TCP); default: the flange");
+  p->add_option("--model", plan->request.model,
                 "Calibrated model (joint targets compensated); default: the nominal robot, base "
                 "at the origin");
   p->add_option("--region", plan->region,
@@ -200,21 +131,24 @@ const bool registered = register_command(65, [](CLI::App& app) {
                 "TCP orientation at every pose, quaternion qw,qx,qy,qz (world)")
       ->capture_default_str();
   p->add_option("--config", plan->config, "Arm configuration")->capture_default_str();
-  p->add_option("--cycles", plan->cycles, "Cycles (the standard: 30)")->capture_default_str();
-  p->add_option("--out-poses", plan->out_poses, "Pose-list CSV of P1-P5")->capture_default_str();
-  p->add_option("--out-cycles", plan->out_cycles, "Joint targets of every move (CSV, degrees)")
+  p->add_option("--cycles", plan->request.test.cycles, "Cycles (the standard: 30)")
       ->capture_default_str();
-  p->add_option("--vap-approach", plan->vap_approach_mm,
+  p->add_option("--out-poses", plan->request.out_poses, "Pose-list CSV of P1-P5")
+      ->capture_default_str();
+  p->add_option("--out-cycles", plan->request.out_cycles,
+                "Joint targets of every move (CSV, degrees)")
+      ->capture_default_str();
+  p->add_option("--vap-approach", plan->request.test.vap_approach_mm,
                 "Also plan the multi-directional test (vAP): approach distance along world +x, "
                 "+y, +z (mm); 0: none")
       ->capture_default_str();
-  p->add_option("--out-vap-cycles", plan->out_vap_cycles,
+  p->add_option("--out-vap-cycles", plan->request.out_vap_cycles,
                 "Joint targets of the multi-directional test's moves (CSV, degrees)")
       ->capture_default_str();
-  p->add_option("--program", plan->program_language,
+  p->add_option("--program", plan->request.program,
                 "Also write the cycles as robot programs (programs layer): rapid, krl, ls, "
                 "urscript");
-  p->add_option("--program-dir", plan->program_dir, "Folder for the programs")
+  p->add_option("--program-dir", plan->request.program_dir, "Folder for the programs")
       ->capture_default_str();
   p->add_flag("--json", plan->json, "Machine-readable output");
   p->callback([plan] { run_plan(*plan); });

@@ -8,7 +8,6 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/core/error.hpp"
 #include "robcal/sim/monte_carlo_study.hpp"
 
 namespace robcal::cli {
@@ -23,15 +22,9 @@ struct McOptions {
   bool json = false;
 };
 
-void run_montecarlo(McOptions o) {
-  if (o.plan != "optimal" && o.plan != "random")
-    throw InputError({"", 0, 0, "--plan"}, "expected 'optimal' or 'random'");
-  MonteCarloStudyRequest request;
-  request.options = o.mc;
-  request.options.level = parse_calibration_level(o.level);
-  request.options.optimal_plan = o.plan == "optimal";
-  request.options.validation_model = parse_validation_model(o.validation_model);
-  request.noise_mm = o.noise_mm;
+void run_montecarlo(const McOptions& o) {
+  const MonteCarloStudyRequest request =
+      monte_carlo_study_request(o.mc, o.noise_mm, o.level, o.plan, o.validation_model);
   const auto started = std::chrono::steady_clock::now();
   const MonteCarloStudy study = run_monte_carlo_study(request);
   const double seconds =

@@ -21,12 +21,9 @@ struct ReportOptions {
 
 void run_report(const ReportOptions& o) {
   const std::filesystem::path html_path(o.out);
-  check_report_path(html_path);
-  load_chartjs();  // says what to install before the work, not after
-  const ReportBuild build = build_report(o.request);
-  for (const std::string& warning : build.warnings) fmt::print(stderr, "warning: {}\n", warning);
-  const nlohmann::json report = report_json(build.data);
-  write_report(report, html_path);
+  std::vector<std::string> warnings;
+  const nlohmann::json report = make_report(o.request, html_path, warnings);
+  for (const std::string& warning : warnings) fmt::print(stderr, "warning: {}\n", warning);
   if (o.json) {
     print_json(report);
     return;

@@ -481,9 +481,13 @@ def ballbar_readable(ballbar: Ballbar, length_mm: float) -> bool:
 
 
 def simulate(instrument: str = "laser-tracker", truth: str = "published", count: int = 20,
-             seed: int = 1, noise_mm: float = 0.0) -> Dict[str, Any]:
-    """Measures `count` random measurable configurations of a virtual IRB 120 (published or
-    random truth) with a virtual instrument; noise_mm = 0 gives exact readings."""
+             seed: int = 1, noise_mm: float = 0.0, robot: str = "abb-irb120", cell: str = "",
+             tool: str = "", configs: str = "", effects: Sequence[str] = ...,
+             approach: str = "below", error_length_mm: float = ...,
+             error_angle_deg: float = ..., out: str = "") -> Dict[str, Any]:
+    """`robcal simulate`: `count` random measurable configurations (or the `configs` file's) of
+    a virtual robot measured by a virtual instrument; noise_mm = 0 gives exact readings; files
+    written to `out` when given; 'summary' is the CLI's --json."""
 
 
 def read_program_points(text: str, language: str, joints: bool = False,
@@ -517,9 +521,10 @@ def read_joint_moves(text: str, language: str,
     """Every absolute joint move of a program text: joints_deg N×6 and their lines."""
 
 
-def experiments(seed: int = 1) -> Dict[str, Any]:
+def experiments(seed: int = 1, out: str = "") -> Dict[str, Any]:
     """The published simulation experiments (docs/method/11-published-results.md, `robcal experiments`): {seed,
-    calibration_configurations, validation_configurations, experiments: {a, b, c}}."""
+    calibration_configurations, validation_configurations, experiments: {a, b, c}}; with `out`
+    also 'seconds' and results.json, results.md written there."""
 
 
 def montecarlo(runs: int = 1000, poses: int = 50, validation: int = 1000, threads: int = 2,
@@ -560,10 +565,12 @@ def plan_study(robot: str = "abb-irb120", tool: Optional[str] = None,
 
 def report(model: str, measurements: Sequence[str], calibration: Optional[str] = None,
            before: Optional[str] = None, title: str = "robcal calibration report",
-           out: Optional[str] = None) -> Dict[str, Any]:
+           out: Optional[str] = None, instrument: str = "", seed: Optional[int] = None,
+           iso9283_poses: str = "", iso9283_measurements: str = "", iso9283_min_cycles: int = 30,
+           ballbar: str = "") -> Dict[str, Any]:
     """A calibrated model validated on measurement files beside the nominal robot (or `before`)
     (`robcal report`): the report's JSON as a dict plus `warnings`; with `out` (.html) also the
-    self-contained page and the JSON beside it."""
+    self-contained page and the JSON beside it; provenance, ISO 9283 and ballbar sections."""
 
 
 def iso9283_plan(robot: CalibratedRobot, region_min_mm: ArrayLike, region_max_mm: ArrayLike,
@@ -582,6 +589,37 @@ def iso9283_analyse(poses: str, measurements: str, min_cycles: int = 30) -> Dict
     analyse`): the commanded poses' pose list and the measurements CSV; the CLI's --json."""
 
 
+def iso9283_plan_files(robot: str, region_min_mm: ArrayLike, region_max_mm: ArrayLike,
+                       tool: str = "", model: str = "",
+                       quaternion_wxyz: Optional[ArrayLike] = None,
+                       config: str = "front-up-noflip", cycles: int = 30,
+                       vap_approach_mm: float = 0.0, out_poses: str = "iso9283-poses.csv",
+                       out_cycles: str = "iso9283-cycles.csv",
+                       out_vap_cycles: str = "iso9283-vap-cycles.csv", program: str = "",
+                       program_dir: str = "iso9283-programs") -> Dict[str, Any]:
+    """`robcal iso9283 plan` on files: writes the pose list, the cycles (vAP cycles, programs)
+    and returns the CLI's --json document."""
+
+
+def axis_test_plan(joint: int, home_deg: ArrayLike, from_deg: float, to_deg: float,
+                   steps: int = 12, approach_deg: float = 5.0, out: str = "") -> Dict[str, Any]:
+    """`robcal axis-test plan`: {'csv': the moves file's text, 'moves'}; written to `out`."""
+
+
+def axis_test_analyse(measurements: str) -> Dict[str, Any]:
+    """`robcal axis-test analyse`: circle, backlash and errors of one joint; the CLI's --json."""
+
+
+def ballbar_path(robot: str, tool: str, target: str, centre_mm: ArrayLike, length_mm: float,
+                 out: str, model: str = "", reading_model: str = "", range_mm: float = 1.0,
+                 axis: Optional[ArrayLike] = None,
+                 elevations_deg: Optional[Sequence[float]] = None, points: int = 12,
+                 quaternion_wxyz: Optional[ArrayLike] = None,
+                 config: str = "front-up-noflip") -> Dict[str, Any]:
+    """`robcal ballbar-path`: the checked path written to `out`; the CLI's --json document plus
+    'joints_deg' (N×6) and 'predicted_offsets_mm'."""
+
+
 def demo(out: str = "", seed: int = 1, count: int = 50, validation: int = 1000) -> Dict[str, Any]:
     """`robcal demo`: the whole method on a virtual IRB 120 with a simulated tracker; the CLI's
     --json summary plus per-row validation errors (errors_mm, errors_vs_truth_mm); writes the
@@ -591,10 +629,10 @@ def demo(out: str = "", seed: int = 1, count: int = 50, validation: int = 1000) 
 def import_measurements(export: str, joints: str, map: str = "", join: str = "order",
                         time_tolerance: float = 0.5, target: str = "", delimiter: str = "",
                         decimal: str = "", columns: str = "", unit: str = "",
-                        config_column: str = "",
-                        allow_unmeasured: bool = False) -> Dict[str, Any]:
+                        config_column: str = "", allow_unmeasured: bool = False,
+                        world_frame: str = "") -> Dict[str, Any]:
     """`robcal import`: an instrument export joined with the joint log; {'rows', 'kind',
-    'warnings', 'csv', 'measurements': Measurements}."""
+    'warnings', 'csv', 'measurements': Measurements}; positions in a `frames world` frame."""
 
 
 def frames_base(robot: str, joint1: str, joint2: str, target: str = "1", cell: str = "",
@@ -664,4 +702,13 @@ class PointSession:
         """The journal's text for the readings so far."""
 
     def result(self) -> Dict[str, Any]:
-        """{'measurements': Measurements, 'missing': [...], 'drift': [...]} so far."""
+        """{'measurements': Measurements, 'read', 'missing', 'drift'} so far."""
+
+
+def point_session(configs: str, journal: str, out: str,
+                  answers: Optional[Sequence[str]] = None, tool: str = "", reference: str = "",
+                  every: int = 0, resume: bool = False, follow: str = "", map: str = "",
+                  follow_timeout_s: float = 600.0, world_frame: str = "") -> Dict[str, Any]:
+    """`robcal session` on files: answers from `answers` (or `follow`, an export as it grows),
+    each journalled at once; {'status', 'steps', 'answered', 'resumed', 'configurations',
+    'read', 'missing', 'drift', 'measurements', 'csv', 'transcript', 'refused'}."""

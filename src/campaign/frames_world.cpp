@@ -1,5 +1,7 @@
 #include "robcal/campaign/frames_world.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
 
 #include "robcal/core/error.hpp"
@@ -29,6 +31,10 @@ Pose<double> parse_world_frame(const std::string& yaml_text, const std::string& 
             Eigen::AngleAxisd(angles.z(), Eigen::Vector3d::UnitZ()))
                .toRotationMatrix();
   return pose;
+}
+
+std::string world_frame_comment(const std::string& file) {
+  return fmt::format("positions in the world frame of {} (robcal frames world)", file);
 }
 
 Pose<double> load_world_frame(const std::string& path) {

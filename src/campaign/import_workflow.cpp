@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "robcal/campaign/frames_world.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 
@@ -9,6 +10,11 @@ namespace robcal::campaign {
 
 ImportResult import_files(const ImportFilesRequest& request) {
   ImportRequest r;
+  // Read first: a bad frame file is named before the export's own errors.
+  if (!request.world_frame.empty()) {
+    r.instrument_T_world = load_world_frame(request.world_frame);
+    r.world_frame_file = request.world_frame;
+  }
   r.export_file = {request.export_path, read_text_file(request.export_path)};
   r.joint_log = {request.joints_path, read_text_file(request.joints_path)};
   if (!request.map_path.empty())
@@ -24,9 +30,11 @@ ImportResult import_files(const ImportFilesRequest& request) {
 }
 
 nlohmann::json import_json(const ImportResult& result) {
-  return {{"rows", result.measurements.size()},
-          {"kind", std::string(measurement_kind_name(result.measurements.kind))},
-          {"warnings", result.warnings}};
+  nlohmann::json j = {{"rows", result.measurements.size()},
+                      {"kind", std::string(measurement_kind_name(result.measurements.kind))},
+                      {"warnings", result.warnings}};
+  if (!result.world_frame.empty()) j["world_frame"] = result.world_frame;
+  return j;
 }
 
 }  // namespace robcal::campaign

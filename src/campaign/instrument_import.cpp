@@ -9,6 +9,7 @@
 #include <functional>
 #include <set>
 
+#include "robcal/campaign/frames_world.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/yaml_support.hpp"
@@ -681,13 +682,18 @@ ImportResult import_measurements(const ImportRequest& request) {
     m.line = reading.line;
     set.points.push_back(std::move(m));
   }
-  result.csv = write_measurements_csv(
-      set, result.targets,
+  std::string comment =
       fmt::format("imported from {} joined by {} with {}", request.export_file.name,
                   request.join == JoinBy::Order  ? "order"
                   : request.join == JoinBy::Name ? "configuration name"
                                                  : "time",
-                  request.joint_log.name));
+                  request.joint_log.name);
+  if (request.instrument_T_world) {
+    set = measurements_in_frame(set, *request.instrument_T_world);
+    result.world_frame = request.world_frame_file;
+    comment += "\n" + world_frame_comment(request.world_frame_file);
+  }
+  result.csv = write_measurements_csv(set, result.targets, comment);
   return result;
 }
 

@@ -147,4 +147,17 @@ void write_report(const nlohmann::json& report, const std::filesystem::path& htm
   write_file_atomically(html_path, html);
 }
 
+nlohmann::json make_report(const ReportRequest& request, const std::filesystem::path& html_path,
+                           std::vector<std::string>& warnings) {
+  if (!html_path.empty()) {
+    check_report_path(html_path);
+    (void)load_chartjs();
+  }
+  ReportBuild build = build_report(request);
+  warnings.insert(warnings.end(), build.warnings.begin(), build.warnings.end());
+  nlohmann::json report = report_json(build.data);
+  if (!html_path.empty()) write_report(report, html_path);
+  return report;
+}
+
 }  // namespace robcal

@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <nlohmann/json.hpp>
 
+#include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/report/report.hpp"
 #include "robcal/sim/campaign.hpp"
@@ -201,6 +203,23 @@ std::string published_experiments_markdown(const PublishedExperiments& e) {
       "measurement noise); \"against new measurements\": against noisy validation readings, "
       "as the published tables (which measured a real robot).\n";
   return md;
+}
+
+PublishedExperimentsRun run_published_experiments_files(
+    uint64_t seed, const std::filesystem::path& out,
+    const std::function<void(const std::string&)>& progress) {
+  const auto started = std::chrono::steady_clock::now();
+  PublishedExperimentsRun run{run_published_experiments(seed, progress), 0};
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  write_file_atomically(out / "results.json", published_experiments_run_json(run).dump(2) + "\n");
+  write_file_atomically(out / "results.md", published_experiments_markdown(run.experiments));
+  return run;
+}
+
+nlohmann::json published_experiments_run_json(const PublishedExperimentsRun& run) {
+  nlohmann::json j = published_experiments_json(run.experiments);
+  j["seconds"] = run.seconds;
+  return j;
 }
 
 }  // namespace robcal

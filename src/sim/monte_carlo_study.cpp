@@ -43,6 +43,17 @@ MonteCarloStudy run_monte_carlo_study(const MonteCarloStudyRequest& request) {
   return study;
 }
 
+MonteCarloStudyRequest monte_carlo_study_request(MonteCarloOptions options, double noise_mm,
+                                                 const std::string& level, const std::string& plan,
+                                                 const std::string& validation_model) {
+  if (plan != "optimal" && plan != "random")
+    throw InputError({"", 0, 0, "--plan"}, "expected 'optimal' or 'random'");
+  options.level = parse_calibration_level(level);
+  options.optimal_plan = plan == "optimal";
+  options.validation_model = parse_validation_model(validation_model);
+  return {options, noise_mm};
+}
+
 nlohmann::json monte_carlo_study_json(const MonteCarloStudy& s) {
   const MonteCarloOptions& o = s.request.options;
   nlohmann::json j;

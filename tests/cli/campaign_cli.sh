@@ -40,6 +40,48 @@ print(max(abs(x - y) for k in a for x, y in zip(a[k], b[k])))
 PY
 )
 $PY -c "import sys; sys.exit(0 if float('$WORST') < 1e-9 else 1)" || fail "import round trip: worst difference $WORST"
+# --world-frame: the same campaign read by an instrument moved to instrument_T_world =
+# Trans(p)·Rx(α)·Ry(β)·Rz(γ) (a `frames world` file), so m_I = R·m_W + p; imported with that
+# file, the world positions come back.
+printf 'frame: {position_mm: [-250.5, 1320.25, 75], rotation_xyz_deg: [3, -4.5, 123], sigma: {position_mm: [0, 0, 0], rotation_xyz_deg: [0, 0, 0]}, sigma_noise_mm: 0, rms_mm: 0}\n' >"$TMP/moved.yaml"
+$PY - "$TMP/sim/measurements.csv" "$TMP/export-moved.txt" <<'PY'
+import math, sys
+rows = [l.strip().split(",") for l in open(sys.argv[1]) if l.strip() and not l.startswith("#")][1:]
+def rot(axis, deg):
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return {0: [[1, 0, 0], [0, c, -s], [0, s, c]], 1: [[c, 0, s], [0, 1, 0], [-s, 0, c]],
+            2: [[c, -s, 0], [s, c, 0], [0, 0, 1]]}[axis]
+mul = lambda a, b: [[sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+R = mul(mul(rot(0, 3), rot(1, -4.5)), rot(2, 123))
+p = [-250.5, 1320.25, 75]
+with open(sys.argv[2], "w") as out:
+    for r in rows:
+        m = [float(v) for v in r[8:11]]
+        out.write("A::Robot %s %s %s\n" % (r[0], r[1], " ".join(
+            "%.17g" % (sum(R[i][k] * m[k] for k in range(3)) + p[i]) for i in range(3))))
+PY
+"$ROBCAL" import --export "$TMP/export-moved.txt" --joints "$TMP/log.csv" --columns collection,group,target,x,y,z \
+  --config-column group --join name --world-frame "$TMP/moved.yaml" --out "$TMP/imported-moved.csv" \
+  >"$TMP/import-moved.txt" || fail "import --world-frame failed: $(cat "$TMP/import-moved.txt")"
+grep -q "positions in the world frame of $TMP/moved.yaml" "$TMP/import-moved.txt" ||
+  fail "import --world-frame summary: $(cat "$TMP/import-moved.txt")"
+grep -q "^# positions in the world frame of $TMP/moved.yaml" "$TMP/imported-moved.csv" ||
+  fail "import --world-frame: the file does not say its frame"
+WORST=$($PY - "$TMP/sim/measurements.csv" "$TMP/imported-moved.csv" <<'PY'
+import sys
+def rows(path):
+    lines = [l.strip() for l in open(path) if l.strip() and not l.startswith("#")]
+    return {tuple(r[:2]): [float(v) for v in r[2:]] for r in (l.split(",") for l in lines[1:])}
+a, b = rows(sys.argv[1]), rows(sys.argv[2])
+assert a.keys() == b.keys()
+print(max(abs(x - y) for k in a for x, y in zip(a[k], b[k])))
+PY
+)
+$PY -c "import sys; sys.exit(0 if float('$WORST') < 1e-9 else 1)" || fail "import --world-frame round trip: worst difference $WORST"
+printf 'frame: {position_mm: [1, 2]}\n' >"$TMP/badframe-import.yaml"
+expect_error "import bad world frame" "badframe-import.yaml" \
+  import --export "$TMP/export-moved.txt" --joints "$TMP/log.csv" --columns collection,group,target,x,y,z \
+  --world-frame "$TMP/badframe-import.yaml" --out "$TMP/bad.csv"
 
 # 2. Frames: joint-1 and joint-2 sweeps of target 1 give the base, written into the cell file.
 { echo "config,target,j1,j2,j3,j4,j5,j6"; for q in $(seq -20 2 10); do echo "A$q,1,$q,0,0,0,0,0"; done; } >"$TMP/s1.csv"

@@ -23,4 +23,8 @@ MeasurementSet measurements_in_frame(const MeasurementSet& set,
 Pose<double> parse_world_frame(const std::string& yaml_text, const std::string& file);
 Pose<double> load_world_frame(const std::string& path);
 
+/// The comment line of a measurement file whose positions are in the world frame of the frame
+/// file `file` (session, import): says which frame, so the file is not taken for raw readings.
+std::string world_frame_comment(const std::string& file);
+
 }  // namespace robcal::campaign

@@ -24,13 +24,14 @@ struct ImportFilesRequest {
   double time_tolerance_s = 0.5;
   std::string target;  ///< target name when neither file names one
   bool allow_unmeasured = false;
+  std::string world_frame;  ///< frame file of `robcal frames world`: positions in that frame
 };
 
 /// Reads the files and joins them. InputError names the file (line, column) or the option
 /// (`--delimiter` …) that is wrong.
 ImportResult import_files(const ImportFilesRequest& request);
 
-/// {rows, kind, warnings}.
+/// {rows, kind, warnings} and world_frame (the frame file) when the positions are in one.
 nlohmann::json import_json(const ImportResult& result);
 
 }  // namespace robcal::campaign

@@ -97,13 +97,18 @@ struct ImportRequest {
   std::string default_target;
   /// Log rows without a reading are reported as warnings instead of refused.
   bool allow_unmeasured = false;
+  /// Readings taken in the instrument's frame written in the frame F of a `robcal frames
+  /// world` file (campaign/frames_world.hpp): instrument_T_F, and the file's name for the CSV.
+  std::optional<Pose<double>> instrument_T_world;
+  std::string world_frame_file;
 };
 
 struct ImportResult {
   MeasurementSet measurements;  ///< points or poses, in the export's order
   Tool targets;                 ///< the target names met, in order (indices of the points)
   std::vector<std::string> warnings;
-  std::string csv;  ///< the measurement CSV (io/measurement_file.hpp writer)
+  std::string csv;          ///< the measurement CSV (io/measurement_file.hpp writer)
+  std::string world_frame;  ///< the frame file the positions are in (empty: the instrument's)
 };
 
 /// Reads, joins and renders. \throws InputError naming the file, line and column (or the rows

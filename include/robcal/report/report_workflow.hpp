@@ -49,4 +49,11 @@ void check_report_path(const std::filesystem::path& html_path);
 /// not at all. Throws InputError when Chart.js is missing (load_chartjs).
 void write_report(const nlohmann::json& report, const std::filesystem::path& html_path);
 
+/// The whole `robcal report` (and Python's report): with an html_path, the path and Chart.js
+/// checked before the work (a missing package is named before the computing, not after), the
+/// report built (build_report), its JSON made and, with an html_path, the page and the JSON
+/// written beside it. Returns the report's JSON; the build's warnings go to `warnings`.
+nlohmann::json make_report(const ReportRequest& request, const std::filesystem::path& html_path,
+                           std::vector<std::string>& warnings);
+
 }  // namespace robcal

@@ -7,6 +7,7 @@
 /// here too.
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <string>
 
@@ -54,5 +55,17 @@ PublishedExperiments run_published_experiments(
 nlohmann::json published_experiments_json(const PublishedExperiments& experiments);
 /// The markdown table beside the published figures.
 std::string published_experiments_markdown(const PublishedExperiments& experiments);
+
+/// The experiments as `robcal experiments` runs them: timed, written to `out`/results.json
+/// (published_experiments_run_json) and `out`/results.md (the markdown table).
+struct PublishedExperimentsRun {
+  PublishedExperiments experiments;
+  double seconds = 0;  ///< wall-clock time of the three experiments
+};
+PublishedExperimentsRun run_published_experiments_files(
+    uint64_t seed, const std::filesystem::path& out,
+    const std::function<void(const std::string&)>& progress = {});
+/// published_experiments_json with the run's seconds.
+nlohmann::json published_experiments_run_json(const PublishedExperimentsRun& run);
 
 }  // namespace robcal

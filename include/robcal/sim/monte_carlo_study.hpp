@@ -29,6 +29,13 @@ struct MonteCarloStudy {
 /// Runs the study. Throws InputError (key "--noise-mm") unless the noise is positive.
 MonteCarloStudy run_monte_carlo_study(const MonteCarloStudyRequest& request);
 
+/// The request from the names `robcal montecarlo` and Python take: level (base, joints,
+/// kinematic, full), plan (optimal: D-optimal of 5000 candidates, or random) and validation model
+/// (first-order or exact). \throws InputError naming --level, --plan or --validation-model.
+MonteCarloStudyRequest monte_carlo_study_request(MonteCarloOptions options, double noise_mm,
+                                                 const std::string& level, const std::string& plan,
+                                                 const std::string& validation_model);
+
 /// The p-quantile (0..1) of `values` by linear interpolation between order statistics; 0 when
 /// empty.
 double percentile(std::vector<double> values, double p);
