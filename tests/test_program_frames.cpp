@@ -170,8 +170,8 @@ TEST(ProgramFrames, KrlToolAndBaseFromBasCallsAssignmentsAndFdat) {
     ADD_FAILURE() << "an expression base was accepted";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),
-                 "cell.src:9:7: unknown base '$BASE (set at line 8)': the program does not define "
-                 "it with literal values; give it in a frames file");
+                 "cell.src:9:7: unknown base 'MY_FRAME': the program does not define it with "
+                 "literal values; give it in a frames file");
   }
   ASSERT_EQ(seen.size(), 2u);
   EXPECT_EQ(seen[0].tool, "TOOL_DATA[2]");

@@ -47,6 +47,7 @@ ProgramCompensationResult compensate_program(const ProgramCompensationRequest& r
       filter_program_file(request.in, request.out, options,
                           make_program_corrector(compensation.comp, language, &compensation.robot),
                           request.confidence_out);
+  if (result.filter.dat_text) result.out_companion = krl_companion_path(request.out);
   return result;
 }
 
@@ -64,6 +65,7 @@ nlohmann::json points_json(const std::vector<UncorrectedPoint>& points) {
 void to_json(nlohmann::json& j, const ProgramCompensationResult& result) {
   j = {{"in", result.in},
        {"out", result.out},
+       {"out_companion", result.out_companion},
        {"language", program_language_name(result.language)},
        {"cartesian_points", result.filter.cartesian_points},
        {"joint_points", result.filter.joint_points},

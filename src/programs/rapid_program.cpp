@@ -49,7 +49,7 @@ class RapidScanner {
         move_instruction(*spec);
     }
     assign_usages();
-    return {std::move(sites_), std::move(tools_), std::move(frames_)};
+    return {std::move(sites_), std::move(tools_), std::move(frames_), {}};
   }
 
  private:

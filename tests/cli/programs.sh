@@ -76,12 +76,15 @@ grep -q '^2,23,pA,[0-9.]*$' "$TMP/conf.csv" || fail "confidence row of pA"
 expect_error "unknown work object" "cell.mod:2:23 (pA): unknown work object 'WTABLE'" \
   compensate-program --model "$TMP/model.yaml" --in "$TMP/cell.mod" --out "$TMP/bad.mod"
 
-# KRL: the tool of FDAT FP1 (TOOL_DATA[1]) must be known.
+# KRL: the tool of FDAT FP1 (TOOL_DATA[1]) must be known (a .dat alone: no .src beside it).
+mkdir -p "$TMP/datonly"
+cp "$PROGRAMS/weld_seam.dat" "$TMP/datonly/"
 expect_error "unknown KRL tool" "weld_seam.dat:4:16 (XP1): unknown tool 'TOOL_DATA[1]'" \
-  compensate-program --model "$TMP/model.yaml" --in "$PROGRAMS/weld_seam.dat" --out "$TMP/bad.dat"
+  compensate-program --model "$TMP/model.yaml" --in "$TMP/datonly/weld_seam.dat" --out "$TMP/bad.dat"
 printf 'kind,name,x,y,z,qw,qx,qy,qz\ntool,TOOL_DATA[1],0,0,100,1,0,0,0\n' > "$TMP/kuka.csv"
-"$ROBCAL" compensate-program --model "$TMP/model.yaml" --in "$PROGRAMS/weld_seam.dat" \
+"$ROBCAL" compensate-program --model "$TMP/model.yaml" --in "$TMP/datonly/weld_seam.dat" \
   --out "$TMP/w.dat" --frames "$TMP/kuka.csv" --keep-going > /dev/null || fail "KRL with frames"
+[[ ! -e "$TMP/w.src" ]] || fail "a .dat alone wrote a .src"
 # No BAS before the point: corrected for the default tool in the base frame, and said so.
 printf 'DEF q( )\n  LIN {X 370,Y -50,Z 400,A 180,B 0,C 180}\nEND\n' > "$TMP/q.src"
 "$ROBCAL" compensate-program --model "$TMP/model.yaml" --in "$TMP/q.src" --out "$TMP/q_out.src" \

@@ -28,6 +28,8 @@ struct ProgramCompensationRequest {
 struct ProgramCompensationResult {
   std::string in;   ///< the program's name in messages
   std::string out;  ///< where it was written ("" = a text, not written)
+  /// A KUKA module: the other corrected file written beside `out` (krl_companion_path).
+  std::string out_companion;
   ProgramLanguage language = ProgramLanguage::Rapid;
   ProgramFilterResult filter;  ///< corrected text, counts, uncorrected and assumed points
 };
@@ -43,7 +45,7 @@ ProgramCompensationResult compensate_program_text(const Compensation& compensati
 /// not at all; refuses an output that is the input (filter_program_file).
 ProgramCompensationResult compensate_program(const ProgramCompensationRequest& request);
 
-/// {in, out, language, cartesian_points, joint_points, uncorrected: [{where, reason}],
+/// {in, out, out_companion (KUKA module), language, cartesian_points, joint_points, uncorrected: [{where, reason}],
 /// assumed: [{where, reason}], assumed_default_tool_and_frame: count}.
 void to_json(nlohmann::json& j, const ProgramCompensationResult& result);
 
