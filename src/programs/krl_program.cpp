@@ -286,7 +286,8 @@ class KrlScanner {
           sites_[i].point.tool = tool_;
           sites_[i].point.frame = base_;
         }
-      } else if (lexer_.peek().kind == TokenKind::Identifier && !iequals(lexer_.peek().text, "CA")) {
+      } else if (lexer_.peek().kind == TokenKind::Identifier &&
+                 !iequals(lexer_.peek().text, "CA")) {
         named_target();
       } else {
         return;
@@ -316,10 +317,10 @@ class KrlScanner {
     const auto declared = declared_.find(key);
     if (declared == declared_.end()) {
       if (!module_ || key[0] == '$' || home) return;
-      const std::string message =
-          fmt::format("'{}' is used here but declared neither in this .src nor in its .dat: a "
-                      "point defined elsewhere is not corrected",
-                      name.text);
+      const std::string message = fmt::format(
+          "'{}' is used here but declared neither in this .src nor in its .dat: a "
+          "point defined elsewhere is not corrected",
+          name.text);
       if (!options_.keep_going) refuse(lexer_.file(), name, message);
       out_.unresolved.push_back(
           {fmt::format("{}:{}:{} ({})", lexer_.file(), name.line, name.column, name.text),
@@ -342,8 +343,7 @@ class KrlScanner {
       for (const auto& [key, list] : usages_) {
         const bool whole_array = key.find('[') != std::string::npos &&
                                  !std::isdigit(static_cast<unsigned char>(key[key.find('[') + 1]));
-        if (key == name ||
-            (whole_array && name.starts_with(key.substr(0, key.find('[') + 1))))
+        if (key == name || (whole_array && name.starts_with(key.substr(0, key.find('[') + 1))))
           for (const Usage& u : list) uses.push_back(&u);
       }
       if (uses.empty()) continue;
@@ -362,8 +362,8 @@ class KrlScanner {
                           "at {}:{}:{}: one corrected value cannot serve both; give each use its "
                           "own point",
                           label(tool), label(base), first.file, first.line, first.column,
-                          label(frames_of(*u).first), label(frames_of(*u).second), u->file,
-                          u->line, u->column));
+                          label(frames_of(*u).first), label(frames_of(*u).second), u->file, u->line,
+                          u->column));
       site.point.tool = tool;
       site.point.frame = base;
     }
@@ -522,7 +522,7 @@ class KrlScanner {
   std::vector<PointSite> sites_;
   std::string tool_, base_;  ///< active for motion points ("" = not set in this file)
   std::map<std::string, std::pair<std::string, std::string>> frame_data_;  ///< FDAT: tool, base
-  std::pair<std::string, int> fdat_act_;  ///< the last `FDAT_ACT = name` and its line
+  std::pair<std::string, int> fdat_act_;              ///< the last `FDAT_ACT = name` and its line
   std::map<std::string, std::vector<Usage>> usages_;  ///< by upper-case name with its index
   std::set<std::string> varying_;  ///< FRAME names given two different literal values
   ProgramScan out_;

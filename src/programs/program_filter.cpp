@@ -363,9 +363,10 @@ ProgramFilterResult filter_program(std::string_view text, ProgramLanguage langua
                                    const std::string& file, const ProgramFilterOptions& options,
                                    const PointCorrector& corrector) {
   const detail::ProgramScan scanned = scan(text, language, file, options);
-  Correction c = correct_sites(text, scanned, definitions(scanned.tools, options.tools, "tool", file),
-                               definitions(scanned.frames, options.frames, "frame", file),
-                               language, file, options, corrector, "");
+  Correction c =
+      correct_sites(text, scanned, definitions(scanned.tools, options.tools, "tool", file),
+                    definitions(scanned.frames, options.frames, "frame", file), language, file,
+                    options, corrector, "");
   c.result.confidence_csv = "line,column,name,confidence95_mm\n" + c.result.confidence_csv;
   check_reparse(scan(c.result.text, language, file, options).sites, scanned.sites, c.expected,
                 file);
@@ -408,8 +409,8 @@ ProgramFilterResult filter_krl_module(std::string_view src, std::string_view dat
   result.joint_points += d.result.joint_points;
   for (const auto list : {&ProgramFilterResult::uncorrected, &ProgramFilterResult::assumed})
     (result.*list).insert((result.*list).end(), (d.result.*list).begin(), (d.result.*list).end());
-  result.confidence_csv = "file,line,column,name,confidence95_mm\n" + result.confidence_csv +
-                          d.result.confidence_csv;
+  result.confidence_csv =
+      "file,line,column,name,confidence95_mm\n" + result.confidence_csv + d.result.confidence_csv;
   return result;
 }
 
@@ -490,8 +491,8 @@ ProgramFilterResult filter_program_file(const std::string& in, const std::string
   const bool in_is_src = detail::iequals(std::filesystem::path(in).extension().string(), ".src");
   const std::string& src = in_is_src ? in : companion;
   const std::string& dat = in_is_src ? companion : in;
-  ProgramFilterResult result = filter_krl_module(read_text_file(src), read_text_file(dat), src,
-                                                 dat, options, corrector);
+  ProgramFilterResult result =
+      filter_krl_module(read_text_file(src), read_text_file(dat), src, dat, options, corrector);
   const std::string& out_src = in_is_src ? out : out_companion;
   const std::string& out_dat = in_is_src ? out_companion : out;
   write_pair_atomically(out_dat, *result.dat_text, out_src, result.text);

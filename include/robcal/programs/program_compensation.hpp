@@ -45,8 +45,8 @@ ProgramCompensationResult compensate_program_text(const Compensation& compensati
 /// not at all; refuses an output that is the input (filter_program_file).
 ProgramCompensationResult compensate_program(const ProgramCompensationRequest& request);
 
-/// {in, out, out_companion (KUKA module), language, cartesian_points, joint_points, uncorrected: [{where, reason}],
-/// assumed: [{where, reason}], assumed_default_tool_and_frame: count}.
+/// {in, out, out_companion (KUKA module), language, cartesian_points, joint_points, uncorrected:
+/// [{where, reason}], assumed: [{where, reason}], assumed_default_tool_and_frame: count}.
 void to_json(nlohmann::json& j, const ProgramCompensationResult& result);
 
 }  // namespace robcal
