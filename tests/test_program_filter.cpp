@@ -291,14 +291,32 @@ TEST(ProgramFilter, YaskawaRefusals) {
   };
   const std::string rectan = "///POSTYPE ROBOT\n///RECTAN\n";
   EXPECT_EQ(jbi("///NPOS 2,0,0,0,0,0\n" + rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6\n"),
-            "t.jbi:4:9 (///NPOS): ///NPOS declares 2 C positions, the job defines 1");
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 2 C positions (count 1 of c,bc,ec,p,bp,ex), "
+            "the job defines 1");
+  // Every count is checked: position variables P, BP, EX (kept as written) included.
+  const std::string one = rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6\n";
+  EXPECT_EQ(jbi("///NPOS 1,0,0,2,0,0\n" + one + "P0001=1,2,3,4,5,6\n"),
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 2 P positions (count 4 of c,bc,ec,p,bp,ex), "
+            "the job defines 1");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,0,1,0\n" + one + "EX0001=100\n"),
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 1 BP positions (count 5 of c,bc,ec,p,bp,ex), "
+            "the job defines 0");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,1,1,1\n" + one + "P0001=1,2,3,4,5,6\nBP001=5\nEX0001=100\n"), "");
+  EXPECT_EQ(jbi(one),
+            "t.jbi (///NPOS): the job defines positions but has no ///NPOS line in //POS");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n///NPOS 1,0,0,0,0,0\n"),
+            "t.jbi:5:1: second ///NPOS line (the first at line 4)");
+  EXPECT_EQ(jbi("///NPOS 1,0,-1,0,0,0\n"), "t.jbi:4:13: ///NPOS: expected whole counts 0..99999");
   EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n///POSTYPE PULSE\n///PULSE\nC00000=1,2,3,4,5,6\n"),
             "t.jbi:7:8: pulse positions need the robot's pulses per degree (robot file key "
             "pulses_per_degree)");
   EXPECT_EQ(jbi(rectan + "C00000=1,2,3,4,5,6\n"),
             "t.jbi:6:1: Cartesian position without a ///RCONF line before it");
   EXPECT_EQ(jbi(rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6,7\n"),
-            "t.jbi:7:8: expected six values (six-axis robot), found 7");
+            "t.jbi:7:8: C00000 has seven robot axis values: a seven-axis arm (SIA/SDA series); "
+            "robcal calibrates six-axis arms, the job is refused");
+  EXPECT_EQ(jbi(rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5\n"),
+            "t.jbi:7:8: C00000: expected six robot axis values, found 5");
   EXPECT_EQ(jbi(rectan + "///RCONF 0,2,0,0,0,0\n"), "t.jbi:6:12: ///RCONF: expected flags 0 or 1");
   EXPECT_EQ(jbi("///POSTYPE TOOL\n///RECTAN\n///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6\n"),
             "t.jbi:7:1: Cartesian position of type 'TOOL': expected ROBOT, BASE or USER");
@@ -311,7 +329,8 @@ TEST(ProgramFilter, YaskawaRefusals) {
   EXPECT_EQ(jbi(rectan + "///RCONF 0,0,0,0,0,0\nC0000=1,2,3,4,5,6\n"),
             "t.jbi:7:2: expected a position name with five digits and '=' (C00000=...)");
   EXPECT_EQ(jbi("MOVL C00000\n"),
-            "t.jbi:4:1: expected a ///pseudo-instruction or a C, BC or EC position in //POS");
+            "t.jbi:4:1: expected a ///pseudo-instruction, a C, BC or EC position or a P, BP or "
+            "EX variable in //POS");
 }
 
 TEST(ProgramFilter, IdentityCorrectionKeepsEveryByte) {

@@ -168,7 +168,16 @@ TEST(MeasurementProgramFormat, ControllerCountsMatchTheContent) {
   EXPECT_EQ(jbi.find("\nC00014="), std::string::npos);
   jbi.replace(jbi.find("///NPOS 14"), 10, "///NPOS 15");
   EXPECT_REFUSED(read_joint_moves(jbi, ProgramLanguage::Jbi, "x.jbi", kPulses), InputError,
-                 "x.jbi (///NPOS): ///NPOS declares 15 C variables, the job defines 14");
+                 "x.jbi:4:9 (///NPOS): ///NPOS declares 15 C positions (count 1 of c,bc,ec,p,bp,"
+                 "ex), the job defines 14");
+  // Split jobs: each part counts its own positions (3, 3 and 1 configurations, two each).
+  r.max_configs_per_file = 3;
+  const std::vector<ProgramFile> parts = write_measurement_program(r);
+  ASSERT_EQ(parts.size(), 3u);
+  for (size_t k = 0; k < parts.size(); ++k)
+    EXPECT_NE(parts[k].text.find(fmt::format("///NPOS {},0,0,0,0,0\n", k < 2 ? 6 : 2)),
+              std::string::npos)
+        << parts[k].name;
 }
 
 std::string refusal(const MeasurementProgramRequest& r) {
@@ -242,7 +251,7 @@ TEST(MeasurementProgramFormat, ReadersLocateBadText) {
             "x.ls:5:1 (P[1]): has 2 of the components J1..J6");
   EXPECT_EQ(error("/JOB\n//POS\n///NPOS 1,0,0,0,0,0\n///PULSE\nC00000=1,2,3\n//INST\n",
                   ProgramLanguage::Jbi, "x.jbi"),
-            "x.jbi:5:13: expected ',' and the pulses of axis 4");
+            "x.jbi:5:8: C00000: expected six robot axis values, found 3");
 }
 
 }  // namespace
