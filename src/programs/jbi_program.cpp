@@ -47,9 +47,10 @@ std::string write_jbi_measurement(const MeasurementPart& part) {
     inst += fmt::format("MOVJ C{:05d} VJ={:.2f} PL=0\n", c++, r.joint_speed_percent);
   };
   for (const Visit& v : part.visits) {
-    inst += fmt::format("'{}\n", v.name);
-    move(v.approach_deg);
+    inst += fmt::format("'{}\n", v.label());
+    if (v.approach) move(v.approach_deg);
     move(v.target_deg);
+    if (!v.measure) continue;
     inst += fmt::format("TIMER T={:.2f}\n", r.settle_s);
     if (r.hook == MeasurementHook::WaitInput)
       inst += fmt::format("WAIT IN#({})=ON\n", r.signal);

@@ -574,8 +574,11 @@ std::string write_krl_measurement(const MeasurementPart& part) {
     out +=
         fmt::format("  $VEL_AXIS[{0}]={1:g}\n  $ACC_AXIS[{0}]={1:g}\n", j, r.joint_speed_percent);
   for (const Visit& v : part.visits) {
-    out += fmt::format("  ; {}\n  PTP {}\n  PTP {}\n  WAIT SEC {:.2f}\n", v.name,
-                       axis(v.approach_deg), axis(v.target_deg), r.settle_s);
+    out += fmt::format("  ; {}\n", v.label()) +
+           (v.approach ? fmt::format("  PTP {}\n", axis(v.approach_deg)) : "") +
+           fmt::format("  PTP {}\n", axis(v.target_deg));
+    if (!v.measure) continue;
+    out += fmt::format("  WAIT SEC {:.2f}\n", r.settle_s);
     if (r.hook == MeasurementHook::WaitInput)
       out += fmt::format("  WAIT FOR $IN[{}]\n", r.signal);
     else

@@ -37,6 +37,34 @@ def test_measurement_program_reads_back(language):
     np.testing.assert_allclose(moves[0::2], joints - 5.0, rtol=0, atol=tolerance)
 
 
+@pytest.mark.parametrize("language", ["rapid", "krl", "ls", "jbi", "urscript"])
+def test_measurement_program_pass_through_poses(language):
+    joints = np.array([[10, 20, -10, 30, 40, 50], [-30, 35, 5, -60, -50, 20], [0, 10, 10, 0, 30, 0]])
+    files = robcal.write_measurement_program(language, ["A", "B", "C"], joints, hook="pulse",
+                                             pulses_per_degree=PULSES,
+                                             approach=[True, False, False],
+                                             measure=[True, False, True])
+    moves = robcal.read_joint_moves(files[0]["text"], language, PULSES)["joints_deg"]
+    tolerance = 0.5 / np.min(PULSES) if language == "jbi" else 1e-6
+    np.testing.assert_allclose(moves, [joints[0] - 5, joints[0], joints[1], joints[2]], rtol=0,
+                               atol=tolerance)
+    assert "B (not measured)" in files[0]["text"]
+
+
+def test_measurement_program_files_like_the_cli(tmp_path):
+    configs = tmp_path / "configs.csv"
+    configs.write_text("config,target,j1,j2,j3,j4,j5,j6\nc1,,10,20,-10,30,40,50\n")
+    paths = robcal.write_measurement_program_files("krl", str(configs), str(tmp_path / "out"),
+                                                   robot="abb-irb120")
+    assert [pathlib.Path(p).name for p in paths] == ["rcmeas.src"]
+    moves = robcal.read_joint_moves(pathlib.Path(paths[0]).read_text(), "krl")["joints_deg"]
+    np.testing.assert_allclose(moves[1], [10, 20, -10, 30, 40, 50], atol=1e-9)
+    configs.write_text("config,target,j1,j2,j3,j4,j5,j6\nc1,,10,x,-10,30,40,50\n")
+    with pytest.raises(robcal.InputError, match="configs.csv:2:"):
+        robcal.write_measurement_program_files("krl", str(configs), str(tmp_path / "bad"))
+    assert not (tmp_path / "bad").exists()
+
+
 def test_measurement_program_refusals():
     with pytest.raises(robcal.InputError, match="pulses per degree"):
         robcal.write_measurement_program("jbi", ["A"], np.zeros((1, 6)))
