@@ -32,7 +32,7 @@ struct Entry {
 /// A motion instruction's use of a named point, with the tool and base active there.
 struct Usage {
   std::string tool, base;
-  std::string file;
+  const std::string* file = nullptr;  ///< the scanner's file name
   int line = 0, column = 0;
 };
 
@@ -44,8 +44,8 @@ class KrlScanner {
       : lexer_(text, ProgramLanguage::Krl, file), options_(options), module_(dat != nullptr) {
     // The frame tables of $config.dat, known to every module.
     declared_["TOOL_DATA"] = declared_["BASE_DATA"] = PointKind::Frame;
+    dat_ = dat;
     if (dat == nullptr) return;
-    for (const auto& [name, kind] : dat->declared_) declared_.emplace(name, kind);
     frame_data_ = dat->frame_data_;
     out_.tools = dat->out_.tools;
     out_.frames = dat->out_.frames;
@@ -72,8 +72,8 @@ class KrlScanner {
         bas_call();
       else if (word == "$TOOL" || word == "$BASE")
         frame_assignment(word);
-      else if (auto found = declared_.find(word); found != declared_.end())
-        assignment(t, found->second);
+      else if (const auto kind = declared(word))
+        assignment(t, *kind);
     }
     assign_frame_data();
   }
@@ -81,10 +81,7 @@ class KrlScanner {
   /// The points of this file with the tool and base of the motions (of this file and of
   /// `users`, the module's other file) that use them.
   ProgramScan finish(const KrlScanner* users = nullptr) {
-    if (users)
-      for (const auto& [name, uses] : users->usages_)
-        usages_[name].insert(usages_[name].end(), uses.begin(), uses.end());
-    assign_usages();
+    assign_usages(users);
     out_.sites = std::move(sites_);
     return std::move(out_);
   }
@@ -314,8 +311,8 @@ class KrlScanner {
                          name.text, index));
     const bool home = key == "XHOME" || (key.size() == 6 && key.starts_with("XHOME") &&
                                          key[5] >= '1' && key[5] <= '5');
-    const auto declared = declared_.find(key);
-    if (declared == declared_.end()) {
+    const auto kind = declared(key);
+    if (!kind) {
       if (!module_ || key[0] == '$' || home) return;
       const std::string message = fmt::format(
           "'{}' is used here but declared neither in this .src nor in its .dat: a "
@@ -327,25 +324,44 @@ class KrlScanner {
            message});
       return;
     }
-    if (declared->second == PointKind::Frame)
+    if (*kind == PointKind::Frame)
       refuse(lexer_.file(), name, fmt::format("'{}' is a FRAME, not a point", name.text));
-    usages_[key + index].push_back({tool_, base_, lexer_.file(), name.line, name.column});
+    usages_[key + index].push_back({tool_, base_, &lexer_.file(), name.line, name.column});
   }
 
   // A declared point takes the tool and base of the motions that use it (a variable index,
   // `XP[I]`, uses every element); one corrected value cannot serve two of them.
-  void assign_usages() {
+  // The kind of a declared name: of this file, else of the module's .dat.
+  [[nodiscard]] std::optional<PointKind> declared(const std::string& name) const {
+    if (const auto it = declared_.find(name); it != declared_.end()) return it->second;
+    if (dat_ == nullptr) return std::nullopt;
+    if (const auto it = dat_->declared_.find(name); it != dat_->declared_.end()) return it->second;
+    return std::nullopt;
+  }
+
+  void assign_usages(const KrlScanner* users) {
     const auto label = [](const std::string& s) { return s.empty() ? std::string("?") : s; };
+    std::vector<const std::unordered_map<std::string, std::vector<Usage>>*> tables = {&usages_};
+    if (users) tables.push_back(&users->usages_);
+    // Uses with a variable index (few), by their array's prefix "NAME[".
+    std::vector<std::pair<std::string, const std::vector<Usage>*>> whole_arrays;
+    for (const auto* table : tables)
+      for (const auto& [key, list] : *table) {
+        const size_t open = key.find('[');
+        if (open != std::string::npos && !std::isdigit(static_cast<unsigned char>(key[open + 1])))
+          whole_arrays.emplace_back(key.substr(0, open + 1), &list);
+      }
+    std::vector<const Usage*> uses;
     for (PointSite& site : sites_) {
       if (site.point.name.empty()) continue;
       const std::string name = upper(site.point.name);
-      std::vector<const Usage*> uses;
-      for (const auto& [key, list] : usages_) {
-        const bool whole_array = key.find('[') != std::string::npos &&
-                                 !std::isdigit(static_cast<unsigned char>(key[key.find('[') + 1]));
-        if (key == name || (whole_array && name.starts_with(key.substr(0, key.find('[') + 1))))
-          for (const Usage& u : list) uses.push_back(&u);
-      }
+      uses.clear();
+      for (const auto* table : tables)
+        if (const auto exact = table->find(name); exact != table->end())
+          for (const Usage& u : exact->second) uses.push_back(&u);
+      for (const auto& [prefix, list] : whole_arrays)
+        if (name.starts_with(prefix))
+          for (const Usage& u : *list) uses.push_back(&u);
       if (uses.empty()) continue;
       // A motion with no tool or base set before it in the .src keeps the point's FDAT pair.
       const auto frames_of = [&](const Usage& u) {
@@ -361,9 +377,9 @@ class KrlScanner {
               fmt::format("used with tool {} and base {} at {}:{}:{} and with tool {} and base {} "
                           "at {}:{}:{}: one corrected value cannot serve both; give each use its "
                           "own point",
-                          label(tool), label(base), first.file, first.line, first.column,
-                          label(frames_of(*u).first), label(frames_of(*u).second), u->file, u->line,
-                          u->column));
+                          label(tool), label(base), *first.file, first.line, first.column,
+                          label(frames_of(*u).first), label(frames_of(*u).second), *u->file,
+                          u->line, u->column));
       site.point.tool = tool;
       site.point.frame = base;
     }
@@ -522,8 +538,10 @@ class KrlScanner {
   std::vector<PointSite> sites_;
   std::string tool_, base_;  ///< active for motion points ("" = not set in this file)
   std::map<std::string, std::pair<std::string, std::string>> frame_data_;  ///< FDAT: tool, base
-  std::pair<std::string, int> fdat_act_;              ///< the last `FDAT_ACT = name` and its line
-  std::map<std::string, std::vector<Usage>> usages_;  ///< by upper-case name with its index
+  std::pair<std::string, int> fdat_act_;  ///< the last `FDAT_ACT = name` and its line
+  const KrlScanner* dat_ = nullptr;       ///< the module's .dat, when this is its .src
+  /// Uses by upper-case name with its index.
+  std::unordered_map<std::string, std::vector<Usage>> usages_;
   std::set<std::string> varying_;  ///< FRAME names given two different literal values
   ProgramScan out_;
 };
