@@ -58,7 +58,8 @@ const bool registered = register_bindings(71, [](py::module_& m) {
       "filter_program",
       [](const PyCompensator& compensator, const std::string& text, const std::string& language,
          bool joints, bool keep_going, const std::optional<std::string>& frames,
-         const std::string& file, const std::optional<Vector6d>& ppd) {
+         const std::string& file, const std::optional<Vector6d>& ppd,
+         const std::optional<std::string>& dat, const std::string& dat_file) {
         ProgramFilterOptions options;
         options.joints = joints;
         options.keep_going = keep_going;
@@ -68,18 +69,25 @@ const bool registered = register_bindings(71, [](py::module_& m) {
           options.tools = std::move(f.tools);
           options.frames = std::move(f.frames);
         }
-        const ProgramCompensationResult r = compensate_program_text(
-            compensator.c, text, program_language_from_name(language, "language"), file, options);
+        const ProgramLanguage lang = program_language_from_name(language, "language");
+        if (dat && lang != ProgramLanguage::Krl)
+          throw InputError({file, 0, 0, "dat"}, "a .dat text goes with a KRL program only");
+        const ProgramCompensationResult r =
+            dat ? compensate_krl_module_text(compensator.c, text, *dat, file, dat_file, options)
+                : compensate_program_text(compensator.c, text, lang, file, options);
         py::dict d = json_to_python(nlohmann::json(r));
         d["text"] = r.filter.text;
+        if (r.filter.dat_text) d["dat_text"] = *r.filter.dat_text;
         d["confidence_csv"] = r.filter.confidence_csv;
         return d;
       },
       py::arg("compensator"), py::arg("text"), py::arg("language"), py::arg("joints") = false,
       py::arg("keep_going") = false, py::arg("frames") = py::none(), py::arg("file") = "<text>",
-      py::arg("pulses_per_degree") = py::none(),
+      py::arg("pulses_per_degree") = py::none(), py::arg("dat") = py::none(),
+      py::arg("dat_file") = "<dat>",
       "Corrects every target of a program text with a Compensator (the `robcal "
-      "compensate-program` summary, plus the corrected 'text' and 'confidence_csv')");
+      "compensate-program` summary, plus the corrected 'text' and 'confidence_csv'). KRL: with "
+      "`dat`, the .src text and its .dat corrected together as a module ('dat_text')");
 
   m.def(
       "write_measurement_program",

@@ -30,6 +30,20 @@ ProgramCompensationResult compensate_program_text(const Compensation& compensati
   return result;
 }
 
+ProgramCompensationResult compensate_krl_module_text(const Compensation& compensation,
+                                                     std::string_view src, std::string_view dat,
+                                                     const std::string& src_file,
+                                                     const std::string& dat_file,
+                                                     const ProgramFilterOptions& options) {
+  ProgramCompensationResult result;
+  result.in = src_file;
+  result.language = ProgramLanguage::Krl;
+  result.filter = filter_krl_module(
+      src, dat, src_file, dat_file, options,
+      make_program_corrector(compensation.comp, ProgramLanguage::Krl, &compensation.robot));
+  return result;
+}
+
 ProgramCompensationResult compensate_program(const ProgramCompensationRequest& request) {
   const Compensation compensation = prepare_compensation(request.setup);
   const ProgramLanguage language = program_language_from_path(request.in);

@@ -65,6 +65,28 @@ def test_measurement_program_files_like_the_cli(tmp_path):
     assert not (tmp_path / "bad").exists()
 
 
+def test_filter_krl_module_like_the_cli(tmp_path):
+    src = (PROGRAMS / "glue_cell.src").read_text()
+    dat = (PROGRAMS / "glue_cell.dat").read_text()
+    frames = tmp_path / "frames.csv"
+    frames.write_text("kind,name,x,y,z,qw,qx,qy,qz\ntool,TOOL_DATA[1],0,0,100,1,0,0,0\n"
+                      "frame,BASE_DATA[1],300,-100,0,1,0,0,0\nframe,BASE_DATA[2],300,0,0,1,0,0,0\n")
+    nominal = robcal.Compensator.nominal("kuka-kr6-r900-sixx")
+    r = robcal.filter_program(nominal, src, "krl", joints=True, keep_going=True,
+                              frames=str(frames), dat=dat, file="glue_cell.src",
+                              dat_file="glue_cell.dat")
+    # Every point of both files is seen; of the .src only the inline point's line may change
+    # (the hand-written S/T are rewritten to the nominal solution's turns).
+    assert r["cartesian_points"] + r["joint_points"] + len(r["uncorrected"]) == 9
+    changed = [i + 1 for i, (a, b) in enumerate(zip(src.splitlines(), r["text"].splitlines()))
+               if a != b]
+    assert set(changed) <= {53}
+    assert len(r["dat_text"].splitlines()) == len(dat.splitlines())
+    assert r["confidence_csv"].startswith("file,line,column,name,confidence95_mm")
+    with pytest.raises(robcal.InputError, match="KRL program only"):
+        robcal.filter_program(nominal, src, "rapid", dat=dat)
+
+
 def test_measurement_program_refusals():
     with pytest.raises(robcal.InputError, match="pulses per degree"):
         robcal.write_measurement_program("jbi", ["A"], np.zeros((1, 6)))

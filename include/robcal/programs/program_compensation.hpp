@@ -41,6 +41,14 @@ ProgramCompensationResult compensate_program_text(const Compensation& compensati
                                                   const std::string& file,
                                                   const ProgramFilterOptions& options);
 
+/// Corrects a KUKA module (filter_krl_module): the .src text `src` and its .dat `dat`; the result's
+/// filter.text is the corrected .src, filter.dat_text the .dat.
+ProgramCompensationResult compensate_krl_module_text(const Compensation& compensation,
+                                                     std::string_view src, std::string_view dat,
+                                                     const std::string& src_file,
+                                                     const std::string& dat_file,
+                                                     const ProgramFilterOptions& options);
+
 /// Reads request.in, corrects it and writes request.out (and the confidence side file), whole or
 /// not at all; refuses an output that is the input (filter_program_file).
 ProgramCompensationResult compensate_program(const ProgramCompensationRequest& request);
