@@ -103,6 +103,12 @@ expect_error "KRL point under two tools" \
   compensate-program --model "$TMP/model.yaml" --in "$TMP/two/glue_cell.src" \
   --out "$TMP/two_out/glue_cell.src" --frames "$TMP/glue.csv"
 [[ ! -e "$TMP/two_out" ]] || fail "a refused module wrote $(ls "$TMP/two_out")"
+# Both or none: the .src cannot be written (a folder holds its name), so the .dat written just
+# before it is taken back.
+mkdir -p "$TMP/half/g.src"
+expect_error "module half written" "is a directory" compensate-program --model "$TMP/model.yaml" \
+  --in "$TMP/glue_cell.src" --out "$TMP/half/g.src" --frames "$TMP/glue.csv" --keep-going
+[[ ! -e "$TMP/half/g.dat" ]] || fail "the .dat of a module whose .src failed was left"
 mkdir -p "$TMP/lnk"
 ln -s "$TMP/glue_cell.dat" "$TMP/lnk/g.dat"
 expect_error "module output onto its .dat" "the output is the input module's" compensate-program \
