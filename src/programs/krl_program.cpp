@@ -58,6 +58,7 @@ class KrlScanner {
       if (t.kind == TokenKind::End) break;
       if (t.kind != TokenKind::Identifier) continue;
       const std::string word = upper(t.text);
+      if (word == "DECL" || word == "GLOBAL") continue;  // (not a name: no table look-up)
       if (const auto kind = point_type(word); kind && lexer_.peek().kind == TokenKind::Identifier)
         declaration(*kind);
       else if (word == "PTP" || word == "LIN" || word == "CIRC" || word == "SPTP" ||
