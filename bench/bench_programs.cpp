@@ -159,6 +159,43 @@ BENCHMARK(BM_FilterProgram100k)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 
+/// The KRL program's targets as a module (issue 17 item 3): each inline point of big_program
+/// declared in the .dat as XP<n> and used by `LIN XP<n>` in the .src, under BAS(#TOOL,0).
+std::pair<std::string, std::string> big_krl_module(const std::string& krl) {
+  std::string src = "DEF big( )\n  BAS(#TOOL,0)\n", dat = "DEFDAT big\n";
+  int n = 0;
+  for (size_t at = krl.find("  LIN {"); at != std::string::npos; at = krl.find("  LIN {", at)) {
+    const size_t close = krl.find('}', at);
+    dat += fmt::format("DECL E6POS XP{}={}\n", n, krl.substr(at + 6, close - at - 5));
+    src += fmt::format("  LIN XP{}\n", n++);
+    at = close;
+  }
+  return {src + "END\n", dat + "ENDDAT\n"};
+}
+
+void BM_FilterKrlModule100k(benchmark::State& state) {
+  const bool calibrated = state.range(0) != 0;
+  const Fixture& f = fixture();
+  static const auto module = big_krl_module(f.programs.at(ProgramLanguage::Krl));
+  for (auto _ : state) {
+    ProgramFilterOptions options;
+    options.keep_going = true;
+    const PointCorrector shift = [](const ProgramPoint& p) {
+      CorrectedPoint c{p.base_T_tcp, p.config, p.joints_deg, ""};
+      c.base_T_tcp.p.x() += 0.25;
+      return c;
+    };
+    const auto result = filter_krl_module(
+        module.first, module.second, "big.src", "big.dat", options,
+        calibrated ? make_program_corrector(f.comp, ProgramLanguage::Krl) : shift);
+    if (result.cartesian_points + static_cast<int>(result.uncorrected.size()) != kTargets)
+      state.SkipWithError("targets lost");
+    benchmark::DoNotOptimize(result.dat_text->data());
+  }
+  state.SetLabel(calibrated ? "krl module calibrated IK" : "krl module fixed shift");
+}
+BENCHMARK(BM_FilterKrlModule100k)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+
 void BM_MeasurementProgram10k(benchmark::State& state) {
   MeasurementProgramRequest r;
   r.language = static_cast<ProgramLanguage>(state.range(0));

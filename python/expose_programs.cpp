@@ -58,7 +58,8 @@ const bool registered = register_bindings(71, [](py::module_& m) {
       "filter_program",
       [](const PyCompensator& compensator, const std::string& text, const std::string& language,
          bool joints, bool keep_going, const std::optional<std::string>& frames,
-         const std::string& file, const std::optional<Vector6d>& ppd) {
+         const std::string& file, const std::optional<Vector6d>& ppd,
+         const std::optional<std::string>& dat, const std::string& dat_file) {
         ProgramFilterOptions options;
         options.joints = joints;
         options.keep_going = keep_going;
@@ -68,18 +69,25 @@ const bool registered = register_bindings(71, [](py::module_& m) {
           options.tools = std::move(f.tools);
           options.frames = std::move(f.frames);
         }
-        const ProgramCompensationResult r = compensate_program_text(
-            compensator.c, text, program_language_from_name(language, "language"), file, options);
+        const ProgramLanguage lang = program_language_from_name(language, "language");
+        if (dat && lang != ProgramLanguage::Krl)
+          throw InputError({file, 0, 0, "dat"}, "a .dat text goes with a KRL program only");
+        const ProgramCompensationResult r =
+            dat ? compensate_krl_module_text(compensator.c, text, *dat, file, dat_file, options)
+                : compensate_program_text(compensator.c, text, lang, file, options);
         py::dict d = json_to_python(nlohmann::json(r));
         d["text"] = r.filter.text;
+        if (r.filter.dat_text) d["dat_text"] = *r.filter.dat_text;
         d["confidence_csv"] = r.filter.confidence_csv;
         return d;
       },
       py::arg("compensator"), py::arg("text"), py::arg("language"), py::arg("joints") = false,
       py::arg("keep_going") = false, py::arg("frames") = py::none(), py::arg("file") = "<text>",
-      py::arg("pulses_per_degree") = py::none(),
+      py::arg("pulses_per_degree") = py::none(), py::arg("dat") = py::none(),
+      py::arg("dat_file") = "<dat>",
       "Corrects every target of a program text with a Compensator (the `robcal "
-      "compensate-program` summary, plus the corrected 'text' and 'confidence_csv')");
+      "compensate-program` summary, plus the corrected 'text' and 'confidence_csv'). KRL: with "
+      "`dat`, the .src text and its .dat corrected together as a module ('dat_text')");
 
   m.def(
       "write_measurement_program",
@@ -87,11 +95,16 @@ const bool registered = register_bindings(71, [](py::module_& m) {
          const Eigen::MatrixXd& joints_deg, const std::string& name, const std::string& hook,
          int signal, double settle_s, double approach_deg, double speed_percent,
          int max_configs_per_file, int tool_number, const std::optional<Vector6d>& ppd,
-         const std::optional<std::string>& robot, const std::string& date) {
+         const std::optional<std::string>& robot, const std::string& date,
+         const std::optional<std::vector<bool>>& approach,
+         const std::optional<std::vector<bool>>& measure) {
         if (joints_deg.cols() != kJointCount ||
             joints_deg.rows() != static_cast<Eigen::Index>(names.size()))
           throw InputError({"<arrays>", 0, 0, "joints_deg"},
                            "expected one row of six joints (deg) per name");
+        for (const auto& [flags, key] : {std::pair{&approach, "approach"}, {&measure, "measure"}})
+          if (*flags && (*flags)->size() != names.size())
+            throw InputError({"<arrays>", 0, 0, key}, "expected one flag per name");
         MeasurementProgramRequest r;
         r.language = program_language_from_name(language, "language");
         r.names = names;
@@ -108,6 +121,9 @@ const bool registered = register_bindings(71, [](py::module_& m) {
         r.pulses_per_degree = pulses_of(ppd);
         if (robot) r.limits = load_robot(*robot).limits;
         r.date = date;
+        if (approach || measure)
+          for (size_t i = 0; i < names.size(); ++i)
+            r.visits.push_back({approach ? (*approach)[i] : true, measure ? (*measure)[i] : true});
         py::list out;
         for (const ProgramFile& f : write_measurement_program(r)) {
           py::dict d;
@@ -122,9 +138,38 @@ const bool registered = register_bindings(71, [](py::module_& m) {
       py::arg("approach_deg") = 5.0, py::arg("speed_percent") = 10.0,
       py::arg("max_configs_per_file") = 0, py::arg("tool_number") = 1,
       py::arg("pulses_per_degree") = py::none(), py::arg("robot") = py::none(),
-      py::arg("date") = "2000/01/01 00:00",
+      py::arg("date") = "2000/01/01 00:00", py::arg("approach") = py::none(),
+      py::arg("measure") = py::none(),
       "The measurement program visiting each configuration (N×6 joints, deg) from q - "
-      "approach_deg, as `robcal program`: a list of {'name', 'text'} files");
+      "approach_deg, as `robcal program`: a list of {'name', 'text'} files. `approach` and "
+      "`measure` (one bool per name): the joint approach and the settle wait + hook of each "
+      "configuration (false: a pass-through pose such as an ISO 9283 vAP pre-pose)");
+
+  m.def(
+      "write_measurement_program_files",
+      [](const std::string& language, const std::string& configs, const std::string& out_dir,
+         const std::optional<std::string>& robot, const std::optional<std::string>& tool,
+         const std::string& name, const std::string& hook, double approach_deg,
+         const std::optional<Vector6d>& ppd, const std::string& date) {
+        MeasurementProgramFilesRequest request;
+        request.program.language = program_language_from_name(language, "language");
+        request.program.name = name;
+        request.program.hook = measurement_hook_from_name(hook, "hook");
+        request.program.approach_deg = approach_deg;
+        request.program.pulses_per_degree = pulses_of(ppd);
+        request.program.date = date;
+        request.configs = configs;
+        request.robot = robot.value_or("");
+        request.tool = tool.value_or("");
+        request.out_dir = out_dir;
+        return write_measurement_program_from_files(request).paths;
+      },
+      py::arg("language"), py::arg("configs"), py::arg("out_dir"), py::arg("robot") = py::none(),
+      py::arg("tool") = py::none(), py::arg("name") = "RCMEAS", py::arg("hook") = "wait",
+      py::arg("approach_deg") = 5.0, py::arg("pulses_per_degree") = py::none(),
+      py::arg("date") = "2000/01/01 00:00",
+      "`robcal program`: reads the configurations CSV (what `robcal plan` writes), checks them "
+      "against the robot's limits and writes the program's files into out_dir; their paths");
 
   m.def(
       "read_joint_moves",

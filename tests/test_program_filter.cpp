@@ -68,6 +68,23 @@ void sample_frames(ProgramFilterOptions& options) {
   options.pulses_per_degree = kPulses;
 }
 
+/// Only the lines `changed` (1-based) differ, and only in their numbers.
+void expect_only_numbers_change(const std::string& text, const std::string& corrected,
+                                const std::set<int>& changed, const std::string& file) {
+  const auto before = split_lines(text);
+  const auto after = split_lines(corrected);
+  ASSERT_EQ(before.size(), after.size());
+  for (size_t i = 0; i < before.size(); ++i) {
+    const int line = static_cast<int>(i) + 1;
+    if (changed.count(line)) {
+      EXPECT_NE(before[i], after[i]) << file << ":" << line << " should change";
+      EXPECT_EQ(skeleton(before[i]), skeleton(after[i])) << file << ":" << line;
+    } else {
+      EXPECT_EQ(before[i], after[i]) << file << ":" << line << " must stay as written";
+    }
+  }
+}
+
 struct FilterCase {
   std::string file;
   bool joints;
@@ -87,18 +104,7 @@ void check_filter(const FilterCase& fc) {
   EXPECT_EQ(result.cartesian_points, fc.cartesian);
   EXPECT_EQ(result.joint_points, fc.joint);
 
-  const auto before = split_lines(text);
-  const auto after = split_lines(result.text);
-  ASSERT_EQ(before.size(), after.size());
-  for (size_t i = 0; i < before.size(); ++i) {
-    const int line = static_cast<int>(i) + 1;
-    if (fc.changed_lines.count(line)) {
-      EXPECT_NE(before[i], after[i]) << fc.file << ":" << line << " should change";
-      EXPECT_EQ(skeleton(before[i]), skeleton(after[i])) << fc.file << ":" << line;
-    } else {
-      EXPECT_EQ(before[i], after[i]) << fc.file << ":" << line << " must stay as written";
-    }
-  }
+  expect_only_numbers_change(text, result.text, fc.changed_lines, fc.file);
 
   // The rewritten points read back as the known correction of the originals.
   const auto old_points = read_program_points(text, language, path, options);
@@ -136,6 +142,86 @@ TEST(ProgramFilter, RapidJointTargetsWhenAsked) {
 TEST(ProgramFilter, KrlDatPointsChangeFramesStay) {
   check_filter({"weld_seam.dat", false, {4, 6, 7, 11}, 4, 0});
   check_filter({"weld_seam.dat", true, {4, 6, 7, 9, 11}, 4, 1});
+}
+
+// A KUKA module (glue_cell.src with glue_cell.dat): the .dat's points corrected with the tool
+// and base active at the .src motions that use them (inline forms' FDAT_ACT + BAS, $TOOL = a
+// FRAME of the .dat, $BASE = BASE_DATA[n]); only their numbers change, in both files.
+TEST(ProgramFilter, KrlModuleDatPointsTakeTheSrcToolAndBase) {
+  const std::string src_path = test::data_path("programs/glue_cell.src");
+  const std::string dat_path = test::data_path("programs/glue_cell.dat");
+  EXPECT_EQ(krl_companion_path(src_path), dat_path);
+  EXPECT_EQ(krl_companion_path("A/WELD.DAT"), "A/WELD.SRC");
+  const std::string src = read_text_file(src_path), dat = read_text_file(dat_path);
+  ProgramFilterOptions options;
+  options.joints = true;
+  options.tools["TOOL_DATA[1]"] = Pose<double>{};
+  options.frames["BASE_DATA[1]"] = Pose<double>{};
+  options.frames["BASE_DATA[2]"] = Pose<double>{};
+  std::vector<ProgramPoint> seen;
+  const auto record = [&](const ProgramPoint& p) {
+    seen.push_back(p);
+    return known_correction(p);
+  };
+  const ProgramFilterResult result =
+      filter_krl_module(src, dat, src_path, dat_path, options, record);
+  ASSERT_TRUE(result.dat_text.has_value());
+  EXPECT_EQ(result.cartesian_points, 8);
+  EXPECT_EQ(result.joint_points, 1);
+  // Read off the two files by hand: (line, tool, base) of each point, the .src's first.
+  const std::vector<std::tuple<int, std::string, std::string>> want = {
+      {53, "TNOZZLE", "BASE_DATA[2]"},       // inline, after $TOOL = TNOZZLE
+      {16, "TOOL_DATA[1]", "BASE_DATA[1]"},  // XPRE: FDAT_ACT = FPRE, BAS(#PTP_PARAMS)
+      {19, "TOOL_DATA[1]", "BASE_DATA[1]"},  // XP1: FP1, BAS(#CP_PARAMS)
+      {22, "TOOL_DATA[1]", "BASE_DATA[1]"},  // XP2
+      {28, "TNOZZLE", "BASE_DATA[2]"},       // XSEAM[1], used twice
+      {29, "TNOZZLE", "BASE_DATA[2]"},       // XSEAM[2]
+      {30, "TNOZZLE", "BASE_DATA[2]"},       // XSEAM[3], the CIRC target
+      {31, "TNOZZLE", "BASE_DATA[2]"},       // XAUX, the CIRC auxiliary point
+      {32, "", ""}};                         // XSPARE: no motion uses it
+  ASSERT_EQ(seen.size(), want.size());
+  for (size_t i = 0; i < want.size(); ++i) {
+    EXPECT_EQ(seen[i].line, std::get<0>(want[i])) << i;
+    EXPECT_EQ(seen[i].tool, std::get<1>(want[i])) << seen[i].line;
+    EXPECT_EQ(seen[i].frame, std::get<2>(want[i])) << seen[i].line;
+  }
+  // TNOZZLE's literal value {X 0.0,Y 35.5,Z 180.0,A 0.0,B -15.0,C 0.0}: a turn about y.
+  ASSERT_TRUE(seen[0].flange_T_tcp.has_value());
+  EXPECT_LT((seen[0].flange_T_tcp->p - Eigen::Vector3d(0, 35.5, 180)).norm(), 1e-12);
+  EXPECT_LT((seen[0].flange_T_tcp->R -
+             Eigen::AngleAxisd(deg2rad(-15), Eigen::Vector3d::UnitY()).toRotationMatrix())
+                .norm(),
+            1e-12);
+  ASSERT_EQ(result.assumed.size(), 1u);
+  EXPECT_EQ(result.assumed[0].where, dat_path + ":32:19 (XSPARE)");
+  expect_only_numbers_change(src, result.text, {53}, "glue_cell.src");
+  expect_only_numbers_change(dat, *result.dat_text, {16, 19, 22, 28, 29, 30, 31, 32},
+                             "glue_cell.dat");
+  // The rewritten points read back as the known correction of the originals.
+  const auto old_points = read_krl_module_points(src, dat, src_path, dat_path, options);
+  const auto new_points =
+      read_krl_module_points(result.text, *result.dat_text, src_path, dat_path, options);
+  ASSERT_EQ(new_points.size(), old_points.size());
+  for (size_t i = 0; i < old_points.size(); ++i) {
+    const CorrectedPoint c = known_correction(old_points[i]);
+    if (old_points[i].is_joint_target) {
+      EXPECT_LT((new_points[i].joints_deg - c.joints_deg).norm(), 1e-9);
+      continue;
+    }
+    EXPECT_LT((new_points[i].base_T_tcp.p - c.base_T_tcp.p).norm(), 1e-4);
+    EXPECT_LT((new_points[i].base_T_tcp.R - c.base_T_tcp.R).norm(), 1e-6);
+    EXPECT_EQ(new_points[i].config, c.config);
+  }
+  // A second pass with an identity correction changes no byte of either file.
+  const auto same = [](const ProgramPoint& p) {
+    return CorrectedPoint{p.base_T_tcp, p.config, p.joints_deg, "", std::nullopt};
+  };
+  const ProgramFilterResult again =
+      filter_krl_module(result.text, *result.dat_text, src_path, dat_path, options, same);
+  EXPECT_EQ(again.text, result.text);
+  EXPECT_EQ(*again.dat_text, *result.dat_text);
+  EXPECT_EQ(result.confidence_csv.substr(0, result.confidence_csv.find('\n')),
+            "file,line,column,name,confidence95_mm");
 }
 
 TEST(ProgramFilter, KrlSrcInlinePointsChange) {
@@ -205,14 +291,32 @@ TEST(ProgramFilter, YaskawaRefusals) {
   };
   const std::string rectan = "///POSTYPE ROBOT\n///RECTAN\n";
   EXPECT_EQ(jbi("///NPOS 2,0,0,0,0,0\n" + rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6\n"),
-            "t.jbi:4:9 (///NPOS): ///NPOS declares 2 C positions, the job defines 1");
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 2 C positions (count 1 of c,bc,ec,p,bp,ex), "
+            "the job defines 1");
+  // Every count is checked: position variables P, BP, EX (kept as written) included.
+  const std::string one = rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6\n";
+  EXPECT_EQ(jbi("///NPOS 1,0,0,2,0,0\n" + one + "P0001=1,2,3,4,5,6\n"),
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 2 P positions (count 4 of c,bc,ec,p,bp,ex), "
+            "the job defines 1");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,0,1,0\n" + one + "EX0001=100\n"),
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 1 BP positions (count 5 of c,bc,ec,p,bp,ex), "
+            "the job defines 0");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,1,1,1\n" + one + "P0001=1,2,3,4,5,6\nBP001=5\nEX0001=100\n"), "");
+  EXPECT_EQ(jbi(one),
+            "t.jbi (///NPOS): the job defines positions but has no ///NPOS line in //POS");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n///NPOS 1,0,0,0,0,0\n"),
+            "t.jbi:5:1: second ///NPOS line (the first at line 4)");
+  EXPECT_EQ(jbi("///NPOS 1,0,-1,0,0,0\n"), "t.jbi:4:13: ///NPOS: expected whole counts 0..99999");
   EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n///POSTYPE PULSE\n///PULSE\nC00000=1,2,3,4,5,6\n"),
             "t.jbi:7:8: pulse positions need the robot's pulses per degree (robot file key "
             "pulses_per_degree)");
   EXPECT_EQ(jbi(rectan + "C00000=1,2,3,4,5,6\n"),
             "t.jbi:6:1: Cartesian position without a ///RCONF line before it");
   EXPECT_EQ(jbi(rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6,7\n"),
-            "t.jbi:7:8: expected six values (six-axis robot), found 7");
+            "t.jbi:7:8: C00000 has seven robot axis values: a seven-axis arm (SIA/SDA series); "
+            "robcal calibrates six-axis arms, the job is refused");
+  EXPECT_EQ(jbi(rectan + "///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5\n"),
+            "t.jbi:7:8: C00000: expected six robot axis values, found 5");
   EXPECT_EQ(jbi(rectan + "///RCONF 0,2,0,0,0,0\n"), "t.jbi:6:12: ///RCONF: expected flags 0 or 1");
   EXPECT_EQ(jbi("///POSTYPE TOOL\n///RECTAN\n///RCONF 0,0,0,0,0,0\nC00000=1,2,3,4,5,6\n"),
             "t.jbi:7:1: Cartesian position of type 'TOOL': expected ROBOT, BASE or USER");
@@ -225,7 +329,8 @@ TEST(ProgramFilter, YaskawaRefusals) {
   EXPECT_EQ(jbi(rectan + "///RCONF 0,0,0,0,0,0\nC0000=1,2,3,4,5,6\n"),
             "t.jbi:7:2: expected a position name with five digits and '=' (C00000=...)");
   EXPECT_EQ(jbi("MOVL C00000\n"),
-            "t.jbi:4:1: expected a ///pseudo-instruction or a C, BC or EC position in //POS");
+            "t.jbi:4:1: expected a ///pseudo-instruction, a C, BC or EC position or a P, BP or "
+            "EX variable in //POS");
 }
 
 TEST(ProgramFilter, IdentityCorrectionKeepsEveryByte) {

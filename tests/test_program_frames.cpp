@@ -170,8 +170,8 @@ TEST(ProgramFrames, KrlToolAndBaseFromBasCallsAssignmentsAndFdat) {
     ADD_FAILURE() << "an expression base was accepted";
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),
-                 "cell.src:9:7: unknown base '$BASE (set at line 8)': the program does not define "
-                 "it with literal values; give it in a frames file");
+                 "cell.src:9:7: unknown base 'MY_FRAME': the program does not define it with "
+                 "literal values; give it in a frames file");
   }
   ASSERT_EQ(seen.size(), 2u);
   EXPECT_EQ(seen[0].tool, "TOOL_DATA[2]");
@@ -205,6 +205,56 @@ TEST(ProgramFrames, KeepGoingLeavesRefusedTargetsAsWrittenAndListsThem) {
   // No instruction uses pA: its tool and work object are an assumption, and said so.
   ASSERT_EQ(result.assumed.size(), 1u);
   EXPECT_EQ(result.assumed[0].where, "k.mod:1:23 (pA)");
+}
+
+/// The error filtering a KUKA module gives ("" when it is accepted).
+std::string module_error(const std::string& src, const std::string& dat, bool keep_going = false) {
+  ProgramFilterOptions options;
+  options.keep_going = keep_going;
+  options.tools["TOOL_DATA[1]"] = options.tools["TOOL_DATA[2]"] = Pose<double>{};
+  try {
+    filter_krl_module(src, dat, "m.src", "m.dat", options, [](const ProgramPoint& p) {
+      return CorrectedPoint{p.base_T_tcp, p.config, p.joints_deg, "", std::nullopt};
+    });
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ProgramFrames, KrlModuleRefusesWhatItCannotCorrectWithBothLocations) {
+  const std::string dat =
+      "DEFDAT M\n"
+      "DECL E6POS XP1={X 100,Y 50,Z 20,A 0,B 0,C 0,S 2,T 2}\n"
+      "DECL FRAME TGRIP={X 0,Y 0,Z 120,A 0,B 0,C 0}\n"
+      "ENDDAT\n";
+  // One point under two tools: refused at the point, naming both motions.
+  EXPECT_EQ(
+      module_error("DEF M( )\n  BAS(#TOOL,1)\n  LIN XP1\n  BAS(#TOOL,2)\n  LIN XP1\nEND\n", dat),
+      "m.dat:2:16 (XP1): used with tool TOOL_DATA[1] and base ? at m.src:3:7 and with tool "
+      "TOOL_DATA[2] and base ? at m.src:5:7: one corrected value cannot serve both; give "
+      "each use its own point");
+  // The same tool twice, once as a FRAME of the .dat: accepted.
+  EXPECT_EQ(module_error("DEF M( )\n  $TOOL=TGRIP\n  LIN XP1\n  LIN XP1 C_DIS\nEND\n", dat), "");
+  // A point used but declared in neither file.
+  EXPECT_EQ(module_error("DEF M( )\n  BAS(#TOOL,1)\n  LIN XP9\nEND\n", dat),
+            "m.src:3:7: 'XP9' is used here but declared neither in this .src nor in its .dat: a "
+            "point defined elsewhere is not corrected");
+  EXPECT_EQ(module_error("DEF M( )\n  BAS(#TOOL,1)\n  LIN XP9\nEND\n", dat, true), "");
+  // The home position of $config.dat is not the module's: skipped.
+  EXPECT_EQ(module_error("DEF M( )\n  PTP XHOME\nEND\n", dat), "");
+  // A malformed FRAME in the .dat, located there.
+  EXPECT_EQ(module_error("DEF M( )\nEND\n",
+                         "DEFDAT M\nDECL FRAME TGRIP={X 0,Y 0,Z abc,A 0,B 0,C 0}\nENDDAT\n"),
+            "m.dat:2:29: FRAME 'TGRIP': Z is not a number literal");
+  EXPECT_EQ(module_error("DEF M( )\nEND\n",
+                         "DEFDAT M\nDECL FRAME TGRIP={X 0,Y 0,Z 120,A 0,B 0}\nENDDAT\n"),
+            "m.dat:2:18: FRAME 'TGRIP' has no C: expected {X, Y, Z, A, B, C} (mm, deg)");
+  // An inline form whose FDAT the module does not declare: its tool is unknown.
+  EXPECT_EQ(module_error("DEF M( )\n  FDAT_ACT=FP7\n  BAS(#CP_PARAMS,0.2)\n  LIN XP1\nEND\n", dat),
+            "m.dat:2:16 (XP1): unknown base 'FDAT_ACT=FP7 (line 2, no DECL FDAT FP7 in the "
+            "module)': the program does not define it with literal values; give it in a frames "
+            "file");
 }
 
 /// One target written in `language` for the tool and frame of the closed-loop programs
@@ -339,6 +389,84 @@ TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
   const bool jbi = language == ProgramLanguage::Jbi;
   EXPECT_LT(worst, jbi ? 2e-3 : 2e-4) << "uncompensated " << uncompensated;
   EXPECT_LT(worst_deg, jbi ? 2e-4 : 2e-5);
+  EXPECT_GT(uncompensated, 0.1);
+  RecordProperty("worst_mm", fmt::format("{:.3g}", worst));
+}
+
+// The closed loop over a KUKA module: the points declared in the .dat, used in the .src under
+// a FRAME of the .dat ($TOOL = TGUN) in base 1 (BAS), and under an inline form's FDAT (tool 2
+// of the frames file, base 0); the filtered pair, executed on the true robot with each
+// point's tool and base, puts the tool where the original meant it.
+TEST(ProgramClosedLoopKrl, ModuleDatPointsCorrectedWithTheSrcToolAndBase) {
+  std::mt19937_64 rng(11);
+  const CalibratedRobot robot = test::random_calibrated("kuka-kr6-r900-sixx", rng);
+  const Compensator comp = make_compensator(robot);
+  const Pose<double> F = frame_pose(), T = tool_pose();  // TGUN: A 0, B 30, C 0
+  Pose<double> T2;
+  T2.p = Eigen::Vector3d(-5, 0, 210);
+  ProgramFilterOptions options;
+  options.tools["TOOL_DATA[2]"] = T2;
+  options.frames["BASE_DATA[1]"] = F;
+  std::string dat =
+      "DEFDAT LOOP\nDECL FRAME TGUN={X 10.0,Y 20.0,Z 150.0,A 0.0,B 30.0,C 0.0}\n"
+      "DECL FDAT FQ={TOOL_NO 2,BASE_NO 0,IPO_FRAME #BASE}\n";
+  std::string gun = "DEF loop( )\n  $TOOL=TGUN\n  BAS(#BASE,1)\n", inline_form;
+  std::vector<Pose<double>> wanted_base;
+  while (wanted_base.size() < 12) {
+    const Vector6d q = test::random_joints(comp.model, rng);
+    if (test::near_singular(comp.model, q, 10)) continue;
+    const size_t i = wanted_base.size();
+    const bool first_half = i < 6;
+    const Pose<double>& tool = first_half ? T : T2;
+    const Pose<double> frame = first_half ? F : Pose<double>{};
+    const Pose<double> base_T_tcp = nominal_tcp_pose(comp, q) * comp.tcp_T_flange * tool;
+    const Pose<double> written = frame.inverse() * base_T_tcp;
+    const Eigen::Vector3d abc = euler_angles_deg(written.R, EulerConvention::ZyxABC);
+    const std::vector<int> st = maker_configuration(comp, ProgramLanguage::Krl, q);
+    dat += fmt::format(
+        "DECL E6POS XP{}={{X {:.6f},Y {:.6f},Z {:.6f},A {:.6f},B {:.6f},C {:.6f},S {},T {}}}\n", i,
+        written.p.x(), written.p.y(), written.p.z(), abc[0], abc[1], abc[2], st[0], st[1]);
+    (first_half ? gun : inline_form) += fmt::format("  LIN XP{}\n", i);
+    wanted_base.push_back(base_T_tcp);
+  }
+  dat += "ENDDAT\n";
+  const std::string src = gun + "  FDAT_ACT=FQ\n  BAS(#CP_PARAMS,0.2)\n" + inline_form + "END\n";
+  const auto corrector = make_program_corrector(comp, ProgramLanguage::Krl, &robot);
+  const ProgramFilterResult result =
+      filter_krl_module(src, dat, "loop.src", "loop.dat", options, corrector);
+  ASSERT_EQ(result.cartesian_points, 12);
+  EXPECT_EQ(result.text, src);  // the .src has no literal point: unchanged
+  const Compensator nominal = make_compensator(CalibratedRobot::nominal(comp.model, robot.tool));
+  EXPECT_EQ(*filter_krl_module(src, dat, "loop.src", "loop.dat", options,
+                               make_program_corrector(nominal, ProgramLanguage::Krl))
+                 .dat_text,
+            dat);
+  const std::map<std::string, Pose<double>> tools = {{"TGUN", T}, {"TOOL_DATA[2]", T2}};
+  const std::map<std::string, Pose<double>> frames = {{"BASE_DATA[1]", F}, {"", Pose<double>{}}};
+  const auto before = read_krl_module_points(src, dat, "loop.src", "loop.dat", options);
+  const auto after =
+      read_krl_module_points(result.text, *result.dat_text, "loop.src", "loop.dat", options);
+  ASSERT_EQ(after.size(), 12u);
+  double worst = 0, uncompensated = 0;
+  for (size_t i = 0; i < after.size(); ++i) {
+    // The controller: nominal inverse with the point's tool in its base, in the written S/T.
+    const auto reached = [&](const ProgramPoint& p) {
+      const Pose<double>& tool = tools.at(p.tool);
+      const Pose<double>& frame = frames.at(p.frame == "BASE_DATA[0]" ? "" : p.frame);
+      const Pose<double> base_T_flange = frame * p.base_T_tcp * tool.inverse();
+      for (const IkSolution& s : nominal_ik(comp.geometry, base_T_flange, Vector6d::Zero()))
+        if (maker_configuration(comp, ProgramLanguage::Krl, s.joints) == p.config) {
+          ChainState state;
+          return Pose<double>(comp.base_T_world * calibrated_tcp_pose(comp.chain, s.joints, state) *
+                              comp.tcp_T_flange * tool);
+        }
+      ADD_FAILURE() << "no nominal solution in the configuration of line " << p.line;
+      return Pose<double>{};
+    };
+    worst = std::max(worst, (reached(after[i]).p - wanted_base[i].p).norm());
+    uncompensated = std::max(uncompensated, (reached(before[i]).p - wanted_base[i].p).norm());
+  }
+  EXPECT_LT(worst, 2e-4) << "uncompensated " << uncompensated;
   EXPECT_GT(uncompensated, 0.1);
   RecordProperty("worst_mm", fmt::format("{:.3g}", worst));
 }

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <map>
 #include <random>
 #include <regex>
@@ -109,6 +110,62 @@ TEST_P(MeasurementProgram, EachConfigurationHasItsHookAndSettleWait) {
   }
 }
 
+// Per-configuration visits (issue 18, the vAP pre-poses): a configuration without approach is
+// reached directly, one not measured has no settle wait and no hook; read back, the moves are
+// exactly the visits' and the hooks sit only after the measured configurations' moves.
+TEST_P(MeasurementProgram, PerConfigurationApproachAndHook) {
+  const ProgramLanguage language = GetParam();
+  MeasurementProgramRequest r = request_for(language);
+  r.max_configs_per_file = 0;
+  r.hook = MeasurementHook::PulseOutput;
+  r.signal = 7;
+  r.visits = {{true, true}, {false, false}, {false, true}, {true, false},
+              {true, true}, {false, true},  {true, true}};
+  const auto files = write_measurement_program(r);
+  ASSERT_EQ(files.size(), 1u);
+  const std::string& text = files[0].text;
+  const std::vector<JointMove> moves = read_joint_moves(text, language, files[0].name, kPulses);
+  // The moves expected, and after which move (index) each hook must come.
+  std::vector<Vector6d> want;
+  std::vector<size_t> hook_after;
+  for (size_t i = 0; i < r.joints.size(); ++i) {
+    const Vector6d q = r.joints[i] * kRadToDeg;
+    if (r.visits[i].approach) want.push_back(q - Vector6d::Constant(5.0));
+    want.push_back(q);
+    if (r.visits[i].measure) hook_after.push_back(want.size() - 1);
+  }
+  ASSERT_EQ(moves.size(), want.size());
+  for (size_t k = 0; k < want.size(); ++k)
+    for (int j = 0; j < kJointCount; ++j) {
+      const double ppd = kPulses[static_cast<size_t>(j)];
+      const double expected =
+          language == ProgramLanguage::Jbi ? std::round(want[k][j] * ppd) / ppd : want[k][j];
+      EXPECT_NEAR(moves[k].joints_deg[j], expected, 1e-6) << k << " " << j;
+    }
+  const std::map<ProgramLanguage, std::string> hook{
+      {ProgramLanguage::Rapid, R"(PulseDO \\PLength:=0\.5, doRobcalMeasure;)"},
+      {ProgramLanguage::Krl, R"(PULSE\(\$OUT\[7\], TRUE, 0\.5\))"},
+      {ProgramLanguage::FanucLs, R"(DO\[7\]=PULSE,0\.5sec ;)"},
+      {ProgramLanguage::Jbi, R"(PULSE OT#\(7\) T=0\.50)"},
+      {ProgramLanguage::UrScript, R"(set_standard_digital_out\(7, True\))"},
+  };
+  // Lines of the hooks: each after its measured configuration's move, before the next move.
+  const std::regex re(hook.at(language));
+  std::vector<int> hook_lines;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator();
+       ++it)
+    hook_lines.push_back(
+        1 + static_cast<int>(std::count(text.begin(), text.begin() + it->position(), '\n')));
+  ASSERT_EQ(hook_lines.size(), hook_after.size()) << text;
+  for (size_t h = 0; h < hook_lines.size(); ++h) {
+    const size_t k = hook_after[h];
+    // Fanuc: the move's line is the /MN instruction's, found by the reader in /MN order.
+    EXPECT_GT(hook_lines[h], moves[k].line) << h;
+    if (k + 1 < moves.size()) EXPECT_LT(hook_lines[h], moves[k + 1].line) << h;
+  }
+  EXPECT_NE(text.find("c002 (not measured)"), std::string::npos);
+}
+
 INSTANTIATE_TEST_SUITE_P(Languages, MeasurementProgram,
                          ::testing::Values(ProgramLanguage::Rapid, ProgramLanguage::Krl,
                                            ProgramLanguage::FanucLs, ProgramLanguage::Jbi,
@@ -127,7 +184,8 @@ TEST(MeasurementProgramFormat, RapidModuleWrittenByHand) {
             "MODULE RCMEAS\n"
             "    ! robcal measurement program, part 1 of 1: configurations 1-1 of 1.\n"
             "    ! Each configuration is approached from q - 5 deg on every joint (backlash,\n"
-            "    ! robcal method), reached at a fine point, then the arm settles 1 s.\n"
+            "    ! robcal method), reached at a fine point, then the arm settles 1 s where it "
+            "measures.\n"
             "    PROC RCMEAS_run()\n"
             "        VelSet 10, 5000;\n"
             "        ! c1 joints 10.000000 -20.500000 30.000000 0.000000 45.000000 -90.000000\n"
@@ -168,7 +226,16 @@ TEST(MeasurementProgramFormat, ControllerCountsMatchTheContent) {
   EXPECT_EQ(jbi.find("\nC00014="), std::string::npos);
   jbi.replace(jbi.find("///NPOS 14"), 10, "///NPOS 15");
   EXPECT_REFUSED(read_joint_moves(jbi, ProgramLanguage::Jbi, "x.jbi", kPulses), InputError,
-                 "x.jbi (///NPOS): ///NPOS declares 15 C variables, the job defines 14");
+                 "x.jbi:4:9 (///NPOS): ///NPOS declares 15 C positions (count 1 of c,bc,ec,p,bp,"
+                 "ex), the job defines 14");
+  // Split jobs: each part counts its own positions (3, 3 and 1 configurations, two each).
+  r.max_configs_per_file = 3;
+  const std::vector<ProgramFile> parts = write_measurement_program(r);
+  ASSERT_EQ(parts.size(), 3u);
+  for (size_t k = 0; k < parts.size(); ++k)
+    EXPECT_NE(parts[k].text.find(fmt::format("///NPOS {},0,0,0,0,0\n", k < 2 ? 6 : 2)),
+              std::string::npos)
+        << parts[k].name;
 }
 
 std::string refusal(const MeasurementProgramRequest& r) {
@@ -217,6 +284,38 @@ TEST(MeasurementProgramFormat, PulsesPerDegreeFromTheRobotFile) {
   EXPECT_EQ(load_robot(path).name, "Yaskawa Motoman GP7");  // the kinematic model is unchanged
 }
 
+// `robcal program` as a library call: the CSV read, the robot's limits checked, the files
+// written; a bad CSV is located and writes nothing.
+TEST(MeasurementProgramFormat, FromTheConfigurationsFile) {
+  const std::string dir = testing::TempDir() + "/robcal-program-files";
+  std::filesystem::remove_all(dir);
+  MeasurementProgramFilesRequest request;
+  request.program.language = ProgramLanguage::Krl;
+  request.configs = dir + "/configs.csv";
+  request.robot = "abb-irb120";
+  request.out_dir = dir + "/out";
+  write_file_atomically(request.configs,
+                        "config,target,j1,j2,j3,j4,j5,j6\nc1,,10,20,-10,30,40,50\n"
+                        "c2,,-30,35,5,-60,-50,20\n");
+  const MeasurementProgramFilesResult r = write_measurement_program_from_files(request);
+  ASSERT_EQ(r.paths, std::vector<std::string>{dir + "/out/rcmeas.src"});
+  ASSERT_TRUE(r.program.limits.has_value());  // the IRB 120's
+  const auto moves = read_joint_moves(read_text_file(r.paths[0]), ProgramLanguage::Krl, "x.src");
+  ASSERT_EQ(moves.size(), 4u);
+  EXPECT_LT((moves[1].joints_deg - Vector6d(10, 20, -10, 30, 40, 50)).norm(), 1e-9);
+  EXPECT_LT((moves[2].joints_deg - Vector6d(-35, 30, 0, -65, -55, 15)).norm(), 1e-9);
+  // Joint 2 of c2 beyond the IRB 120's limit (±110°): refused by name, nothing written.
+  request.out_dir = dir + "/bad";
+  write_file_atomically(request.configs,
+                        "config,target,j1,j2,j3,j4,j5,j6\nc1,,10,20,-10,30,40,50\n"
+                        "c2,,-30,135,5,-60,-50,20\n");
+  EXPECT_REFUSED((void)write_measurement_program_from_files(request), InputError, "c2");
+  write_file_atomically(request.configs,
+                        "config,target,j1,j2,j3,j4,j5,j6\nc1,,10,x,-10,30,40,50\n");
+  EXPECT_REFUSED((void)write_measurement_program_from_files(request), InputError, "configs.csv:2:");
+  EXPECT_FALSE(std::filesystem::exists(dir + "/bad"));
+}
+
 TEST(MeasurementProgramFormat, ReadersLocateBadText) {
   const auto error = [](const std::string& text, ProgramLanguage language, const char* file) {
     try {
@@ -242,7 +341,7 @@ TEST(MeasurementProgramFormat, ReadersLocateBadText) {
             "x.ls:5:1 (P[1]): has 2 of the components J1..J6");
   EXPECT_EQ(error("/JOB\n//POS\n///NPOS 1,0,0,0,0,0\n///PULSE\nC00000=1,2,3\n//INST\n",
                   ProgramLanguage::Jbi, "x.jbi"),
-            "x.jbi:5:13: expected ',' and the pulses of axis 4");
+            "x.jbi:5:8: C00000: expected six robot axis values, found 3");
 }
 
 }  // namespace

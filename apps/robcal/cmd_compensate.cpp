@@ -104,6 +104,9 @@ void run_compensate_program(const ModelOptions& o, const ProgramFilterFlags& f) 
   fmt::print("{}: {} Cartesian point{} and {} joint target{} corrected, written to {}\n", r.in,
              result.cartesian_points, result.cartesian_points == 1 ? "" : "s", result.joint_points,
              result.joint_points == 1 ? "" : "s", r.out);
+  if (!r.out_companion.empty())
+    fmt::print("KUKA module: its {} read and corrected with it, written to {}\n",
+               krl_companion_path(r.in), r.out_companion);
   if (!result.assumed.empty()) {
     fmt::print(
         "{} point{} corrected for the default tool (--tool) in the base frame, which "

@@ -9,10 +9,7 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
-#include "robcal/io/robot_file.hpp"
-#include "robcal/io/robot_pulses.hpp"
 #include "robcal/programs/measurement_program.hpp"
-#include "robcal/sim/simulator.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -28,35 +25,32 @@ struct ProgramOptions {
   bool json = false;
 };
 
-void run_program(const ProgramOptions& o, MeasurementProgramRequest request) {
-  request.language = program_language_from_name(o.language, "--lang");
-  request.hook = measurement_hook_from_name(o.hook);
+void run_program(const ProgramOptions& o, const MeasurementProgramRequest& program) {
+  MeasurementProgramFilesRequest request;
+  request.program = program;
+  request.program.language = program_language_from_name(o.language, "--lang");
+  request.program.hook = measurement_hook_from_name(o.hook);
   if (!o.pulses.empty()) {
     const std::vector<double> p = parse_numbers(o.pulses, kJointCount, "--pulses-per-degree");
-    request.pulses_per_degree.emplace();
-    std::copy(p.begin(), p.end(), request.pulses_per_degree->begin());
+    request.program.pulses_per_degree.emplace();
+    std::copy(p.begin(), p.end(), request.program.pulses_per_degree->begin());
   }
-  if (!o.robot.empty()) {
-    request.limits = load_robot(o.robot).limits;
-    if (const auto ppd = robot_pulses_per_degree(o.robot); !request.pulses_per_degree && ppd[0] > 0)
-      request.pulses_per_degree = ppd;
-  }
-  const Tool tool = o.tool.empty() ? Tool{} : load_tool(o.tool);
-  for (const PlannedConfiguration& c : read_configurations_csv(o.configs, tool)) {
-    request.names.push_back(c.name);
-    request.joints.push_back(c.joints);
-  }
-  request.date = fmt::format("{:%Y/%m/%d %H:%M}", fmt::gmtime(std::time(nullptr)));
-  const std::vector<std::string> paths = write_measurement_program_files(request, o.out);
+  request.program.date = fmt::format("{:%Y/%m/%d %H:%M}", fmt::gmtime(std::time(nullptr)));
+  request.configs = o.configs;
+  request.robot = o.robot;
+  request.tool = o.tool;
+  request.out_dir = o.out;
+  const MeasurementProgramFilesResult r = write_measurement_program_from_files(request);
+  const std::vector<std::string>& paths = r.paths;
   if (o.json) {
-    print_json({{"language", program_language_name(request.language)},
-                {"configurations", request.joints.size()},
+    print_json({{"language", program_language_name(r.program.language)},
+                {"configurations", r.program.joints.size()},
                 {"files", paths}});
     return;
   }
   fmt::print("{} configurations, each approached from q - {:g} deg, in {} {} program{}:\n",
-             request.joints.size(), request.approach_deg, paths.size(),
-             program_language_name(request.language), paths.size() == 1 ? "" : "s");
+             r.program.joints.size(), r.program.approach_deg, paths.size(),
+             program_language_name(r.program.language), paths.size() == 1 ? "" : "s");
   for (const std::string& p : paths) fmt::print("  {}\n", p);
 }
 

@@ -17,6 +17,7 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <optional>
 
 #include "measurement_writers.hpp"
@@ -46,9 +47,10 @@ std::string write_jbi_measurement(const MeasurementPart& part) {
     inst += fmt::format("MOVJ C{:05d} VJ={:.2f} PL=0\n", c++, r.joint_speed_percent);
   };
   for (const Visit& v : part.visits) {
-    inst += fmt::format("'{}\n", v.name);
-    move(v.approach_deg);
+    inst += fmt::format("'{}\n", v.label());
+    if (v.approach) move(v.approach_deg);
     move(v.target_deg);
+    if (!v.measure) continue;
     inst += fmt::format("TIMER T={:.2f}\n", r.settle_s);
     if (r.hook == MeasurementHook::WaitInput)
       inst += fmt::format("WAIT IN#({})=ON\n", r.signal);
@@ -63,9 +65,10 @@ std::string write_jbi_measurement(const MeasurementPart& part) {
 
 std::vector<JointMove> read_jbi_joint_moves(const std::string& text, const std::string& file,
                                             const std::array<double, kJointCount>& ppd) {
+  // The //POS section as the filter reads it: ///NPOS counts, position names and values.
+  (void)scan_jbi(text, file, ProgramFilterOptions{});
   std::map<int, Vector6d> positions;
   std::vector<std::pair<int, int>> order;  // (C index, line)
-  int declared = -1;                       // ///NPOS first count
   bool in_pulse = false, in_inst = false;
   size_t at = 0;
   int number = 0;
@@ -88,10 +91,7 @@ std::vector<JointMove> read_jbi_joint_moves(const std::string& text, const std::
         fail(pos, "expected a C variable C00000..C99999");
       return std::pair{static_cast<int>(index), offset - start};
     };
-    if (line.starts_with("///NPOS ")) {
-      size_t offset = start + 8;
-      declared = static_cast<int>(read_number(text, offset, file, number, start));
-    } else if (line.starts_with("///PULSE")) {
+    if (line.starts_with("///PULSE")) {
       in_pulse = true;
     } else if (line.starts_with("//INST")) {
       in_pulse = false;
@@ -118,10 +118,6 @@ std::vector<JointMove> read_jbi_joint_moves(const std::string& text, const std::
       order.emplace_back(c_index(5).first, number);
     }
   }
-  if (declared != static_cast<int>(positions.size()))
-    throw InputError(SourceLocation{file, 0, 0, "///NPOS"},
-                     fmt::format("///NPOS declares {} C variables, the job defines {}", declared,
-                                 positions.size()));
   std::vector<JointMove> moves;
   for (const auto& [index, line] : order) {
     const auto it = positions.find(index);
@@ -183,22 +179,26 @@ class JbiScanner {
         pos_line(line);
       }
     }
-    if (npos_line_ > 0)
-      for (int k = 0; k < 3; ++k)
-        if (declared_[static_cast<size_t>(k)] != defined_[static_cast<size_t>(k)])
-          throw InputError(SourceLocation{file_, npos_line_, 9, "///NPOS"},
-                           fmt::format("///NPOS declares {} {} positions, the job defines {}",
-                                       declared_[static_cast<size_t>(k)], kKinds[k],
-                                       defined_[static_cast<size_t>(k)]));
     if (base_frame_line_ && defined_[1] > 0)
       throw InputError(SourceLocation{file_, *base_frame_line_, 1, ""},
                        "Cartesian position in the BASE frame of a robot on a base axis (the job "
                        "has BC positions): the frame moves, the position is not corrected");
+    if (npos_line_ == 0 && std::accumulate(defined_.begin(), defined_.end(), 0) > 0)
+      throw InputError(SourceLocation{file_, 0, 0, "///NPOS"},
+                       "the job defines positions but has no ///NPOS line in //POS");
+    for (size_t k = 0; k < kKinds.size(); ++k)
+      if (npos_line_ > 0 && declared_[k] != defined_[k])
+        throw InputError(SourceLocation{file_, npos_line_, 9, "///NPOS"},
+                         fmt::format("///NPOS declares {} {} positions (count {} of c,bc,ec,p,bp,"
+                                     "ex), the job defines {}",
+                                     declared_[k], kKinds[k], k + 1, defined_[k]));
     return std::move(out_);
   }
 
  private:
-  static constexpr const char* kKinds[3] = {"C", "BC", "EC"};
+  /// The six ///NPOS counts in order: robot, base-axis and station-axis teaching positions,
+  /// then robot, base-axis and station-axis position variables.
+  static constexpr std::array<const char*, 6> kKinds = {"C", "BC", "EC", "P", "BP", "EX"};
 
   [[noreturn]] void fail(size_t column, const std::string& what) const {
     throw InputError(SourceLocation{file_, line_, static_cast<int>(column) + 1, ""}, what);
@@ -228,9 +228,15 @@ class JbiScanner {
   void pos_line(std::string_view line) {
     if (line.empty()) return;
     if (line.starts_with("///NPOS ")) {
+      if (npos_line_ > 0)
+        fail(0, fmt::format("second ///NPOS line (the first at line {})", npos_line_));
       const std::vector<NumberField> n = numbers(line, 8);
       if (n.size() != 6) fail(8, "///NPOS: expected six counts c,bc,ec,p,bp,ex");
-      for (int k = 0; k < 3; ++k) declared_[static_cast<size_t>(k)] = static_cast<int>(n[k].value);
+      for (size_t k = 0; k < 6; ++k) {
+        if (n[k].value != std::floor(n[k].value) || n[k].value < 0 || n[k].value > 99999)
+          fail(n[k].begin - line_start_, "///NPOS: expected whole counts 0..99999");
+        declared_[k] = static_cast<int>(n[k].value);
+      }
       npos_line_ = line_;
     } else if (line.starts_with("///USER ")) {
       user_ = integer_after(line, 8, 0, 63);
@@ -260,30 +266,48 @@ class JbiScanner {
       // Other header pseudo-instructions (///COMM, ///ATTR ...) carry no position state.
     } else if (line.starts_with("BC") || line.starts_with("EC")) {
       ++defined_[line[0] == 'B' ? 1 : 2];
-      position_name(line, 2);  // checked, kept as written
+      position_name(line, 2, 5);  // checked, kept as written
+    } else if (line.starts_with("BP") || line.starts_with("EX")) {
+      ++defined_[line[0] == 'B' ? 4 : 5];
+      position_name(line, 2, 4);  // variables: their stored values, kept as written
+    } else if (line.starts_with("P")) {
+      ++defined_[3];
+      position_name(line, 1, 4);
     } else if (line.starts_with("C")) {
       ++defined_[0];
       position(line);
     } else {
-      fail(0, "expected a ///pseudo-instruction or a C, BC or EC position in //POS");
+      fail(0,
+           "expected a ///pseudo-instruction, a C, BC or EC position or a P, BP or EX "
+           "variable in //POS");
     }
   }
 
-  // `Cnnnnn=` / `BCnnnnn=`: the name, checked; the values start after it.
-  std::string position_name(std::string_view line, size_t digits_at) const {
+  // `Cnnnnn=` / `BCnnnnn=` (five digits), `Pnnnn=` / `BPnnnn=` / `EXnnnn=` (variables, up to
+  // four): the name, checked; the values start after it.
+  std::string position_name(std::string_view line, size_t digits_at, size_t digits) const {
     size_t k = digits_at;
     while (k < line.size() && std::isdigit(static_cast<unsigned char>(line[k]))) ++k;
-    if (k - digits_at != 5 || k >= line.size() || line[k] != '=')
-      fail(digits_at, "expected a position name with five digits and '=' (C00000=...)");
+    const bool ok = digits == 5 ? k - digits_at == 5 : (k > digits_at && k - digits_at <= digits);
+    if (!ok || k >= line.size() || line[k] != '=')
+      fail(digits_at, digits == 5 ? "expected a position name with five digits and '=' (C00000=...)"
+                                  : "expected a position variable name with up to four digits "
+                                    "and '=' (P0001=...)");
     return std::string(line.substr(0, k));
   }
 
   void position(std::string_view line) {
-    const std::string name = position_name(line, 1);
+    const std::string name = position_name(line, 1, 5);
     const size_t values_at = name.size() + 1;
     const std::vector<NumberField> f = numbers(line, values_at);
+    // A 7-axis arm (SIA, SDA) has seven robot values; its positions cannot be corrected with a
+    // six-axis model, and keeping some positions of a job corrected and others not would mislead.
+    if (f.size() == 7)
+      fail(values_at, fmt::format("{} has seven robot axis values: a seven-axis arm (SIA/SDA "
+                                  "series); robcal calibrates six-axis arms, the job is refused",
+                                  name));
     if (f.size() != kJointCount)
-      fail(values_at, fmt::format("expected six values (six-axis robot), found {}", f.size()));
+      fail(values_at, fmt::format("{}: expected six robot axis values, found {}", name, f.size()));
     PointSite site;
     site.point.name = name;
     site.point.line = line_;
@@ -325,7 +349,7 @@ class JbiScanner {
   int line_ = 0;
   size_t line_start_ = 0;
   int npos_line_ = 0;
-  std::array<int, 3> declared_{}, defined_{};
+  std::array<int, 6> declared_{}, defined_{};
   std::optional<int> user_, tool_, base_frame_line_;
   std::string postype_;
   bool rectan_ = false;

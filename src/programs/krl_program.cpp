@@ -8,17 +8,19 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <unordered_map>
 
 #include "measurement_writers.hpp"
 #include "program_scan.hpp"
+#include "robcal/core/error.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::detail {
 namespace {
 
-enum class PointKind { Position, Axis };
+enum class PointKind { Position, Axis, Frame };
 
 /// One `KEY value` entry of a KRL aggregate `{X 1.0, Y 2.0, ...}`.
 struct Entry {
@@ -27,17 +29,36 @@ struct Entry {
   NumberField number;  ///< present when the value is a (signed) number or a bit literal
 };
 
+/// A motion instruction's use of a named point, with the tool and base active there.
+struct Usage {
+  std::string tool, base;
+  const std::string* file = nullptr;  ///< the scanner's file name
+  int line = 0, column = 0;
+};
+
 class KrlScanner {
  public:
-  KrlScanner(std::string_view text, const std::string& file, const ProgramFilterOptions& options)
-      : lexer_(text, ProgramLanguage::Krl, file), options_(options) {}
+  /// `dat`: the module's .dat, scanned first (a .src sees its declarations, FDATs and frames).
+  KrlScanner(std::string_view text, const std::string& file, const ProgramFilterOptions& options,
+             const KrlScanner* dat = nullptr)
+      : lexer_(text, ProgramLanguage::Krl, file), options_(options), module_(dat != nullptr) {
+    // The frame tables of $config.dat, known to every module.
+    declared_["TOOL_DATA"] = declared_["BASE_DATA"] = PointKind::Frame;
+    dat_ = dat;
+    if (dat == nullptr) return;
+    frame_data_ = dat->frame_data_;
+    out_.tools = dat->out_.tools;
+    out_.frames = dat->out_.frames;
+    varying_ = dat->varying_;
+  }
 
-  ProgramScan run() {
+  void scan() {
     for (;;) {
       const Token t = lexer_.next();
       if (t.kind == TokenKind::End) break;
       if (t.kind != TokenKind::Identifier) continue;
       const std::string word = upper(t.text);
+      if (word == "DECL" || word == "GLOBAL") continue;  // (not a name: no table look-up)
       if (const auto kind = point_type(word); kind && lexer_.peek().kind == TokenKind::Identifier)
         declaration(*kind);
       else if (word == "PTP" || word == "LIN" || word == "CIRC" || word == "SPTP" ||
@@ -45,15 +66,25 @@ class KrlScanner {
         motion();
       else if (word == "FDAT" && lexer_.peek().kind == TokenKind::Identifier)
         frame_data();
+      else if (word == "FDAT_ACT" && lexer_.peek().is('=') &&
+               lexer_.peek(1).kind == TokenKind::Identifier)
+        fdat_act_ = {upper(lexer_.peek(1).text), lexer_.peek(1).line};
       else if (word == "BAS")
         bas_call();
       else if (word == "$TOOL" || word == "$BASE")
         frame_assignment(word);
-      else if (auto found = declared_.find(word); found != declared_.end())
-        assignment(t, found->second);
+      else if (const auto kind = declared(word))
+        assignment(t, *kind);
     }
     assign_frame_data();
-    return {std::move(sites_), {}, {}};
+  }
+
+  /// The points of this file with the tool and base of the motions (of this file and of
+  /// `users`, the module's other file) that use them.
+  ProgramScan finish(const KrlScanner* users = nullptr) {
+    assign_usages(users);
+    out_.sites = std::move(sites_);
+    return std::move(out_);
   }
 
  private:
@@ -64,6 +95,7 @@ class KrlScanner {
   void bas_call() {
     if (!lexer_.peek().is('(') || lexer_.peek(1).kind != TokenKind::Identifier) return;
     const std::string what = upper(lexer_.peek(1).text);
+    if (what == "#PTP_PARAMS" || what == "#CP_PARAMS" || what == "#FRAMES") return inline_form();
     if (what != "#TOOL" && what != "#BASE") return;
     const Token comma = lexer_.peek(2);
     if (!comma.is(','))
@@ -82,18 +114,88 @@ class KrlScanner {
       active = fmt::format("BAS({}, ...) at line {}", what, value.line);
   }
 
-  // `$TOOL = TOOL_DATA[n]`, `$BASE = BASE_DATA[n]`; any other value (a literal frame, an
-  // expression) makes the active tool or base unknown until the next assignment.
+  // An inline form's `FDAT_ACT = Fname` then `BAS(#PTP_PARAMS|#CP_PARAMS|#FRAMES, ...)`: BAS.SRC
+  // sets $TOOL = TOOL_DATA[FDAT_ACT.TOOL_NO] and $BASE = BASE_DATA[FDAT_ACT.BASE_NO].
+  void inline_form() {
+    if (fdat_act_.first.empty()) return;  // no FDAT_ACT in this file: the frames stay as they are
+    const auto found = frame_data_.find(fdat_act_.first);
+    if (found != frame_data_.end()) {
+      tool_ = found->second.first;
+      base_ = found->second.second;
+    } else {
+      tool_ = base_ = fmt::format("FDAT_ACT={} (line {}, no DECL FDAT {} in the module)",
+                                  fdat_act_.first, fdat_act_.second, fdat_act_.first);
+    }
+    fdat_act_.first.clear();
+  }
+
+  // `$TOOL = TOOL_DATA[n]`, `$BASE = BASE_DATA[n]`, `$TOOL = name` (a FRAME of the module or
+  // of $config.dat), `$TOOL = {X ...}` (a literal frame, which defines it); any other value
+  // (an expression) makes the active tool or base unknown until the next assignment.
   void frame_assignment(const std::string& word) {
     if (!lexer_.peek().is('=')) return;
     const bool tool = word == "$TOOL";
-    const char* table = tool ? "TOOL_DATA" : "BASE_DATA";
     std::string& active = tool ? tool_ : base_;
-    if (iequals(lexer_.peek(1).text, table) && lexer_.peek(2).is('[') &&
-        lexer_.peek(3).kind == TokenKind::Number && lexer_.peek(4).is(']'))
-      active = indexed(table, lexer_.peek(3));
+    const Token value = lexer_.peek(1);
+    if (value.is('{')) {
+      lexer_.next();
+      active = fmt::format("{} LITERAL AT LINE {}", word, value.line);
+      define_frame(active, lexer_.next());
+      return;
+    }
+    size_t after = 2;
+    std::string name = upper(value.text);
+    if (value.kind == TokenKind::Identifier && lexer_.peek(2).is('[') &&
+        lexer_.peek(3).kind == TokenKind::Number && lexer_.peek(4).is(']')) {
+      name = indexed(name.c_str(), lexer_.peek(3));
+      after = 5;
+    }
+    // The value ends the statement (the next token is on a later line): a plain name.
+    const Token& next = lexer_.peek(after);
+    if (value.kind == TokenKind::Identifier && name[0] != '$' &&
+        (next.kind == TokenKind::End || next.line > value.line))
+      active = name;
     else
       active = fmt::format("{} (set at line {})", word, lexer_.peek().line);
+  }
+
+  // A literal FRAME `{X, Y, Z, A, B, C}` after its `{`: the tool (flange_T_tcp) or base
+  // (world_T_base) named `name`. A name given two different literal values is left undefined
+  // (which one is active at a point depends on the run).
+  void define_frame(const std::string& name, const Token& open) {
+    const std::vector<Entry> entries = aggregate(open);
+    double v[6];
+    static const char* const kKeys[] = {"X", "Y", "Z", "A", "B", "C"};
+    for (int k = 0; k < 6; ++k) {
+      const auto e = std::find_if(entries.begin(), entries.end(),
+                                  [&](const Entry& x) { return x.key == kKeys[k]; });
+      if (e == entries.end())
+        refuse(lexer_.file(), open,
+               fmt::format("FRAME '{}' has no {}: expected {{X, Y, Z, A, B, C}} (mm, deg)", name,
+                           kKeys[k]));
+      if (!e->number.present || e->number.binary_digits > 0)
+        refuse(lexer_.file(), e->at,
+               fmt::format("FRAME '{}': {} is not a number literal", name, kKeys[k]));
+      v[k] = e->number.value;
+    }
+    for (const Entry& e : entries)
+      if (std::find(std::begin(kKeys), std::end(kKeys), e.key) == std::end(kKeys))
+        refuse(lexer_.file(), e.at,
+               fmt::format("FRAME '{}': unknown component {} (expected X, Y, Z, A, B, C)", name,
+                           e.key));
+    Pose<double> pose;
+    pose.p << v[0], v[1], v[2];
+    pose.R = rotation_from_euler_deg(Eigen::Vector3d(v[3], v[4], v[5]), EulerConvention::ZyxABC);
+    if (varying_.count(name)) return;
+    for (auto* table : {&out_.tools, &out_.frames}) {
+      const auto [it, added] = table->emplace(name, pose);
+      if (!added && ((it->second.p - pose.p).norm() > 0 || (it->second.R - pose.R).norm() > 0)) {
+        out_.tools.erase(name);
+        out_.frames.erase(name);
+        varying_.insert(name);
+        return;
+      }
+    }
   }
 
   std::string indexed(const char* table, const Token& number) const {
@@ -137,6 +239,7 @@ class KrlScanner {
   static std::optional<PointKind> point_type(const std::string& word) {
     if (word == "E6POS" || word == "POS") return PointKind::Position;
     if (word == "E6AXIS" || word == "AXIS") return PointKind::Axis;
+    if (word == "FRAME") return PointKind::Frame;
     return std::nullopt;
   }
 
@@ -148,7 +251,10 @@ class KrlScanner {
       const std::string index = array_index();
       if (lexer_.peek().is('=') && lexer_.peek(1).is('{')) {
         lexer_.next();
-        point(kind, std::string(name.text) + index, /*inline_motion=*/false);
+        if (kind == PointKind::Frame)
+          define_frame(upper(std::string(name.text) + index), lexer_.next());
+        else
+          point(kind, std::string(name.text) + index, /*inline_motion=*/false);
       }
       if (!(lexer_.peek().is(',') && lexer_.peek(1).kind == TokenKind::Identifier)) return;
       lexer_.next();
@@ -160,21 +266,123 @@ class KrlScanner {
     const std::string index = array_index();
     if (lexer_.peek().is('=') && lexer_.peek(1).is('{')) {
       lexer_.next();
-      point(kind, std::string(name.text) + index, false);
+      if (kind == PointKind::Frame)
+        define_frame(upper(std::string(name.text) + index), lexer_.next());
+      else
+        point(kind, std::string(name.text) + index, false);
     }
   }
 
-  // Motions with literal points: `PTP {...}`, `CIRC {aux}, {target}`; the kind follows the keys.
+  // Motions: literal points `PTP {...}` (the kind follows the keys) and named ones `LIN XP1`,
+  // `CIRC XAUX, {target}`, each taking the tool and base active here.
   void motion() {
-    while (lexer_.peek().is('{')) {
-      const size_t before = sites_.size();
-      point(std::nullopt, "", true);
-      for (size_t i = before; i < sites_.size(); ++i) {
-        sites_[i].point.tool = tool_;
-        sites_[i].point.frame = base_;
+    for (;;) {
+      if (lexer_.peek().is('{')) {
+        const size_t before = sites_.size();
+        point(std::nullopt, "", true);
+        for (size_t i = before; i < sites_.size(); ++i) {
+          sites_[i].point.tool = tool_;
+          sites_[i].point.frame = base_;
+        }
+      } else if (lexer_.peek().kind == TokenKind::Identifier &&
+                 !iequals(lexer_.peek().text, "CA")) {
+        named_target();
+      } else {
+        return;
       }
-      if (!(lexer_.peek().is(',') && lexer_.peek(1).is('{'))) return;
+      if (!(lexer_.peek().is(',') &&
+            (lexer_.peek(1).is('{') || lexer_.peek(1).kind == TokenKind::Identifier)))
+        return;
       lexer_.next();
+    }
+  }
+
+  // `LIN XP1`, `PTP XSEAM[2]`: a use of a declared point. In a module (.src with its .dat) a
+  // name declared in neither file is refused: its value lives elsewhere and is not corrected.
+  // `$` names are the controller's run-time positions; XHOME and XHOME1..5 are the home
+  // positions of $config.dat (joint positions of the cell, not taught points of this module).
+  void named_target() {
+    const Token name = lexer_.next();
+    const std::string key = upper(name.text);
+    const std::string index = array_index();
+    if (lexer_.peek().is(':'))
+      refuse(lexer_.file(), lexer_.peek(),
+             fmt::format("motion target '{}{}' combined with a geometric operator ':': only "
+                         "plain and literal points are corrected",
+                         name.text, index));
+    const bool home = key == "XHOME" || (key.size() == 6 && key.starts_with("XHOME") &&
+                                         key[5] >= '1' && key[5] <= '5');
+    const auto kind = declared(key);
+    if (!kind) {
+      if (!module_ || key[0] == '$' || home) return;
+      const std::string message = fmt::format(
+          "'{}' is used here but declared neither in this .src nor in its .dat: a "
+          "point defined elsewhere is not corrected",
+          name.text);
+      if (!options_.keep_going) refuse(lexer_.file(), name, message);
+      out_.unresolved.push_back(
+          {fmt::format("{}:{}:{} ({})", lexer_.file(), name.line, name.column, name.text),
+           message});
+      return;
+    }
+    if (*kind == PointKind::Frame)
+      refuse(lexer_.file(), name, fmt::format("'{}' is a FRAME, not a point", name.text));
+    usages_[key + index].push_back({tool_, base_, &lexer_.file(), name.line, name.column});
+  }
+
+  // A declared point takes the tool and base of the motions that use it (a variable index,
+  // `XP[I]`, uses every element); one corrected value cannot serve two of them.
+  // The kind of a declared name: of this file, else of the module's .dat.
+  [[nodiscard]] std::optional<PointKind> declared(const std::string& name) const {
+    if (const auto it = declared_.find(name); it != declared_.end()) return it->second;
+    if (dat_ == nullptr) return std::nullopt;
+    if (const auto it = dat_->declared_.find(name); it != dat_->declared_.end()) return it->second;
+    return std::nullopt;
+  }
+
+  void assign_usages(const KrlScanner* users) {
+    const auto label = [](const std::string& s) { return s.empty() ? std::string("?") : s; };
+    std::vector<const std::unordered_map<std::string, std::vector<Usage>>*> tables = {&usages_};
+    if (users) tables.push_back(&users->usages_);
+    // Uses with a variable index (few), by their array's prefix "NAME[".
+    std::vector<std::pair<std::string, const std::vector<Usage>*>> whole_arrays;
+    for (const auto* table : tables)
+      for (const auto& [key, list] : *table) {
+        const size_t open = key.find('[');
+        if (open != std::string::npos && !std::isdigit(static_cast<unsigned char>(key[open + 1])))
+          whole_arrays.emplace_back(key.substr(0, open + 1), &list);
+      }
+    std::vector<const Usage*> uses;
+    for (PointSite& site : sites_) {
+      if (site.point.name.empty()) continue;
+      const std::string name = upper(site.point.name);
+      uses.clear();
+      for (const auto* table : tables)
+        if (const auto exact = table->find(name); exact != table->end())
+          for (const Usage& u : exact->second) uses.push_back(&u);
+      for (const auto& [prefix, list] : whole_arrays)
+        if (name.starts_with(prefix))
+          for (const Usage& u : *list) uses.push_back(&u);
+      if (uses.empty()) continue;
+      // A motion with no tool or base set before it in the .src keeps the point's FDAT pair.
+      const auto frames_of = [&](const Usage& u) {
+        return u.tool.empty() && u.base.empty() ? std::pair{site.point.tool, site.point.frame}
+                                                : std::pair{u.tool, u.base};
+      };
+      const Usage& first = *uses.front();
+      const auto [tool, base] = frames_of(first);
+      for (const Usage* u : uses)
+        if (frames_of(*u) != std::pair{tool, base})
+          throw InputError(
+              SourceLocation{lexer_.file(), site.point.line, site.point.column, site.point.name},
+              fmt::format("used with tool {} and base {} at {}:{}:{} and with tool {} and base {} "
+                          "at {}:{}:{}: one corrected value cannot serve both; give each use its "
+                          "own point",
+                          label(tool), label(base), *first.file, first.line, first.column,
+                          label(frames_of(*u).first), label(frames_of(*u).second), *u->file,
+                          u->line, u->column));
+      site.point.tool = tool;
+      site.point.frame = base;
     }
   }
 
@@ -326,17 +534,42 @@ class KrlScanner {
 
   ProgramLexer lexer_;
   const ProgramFilterOptions& options_;
+  bool module_ = false;  ///< a .src scanned with its .dat
   std::unordered_map<std::string, PointKind> declared_;
   std::vector<PointSite> sites_;
-  std::string tool_, base_;  ///< active for inline motion points ("" = not set in this file)
+  std::string tool_, base_;  ///< active for motion points ("" = not set in this file)
   std::map<std::string, std::pair<std::string, std::string>> frame_data_;  ///< FDAT: tool, base
+  std::pair<std::string, int> fdat_act_;  ///< the last `FDAT_ACT = name` and its line
+  const KrlScanner* dat_ = nullptr;       ///< the module's .dat, when this is its .src
+  /// Uses by upper-case name with its index.
+  std::unordered_map<std::string, std::vector<Usage>> usages_;
+  std::set<std::string> varying_;  ///< FRAME names given two different literal values
+  ProgramScan out_;
 };
 
 }  // namespace
 
 ProgramScan scan_krl(std::string_view text, const std::string& file,
                      const ProgramFilterOptions& options) {
-  return KrlScanner(text, file, options).run();
+  KrlScanner scanner(text, file, options);
+  scanner.scan();
+  return scanner.finish();
+}
+
+KrlModuleScan scan_krl_module(std::string_view src, std::string_view dat,
+                              const std::string& src_file, const std::string& dat_file,
+                              const ProgramFilterOptions& options) {
+  KrlScanner dat_scanner(dat, dat_file, options);
+  dat_scanner.scan();
+  KrlScanner src_scanner(src, src_file, options, &dat_scanner);
+  src_scanner.scan();
+  KrlModuleScan out;
+  out.dat = dat_scanner.finish(&src_scanner);
+  out.src = src_scanner.finish();
+  // The .src's tables started from the .dat's: they hold the module's definitions.
+  out.dat.tools = out.src.tools;
+  out.dat.frames = out.src.frames;
+  return out;
 }
 
 }  // namespace robcal::detail
@@ -360,8 +593,11 @@ std::string write_krl_measurement(const MeasurementPart& part) {
     out +=
         fmt::format("  $VEL_AXIS[{0}]={1:g}\n  $ACC_AXIS[{0}]={1:g}\n", j, r.joint_speed_percent);
   for (const Visit& v : part.visits) {
-    out += fmt::format("  ; {}\n  PTP {}\n  PTP {}\n  WAIT SEC {:.2f}\n", v.name,
-                       axis(v.approach_deg), axis(v.target_deg), r.settle_s);
+    out += fmt::format("  ; {}\n", v.label()) +
+           (v.approach ? fmt::format("  PTP {}\n", axis(v.approach_deg)) : "") +
+           fmt::format("  PTP {}\n", axis(v.target_deg));
+    if (!v.measure) continue;
+    out += fmt::format("  WAIT SEC {:.2f}\n", r.settle_s);
     if (r.hook == MeasurementHook::WaitInput)
       out += fmt::format("  WAIT FOR $IN[{}]\n", r.signal);
     else

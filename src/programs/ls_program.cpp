@@ -44,9 +44,10 @@ std::string write_ls_measurement(const MeasurementPart& part) {
   mn.push_back("UFRAME_NUM=0");
   mn.push_back(fmt::format("UTOOL_NUM={}", r.tool_number));
   for (const Visit& v : part.visits) {
-    mn.push_back(fmt::format("! {}", v.name));
-    point(v.approach_deg);
+    mn.push_back(fmt::format("! {}", v.label()));
+    if (v.approach) point(v.approach_deg);
     point(v.target_deg);
+    if (!v.measure) continue;
     mn.push_back(fmt::format("WAIT {:.2f}(sec)", r.settle_s));
     switch (r.hook) {
       case MeasurementHook::WaitInput:

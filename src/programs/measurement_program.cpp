@@ -12,7 +12,10 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/io/robot_pulses.hpp"
 #include "robcal/programs/program_filter.hpp"
+#include "robcal/sim/simulator.hpp"
 
 namespace robcal {
 namespace {
@@ -83,8 +86,9 @@ int program_size_limit(ProgramLanguage language) {
 
 std::vector<ProgramFile> write_measurement_program(const MeasurementProgramRequest& r) {
   check_program_name(r.name);
-  if (r.names.size() != r.joints.size())
-    throw std::invalid_argument("write_measurement_program: names and joints differ in size");
+  if (r.names.size() != r.joints.size() || (!r.visits.empty() && r.visits.size() != r.names.size()))
+    throw std::invalid_argument(
+        "write_measurement_program: names, joints and visits differ in size");
   if (r.joints.empty())
     throw InputError(SourceLocation{"", 0, 0, "configs"}, "no configuration to visit");
   if (!(r.approach_deg >= 0 && r.approach_deg <= 30))
@@ -125,9 +129,10 @@ std::vector<ProgramFile> write_measurement_program(const MeasurementProgramReque
     const Vector6d approach = r.joints[i] - Vector6d::Constant(deg2rad(r.approach_deg));
     if (!r.joints[i].allFinite())
       throw InputError(SourceLocation{"", 0, 0, r.names[i]}, "joints are not finite");
-    check_limits(r, r.names[i], r.joints[i], approach);
+    const ConfigurationVisit how = r.visits.empty() ? ConfigurationVisit{} : r.visits[i];
+    check_limits(r, r.names[i], r.joints[i], how.approach ? approach : r.joints[i]);
     visits.push_back({r.names[i], r.joints[i] * kRadToDeg - Vector6d::Constant(r.approach_deg),
-                      r.joints[i] * kRadToDeg});
+                      r.joints[i] * kRadToDeg, how.approach, how.measure});
   }
 
   const int parts = static_cast<int>((visits.size() + static_cast<size_t>(limit) - 1) /
@@ -171,6 +176,28 @@ std::vector<std::string> write_measurement_program_files(const MeasurementProgra
   return paths;
 }
 
+MeasurementProgramFilesResult write_measurement_program_from_files(
+    const MeasurementProgramFilesRequest& request) {
+  MeasurementProgramFilesResult result;
+  MeasurementProgramRequest& program = result.program;
+  program = request.program;
+  if (!request.robot.empty()) {
+    program.limits = load_robot(request.robot).limits;
+    if (const auto ppd = robot_pulses_per_degree(request.robot);
+        !program.pulses_per_degree && ppd[0] > 0)
+      program.pulses_per_degree = ppd;
+  }
+  const Tool tool = request.tool.empty() ? Tool{} : load_tool(request.tool);
+  program.names.clear();
+  program.joints.clear();
+  for (const PlannedConfiguration& c : read_configurations_csv(request.configs, tool)) {
+    program.names.push_back(c.name);
+    program.joints.push_back(c.joints);
+  }
+  result.paths = write_measurement_program_files(program, request.out_dir);
+  return result;
+}
+
 std::vector<JointMove> read_joint_moves(
     const std::string& text, ProgramLanguage language, const std::string& file,
     const std::optional<std::array<double, kJointCount>>& pulses_per_degree) {
@@ -203,11 +230,17 @@ std::string header_comment(const MeasurementPart& part, std::string_view prefix,
   const size_t per_file = static_cast<size_t>(
       r.max_configs_per_file > 0 ? r.max_configs_per_file : program_size_limit(r.language));
   const size_t first = static_cast<size_t>(part.part - 1) * per_file;
+  const auto approached = std::count_if(part.visits.begin(), part.visits.end(),
+                                        [](const Visit& v) { return v.approach; });
+  const std::string which = approached == static_cast<long>(part.visits.size())
+                                ? "Each configuration is"
+                            : approached == 0 ? "No configuration is"
+                                              : "Some configurations are";
   return fmt::format(
       "{0} robcal measurement program, part {1} of {2}: configurations {3}-{4} of {5}.\n"
-      "{0} Each configuration is approached from q - {6:g} deg on every joint (backlash,\n"
-      "{0} robcal method), {7}, then the arm settles {8:g} s.\n",
-      prefix, part.part, part.parts, first + 1, first + part.visits.size(), r.joints.size(),
+      "{0} {6} approached from q - {7:g} deg on every joint (backlash,\n"
+      "{0} robcal method), {8}, then the arm settles {9:g} s where it measures.\n",
+      prefix, part.part, part.parts, first + 1, first + part.visits.size(), r.joints.size(), which,
       r.approach_deg, stop, r.settle_s);
 }
 

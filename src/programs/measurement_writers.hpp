@@ -15,6 +15,10 @@ struct Visit {
   std::string name;
   Vector6d approach_deg;
   Vector6d target_deg;
+  bool approach = true;  ///< move to approach_deg first
+  bool measure = true;   ///< settle and run the hook at target_deg
+  /// The comment naming the configuration: its name, marked when nothing is measured there.
+  [[nodiscard]] std::string label() const { return measure ? name : name + " (not measured)"; }
 };
 
 /// One program (file) of a measurement program.

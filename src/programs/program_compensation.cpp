@@ -30,6 +30,20 @@ ProgramCompensationResult compensate_program_text(const Compensation& compensati
   return result;
 }
 
+ProgramCompensationResult compensate_krl_module_text(const Compensation& compensation,
+                                                     std::string_view src, std::string_view dat,
+                                                     const std::string& src_file,
+                                                     const std::string& dat_file,
+                                                     const ProgramFilterOptions& options) {
+  ProgramCompensationResult result;
+  result.in = src_file;
+  result.language = ProgramLanguage::Krl;
+  result.filter = filter_krl_module(
+      src, dat, src_file, dat_file, options,
+      make_program_corrector(compensation.comp, ProgramLanguage::Krl, &compensation.robot));
+  return result;
+}
+
 ProgramCompensationResult compensate_program(const ProgramCompensationRequest& request) {
   const Compensation compensation = prepare_compensation(request.setup);
   const ProgramLanguage language = program_language_from_path(request.in);
@@ -47,6 +61,7 @@ ProgramCompensationResult compensate_program(const ProgramCompensationRequest& r
       filter_program_file(request.in, request.out, options,
                           make_program_corrector(compensation.comp, language, &compensation.robot),
                           request.confidence_out);
+  if (result.filter.dat_text) result.out_companion = krl_companion_path(request.out);
   return result;
 }
 
@@ -64,6 +79,7 @@ nlohmann::json points_json(const std::vector<UncorrectedPoint>& points) {
 void to_json(nlohmann::json& j, const ProgramCompensationResult& result) {
   j = {{"in", result.in},
        {"out", result.out},
+       {"out_companion", result.out_companion},
        {"language", program_language_name(result.language)},
        {"cartesian_points", result.filter.cartesian_points},
        {"joint_points", result.filter.joint_points},

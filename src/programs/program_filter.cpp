@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 
 #include "program_scan.hpp"
 #include "robcal/core/error.hpp"
@@ -181,10 +182,8 @@ std::vector<double> rewrite(Rewriter& out, const PointSite& site, const Correcte
 /// The rewritten text must parse to the same program: the same points at the same places,
 /// each field holding exactly the value written into it (issue 21: a rewrite that corrupts
 /// the text must never reach the disk).
-void check_reparse(std::string_view text, const std::vector<PointSite>& before,
-                   const std::vector<std::vector<double>>& expected, ProgramLanguage language,
-                   const std::string& file, const ProgramFilterOptions& options) {
-  const std::vector<PointSite> after = scan(text, language, file, options).sites;
+void check_reparse(const std::vector<PointSite>& after, const std::vector<PointSite>& before,
+                   const std::vector<std::vector<double>>& expected, const std::string& file) {
   const auto fail = [&](const ProgramPoint& p, const std::string& what) {
     throw std::logic_error(fmt::format(
         "{}:{}:{}: the corrected program does not read back as written ({}); nothing written", file,
@@ -270,16 +269,27 @@ std::vector<ProgramPoint> read_program_points(std::string_view text, ProgramLang
   return points;
 }
 
-ProgramFilterResult filter_program(std::string_view text, ProgramLanguage language,
-                                   const std::string& file, const ProgramFilterOptions& options,
-                                   const PointCorrector& corrector) {
-  const detail::ProgramScan scanned = scan(text, language, file, options);
-  const auto tools = definitions(scanned.tools, options.tools, "tool", file);
-  const auto frames = definitions(scanned.frames, options.frames, "frame", file);
-  Rewriter out(text);
+namespace {
+
+/// One file's points corrected and rewritten: the text, and what each point's fields must
+/// read back as.
+struct Correction {
   ProgramFilterResult result;
-  result.confidence_csv = "line,column,name,confidence95_mm\n";
   std::vector<std::vector<double>> expected;
+};
+
+/// `row_prefix` starts each confidence row (a module's rows name their file).
+Correction correct_sites(std::string_view text, const detail::ProgramScan& scanned,
+                         const std::map<std::string, Pose<double>>& tools,
+                         const std::map<std::string, Pose<double>>& frames,
+                         ProgramLanguage language, const std::string& file,
+                         const ProgramFilterOptions& options, const PointCorrector& corrector,
+                         const std::string& row_prefix) {
+  Rewriter out(text);
+  Correction c;
+  ProgramFilterResult& result = c.result;
+  std::vector<std::vector<double>>& expected = c.expected;
+  result.uncorrected = scanned.unresolved;
   expected.reserve(scanned.sites.size());
   for (const PointSite& site : scanned.sites) {
     const SourceLocation where{file, site.point.line, site.point.column, site.point.name};
@@ -340,11 +350,71 @@ ProgramFilterResult filter_program(std::string_view text, ProgramLanguage langua
     expected.push_back(rewrite(out, site, corrected, language, options));
     ++(site.point.is_joint_target ? result.joint_points : result.cartesian_points);
     result.confidence_csv += fmt::format(
-        "{},{},{},{}\n", site.point.line, site.point.column, site.point.name,
+        "{}{},{},{},{}\n", row_prefix, site.point.line, site.point.column, site.point.name,
         corrected.confidence95_mm ? fmt::format("{:.4f}", *corrected.confidence95_mm) : "");
   }
   result.text = out.apply();
-  check_reparse(result.text, scanned.sites, expected, language, file, options);
+  return c;
+}
+
+}  // namespace
+
+ProgramFilterResult filter_program(std::string_view text, ProgramLanguage language,
+                                   const std::string& file, const ProgramFilterOptions& options,
+                                   const PointCorrector& corrector) {
+  const detail::ProgramScan scanned = scan(text, language, file, options);
+  Correction c =
+      correct_sites(text, scanned, definitions(scanned.tools, options.tools, "tool", file),
+                    definitions(scanned.frames, options.frames, "frame", file), language, file,
+                    options, corrector, "");
+  c.result.confidence_csv = "line,column,name,confidence95_mm\n" + c.result.confidence_csv;
+  check_reparse(scan(c.result.text, language, file, options).sites, scanned.sites, c.expected,
+                file);
+  return c.result;
+}
+
+std::vector<ProgramPoint> read_krl_module_points(std::string_view src, std::string_view dat,
+                                                 const std::string& src_file,
+                                                 const std::string& dat_file,
+                                                 const ProgramFilterOptions& options) {
+  detail::KrlModuleScan scanned = detail::scan_krl_module(src, dat, src_file, dat_file, options);
+  std::vector<ProgramPoint> points;
+  for (auto* part : {&scanned.src, &scanned.dat})
+    for (PointSite& site : part->sites) points.push_back(std::move(site.point));
+  return points;
+}
+
+ProgramFilterResult filter_krl_module(std::string_view src, std::string_view dat,
+                                      const std::string& src_file, const std::string& dat_file,
+                                      const ProgramFilterOptions& options,
+                                      const PointCorrector& corrector) {
+  const detail::KrlModuleScan scanned =
+      detail::scan_krl_module(src, dat, src_file, dat_file, options);
+  const auto tools = definitions(scanned.src.tools, options.tools, "tool", src_file);
+  const auto frames = definitions(scanned.src.frames, options.frames, "frame", src_file);
+  const auto correct = [&](std::string_view text, const detail::ProgramScan& part,
+                           const std::string& file) {
+    return correct_sites(text, part, tools, frames, ProgramLanguage::Krl, file, options, corrector,
+                         file + ",");
+  };
+  Correction s = correct(src, scanned.src, src_file);
+  Correction d = correct(dat, scanned.dat, dat_file);
+  // The .dat's points do not depend on the .src (scanned first, alone); the .src's depend on
+  // the .dat's declarations, so a changed .src is read back with its .dat.
+  check_reparse(detail::scan_krl(d.result.text, dat_file, options).sites, scanned.dat.sites,
+                d.expected, dat_file);
+  if (s.result.text != src)
+    check_reparse(detail::scan_krl_module(s.result.text, d.result.text, src_file, dat_file, options)
+                      .src.sites,
+                  scanned.src.sites, s.expected, src_file);
+  ProgramFilterResult result = std::move(s.result);
+  result.dat_text = std::move(d.result.text);
+  result.cartesian_points += d.result.cartesian_points;
+  result.joint_points += d.result.joint_points;
+  for (const auto list : {&ProgramFilterResult::uncorrected, &ProgramFilterResult::assumed})
+    (result.*list).insert((result.*list).end(), (d.result.*list).begin(), (d.result.*list).end());
+  result.confidence_csv =
+      "file,line,column,name,confidence95_mm\n" + result.confidence_csv + d.result.confidence_csv;
   return result;
 }
 
@@ -352,27 +422,84 @@ ProgramFilterResult filter_program(std::string_view text, ProgramLanguage langua
 
 namespace robcal {
 
+std::string krl_companion_path(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::string ext = p.extension().string();
+  const bool src = detail::iequals(ext, ".src");
+  if (!src && !detail::iequals(ext, ".dat")) return "";
+  std::string other = src ? ".dat" : ".src";
+  if (detail::upper(ext) == ext) other = detail::upper(other);
+  return std::filesystem::path(p).replace_extension(other).string();
+}
+
+namespace {
+
+/// Writes `a` then `b`, each atomically; when `b` fails, `a` is put back as it was (removed
+/// when it did not exist): the two files of a module are written both or none.
+void write_pair_atomically(const std::string& a, std::string_view a_text, const std::string& b,
+                           std::string_view b_text) {
+  std::error_code ec;
+  std::optional<std::string> previous;
+  if (std::filesystem::is_regular_file(a, ec)) previous = read_text_file(a);
+  write_file_atomically(a, a_text);
+  try {
+    write_file_atomically(b, b_text);
+  } catch (...) {
+    if (previous)
+      write_file_atomically(a, *previous);
+    else
+      std::filesystem::remove(a, ec);
+    throw;
+  }
+}
+
+}  // namespace
+
 ProgramFilterResult filter_program_file(const std::string& in, const std::string& out,
                                         const ProgramFilterOptions& options,
                                         const PointCorrector& corrector,
                                         const std::string& confidence_out) {
   const ProgramLanguage language = program_language_from_path(in);
-  if (program_language_from_path(out) != language)
+  if (program_language_from_path(out) != language ||
+      (language == ProgramLanguage::Krl &&
+       !detail::iequals(std::filesystem::path(in).extension().string(),
+                        std::filesystem::path(out).extension().string())))
     throw InputError({out, 0, 0, "--out"}, "the output must be the same kind of program as --in");
+  // A KUKA module: the .src with its .dat beside it, read and written together.
+  std::error_code ec;
+  const std::string companion = krl_companion_path(in);
+  const bool module = !companion.empty() && std::filesystem::is_regular_file(companion, ec);
+  const std::string out_companion = module ? krl_companion_path(out) : "";
   // Same path after resolving `..` and links, or the same file under another name.
   const auto resolved = [](const std::string& path) {
-    std::error_code ec;
-    std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
-    return ec ? std::filesystem::path(path).lexically_normal() : p;
+    std::error_code e;
+    std::filesystem::path p = std::filesystem::weakly_canonical(path, e);
+    return e ? std::filesystem::path(path).lexically_normal() : p;
   };
-  for (const std::string& o : {out, confidence_out}) {
-    std::error_code ec;
-    if (!o.empty() && (resolved(o) == resolved(in) || std::filesystem::equivalent(o, in, ec)))
-      throw InputError({o, 0, 0, o == out ? "--out" : "--confidence-out"},
-                       "the output is the input program: give a new file (the original is kept)");
+  for (const std::string& o : {out, out_companion, confidence_out})
+    for (const std::string& i : {in, module ? companion : in}) {
+      if (!o.empty() && (resolved(o) == resolved(i) || std::filesystem::equivalent(o, i, ec)))
+        throw InputError({o, 0, 0, o == confidence_out ? "--confidence-out" : "--out"},
+                         i == in ? "the output is the input program: give a new file (the "
+                                   "original is kept)"
+                                 : "the output is the input module's " + i +
+                                       ": give a new file (the original is kept)");
+    }
+  if (!module) {
+    ProgramFilterResult result =
+        filter_program(read_text_file(in), language, in, options, corrector);
+    write_file_atomically(out, result.text);
+    if (!confidence_out.empty()) write_file_atomically(confidence_out, result.confidence_csv);
+    return result;
   }
-  ProgramFilterResult result = filter_program(read_text_file(in), language, in, options, corrector);
-  write_file_atomically(out, result.text);
+  const bool in_is_src = detail::iequals(std::filesystem::path(in).extension().string(), ".src");
+  const std::string& src = in_is_src ? in : companion;
+  const std::string& dat = in_is_src ? companion : in;
+  ProgramFilterResult result =
+      filter_krl_module(read_text_file(src), read_text_file(dat), src, dat, options, corrector);
+  const std::string& out_src = in_is_src ? out : out_companion;
+  const std::string& out_dat = in_is_src ? out_companion : out;
+  write_pair_atomically(out_dat, *result.dat_text, out_src, result.text);
   if (!confidence_out.empty()) write_file_atomically(confidence_out, result.confidence_csv);
   return result;
 }

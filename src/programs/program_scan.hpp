@@ -70,12 +70,25 @@ struct ProgramScan {
   std::vector<PointSite> sites;
   std::map<std::string, Pose<double>> tools;
   std::map<std::string, Pose<double>> frames;
+  /// Under keep_going: uses of points the scan cannot resolve (KRL: a name declared in neither
+  /// file of the module), listed with the uncorrected points.
+  std::vector<UncorrectedPoint> unresolved;
+};
+
+/// A KUKA module: its .src and its .dat, each with the tools and frames of both.
+struct KrlModuleScan {
+  ProgramScan src, dat;
 };
 
 ProgramScan scan_rapid(std::string_view text, const std::string& file,
                        const ProgramFilterOptions& options);
 ProgramScan scan_krl(std::string_view text, const std::string& file,
                      const ProgramFilterOptions& options);
+/// The .dat first (declarations, FDATs, FRAMEs), then the .src with them: each .dat point takes
+/// the tool and base of the .src motions that use it (refused when they differ).
+KrlModuleScan scan_krl_module(std::string_view src, std::string_view dat,
+                              const std::string& src_file, const std::string& dat_file,
+                              const ProgramFilterOptions& options);
 /// Fanuc LS: the /POS positions of group 1, X Y Z W P R (Cartesian, config = flip, down,
 /// back, t4, t5, t6 from CONFIG) or J1..J6 (joint); tool UT[n], frame UF[n].
 ProgramScan scan_ls(std::string_view text, const std::string& file,

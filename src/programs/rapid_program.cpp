@@ -49,7 +49,7 @@ class RapidScanner {
         move_instruction(*spec);
     }
     assign_usages();
-    return {std::move(sites_), std::move(tools_), std::move(frames_)};
+    return {std::move(sites_), std::move(tools_), std::move(frames_), {}};
   }
 
  private:
@@ -497,14 +497,16 @@ std::string write_rapid_measurement(const MeasurementPart& part) {
                     header_comment(part, "    !", "reached at a fine point") +
                     fmt::format("    PROC {}_run()\n        VelSet {:g}, 5000;\n", part.program,
                                 r.joint_speed_percent);
+  const auto move = [&](const Vector6d& q) {
+    return fmt::format("        MoveAbsJ {}\\NoEOffs, v1000, fine, tool0;\n", joints(q));
+  };
   for (const Visit& v : part.visits) {
     const Vector6d& q = v.target_deg;
-    out += fmt::format(
-        "        ! {} joints {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n"
-        "        MoveAbsJ {}\\NoEOffs, v1000, fine, tool0;\n"
-        "        MoveAbsJ {}\\NoEOffs, v1000, fine, tool0;\n"
-        "        WaitTime {:.2f};\n",
-        v.name, q[0], q[1], q[2], q[3], q[4], q[5], joints(v.approach_deg), joints(q), r.settle_s);
+    out += fmt::format("        ! {} joints {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n", v.label(),
+                       q[0], q[1], q[2], q[3], q[4], q[5]) +
+           (v.approach ? move(v.approach_deg) : "") + move(q);
+    if (!v.measure) continue;
+    out += fmt::format("        WaitTime {:.2f};\n", r.settle_s);
     switch (r.hook) {
       case MeasurementHook::WaitInput:
         out += fmt::format("        WaitDI {}, 1;\n",

@@ -34,8 +34,10 @@ std::string write_urscript_measurement(const MeasurementPart& part) {
                     header_comment(part, "  #", "reached without blending");
   for (const Visit& visit : part.visits) {
     const Vector6d& q = visit.target_deg;
-    out += fmt::format("  # {}\n", visit.name) + movej(visit.approach_deg) + movej(q) +
-           fmt::format("  sleep({:.2f})\n", r.settle_s);
+    out += fmt::format("  # {}\n", visit.label()) +
+           (visit.approach ? movej(visit.approach_deg) : "") + movej(q);
+    if (!visit.measure) continue;
+    out += fmt::format("  sleep({:.2f})\n", r.settle_s);
     switch (r.hook) {
       case MeasurementHook::WaitInput:
         out +=

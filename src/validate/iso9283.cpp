@@ -209,11 +209,13 @@ MeasurementProgramRequest iso9283_program_request(const Iso9283Plan& plan,
                                                   bool multidirectional) {
   base.names.clear();
   base.joints.clear();
+  base.visits.clear();
   if (!multidirectional) {
     for (const auto& [cycle, pose] : plan.sequence) {
       const Iso9283PlannedPose& p = plan.poses[static_cast<size_t>(pose)];
       base.names.push_back(fmt::format("C{:02}-{}", cycle, p.name));
       base.joints.push_back(p.joints);
+      base.visits.push_back({/*approach=*/false, /*measure=*/true});
     }
     return base;
   }
@@ -227,6 +229,7 @@ MeasurementProgramRequest iso9283_program_request(const Iso9283Plan& plan,
     base.joints.push_back(m.approach
                               ? plan.approaches[pose][static_cast<size_t>(m.direction - 1)].joints
                               : plan.poses[pose].joints);
+    base.visits.push_back({/*approach=*/false, /*measure=*/!m.approach});
   }
   return base;
 }

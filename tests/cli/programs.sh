@@ -76,12 +76,44 @@ grep -q '^2,23,pA,[0-9.]*$' "$TMP/conf.csv" || fail "confidence row of pA"
 expect_error "unknown work object" "cell.mod:2:23 (pA): unknown work object 'WTABLE'" \
   compensate-program --model "$TMP/model.yaml" --in "$TMP/cell.mod" --out "$TMP/bad.mod"
 
-# KRL: the tool of FDAT FP1 (TOOL_DATA[1]) must be known.
+# KRL: the tool of FDAT FP1 (TOOL_DATA[1]) must be known (a .dat alone: no .src beside it).
+mkdir -p "$TMP/datonly"
+cp "$PROGRAMS/weld_seam.dat" "$TMP/datonly/"
 expect_error "unknown KRL tool" "weld_seam.dat:4:16 (XP1): unknown tool 'TOOL_DATA[1]'" \
-  compensate-program --model "$TMP/model.yaml" --in "$PROGRAMS/weld_seam.dat" --out "$TMP/bad.dat"
+  compensate-program --model "$TMP/model.yaml" --in "$TMP/datonly/weld_seam.dat" --out "$TMP/bad.dat"
 printf 'kind,name,x,y,z,qw,qx,qy,qz\ntool,TOOL_DATA[1],0,0,100,1,0,0,0\n' > "$TMP/kuka.csv"
-"$ROBCAL" compensate-program --model "$TMP/model.yaml" --in "$PROGRAMS/weld_seam.dat" \
+"$ROBCAL" compensate-program --model "$TMP/model.yaml" --in "$TMP/datonly/weld_seam.dat" \
   --out "$TMP/w.dat" --frames "$TMP/kuka.csv" --keep-going > /dev/null || fail "KRL with frames"
+[[ ! -e "$TMP/w.src" ]] || fail "a .dat alone wrote a .src"
+# A KUKA module: the .src given, its .dat beside it read and corrected with it; both written.
+cp "$PROGRAMS/glue_cell.src" "$PROGRAMS/glue_cell.dat" "$TMP/"
+printf 'kind,name,x,y,z,qw,qx,qy,qz\ntool,TOOL_DATA[1],0,0,100,1,0,0,0\nframe,BASE_DATA[1],300,-100,0,1,0,0,0\nframe,BASE_DATA[2],300,0,0,1,0,0,0\n' > "$TMP/glue.csv"
+"$ROBCAL" compensate-program --model "$TMP/model.yaml" --in "$TMP/glue_cell.src" \
+  --out "$TMP/glue_out/glue_cell.src" --frames "$TMP/glue.csv" --keep-going --json > "$TMP/glue.json" ||
+  fail "KRL module"
+[[ -f "$TMP/glue_out/glue_cell.src" && -f "$TMP/glue_out/glue_cell.dat" ]] || fail "module: both files"
+grep -q '"out_companion": ".*out/glue_cell.dat"' "$TMP/glue.json" || fail "module json: $(cat "$TMP/glue.json")"
+[[ $(grep -c "no nominal solution" "$TMP/glue.json") -eq 8 ]] || fail "module: the 8 unreachable points listed"
+# A point used under two tools: refused naming both motions, neither file written.
+mkdir -p "$TMP/two"
+sed 's/^  LIN XSEAM\[1\]          ;/  $TOOL=TOOL_DATA[1]\n  LIN XSEAM[1] ;/' "$TMP/glue_cell.src" > "$TMP/two/glue_cell.src"
+cp "$TMP/glue_cell.dat" "$TMP/two/"
+expect_error "KRL point under two tools" \
+  "glue_cell.dat:28:10 (XSEAM[1]): used with tool TNOZZLE and base BASE_DATA[2] at" \
+  compensate-program --model "$TMP/model.yaml" --in "$TMP/two/glue_cell.src" \
+  --out "$TMP/two_out/glue_cell.src" --frames "$TMP/glue.csv"
+[[ ! -e "$TMP/two_out" ]] || fail "a refused module wrote $(ls "$TMP/two_out")"
+# Both or none: the .src cannot be written (a folder holds its name), so the .dat written just
+# before it is taken back.
+mkdir -p "$TMP/half/g.src"
+expect_error "module half written" "is a directory" compensate-program --model "$TMP/model.yaml" \
+  --in "$TMP/glue_cell.src" --out "$TMP/half/g.src" --frames "$TMP/glue.csv" --keep-going
+[[ ! -e "$TMP/half/g.dat" ]] || fail "the .dat of a module whose .src failed was left"
+mkdir -p "$TMP/lnk"
+ln -s "$TMP/glue_cell.dat" "$TMP/lnk/g.dat"
+expect_error "module output onto its .dat" "the output is the input module's" compensate-program \
+  --model "$TMP/model.yaml" --in "$TMP/glue_cell.src" --out "$TMP/lnk/g.src" --frames "$TMP/glue.csv"
+[[ ! -e "$TMP/lnk/g.src" ]] || fail "refused module output written"
 # No BAS before the point: corrected for the default tool in the base frame, and said so.
 printf 'DEF q( )\n  LIN {X 370,Y -50,Z 400,A 180,B 0,C 180}\nEND\n' > "$TMP/q.src"
 "$ROBCAL" compensate-program --model "$TMP/model.yaml" --in "$TMP/q.src" --out "$TMP/q_out.src" \

@@ -256,8 +256,9 @@ grep -q "P1 at (2050.000, 50.000, 50.000) mm is not reachable" "$tmp/err" || fai
   --vap-approach 50 --program rapid --program-dir "$tmp/iso-prog" --out-poses "$tmp/v-poses.csv" \
   --out-cycles "$tmp/v-cycles.csv" --out-vap-cycles "$tmp/v-vap.csv" >"$tmp/v-plan.txt"
 [ "$(wc -l <"$tmp/v-vap.csv")" -eq 61 ] || fail "vAP cycles file: not 60 moves"
-[ "$(grep -c "MoveAbsJ" "$tmp/iso-prog/ISOCYC.mod")" -eq 20 ] || fail "cycle program: not 10 configurations"
-[ "$(grep -c "MoveAbsJ" "$tmp/iso-prog/ISOVAP.mod")" -eq 120 ] || fail "vAP program: not 60 configurations"
+[ "$(grep -c "MoveAbsJ" "$tmp/iso-prog/ISOCYC.mod")" -eq 10 ] || fail "cycle program: not 10 configurations"
+[ "$(grep -c "MoveAbsJ" "$tmp/iso-prog/ISOVAP.mod")" -eq 60 ] || fail "vAP program: not 60 configurations"
+[ "$(grep -c "WaitDI" "$tmp/iso-prog/ISOVAP.mod")" -eq 30 ] || fail "vAP program: a hook at a pre-pose"
 grep -q "V02-P2-D3-from" "$tmp/iso-prog/ISOVAP.mod" || fail "vAP program: pre-pose names"
 set +e
 "$robcal" iso9283 plan --robot abb-irb120 --region 300,-150,300,500,150,520 --program jbi \

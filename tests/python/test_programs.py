@@ -37,6 +37,56 @@ def test_measurement_program_reads_back(language):
     np.testing.assert_allclose(moves[0::2], joints - 5.0, rtol=0, atol=tolerance)
 
 
+@pytest.mark.parametrize("language", ["rapid", "krl", "ls", "jbi", "urscript"])
+def test_measurement_program_pass_through_poses(language):
+    joints = np.array([[10, 20, -10, 30, 40, 50], [-30, 35, 5, -60, -50, 20], [0, 10, 10, 0, 30, 0]])
+    files = robcal.write_measurement_program(language, ["A", "B", "C"], joints, hook="pulse",
+                                             pulses_per_degree=PULSES,
+                                             approach=[True, False, False],
+                                             measure=[True, False, True])
+    moves = robcal.read_joint_moves(files[0]["text"], language, PULSES)["joints_deg"]
+    tolerance = 0.5 / np.min(PULSES) if language == "jbi" else 1e-6
+    np.testing.assert_allclose(moves, [joints[0] - 5, joints[0], joints[1], joints[2]], rtol=0,
+                               atol=tolerance)
+    assert "B (not measured)" in files[0]["text"]
+
+
+def test_measurement_program_files_like_the_cli(tmp_path):
+    configs = tmp_path / "configs.csv"
+    configs.write_text("config,target,j1,j2,j3,j4,j5,j6\nc1,,10,20,-10,30,40,50\n")
+    paths = robcal.write_measurement_program_files("krl", str(configs), str(tmp_path / "out"),
+                                                   robot="abb-irb120")
+    assert [pathlib.Path(p).name for p in paths] == ["rcmeas.src"]
+    moves = robcal.read_joint_moves(pathlib.Path(paths[0]).read_text(), "krl")["joints_deg"]
+    np.testing.assert_allclose(moves[1], [10, 20, -10, 30, 40, 50], atol=1e-9)
+    configs.write_text("config,target,j1,j2,j3,j4,j5,j6\nc1,,10,x,-10,30,40,50\n")
+    with pytest.raises(robcal.InputError, match="configs.csv:2:"):
+        robcal.write_measurement_program_files("krl", str(configs), str(tmp_path / "bad"))
+    assert not (tmp_path / "bad").exists()
+
+
+def test_filter_krl_module_like_the_cli(tmp_path):
+    src = (PROGRAMS / "glue_cell.src").read_text()
+    dat = (PROGRAMS / "glue_cell.dat").read_text()
+    frames = tmp_path / "frames.csv"
+    frames.write_text("kind,name,x,y,z,qw,qx,qy,qz\ntool,TOOL_DATA[1],0,0,100,1,0,0,0\n"
+                      "frame,BASE_DATA[1],300,-100,0,1,0,0,0\nframe,BASE_DATA[2],300,0,0,1,0,0,0\n")
+    nominal = robcal.Compensator.nominal("kuka-kr6-r900-sixx")
+    r = robcal.filter_program(nominal, src, "krl", joints=True, keep_going=True,
+                              frames=str(frames), dat=dat, file="glue_cell.src",
+                              dat_file="glue_cell.dat")
+    # Every point of both files is seen; of the .src only the inline point's line may change
+    # (the hand-written S/T are rewritten to the nominal solution's turns).
+    assert r["cartesian_points"] + r["joint_points"] + len(r["uncorrected"]) == 9
+    changed = [i + 1 for i, (a, b) in enumerate(zip(src.splitlines(), r["text"].splitlines()))
+               if a != b]
+    assert set(changed) <= {53}
+    assert len(r["dat_text"].splitlines()) == len(dat.splitlines())
+    assert r["confidence_csv"].startswith("file,line,column,name,confidence95_mm")
+    with pytest.raises(robcal.InputError, match="KRL program only"):
+        robcal.filter_program(nominal, src, "rapid", dat=dat)
+
+
 def test_measurement_program_refusals():
     with pytest.raises(robcal.InputError, match="pulses per degree"):
         robcal.write_measurement_program("jbi", ["A"], np.zeros((1, 6)))

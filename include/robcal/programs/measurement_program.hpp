@@ -25,11 +25,21 @@ enum class MeasurementHook {
   LogLine,      ///< print the configuration's name and joints on the pendant / log
 };
 
+/// How one configuration is visited (MeasurementProgramRequest::visits).
+struct ConfigurationVisit {
+  bool approach = true;  ///< first a joint move to q − approach_deg (backlash cancellation)
+  /// Then the settle wait and the measurement hook; false: the arm only passes through q (an
+  /// ISO 9283 vAP pre-pose, a via point), nothing is measured there.
+  bool measure = true;
+};
+
 struct MeasurementProgramRequest {
   ProgramLanguage language = ProgramLanguage::Rapid;
   /// Configurations in visiting order: names and controller joints (rad).
   std::vector<std::string> names;
   std::vector<Vector6d> joints;
+  /// Per configuration, in the same order; empty: every configuration approached and measured.
+  std::vector<ConfigurationVisit> visits;
   /// Program name: a letter, then letters, digits or '_', at most 6 characters (parts append
   /// two digits; 8 characters is the shortest name limit of the five controllers, INFORM's).
   std::string name = "RCMEAS";
@@ -76,6 +86,28 @@ std::vector<ProgramFile> write_measurement_program(const MeasurementProgramReque
 /// Returns the paths written.
 std::vector<std::string> write_measurement_program_files(const MeasurementProgramRequest& request,
                                                          const std::string& out_dir);
+
+/// `robcal program` as one library call: the plan's configurations CSV read, the robot file's
+/// joint limits and pulses per degree applied, the program written into a folder.
+struct MeasurementProgramFilesRequest {
+  /// Language, hook, names of the program...; its names and joints are replaced by the CSV's,
+  /// its limits by the robot's, its pulses per degree completed from the robot's when unset.
+  MeasurementProgramRequest program;
+  std::string configs;  ///< CSV config,target,j1..j6 (degrees): what `robcal plan` writes
+  std::string robot;    ///< built-in robot name or robot file; "": no limit check
+  std::string tool;     ///< tool file, needed when the CSV names targets instead of joints
+  std::string out_dir;  ///< folder of the program's files
+};
+
+struct MeasurementProgramFilesResult {
+  MeasurementProgramRequest program;  ///< what was written (configurations, limits, pulses)
+  std::vector<std::string> paths;     ///< the files written
+};
+
+/// Reads the configurations (sim/simulator.hpp read_configurations_csv: InputError naming the
+/// file, line and column), then write_measurement_program_files: every file whole or none.
+MeasurementProgramFilesResult write_measurement_program_from_files(
+    const MeasurementProgramFilesRequest& request);
 
 /// One joint move read back from a program: controller joints in degrees and where it is.
 struct JointMove {

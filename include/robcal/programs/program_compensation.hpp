@@ -28,6 +28,8 @@ struct ProgramCompensationRequest {
 struct ProgramCompensationResult {
   std::string in;   ///< the program's name in messages
   std::string out;  ///< where it was written ("" = a text, not written)
+  /// A KUKA module: the other corrected file written beside `out` (krl_companion_path).
+  std::string out_companion;
   ProgramLanguage language = ProgramLanguage::Rapid;
   ProgramFilterResult filter;  ///< corrected text, counts, uncorrected and assumed points
 };
@@ -39,12 +41,20 @@ ProgramCompensationResult compensate_program_text(const Compensation& compensati
                                                   const std::string& file,
                                                   const ProgramFilterOptions& options);
 
+/// Corrects a KUKA module (filter_krl_module): the .src text `src` and its .dat `dat`; the result's
+/// filter.text is the corrected .src, filter.dat_text the .dat.
+ProgramCompensationResult compensate_krl_module_text(const Compensation& compensation,
+                                                     std::string_view src, std::string_view dat,
+                                                     const std::string& src_file,
+                                                     const std::string& dat_file,
+                                                     const ProgramFilterOptions& options);
+
 /// Reads request.in, corrects it and writes request.out (and the confidence side file), whole or
 /// not at all; refuses an output that is the input (filter_program_file).
 ProgramCompensationResult compensate_program(const ProgramCompensationRequest& request);
 
-/// {in, out, language, cartesian_points, joint_points, uncorrected: [{where, reason}],
-/// assumed: [{where, reason}], assumed_default_tool_and_frame: count}.
+/// {in, out, out_companion (KUKA module), language, cartesian_points, joint_points, uncorrected:
+/// [{where, reason}], assumed: [{where, reason}], assumed_default_tool_and_frame: count}.
 void to_json(nlohmann::json& j, const ProgramCompensationResult& result);
 
 }  // namespace robcal

@@ -123,6 +123,9 @@ struct ProgramFilterResult {
   /// One row per corrected point: `line,column,name,confidence95_mm` (empty radius when the
   /// corrector gives none): the side file of the per-target confidence.
   std::string confidence_csv;
+  /// A KUKA module filtered as a pair (filter_krl_module): the corrected .dat, `text` being
+  /// the .src; the confidence rows then start with their file: `file,line,column,name,...`.
+  std::optional<std::string> dat_text;
 };
 
 /// Every point of a program (what the filter would hand to the corrector), in file order.
@@ -146,10 +149,40 @@ inline std::vector<ProgramPoint> parse_program(std::string_view text, ProgramLan
   return read_program_points(text, language, file, options);
 }
 
+/// A KUKA module: the .src and its .dat read together (docs: the file comment above). The
+/// .dat's declarations, FDATs and FRAMEs are known in the .src; each declared point (in either
+/// file) takes the tool and base active at the .src motions that use it (`LIN XP1` after
+/// `BAS(#TOOL, n)`, `$TOOL = ...`, or an inline form's `FDAT_ACT = FP1` and
+/// `BAS(#PTP_PARAMS|#CP_PARAMS, ...)`). A point used under two different tools or bases is
+/// refused naming both uses (one corrected value cannot serve both: give each use its own
+/// point), as is a motion to a name declared in neither file (under keep_going it is listed
+/// with the uncorrected points); the home positions XHOME, XHOME1..5 of $config.dat and `$`
+/// system positions are not the module's and are skipped. Literal FRAMEs (`DECL FRAME F={X ..,
+/// Y .., Z .., A .., B .., C ..}`, `TOOL_DATA[n]={...}`, `BASE_DATA[n]={...}`, `$TOOL={...}`)
+/// define tools and bases by their name; one given two different values is left undefined.
+/// The points are the .src's then the .dat's, each in file order.
+std::vector<ProgramPoint> read_krl_module_points(std::string_view src, std::string_view dat,
+                                                 const std::string& src_file,
+                                                 const std::string& dat_file,
+                                                 const ProgramFilterOptions& options = {});
+
+/// Corrects every point of a KUKA module: `text` is the corrected .src, `dat_text` the .dat;
+/// InputError (file, line, column) as filter_program, nothing returned partially.
+ProgramFilterResult filter_krl_module(std::string_view src, std::string_view dat,
+                                      const std::string& src_file, const std::string& dat_file,
+                                      const ProgramFilterOptions& options,
+                                      const PointCorrector& corrector);
+
+/// The other file of a KUKA module: x.src → x.dat, x.dat → x.src (X.SRC → X.DAT); "" when
+/// `path` is neither.
+std::string krl_companion_path(const std::string& path);
+
 /// Filters the program file `in` into the new file `out` (written atomically, whole or not
 /// at all), and the per-target confidence rows into `confidence_out` when given. `out` must
 /// be the same kind of program, and no output may resolve to `in` (the original is never
-/// overwritten): InputError otherwise.
+/// overwritten): InputError otherwise. A KUKA .src or .dat whose companion
+/// (krl_companion_path) exists beside it is filtered as a module (filter_krl_module): both
+/// corrected files are written, `out` and its companion, both or none.
 ProgramFilterResult filter_program_file(const std::string& in, const std::string& out,
                                         const ProgramFilterOptions& options,
                                         const PointCorrector& corrector,

@@ -111,9 +111,10 @@ std::string iso9283_vap_cycles_csv(const Iso9283Plan& plan);
 /// (programs/measurement_program.hpp): `base` gives the language, hook and signals; its names
 /// and joints are replaced by the cycles' moves, named `C01-P1` (cycle, pose) for the
 /// unidirectional test, and `V01-P1-D2` (pose) / `V01-P1-D2-from` (pre-pose) for the
-/// multi-directional one. The programs layer approaches each configuration from q − approach_deg
-/// on every joint: `base.approach_deg` = 0 keeps the approach the cycle itself makes (the
-/// standard's). The hook runs at the pre-poses too: their readings are not part of the test.
+/// multi-directional one. No configuration gets the programs layer's q − approach_deg joint
+/// approach: the cycle's own moves are the approach the standard prescribes. The pre-poses
+/// are visited without the settle wait and the hook (ConfigurationVisit::measure false): only
+/// the test's poses are measured.
 /// InputError (key --vap-approach) for a multi-directional program of a plan without it.
 MeasurementProgramRequest iso9283_program_request(const Iso9283Plan& plan,
                                                   MeasurementProgramRequest base,
