@@ -154,5 +154,51 @@ void Any6r_Ur10eCalibratedIkNewton(benchmark::State& state) {
 }
 BENCHMARK(Any6r_Ur10eCalibratedIkNewton);
 
+// The 100,000 configurations per built-in robot (12,500 per labelled branch, branches
+// the limits exclude left empty): the branch solver seeded with the drawn joints returns them
+// (|sin θ5| ≥ 1e-4, else the pose within 1e-9 mm). tests/test_robot_library.cpp runs 2,000 per
+// branch; this is the full count, reported as counters (failures must be 0).
+// Run: build/robcal_bench --benchmark_filter='Any6r_Library100k/fanuc-crx10ia$'
+void Any6r_Library100k(benchmark::State& state, const std::string& name) {
+  const RobotModel model = load_robot(name);
+  const auto g = analyze_closed_form(model);
+  const NominalChain chain = make_nominal_chain(model);
+  constexpr int kPerBranch = 12500;
+  for (auto _ : state) {
+    std::mt19937_64 rng(kSeed);
+    std::array<int, 8> count{};
+    long failures = 0, draws = 0;
+    while (*std::min_element(count.begin(), count.end()) < kPerBranch && draws < 4'000'000) {
+      ++draws;
+      const Vector6d q = test::random_joints(model, rng);
+      const ArmConfig config = arm_config(model, q);
+      if (count[config.index()] >= kPerBranch) continue;
+      ++count[config.index()];
+      const Pose<double> target = nominal_flange_pose(chain, q);
+      const IkBranchResult r = nominal_ik_branch(*g, target, config, q);
+      const double theta5 = model.joint_map.to_model(q)[4] + model.mdh[4].theta_offset;
+      if (r.status != IkStatus::Solved)
+        ++failures;
+      else if (std::abs(std::sin(theta5)) >= 1e-4)
+        failures += (r.solution.joints - q).cwiseAbs().maxCoeff() > 1e-9;
+      else
+        failures += (nominal_flange_pose(chain, r.solution.joints).p - target.p).norm() > 1e-9;
+    }
+    long total = 0;
+    for (int c : count) total += c;
+    state.counters["configurations"] = static_cast<double>(total);
+    state.counters["failures"] = static_cast<double>(failures);
+    state.counters["draws"] = static_cast<double>(draws);
+  }
+}
+
+const bool library_registered = [] {
+  for (const std::string& name : builtin_robot_names())
+    benchmark::RegisterBenchmark(("Any6r_Library100k/" + name).c_str(), Any6r_Library100k, name)
+        ->Iterations(1)
+        ->Unit(benchmark::kSecond);
+  return true;
+}();
+
 }  // namespace
 }  // namespace robcal

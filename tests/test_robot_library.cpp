@@ -55,6 +55,21 @@ Pose<double> urdf_fk(const UrdfChain& c, Vector6d q) {
 const Eigen::Vector3d X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1);
 const double kPi = std::numbers::pi;
 
+/// The CRX layout of crx10ial_macro.xacro with upper arm `upper_arm` (m): the CRX-10iA/L has
+/// 0.710, the CRX-10iA 0.540 (its robot file names the source of that length).
+UrdfChain crx_chain(const char* file, double upper_arm) {
+  return {file,
+          {{{{0, 0, 0.245}, Z},
+            {{0, 0, 0}, Y},
+            {{0, 0, upper_arm}, -Y},
+            {{0, 0, 0}, -X},
+            {{0.540, -0.150, 0}, -Y},
+            {{0.160, 0, 0}, -X}}},
+          {0, 0, 0},
+          {kPi, -kPi / 2, 0},
+          true};
+}
+
 // Transcribed from the xacro files named in each robot file.
 const std::vector<UrdfChain>& chains() {
   static const std::vector<UrdfChain> c = {
@@ -68,16 +83,8 @@ const std::vector<UrdfChain>& chains() {
        {0, 0, 0},
        {kPi, -kPi / 2, 0},
        true},
-      {"fanuc-crx10ia-l",
-       {{{{0, 0, 0.245}, Z},
-         {{0, 0, 0}, Y},
-         {{0, 0, 0.710}, -Y},
-         {{0, 0, 0}, -X},
-         {{0.540, -0.150, 0}, -Y},
-         {{0.160, 0, 0}, -X}}},
-       {0, 0, 0},
-       {kPi, -kPi / 2, 0},
-       true},
+      crx_chain("fanuc-crx10ia-l", 0.710),
+      crx_chain("fanuc-crx10ia", 0.540),
       {"fanuc-m20ia",
        {{{{0, 0, 0.525}, Z},
          {{0.150, 0, 0}, Y},
@@ -108,6 +115,26 @@ const std::vector<UrdfChain>& chains() {
        {0.080, 0, 0},
        {kPi, -kPi / 2, 0},
        false},
+      {"kuka-kr120-r2500-pro",
+       {{{{0, 0, 0.675}, -Z},
+         {{0.350, 0, 0}, Y},
+         {{1.150, 0, 0}, Y},
+         {{1.000, 0, -0.041}, -X},
+         {{0, 0, 0}, Y},
+         {{0, 0, 0}, -X}}},
+       {0.215, 0, 0},
+       {0, kPi / 2, 0},
+       false},
+      {"abb-irb6700-235-265",
+       {{{{0, 0, 0.288}, Z},
+         {{0.320, 0, 0.492}, Y},
+         {{0, 0, 1.135}, Y},
+         {{0, 0, 0.200}, X},
+         {{1.1825, 0, 0}, Y},
+         {{0.165, 0, 0}, X}}},
+       {0.035, 0, 0},
+       {0, kPi / 2, 0},
+       false},
       {"kuka-kr10-r1100-sixx",
        {{{{0, 0, 0.400}, -Z},
          {{0.025, 0, 0}, Y},
@@ -126,7 +153,7 @@ using test::random_joints;
 
 TEST(RobotLibrary, EveryRobotHasMakerSourceAndReach) {
   const auto names = builtin_robot_names();
-  EXPECT_GE(names.size(), 23u);
+  EXPECT_GE(names.size(), 29u);
   for (const std::string& name : names) {
     const RobotModel model = load_robot(name);
     EXPECT_FALSE(model.manufacturer.empty()) << name;

@@ -1,5 +1,7 @@
 #include "robcal/identify/model_exchange.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <random>
 
@@ -11,7 +13,65 @@
 
 namespace robcal {
 
+namespace {
+
+/// A UR calibration.conf on its nominal robot: a nominal model file whose parameters hold
+/// nominal + deltas (its world is the robot's DH base frame: base_fitted stays false).
+ModelImportResult import_ur_calibration(const ModelImportRequest& request) {
+  if (request.calibration_path.empty())
+    throw InputError(SourceLocation{"", 0, 0, "--calibration"},
+                     "format ur-calibration reads a calibration.conf: give it with --calibration");
+  if (request.robot.empty())
+    throw InputError(SourceLocation{"", 0, 0, "--robot"},
+                     "a calibration.conf holds deltas: give its nominal robot with --robot "
+                     "(e.g. universal-robots-ur10e)");
+  ModelImportResult out;
+  out.ur_calibration = load_ur_calibration(request.calibration_path);
+  CalibratedRobot robot = CalibratedRobot::nominal(load_robot(request.robot), Tool{});
+  robot.params = params_from_ur_calibration(robot.model, out.ur_calibration);
+  robot.level = "factory calibration (UR calibration.conf)";
+  out.model_file = true;
+  out.yaml = calibrated_robot_to_yaml(robot);
+  return out;
+}
+
+/// The base placement off axis 1, the tool and the non-rigid parameters of `robot`, which a
+/// calibration.conf cannot hold, by name with their values.
+std::vector<std::string> left_out_of_ur_calibration(const CalibratedRobot& robot) {
+  const auto& table = parameter_table();
+  std::vector<std::string> out;
+  for (int k : {0, 1, 3, 4})
+    if (robot.params[k] != 0)
+      out.push_back(fmt::format(
+          "{} = {:.6g} {} (calibration.conf's base frame is on axis 1: set the robot's placement "
+          "on the controller)",
+          table[k].name, robot.params[k] * table[k].to_external(), table[k].unit));
+  for (int k = kComplianceOffset; k < kParameterCount; ++k) {
+    const double neutral = k >= kScaleOffset && k < kPeriodicOffset ? 1.0 : 0.0;
+    if (robot.params[k] != neutral)
+      out.push_back(fmt::format("{} = {:.6g} {} (calibration.conf joints are rigid and unscaled)",
+                                table[k].name, robot.params[k] * table[k].to_external(),
+                                table[k].unit));
+  }
+  if (robot.tool.tcp_given) {
+    const Eigen::Vector3d t = robot.tool.flange_T_tcp.translation();
+    out.push_back(fmt::format(
+        "tool tcp at ({:.4f}, {:.4f}, {:.4f}) mm from the flange (set it as the controller's TCP)",
+        t.x(), t.y(), t.z()));
+  }
+  return out;
+}
+
+}  // namespace
+
 ModelImportResult import_model(const ModelImportRequest& request) {
+  if (request.format == "ur-calibration") return import_ur_calibration(request);
+  if (request.format != "urdf")
+    throw InputError(SourceLocation{"", 0, 0, "--format"},
+                     "unknown format '" + request.format + "' (expected urdf or ur-calibration)");
+  if (request.urdf_path.empty())
+    throw InputError(SourceLocation{"", 0, 0, "--urdf"},
+                     "format urdf reads a URDF: give it with --urdf");
   ModelImportResult out;
   out.imported = load_urdf_robot(request.urdf_path, {request.tip_link});
   const UrdfImport& u = out.imported;
@@ -38,13 +98,20 @@ ModelExportResult export_model(const ModelExportRequest& request) {
                                     ? CalibratedRobot::nominal(load_robot(request.robot), Tool{})
                                     : load_calibrated_robot(request.model);
   if (request.format == "mdh-csv") return {parameter_table_csv(robot), {}};
-  if (request.format != "urdf")
-    throw InputError(SourceLocation{"", 0, 0, "--format"},
-                     "unknown format '" + request.format + "' (expected urdf or mdh-csv)");
-  const Eigen::Isometry3d* tcp = robot.tool.tcp_given ? &robot.tool.flange_T_tcp : nullptr;
-  UrdfExport urdf = robot_to_urdf(robot.model, robot.params, tcp);
-  ModelExportResult out{std::move(urdf.xml), std::move(urdf.left_out)};
-  // The cost of the rigid, unscaled URDF: what compliance, scales and periodic errors move the
+  ModelExportResult out;
+  if (request.format == "ur-calibration") {
+    out.text = ur_calibration_text(ur_calibration_from_params(robot.model, robot.params));
+    out.left_out = left_out_of_ur_calibration(robot);
+  } else if (request.format == "urdf") {
+    const Eigen::Isometry3d* tcp = robot.tool.tcp_given ? &robot.tool.flange_T_tcp : nullptr;
+    UrdfExport urdf = robot_to_urdf(robot.model, robot.params, tcp);
+    out = {std::move(urdf.xml), std::move(urdf.left_out)};
+  } else {
+    throw InputError(
+        SourceLocation{"", 0, 0, "--format"},
+        "unknown format '" + request.format + "' (expected urdf, ur-calibration or mdh-csv)");
+  }
+  // The cost of the rigid, unscaled export: what compliance, scales and periodic errors move the
   // tool centre point by (docs/method/03-error-model.md), on configurations within the limits.
   ParameterVector rigid = robot.params;
   rigid.segment<kScaleOffset - kComplianceOffset>(kComplianceOffset).setZero();

@@ -4,10 +4,12 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include "ik_sink.hpp"
 #include "robcal/model/parameters.hpp"
@@ -18,6 +20,7 @@ namespace {
 using Equations = Eigen::Matrix<double, 14, 1>;
 using Matrix12 = Eigen::Matrix<double, 12, 12>;
 using Matrix24 = Eigen::Matrix<double, 24, 24>;
+using Vector12 = Eigen::Matrix<double, 12, 1>;
 using Angles = std::array<double, kJointCount>;
 
 constexpr double kPi = std::numbers::pi;
@@ -32,6 +35,14 @@ constexpr double kWellConditioned = 1e-8;
 /// An eigenvalue is a real candidate when |Im| ≤ this · (1 + |λ|); near-double roots come out
 /// as complex pairs this close, and Newton decides.
 constexpr double kRealEigenvalue = 1e-4;
+/// Roots of x3 closer than this · (1 + |x3|) are treated as one multiple root; clustering two
+/// distinct roots this close costs nothing (Newton separates them from the cluster's start).
+constexpr double kSameRoot = 1e-4;
+/// A diagonal entry of the pivoted QR of M(x3)ᵀ below this fraction of the largest marks one
+/// more dimension of M's null space.
+constexpr double kNullSpace = 1e-7;
+/// The largest multiplicity handled (two solutions per shared angle on the CRX).
+constexpr int kMaxCluster = 4;
 /// Acceptance of a polished candidate, and the distance below which two are the same.
 constexpr double kAcceptPositionMm = 1e-9;
 constexpr double kAcceptOrientationRad = 1e-11;
@@ -170,6 +181,30 @@ Eigen::MatrixXd mixing(int k) {
   for (int i = 0; i < 6; ++i)
     for (int j = 0; j < k; ++j) m(i, j) = i == j ? 1.0 : 0.25 * std::sin(1.0 + 7.0 * i + 3.0 * j);
   return m;
+}
+
+/// The monomial vectors v = (x4^i·x5^j) in the `k`-dimensional null space of A = M(x3): the span N
+/// of M's last k right singular vectors holds them; a shift of the monomials (i → i+1 is a
+/// product with x4, j → j+1 with x5) maps N·c to μ·N·c with μ = x4 + κ·x5 on the rows where
+/// both shifts exist, a k×k eigenproblem (least squares) whose eigenvectors c give each v.
+std::vector<Vector12> null_space_monomials(const Matrix12& A, int k) {
+  const Eigen::JacobiSVD<Matrix12> svd(A, Eigen::ComputeFullV);
+  const Eigen::MatrixXd N = svd.matrixV().rightCols(k);
+  constexpr double kKappa = 0.6180339887;  // any value that keeps the μ of distinct (x4, x5) apart
+  Eigen::MatrixXd from(6, k), to(6, k);
+  int r = 0;
+  for (int i = 0; i <= 2; ++i)
+    for (int j = 0; j <= 1; ++j, ++r) {
+      const int m = 3 * i + j;
+      from.row(r) = N.row(m);
+      to.row(r) = N.row(m + 3) + kKappa * N.row(m + 1);
+    }
+  const Eigen::MatrixXd shift = from.colPivHouseholderQr().solve(to);
+  const Eigen::EigenSolver<Eigen::MatrixXd> eigen(shift, true);
+  std::vector<Vector12> out;
+  if (eigen.info() != Eigen::Success) return out;
+  for (int c = 0; c < k; ++c) out.push_back(N * eigen.eigenvectors().col(c).real());
+  return out;
 }
 
 ArmConfig label(const Frames& f, double theta5) {
@@ -322,35 +357,69 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   const Eigen::EigenSolver<Matrix24> eigen(C, true);
   if (eigen.info() != Eigen::Success) return 0;
   int count = 0;
-  for (int e = 0; e < 24 && count < kMaxGeneral6rSolutions; ++e) {
-    const std::complex<double> lambda = eigen.eigenvalues()[e];
-    if (lambda.imag() < 0 || lambda.imag() > kRealEigenvalue * (1 + std::abs(lambda))) continue;
-    Eigen::Matrix<std::complex<double>, 12, 1> vc = eigen.eigenvectors().col(e).head<12>();
-    int top = 0;
-    vc.cwiseAbs().maxCoeff(&top);
-    vc *= std::conj(vc[top]) / std::abs(vc[top]);
-    const Eigen::Matrix<double, 12, 1> v = vc.real();
+  // One candidate (x3, v): θ4, θ5 from v's monomial ratios, θ1, θ2, θ6 from the pose, polished.
+  auto candidate = [&](double x3, const Vector12& v) {
+    if (count == kMaxGeneral6rSolutions) return;
     int m4 = 0, m5 = 0;
     for (int m = 0; m < 9; ++m)  // x4 from v[m + 3]/v[m], i ≤ 2
       if (std::abs(v[m]) > std::abs(v[m4])) m4 = m;
     for (int m = 0; m < 12; ++m)  // x5 from v[m + 1]/v[m], j ≤ 1
       if (m % 3 != 2 && std::abs(v[m]) > std::abs(v[m5])) m5 = m;
     Angles phi{};
-    phi[2] = phi3 + 2.0 * std::atan(lambda.real());
+    phi[2] = phi3 + 2.0 * std::atan(x3);
     phi[3] = kShift4 + 2.0 * std::atan(v[m4 + 3] / v[m4]);
     phi[4] = kShift5 + 2.0 * std::atan(v[m5 + 1] / v[m5]);
     solve_first_and_last(K, Tp, phi);
     Angles theta;
     for (int i = 0; i < kJointCount; ++i) theta[(i + g.cyclic_shift) % kJointCount] = phi[i];
-    if (!polish(g, world_T_flange, theta)) continue;
+    if (!polish(g, world_T_flange, theta)) return;
     for (double& t : theta) t = wrap(t);
-    bool duplicate = false;
-    for (int s = 0; s < count && !duplicate; ++s) {
+    for (int s = 0; s < count; ++s) {
       double d = 0;
       for (int i = 0; i < kJointCount; ++i) d = std::max(d, std::abs(wrap(out[s][i] - theta[i])));
-      duplicate = d < kSameSolutionRad;
+      if (d < kSameSolutionRad) return;
     }
-    if (!duplicate) out[count++] = theta;
+    out[count++] = theta;
+  };
+  // Real candidates (both members of a near-real conjugate pair), by real part.
+  std::array<int, 24> order{};
+  int n = 0;
+  for (int e = 0; e < 24; ++e) {
+    const std::complex<double> lambda = eigen.eigenvalues()[e];
+    if (std::abs(lambda.imag()) <= kRealEigenvalue * (1 + std::abs(lambda))) order[n++] = e;
+  }
+  const auto x3_of = [&](int e) { return eigen.eigenvalues()[e].real(); };
+  std::sort(order.begin(), order.begin() + n, [&](int a, int b) { return x3_of(a) < x3_of(b); });
+  for (int b = 0, e = 0; b < n; b = e) {
+    // A cluster: roots within kSameRoot of each other (two solutions sharing, or nearly
+    // sharing, the eliminated angle: a double root split by rounding, or a conjugate pair).
+    for (e = b + 1; e < n && x3_of(order[e]) - x3_of(order[e - 1]) <=
+                                 kSameRoot * (1 + std::abs(x3_of(order[e])));
+         ++e) {
+    }
+    double x3 = 0;
+    for (int k = b; k < e; ++k) {
+      // Each root's own eigenvector (one of a conjugate pair: the other is its conjugate).
+      const std::complex<double> lambda = eigen.eigenvalues()[order[k]];
+      x3 += lambda.real() / (e - b);
+      if (lambda.imag() < 0) continue;
+      Eigen::Matrix<std::complex<double>, 12, 1> vc = eigen.eigenvectors().col(order[k]).head<12>();
+      int top = 0;
+      vc.cwiseAbs().maxCoeff(&top);
+      vc *= std::conj(vc[top]) / std::abs(vc[top]);
+      candidate(lambda.real(), vc.real());
+    }
+    // The eigenvectors of a multiple root are any mix of its solutions' vectors: the null space
+    // of M(x3) holds each of them (also when a single root's M has a second null direction).
+    const Matrix12 A = M[0] + x3 * (M[1] + x3 * M[2]);
+    const Eigen::ColPivHouseholderQR<Matrix12> qr(A.transpose());
+    const Eigen::Matrix<double, 12, 1> r = qr.matrixR().diagonal().cwiseAbs();
+    int null_dimension = 0;
+    while (null_dimension < kMaxCluster && r[11 - null_dimension] <= kNullSpace * r[0])
+      ++null_dimension;
+    const int k = std::min(std::max(e - b, null_dimension), kMaxCluster);
+    if (k >= 2)
+      for (const Vector12& v : null_space_monomials(A, k)) candidate(x3, v);
   }
   return count;
 }

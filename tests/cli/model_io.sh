@@ -57,7 +57,26 @@ print("mismatch:", bad) if bad else None
 sys.exit(0 if ok else 1)
 PY
 
-# 4. Bad input: exit 2, the file and the joint named, nothing written.
+# 4. A UR calibration.conf onto the UR10e: a model file (its FK against UR's DH sums is
+# tests/test_ur_calibration_file.cpp), exported back as the same deltas.
+"$ROBCAL" model import --format ur-calibration --calibration tests/data/ur/ur10e-calibration.conf \
+  --robot universal-robots-ur10e --out "$TMP/ur.yaml" >"$TMP/ur.txt" || fail "import calibration.conf"
+grep -q "calibration_status linearised" "$TMP/ur.txt" || fail "no calibration status: $(cat "$TMP/ur.txt")"
+grep -q "level: factory calibration" "$TMP/ur.yaml" || fail "not a model file"
+"$ROBCAL" model export --model "$TMP/ur.yaml" --format ur-calibration --out "$TMP/back.conf" \
+  >"$TMP/back.txt" || fail "export calibration.conf"
+/usr/bin/python3 - tests/data/ur/ur10e-calibration.conf "$TMP/back.conf" <<'PY' || fail "deltas differ"
+import re, sys
+def rows(path):
+    return {m[1]: [float(x) for x in m[2].split(",")]
+            for m in re.finditer(r"^(delta_\w+) = \[(.*)\]", open(path).read(), re.M)}
+a, b = rows(sys.argv[1]), rows(sys.argv[2])
+sys.exit(0 if a.keys() == b.keys() and all(abs(x - y) < 1e-9 for k in a for x, y in zip(a[k], b[k])) else 1)
+PY
+expect_error "coupled joints as calibration.conf" "joint map must be the identity" \
+  model export --robot fanuc-crx10ia-l --format ur-calibration --out "$TMP/bad.conf"
+
+# 5. Bad input: exit 2, the file and the joint named, nothing written.
 sed 's/name="joint_3" type="revolute"/name="joint_3" type="prismatic"/' \
   "$TMP/abb-irb120.urdf" >"$TMP/prismatic.urdf"
 expect_error "prismatic joint" "prismatic.urdf: joint 'joint_3' is not revolute" \

@@ -20,17 +20,21 @@
 /// (fixed shifts φ_i keep the roots away from x = ∞), times (1 + x4²)(1 + x5²)(1 + x3²), and
 /// the 6 equations again multiplied by x4 give M(x3)·v = 0, M = M0 + M1·x3 + M2·x3² (12×12),
 /// v = (x4^i·x5^j), i ≤ 3, j ≤ 2. Its real eigenvalues (24×24 companion matrix) are the θ3 of
-/// the solutions, v gives θ4 and θ5; θ2 from the 3×5 linear system of the two-rotation
-/// subproblem, θ1 and θ6 from the pose. Every candidate is polished by Newton on the exact
-/// forward kinematics and kept only when it reproduces the pose within 1e-9 mm and 1e-11 rad;
-/// duplicates (within 1e-6 rad) are merged.
+/// the solutions, v (eigenvector or null vector of M(x3)) gives θ4 and θ5; θ2 from the 3×5 linear
+/// system of the two-rotation subproblem, θ1 and θ6 from the pose. Every candidate is polished by
+/// Newton on the exact forward kinematics and kept only when it reproduces the pose within 1e-9 mm
+/// and 1e-11 rad; duplicates (within 1e-6 rad) are merged.
 ///
 /// Limits of the method: on special shapes (many zero lengths and twists) the elimination
 /// started at joint 1 degenerates; `analyze_general_6r` takes the first cyclic start of the loop
 /// (cyclic_shift) on which three arbitrary configurations are found again, and refuses the
-/// robot when none is. A double eigenvalue (two solutions sharing the eliminated angle: seen on a
-/// CRX-10iA-like arm with equal 540 mm upper arm and forearm, 2 poses in 16,000) leaves one of
-/// the two to Newton's choice, so one solution can be missed there. Near a singularity (a
+/// robot when none is. Multiple roots: on the CRX the solutions come in pairs sharing (nearly)
+/// the eliminated angle, a double eigenvalue whose computed eigenvectors are any mix of the
+/// pair's vectors (split by rounding into two close reals or a conjugate pair). Roots within
+/// 1e-4 of each other are taken as one cluster, and beside each root's own eigenvector the
+/// null space of M(x3) (dimension: the cluster's size, or more when a pivoted QR shows it) is
+/// searched for its monomial vectors (a small shift eigenproblem); every candidate is polished,
+/// so the extra ones cost time, never a wrong answer. Near a singularity (a
 /// continuum of solutions) the solutions returned are the ones Newton reaches; they are exact,
 /// the continuum is not enumerated.
 ///
