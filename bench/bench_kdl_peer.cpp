@@ -176,14 +176,19 @@ void KdlPeer_RobcalNewton(benchmark::State& state) {
 }
 BENCHMARK(KdlPeer_RobcalNewton)->UseManualTime();
 
-void KdlPeer_KdlLma(benchmark::State& state) {
-  KDL::ChainIkSolverPos_LMA solver(fixture().chain, 1e-12, 500, 1e-15);
-  state.SetLabel("KDL LMA eps 1e-12, 500 iterations, eps_joints 1e-15, default weights");
+/// A KDL position solver through the same timing and criterion, seeded as robcal is.
+void kdl_bench(benchmark::State& state, KDL::ChainIkSolverPos& solver, const char* settings) {
+  state.SetLabel(settings);
   peer_bench(state, [&](const Case& c) {
     KDL::JntArray out(kJointCount);
     solver.CartToJnt(to_kdl(c.seed), kdl_frame(c.wanted), out);
     return from_kdl(out);
   });
+}
+
+void KdlPeer_KdlLma(benchmark::State& state) {
+  KDL::ChainIkSolverPos_LMA solver(fixture().chain, 1e-12, 500, 1e-15);
+  kdl_bench(state, solver, "KDL LMA eps 1e-12, 500 iterations, eps_joints 1e-15, default weights");
 }
 BENCHMARK(KdlPeer_KdlLma)->UseManualTime();
 
@@ -192,12 +197,7 @@ void KdlPeer_KdlNrJl(benchmark::State& state) {
   KDL::ChainFkSolverPos_recursive fk(f.chain);
   KDL::ChainIkSolverVel_pinv velocity(f.chain);
   KDL::ChainIkSolverPos_NR_JL solver(f.chain, f.lower, f.upper, fk, velocity, 500, 1e-12);
-  state.SetLabel("KDL NR_JL pinv, eps 1e-12, 500 iterations, joint limits");
-  peer_bench(state, [&](const Case& c) {
-    KDL::JntArray out(kJointCount);
-    solver.CartToJnt(to_kdl(c.seed), kdl_frame(c.wanted), out);
-    return from_kdl(out);
-  });
+  kdl_bench(state, solver, "KDL NR_JL pinv, eps 1e-12, 500 iterations, joint limits");
 }
 BENCHMARK(KdlPeer_KdlNrJl)->UseManualTime();
 
