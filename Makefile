@@ -9,7 +9,7 @@ DEBIAN_PACKAGES = build-essential cmake libeigen3-dev libceres-dev libcli11-dev 
   python3-pip python3-setuptools python3-wheel \
   liburdfdom-dev liborocos-kdl-dev
 
-.PHONY: deps build test demo bench experiments format tidy clean browser-deps sanitize
+.PHONY: deps build test demo bench experiments format tidy clean browser-deps sanitize fuzz-long
 
 deps:
 	@bash scripts/install-deps.sh $(DEBIAN_PACKAGES)
@@ -54,6 +54,19 @@ sanitize: deps
 	  build-asan/robcal_tests --gtest_brief=1
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  build-asan/robcal_fuzz --iterations 2000 tests/fuzz
+
+# The long fuzz run (issue 21): FUZZ_MINUTES (default 10) of mutations per parser with the
+# library and the fuzzer built as for `make sanitize`; prints the executions per second of each
+# parser; an input that fails is saved under fuzz-found/<parser>/ (move it to
+# tests/fuzz/crashes/ once fixed). One parser: `make fuzz-long FUZZ_PARSER=rapid`.
+FUZZ_MINUTES ?= 10
+fuzz-long: deps
+	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DROBCAL_SANITIZE=ON \
+	  -DROBCAL_BUILD_BENCH=OFF -DROBCAL_BUILD_PYTHON=OFF
+	cmake --build build-asan --target robcal_fuzz -j $(JOBS)
+	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  build-asan/robcal_fuzz --seconds $$(( $(FUZZ_MINUTES) * 60 )) --out fuzz-found \
+	  $(if $(FUZZ_PARSER),--parser $(FUZZ_PARSER)) tests/fuzz
 
 # clang-tidy with the project's checks (.clang-tidy) over the library and the CLI; any finding fails.
 tidy: build

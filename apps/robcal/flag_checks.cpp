@@ -15,9 +15,9 @@ namespace {
 
 // Flags whose negative values mean nothing: a negative σ or scale is a slip. (--floor-mm may be
 // negative: a robot on a pedestal.)
-constexpr std::array<std::string_view, 7> kNonNegativeFlags{
-    "--error-angle-deg", "--noise-mm",           "--huber-scale",    "--error-length-mm",
-    "--sigma-um",        "--orientation-weight", "--payload-mass-kg"};
+constexpr std::array<std::string_view, 9> kNonNegativeFlags{
+    "--error-angle-deg",    "--noise-mm",        "--huber-scale", "--error-length-mm", "--sigma-um",
+    "--orientation-weight", "--payload-mass-kg", "--angle-deg",   "--distance-mm"};
 // Counts (of configurations, runs, samples, …): whole numbers from 0 to a bound that keeps what
 // they size in memory. --candidates has its own, larger, bound in the library.
 constexpr std::array<std::string_view, 11> kCountFlags{
@@ -50,6 +50,11 @@ std::string check_non_negative(const std::string& text) {
   return {};
 }
 
+/// "" when `text` is a finite number, else what is wrong: CLI11 reads "nan" and "inf" as numbers.
+std::string check_finite(const std::string& text) {
+  return parse_number(text) ? std::string() : describe_bad_number(text);
+}
+
 void check_flags_of(CLI::App& app) {
   for (CLI::Option* option : app.get_options()) {
     const std::string name = option->get_name(false, true);
@@ -62,6 +67,8 @@ void check_flags_of(CLI::App& app) {
       option->check(CLI::Validator(check_count, "COUNT"));
     else if ((is(kNonNegativeFlags) && option->get_expected_max() == 1) || name == "--candidates")
       option->check(CLI::Validator(check_non_negative, "NON-NEGATIVE"));
+    else if (option->get_type_name().rfind("FLOAT", 0) == 0)
+      option->check(CLI::Validator(check_finite, ""));
   }
   for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) check_flags_of(*sub);
 }

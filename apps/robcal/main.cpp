@@ -100,8 +100,11 @@ void refuse_outputs_over_inputs(const CLI::App& app) {
     command = chosen.empty() ? nullptr : chosen.front();
   }
   for (const auto& [flag, path] : outputs) robcal::refuse_overwriting_inputs(path, inputs, flag);
-  for (const auto& output : outputs)
-    if (output.second == "-") return reserve_stdout_for_data();
+  for (const auto& output : outputs) {
+    std::error_code ec;
+    if (output.second == "-" || std::filesystem::equivalent(output.second, "/dev/stdout", ec))
+      return reserve_stdout_for_data();
+  }
 }
 }  // namespace
 

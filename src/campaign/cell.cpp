@@ -8,10 +8,16 @@
 #include "robcal/campaign/frames.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/io/yaml_checks.hpp"
 #include "robcal/io/yaml_support.hpp"
 
 namespace robcal::campaign {
 namespace {
+
+// Plausible values: a cell is at most a hall (trackers measure up to ~80 m away); beyond that a
+// number is a unit slip (µm, metres read as mm) or a typo.
+constexpr yaml::Range kWorldMm{-100000, 100000, "mm"};
+constexpr yaml::Range kAngleDeg{-360, 360, "deg"};
 
 /// Refuses keys of `node` not in `allowed`, naming the first one and what is allowed.
 void only_keys(const yaml::Node& node, const std::set<std::string>& allowed) {
@@ -32,7 +38,7 @@ double positive(const yaml::Node& node, const char* what) {
 std::vector<Eigen::Vector3d> point_list(const yaml::Node& node) {
   if (!node.node.IsSequence()) throw node.error("expected a list of [x, y, z] points (mm)");
   std::vector<Eigen::Vector3d> points;
-  for (size_t i = 0; i < node.size(); ++i) points.push_back(node.at(i).as_vector3());
+  for (size_t i = 0; i < node.size(); ++i) points.push_back(yaml::vector3_in(node.at(i), kWorldMm));
   return points;
 }
 
@@ -65,7 +71,7 @@ CellInstrument parse_instrument(const yaml::Node& node) {
   if (node.has("position_mm") == node.has("from_nests"))
     throw node.error("give the instrument's place either as position_mm or as from_nests");
   if (node.has("position_mm")) {
-    in.position_mm = node.at("position_mm").as_vector3();
+    in.position_mm = yaml::vector3_in(node.at("position_mm"), kWorldMm);
   } else {
     const yaml::Node nests = node.at("from_nests");
     only_keys(nests, {"measured_mm", "world_mm"});
@@ -85,7 +91,7 @@ CellInstrument parse_instrument(const yaml::Node& node) {
     }
   }
   if (node.has("range_mm")) {
-    const auto range = node.at("range_mm").as_doubles(2);
+    const auto range = yaml::numbers_in(node.at("range_mm"), 2, kWorldMm);
     if (!(range[0] >= 0 && range[1] > range[0]))
       throw node.at("range_mm").error("expected [min, max] with 0 ≤ min < max (mm)");
     in.min_range_mm = range[0];
@@ -144,8 +150,8 @@ Cell parse_cell(const std::string& yaml_text, const std::string& file) {
 
   const yaml::Node base = root.at("robot_base");
   only_keys(base, {"position_mm", "rotation_xyz_deg", "source", "sigma"});
-  const Eigen::Vector3d p = base.at("position_mm").as_vector3();
-  const Eigen::Vector3d r = base.at("rotation_xyz_deg").as_vector3();
+  const Eigen::Vector3d p = yaml::vector3_in(base.at("position_mm"), kWorldMm);
+  const Eigen::Vector3d r = yaml::vector3_in(base.at("rotation_xyz_deg"), kAngleDeg);
   for (size_t i = 0; i < 3; ++i) {
     cell.robot_base[i] = p[static_cast<Eigen::Index>(i)];
     cell.robot_base[i + 3] = deg2rad(r[static_cast<Eigen::Index>(i)]);
@@ -161,7 +167,8 @@ Cell parse_cell(const std::string& yaml_text, const std::string& file) {
 
   const yaml::Node instrument = root.at("instrument");
   cell.instrument = parse_instrument(instrument);
-  cell.floor_z_mm = root.has("floor_z_mm") ? root.at("floor_z_mm").as_double() : p.z();
+  cell.floor_z_mm =
+      root.has("floor_z_mm") ? yaml::number_in(root.at("floor_z_mm"), kWorldMm) : p.z();
   if (root.has("link_radius_mm"))
     cell.link_radius_mm = positive(root.at("link_radius_mm"), "a radius");
 
@@ -173,7 +180,8 @@ Cell parse_cell(const std::string& yaml_text, const std::string& file) {
       const yaml::Node b = boxes.at(i);
       only_keys(b, {"name", "min_mm", "max_mm"});
       KeepOutBox box{b.has("name") ? b.at("name").as_string() : fmt::format("box {}", i + 1),
-                     b.at("min_mm").as_vector3(), b.at("max_mm").as_vector3()};
+                     yaml::vector3_in(b.at("min_mm"), kWorldMm),
+                     yaml::vector3_in(b.at("max_mm"), kWorldMm)};
       if (!(box.min_mm.array() < box.max_mm.array()).all())
         throw b.error(
             fmt::format("keep-out box '{}': expected min_mm < max_mm on every axis", box.name));

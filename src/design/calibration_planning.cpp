@@ -284,6 +284,10 @@ PlanResult plan_calibration(const PlanRequest& request) {
                      fmt::format("expected a positive count, got {}", request.count));
   if (request.noise_mm < 0)
     throw InputError({"", 0, 0, "--noise-mm"}, "expected a non-negative noise");
+  if (request.task_count <= 0)
+    throw InputError({"", 0, 0, "--task-count"},
+                     fmt::format("expected a positive number of task configurations, got {}",
+                                 request.task_count));
   // Streamed in batches, candidates no longer bound memory, only time (about 20 µs each).
   constexpr int kMaxStreamedCandidates = 1000000;
   if (request.candidate_configurations.empty() &&

@@ -94,6 +94,18 @@ CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
 
   const ParameterVector nominal = model.nominal();
   const ParameterVector placed = options.instrument_frame_params.value_or(nominal);
+  // The placement moves the whole rigid arm: world_T_flange = P · frames[5] with P the placed
+  // base times the nominal base's inverse (forward_kinematics.hpp base_transform), one FK per
+  // draw instead of two. Only when nothing but the base differs and no compliance bends the arm
+  // (gravity would then act through the placement's tilt).
+  bool rigid_placement = true;
+  for (int i = kBaseParamCount; i < kParameterCount; ++i)
+    rigid_placement = rigid_placement && placed[i] == nominal[i];
+  for (int link = 2; link <= kJointCount; ++link)
+    rigid_placement = rigid_placement && nominal[compliance_param(link)] == 0;
+  const double d1 = model.mdh[0].d;
+  const Pose<double> placement = detail::base_transform(placed.data(), d1, 0.0) *
+                                 detail::base_transform(nominal.data(), d1, 0.0).inverse();
   const int target_count = static_cast<int>(tool.targets.size());
   CandidateSet out;
   out.candidates.reserve(static_cast<size_t>(options.count));
@@ -109,9 +121,10 @@ CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
       ++out.below_floor;
       continue;
     }
-    const Pose<double> world_T_flange = options.instrument_frame_params
-                                            ? flange_pose(model, tool.payload, placed, c.joints)
-                                            : frames[kJointCount - 1];
+    const Pose<double> world_T_flange = !options.instrument_frame_params ? frames[kJointCount - 1]
+                                        : rigid_placement
+                                            ? placement * frames[kJointCount - 1]
+                                            : flange_pose(model, tool.payload, placed, c.joints);
     if (options.kind == MeasurementKind::Poses) {
       if (options.visible && !options.visible(world_T_flange, -1)) {
         ++out.not_visible;

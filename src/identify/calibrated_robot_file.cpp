@@ -1,7 +1,10 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <string_view>
 
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -155,7 +158,17 @@ CalibratedRobot load_calibrated_robot(const std::string& path) {
   CalibratedRobot robot;
   robot.model = parse_robot(root.at("robot"));
   robot.tool = root.has("tool") ? parse_tool(root.at("tool")) : Tool{};
+  if (root.has("format") && root.at("format").as_string() != "robcal-calibrated-model")
+    throw root.at("format").error(fmt::format(
+        "unknown format '{}': expected robcal-calibrated-model", root.at("format").as_string()));
   robot.level = root.has("level") ? root.at("level").as_string() : "nominal";
+  // What the writers put there (calibrate's levels, a nominal model, a simulator's truth).
+  constexpr std::array<std::string_view, 8> kLevels{"nominal",   "truth", "base", "joints",
+                                                    "kinematic", "full",  "tool", "patterns"};
+  if (std::find(kLevels.begin(), kLevels.end(), robot.level) == kLevels.end())
+    throw root.at("level").error(fmt::format(
+        "unknown level '{}': expected nominal, base, joints, kinematic, full, tool or patterns",
+        robot.level));
   robot.base_fitted = root.has("base_fitted") && root.at("base_fitted").node.as<bool>(false);
   robot.params = robot.model.nominal();
   robot.status.fill(ParameterStatus::Fixed);

@@ -31,8 +31,20 @@ void write_in_place(std::ostream& out, const fs::path& path, std::string_view co
 }  // namespace
 
 void write_file_atomically(const fs::path& path, std::string_view content) {
-  if (path == "-") return write_in_place(std::cout, path, content);
   std::error_code ec;
+  // Standard output (also by a name such as /dev/stdout, whatever it is connected to) is
+  // written through std::cout, which the CLI points at the data, not the report.
+  if (path == "-" || fs::equivalent(path, "/dev/stdout", ec))
+    return write_in_place(std::cout, path, content);
+  // What the path names in the end (the kernel follows every link).
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::is_directory(status)) throw write_error(path, "is a directory, not a file");
+  if (fs::exists(status) && !fs::is_regular_file(status)) {
+    // A device, pipe or terminal: written into, never replaced.
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw write_error(path, "cannot open for writing");
+    return write_in_place(out, path, content);
+  }
   // A link is followed to the file it names (which may not exist yet), so the rename replaces
   // that file, not the link.
   fs::path target = path;
@@ -40,15 +52,6 @@ void write_file_atomically(const fs::path& path, std::string_view content) {
     const fs::path next = fs::read_symlink(target, ec);
     if (ec || hops == 40) throw write_error(path, "cannot resolve the symbolic link");
     target = next.is_absolute() ? next : target.parent_path() / next;
-  }
-  const fs::file_status status = fs::status(target, ec);
-  if (fs::exists(status)) {
-    if (fs::is_directory(status)) throw write_error(path, "is a directory, not a file");
-    if (!fs::is_regular_file(status)) {
-      std::ofstream out(target, std::ios::binary);
-      if (!out) throw write_error(path, "cannot open for writing");
-      return write_in_place(out, path, content);
-    }
   }
   if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
   // Unique per process and call: two threads writing beside each other never share one.
@@ -82,6 +85,9 @@ std::string read_text_file(const fs::path& path) {
     ss << std::cin.rdbuf();
     return ss.str();
   }
+  std::error_code ec;
+  if (fs::is_directory(path, ec))
+    throw InputError(SourceLocation{path.string(), 0, 0, ""}, "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw InputError(SourceLocation{path.string(), 0, 0, ""},
@@ -94,9 +100,16 @@ void refuse_overwriting_inputs(const fs::path& out, const std::vector<fs::path>&
                                std::string_view flag) {
   if (out == "-") return;
   std::error_code ec;
+  // A path through a folder that does not exist yet ("new/../in.csv") names no file now, but
+  // names the input once the writer has created the folder: compared as resolved.
+  const fs::path resolved = fs::weakly_canonical(out, ec);
   for (const fs::path& input : inputs) {
     if (input == "-") continue;
-    if (fs::equivalent(out, input, ec) && !ec)
+    const auto same = [&](const fs::path& path) {
+      std::error_code e;
+      return !path.empty() && fs::equivalent(path, input, e) && !e;
+    };
+    if (same(out) || same(resolved))
       throw InputError(
           SourceLocation{"", 0, 0, std::string(flag)},
           fmt::format("'{}' is the input file '{}': refusing to overwrite it; write the output "

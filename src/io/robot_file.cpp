@@ -72,7 +72,22 @@ yaml::Node robot_file_root(const std::string& name_or_path) {
   if (const auto data = find_data_directory(); data && name_or_path.find('/') == std::string::npos)
     if (const fs::path builtin = *data / "robots" / (name_or_path + ".yaml"); fs::exists(builtin))
       return yaml::load_file(builtin.string());
-  if (fs::exists(name_or_path)) return yaml::load_file(name_or_path);
+  if (fs::exists(name_or_path)) {
+    // Other robot descriptions are converted first, not misread as a robot file.
+    const std::string text = read_text_file(name_or_path);
+    const size_t start = text.find_first_not_of(" \t\r\n\xEF\xBB\xBF");
+    if (start != std::string::npos && text[start] == '<')
+      throw InputError({name_or_path, 0, 0, ""},
+                       "an XML file (a URDF?), not a robot file: convert a URDF with `robcal "
+                       "model import --urdf FILE --out robot.yaml`");
+    if (text.find("opw_kinematics_geometric_parameters") != std::string::npos ||
+        text.find("kinematics_solver_geometric_parameters") != std::string::npos)
+      throw InputError({name_or_path, 0, 0, ""},
+                       "an OPW parameter file (ROS-Industrial), not a robot file: it holds no "
+                       "joint limits; convert it with the library's load_opw_robot "
+                       "(io/opw_file.hpp) and give the data sheet's limits");
+    return yaml::load_file(name_or_path);
+  }
   std::string known;
   for (const auto& n : builtin_robot_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError(

@@ -5,6 +5,7 @@
 #include <console_bridge/console.h>
 
 #include <urdf_parser/urdf_parser.h>
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -18,6 +19,11 @@ namespace {
 constexpr double kMmPerM = 1000.0;
 /// |z_i × z_i+1| below this: parallel axes (the common normal is not unique).
 constexpr double kParallel = 1e-12;
+// Plausible values (as in robot files, io/robot_file.cpp): beyond them a number is a unit slip
+// (millimetres or degrees where URDF has metres and radians) or a typo, never a real arm.
+constexpr double kMaxOriginM = 20;
+constexpr double kMaxLimitRad = 6 * std::numbers::pi;
+constexpr double kMaxMassKg = 10000;
 
 Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -87,23 +93,45 @@ class KeepErrors : public console_bridge::OutputHandler {
   throw InputError(SourceLocation{path, 0, 0, ""}, what);
 }
 
-void walk(const urdf::ModelInterface& urdf, const urdf::LinkConstSharedPtr& link, int moved_by,
-          const std::string& path, Walk& w) {
-  const Eigen::Isometry3d& world_T_link = w.world_T_link.at(link->name);
-  w.moved_by[link->name] = moved_by;
-  if (link->inertial && link->inertial->mass > 0 && moved_by >= 0) {
+/// A link's inertial folded into the joint that moves it (none before joint 1).
+void add_mass(const urdf::Link& link, int moved_by, const std::string& path, Walk& w) {
+  w.moved_by[link.name] = moved_by;
+  if (link.inertial && !(link.inertial->mass >= 0 && link.inertial->mass <= kMaxMassKg))
+    refuse(path, fmt::format("link '{}': mass {} kg is outside the plausible range [0, {}] kg",
+                             link.name, link.inertial->mass, kMaxMassKg));
+  if (link.inertial && link.inertial->mass > 0 && moved_by >= 0) {
     ChainLink& c = w.movable[moved_by];
-    c.mass += link->inertial->mass;
-    c.moment +=
-        link->inertial->mass * (world_T_link * to_isometry(link->inertial->origin)).translation();
+    c.mass += link.inertial->mass;
+    c.moment += link.inertial->mass *
+                (w.world_T_link.at(link.name) * to_isometry(link.inertial->origin)).translation();
   }
-  for (const urdf::JointSharedPtr& joint : link->child_joints) {
+}
+
+/// Every link from the root, depth first in the file's order, with an explicit stack: a chain
+/// of thousands of fixed joints must not exhaust the call stack.
+void walk(const urdf::ModelInterface& urdf, const urdf::LinkConstSharedPtr& root,
+          const std::string& path, Walk& w) {
+  add_mass(*root, -1, path, w);
+  std::vector<std::pair<urdf::JointSharedPtr, int>> pending;  // joint, index moving its parent
+  const auto push_children = [&](const urdf::Link& link, int moved_by) {
+    for (auto j = link.child_joints.rbegin(); j != link.child_joints.rend(); ++j)
+      pending.emplace_back(*j, moved_by);
+  };
+  push_children(*root, -1);
+  while (!pending.empty()) {
+    const auto [joint, moved_by] = pending.back();
+    pending.pop_back();
     const std::string where = fmt::format("joint '{}'", joint->name);
     if (joint->mimic)
       refuse(path, where + " is a mimic joint: robcal needs six independent joints");
+    const urdf::Vector3& origin = joint->parent_to_joint_origin_transform.position;
+    if (std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z)}) > kMaxOriginM)
+      refuse(path, fmt::format("{}: origin xyz=\"{} {} {}\" is beyond {} m from its parent link: "
+                               "URDF lengths are in metres, not millimetres",
+                               where, origin.x, origin.y, origin.z, kMaxOriginM));
+    const Eigen::Isometry3d world_T_joint = w.world_T_link.at(joint->parent_link_name) *
+                                            to_isometry(joint->parent_to_joint_origin_transform);
     int next = moved_by;
-    const Eigen::Isometry3d world_T_joint =
-        world_T_link * to_isometry(joint->parent_to_joint_origin_transform);
     switch (joint->type) {
       case urdf::Joint::FIXED:
         break;
@@ -126,7 +154,9 @@ void walk(const urdf::ModelInterface& urdf, const urdf::LinkConstSharedPtr& link
                          "six revolute joints");
     }
     w.world_T_link[joint->child_link_name] = world_T_joint;
-    walk(urdf, urdf.getLink(joint->child_link_name), next, path, w);
+    const urdf::LinkConstSharedPtr child = urdf.getLink(joint->child_link_name);
+    add_mass(*child, next, path, w);
+    push_children(*child, next);
   }
 }
 
@@ -184,7 +214,7 @@ UrdfImport robot_from_urdf(const std::string& xml, const std::string& path,
   Walk w;
   const urdf::LinkConstSharedPtr root = urdf->getRoot();
   w.world_T_link[root->name] = Eigen::Isometry3d::Identity();
-  walk(*urdf, root, -1, path, w);
+  walk(*urdf, root, path, w);
   if (w.movable.size() != kJointCount) {
     std::string names;
     for (const ChainLink& c : w.movable) names += (names.empty() ? "" : ", ") + c.joint->name;
@@ -291,6 +321,12 @@ UrdfImport robot_from_urdf(const std::string& xml, const std::string& path,
       model.limits[i] = {-2 * std::numbers::pi, 2 * std::numbers::pi};
     else
       model.limits[i] = {joint.limits->lower, joint.limits->upper};
+    // Beyond three turns either way a limit is in degrees, not URDF's radians.
+    for (const double limit : {model.limits[i].lower, model.limits[i].upper})
+      if (std::abs(limit) > kMaxLimitRad)
+        refuse(path, fmt::format("joint '{}': limit {} rad is beyond ±{:.2f} rad (3 turns): "
+                                 "URDF limits are in radians, not degrees",
+                                 joint.name, limit, kMaxLimitRad));
     if (model.limits[i].lower >= model.limits[i].upper)
       refuse(path, fmt::format("joint '{}': lower limit {} ≥ upper limit {} rad", joint.name,
                                model.limits[i].lower, model.limits[i].upper));

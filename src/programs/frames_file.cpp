@@ -55,6 +55,12 @@ FramesFile read_frames_file(const std::string& path) {
           !std::isfinite(v[k]))
         fail(k + 2, fmt::format("expected a finite number, found '{}'", cell));
     }
+    // A tool or work object 100 m away is a unit slip (µm, or metres typed twice), not a cell.
+    constexpr double kMaxMm = 100000;
+    for (size_t k = 0; k < 3; ++k)
+      if (std::abs(v[k]) > kMaxMm)
+        fail(k + 2, fmt::format("{} mm is outside the plausible range [-{}, {}] mm", f[k + 2],
+                                kMaxMm, kMaxMm));
     const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
     if (std::abs(q.norm() - 1) > 1e-3)
       fail(5, fmt::format("quaternion norm {:.6f}: expected a unit quaternion", q.norm()));

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <numbers>
 #include <sstream>
 
 #include "robcal/core/error.hpp"
@@ -46,6 +48,9 @@ std::vector<PlannedConfiguration> read_configurations_csv(const std::string& pat
   int config_col = -1, target_col = -1;
   std::array<int, kJointCount> joint_cols{};
   std::vector<PlannedConfiguration> configs;
+  std::map<std::string, int> first_line;  // configuration label → its line
+  double largest_deg = 0;
+  constexpr double kMaxJointDeg = 1080;
   while (std::getline(stream, line)) {
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -93,6 +98,10 @@ std::vector<PlannedConfiguration> read_configurations_csv(const std::string& pat
       if (used == 0 || used != cells[col].size() || !std::isfinite(value))
         throw InputError(where,
                          fmt::format("expected a finite angle in degrees, found '{}'", cells[col]));
+      // Three turns either way is beyond any joint (robot files allow ±1080°): a typo or a slip.
+      if (std::abs(value) > kMaxJointDeg)
+        throw InputError(where, fmt::format("{} is outside the plausible range [-{}, {}] deg",
+                                            cells[col], kMaxJointDeg, kMaxJointDeg));
       config.joints[j] = deg2rad(value);
     }
     if (target_col >= 0 && !cells[static_cast<size_t>(target_col)].empty()) {
@@ -106,9 +115,24 @@ std::vector<PlannedConfiguration> read_configurations_csv(const std::string& pat
             fmt::format("unknown target '{}'; the tool has {}", name, known));
       }
     }
+    if (const auto [at, added] = first_line.emplace(config.name, line_number); !added)
+      throw InputError(
+          {path, line_number, cell_column(line, static_cast<size_t>(config_col)), "config"},
+          fmt::format("configuration '{}' is listed twice (first on line {})", config.name,
+                      at->second));
+    largest_deg = std::max(largest_deg, rad2deg(config.joints.cwiseAbs().maxCoeff()));
     configs.push_back(config);
   }
   if (header.empty()) throw InputError({path, 0, 0, ""}, "empty file: expected a header row");
+  if (configs.empty())
+    throw InputError({path, line_number, 0, ""}, "no configuration rows after the header");
+  // As for measurement files (io/measurement_file.cpp): radians read as degrees would give
+  // configurations where the robot barely moves.
+  if (configs.size() >= 5 && largest_deg > 0.01 && largest_deg <= 2 * std::numbers::pi + 1e-6)
+    throw InputError({path, 0, 0, "j1"},
+                     fmt::format("every joint value is within ±{:.3f} over {} rows: they look like "
+                                 "radians; a configurations file holds degrees",
+                                 largest_deg, configs.size()));
   return configs;
 }
 

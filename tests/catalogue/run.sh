@@ -6,9 +6,12 @@
 #
 # cases.tsv columns (tab-separated, '#' lines are comments):
 #   id  exit  message-fragment  input-file-name  input-content  arguments
-# input-content is printf %b text (\n, \t, \xHH); "-" for no input file. In the arguments
-# {in} is the input file, {out} an output path in the case's folder, {dir} that folder, and
-# {tool} {cal} {val} {truth} {model} {plan} {poses} {journal} are valid fixtures.
+# input-content is printf %b text (\n, \t, \xHH); "-" for no input file; or @SOURCE:SED, a
+# valid file edited by a sed expression (SOURCE a fixture name below or a path in the
+# repository, e.g. @model:s/^level: .*/level: 7/ or @tests/data/urdf/skew6r.urdf:/mimic/d).
+# In the arguments {in} is the input file, {out} an output path in the case's folder, {dir}
+# that folder, {link} a symbolic link in it to the input, and {tool} {cal} {val} {truth}
+# {model} {plan} {poses} {journal} are valid fixtures.
 # MIN_CASES (default 150) is the least number of cases the file must hold: lower it to run a
 # subset (grep some lines into a file of their own).
 set -uo pipefail
@@ -39,10 +42,20 @@ while IFS=$'\t' read -r id code fragment name content args; do
   dir="$tmp/case-$count"
   mkdir -p "$dir"
   input="$dir/$name"
-  [ "$content" != "-" ] && printf '%b' "$content" > "$input"
+  if [[ "$content" == @* ]]; then
+    source_file=${content%%:*}
+    source_file=${source_file#@}
+    fixture=$(ls "$fix" | grep "^$source_file\." | head -1)
+    [ -n "$fixture" ] && source_file="$fix/$fixture" || source_file="$root/$source_file"
+    sed -e "${content#*:}" "$source_file" > "$input"
+  elif [ "$content" != "-" ]; then
+    printf '%b' "$content" > "$input"
+  fi
+  [[ "$args" == *"{link}"* ]] && ln -s "$input" "$dir/link"
   expanded=${args//\{in\}/$input}
   expanded=${expanded//\{out\}/$dir/out}
   expanded=${expanded//\{dir\}/$dir}
+  expanded=${expanded//\{link\}/$dir/link}
   for f in tool cal val truth model plan poses journal; do
     ext=$(ls "$fix" | grep "^$f\." | head -1)
     expanded=${expanded//\{$f\}/$fix/$ext}

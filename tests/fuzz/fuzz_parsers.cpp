@@ -24,13 +24,25 @@
 #include <string>
 #include <vector>
 
+#include "robcal/campaign/cell.hpp"
+#include "robcal/campaign/frames_file.hpp"
+#include "robcal/campaign/frames_world.hpp"
+#include "robcal/campaign/instrument_import.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/session.hpp"
 #include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/identify/cross_validation.hpp"
 #include "robcal/io/measurement_file.hpp"
+#include "robcal/io/opw_file.hpp"
 #include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/io/urdf_file.hpp"
+#include "robcal/programs/frames_file.hpp"
 #include "robcal/programs/program_filter.hpp"
+#include "robcal/sim/simulator.hpp"
+#include "robcal/sim/true_robot.hpp"
+#include "robcal/validate/axis_test.hpp"
 
 namespace fs = std::filesystem;
 using namespace robcal;
@@ -100,6 +112,38 @@ std::map<std::string, Target> targets(const fs::path& root) {
          hexapod::Session session(hexapod::load_session_plan(plan_file));
          (void)hexapod::SessionJournal::replay_read_only(f, session);
        }},
+      {"urdf",
+       [](const std::string& text, const fs::path& f) { (void)robot_from_urdf(text, f.string()); }},
+      {"opw", [](const std::string&, const fs::path& f) { (void)load_opw_robot(f.string()); }},
+      {"cell", [](const std::string& text,
+                  const fs::path& f) { (void)campaign::parse_cell(text, f.string()); }},
+      {"frames", [](const std::string&, const fs::path& f) { (void)read_frames_file(f.string()); }},
+      {"nests",
+       [](const std::string& text, const fs::path& f) {
+         (void)campaign::read_named_points({f.string(), text});
+       }},
+      {"candidates",
+       [tool](const std::string&, const fs::path& f) {
+         (void)read_configurations_csv(f.string(), tool);
+       }},
+      {"truth", [](const std::string&, const fs::path& f) { (void)load_truth(f.string()); }},
+      {"world_frame",
+       [](const std::string& text, const fs::path& f) {
+         (void)campaign::parse_world_frame(text, f.string());
+       }},
+      {"axis_test", [](const std::string& text,
+                       const fs::path& f) { (void)parse_axis_test_samples(text, f.string()); }},
+      {"folds", [](const std::string&, const fs::path& f) { (void)read_folds_csv(f.string()); }},
+      {"export_format",
+       [](const std::string& text, const fs::path& f) {
+         (void)campaign::parse_export_format(text, f.string());
+       }},
+      {"export",
+       [](const std::string& text, const fs::path& f) {
+         (void)campaign::read_export_points({f.string(), text}, {});
+       }},
+      {"hexapod_plan",
+       [](const std::string&, const fs::path& f) { (void)hexapod::read_hexapod_plan(f); }},
   };
 }
 
