@@ -339,15 +339,16 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         request.orientation_weight_mm = orientation_weight_mm;
         request.seed = seed;
         const RobotModel model = load_robot(robot);
-        const SessionData data = load_sessions(sessions, plan.value_or(""));
+        const std::vector<SessionData> placements = load_placements(sessions, plan.value_or(""));
         const PointMass payload = tool ? load_tool(*tool).payload : PointMass{};
         SessionCalibration c;
         {
           py::gil_scoped_release release;
-          c = calibrate_sessions(data, model, payload, request);
+          c = calibrate_sessions(placements, model, payload, request);
         }
         if (out) write_file_atomically(*out, c.model_file);
-        py::object d = json_to_python(session_calibration_json(data, model, c, out.value_or("")));
+        py::object d =
+            json_to_python(session_calibration_json(placements, model, c, out.value_or("")));
         d["model"] = c.robot;
         d["tool"] = c.tool;
         d["poses"] = Measurements{c.poses, c.tool, {}};
@@ -357,7 +358,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("level") = "full", py::arg("fit") = "poses", py::arg("relative") = false,
       py::arg("orientation_weight_mm") = kDefaultOrientationWeightMm, py::arg("seed") = 1,
       py::arg("plan") = py::none(), py::arg("out") = py::none(),
-      "Calibrates from measured sessions (`robcal hexapod calibrate`): the CLI's JSON as a dict "
+      "Calibrates from measured sessions (`robcal hexapod calibrate`; sessions of several "
+      "base-fixture placements together with fit='legs'): the CLI's JSON as a dict "
       "plus model (CalibratedRobot), tool (the tool fixture) and poses (Measurements); with `out` "
       "the calibrated model file is written");
   h.def(
