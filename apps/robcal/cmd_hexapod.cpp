@@ -332,8 +332,10 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
 void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
                const MeasuringOptions& m, const std::string& cell_path,
                const std::array<std::string, 5>& grid, const std::string& level, int validation,
-               uint64_t seed, int best, bool json) {
+               uint64_t seed, int best, const std::vector<std::string>& measured, bool json) {
   PlacementSearchRequest request;
+  for (const std::string& plan : measured)
+    request.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
   request.plan = o.request(geometry_options.geometry());
   request.plan.gauge = m.gauge;
   request.plan.cups = m.cups;
@@ -368,6 +370,24 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
                s.undetermined, s.observability_o1, s.predicted_mean_mm, s.predicted_max_mm,
                s.refused.empty() ? "" : "  refused: " + s.refused);
   }
+  if (!request.measured.empty()) {
+    fmt::print("measured: {} placement(s), {} configurations, predicted mean {:.6f} mm, max {:.6f} "
+               "mm{}\n",
+               request.measured.size(), r.measured_configurations, r.measured_mean_mm,
+               r.measured_max_mm,
+               r.measured_undetermined > 0
+                   ? fmt::format(" ({} unknowns undetermined)", r.measured_undetermined)
+                   : "");
+    for (int i = 0; i < best && i < static_cast<int>(r.next.size()); ++i) {
+      const NextPlacement& n = r.next[i];
+      const PlacementScore& s = r.ranked[n.rank];
+      fmt::print("next #{}: placement {} tilt {:g} (rank {}): {} configurations in all, predicted "
+                 "mean {:.6f} mm, max {:.6f} mm{}\n",
+                 i + 1, placement_text(s.placement), s.tilt_deg, n.rank + 1, n.configurations,
+                 n.predicted_mean_mm, n.predicted_max_mm,
+                 n.undetermined > 0 ? fmt::format(" ({} undetermined)", n.undetermined) : "");
+    }
+  }
   for (int i = 0; i < best && i < static_cast<int>(r.pairs.size()); ++i) {
     const PlacementPair& p = r.pairs[i];
     fmt::print(
@@ -377,8 +397,8 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
         p.equal_count_configurations, p.equal_count_mean_mm);
   }
   fmt::print(
-      "Predictions assume gauge noise only (no unmodelled errors) and, for pairs, one world frame "
-      "shared by both placements.\n");
+      "Predictions assume gauge noise only (no unmodelled errors); every placement after the "
+      "first has its own world frame (six unknowns).\n");
 }
 
 // ---- session ---------------------------------------------------------------------------------
@@ -649,6 +669,7 @@ const bool registered = register_command(60, [](CLI::App& app) {
     auto validation = std::make_shared<int>(2000);
     auto seed = std::make_shared<uint64_t>(1);
     auto best = std::make_shared<int>(5);
+    auto measured = std::make_shared<std::vector<std::string>>();
     auto json = std::make_shared<bool>(false);
     geometry->add_to(cmd);
     cell->add_to(cmd, false);
@@ -669,10 +690,13 @@ const bool registered = register_command(60, [](CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--best", *best, "How many placements and pairs to list")
         ->capture_default_str();
+    cmd->add_option("--measured", *measured,
+                    "Plan of a placement already measured (repeat): rank the grid's placements as "
+                    "the next one to measure");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
       run_place(*geometry, *cell, *measuring, *cell_file, *grid, *level, *validation, *seed, *best,
-                *json);
+                *measured, *json);
     });
   }
   {
