@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <Eigen/Cholesky>
 
 #include "refusal.hpp"
@@ -106,7 +108,14 @@ TEST(HexapodPlacementSearch, RanksReachablePlacementsAndPredictsWhatAStraightCom
     else
       EXPECT_EQ(unusable, 0) << "usable placement ranked after an unusable one";
   }
-  EXPECT_EQ(unusable, 6);
+  // Every unusable placement: the robot cannot place the base cups there.
+  EXPECT_EQ(unusable, 7);  // the six out of reach and one tilted placement
+  EXPECT_EQ(std::count_if(r.ranked.begin(), r.ranked.end(),
+                          [](const PlacementScore& s) {
+                            return s.refused.find("cannot put the setting ball") !=
+                                   std::string::npos;
+                          }),
+            7);
   for (size_t i = 1; i < r.ranked.size(); ++i)
     if (r.ranked[i].usable() && r.ranked[i].undetermined == 0)
       EXPECT_LE(r.ranked[i - 1].predicted_mean_mm, r.ranked[i].predicted_mean_mm);

@@ -40,11 +40,7 @@ PlacementsSimulation simulate_placements(const RobotModel& model, const TrueRobo
       c.tool_sides = cells.front().tool_sides;
     }
     LegPlacement placement{c.base_sides, {}, c.world.robot_T_fixture};
-    std::vector<int> chosen = placements[p].chosen;
-    if (chosen.empty())
-      for (size_t k = 0; k < plan.session.configurations.size(); ++k)
-        chosen.push_back(static_cast<int>(k));
-    for (int k : chosen) {
+    for (int k : placements[p].chosen) {
       const SessionConfiguration& config = plan.session.configurations.at(k);
       const std::optional<LegDesign> design = design_of_legs(config.legs);
       if (!design || config.joints_deg.size() != kJointCount)
@@ -67,7 +63,11 @@ PlacementsSimulation simulate_placements(const RobotModel& model, const TrueRobo
           {fmt::format("{}-{}", p + 1, k), q, *design, config.mode, lengths});
     }
     out.configurations += static_cast<int>(placement.readings.size());
-    legs.push_back(std::move(placement));
+    // A placement with nothing measured brings only its unknown cups: left out of the fit.
+    if (p == 0 && placement.readings.empty())
+      throw InputError({"plan 1", 0, 0, "configurations"},
+                       "expected configurations measured at the first placement");
+    if (!placement.readings.empty()) legs.push_back(std::move(placement));
     cells.push_back(std::move(c));
   }
 

@@ -21,7 +21,8 @@
 namespace robcal::hexapod {
 
 /// A placement's plan (written by `robcal hexapod plan`: its cell gives the placement) and the
-/// configurations measured there (indices into its configurations; empty: all).
+/// configurations measured there (indices into its configurations; none: the placement is set up
+/// but left out of the fit).
 struct SimulatedPlacement {
   HexapodPlan plan;
   std::vector<int> chosen;
@@ -45,7 +46,8 @@ struct PlacementsSimulation {
 };
 
 /// Simulates the placements' sessions with `truth` (payload `payload`) and calibrates. Throws
-/// InputError for a plan without its cell or a placement whose cups the robot cannot place.
+/// InputError for a plan without its cell, a placement whose cups the robot cannot place or a
+/// first placement with nothing measured.
 PlacementsSimulation simulate_placements(const RobotModel& model, const TrueRobot& truth,
                                          const PointMass& payload,
                                          const std::vector<SimulatedPlacement>& placements,
