@@ -247,9 +247,11 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::string& robot, const std::vector<double>& x_mm, const std::vector<double>& y_mm,
          const std::vector<double>& z_mm, const std::vector<double>& yaw_deg,
          const std::vector<double>& tilt_deg, const std::string& level, int validation,
-         uint64_t seed, int best) {
+         uint64_t seed, int best, const std::vector<std::string>& measured) {
         PlacementSearchRequest r;
         r.plan.robot = robot;
+        for (const std::string& plan : measured)
+          r.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
         r.x_mm = x_mm;
         r.y_mm = y_mm;
         r.z_mm = z_mm;
@@ -272,8 +274,10 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("z_mm") = std::vector<double>{200, 300}, py::arg("yaw_deg") = std::vector<double>{0},
       py::arg("tilt_deg") = std::vector<double>{0}, py::arg("level") = "kinematic",
       py::arg("validation") = 2000, py::arg("seed") = 1, py::arg("best") = 5,
+      py::arg("measured") = std::vector<std::string>{},
       "Placement search (`robcal hexapod place`): the grid's placements ranked by predicted "
-      "accuracy, and the best pairs; the CLI's JSON as a dict");
+      "accuracy, and the best pairs; with `measured` (plan files of the placements already "
+      "measured) the grid's placements ranked as the next one ('next'); the CLI's JSON as a dict");
   h.def(
       "device_validation",
       [](const std::array<double, 3>& base_sides_mm, const std::array<double, 3>& tool_sides_mm,
