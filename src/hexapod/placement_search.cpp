@@ -209,6 +209,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   fixture_cups(base.geometry.base, "--base-mm");
   fixture_cups(base.geometry.tool, "--tool-mm");
   check_gauge(base.gauge, "--gauge-range-mm", "--gauge-sigma-mm");
+  check_fixture_range(base.geometry, base.gauge);  // out of range at every placement
   std::string why_not;
   if (!analyze_ortho_parallel(model, &why_not))
     throw InputError({"", 0, 0, "robot"},
