@@ -72,10 +72,10 @@ double straight_prediction(const RobotModel& model,
   // Equilibrate (mm and rad columns) before inverting.
   const Eigen::VectorXd d = normal.diagonal().cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd scaled = d.asDiagonal() * normal * d.asDiagonal();
-  const Eigen::MatrixXd cov = (sigma_mm * sigma_mm * d.asDiagonal() *
-                               scaled.ldlt().solve(Eigen::MatrixXd::Identity(n, n)) *
-                               d.asDiagonal())
-                                  .topLeftCorner(p, p);
+  const Eigen::MatrixXd cov =
+      (sigma_mm * sigma_mm * d.asDiagonal() * scaled.ldlt().solve(Eigen::MatrixXd::Identity(n, n)) *
+       d.asDiagonal())
+          .topLeftCorner(p, p);
   double sum = 0;
   for (const Vector6d& v : validation) {
     const Eigen::MatrixXd Jv = rows(v, MeasurementKind::Points);
@@ -145,7 +145,8 @@ TEST(HexapodPlacementSearch, RanksReachablePlacementsAndPredictsWhatAStraightCom
   const PlacementScore& first = r.ranked[pair.first];
   const PlacementScore& second = r.ranked[pair.second];
   const double straight_pair = straight_prediction(
-      model, {planned(model, request.plan, first, &mount), planned(model, request.plan, second, &mount)},
+      model,
+      {planned(model, request.plan, first, &mount), planned(model, request.plan, second, &mount)},
       mount, r.identified_parameters, r.pose_sigma_mm, validation);
   EXPECT_NEAR(pair.predicted_mean_mm, straight_pair, 1e-6 * straight_pair);
   EXPECT_LT(straight_pair, std::min(first.predicted_mean_mm, second.predicted_mean_mm));

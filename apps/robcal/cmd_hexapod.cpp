@@ -20,8 +20,8 @@
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/end_to_end_report.hpp"
-#include "robcal/hexapod/geometry_reports.hpp"
 #include "robcal/hexapod/four_cup_kinematics.hpp"
+#include "robcal/hexapod/geometry_reports.hpp"
 #include "robcal/hexapod/placement_search.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/planning.hpp"
@@ -130,9 +130,10 @@ void run_four_cup_dkp(const std::string& base, const std::string& tool,
     print_json(out);
     return;
   }
-  fmt::print("tool cups in the base fixture frame (b1 origin, b2 on x), mm; least squares over {} "
-             "distances\n",
-             r.distance_names.size());
+  fmt::print(
+      "tool cups in the base fixture frame (b1 origin, b2 on x), mm; least squares over {} "
+      "distances\n",
+      r.distance_names.size());
   for (const FourCupSolution& s : r.solutions) {
     fmt::print("start mode {}: rms residual {:.3g} mm\n", s.mode, s.rms_residual_mm);
     for (size_t j = 0; j < s.tool_cups.size(); ++j)
@@ -444,21 +445,22 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
                s.refused.empty() ? "" : "  refused: " + s.refused);
   }
   if (!request.measured.empty()) {
-    fmt::print("measured: {} placement(s), {} configurations, predicted mean {:.6f} mm, max {:.6f} "
-               "mm{}\n",
-               request.measured.size(), r.measured_configurations, r.measured_mean_mm,
-               r.measured_max_mm,
-               r.measured_undetermined > 0
-                   ? fmt::format(" ({} unknowns undetermined)", r.measured_undetermined)
-                   : "");
+    fmt::print(
+        "measured: {} placement(s), {} configurations, predicted mean {:.6f} mm, max {:.6f} "
+        "mm{}\n",
+        request.measured.size(), r.measured_configurations, r.measured_mean_mm, r.measured_max_mm,
+        r.measured_undetermined > 0
+            ? fmt::format(" ({} unknowns undetermined)", r.measured_undetermined)
+            : "");
     for (int i = 0; i < best && i < static_cast<int>(r.next.size()); ++i) {
       const NextPlacement& n = r.next[i];
       const PlacementScore& s = r.ranked[n.rank];
-      fmt::print("next #{}: placement {} tilt {:g} (rank {}): {} configurations in all, predicted "
-                 "mean {:.6f} mm, max {:.6f} mm{}\n",
-                 i + 1, placement_text(s.placement), s.tilt_deg, n.rank + 1, n.configurations,
-                 n.predicted_mean_mm, n.predicted_max_mm,
-                 n.undetermined > 0 ? fmt::format(" ({} undetermined)", n.undetermined) : "");
+      fmt::print(
+          "next #{}: placement {} tilt {:g} (rank {}): {} configurations in all, predicted "
+          "mean {:.6f} mm, max {:.6f} mm{}\n",
+          i + 1, placement_text(s.placement), s.tilt_deg, n.rank + 1, n.configurations,
+          n.predicted_mean_mm, n.predicted_max_mm,
+          n.undetermined > 0 ? fmt::format(" ({} undetermined)", n.undetermined) : "");
     }
   }
   for (int i = 0; i < best && i < static_cast<int>(r.pairs.size()); ++i) {

@@ -118,7 +118,8 @@ void run_calibrate(const CalibrateOptions& o) {
   const std::vector<SessionData> placements = load_placements(o.session.sessions, o.session.plan);
   const SessionData& data = placements.front();
   if (placements.size() > 1)
-    for (const auto& [flag, path] : {std::pair{"--poses-out", &o.poses_out}, {"--legs-out", &o.legs_out}})
+    for (const auto& [flag, path] :
+         {std::pair{"--poses-out", &o.poses_out}, {"--legs-out", &o.legs_out}})
       if (!path->empty())
         throw InputError({*path, 0, 0, flag},
                          fmt::format("sessions of {} placements: export each placement's sessions "

@@ -145,8 +145,7 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     }
     const std::array<double, 3> ts = tool_sides.as_array();
     Cups<double>& tool = result.tool_cups_flange;
-    for (int i = 0; i < 3; ++i)
-      side(ts[i], tool[i].data(), tool[(i + 1) % 3].data(), &zero_offset);
+    for (int i = 0; i < 3; ++i) side(ts[i], tool[i].data(), tool[(i + 1) % 3].data(), &zero_offset);
   };
 
   // Rank-revealing QR of the column-scaled Jacobian over the candidates, at the start point.
@@ -180,10 +179,9 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     for (int c = rank; c < J.cols(); ++c) {
       const int k = columns[qr.colsPermutation().indices()[c]];
       candidate[k] = false;
-      result.held.push_back(
-          (k < kParameterCount ? parameter_table()[k].name
-                               : extra_name(k - kParameterCount, n_placements)) +
-          ": not identifiable from these readings (rank test)");
+      result.held.push_back((k < kParameterCount ? parameter_table()[k].name
+                                                 : extra_name(k - kParameterCount, n_placements)) +
+                            ": not identifiable from these readings (rank test)");
     }
   }
 

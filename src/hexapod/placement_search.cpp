@@ -4,9 +4,9 @@
 
 #include <Eigen/SVD>
 #include <algorithm>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numeric>
-#include <limits>
 #include <random>
 #include <tuple>
 
@@ -106,8 +106,7 @@ Prediction predict(const Context& c, const std::vector<std::vector<int>>& groups
   if (p.undetermined > 0) return p;
   p.o1 = observability_from_singular_values(s, static_cast<int>(J.rows() / 6)).O1;
   // The model block of the covariance of all unknowns: the frames' uncertainty is marginalised.
-  const Eigen::MatrixXd cov =
-      design_covariance(J, c.sigma_mm).topLeftCorner(c.asked, c.asked);
+  const Eigen::MatrixXd cov = design_covariance(J, c.sigma_mm).topLeftCorner(c.asked, c.asked);
   const PredictedAccuracy a =
       predict_position_error(c.model, PointMass{}, c.model.nominal(), c.design.parameters, cov,
                              c.validation, {c.tcp_flange}, c.sigma_mm);
@@ -128,8 +127,14 @@ Context make_context(const RobotModel& model, const Pose<double>& flange_T_tool,
   DesignSettings settings;
   settings.kind = MeasurementKind::Poses;
   settings.parameters = level_parameters(request.level);
-  Context c{model, build_design_matrix(model, tool, candidates, settings), 0, sigma_mm, {},
-            flange_T_tool.p, settings.orientation_lever_mm, {}};
+  Context c{model,
+            build_design_matrix(model, tool, candidates, settings),
+            0,
+            sigma_mm,
+            {},
+            flange_T_tool.p,
+            settings.orientation_lever_mm,
+            {}};
   c.asked = c.design.columns();
   for (const Candidate& k : candidates)
     c.tcp_mm.push_back(flange_pose(model, PointMass{}, model.nominal(), k.joints) *
@@ -289,7 +294,8 @@ PlacementSearchResult search_placements(const RobotModel& model,
   PlacementSearchResult result;
   result.parameters = static_cast<int>(level_parameters(request.level).size());
   result.pose_sigma_mm = request.pose_sigma_multiple * base.gauge.sigma_mm;
-  if (std::none_of(scores.begin(), scores.end(), [](const PlacementScore& s) { return s.usable(); }))
+  if (std::none_of(scores.begin(), scores.end(),
+                   [](const PlacementScore& s) { return s.usable(); }))
     throw InputError(
         {"", 0, 0, "placement grid"},
         fmt::format("none of the {} placements has a configuration to measure (every pose "
@@ -374,8 +380,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
       PlacementPair pair;
       pair.first = a;
       pair.second = b;
-      pair.configurations =
-          static_cast<int>(ranked_members[a].size() + ranked_members[b].size());
+      pair.configurations = static_cast<int>(ranked_members[a].size() + ranked_members[b].size());
       pair.undetermined = all.undetermined;
       pair.observability_o1 = all.o1;
       pair.predicted_mean_mm = all.mean_mm;
@@ -419,8 +424,8 @@ PlacementsDesign design_placements(const RobotModel& model, const std::vector<He
   const Eigen::VectorXd scale = column_scales(c, J, groups);
   design.rows = J * scale.asDiagonal();
   design.column_scale = scale;
-  Eigen::MatrixXd task = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(c.validation.size()),
-                                               J.cols());
+  Eigen::MatrixXd task =
+      Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(c.validation.size()), J.cols());
   PositionJacobian Jp;
   for (size_t t = 0; t < c.validation.size(); ++t) {
     target_position_jacobian(model, PointMass{}, model.nominal(), c.validation[t], c.tcp_flange,

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
+
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/leg_fit.hpp"
@@ -44,8 +46,9 @@ PlacementsSimulation simulate_placements(const RobotModel& model, const TrueRobo
       const SessionConfiguration& config = plan.session.configurations.at(k);
       const std::optional<LegDesign> design = design_of_legs(config.legs);
       if (!design || config.joints_deg.size() != kJointCount)
-        throw InputError({fmt::format("plan {}", p + 1), 0, 0, fmt::format("configurations[{}]", k)},
-                         "expected the joints and the six legs of design 1^12 2^123 3^1");
+        throw InputError(
+            {fmt::format("plan {}", p + 1), 0, 0, fmt::format("configurations[{}]", k)},
+            "expected the joints and the six legs of design 1^12 2^123 3^1");
       Vector6d q;
       for (int j = 0; j < kJointCount; ++j) q[j] = deg2rad(config.joints_deg[j]);
       LegLengths<double> lengths{};
@@ -96,19 +99,26 @@ PlacementsSimulation simulate_placements(const RobotModel& model, const TrueRobo
   const Eigen::Vector3d fitted_point = centroid(fit.tool_cups_flange);
   const Pose<double> world_T_nominal = first.world.robot_T_fixture.inverse();
   const Pose<double> world_T_fit = frame_from_cups(fit.base_cups_robot.front()).inverse();
-  std::vector<double> nominal, calibrated;
-  for (const Vector6d& q : joints) {
-    const Eigen::Vector3d truth_point = first.world_T_sim * (true_flange_pose(truth, q) * true_point);
+  const auto n = static_cast<Eigen::Index>(joints.size());
+  Eigen::Matrix3Xd truth_points(3, n), model_points(3, n);
+  std::vector<double> nominal, calibrated, registered;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Vector6d& q = joints[k];
+    truth_points.col(k) = first.world_T_sim * (true_flange_pose(truth, q) * true_point);
+    model_points.col(k) = world_T_fit * (flange_pose(model, payload, fit.params, q) * fitted_point);
     nominal.push_back(
         (world_T_nominal * (flange_pose(model, payload, model.nominal(), q) * nominal_point) -
-         truth_point)
+         truth_points.col(k))
             .norm());
-    calibrated.push_back(
-        (world_T_fit * (flange_pose(model, payload, fit.params, q) * fitted_point) - truth_point)
-            .norm());
+    calibrated.push_back((model_points.col(k) - truth_points.col(k)).norm());
   }
+  const Eigen::Isometry3d truth_T_model(Eigen::umeyama(model_points, truth_points, false));
+  for (Eigen::Index k = 0; k < n; ++k)
+    registered.push_back(
+        (truth_T_model * Eigen::Vector3d(model_points.col(k)) - truth_points.col(k)).norm());
   out.nominal = error_statistics(nominal);
   out.calibrated = error_statistics(calibrated);
+  out.registered = error_statistics(registered);
   return out;
 }
 

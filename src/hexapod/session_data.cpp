@@ -168,11 +168,12 @@ std::vector<SessionData> group_placements(const std::vector<SessionData>& sessio
           if (gap < clearance)
             throw InputError(
                 {s.source, 0, 0, "setting_ball"},
-                fmt::format("placement {} overlaps placement {} ({}): its base cup B{} is {:.1f} mm "
-                            "from their B{} (cups stand at least {} mm apart); give each "
-                            "placement once, or re-plan this one elsewhere",
-                            groups.size() + 1, g + 1, groups[g].front().source, a + 1, gap, b + 1,
-                            clearance));
+                fmt::format(
+                    "placement {} overlaps placement {} ({}): its base cup B{} is {:.1f} mm "
+                    "from their B{} (cups stand at least {} mm apart); give each "
+                    "placement once, or re-plan this one elsewhere",
+                    groups.size() + 1, g + 1, groups[g].front().source, a + 1, gap, b + 1,
+                    clearance));
         }
     groups.push_back({s});
   }

@@ -7,11 +7,8 @@
 # --measured` proposes the next placement. Bad input: the pose fit with two placements, the same
 # placement given twice (overlapping cups), a measured plan given twice.
 set -euo pipefail
-ROBCAL="$1"
-tmp=$(mktemp -d)
-pid=""
-cleanup() { [ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"; }
-trap cleanup EXIT
+ROBCAL="$1" tmp=$(mktemp -d) pid=""
+trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
 json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 fail() { echo "hexapod placements: $*" >&2; exit 1; }
 mkdir -p "$tmp/a" "$tmp/b" "$tmp/c"

@@ -31,10 +31,10 @@ struct LegFitOptions {
 struct LegFitResult {
   ParameterVector params = ParameterVector::Zero();
   std::vector<Cups<double>> base_cups_robot;  ///< per placement, robot frame, mm
-  Cups<double> tool_cups_flange;  ///< flange frame, mm
-  double length_offset_mm = 0;    ///< true length = reading + offset (leg set-up)
-  std::vector<int> identified;    ///< model parameters fitted
-  std::vector<std::string> held;  ///< unknowns held, each with why
+  Cups<double> tool_cups_flange;              ///< flange frame, mm
+  double length_offset_mm = 0;                ///< true length = reading + offset (leg set-up)
+  std::vector<int> identified;                ///< model parameters fitted
+  std::vector<std::string> held;              ///< unknowns held, each with why
   int residuals = 0;
   double initial_rms_mm = 0;
   double rms_mm = 0;
@@ -70,10 +70,11 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
 
 /// The leg fit as a calibrated robot in the frame of the pose fit: the world frame the (first
 /// placement's) base cups define seen from the robot frame through `robot_T_world`
-/// (world_frame.hpp). The fitted base cups give that world frame in the fit's own robot frame; the six base parameters carry the
-/// difference, written exactly as world_A_1 = Trans(x, y, d1 + z) · Rx Ry Rz(γ + θ1), and the
-/// gravity vector is turned with them (the compliance sees the same torques). Its tool: the
-/// fitted tool cups as targets T1..T3, the tool fixture frame they define as TCP.
+/// (world_frame.hpp). The fitted base cups give that world frame in the fit's own robot frame; the
+/// six base parameters carry the difference, written exactly as world_A_1 = Trans(x, y, d1 + z) ·
+/// Rx Ry Rz(γ + θ1), and the gravity vector is turned with them (the compliance sees the same
+/// torques). Its tool: the fitted tool cups as targets T1..T3, the tool fixture frame they define
+/// as TCP.
 CalibratedRobot leg_fit_robot(const RobotModel& model, const PointMass& payload,
                               const LegFitResult& fit, const Pose<double>& robot_T_world);
 

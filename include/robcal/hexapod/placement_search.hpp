@@ -29,7 +29,7 @@ struct MeasuredPlacement {
   std::string source;                 ///< the plan file, for messages
   std::array<double, 4> placement{};  ///< x, y, z (mm), yaw (deg)
   double tilt_deg = 0;
-  Cups<double> setting_points;  ///< where the robot put the base cups, robot frame
+  Cups<double> setting_points;   ///< where the robot put the base cups, robot frame
   std::vector<Vector6d> joints;  ///< the configurations (controller, rad)
 };
 
@@ -112,7 +112,8 @@ PlacementSearchResult search_placements(const RobotModel& model,
 /// The I-optimal choice of `count` configurations among those of `plans` (one per placement,
 /// written by `robcal hexapod plan`): design/task_selection.hpp's select_i_optimal on the pose
 /// Jacobian with each placement's world-frame columns (placements × poses × configurations), the
-/// task region being the validation configurations in the joint limits; and what it predicts. Level, σ multiple, gauge σ, validation and seed come from `request`.
+/// task region being the validation configurations in the joint limits; and what it predicts.
+/// Level, σ multiple, gauge σ, validation and seed come from `request`.
 struct PlacementsDesign {
   std::vector<std::vector<int>> chosen;  ///< per plan, indices into its configurations
   int undetermined = 0;

@@ -29,8 +29,8 @@ struct SimulatedPlacement {
 };
 
 struct PlacementsSimulationOptions {
-  double sigma_mm = 0.00051;                             ///< ballbar σ
-  double fixture_tolerance_mm = 0.05;                    ///< true fixture sides about the design
+  double sigma_mm = 0.00051;                        ///< ballbar σ
+  double fixture_tolerance_mm = 0.05;               ///< true fixture sides about the design
   CalibrationLevel level = CalibrationLevel::Full;  ///< identified (base held: leg fit)
   int validation_configurations = 2000;
   uint64_t validation_seed = 1;  ///< of the validation configurations (the same for every design)
@@ -43,6 +43,9 @@ struct PlacementsSimulation {
   bool converged = false;
   ErrorStatistics nominal;     ///< the nominal model (world frame of the cups) vs the truth, mm
   ErrorStatistics calibrated;  ///< the calibrated model vs the truth, mm
+  /// The same after a rigid best fit of the model's points to the truth's (Umeyama): the accuracy
+  /// of the model itself, without the error of the first placement's fitted frame.
+  ErrorStatistics registered;
 };
 
 /// Simulates the placements' sessions with `truth` (payload `payload`) and calibrates. Throws

@@ -37,7 +37,7 @@ struct SessionCalibration {
   double orientation_weight_mm = 0;
   WorldFrameFit world;  ///< of the first placement: the calibrated model's frame
   std::vector<WorldFrameFit> placement_worlds;  ///< every placement's, in order
-  Tool tool;             ///< the tool fixture's cups and the payload carried
+  Tool tool;                                    ///< the tool fixture's cups and the payload carried
   MeasurementSet poses;  ///< the tool fixture poses of the first placement (the poses fit's rows)
   std::optional<IdentificationResult> identification;  ///< poses fit
   std::optional<LegFitResult> legs;                    ///< legs fit
