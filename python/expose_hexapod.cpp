@@ -247,9 +247,11 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::string& robot, const std::vector<double>& x_mm, const std::vector<double>& y_mm,
          const std::vector<double>& z_mm, const std::vector<double>& yaw_deg,
          const std::vector<double>& tilt_deg, const std::string& level, int validation,
-         uint64_t seed, int best) {
+         uint64_t seed, int best, const std::vector<std::string>& measured) {
         PlacementSearchRequest r;
         r.plan.robot = robot;
+        for (const std::string& plan : measured)
+          r.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
         r.x_mm = x_mm;
         r.y_mm = y_mm;
         r.z_mm = z_mm;
@@ -272,8 +274,10 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("z_mm") = std::vector<double>{200, 300}, py::arg("yaw_deg") = std::vector<double>{0},
       py::arg("tilt_deg") = std::vector<double>{0}, py::arg("level") = "kinematic",
       py::arg("validation") = 2000, py::arg("seed") = 1, py::arg("best") = 5,
+      py::arg("measured") = std::vector<std::string>{},
       "Placement search (`robcal hexapod place`): the grid's placements ranked by predicted "
-      "accuracy, and the best pairs; the CLI's JSON as a dict");
+      "accuracy, and the best pairs; with `measured` (plan files of the placements already "
+      "measured) the grid's placements ranked as the next one ('next'); the CLI's JSON as a dict");
   h.def(
       "device_validation",
       [](const std::array<double, 3>& base_sides_mm, const std::array<double, 3>& tool_sides_mm,
@@ -339,15 +343,16 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         request.orientation_weight_mm = orientation_weight_mm;
         request.seed = seed;
         const RobotModel model = load_robot(robot);
-        const SessionData data = load_sessions(sessions, plan.value_or(""));
+        const std::vector<SessionData> placements = load_placements(sessions, plan.value_or(""));
         const PointMass payload = tool ? load_tool(*tool).payload : PointMass{};
         SessionCalibration c;
         {
           py::gil_scoped_release release;
-          c = calibrate_sessions(data, model, payload, request);
+          c = calibrate_sessions(placements, model, payload, request);
         }
         if (out) write_file_atomically(*out, c.model_file);
-        py::object d = json_to_python(session_calibration_json(data, model, c, out.value_or("")));
+        py::object d =
+            json_to_python(session_calibration_json(placements, model, c, out.value_or("")));
         d["model"] = c.robot;
         d["tool"] = c.tool;
         d["poses"] = Measurements{c.poses, c.tool, {}};
@@ -357,7 +362,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("level") = "full", py::arg("fit") = "poses", py::arg("relative") = false,
       py::arg("orientation_weight_mm") = kDefaultOrientationWeightMm, py::arg("seed") = 1,
       py::arg("plan") = py::none(), py::arg("out") = py::none(),
-      "Calibrates from measured sessions (`robcal hexapod calibrate`): the CLI's JSON as a dict "
+      "Calibrates from measured sessions (`robcal hexapod calibrate`; sessions of several "
+      "base-fixture placements together with fit='legs'): the CLI's JSON as a dict "
       "plus model (CalibratedRobot), tool (the tool fixture) and poses (Measurements); with `out` "
       "the calibrated model file is written");
   h.def(

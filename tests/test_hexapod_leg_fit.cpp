@@ -91,7 +91,7 @@ TEST(HexapodLegFit, NoiseFreeFitReproducesTheTrueToolCupsAndTheOffset) {
     const CalibratedRobot robot =
         leg_fit_robot(f.model, f.cell.truth.robot.tool.payload, fit, f.cell.world.robot_T_fixture);
     const Pose<double> T =
-        f.cell.world.robot_T_fixture * frame_from_cups(fit.base_cups_robot).inverse();
+        f.cell.world.robot_T_fixture * frame_from_cups(fit.base_cups_robot.front()).inverse();
     double worst_frame = 0;
     for (int k = 0; k < 20; ++k) {
       Vector6d q;

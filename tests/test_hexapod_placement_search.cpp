@@ -1,10 +1,14 @@
 // Placement search for the base fixture (issue 20 items 1–2): a grid with placements out of reach
 // ranks them last; the predicted accuracy of the best placement and of the best pair is recomputed
 // here by a second, straightforward implementation (unscaled Jacobians from design's candidate
-// rows, C = σ²(JᵀJ)⁻¹ by a plain solve, point Jacobians at the same validation configurations);
-// two placements predict better than either alone.
+// rows, C = σ²(JᵀJ)⁻¹ by a plain solve, point Jacobians at the same validation configurations;
+// the second placement's world frame as six more columns: its rows' base-parameter columns, which
+// span the same rigid motions as the search's frame columns); two placements predict better than
+// either alone.
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include <Eigen/Cholesky>
 
@@ -35,7 +39,8 @@ std::vector<Vector6d> planned(const RobotModel& model, HexapodPlanRequest r,
 }
 
 /// Mean predicted position error, straight from the definitions (docs/method/05-observability.md).
-double straight_prediction(const RobotModel& model, const std::vector<Vector6d>& configs,
+double straight_prediction(const RobotModel& model,
+                           const std::vector<std::vector<Vector6d>>& placements,
                            const Pose<double>& flange_T_tool, const std::vector<int>& parameters,
                            double sigma_mm, const std::vector<Vector6d>& validation) {
   Tool tool;
@@ -52,16 +57,25 @@ double straight_prediction(const RobotModel& model, const std::vector<Vector6d>&
     return out;
   };
   const int p = static_cast<int>(parameters.size());
-  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(p, p);
-  for (const Vector6d& q : configs) {
-    const Eigen::MatrixXd J = rows(q, MeasurementKind::Poses);
-    normal += J.transpose() * J;
-  }
+  const int n = p + 6 * static_cast<int>(placements.size() - 1);
+  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
+  for (size_t g = 0; g < placements.size(); ++g)
+    for (const Vector6d& q : placements[g]) {
+      DesignSettings s;
+      s.kind = MeasurementKind::Poses;
+      const Eigen::MatrixXd full = candidate_jacobian(model, tool, params, {q, 0}, s);
+      Eigen::MatrixXd J = Eigen::MatrixXd::Zero(full.rows(), n);
+      J.leftCols(p) = rows(q, MeasurementKind::Poses);
+      if (g > 0) J.middleCols(p + 6 * (static_cast<int>(g) - 1), 6) = full.leftCols(6);
+      normal += J.transpose() * J;
+    }
   // Equilibrate (mm and rad columns) before inverting.
   const Eigen::VectorXd d = normal.diagonal().cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd scaled = d.asDiagonal() * normal * d.asDiagonal();
-  const Eigen::MatrixXd cov = sigma_mm * sigma_mm * d.asDiagonal() *
-                              scaled.ldlt().solve(Eigen::MatrixXd::Identity(p, p)) * d.asDiagonal();
+  const Eigen::MatrixXd cov =
+      (sigma_mm * sigma_mm * d.asDiagonal() * scaled.ldlt().solve(Eigen::MatrixXd::Identity(n, n)) *
+       d.asDiagonal())
+          .topLeftCorner(p, p);
   double sum = 0;
   for (const Vector6d& v : validation) {
     const Eigen::MatrixXd Jv = rows(v, MeasurementKind::Points);
@@ -94,7 +108,14 @@ TEST(HexapodPlacementSearch, RanksReachablePlacementsAndPredictsWhatAStraightCom
     else
       EXPECT_EQ(unusable, 0) << "usable placement ranked after an unusable one";
   }
-  EXPECT_EQ(unusable, 6);
+  // Every unusable placement: the robot cannot place the base cups there.
+  EXPECT_EQ(unusable, 7);  // the six out of reach and one tilted placement
+  EXPECT_EQ(std::count_if(r.ranked.begin(), r.ranked.end(),
+                          [](const PlacementScore& s) {
+                            return s.refused.find("cannot put the setting ball") !=
+                                   std::string::npos;
+                          }),
+            7);
   for (size_t i = 1; i < r.ranked.size(); ++i)
     if (r.ranked[i].usable() && r.ranked[i].undetermined == 0)
       EXPECT_LE(r.ranked[i - 1].predicted_mean_mm, r.ranked[i].predicted_mean_mm);
@@ -115,7 +136,7 @@ TEST(HexapodPlacementSearch, RanksReachablePlacementsAndPredictsWhatAStraightCom
   const std::vector<Vector6d> a = planned(model, request.plan, best, &mount);
   ASSERT_EQ(static_cast<int>(a.size()), best.configurations);
   const double straight_a =
-      straight_prediction(model, a, mount, r.identified_parameters, r.pose_sigma_mm, validation);
+      straight_prediction(model, {a}, mount, r.identified_parameters, r.pose_sigma_mm, validation);
   EXPECT_NEAR(best.predicted_mean_mm, straight_a, 1e-6 * straight_a);
 
   // The best pair: better than either of its placements alone, by the straight computation too.
@@ -123,11 +144,10 @@ TEST(HexapodPlacementSearch, RanksReachablePlacementsAndPredictsWhatAStraightCom
   const PlacementPair& pair = r.pairs.front();
   const PlacementScore& first = r.ranked[pair.first];
   const PlacementScore& second = r.ranked[pair.second];
-  std::vector<Vector6d> both = planned(model, request.plan, first, &mount);
-  const std::vector<Vector6d> b = planned(model, request.plan, second, &mount);
-  both.insert(both.end(), b.begin(), b.end());
-  const double straight_pair =
-      straight_prediction(model, both, mount, r.identified_parameters, r.pose_sigma_mm, validation);
+  const double straight_pair = straight_prediction(
+      model,
+      {planned(model, request.plan, first, &mount), planned(model, request.plan, second, &mount)},
+      mount, r.identified_parameters, r.pose_sigma_mm, validation);
   EXPECT_NEAR(pair.predicted_mean_mm, straight_pair, 1e-6 * straight_pair);
   EXPECT_LT(straight_pair, std::min(first.predicted_mean_mm, second.predicted_mean_mm));
   EXPECT_EQ(pair.configurations, first.configurations + second.configurations);

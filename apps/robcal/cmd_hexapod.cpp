@@ -3,6 +3,9 @@
 
 #include <fmt/format.h>
 
+#include <cstdio>
+#include <sstream>
+
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -17,6 +20,7 @@
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/end_to_end_report.hpp"
+#include "robcal/hexapod/four_cup_kinematics.hpp"
 #include "robcal/hexapod/geometry_reports.hpp"
 #include "robcal/hexapod/placement_search.hpp"
 #include "robcal/hexapod/plan_file.hpp"
@@ -72,8 +76,78 @@ struct GeometryOptions {
 
 // ---- dkp -------------------------------------------------------------------------------------
 
+/// A fixture's distances: one side, three (d12,d23,d31), or six with a fourth cup
+/// (d12,d23,d31,d14,d24,d34).
+FixtureDistances parse_fixture(const std::string& text, const std::string& flag) {
+  const std::vector<double> v = parse_numbers(text, -1, flag);
+  if (v.size() != 6) return {parse_sides(text, flag), std::nullopt};
+  return {{v[0], v[1], v[2]}, std::array<double, 3>{v[3], v[4], v[5]}};
+}
+
+/// "B1-T1=300.1,B4-T2=299.8,…": legs between physical cups 1..4.
+std::vector<MeasuredLeg> parse_measured_legs(const std::string& text) {
+  std::vector<MeasuredLeg> legs;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    int b = 0, t = 0, used = 0;
+    double length = 0;
+    if (std::sscanf(item.c_str(), "B%d-T%d=%lf%n", &b, &t, &length, &used) != 3 ||
+        used != static_cast<int>(item.size()) || b < 1 || b > 4 || t < 1 || t > 4 ||
+        !std::isfinite(length))
+      throw InputError({"", 0, 0, "--legs"},
+                       fmt::format("leg '{}': with a fourth cup, expected Bi-Tj=length (mm) with "
+                                   "i, j in 1..4",
+                                   item));
+    legs.push_back({b - 1, t - 1, length});
+  }
+  return legs;
+}
+
+/// The over-determined DKP of fixtures with a fourth cup (four_cup_kinematics.hpp).
+void run_four_cup_dkp(const std::string& base, const std::string& tool,
+                      const std::string& legs_text, bool json) {
+  FourCupDkpRequest request{parse_fixture(base, "--base-mm"), parse_fixture(tool, "--tool-mm"),
+                            parse_measured_legs(legs_text)};
+  const FourCupDkpResult r = solve_four_cup_dkp(request);
+  if (r.status != FourCupDkpStatus::Ok) {
+    const std::string key = r.message.rfind("base fixture", 0) == 0   ? "--base-mm"
+                            : r.message.rfind("tool fixture", 0) == 0 ? "--tool-mm"
+                                                                      : "--legs";
+    throw InputError({"", 0, 0, key}, r.message);
+  }
+  if (json) {
+    nlohmann::json out{{"distances", r.distance_names}, {"solutions", nlohmann::json::array()}};
+    for (const FourCupSolution& s : r.solutions) {
+      nlohmann::json cups = nlohmann::json::array();
+      for (const Eigen::Vector3d& c : s.tool_cups) cups.push_back({c.x(), c.y(), c.z()});
+      nlohmann::json sigma = nlohmann::json::array();
+      for (const CupUncertainty& u : s.uncertainty) sigma.push_back(u.norm);
+      out["solutions"].push_back({{"mode", s.mode},
+                                  {"rms_residual_mm", s.rms_residual_mm},
+                                  {"tool_cups_mm", cups},
+                                  {"uncertainty_sigma_multiple", sigma}});
+    }
+    print_json(out);
+    return;
+  }
+  fmt::print(
+      "tool cups in the base fixture frame (b1 origin, b2 on x), mm; least squares over {} "
+      "distances\n",
+      r.distance_names.size());
+  for (const FourCupSolution& s : r.solutions) {
+    fmt::print("start mode {}: rms residual {:.3g} mm\n", s.mode, s.rms_residual_mm);
+    for (size_t j = 0; j < s.tool_cups.size(); ++j)
+      fmt::print("  T{}  {:12.6f} {:12.6f} {:12.6f}   u = {:.2f} σ\n", j + 1, s.tool_cups[j].x(),
+                 s.tool_cups[j].y(), s.tool_cups[j].z(), s.uncertainty[j].norm);
+  }
+}
+
 void run_dkp(const std::string& base, const std::string& tool, const std::string& legs_text,
              bool json) {
+  if (parse_fixture(base, "--base-mm").fourth || parse_fixture(tool, "--tool-mm").fourth) {
+    run_four_cup_dkp(base, tool, legs_text, json);
+    return;
+  }
   const TriangleSides bs = parse_sides(base, "--base-mm");
   const TriangleSides ts = parse_sides(tool, "--tool-mm");
   const std::vector<double> v = parse_numbers(legs_text, 6, "--legs");
@@ -332,8 +406,10 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
 void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
                const MeasuringOptions& m, const std::string& cell_path,
                const std::array<std::string, 5>& grid, const std::string& level, int validation,
-               uint64_t seed, int best, bool json) {
+               uint64_t seed, int best, const std::vector<std::string>& measured, bool json) {
   PlacementSearchRequest request;
+  for (const std::string& plan : measured)
+    request.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
   request.plan = o.request(geometry_options.geometry());
   request.plan.gauge = m.gauge;
   request.plan.cups = m.cups;
@@ -368,6 +444,25 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
                s.undetermined, s.observability_o1, s.predicted_mean_mm, s.predicted_max_mm,
                s.refused.empty() ? "" : "  refused: " + s.refused);
   }
+  if (!request.measured.empty()) {
+    fmt::print(
+        "measured: {} placement(s), {} configurations, predicted mean {:.6f} mm, max {:.6f} "
+        "mm{}\n",
+        request.measured.size(), r.measured_configurations, r.measured_mean_mm, r.measured_max_mm,
+        r.measured_undetermined > 0
+            ? fmt::format(" ({} unknowns undetermined)", r.measured_undetermined)
+            : "");
+    for (int i = 0; i < best && i < static_cast<int>(r.next.size()); ++i) {
+      const NextPlacement& n = r.next[i];
+      const PlacementScore& s = r.ranked[n.rank];
+      fmt::print(
+          "next #{}: placement {} tilt {:g} (rank {}): {} configurations in all, predicted "
+          "mean {:.6f} mm, max {:.6f} mm{}\n",
+          i + 1, placement_text(s.placement), s.tilt_deg, n.rank + 1, n.configurations,
+          n.predicted_mean_mm, n.predicted_max_mm,
+          n.undetermined > 0 ? fmt::format(" ({} undetermined)", n.undetermined) : "");
+    }
+  }
   for (int i = 0; i < best && i < static_cast<int>(r.pairs.size()); ++i) {
     const PlacementPair& p = r.pairs[i];
     fmt::print(
@@ -377,8 +472,8 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
         p.equal_count_configurations, p.equal_count_mean_mm);
   }
   fmt::print(
-      "Predictions assume gauge noise only (no unmodelled errors) and, for pairs, one world frame "
-      "shared by both placements.\n");
+      "Predictions assume gauge noise only (no unmodelled errors); every placement after the "
+      "first has its own world frame (six unknowns).\n");
 }
 
 // ---- session ---------------------------------------------------------------------------------
@@ -527,11 +622,16 @@ const bool registered = register_command(60, [](CLI::App& app) {
     auto tool = std::make_shared<std::string>("150");
     auto legs = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
-    cmd->add_option("--base-mm", *base, "Measured base sides b12,b23,b31 (mm)")
+    cmd->add_option("--base-mm", *base,
+                    "Measured base sides b12,b23,b31 (mm); with a fourth cup also b14,b24,b34")
         ->capture_default_str();
-    cmd->add_option("--tool-mm", *tool, "Measured tool sides t12,t23,t31 (mm)")
+    cmd->add_option("--tool-mm", *tool,
+                    "Measured tool sides t12,t23,t31 (mm); with a fourth cup also t14,t24,t34")
         ->capture_default_str();
-    cmd->add_option("--legs", *legs, "Legs ρ11,ρ12,ρ21,ρ22,ρ23,ρ31 (mm)")->required();
+    cmd->add_option("--legs", *legs,
+                    "Legs ρ11,ρ12,ρ21,ρ22,ρ23,ρ31 (mm); with a fourth cup every leg as "
+                    "Bi-Tj=length")
+        ->required();
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] { run_dkp(*base, *tool, *legs, *json); });
   }
@@ -649,6 +749,7 @@ const bool registered = register_command(60, [](CLI::App& app) {
     auto validation = std::make_shared<int>(2000);
     auto seed = std::make_shared<uint64_t>(1);
     auto best = std::make_shared<int>(5);
+    auto measured = std::make_shared<std::vector<std::string>>();
     auto json = std::make_shared<bool>(false);
     geometry->add_to(cmd);
     cell->add_to(cmd, false);
@@ -669,10 +770,13 @@ const bool registered = register_command(60, [](CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--best", *best, "How many placements and pairs to list")
         ->capture_default_str();
+    cmd->add_option("--measured", *measured,
+                    "Plan of a placement already measured (repeat): rank the grid's placements as "
+                    "the next one to measure");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
       run_place(*geometry, *cell, *measuring, *cell_file, *grid, *level, *validation, *seed, *best,
-                *json);
+                *measured, *json);
     });
   }
   {

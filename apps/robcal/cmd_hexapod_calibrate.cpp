@@ -38,7 +38,8 @@ struct SessionOptions {
   void add_to(CLI::App* cmd, bool with_tool = true) {
     cmd->add_option("--session", sessions,
                     "Session directory (plan.json + journal.jsonl) or journal file; repeat for the "
-                    "first pass and the re-measurement of its retries")
+                    "first pass and the re-measurement of its retries (calibrate: and for the "
+                    "sessions of other base-fixture placements)")
         ->required();
     cmd->add_option("--plan", plan, "Plan of a journal file given as --session");
     if (with_tool)
@@ -114,28 +115,42 @@ void run_calibrate(const CalibrateOptions& o) {
   request.orientation_weight_mm = o.orientation_weight;
   request.seed = o.seed;
   const RobotModel model = load_robot(o.robot);
-  const SessionData data = o.session.load();
+  const std::vector<SessionData> placements = load_placements(o.session.sessions, o.session.plan);
+  const SessionData& data = placements.front();
+  if (placements.size() > 1)
+    for (const auto& [flag, path] :
+         {std::pair{"--poses-out", &o.poses_out}, {"--legs-out", &o.legs_out}})
+      if (!path->empty())
+        throw InputError({*path, 0, 0, flag},
+                         fmt::format("sessions of {} placements: export each placement's sessions "
+                                     "with `robcal hexapod export-poses`",
+                                     placements.size()));
   const PointMass payload =
       o.session.tool.empty() ? PointMass{} : load_tool(o.session.tool).payload;
   if (request.fit == SessionFit::Poses && !o.json && stdout_is_terminal())
     fmt::print("calibrating ({} poses)…\n", data.readings.size());
-  const SessionCalibration c = calibrate_sessions(data, model, payload, request);
+  const SessionCalibration c = calibrate_sessions(placements, model, payload, request);
   OutputFiles files;
   files.add(o.out, c.model_file);
   add_exports(files, data, c.tool, &c.poses, o.poses_out, o.legs_out, o.tool_out);
   files.write();
   if (o.json) {
-    print_json(session_calibration_json(data, model, c, o.out));
+    print_json(session_calibration_json(placements, model, c, o.out));
     return;
   }
-  print_session_summary(data, c.world);
+  size_t measured = 0;
+  for (size_t p = 0; p < placements.size(); ++p) {
+    if (placements.size() > 1) fmt::print("placement {}: ", p + 1);
+    print_session_summary(placements[p], c.placement_worlds[p]);
+    measured += placements[p].readings.size();
+  }
   if (c.legs) {
     const LegFitResult& fit = *c.legs;
     fmt::print(
         "calibrated {} at level {} from the raw legs of {} configurations ({} distances): {} "
         "after {} iterations, rms {:.5f} mm (start {:.4f}); ballbar offset {:+.5f} mm; {} model "
         "parameters identified\nwritten {}\n",
-        model.name, c.robot.level, data.readings.size(), fit.residuals,
+        model.name, c.robot.level, measured, fit.residuals,
         fit.converged ? "converged" : "DID NOT CONVERGE", fit.iterations, fit.rms_mm,
         fit.initial_rms_mm, fit.length_offset_mm, fit.identified.size(), o.out);
     for (const std::string& h : fit.held) fmt::print("  held {}\n", h);

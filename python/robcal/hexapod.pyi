@@ -99,9 +99,10 @@ def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, fl
 def place(robot: str = "fanuc-lrmate200ic", x_mm: Sequence[float] = ..., y_mm: Sequence[float] = ...,
           z_mm: Sequence[float] = ..., yaw_deg: Sequence[float] = ...,
           tilt_deg: Sequence[float] = ..., level: str = "kinematic", validation: int = 2000,
-          seed: int = 1, best: int = 5) -> Dict[str, Any]:
+          seed: int = 1, best: int = 5, measured: Sequence[str] = ...) -> Dict[str, Any]:
     """Placement search (`robcal hexapod place`): the grid's placements ranked by predicted
-    accuracy, and the best pairs; the CLI's JSON as a dict."""
+    accuracy, and the best pairs; with `measured` (plan files of the placements already
+    measured) the grid's placements ranked as the next one ('next'); the CLI's JSON as a dict."""
 
 
 def device_validation(base_sides_mm: Tuple[float, float, float] = ...,
@@ -131,6 +132,7 @@ def calibrate(sessions: Sequence[str], robot: str = "fanuc-lrmate200ic",
               tool: Optional[str] = None, level: str = "full", fit: str = "poses",
               relative: bool = False, orientation_weight_mm: float = 100.0, seed: int = 1,
               plan: Optional[str] = None, out: Optional[str] = None) -> Dict[str, Any]:
-    """Calibrates from measured sessions (`robcal hexapod calibrate`): the CLI's JSON as a dict
+    """Calibrates from measured sessions (`robcal hexapod calibrate`; sessions of several
+    base-fixture placements together with fit='legs'): the CLI's JSON as a dict
     plus model (CalibratedRobot), tool (the tool fixture) and poses (Measurements); with `out` the
     calibrated model file is written."""

@@ -167,8 +167,9 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
     rep.leg_fit.converged = legs.converged;
     rep.leg_fit_offset_mm = legs.length_offset_mm;
     // Its world frame is the one of its own base cups.
-    rep.leg_fit.validation = validate(model, payload, legs.params, centroid(legs.tool_cups_flange),
-                                      frame_from_cups(legs.base_cups_robot), validation, o.threads);
+    rep.leg_fit.validation =
+        validate(model, payload, legs.params, centroid(legs.tool_cups_flange),
+                 frame_from_cups(legs.base_cups_robot.front()), validation, o.threads);
   }
   return rep;
 }

@@ -43,4 +43,10 @@ std::string fixture_range_problem(const HexapodGeometry& g, double tool_setup_mm
   return {};
 }
 
+void check_fixture_range(const HexapodGeometry& geometry, const LengthGauge& gauge) {
+  if (const std::string problem = fixture_range_problem(geometry, geometry.tool.d12, gauge);
+      !problem.empty())
+    throw InputError({"", 0, 0, "--gauge-range-mm"}, problem);
+}
+
 }  // namespace robcal::hexapod

@@ -43,11 +43,15 @@ struct SideResidual {
   }
 };
 
-constexpr int kExtras = 19;  // 9 base-cup + 9 tool-cup coordinates + the length offset
-
-std::string extra_name(int k) {
-  if (k < 9) return fmt::format("base_cup.B{}.{}", k / 3 + 1, "xyz"[k % 3]);
-  if (k < 18) return fmt::format("tool_cup.T{}.{}", (k - 9) / 3 + 1, "xyz"[(k - 9) % 3]);
+/// Extras after the model parameters: 9 base-cup coordinates per placement, then 9 tool-cup ones
+/// and the length offset.
+std::string extra_name(int k, int placements) {
+  if (k < 9 * placements) {
+    const std::string cup = fmt::format("base_cup.B{}.{}", (k % 9) / 3 + 1, "xyz"[k % 3]);
+    return placements == 1 ? cup : fmt::format("placement{}.{}", k / 9 + 1, cup);
+  }
+  k -= 9 * placements;
+  if (k < 9) return fmt::format("tool_cup.T{}.{}", k / 3 + 1, "xyz"[k % 3]);
   return "ballbar.length_offset";
 }
 
@@ -58,21 +62,37 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
                            const std::vector<LegReadings>& readings,
                            const ParameterVector& start_params, const Pose<double>& robot_T_world,
                            const Pose<double>& flange_T_tool, const LegFitOptions& options) {
+  return fit_from_legs(model, payload, tool_sides, {{base_sides, readings, robot_T_world}},
+                       start_params, flange_T_tool, options);
+}
+
+LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
+                           const TriangleSides& tool_sides,
+                           const std::vector<LegPlacement>& placements,
+                           const ParameterVector& start_params, const Pose<double>& flange_T_tool,
+                           const LegFitOptions& options) {
   for (int i : options.free_parameters)
     if (i < kBaseParamCount || i >= kParameterCount)
       throw InputError({"", 0, 0, "free parameters"},
                        "the leg fit uses the relative model: base parameters stay fixed");
+  if (placements.empty())
+    throw InputError({"", 0, 0, "placements"}, "expected the readings of at least one placement");
+  const int n_placements = static_cast<int>(placements.size());
+  const int extras = 9 * n_placements + 10;
+  const int offset_index = kParameterCount + extras - 1;
   LegFitResult result;
   result.params = start_params;
-  const Cups<double> base_local = fixture_cups(base_sides, "base fixture sides");
+  result.base_cups_robot.resize(placements.size());
   const Cups<double> tool_local = fixture_cups(tool_sides, "tool fixture sides");
-  for (int i = 0; i < 3; ++i) {
-    result.base_cups_robot[i] = robot_T_world * base_local[i];
-    result.tool_cups_flange[i] = flange_T_tool * tool_local[i];
+  for (int p = 0; p < n_placements; ++p) {
+    const Cups<double> base_local = fixture_cups(placements[p].base_sides, "base fixture sides");
+    for (int i = 0; i < 3; ++i)
+      result.base_cups_robot[p][i] = placements[p].robot_T_world * base_local[i];
   }
+  for (int i = 0; i < 3; ++i) result.tool_cups_flange[i] = flange_T_tool * tool_local[i];
   // Which unknowns are candidates: the requested parameters except those the free tool cups
   // absorb, every cup coordinate, the offset if asked.
-  std::vector<bool> candidate(kParameterCount + kExtras, false);
+  std::vector<bool> candidate(kParameterCount + extras, false);
   for (int i : options.free_parameters) candidate[i] = true;
   for (int link6 : {link_param(6, 3), link_param(6, 2)})
     if (candidate[link6]) {
@@ -81,8 +101,13 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
                             ": a shift along / turn about the flange axis moves only the tool "
                             "cups, which are identified");
     }
-  for (int k = 0; k < kExtras; ++k)
-    candidate[kParameterCount + k] = k < 18 || options.fit_length_offset;
+  for (int k = 0; k < extras - 1; ++k) candidate[kParameterCount + k] = true;
+  candidate[offset_index] = options.fit_length_offset;
+  // The 3-vector blocks in extras order: base cups of each placement, then the tool cups.
+  std::vector<double*> cup_blocks;
+  for (Cups<double>& cups : result.base_cups_robot)
+    for (Eigen::Vector3d& c : cups) cup_blocks.push_back(c.data());
+  for (Eigen::Vector3d& c : result.tool_cups_flange) cup_blocks.push_back(c.data());
 
   double zero_offset = 0;  // the tool sides' set-up offset, held
   ceres::Problem::Options problem_options;
@@ -90,41 +115,42 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
   const auto build = [&](ceres::Problem& problem) {
     double* params = result.params.data();
     problem.AddParameterBlock(params, kParameterCount);
-    for (int i = 0; i < 3; ++i) {
-      problem.AddParameterBlock(result.base_cups_robot[i].data(), 3);
-      problem.AddParameterBlock(result.tool_cups_flange[i].data(), 3);
-    }
+    for (double* block : cup_blocks) problem.AddParameterBlock(block, 3);
     problem.AddParameterBlock(&result.length_offset_mm, 1);
-    for (const LegReadings& r : readings)
-      for (size_t i = 0; i < kDesignLegs.size(); ++i) {
-        const int b = r.design.base[kDesignLegs[i].base];
-        const int t = r.design.tool[kDesignLegs[i].tool];
-        problem.AddResidualBlock(
-            new ceres::AutoDiffCostFunction<LegResidual, 1, kParameterCount, 3, 3, 1>(
-                new LegResidual{&model, payload, r.joints, r.legs[i]}),
-            nullptr, params, result.base_cups_robot[b].data(), result.tool_cups_flange[t].data(),
-            &result.length_offset_mm);
-      }
+    for (int p = 0; p < n_placements; ++p)
+      for (const LegReadings& r : placements[p].readings)
+        for (size_t i = 0; i < kDesignLegs.size(); ++i) {
+          const int b = r.design.base[kDesignLegs[i].base];
+          const int t = r.design.tool[kDesignLegs[i].tool];
+          problem.AddResidualBlock(
+              new ceres::AutoDiffCostFunction<LegResidual, 1, kParameterCount, 3, 3, 1>(
+                  new LegResidual{&model, payload, r.joints, r.legs[i]}),
+              nullptr, params, result.base_cups_robot[p][b].data(),
+              result.tool_cups_flange[t].data(), &result.length_offset_mm);
+        }
     // Base sides at the leg set-up share its offset; the tool sides (150 mm set-up) get their own,
     // held at zero: that set-up is calibrated separately.
     problem.AddParameterBlock(&zero_offset, 1);
     problem.SetParameterBlockConstant(&zero_offset);
-    const std::array<double, 3> bs = base_sides.as_array(), ts = tool_sides.as_array();
-    for (int i = 0; i < 3; ++i) {
+    const auto side = [&](double reading, double* a, double* b, double* offset) {
       problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<SideResidual, 1, 3, 3, 1>(new SideResidual{bs[i]}),
-          nullptr, result.base_cups_robot[i].data(), result.base_cups_robot[(i + 1) % 3].data(),
-          &result.length_offset_mm);
-      problem.AddResidualBlock(
-          new ceres::AutoDiffCostFunction<SideResidual, 1, 3, 3, 1>(new SideResidual{ts[i]}),
-          nullptr, result.tool_cups_flange[i].data(), result.tool_cups_flange[(i + 1) % 3].data(),
-          &zero_offset);
+          new ceres::AutoDiffCostFunction<SideResidual, 1, 3, 3, 1>(new SideResidual{reading}),
+          nullptr, a, b, offset);
+    };
+    for (int p = 0; p < n_placements; ++p) {
+      const std::array<double, 3> bs = placements[p].base_sides.as_array();
+      Cups<double>& cups = result.base_cups_robot[p];
+      for (int i = 0; i < 3; ++i)
+        side(bs[i], cups[i].data(), cups[(i + 1) % 3].data(), &result.length_offset_mm);
     }
+    const std::array<double, 3> ts = tool_sides.as_array();
+    Cups<double>& tool = result.tool_cups_flange;
+    for (int i = 0; i < 3; ++i) side(ts[i], tool[i].data(), tool[(i + 1) % 3].data(), &zero_offset);
   };
 
   // Rank-revealing QR of the column-scaled Jacobian over the candidates, at the start point.
   std::vector<int> columns;
-  for (int k = 0; k < kParameterCount + kExtras; ++k)
+  for (int k = 0; k < kParameterCount + extras; ++k)
     if (candidate[k]) columns.push_back(k);
   {
     ceres::Problem probe(problem_options);
@@ -132,8 +158,7 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     ceres::CRSMatrix crs;
     ceres::Problem::EvaluateOptions eval;
     eval.parameter_blocks = {result.params.data()};
-    for (int i = 0; i < 3; ++i) eval.parameter_blocks.push_back(result.base_cups_robot[i].data());
-    for (int i = 0; i < 3; ++i) eval.parameter_blocks.push_back(result.tool_cups_flange[i].data());
+    eval.parameter_blocks.insert(eval.parameter_blocks.end(), cup_blocks.begin(), cup_blocks.end());
     eval.parameter_blocks.push_back(&result.length_offset_mm);
     double cost = 0;
     std::vector<double> residuals;
@@ -141,7 +166,7 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     result.residuals = static_cast<int>(residuals.size());
     result.initial_rms_mm = std::sqrt(2 * cost / residuals.size());
     Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, static_cast<int>(columns.size()));
-    std::vector<int> where(kParameterCount + kExtras, -1);
+    std::vector<int> where(kParameterCount + extras, -1);
     for (size_t c = 0; c < columns.size(); ++c) where[columns[c]] = static_cast<int>(c);
     for (int row = 0; row < crs.num_rows; ++row)
       for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k)
@@ -154,9 +179,9 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     for (int c = rank; c < J.cols(); ++c) {
       const int k = columns[qr.colsPermutation().indices()[c]];
       candidate[k] = false;
-      result.held.push_back(
-          (k < kParameterCount ? parameter_table()[k].name : extra_name(k - kParameterCount)) +
-          ": not identifiable from these readings (rank test)");
+      result.held.push_back((k < kParameterCount ? parameter_table()[k].name
+                                                 : extra_name(k - kParameterCount, n_placements)) +
+                            ": not identifiable from these readings (rank test)");
     }
   }
 
@@ -172,18 +197,17 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     problem.SetParameterBlockConstant(result.params.data());
   else if (!fixed.empty())
     problem.SetManifold(result.params.data(), new ceres::SubsetManifold(kParameterCount, fixed));
-  for (int block = 0; block < 6; ++block) {
-    double* data = block < 3 ? result.base_cups_robot[block].data()
-                             : result.tool_cups_flange[block - 3].data();
+  for (size_t block = 0; block < cup_blocks.size(); ++block) {
+    double* data = cup_blocks[block];
     std::vector<int> held;
     for (int a = 0; a < 3; ++a)
-      if (!candidate[kParameterCount + 3 * block + a]) held.push_back(a);
+      if (!candidate[kParameterCount + 3 * static_cast<int>(block) + a]) held.push_back(a);
     if (held.size() == 3)
       problem.SetParameterBlockConstant(data);
     else if (!held.empty())
       problem.SetManifold(data, new ceres::SubsetManifold(3, held));
   }
-  if (!candidate[kParameterCount + 18]) problem.SetParameterBlockConstant(&result.length_offset_mm);
+  if (!candidate[offset_index]) problem.SetParameterBlockConstant(&result.length_offset_mm);
 
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
@@ -218,7 +242,7 @@ CalibratedRobot leg_fit_robot(const RobotModel& model, const PointMass& payload,
       }
   }
   // The fit's robot frame in the pose fit's one: T = robot_T_world · (fit robot_T_world)⁻¹.
-  const Pose<double> T = robot_T_world * frame_from_cups(fit.base_cups_robot).inverse();
+  const Pose<double> T = robot_T_world * frame_from_cups(fit.base_cups_robot.front()).inverse();
   const double d1 = model.mdh[0].d;
   const Eigen::Vector3d origin = T.p + T.R * Eigen::Vector3d(0, 0, d1);
   // T.R = Rx(α) Ry(β) Rz(γ).

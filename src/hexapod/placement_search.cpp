@@ -4,9 +4,11 @@
 
 #include <Eigen/SVD>
 #include <algorithm>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <random>
+#include <tuple>
 
 #include "robcal/core/error.hpp"
 #include "robcal/core/rounding.hpp"
@@ -14,7 +16,9 @@
 #include "robcal/design/design_matrix.hpp"
 #include "robcal/design/observability.hpp"
 #include "robcal/design/predicted_accuracy.hpp"
+#include "robcal/design/task_selection.hpp"
 #include "robcal/identify/accuracy_prediction.hpp"
+#include "robcal/kinematics/parameter_jacobian.hpp"
 
 namespace robcal::hexapod {
 namespace {
@@ -27,34 +31,135 @@ struct Prediction {
 
 struct Context {
   const RobotModel& model;
-  const DesignMatrix& design;
+  DesignMatrix design;
   int asked = 0;
   double sigma_mm = 0;
   std::vector<Vector6d> validation;
   Eigen::Vector3d tcp_flange;
+  double lever_mm = 100;                ///< the design's orientation rows × this
+  std::vector<Eigen::Vector3d> tcp_mm;  ///< per candidate, nominal TCP in the robot frame
 };
 
-Prediction predict(const Context& c, const std::vector<int>& subset) {
+/// Rows of one pose candidate for the six world-frame unknowns of its placement
+/// (docs/method/08-world-frame.md §4): the measured pose is exp(ξ)·robot_T_fixture·fixture_T_tool
+/// with ξ = (v, ω) in the robot frame, so the residual r = model − measured moves by
+/// ∂r_p/∂(v, ω) = (−I, [p]×) and ∂r_R/∂ω = −w·I (position p, orientation weight w).
+Eigen::Matrix<double, 6, 6> frame_rows(const Eigen::Vector3d& p, double lever_mm) {
+  Eigen::Matrix<double, 6, 6> rows = Eigen::Matrix<double, 6, 6>::Zero();
+  rows.topLeftCorner<3, 3>() = -Eigen::Matrix3d::Identity();
+  rows.topRightCorner<3, 3>() << 0, -p.z(), p.y(), p.z(), 0, -p.x(), -p.y(), p.x(), 0;
+  rows.bottomRightCorner<3, 3>() = -lever_mm * Eigen::Matrix3d::Identity();
+  return rows;
+}
+
+/// The unscaled pose Jacobian of candidates grouped by placement: the model's columns, then six
+/// world-frame columns for every placement after the first (whose frame the base parameters
+/// carry).
+Eigen::MatrixXd placements_jacobian(const Context& c, const std::vector<std::vector<int>>& groups) {
+  std::vector<int> all;
+  for (const std::vector<int>& g : groups) all.insert(all.end(), g.begin(), g.end());
+  const int m = c.design.columns();
+  const Eigen::Index frames = 6 * static_cast<Eigen::Index>(groups.size() - 1);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(all.size()) * 6, m + frames);
+  J.leftCols(m) = c.design.stacked(all) * c.design.column_scale.cwiseInverse().asDiagonal();
+  Eigen::Index row = 0;
+  for (size_t g = 0; g < groups.size(); ++g)
+    for (int k : groups[g]) {
+      if (g > 0)
+        J.block<6, 6>(row, m + 6 * static_cast<Eigen::Index>(g - 1)) =
+            frame_rows(c.tcp_mm[k], c.lever_mm);
+      row += 6;
+    }
+  return J;
+}
+
+/// Column scales of a placements Jacobian: the design's for the model's columns (RMS over every
+/// candidate, so O1 compares across subsets), 1/RMS per configuration for the frames' (over the
+/// configurations of their placement in J).
+Eigen::VectorXd column_scales(const Context& c, const Eigen::MatrixXd& J,
+                              const std::vector<std::vector<int>>& groups) {
+  Eigen::VectorXd scale(J.cols());
+  const int m = c.design.columns();
+  scale.head(m) = c.design.column_scale;
+  for (Eigen::Index k = m; k < J.cols(); ++k) {
+    const double n = static_cast<double>(groups[1 + (k - m) / 6].size());
+    scale[k] = std::sqrt(n) / std::max(J.col(k).norm(), 1e-300);
+  }
+  return scale;
+}
+
+Prediction predict(const Context& c, const std::vector<std::vector<int>>& groups) {
   Prediction p;
-  if (subset.empty()) {
+  std::vector<std::vector<int>> used;
+  for (const std::vector<int>& g : groups)
+    if (!g.empty()) used.push_back(g);
+  if (used.empty()) {
     p.undetermined = c.asked;
     return p;
   }
-  // Columns are RMS-scaled over all candidates (design_matrix.hpp): a relative rank threshold.
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(c.design.stacked(subset));
+  const Eigen::MatrixXd J = placements_jacobian(c, used);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J * column_scales(c, J, used).asDiagonal());
   const Eigen::VectorXd& s = svd.singularValues();
   int rank = 0;
   for (Eigen::Index i = 0; i < s.size(); ++i) rank += s[i] > 1e-9 * s[0];
-  p.undetermined = c.asked - rank;
+  p.undetermined = static_cast<int>(J.cols()) - rank;
   if (p.undetermined > 0) return p;
-  p.o1 = observability_from_singular_values(s, static_cast<int>(subset.size())).O1;
-  const Eigen::MatrixXd cov = design_parameter_covariance(c.design, subset, c.sigma_mm);
+  p.o1 = observability_from_singular_values(s, static_cast<int>(J.rows() / 6)).O1;
+  // The model block of the covariance of all unknowns: the frames' uncertainty is marginalised.
+  const Eigen::MatrixXd cov = design_covariance(J, c.sigma_mm).topLeftCorner(c.asked, c.asked);
   const PredictedAccuracy a =
       predict_position_error(c.model, PointMass{}, c.model.nominal(), c.design.parameters, cov,
                              c.validation, {c.tcp_flange}, c.sigma_mm);
   p.mean_mm = a.mean_mm;
   p.max_mm = a.max_mm;
   return p;
+}
+
+/// The design over `candidates` (pose rows of the tool fixture mounted at `flange_T_tool`) and the
+/// validation configurations of the request.
+Context make_context(const RobotModel& model, const Pose<double>& flange_T_tool,
+                     const std::vector<Candidate>& candidates,
+                     const PlacementSearchRequest& request, double sigma_mm) {
+  Tool tool;
+  tool.flange_T_tcp.linear() = flange_T_tool.R;
+  tool.flange_T_tcp.translation() = flange_T_tool.p;
+  tool.tcp_given = true;
+  DesignSettings settings;
+  settings.kind = MeasurementKind::Poses;
+  settings.parameters = level_parameters(request.level);
+  Context c{model,
+            build_design_matrix(model, tool, candidates, settings),
+            0,
+            sigma_mm,
+            {},
+            flange_T_tool.p,
+            settings.orientation_lever_mm,
+            {}};
+  c.asked = c.design.columns();
+  for (const Candidate& k : candidates)
+    c.tcp_mm.push_back(flange_pose(model, PointMass{}, model.nominal(), k.joints) *
+                       flange_T_tool.p);
+  std::mt19937_64 rng(request.seed);
+  Vector6d lower, upper;
+  for (int j = 0; j < kJointCount; ++j) {
+    lower[j] = model.limits[j].lower;
+    upper[j] = model.limits[j].upper;
+  }
+  c.validation = sample_configurations(lower, upper, request.validation_configurations, rng);
+  return c;
+}
+
+/// The smallest distance between a cup of one placement and a cup of another, and which cups.
+double closest_cups(const Cups<double>& a, const Cups<double>& b, int* cup_a, int* cup_b) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if ((a[i] - b[j]).norm() < best) {
+        best = (a[i] - b[j]).norm();
+        *cup_a = i;
+        *cup_b = j;
+      }
+  return best;
 }
 
 void check_axis(const std::vector<double>& axis, const char* name) {
@@ -65,6 +170,28 @@ void check_axis(const std::vector<double>& axis, const char* name) {
 }
 
 }  // namespace
+
+MeasuredPlacement measured_placement(const HexapodPlan& plan, const std::string& source) {
+  if (!plan.cell || !plan.session.setting_points)
+    throw InputError({source, 0, 0, "placement"},
+                     "the plan does not say where its base fixture stood: write it with `robcal "
+                     "hexapod plan --out`");
+  MeasuredPlacement m;
+  m.source = source;
+  m.placement = plan.cell->placement;
+  m.tilt_deg = plan.cell->tilt_deg;
+  m.setting_points = *plan.session.setting_points;
+  for (size_t c = 0; c < plan.session.configurations.size(); ++c) {
+    const SessionConfiguration& config = plan.session.configurations[c];
+    if (config.joints_deg.size() != kJointCount)
+      throw InputError({source, 0, 0, fmt::format("configurations[{}].joints_deg", c)},
+                       "expected the joint values of every configuration");
+    Vector6d q;
+    for (int j = 0; j < kJointCount; ++j) q[j] = deg2rad(config.joints_deg[j]);
+    m.joints.push_back(q);
+  }
+  return m;
+}
 
 PlacementSearchResult search_placements(const RobotModel& model,
                                         const PlacementSearchRequest& request) {
@@ -87,15 +214,40 @@ PlacementSearchResult search_placements(const RobotModel& model,
   fixture_cups(base.geometry.base, "--base-mm");
   fixture_cups(base.geometry.tool, "--tool-mm");
   check_gauge(base.gauge, "--gauge-range-mm", "--gauge-sigma-mm");
+  check_fixture_range(base.geometry, base.gauge);  // out of range at every placement
   std::string why_not;
   if (!analyze_ortho_parallel(model, &why_not))
     throw InputError({"", 0, 0, "robot"},
                      model.name + " has no closed-form inverse kinematics: " + why_not);
 
+  // The measured placements come first among the design candidates; each once, apart.
+  const double clearance = base.cups.cup_diameter_mm;
+  std::vector<Candidate> candidates;
+  std::vector<std::vector<int>> measured_members;
+  for (size_t i = 0; i < request.measured.size(); ++i) {
+    const MeasuredPlacement& m = request.measured[i];
+    for (size_t j = 0; j < i; ++j) {
+      int a = 0, b = 0;
+      const double gap = closest_cups(m.setting_points, request.measured[j].setting_points, &a, &b);
+      if (gap < clearance)
+        throw InputError({m.source, 0, 0, "--measured"},
+                         fmt::format("this placement overlaps the one of {}: its base cup B{} is "
+                                     "{:.1f} mm from their B{} (cups stand at least {} mm apart); "
+                                     "give each measured placement once",
+                                     request.measured[j].source, a + 1, gap, b + 1, clearance));
+    }
+    std::vector<int> mine;
+    for (const Vector6d& q : m.joints) {
+      mine.push_back(static_cast<int>(candidates.size()));
+      candidates.push_back({q, -1});
+    }
+    measured_members.push_back(std::move(mine));
+  }
+
   // Plan every placement; keep each one's configurations as design candidates.
   std::vector<PlacementScore> scores;
   std::vector<std::vector<int>> members;
-  std::vector<Candidate> candidates;
+  std::vector<Cups<double>> setting_points;
   Pose<double> flange_T_tool;
   for (double x : request.x_mm)
     for (double y : request.y_mm)
@@ -111,7 +263,16 @@ PlacementSearchResult search_placements(const RobotModel& model,
             std::vector<int> mine;
             try {
               const HexapodPlan plan = plan_hexapod(model, r);
+              // The robot places the cups itself (docs/method/08-world-frame.md §1).
+              for (int cup = 0; cup < 3; ++cup)
+                if (plan.setting[cup].configurations.empty())
+                  throw InputError({"", 0, 0, "--placement"},
+                                   fmt::format("the robot cannot put the setting ball at base "
+                                               "cup B{}",
+                                               cup + 1));
               flange_T_tool = *plan.session.flange_T_tool;
+              setting_points.resize(scores.size() + 1);
+              setting_points.back() = *plan.session.setting_points;
               s.poses_measurable = plan.outcome->poses_measurable;
               for (const SessionConfiguration& c : plan.session.configurations) {
                 Candidate candidate;
@@ -129,34 +290,25 @@ PlacementSearchResult search_placements(const RobotModel& model,
             members.push_back(std::move(mine));
           }
 
+  setting_points.resize(scores.size());
   PlacementSearchResult result;
   result.parameters = static_cast<int>(level_parameters(request.level).size());
   result.pose_sigma_mm = request.pose_sigma_multiple * base.gauge.sigma_mm;
-  if (candidates.empty()) {
-    result.ranked = scores;
-    for (PlacementScore& s : result.ranked) s.undetermined = result.parameters;
-    return result;
-  }
-  Tool tool;
-  tool.flange_T_tcp.linear() = flange_T_tool.R;
-  tool.flange_T_tcp.translation() = flange_T_tool.p;
-  tool.tcp_given = true;
-  DesignSettings settings;
-  settings.kind = MeasurementKind::Poses;
-  settings.parameters = level_parameters(request.level);
-  const DesignMatrix design = build_design_matrix(model, tool, candidates, settings);
-  result.identified_parameters = design.parameters;
-  Context context{model, design, design.columns(), result.pose_sigma_mm, {}, flange_T_tool.p};
-  std::mt19937_64 rng(request.seed);
-  Vector6d lower, upper;
-  for (int j = 0; j < kJointCount; ++j) {
-    lower[j] = model.limits[j].lower;
-    upper[j] = model.limits[j].upper;
-  }
-  context.validation = sample_configurations(lower, upper, request.validation_configurations, rng);
+  if (std::none_of(scores.begin(), scores.end(),
+                   [](const PlacementScore& s) { return s.usable(); }))
+    throw InputError(
+        {"", 0, 0, "placement grid"},
+        fmt::format("none of the {} placements has a configuration to measure (every pose "
+                    "unreachable, colliding, or its cups out of the gauge's ±{} mm about "
+                    "{} mm){}: move the grid or change the fixtures",
+                    scores.size(), base.gauge.range_mm, base.geometry.leg_mm,
+                    scores.front().refused.empty() ? "" : "; first: " + scores.front().refused));
+  const Context context =
+      make_context(model, flange_T_tool, candidates, request, result.pose_sigma_mm);
+  result.identified_parameters = context.design.parameters;
 
   for (size_t i = 0; i < scores.size(); ++i) {
-    const Prediction p = predict(context, members[i]);
+    const Prediction p = predict(context, {members[i]});
     scores[i].undetermined = p.undetermined;
     scores[i].observability_o1 = p.o1;
     scores[i].predicted_mean_mm = p.mean_mm;
@@ -170,9 +322,45 @@ PlacementSearchResult search_placements(const RobotModel& model,
   };
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return key(a) < key(b); });
   std::vector<std::vector<int>> ranked_members;
+  std::vector<Cups<double>> ranked_points;
   for (size_t i : order) {
     result.ranked.push_back(scores[i]);
     ranked_members.push_back(members[i]);
+    ranked_points.push_back(setting_points[i]);
+  }
+
+  // The next placement after the measured ones: each usable grid placement apart from them.
+  if (!request.measured.empty()) {
+    const Prediction alone = predict(context, measured_members);
+    result.measured_undetermined = alone.undetermined;
+    result.measured_mean_mm = alone.mean_mm;
+    result.measured_max_mm = alone.max_mm;
+    for (const std::vector<int>& m : measured_members)
+      result.measured_configurations += static_cast<int>(m.size());
+    for (size_t i = 0; i < result.ranked.size(); ++i) {
+      if (!result.ranked[i].usable()) continue;
+      int a = 0, b = 0;
+      const bool apart = std::all_of(
+          request.measured.begin(), request.measured.end(), [&](const MeasuredPlacement& m) {
+            return closest_cups(ranked_points[i], m.setting_points, &a, &b) >= clearance;
+          });
+      if (!apart) continue;
+      std::vector<std::vector<int>> groups = measured_members;
+      groups.push_back(ranked_members[i]);
+      const Prediction p = predict(context, groups);
+      NextPlacement next;
+      next.rank = static_cast<int>(i);
+      next.configurations = result.measured_configurations + result.ranked[i].configurations;
+      next.undetermined = p.undetermined;
+      next.predicted_mean_mm = p.mean_mm;
+      next.predicted_max_mm = p.max_mm;
+      result.next.push_back(next);
+    }
+    std::stable_sort(result.next.begin(), result.next.end(),
+                     [](const NextPlacement& a, const NextPlacement& b) {
+                       return std::tuple(a.undetermined, a.predicted_mean_mm) <
+                              std::tuple(b.undetermined, b.predicted_mean_mm);
+                     });
   }
 
   // Pairs of the best fully determined placements.
@@ -182,22 +370,22 @@ PlacementSearchResult search_placements(const RobotModel& model,
     ++eligible;
   for (int a = 0; a < eligible; ++a)
     for (int b = a + 1; b < eligible; ++b) {
-      std::vector<int> both = ranked_members[a];
-      both.insert(both.end(), ranked_members[b].begin(), ranked_members[b].end());
-      std::vector<int> half;
-      for (const std::vector<int>* m : {&ranked_members[a], &ranked_members[b]})
-        for (size_t k = 0; k < m->size(); k += 2) half.push_back((*m)[k]);
-      const Prediction all = predict(context, both);
+      std::vector<std::vector<int>> half(2);
+      for (int g = 0; g < 2; ++g) {
+        const std::vector<int>& m = ranked_members[g == 0 ? a : b];
+        for (size_t k = 0; k < m.size(); k += 2) half[g].push_back(m[k]);
+      }
+      const Prediction all = predict(context, {ranked_members[a], ranked_members[b]});
       const Prediction equal = predict(context, half);
       PlacementPair pair;
       pair.first = a;
       pair.second = b;
-      pair.configurations = static_cast<int>(both.size());
+      pair.configurations = static_cast<int>(ranked_members[a].size() + ranked_members[b].size());
       pair.undetermined = all.undetermined;
       pair.observability_o1 = all.o1;
       pair.predicted_mean_mm = all.mean_mm;
       pair.predicted_max_mm = all.max_mm;
-      pair.equal_count_configurations = static_cast<int>(half.size());
+      pair.equal_count_configurations = static_cast<int>(half[0].size() + half[1].size());
       pair.equal_count_undetermined = equal.undetermined;
       pair.equal_count_mean_mm = equal.mean_mm;
       result.pairs.push_back(pair);
@@ -207,6 +395,65 @@ PlacementSearchResult search_placements(const RobotModel& model,
                      return a.predicted_mean_mm < b.predicted_mean_mm;
                    });
   return result;
+}
+
+PlacementsDesign design_placements(const RobotModel& model, const std::vector<HexapodPlan>& plans,
+                                   int count, const PlacementSearchRequest& request) {
+  if (plans.empty()) throw InputError({"", 0, 0, "placements"}, "expected at least one plan");
+  std::vector<Candidate> candidates;
+  std::vector<std::vector<int>> groups;
+  for (size_t p = 0; p < plans.size(); ++p) {
+    const MeasuredPlacement m = measured_placement(plans[p], fmt::format("plan {}", p + 1));
+    std::vector<int> mine;
+    for (const Vector6d& q : m.joints) {
+      mine.push_back(static_cast<int>(candidates.size()));
+      candidates.push_back({q, -1});
+    }
+    groups.push_back(std::move(mine));
+  }
+  if (count < 1 || count > static_cast<int>(candidates.size()))
+    throw InputError({"", 0, 0, "count"},
+                     fmt::format("expected 1 to {} configurations", candidates.size()));
+  const Context c = make_context(model, *plans.front().session.flange_T_tool, candidates, request,
+                                 request.pose_sigma_multiple * request.plan.gauge.sigma_mm);
+  // The I-optimal machinery (design/task_selection.hpp) on the scaled Jacobian of every candidate
+  // with its placement's world-frame columns: the mean predicted squared error over the
+  // validation configurations, to which the frames contribute nothing.
+  DesignMatrix design = c.design;
+  const Eigen::MatrixXd J = placements_jacobian(c, groups);
+  const Eigen::VectorXd scale = column_scales(c, J, groups);
+  design.rows = J * scale.asDiagonal();
+  design.column_scale = scale;
+  Eigen::MatrixXd task =
+      Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(c.validation.size()), J.cols());
+  PositionJacobian Jp;
+  for (size_t t = 0; t < c.validation.size(); ++t) {
+    target_position_jacobian(model, PointMass{}, model.nominal(), c.validation[t], c.tcp_flange,
+                             nullptr, &Jp);
+    for (int k = 0; k < c.asked; ++k)
+      task.block<3, 1>(3 * static_cast<Eigen::Index>(t), k) = Jp.col(c.design.parameters[k]);
+  }
+  std::vector<Vector6d> joints;
+  for (const Candidate& k : candidates) joints.push_back(k.joints);
+  SelectionGuard guard;
+  guard.enabled = false;
+  const TaskSelection selection =
+      select_i_optimal(design, task_information(design, task), count, joints, guard);
+  PlacementsDesign out;
+  out.chosen.resize(plans.size());
+  std::vector<std::vector<int>> chosen(plans.size());
+  for (int k : selection.chosen)
+    for (size_t p = 0; p < groups.size(); ++p)
+      if (k >= groups[p].front() && k <= groups[p].back()) {
+        out.chosen[p].push_back(k - groups[p].front());
+        chosen[p].push_back(k);
+      }
+  for (std::vector<int>& v : out.chosen) std::sort(v.begin(), v.end());
+  const Prediction prediction = predict(c, chosen);
+  out.undetermined = prediction.undetermined;
+  out.predicted_mean_mm = prediction.mean_mm;
+  out.predicted_max_mm = prediction.max_mm;
+  return out;
 }
 
 nlohmann::json placement_search_json(const PlacementSearchResult& r, int best) {
@@ -242,6 +489,24 @@ nlohmann::json placement_search_json(const PlacementSearchResult& r, int best) {
                             {"equal_count_configurations", p.equal_count_configurations},
                             {"equal_count_undetermined", p.equal_count_undetermined},
                             {"equal_count_mean_mm", rounded(p.equal_count_mean_mm, 9)}});
+  }
+  if (!r.next.empty() || r.measured_configurations > 0) {
+    out["measured"] = {{"configurations", r.measured_configurations},
+                       {"undetermined", r.measured_undetermined},
+                       {"predicted_mean_mm", rounded(r.measured_mean_mm, 9)},
+                       {"predicted_max_mm", rounded(r.measured_max_mm, 9)}};
+    out["next"] = json::array();
+    for (int i = 0; i < best && i < static_cast<int>(r.next.size()); ++i) {
+      const NextPlacement& n = r.next[i];
+      const PlacementScore& s = r.ranked[n.rank];
+      out["next"].push_back({{"rank", n.rank + 1},
+                             {"placement", placement_text(s.placement)},
+                             {"tilt_deg", s.tilt_deg},
+                             {"configurations", n.configurations},
+                             {"undetermined", n.undetermined},
+                             {"predicted_mean_mm", rounded(n.predicted_mean_mm, 9)},
+                             {"predicted_max_mm", rounded(n.predicted_max_mm, 9)}});
+    }
   }
   return out;
 }

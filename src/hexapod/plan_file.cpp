@@ -243,9 +243,7 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   fixture_cups(g.tool, "--tool-mm");
   if (!(g.leg_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
   check_gauge(request.gauge, "--gauge-range-mm", "--gauge-sigma-mm");
-  if (const std::string problem = fixture_range_problem(g, g.tool.d12, request.gauge);
-      !problem.empty())
-    throw InputError({"", 0, 0, "--gauge-range-mm"}, problem);
+  check_fixture_range(g, request.gauge);
   const std::vector<HexapodPose> all = enumerate_poses(g);
   const PoseScreening screening =
       screen_poses(all, g, deg2rad(request.angle_deg), request.distance_mm, request.cups);

@@ -14,14 +14,18 @@ namespace {
 
 /// The fit from the raw legs: the level's link and compliance parameters, the cups and the
 /// ballbar's offset; written in the frame of the pose fit.
-void fit_legs(const SessionData& data, const RobotModel& model, CalibrationLevel level,
-              SessionCalibration& out) {
+void fit_legs(const std::vector<SessionData>& placements, const RobotModel& model,
+              CalibrationLevel level, SessionCalibration& out) {
   LegFitOptions options;
   for (int i : level_parameters(level))
     if (i >= kBaseParamCount) options.free_parameters.push_back(i);
-  const LegFitResult fit =
-      fit_from_legs(model, out.tool.payload, data.base_sides, data.tool_sides, data.readings,
-                    model.nominal(), out.world.robot_T_fixture, data.flange_T_tool, options);
+  std::vector<LegPlacement> legs;
+  for (size_t p = 0; p < placements.size(); ++p)
+    legs.push_back({placements[p].base_sides, placements[p].readings,
+                    out.placement_worlds[p].robot_T_fixture});
+  const SessionData& first = placements.front();
+  const LegFitResult fit = fit_from_legs(model, out.tool.payload, first.tool_sides, legs,
+                                         model.nominal(), first.flange_T_tool, options);
   out.robot = leg_fit_robot(model, out.tool.payload, fit, out.world.robot_T_fixture);
   out.robot.level = level_name(level);
   YAML::Node stats;
@@ -48,21 +52,31 @@ SessionFit parse_session_fit(const std::string& text) {
                    fmt::format("unknown fit '{}': expected poses or legs", text));
 }
 
-SessionCalibration calibrate_sessions(const SessionData& data, const RobotModel& model,
-                                      const PointMass& payload,
+SessionCalibration calibrate_sessions(const std::vector<SessionData>& placements,
+                                      const RobotModel& model, const PointMass& payload,
                                       const SessionCalibrationRequest& request) {
+  if (placements.empty()) throw InputError({"", 0, 0, "--session"}, "expected a session");
   if (request.fit == SessionFit::Legs && request.relative)
     throw InputError({"", 0, 0, "--relative"}, "the leg fit always identifies the base cups");
+  if (request.fit == SessionFit::Poses && placements.size() > 1)
+    throw InputError(
+        {placements[1].source, 0, 0, "--fit"},
+        fmt::format("sessions of {} base-fixture placements: the pose fit has one world frame; "
+                    "calibrate them together with --fit legs (each placement's base cups are "
+                    "identified, docs/method/08-world-frame.md §4)",
+                    placements.size()));
   check_orientation_weight(request.orientation_weight_mm);
+  const SessionData& data = placements.front();
   SessionCalibration out;
   out.fit = request.fit;
   out.relative = request.relative;
   out.orientation_weight_mm = request.orientation_weight_mm;
-  out.world = session_world_frame(data);
+  for (const SessionData& p : placements) out.placement_worlds.push_back(session_world_frame(p));
+  out.world = out.placement_worlds.front();
   out.tool = hexapod_tool(payload, data.flange_T_tool, data.tool_sides);
   out.poses = session_pose_measurements(data);
   if (request.fit == SessionFit::Legs) {
-    fit_legs(data, model, request.level, out);
+    fit_legs(placements, model, request.level, out);
     return out;
   }
   IdentifyOptions options;
@@ -92,15 +106,35 @@ nlohmann::json session_summary_json(const SessionData& data, const WorldFrameFit
           {"world_frame_rms_mm", rounded(world.rms_mm)}};
 }
 
-nlohmann::json session_calibration_json(const SessionData& data, const RobotModel& model,
-                                        const SessionCalibration& c, const std::string& output) {
+nlohmann::json session_calibration_json(const std::vector<SessionData>& placements,
+                                        const RobotModel& model, const SessionCalibration& c,
+                                        const std::string& output) {
+  const SessionData& data = placements.front();
   nlohmann::json out = session_summary_json(data, c.world);
+  size_t readings = data.readings.size();
+  if (placements.size() > 1) {
+    out["placements"] = nlohmann::json::array();
+    std::string sources;
+    readings = 0;
+    int pending = 0;
+    for (size_t p = 0; p < placements.size(); ++p) {
+      out["placements"].push_back(session_summary_json(placements[p], c.placement_worlds[p]));
+      sources += (p > 0 ? ", " : "") + placements[p].source;
+      readings += placements[p].readings.size();
+      pending += placements[p].pending;
+      for (const RetryConfiguration& r : placements[p].retry)
+        if (p > 0) out["configurations_to_retry"].push_back(r.config);
+    }
+    out["sessions"] = sources;
+    out["configurations_measured"] = readings;
+    out["configurations_pending"] = pending;
+  }
   out["robot"] = model.name;
   out["level"] = c.robot.level;
   if (c.legs) {
     const LegFitResult& fit = *c.legs;
     out["fit"] = "legs";
-    out["rows"] = data.readings.size();
+    out["rows"] = readings;
     out["residuals"] = fit.residuals;
     out["converged"] = fit.converged;
     out["iterations"] = fit.iterations;

@@ -7,6 +7,7 @@
 
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/hexapod/cup_collision.hpp"
 
 namespace robcal::hexapod {
 namespace {
@@ -96,6 +97,25 @@ SessionData load_session_data(const std::filesystem::path& session,
   return data;
 }
 
+namespace {
+
+/// The tool fixture mount of `d` against the one of `first` (one tool fixture throughout).
+void check_same_tool_mount(const SessionData& d, const SessionData& first) {
+  if ((d.flange_T_tool.p - first.flange_T_tool.p).norm() > 1e-6 ||
+      (d.flange_T_tool.R - first.flange_T_tool.R).norm() > 1e-9)
+    throw InputError(
+        {d.source, 0, 0, "tool_mount"},
+        fmt::format("the tool fixture mount differs from the one of {}", first.source));
+}
+
+bool same_placement(const SessionData& a, const SessionData& b) {
+  for (int i = 0; i < 3; ++i)
+    if ((a.setting_points[i] - b.setting_points[i]).norm() > 1e-6) return false;
+  return true;
+}
+
+}  // namespace
+
 SessionData merge_sessions(const std::vector<SessionData>& sessions) {
   if (sessions.empty()) throw InputError({"", 0, 0, "--session"}, "expected at least one session");
   SessionData out = sessions.front();
@@ -103,17 +123,13 @@ SessionData merge_sessions(const std::vector<SessionData>& sessions) {
   for (const LegReadings& r : out.readings) measured.insert(r.config);
   for (size_t s = 1; s < sessions.size(); ++s) {
     const SessionData& d = sessions[s];
-    for (int i = 0; i < 3; ++i)
-      if ((d.setting_points[i] - out.setting_points[i]).norm() > 1e-6)
-        throw InputError({d.source, 0, 0, "setting_ball"},
-                         fmt::format("the base cups were placed elsewhere than in {}: sessions of "
-                                     "different cells cannot be combined",
-                                     out.source));
-    if ((d.flange_T_tool.p - out.flange_T_tool.p).norm() > 1e-6 ||
-        (d.flange_T_tool.R - out.flange_T_tool.R).norm() > 1e-9)
-      throw InputError(
-          {d.source, 0, 0, "tool_mount"},
-          fmt::format("the tool fixture mount differs from the one of {}", out.source));
+    if (!same_placement(d, out))
+      throw InputError({d.source, 0, 0, "setting_ball"},
+                       fmt::format("the base cups were placed elsewhere than in {}: sessions of "
+                                   "different placements are calibrated together by `hexapod "
+                                   "calibrate`, not merged",
+                                   out.source));
+    check_same_tool_mount(d, out);
     out.source += ", " + d.source;
     out.pending += d.pending;
     for (const LegReadings& r : d.readings) {
@@ -130,6 +146,52 @@ SessionData merge_sessions(const std::vector<SessionData>& sessions) {
     return measured.count(r.config) > 0 || !seen.insert(r.config).second;
   });
   return out;
+}
+
+std::vector<SessionData> group_placements(const std::vector<SessionData>& sessions) {
+  if (sessions.empty()) throw InputError({"", 0, 0, "--session"}, "expected at least one session");
+  std::vector<std::vector<SessionData>> groups;
+  for (const SessionData& s : sessions) {
+    check_same_tool_mount(s, sessions.front());
+    auto group = std::find_if(groups.begin(), groups.end(),
+                              [&](const auto& g) { return same_placement(g.front(), s); });
+    if (group != groups.end()) {
+      group->push_back(s);
+      continue;
+    }
+    // A new placement: its cups must stand apart from every earlier placement's.
+    const double clearance = CupClearance{}.cup_diameter_mm;
+    for (size_t g = 0; g < groups.size(); ++g)
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) {
+          const double gap = (s.setting_points[a] - groups[g].front().setting_points[b]).norm();
+          if (gap < clearance)
+            throw InputError(
+                {s.source, 0, 0, "setting_ball"},
+                fmt::format(
+                    "placement {} overlaps placement {} ({}): its base cup B{} is {:.1f} mm "
+                    "from their B{} (cups stand at least {} mm apart); give each "
+                    "placement once, or re-plan this one elsewhere",
+                    groups.size() + 1, g + 1, groups[g].front().source, a + 1, gap, b + 1,
+                    clearance));
+        }
+    groups.push_back({s});
+  }
+  std::vector<SessionData> out;
+  out.reserve(groups.size());
+  for (const std::vector<SessionData>& g : groups) out.push_back(merge_sessions(g));
+  return out;
+}
+
+std::vector<SessionData> load_placements(const std::vector<std::string>& sessions,
+                                         const std::filesystem::path& plan) {
+  if (!plan.empty() && sessions.size() != 1)
+    throw InputError({"", 0, 0, "--plan"},
+                     "--plan goes with one journal; give several sessions as directories");
+  std::vector<SessionData> all;
+  all.reserve(sessions.size());
+  for (const std::string& s : sessions) all.push_back(load_session_data(s, plan));
+  return group_placements(all);
 }
 
 WorldFrameFit session_world_frame(const SessionData& data) {
@@ -182,13 +244,13 @@ Pose<double> required_flange_pose(const SessionData& data, const WorldFrameFit& 
 
 SessionData load_sessions(const std::vector<std::string>& sessions,
                           const std::filesystem::path& plan) {
-  if (!plan.empty() && sessions.size() != 1)
-    throw InputError({"", 0, 0, "--plan"},
-                     "--plan goes with one journal; give several sessions as directories");
-  std::vector<SessionData> all;
-  all.reserve(sessions.size());
-  for (const std::string& s : sessions) all.push_back(load_session_data(s, plan));
-  return merge_sessions(all);
+  const std::vector<SessionData> placements = load_placements(sessions, plan);
+  if (placements.size() > 1)
+    throw InputError({placements[1].source, 0, 0, "setting_ball"},
+                     fmt::format("the base cups were placed elsewhere than in {}: give the "
+                                 "sessions of one placement",
+                                 placements[0].source));
+  return placements.front();
 }
 
 }  // namespace robcal::hexapod

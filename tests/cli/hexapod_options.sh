@@ -63,4 +63,18 @@ grep -q "not below its range" "$tmp/err"
 [ $? = 2 ] || exit 1
 grep -q "keep-out box 'shelf'" "$tmp/err"
 set -e
+# A fourth base cup off the plane (60 mm up over the centroid) with two legs to it: the
+# least-squares DKP gives back the tool cups of the three-cup solution with every leg at 300 mm.
+"$ROBCAL" hexapod dkp --legs 300,300,300,300,300,300 --json > "$tmp/dkp3.json"
+"$ROBCAL" hexapod dkp --base-mm 300,299.999999969,299.999999969,183.303027808,183.303027808,183.303027744 \
+  --tool-mm 150 --legs B1-T1=300,B1-T2=300,B2-T1=300,B2-T2=300,B2-T3=300,B3-T1=299.99999998,B4-T2=243.541821319,B4-T3=276.389661692 \
+  --json > "$tmp/dkp4.json"
+python3 - "$tmp/dkp3.json" "$tmp/dkp4.json" <<'PY'
+import json, sys
+three, four = (json.load(open(p))["solutions"][0] for p in sys.argv[1:])
+assert four["rms_residual_mm"] < 1e-6, four
+worst = max(abs(a - b) for c3, c4 in zip(three["tool_cups_mm"], four["tool_cups_mm"]) for a, b in zip(c3, c4))
+assert worst < 1e-6, worst
+assert all(2 < u < 4 for u in four["uncertainty_sigma_multiple"]), four
+PY
 echo "hexapod options: gauge ±5 mm 0 out of range (±1 mm: $(json "$tmp/s1.json" "d['out_of_range_first_pass']")), 54 poses refused for a 300 mm tool, shelf rejected $rejected of $free configurations"

@@ -98,6 +98,18 @@ def test_place_ranks_unreachable_last_and_pairs_beat_their_members():
         assert pair["predicted_mean_mm"] < min(a, b)
 
 
+def test_place_next_after_a_measured_placement(tmp_path):
+    plan = hexapod.plan("fanuc-lrmate200ic", placement=(450, 200, 300, 0))
+    plan.save(str(tmp_path / "a.json"))
+    r = hexapod.place(x_mm=[350, 450], y_mm=[-200, 200], z_mm=[300], validation=200, best=3,
+                      measured=[str(tmp_path / "a.json")])
+    assert r["measured"]["configurations"] == len(plan)
+    assert all(n["placement"] != "450,200,300,0" for n in r["next"])  # overlapping: left out
+    assert r["next"][0]["predicted_mean_mm"] < r["measured"]["predicted_mean_mm"]
+    with pytest.raises(robcal.InputError, match="overlaps the one of"):
+        hexapod.place(measured=[str(tmp_path / "a.json")] * 2)
+
+
 def test_device_validation_scatter_matches_gum():
     modes = hexapod.device_validation(poses=1000, reference_sigma_mm=0.001, seed=3)["modes"]
     assert [m["mode"] for m in modes] == [1, 2, 3, 4]

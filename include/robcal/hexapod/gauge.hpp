@@ -29,4 +29,8 @@ void check_gauge(const LengthGauge& gauge, const std::string& range_key,
 std::string fixture_range_problem(const HexapodGeometry& geometry, double tool_setup_mm,
                                   const LengthGauge& gauge);
 
+/// The same for a plan (tool sides at their own nominal length), as an InputError with key
+/// "--gauge-range-mm": such fixtures are out of range at every placement.
+void check_fixture_range(const HexapodGeometry& geometry, const LengthGauge& gauge);
+
 }  // namespace robcal::hexapod

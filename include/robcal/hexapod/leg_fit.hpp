@@ -5,7 +5,9 @@
 /// every leg |B_a − H(q)·T_b| and the fixture sides — and whose unknowns are the robot's
 /// parameters (relative model, docs/method/03-error-model.md: base held), the base cups in the
 /// robot frame, the tool cups in the flange frame and the ballbar's length offset at its leg
-/// set-up.
+/// set-up. Several base-fixture placements each bring their own base cups (their world-frame
+/// unknowns, docs/method/08-world-frame.md §4); the robot, the tool cups and the offset are
+/// shared.
 ///
 /// Dependencies handled by name: with free tool cups, link6.d and link6.theta only move the cups
 /// (a shift along and a turn about the flange axis) and are held; any further rank deficiency of
@@ -28,11 +30,11 @@ struct LegFitOptions {
 
 struct LegFitResult {
   ParameterVector params = ParameterVector::Zero();
-  Cups<double> base_cups_robot;   ///< robot frame, mm
-  Cups<double> tool_cups_flange;  ///< flange frame, mm
-  double length_offset_mm = 0;    ///< true length = reading + offset (leg set-up)
-  std::vector<int> identified;    ///< model parameters fitted
-  std::vector<std::string> held;  ///< unknowns held, each with why
+  std::vector<Cups<double>> base_cups_robot;  ///< per placement, robot frame, mm
+  Cups<double> tool_cups_flange;              ///< flange frame, mm
+  double length_offset_mm = 0;                ///< true length = reading + offset (leg set-up)
+  std::vector<int> identified;                ///< model parameters fitted
+  std::vector<std::string> held;              ///< unknowns held, each with why
   int residuals = 0;
   double initial_rms_mm = 0;
   double rms_mm = 0;
@@ -41,21 +43,38 @@ struct LegFitResult {
   std::string message;  ///< Ceres' termination reason
 };
 
-/// Fits from the readings. Start: `start_params`, the base cups where the world frame puts them
-/// (`robot_T_world` × the measured base triangle), the tool cups from the measured tool triangle
-/// through `flange_T_tool`, offset 0. Throws InputError when a start index is a base parameter.
+/// One base-fixture placement's data: its measured sides, the readings taken there and the world
+/// frame its cups were placed in (robot frame; world_frame.hpp).
+struct LegPlacement {
+  TriangleSides base_sides;
+  std::vector<LegReadings> readings;
+  Pose<double> robot_T_world;
+};
+
+/// Fits from the readings of one or more placements. Start: `start_params`, each placement's base
+/// cups where its world frame puts them (`robot_T_world` × its measured base triangle), the tool
+/// cups from the measured tool triangle through `flange_T_tool`, offset 0. Throws InputError when
+/// a start index is a base parameter or no placement is given.
+LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
+                           const TriangleSides& tool_sides,
+                           const std::vector<LegPlacement>& placements,
+                           const ParameterVector& start_params, const Pose<double>& flange_T_tool,
+                           const LegFitOptions& options);
+
+/// One placement.
 LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
                            const TriangleSides& base_sides, const TriangleSides& tool_sides,
                            const std::vector<LegReadings>& readings,
                            const ParameterVector& start_params, const Pose<double>& robot_T_world,
                            const Pose<double>& flange_T_tool, const LegFitOptions& options);
 
-/// The leg fit as a calibrated robot in the frame of the pose fit: the world frame the base cups
-/// define seen from the robot frame through `robot_T_world` (world_frame.hpp). The fitted base
-/// cups give that world frame in the fit's own robot frame; the six base parameters carry the
-/// difference, written exactly as world_A_1 = Trans(x, y, d1 + z) · Rx Ry Rz(γ + θ1), and the
-/// gravity vector is turned with them (the compliance sees the same torques). Its tool: the
-/// fitted tool cups as targets T1..T3, the tool fixture frame they define as TCP.
+/// The leg fit as a calibrated robot in the frame of the pose fit: the world frame the (first
+/// placement's) base cups define seen from the robot frame through `robot_T_world`
+/// (world_frame.hpp). The fitted base cups give that world frame in the fit's own robot frame; the
+/// six base parameters carry the difference, written exactly as world_A_1 = Trans(x, y, d1 + z) ·
+/// Rx Ry Rz(γ + θ1), and the gravity vector is turned with them (the compliance sees the same
+/// torques). Its tool: the fitted tool cups as targets T1..T3, the tool fixture frame they define
+/// as TCP.
 CalibratedRobot leg_fit_robot(const RobotModel& model, const PointMass& payload,
                               const LegFitResult& fit, const Pose<double>& robot_T_world);
 

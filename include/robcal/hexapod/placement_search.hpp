@@ -6,10 +6,11 @@
 /// clearance), and its measurable configurations are scored by the accuracy they predict over the
 /// whole workspace: C = σ²·(JᵀJ)⁻¹ of the pose rows (design/predicted_accuracy.hpp) propagated to
 /// random configurations in the joint limits (identify/accuracy_prediction.hpp). Pairs of the best
-/// placements are scored the same way on the union of their configurations, assuming one world
-/// frame shared by the placements (the second fixture's cups measured from the first's, issue 20
-/// item 1) — and at the same number of configurations as one placement (every other configuration
-/// of each), the fair comparison.
+/// placements are scored the same way on the union of their configurations, each placement beyond
+/// the first with its own six world-frame unknowns (docs/method/08-world-frame.md §4) — and at the
+/// same number of configurations as one placement (every other configuration of each), the fair
+/// comparison. Given the placements already measured, every grid placement is ranked as the next
+/// one by what it adds to them (PlacementSearchResult::next).
 
 #include <array>
 #include <cstdint>
@@ -23,6 +24,19 @@
 
 namespace robcal::hexapod {
 
+/// A placement already measured: its plan's configurations.
+struct MeasuredPlacement {
+  std::string source;                 ///< the plan file, for messages
+  std::array<double, 4> placement{};  ///< x, y, z (mm), yaw (deg)
+  double tilt_deg = 0;
+  Cups<double> setting_points;   ///< where the robot put the base cups, robot frame
+  std::vector<Vector6d> joints;  ///< the configurations (controller, rad)
+};
+
+/// The measured placement of a plan written by `robcal hexapod plan`; InputError naming `source`
+/// and the key when the plan has no cell or a configuration no joints.
+MeasuredPlacement measured_placement(const HexapodPlan& plan, const std::string& source);
+
 struct PlacementSearchRequest {
   /// Robot, fixtures, offsets, pruning, gauge, cup screening and workcell of every placement;
   /// its placement and tilt are replaced by each grid point.
@@ -35,6 +49,8 @@ struct PlacementSearchRequest {
   int validation_configurations = 2000;  ///< random configurations in the joint limits
   uint64_t seed = 1;
   int pair_candidates = 6;  ///< pairs are searched among this many best single placements
+  /// Placements already measured (none: no `next` ranking). Each once, apart from each other.
+  std::vector<MeasuredPlacement> measured;
 };
 
 struct PlacementScore {
@@ -62,6 +78,14 @@ struct PlacementPair {
   double equal_count_mean_mm = 0;
 };
 
+/// A grid placement as the next one after the measured placements: the prediction of all their
+/// configurations and its own, each placement but the first with its own world frame.
+struct NextPlacement {
+  int rank = -1;  ///< index into PlacementSearchResult::ranked
+  int configurations = 0, undetermined = 0;
+  double predicted_mean_mm = 0, predicted_max_mm = 0;
+};
+
 struct PlacementSearchResult {
   /// Every grid placement, best first: usable ones with every parameter determined by predicted
   /// mean error, then those leaving parameters undetermined, then unusable ones.
@@ -71,12 +95,32 @@ struct PlacementSearchResult {
   /// The design's parameters (layout indices): the level's less those no placement determines.
   std::vector<int> identified_parameters;
   double pose_sigma_mm = 0;
+  /// With measured placements: their prediction alone, and the grid placements as the next one,
+  /// best first (those overlapping a measured placement, unusable or with nothing to measure
+  /// left out).
+  int measured_configurations = 0, measured_undetermined = 0;
+  double measured_mean_mm = 0, measured_max_mm = 0;
+  std::vector<NextPlacement> next;
 };
 
 /// Throws InputError on bad fixtures, gauge or grid (an empty axis, more than 2000 placements),
-/// or a robot without closed-form IK.
+/// a robot without closed-form IK, no grid placement with a configuration to measure, or measured
+/// placements given twice or overlapping (a cup within a cup diameter of another placement's).
 PlacementSearchResult search_placements(const RobotModel& model,
                                         const PlacementSearchRequest& request);
+
+/// The I-optimal choice of `count` configurations among those of `plans` (one per placement,
+/// written by `robcal hexapod plan`): design/task_selection.hpp's select_i_optimal on the pose
+/// Jacobian with each placement's world-frame columns (placements × poses × configurations), the
+/// task region being the validation configurations in the joint limits; and what it predicts.
+/// Level, σ multiple, gauge σ, validation and seed come from `request`.
+struct PlacementsDesign {
+  std::vector<std::vector<int>> chosen;  ///< per plan, indices into its configurations
+  int undetermined = 0;
+  double predicted_mean_mm = 0, predicted_max_mm = 0;
+};
+PlacementsDesign design_placements(const RobotModel& model, const std::vector<HexapodPlan>& plans,
+                                   int count, const PlacementSearchRequest& request);
 
 /// The result as `robcal hexapod place --json` prints it (the `best` first placements and pairs).
 nlohmann::json placement_search_json(const PlacementSearchResult& result, int best);

@@ -4,10 +4,12 @@
 /// docs/method/07-hexapod.md): the world frame from the base cups, then either identification on
 /// the tool fixture poses that the direct kinematics gives (`robcal calibrate` on them), or the fit
 /// straight from the raw leg lengths with the cups and the ballbar's offset (leg_fit.hpp), written
-/// in the frame of the pose fit.
+/// in the frame of the pose fit. Sessions of several base-fixture placements calibrate together by
+/// the leg fit, each placement with its own base cups (docs/method/08-world-frame.md §4).
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -33,27 +35,31 @@ struct SessionCalibration {
   SessionFit fit = SessionFit::Poses;
   bool relative = false;
   double orientation_weight_mm = 0;
-  WorldFrameFit world;
-  Tool tool;             ///< the tool fixture's cups and the payload carried
-  MeasurementSet poses;  ///< the tool fixture poses (the poses fit's rows)
+  WorldFrameFit world;  ///< of the first placement: the calibrated model's frame
+  std::vector<WorldFrameFit> placement_worlds;  ///< every placement's, in order
+  Tool tool;                                    ///< the tool fixture's cups and the payload carried
+  MeasurementSet poses;  ///< the tool fixture poses of the first placement (the poses fit's rows)
   std::optional<IdentificationResult> identification;  ///< poses fit
   std::optional<LegFitResult> legs;                    ///< legs fit
   CalibratedRobot robot;
   std::string model_file;  ///< the calibrated model file's text (with the fit's statistics)
 };
 
-/// Calibrates `model` carrying `payload` from the sessions' data. Throws InputError for a bad
-/// request (orientation weight, the leg fit with `relative`).
-SessionCalibration calibrate_sessions(const SessionData& data, const RobotModel& model,
-                                      const PointMass& payload,
+/// Calibrates `model` carrying `payload` from the sessions' data, one SessionData per placement
+/// (load_placements). Throws InputError for a bad request (orientation weight, the leg fit with
+/// `relative`, the pose fit with several placements: it has one world frame).
+SessionCalibration calibrate_sessions(const std::vector<SessionData>& placements,
+                                      const RobotModel& model, const PointMass& payload,
                                       const SessionCalibrationRequest& request);
 
 /// {sessions, configurations_measured, configurations_to_retry, configurations_pending,
 /// tool_sides_mm, base_sides_mm, world_frame_rms_mm}.
 nlohmann::json session_summary_json(const SessionData& data, const WorldFrameFit& world);
 
-/// The summary and the fit's figures, `output` naming the model file written.
-nlohmann::json session_calibration_json(const SessionData& data, const RobotModel& model,
+/// The summary (over every placement; with several, `placements` holds each one's) and the
+/// fit's figures, `output` naming the model file written.
+nlohmann::json session_calibration_json(const std::vector<SessionData>& placements,
+                                        const RobotModel& model,
                                         const SessionCalibration& calibration,
                                         const std::string& output);
 

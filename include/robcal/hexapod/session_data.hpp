@@ -11,6 +11,8 @@
 /// configurations to retry need (for re-planning them on a preliminary model).
 ///
 /// Several sessions of one cell combine: the first pass and the re-measurement of its retries.
+/// Sessions of several base-fixture placements (issue 20) are grouped by placement
+/// (load_placements): each placement has its own world frame (docs/method/08-world-frame.md §4).
 
 #include <filesystem>
 #include <string>
@@ -61,6 +63,18 @@ SessionData merge_sessions(const std::vector<SessionData>& sessions);
 /// key "--plan" when a plan is given with several sessions).
 SessionData load_sessions(const std::vector<std::string>& sessions,
                           const std::filesystem::path& plan = {});
+
+/// Sessions grouped by base-fixture placement (their setting-ball points), in the order each
+/// placement first appears, each group merged as merge_sessions does. Throws InputError naming
+/// the session and key when two placements' base cups overlap (a cup of one within a cup diameter,
+/// 25 mm, of a cup of another: the same placement given twice with different points, or fixtures
+/// that cannot both stand there) or the tool fixture mount differs between placements.
+std::vector<SessionData> group_placements(const std::vector<SessionData>& sessions);
+
+/// Loads sessions and groups them by placement (InputError with key "--plan" when a plan is given
+/// with several sessions).
+std::vector<SessionData> load_placements(const std::vector<std::string>& sessions,
+                                         const std::filesystem::path& plan = {});
 
 /// World frame from the planned setting-ball points and the measured base sides.
 WorldFrameFit session_world_frame(const SessionData& data);

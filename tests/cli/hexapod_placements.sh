@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# Two base-fixture placements calibrated together (issue 20 item 1): plans at two placements, a
+# ±5 mm gauge (every leg readable on the uncalibrated robot), simulated readings of one true robot
+# (same seed), the first session run straight, the second killed midway (SIGKILL) and resumed;
+# `hexapod calibrate --fit legs` on both sessions identifies each placement's base cups and is
+# validated on simulated laser-tracker points of the first placement's world. `hexapod place
+# --measured` proposes the next placement. Bad input: the pose fit with two placements, the same
+# placement given twice (overlapping cups), a measured plan given twice.
+set -euo pipefail
+ROBCAL="$1" tmp=$(mktemp -d) pid=""
+trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
+json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
+fail() { echo "hexapod placements: $*" >&2; exit 1; }
+mkdir -p "$tmp/a" "$tmp/b" "$tmp/c"
+
+"$ROBCAL" hexapod plan --placement 500,300,150,0 --gauge-range-mm 5 --out "$tmp/a/plan.json" > /dev/null
+"$ROBCAL" hexapod plan --placement 350,0,300,0 --gauge-range-mm 5 --out "$tmp/b/plan.json" > /dev/null
+"$ROBCAL" hexapod simulate-readings --plan "$tmp/a/plan.json" --seed 5 --out "$tmp/ra.txt" \
+  --tool-out "$tmp/tool.yaml" --validation-out "$tmp/val.csv" --validation 500 --json > "$tmp/sa.json"
+"$ROBCAL" hexapod simulate-readings --plan "$tmp/b/plan.json" --seed 5 --out "$tmp/rb.txt" --json > "$tmp/sb.json"
+[ "$(json "$tmp/sa.json" "d['legs_out_of_range']")" = 0 ] || fail "legs out of the ±5 mm range"
+[ "$(json "$tmp/sb.json" "d['legs_out_of_range']")" = 0 ] || fail "legs out of the ±5 mm range"
+"$ROBCAL" hexapod session --plan "$tmp/a/plan.json" --journal "$tmp/a/journal.jsonl" < "$tmp/ra.txt" > /dev/null
+
+# The second placement's session: killed once its journal holds 40 readings, then resumed.
+valid_before_kill=40
+mkfifo "$tmp/fifo"
+"$ROBCAL" hexapod session --plan "$tmp/b/plan.json" --journal "$tmp/b/journal.jsonl" < "$tmp/fifo" > /dev/null &
+pid=$!
+exec 3> "$tmp/fifo"
+head -n "$valid_before_kill" "$tmp/rb.txt" >&3
+for _ in $(seq 1 1200); do
+  [ -f "$tmp/b/journal.jsonl" ] && [ "$(wc -l < "$tmp/b/journal.jsonl")" -ge "$valid_before_kill" ] && break
+  sleep 0.05
+done
+[ "$(wc -l < "$tmp/b/journal.jsonl")" -eq "$valid_before_kill" ] || fail "journal not at $valid_before_kill"
+kill -9 "$pid"
+wait "$pid" 2>/dev/null || true
+pid=""
+exec 3>&-
+# Before the resume, the partial second session calibrates with the first (its measured part).
+"$ROBCAL" hexapod calibrate --session "$tmp/a" --session "$tmp/b" --fit legs --tool "$tmp/tool.yaml" \
+  --out "$tmp/partial.yaml" --json > "$tmp/partial.json"
+[ "$(json "$tmp/partial.json" "d['configurations_pending'] > 0 and len(d['placements']) == 2")" = True ] ||
+  fail "partial: $(cat "$tmp/partial.json")"
+tail -n +$((valid_before_kill + 1)) "$tmp/rb.txt" |
+  "$ROBCAL" hexapod session --plan "$tmp/b/plan.json" --journal "$tmp/b/journal.jsonl" --resume > "$tmp/resumed.log"
+grep -q "$valid_before_kill readings replayed" "$tmp/resumed.log" || fail "resume: $(cat "$tmp/resumed.log")"
+
+"$ROBCAL" hexapod calibrate --session "$tmp/a" --session "$tmp/b" --fit legs --tool "$tmp/tool.yaml" \
+  --out "$tmp/both.yaml" --json > "$tmp/both.json"
+na=$(python3 -c "import json; print(len(json.load(open('$tmp/a/plan.json'))['configurations']))")
+nb=$(python3 -c "import json; print(len(json.load(open('$tmp/b/plan.json'))['configurations']))")
+python3 - "$tmp/both.json" "$na" "$nb" <<'PY' || fail "calibrate: $(cat "$tmp/both.json")"
+import json, sys
+d = json.load(open(sys.argv[1])); na, nb = int(sys.argv[2]), int(sys.argv[3])
+assert d["converged"], d
+assert len(d["placements"]) == 2
+assert [p["configurations_measured"] for p in d["placements"]] == [na, nb], d["placements"]
+assert d["configurations_measured"] == na + nb and d["configurations_pending"] == 0
+assert d["rms_mm"] < 1.2 * 0.00051, d["rms_mm"]  # the ballbar's σ: both world frames fitted
+assert any(h.startswith("link3.d") or h.startswith("link2.d") for h in d["held"])
+PY
+"$ROBCAL" hexapod calibrate --session "$tmp/a" --fit legs --tool "$tmp/tool.yaml" --out "$tmp/one.yaml" > /dev/null
+for m in both one; do
+  "$ROBCAL" validate --robot fanuc-lrmate200ic --tool "$tmp/tool.yaml" --model "$tmp/$m.yaml" \
+    --measurements "$tmp/val.csv" --json > "$tmp/val_$m.json"
+  # At the tracker-noise floor (mean of |N(0, 0.022² I)| = 0.0351 mm).
+  [ "$(json "$tmp/val_$m.json" "d['position_error_mm']['mean'] < 1.2 * 0.0351")" = True ] ||
+    fail "validation of $m: $(cat "$tmp/val_$m.json")"
+done
+
+# The next placement after the first.
+"$ROBCAL" hexapod place --measured "$tmp/a/plan.json" --x-mm 350,500 --y-mm -300,0,300 --z-mm 150,300 \
+  --yaw-deg 0,90 --validation 300 --best 3 --json > "$tmp/next.json"
+python3 - "$tmp/next.json" <<'PY' || fail "place --measured: $(cat "$tmp/next.json")"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert len(d["next"]) == 3
+assert d["next"][0]["placement"] != "500,300,150,0"
+assert d["next"][0]["predicted_mean_mm"] < d["measured"]["predicted_mean_mm"]
+PY
+
+# Bad input: exit 2, the place named, no output.
+expect_refusal() {  # fragment, command...
+  local fragment="$1"; shift
+  set +e
+  "$@" 2> "$tmp/err" > /dev/null
+  local rc=$?
+  set -e
+  [ "$rc" = 2 ] && grep -qF -- "$fragment" "$tmp/err" || fail "expected exit 2 and '$fragment': $(cat "$tmp/err")"
+}
+expect_refusal "(--fit): sessions of 2 base-fixture placements: the pose fit has one world frame" \
+  "$ROBCAL" hexapod calibrate --session "$tmp/a" --session "$tmp/b" --out "$tmp/x.yaml"
+[ ! -e "$tmp/x.yaml" ]
+# The same placement planned again 10 mm away: its cups would stand on the first's.
+"$ROBCAL" hexapod plan --placement 510,300,150,0 --gauge-range-mm 5 --out "$tmp/c/plan.json" > /dev/null
+head -n 6 "$tmp/a/journal.jsonl" > "$tmp/c/journal.jsonl"  # its fixture sides
+expect_refusal "$tmp/c (setting_ball): placement 2 overlaps placement 1 ($tmp/a): its base cup B1 is 10.0 mm" \
+  "$ROBCAL" hexapod calibrate --session "$tmp/a" --session "$tmp/c" --fit legs --out "$tmp/x.yaml"
+[ ! -e "$tmp/x.yaml" ]
+expect_refusal "(--measured): this placement overlaps the one of $tmp/a/plan.json" \
+  "$ROBCAL" hexapod place --measured "$tmp/a/plan.json" --measured "$tmp/a/plan.json"
+echo "hexapod placements: two placements (one session killed and resumed) calibrate together; fit rms $(json "$tmp/both.json" "d['rms_mm']") mm, validation mean $(json "$tmp/val_both.json" "d['position_error_mm']['mean']") mm (one placement $(json "$tmp/val_one.json" "d['position_error_mm']['mean']"))"

@@ -1,0 +1,190 @@
+// Several base-fixture placements in one calibration (issue 20 item 1,
+// docs/method/08-world-frame.md §4), simulated with one true robot and validated against it (no
+// instrument noise) over the whole workspace: the planner's best single placement (all its
+// configurations, N) against two placements — the planner's next placement added to it — at the
+// same N configurations (6N legs), split between them by the I-optimal design over both, and every
+// other configuration of each. The two-placement fit must reach the gauge noise (a world frame
+// shared by mistake would leave millimetres), and the figures are printed for the report. The
+// issue's expectation (two placements ≥ 30 % better at equal count) is what the printed ratio is
+// compared with; see the report.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+
+#include "refusal.hpp"
+#include "robcal/hexapod/placement_search.hpp"
+#include "robcal/hexapod/placements_simulation.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "test_support.hpp"
+
+namespace robcal::hexapod {
+namespace {
+
+struct TwoPlacements {
+  PlacementSearchRequest request;
+  PlacementScore best;
+  HexapodPlan first, second;
+  PlacementsDesign split;  ///< I-optimal, N configurations over both
+  PlacementSearchResult next;
+};
+
+TwoPlacements plan_two(const RobotModel& model, const std::string& robot) {
+  TwoPlacements t;
+  PlacementSearchRequest& request = t.request;
+  request.plan.robot = robot;
+  request.plan.gauge.range_mm = 5;  // every planned configuration readable on the true robot
+  request.x_mm = {350, 500};
+  request.y_mm = {-300, 0, 300};
+  request.z_mm = {150, 300};
+  request.yaw_deg = {0, 90};
+  request.validation_configurations = 300;
+  request.seed = 3;
+  const PlacementSearchResult singles = search_placements(model, request);
+  t.best = singles.ranked.front();
+  HexapodPlanRequest plan_request = request.plan;
+  plan_request.placement = t.best.placement;
+  t.first = plan_hexapod(model, plan_request);
+  request.measured = {measured_placement(t.first, "first")};
+  t.next = search_placements(model, request);
+  EXPECT_FALSE(t.next.next.empty());
+  plan_request.placement = t.next.ranked[t.next.next.front().rank].placement;
+  t.second = plan_hexapod(model, plan_request);
+  t.split = design_placements(model, {t.first, t.second},
+                              static_cast<int>(t.first.session.configurations.size()), request);
+  return t;
+}
+
+struct Figures {
+  PlacementsSimulation single, split, alternate;
+  PlacementsSimulation both;  ///< every configuration of both placements (2 N), when asked
+};
+
+Figures simulate(const RobotModel& model, const TwoPlacements& t, uint64_t seed,
+                 bool with_both = false) {
+  auto rng = test::seeded_rng(seed);
+  const PointMass payload{2.6, Eigen::Vector3d(50, 25, 100)};
+  const TrueRobot truth =
+      levelled_random_truth(model, payload, ErrorBounds{0.3, 0.1, 0.05e-6, 1.0, 0.1}, rng);
+  PlacementsSimulationOptions options;
+  options.validation_configurations = 1000;
+  options.validation_seed = seed + 1;
+  const auto run = [&](const std::vector<SimulatedPlacement>& placements) {
+    auto readings = test::seeded_rng(seed + 2);  // the same set-up and noise draws in each design
+    return simulate_placements(model, truth, payload, placements, options, readings);
+  };
+  // Every other configuration of each placement: N/2 + N/2.
+  const int n = static_cast<int>(t.first.session.configurations.size());
+  const int m = static_cast<int>(t.second.session.configurations.size());
+  std::vector<int> odd, even;
+  for (int k = 0; k < n; k += 2) odd.push_back(k);
+  for (int start : {0, 1})  // every other of the second, then the rest, up to N in all
+    for (int k = start; k < m && static_cast<int>(odd.size() + even.size()) < n; k += 2)
+      even.push_back(k);
+  std::sort(even.begin(), even.end());
+  Figures f;
+  std::vector<int> all(n);
+  std::iota(all.begin(), all.end(), 0);
+  f.single = run({{t.first, all}});
+  f.split = run({{t.first, t.split.chosen[0]}, {t.second, t.split.chosen[1]}});
+  f.alternate = run({{t.first, odd}, {t.second, even}});
+  EXPECT_EQ(f.alternate.configurations, n);
+  if (with_both) {
+    std::vector<int> second(m);
+    std::iota(second.begin(), second.end(), 0);
+    f.both = run({{t.first, all}, {t.second, second}});
+  }
+  return f;
+}
+
+TEST(HexapodPlacements, TwoPlacementsCalibrateTogetherAndArePlannedAgainstTheBestSingleOne) {
+  for (const char* robot : {"fanuc-lrmate200ic", "abb-irb120"}) {
+    SCOPED_TRACE(robot);
+    const RobotModel model = load_robot(robot);
+    const TwoPlacements t = plan_two(model, robot);
+    const int n = static_cast<int>(t.first.session.configurations.size());
+    // The next placement: apart from the first, and with all its configurations it predicts
+    // better than the first alone.
+    const NextPlacement& next = t.next.next.front();
+    EXPECT_NE(t.next.ranked[next.rank].placement, t.best.placement);
+    EXPECT_LT(next.predicted_mean_mm, t.next.measured_mean_mm);
+    EXPECT_NEAR(t.next.measured_mean_mm, t.best.predicted_mean_mm, 1e-9);
+    // The I-optimal split at N configurations predicts no worse than the single placement's N.
+    EXPECT_EQ(static_cast<int>(t.split.chosen[0].size() + t.split.chosen[1].size()), n);
+    EXPECT_LE(t.split.predicted_mean_mm, 1.02 * t.best.predicted_mean_mm);
+
+    const Figures f = simulate(model, t, 11);
+    for (const PlacementsSimulation* s : {&f.single, &f.split, &f.alternate}) {
+      EXPECT_TRUE(s->converged);
+      EXPECT_LT(s->fit_rms_mm, 1.2 * PlacementsSimulationOptions{}.sigma_mm);
+      EXPECT_LT(s->calibrated.mean, 0.01 * s->nominal.mean);
+    }
+    std::printf(
+        "%s: best single %s, %d configurations: predicted %.5f, achieved %.5f mean / %.5f max "
+        "(nominal %.3f)\n  next placement %s: I-optimal split %zu + %zu predicted %.5f, achieved "
+        "%.5f / %.5f (ratio %.2f); every other of each %d: achieved %.5f / %.5f (ratio %.2f)\n",
+        robot, placement_text(t.best.placement).c_str(), n, t.best.predicted_mean_mm,
+        f.single.calibrated.mean, f.single.calibrated.max, f.single.nominal.mean,
+        placement_text(t.next.ranked[next.rank].placement).c_str(), t.split.chosen[0].size(),
+        t.split.chosen[1].size(), t.split.predicted_mean_mm, f.split.calibrated.mean,
+        f.split.calibrated.max, f.split.calibrated.mean / f.single.calibrated.mean,
+        f.alternate.configurations, f.alternate.calibrated.mean, f.alternate.calibrated.max,
+        f.alternate.calibrated.mean / f.single.calibrated.mean);
+  }
+}
+
+// The slower version (run with --gtest_also_run_disabled_tests): eight true robots per arm, the
+// mean ratio of the two-placement designs' whole-workspace error to the single placement's.
+TEST(HexapodPlacements, DISABLED_TwoPlacementsOverEightTrueRobots) {
+  for (const char* robot : {"fanuc-lrmate200ic", "abb-irb120"}) {
+    const RobotModel model = load_robot(robot);
+    const TwoPlacements t = plan_two(model, robot);
+    double split = 0, alternate = 0, better = 0, both = 0, registered_alternate = 0,
+           registered_both = 0;
+    const int seeds = 8;
+    for (int seed = 1; seed <= seeds; ++seed) {
+      const Figures f = simulate(model, t, static_cast<uint64_t>(seed) * 100, true);
+      EXPECT_LT(f.both.fit_rms_mm, 1.2 * PlacementsSimulationOptions{}.sigma_mm);
+      both += f.both.calibrated.mean / f.single.calibrated.mean / seeds;
+      registered_alternate += f.alternate.registered.mean / f.single.registered.mean / seeds;
+      registered_both += f.both.registered.mean / f.single.registered.mean / seeds;
+      split += f.split.calibrated.mean / f.single.calibrated.mean / seeds;
+      alternate += f.alternate.calibrated.mean / f.single.calibrated.mean / seeds;
+      better += f.alternate.calibrated.mean < 0.7 * f.single.calibrated.mean ? 1 : 0;
+    }
+    std::printf(
+        "%s, %d true robots: mean ratio to the single placement: I-optimal split (%zu + %zu) %.2f, "
+        "every other of each %.2f (≥ 30 %% better in %g of %d); all of both (2 N) %.2f; after a "
+        "rigid best fit: every other of each %.2f, all of both %.2f\n",
+        robot, seeds, t.split.chosen[0].size(), t.split.chosen[1].size(), split, alternate, better,
+        seeds, both, registered_alternate, registered_both);
+  }
+}
+
+TEST(HexapodPlacements, MeasuredPlacementsGivenTwiceAreRefused) {
+  const RobotModel model = load_robot("fanuc-lrmate200ic");
+  PlacementSearchRequest request;
+  HexapodPlanRequest plan_request;
+  const HexapodPlan plan = plan_hexapod(model, plan_request);
+  request.measured = {measured_placement(plan, "a.json"), measured_placement(plan, "b.json")};
+  EXPECT_REFUSED(
+      search_placements(model, request), InputError,
+      "b.json (--measured): this placement overlaps the one of a.json: its base cup B1 is "
+      "0.0 mm from their B1");
+  // 10 mm apart: still within a cup diameter.
+  plan_request.placement[0] += 10;
+  request.measured[1] = measured_placement(plan_hexapod(model, plan_request), "b.json");
+  EXPECT_REFUSED(search_placements(model, request), InputError, "is 10.0 mm from their B1");
+}
+
+TEST(HexapodPlacements, AGridWithNothingToMeasureIsRefused) {
+  const RobotModel model = load_robot("fanuc-lrmate200ic");
+  PlacementSearchRequest request;
+  request.x_mm = {1500, 2000};  // beyond the LR Mate's reach
+  EXPECT_REFUSED(search_placements(model, request), InputError,
+                 "placement grid: none of the 2 placements has a configuration to measure");
+}
+
+}  // namespace
+}  // namespace robcal::hexapod
