@@ -26,14 +26,14 @@ namespace robcal {
 namespace {
 
 TEST(PeriodicErrors, NamesUnitsAndGroups) {
-  EXPECT_EQ(kParameterCount, 61);
+  EXPECT_EQ(kParameterCount, 67);
   EXPECT_EQ(parameter_table()[periodic_param(6, 2, true)].name, "joint6.periodic2.sin");
   EXPECT_EQ(parameter_table()[periodic_param(1, 1, false)].name, "joint1.periodic1.cos");
   EXPECT_EQ(parameter_table()[periodic_param(3, 1, true)].unit, "deg");
   EXPECT_EQ(parameter_index("joint4.periodic2.cos"), periodic_param(4, 2, false));
   EXPECT_EQ(match_parameters("joint6.periodic*").size(), 4u);
   EXPECT_EQ(match_parameters("*.periodic1.*").size(), 12u);
-  ASSERT_EQ(opt_in_groups().size(), 6u);
+  ASSERT_EQ(opt_in_groups().size(), 12u);
   EXPECT_EQ(opt_in_groups()[5].name, "joint6.periodic");
   EXPECT_FALSE(is_opt_in(scale_param(6)));
   EXPECT_TRUE(is_opt_in(periodic_param(1, 1, false)));
@@ -69,7 +69,7 @@ TEST(PeriodicErrors, ForwardModelShiftsTheJointAngle) {
 CalibratedRobot calibrated_with_periodic(const char* name, std::mt19937_64& rng) {
   CalibratedRobot robot = test::random_calibrated(name, rng);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (int i = kPeriodicOffset; i < kParameterCount; ++i) robot.params[i] = deg2rad(0.03 * u(rng));
+  for (int i = kPeriodicOffset; i < kBacklashOffset; ++i) robot.params[i] = deg2rad(0.03 * u(rng));
   return robot;
 }
 
@@ -275,7 +275,7 @@ TEST(PeriodicErrors, TruthFileRoundTrip) {
   const std::string text = truth_to_yaml(truth, "abb-irb120");
   EXPECT_NE(text.find("periodic_deg"), std::string::npos);
   const TrueRobot back = parse_truth(yaml::parse(text, "truth.yaml"));
-  for (int i = kPeriodicOffset; i < kParameterCount; ++i)
+  for (int i = kPeriodicOffset; i < kBacklashOffset; ++i)
     EXPECT_NEAR(back.robot.params[i], truth.robot.params[i], 1e-15) << parameter_table()[i].name;
   std::string bad = text;
   const size_t at = bad.find("periodic_deg:\n  2:");
