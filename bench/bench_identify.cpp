@@ -5,8 +5,8 @@
 // set, converged to the same tolerances; both report their iterations.
 
 #include <benchmark/benchmark.h>
-#include <cmath>
 #include <ceres/ceres.h>
+#include <cmath>
 
 #include <random>
 

@@ -80,9 +80,9 @@ TEST(Backlash, ForwardModelIsTheSimulatorsDeadBand) {
     EXPECT_LT((real.R - model.R).norm(), 1e-12);
     // The effect is there: from the other side the flange moves by the dead bands.
     const Vector6d other = -approach;
-    EXPECT_GT((flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, &other).p - model.p)
-                  .norm(),
-              1e-3);
+    EXPECT_GT(
+        (flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, &other).p - model.p).norm(),
+        1e-3);
   }
   // Unknown side (0): the middle of the band, half-way between the two sides' joint angles.
   const Vector6d q = test::random_joints(truth.robot.model, rng);
@@ -198,12 +198,12 @@ TEST(Backlash, MeasurementFileApproachColumn) {
                 .approach,
             Vector6d::Ones());
   for (const char* bad : {"++-+0", "++-+0-+", "++x+++", "", "+1-+++"})
-    EXPECT_REFUSED(parse_measurements_csv(
-                       fmt::format("config,target,j1,j2,j3,j4,j5,j6,x,y,z,approach\n"
-                                   "c1,1,0,10,20,30,40,50,100,200,300,{}\n",
-                                   bad),
-                       "m.csv", tool),
-                   InputError, "m.csv:2:12 (approach): '");
+    EXPECT_REFUSED(
+        parse_measurements_csv(fmt::format("config,target,j1,j2,j3,j4,j5,j6,x,y,z,approach\n"
+                                           "c1,1,0,10,20,30,40,50,100,200,300,{}\n",
+                                           bad),
+                               "m.csv", tool),
+        InputError, "m.csv:2:12 (approach): '");
   EXPECT_REFUSED(parse_approach("++", {"", 0, 0, "--approach"}), InputError,
                  "expected six characters, one per joint");
 }
@@ -350,9 +350,9 @@ TEST(Backlash, OneSidedDataDropTheGroupWithTheReason) {
   for (int joint = 1; joint <= kJointCount; ++joint) {
     const auto i = static_cast<size_t>(backlash_param(joint));
     EXPECT_EQ(r.robot.status[i], ParameterStatus::Dropped);
-    EXPECT_NE(r.robot.reason[i].find(fmt::format("every row approaches joint {} from below",
-                                                 joint)),
-              std::string::npos)
+    EXPECT_NE(
+        r.robot.reason[i].find(fmt::format("every row approaches joint {} from below", joint)),
+        std::string::npos)
         << r.robot.reason[i];
     EXPECT_NE(r.robot.reason[i].find("only the sum of the backlash and the joint's zero offset"),
               std::string::npos);

@@ -251,12 +251,14 @@ void drop_one_sided_backlash(const MeasurementSet& data, std::vector<bool>& cand
         "of the backlash and the joint's zero offset is determined: measure configurations "
         "approached from both sides and record them in the 'approach' column (simulate "
         "--approach random)",
-        joint, below > 0 ? "below" : above > 0 ? "above" : "an unknown side", below + above,
-        data.size());
+        joint,
+        below > 0   ? "below"
+        : above > 0 ? "above"
+                    : "an unknown side",
+        below + above, data.size());
     setup.dropped.push_back(dep);
-    setup.warnings.push_back(
-        fmt::format("{} not identified: {}", setup.layout.names[static_cast<size_t>(i)],
-                    dep.reason));
+    setup.warnings.push_back(fmt::format("{} not identified: {}",
+                                         setup.layout.names[static_cast<size_t>(i)], dep.reason));
   }
 }
 

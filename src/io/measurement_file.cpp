@@ -652,8 +652,8 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
       break;
     case MeasurementKind::Distances:
       for (const DistanceMeasurement& m : set.distances)
-        out += fmt::format("{},{},{},{}{}\n", config(m.config), target(m.target),
-                           joints(m.joints), m.length_mm, sides(m.approach));
+        out += fmt::format("{},{},{},{}{}\n", config(m.config), target(m.target), joints(m.joints),
+                           m.length_mm, sides(m.approach));
       break;
   }
   return out;

@@ -79,8 +79,7 @@ PreparedConfiguration prepare_configuration(const RobotModel& model,
   out.q = model.joint_map.matrix * joints + model.joint_map.offset;
   for (int k = 0; k < kJointCount; ++k) out.basis[k] = periodic_basis(out.q[k]);
   for (int joint = 1; joint <= kJointCount; ++joint)
-    out.approach[joint - 1] =
-        model_approach(model, approach ? approach->data() : nullptr, joint);
+    out.approach[joint - 1] = model_approach(model, approach ? approach->data() : nullptr, joint);
   out.theta = undeflected_angles(model, reference.data(), out.q, out.basis, out.approach);
   for (int k = 0; k < kJointCount; ++k) sin_cos(out.theta[k], &out.s[k], &out.c[k]);
   return out;

@@ -15,8 +15,8 @@ void target_position_jacobian_autodiff(const RobotModel& model, const PointMass&
   for (int i = 0; i < kParameterCount; ++i) p[i] = Jet(params[i], i);
   std::array<Jet, kJointCount> q;
   for (int i = 0; i < kJointCount; ++i) q[i] = Jet(joints[i]);
-  const Pose<Jet> pose = flange_pose<Jet>(model, payload, p.data(), q.data(),
-                                             approach ? approach->data() : nullptr);
+  const Pose<Jet> pose =
+      flange_pose<Jet>(model, payload, p.data(), q.data(), approach ? approach->data() : nullptr);
   const Vector3<Jet> x = pose * target_flange_mm.cast<Jet>();
   for (int r = 0; r < 3; ++r) {
     if (position_mm) (*position_mm)[r] = x[r].a;

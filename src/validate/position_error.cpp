@@ -43,21 +43,18 @@ Eigen::Matrix3Xd predicted_positions(const CalibratedRobot& robot, const Measure
     switch (set.kind) {
       case MeasurementKind::Points: {
         const PointMeasurement& m = set.points[r];
-        predicted.col(col) =
-            world_T_flange(robot, m.joints, m.approach) *
-            target_position(robot, set, m.target, m.line);
+        predicted.col(col) = world_T_flange(robot, m.joints, m.approach) *
+                             target_position(robot, set, m.target, m.line);
         break;
       }
       case MeasurementKind::Poses:
-        predicted.col(col) =
-            world_T_flange(robot, set.poses[r].joints, set.poses[r].approach) *
-            robot.tool.flange_T_tcp.translation();
+        predicted.col(col) = world_T_flange(robot, set.poses[r].joints, set.poses[r].approach) *
+                             robot.tool.flange_T_tcp.translation();
         break;
       case MeasurementKind::Distances: {
         const DistanceMeasurement& m = set.distances[r];
-        predicted.col(col) =
-            world_T_flange(robot, m.joints, m.approach) *
-            target_position(robot, set, m.target, m.line);
+        predicted.col(col) = world_T_flange(robot, m.joints, m.approach) *
+                             target_position(robot, set, m.target, m.line);
         break;
       }
     }

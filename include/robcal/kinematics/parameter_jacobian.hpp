@@ -29,7 +29,8 @@ using TwistJacobian = Eigen::Matrix<double, 6, kParameterCount>;
 /// - each geometric parameter is an elementary motion along the chain: a base translation, a
 ///   rotation about a base axis, a link's Rot_x(α_i) about x_{i-1} through o_{i-1}, Trans_x(a_i)
 ///   along x_{i-1}, Trans_z(d_i) along z_i;
-/// - joint offsets, scales, periodic errors, backlash and compliances act through the joint angles θ_i,
+/// - joint offsets, scales, periodic errors, backlash and compliances act through the joint angles
+/// θ_i,
 ///   whose column is the joint twist (o_i × z_i; z_i) of the deflected chain;
 /// - with compliance, θ_i = θu_i + c_i·τ_i(θu, params) (docs/method/03-error-model.md), so every
 /// parameter also

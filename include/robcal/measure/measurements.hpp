@@ -27,7 +27,7 @@ struct PointMeasurement {
   int target = 0;      ///< index into Tool::targets
   Vector6d joints = Vector6d::Zero();
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();
-  int line = 0;  ///< 1-based line in the source file (0: not from a file)
+  int line = 0;                          ///< 1-based line in the source file (0: not from a file)
   Vector6d approach = Vector6d::Ones();  ///< per joint: +1 from below, −1 from above, 0 unknown
 };
 
