@@ -12,13 +12,12 @@
 #include "refusal.hpp"
 #include "robcal/compensate/calibrated_ik.hpp"
 #include "robcal/core/error.hpp"
-#include "robcal/identify/cross_validation.hpp"
 #include "robcal/identify/identification.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
 #include "robcal/sim/simulator.hpp"
-#include "robcal/validate/validation.hpp"
 #include "test_compensate_support.hpp"
+#include "test_error_groups_support.hpp"
 #include "test_support.hpp"
 
 namespace robcal {
@@ -210,45 +209,22 @@ TEST(Backlash, MeasurementFileApproachColumn) {
 
 // --- Simulated true robots -------------------------------------------------------------------
 
-struct Campaign {
-  MeasurementSet calibration, validation;
-};
+using Campaign = test::GroupCampaign;
 
 /// 100 calibration and 60 validation positions on the simulated IRB 120, laser tracker with
 /// σ = `noise_mm`; every joint approached from a random side (seeded) when `both_sides`, else
 /// from below.
 Campaign simulate(const TrueRobot& truth, double noise_mm, uint64_t seed, bool both_sides = true) {
-  std::mt19937_64 rng(seed);
-  const VirtualInstrument tracker =
-      standard_instrument(InstrumentKind::LaserTracker, truth, noise_mm);
-  RandomConfigurationOptions options;
-  options.box = published_joint_box(truth.robot.model);
   SimulationOptions sim;
   sim.approach_random = both_sides;
   sim.approach_seed = seed + 100;
-  Campaign c;
-  c.calibration =
-      simulate_measurements(truth, tracker,
-                            random_configurations(truth, tracker, 100, rng, options), rng, sim)
-          .measurements;
-  options.name_prefix = "V";
-  sim.approach_seed = seed + 200;
-  c.validation =
-      simulate_measurements(truth, tracker, random_configurations(truth, tracker, 60, rng, options),
-                            rng, sim)
-          .measurements;
-  return c;
+  return test::simulate_campaign(truth, noise_mm, seed, published_joint_box(truth.robot.model),
+                                 sim);
 }
 
 IdentificationResult fit(const MeasurementSet& data, bool backlash) {
-  IdentifyOptions options;
-  options.level = CalibrationLevel::Full;
-  if (backlash) options.identify = {"*.backlash"};
-  return calibrate(load_robot("abb-irb120"), default_simulation_tool(), data, options);
-}
-
-double validation_mean_mm(const IdentificationResult& r, const MeasurementSet& validation) {
-  return validate_model(r.robot, validation, 1).positions.position_mm.mean;
+  return test::fit_full(
+      data, backlash ? std::vector<std::string>{"*.backlash"} : std::vector<std::string>{});
 }
 
 // The simulated rows record the side the simulated program used: random sides give both on every
@@ -273,15 +249,10 @@ TEST(Backlash, SimulatedBacklashIdentifiedAndCompensated) {
   constexpr double kNoise = 0.01;
   const Campaign clean = simulate(published_truth(false), kNoise, 1935);
   const Campaign worn = simulate(published_truth(true), kNoise, 1935);
-  const double free_of_effect = validation_mean_mm(fit(clean.calibration, false), clean.validation);
-  const IdentificationResult without = fit(worn.calibration, false);
-  const IdentificationResult with = fit(worn.calibration, true);
-  const double today = validation_mean_mm(without, worn.validation);
-  const double enabled = validation_mean_mm(with, worn.validation);
-  std::printf(
-      "validation mean: effect-free %.4f mm, backlash %.4f mm without the group, %.4f mm "
-      "with it\n",
-      free_of_effect, today, enabled);
+  const test::GroupEffect effect = test::group_effect(clean, worn, {"*.backlash"});
+  const double free_of_effect = effect.free_of_effect, today = effect.without_group,
+               enabled = effect.with_group;
+  const IdentificationResult& with = effect.with;
   EXPECT_GT(today, 1.3 * free_of_effect);
   EXPECT_LT(enabled, 1.10 * free_of_effect);
   const auto groups = group_significance(with.robot);
@@ -298,23 +269,17 @@ TEST(Backlash, SimulatedBacklashIdentifiedAndCompensated) {
 // campaigns; the normalised errors' RMS near 1 says the σ are honest.
 TEST(Backlash, MonteCarloRecoveryWithin3Sigma) {
   const TrueRobot truth = published_truth(true);
-  double sum_sq = 0;
-  int count = 0;
+  test::NormalisedErrors z;
   for (uint64_t seed = 1; seed <= 5; ++seed) {
     const IdentificationResult r = fit(simulate(truth, 0.01, 1940 + seed).calibration, true);
     for (int joint = 1; joint <= kJointCount; ++joint) {
-      const int i = backlash_param(joint);
-      ASSERT_EQ(r.robot.status[static_cast<size_t>(i)], ParameterStatus::Identified);
-      const double sigma = std::sqrt(r.robot.covariance(i, i));
       const double b = deg2rad(truth.effects.backlash_deg[static_cast<size_t>(joint - 1)]);
-      const double z = (r.robot.params[i] - b) / sigma;
-      EXPECT_LT(std::abs(z), 3.0) << parameter_table()[i].name << " seed " << seed;
-      EXPECT_LT(sigma, b / 3) << parameter_table()[i].name;  // clearly resolved
-      sum_sq += z * z;
-      ++count;
+      const double sigma = z.add(r, backlash_param(joint), b, seed);
+      EXPECT_LT(sigma, b / 3) << "joint " << joint;  // clearly resolved
     }
   }
-  const double rms_z = std::sqrt(sum_sq / count);
+  const double rms_z = z.rms();
+  const int count = z.count;
   std::printf("normalised backlash errors: RMS %.2f over %d estimates\n", rms_z, count);
   EXPECT_LT(rms_z, 1.8);
 }
@@ -323,17 +288,8 @@ TEST(Backlash, MonteCarloRecoveryWithin3Sigma) {
 // the cross-validated error by less than 2 % and no joint's group is reported significant.
 TEST(Backlash, GroupOnDataWithoutTheEffectIsHarmlessAndNotSignificant) {
   const Campaign clean = simulate(published_truth(false), 0.01, 1936);
-  const RobotModel model = load_robot("abb-irb120");
-  IdentifyOptions plain;
-  IdentifyOptions backlash;
-  backlash.identify = {"*.backlash"};
-  const CrossValidation a =
-      cross_validate(model, default_simulation_tool(), clean.calibration, plain, 5, 7);
-  const CrossValidation b =
-      cross_validate(model, default_simulation_tool(), clean.calibration, backlash, 5, 7);
-  std::printf("cross-validated mean: %.4f mm without, %.4f mm with the group\n", a.mean_mm,
-              b.mean_mm);
-  EXPECT_LT(b.mean_mm, 1.02 * a.mean_mm);
+  const auto [without, with_group] = test::cross_validated_cost(clean.calibration, {"*.backlash"});
+  EXPECT_LT(with_group, 1.02 * without);
   const auto groups = group_significance(fit(clean.calibration, true).robot);
   for (int joint = 1; joint <= kJointCount; ++joint) {
     const GroupSignificance& g = groups[static_cast<size_t>(5 + joint)];
