@@ -259,6 +259,7 @@ Compensator make_compensator(const CalibratedRobot& robot, const std::optional<P
   comp.flange_T_tcp.R = robot.tool.flange_T_tcp.linear();
   comp.flange_T_tcp.p = robot.tool.flange_T_tcp.translation();
   comp.payload = payload.value_or(robot.tool.payload);
+  if (approach) comp.approach = *approach;
   comp.chain =
       make_calibrated_chain(robot.model, robot.params, comp.payload, comp.flange_T_tcp, approach);
   // world_T_base = world_A_1(q1 = 0) · (nominal base_A_1(q1 = 0))⁻¹ = (R_xy·Rz(γ), p_b − d1·R_xy·ẑ)

@@ -86,6 +86,9 @@ struct Compensator {
   Pose<double> flange_T_tcp;
   Pose<double> tcp_T_flange;  ///< its inverse
   PointMass payload;          ///< the payload the compliance is computed for
+  /// The side each joint reaches the targets from (+1 below, −1 above, 0 unknown): the backlash
+  /// group's sign (docs/method/03-error-model.md §6).
+  Vector6d approach = Vector6d::Ones();
 };
 
 /// Builds the compensator of a calibrated robot; `payload` overrides the tool's (the
