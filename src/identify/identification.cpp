@@ -247,15 +247,15 @@ void drop_one_sided_backlash(const MeasurementSet& data, std::vector<bool>& cand
     candidates[static_cast<size_t>(i)] = false;
     Dependency dep{i, {}, 1.0, {}};
     dep.reason = fmt::format(
-        "every row approaches joint {} from {} ({} of {} rows record a side), so only the sum "
-        "of the backlash and the joint's zero offset is determined: measure configurations "
-        "approached from both sides and record them in the 'approach' column (simulate "
-        "--approach random)",
+        "every row approaches joint {} from {} ({} rows from below, {} from above, {} of unknown "
+        "side), so only the sum of the backlash and the joint's zero offset is determined: "
+        "measure configurations approached from both sides and record them in the 'approach' "
+        "column (simulate --approach random)",
         joint,
         below > 0   ? "below"
         : above > 0 ? "above"
                     : "an unknown side",
-        below + above, data.size());
+        below, above, data.size() - below - above);
     setup.dropped.push_back(dep);
     setup.warnings.push_back(fmt::format("{} not identified: {}",
                                          setup.layout.names[static_cast<size_t>(i)], dep.reason));
