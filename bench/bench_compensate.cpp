@@ -31,7 +31,7 @@ struct IkFixture {
   CalibratedRobot calibrated;
   Compensator comp;
   std::vector<IkCase> cases;
-  /// `periodic`: with periodic joint errors too (every opt-in group of issue 19).
+  /// `periodic`: with periodic joint errors and backlash too (every opt-in group of issue 19).
   IkFixture(const std::string& robot, int count, bool singular, bool periodic = false) {
     std::mt19937_64 rng(kSeed);
     calibrated = test::random_calibrated(robot, rng);
@@ -102,7 +102,8 @@ void BM_CalibratedIkPoseShift(benchmark::State& state) {
   calibrated_ik_bench(state, IkMethod::PoseShift);
 }
 BENCHMARK(BM_CalibratedIkNewton)->UseManualTime();
-/// Issue 19: the model with every opt-in group enabled (periodic joint errors), ≤ 3 µs median.
+/// Issue 19: the model with every opt-in group enabled (periodic joint errors, backlash), ≤ 3 µs
+/// median.
 void BM_CalibratedIkNewtonAllGroups(benchmark::State& state) {
   static const IkFixture fixture("abb-irb120", 10000, false, true);
   calibrated_ik_bench(state, IkMethod::Newton, fixture);

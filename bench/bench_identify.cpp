@@ -6,6 +6,7 @@
 
 #include <benchmark/benchmark.h>
 #include <ceres/ceres.h>
+#include <cmath>
 
 #include <random>
 
@@ -48,7 +49,8 @@ struct Fixture {
   IdentificationSetup setup;
 
   /// `positions` rows; with `all_groups` the truth has periodic joint errors (0.01°, both
-  /// harmonics, every joint) and the fit frees every opt-in group besides level full (issue 19).
+  /// harmonics, every joint) and backlash (up to 0.01°, every joint, each row approaching each
+  /// joint from a random side) and the fit frees every opt-in group besides level full (issue 19).
   explicit Fixture(int positions = 50, bool all_groups = false) {
     tool.payload = {2.6, Eigen::Vector3d(-23, 0, 100)};
     tool.targets = {
@@ -58,6 +60,9 @@ struct Fixture {
     if (all_groups)
       for (int i = kPeriodicOffset; i < kParameterCount; ++i)
         truth[i] = 0.01 * kDegToRad * std::uniform_real_distribution<double>(-1, 1)(rng);
+    if (all_groups)
+      for (int joint = 1; joint <= kJointCount; ++joint)
+        truth[backlash_param(joint)] = std::abs(truth[backlash_param(joint)]);
     const double lo[6] = {-90, 0, -80, -150, -90, -180}, hi[6] = {90, 90, 70, 150, 90, 180};
     std::normal_distribution<double> noise(0.0, 0.02);
     data.kind = MeasurementKind::Points;
@@ -67,14 +72,16 @@ struct Fixture {
         m.joints[j] = kDegToRad * std::uniform_real_distribution<double>(lo[j], hi[j])(rng);
       m.target = k % 3;
       m.config = std::to_string(k + 1);
-      m.position_mm = flange_pose(model, tool.payload, truth, m.joints) *
+      if (all_groups)
+        for (int j = 0; j < 6; ++j) m.approach[j] = (rng() & 1U) ? 1.0 : -1.0;
+      m.position_mm = flange_pose(model, tool.payload, truth, m.joints, &m.approach) *
                       tool.targets[static_cast<size_t>(m.target)].position_mm;
       for (int a = 0; a < 3; ++a) m.position_mm[a] += noise(rng);
       data.points.push_back(m);
     }
     IdentifyOptions options;
     options.level = CalibrationLevel::Full;
-    if (all_groups) options.identify = {"*.periodic*"};
+    if (all_groups) options.identify = {"*.periodic*", "*.backlash"};
     setup = prepare_identification(model, tool, data, options);
   }
 };
@@ -165,7 +172,8 @@ void BM_IdentifyFull31From50_CeresAutodiff(benchmark::State& state) {
       (x - fit.unknowns.head<kParameterCount>()).cwiseAbs().maxCoeff();
 }
 
-/// Issue 19: level full plus every opt-in group (55 parameters) from 100 positions, ≤ 1 ms.
+/// Issue 19: level full plus every opt-in group (61 parameters: periodic and backlash) from 100
+/// positions, ≤ 1 ms.
 void BM_IdentifyAllGroupsFrom100_Analytic(benchmark::State& state) {
   static const Fixture f(100, true);
   for (auto _ : state) {

@@ -20,20 +20,21 @@
 #include "robcal/sim/simulator.hpp"
 #include "robcal/validate/validation.hpp"
 #include "test_compensate_support.hpp"
+#include "test_error_groups_support.hpp"
 #include "test_support.hpp"
 
 namespace robcal {
 namespace {
 
 TEST(PeriodicErrors, NamesUnitsAndGroups) {
-  EXPECT_EQ(kParameterCount, 61);
+  EXPECT_EQ(kParameterCount, 67);
   EXPECT_EQ(parameter_table()[periodic_param(6, 2, true)].name, "joint6.periodic2.sin");
   EXPECT_EQ(parameter_table()[periodic_param(1, 1, false)].name, "joint1.periodic1.cos");
   EXPECT_EQ(parameter_table()[periodic_param(3, 1, true)].unit, "deg");
   EXPECT_EQ(parameter_index("joint4.periodic2.cos"), periodic_param(4, 2, false));
   EXPECT_EQ(match_parameters("joint6.periodic*").size(), 4u);
   EXPECT_EQ(match_parameters("*.periodic1.*").size(), 12u);
-  ASSERT_EQ(opt_in_groups().size(), 6u);
+  ASSERT_EQ(opt_in_groups().size(), 12u);
   EXPECT_EQ(opt_in_groups()[5].name, "joint6.periodic");
   EXPECT_FALSE(is_opt_in(scale_param(6)));
   EXPECT_TRUE(is_opt_in(periodic_param(1, 1, false)));
@@ -69,7 +70,7 @@ TEST(PeriodicErrors, ForwardModelShiftsTheJointAngle) {
 CalibratedRobot calibrated_with_periodic(const char* name, std::mt19937_64& rng) {
   CalibratedRobot robot = test::random_calibrated(name, rng);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (int i = kPeriodicOffset; i < kParameterCount; ++i) robot.params[i] = deg2rad(0.03 * u(rng));
+  for (int i = kPeriodicOffset; i < kBacklashOffset; ++i) robot.params[i] = deg2rad(0.03 * u(rng));
   return robot;
 }
 
@@ -118,29 +119,15 @@ TEST(PeriodicErrors, CalibratedIkRoundTrip) {
 
 // --- Simulated true robots -------------------------------------------------------------------
 
-struct Campaign {
-  MeasurementSet calibration, validation;
-};
+using Campaign = test::GroupCampaign;
 
 /// 100 calibration and 60 validation positions on the simulated IRB 120 of the published work,
 /// laser tracker with σ = `noise_mm`, each configuration approached from below. `turn_joint6`
 /// false holds joint 6 at 30°.
 Campaign simulate(const TrueRobot& truth, double noise_mm, uint64_t seed, bool turn_joint6 = true) {
-  std::mt19937_64 rng(seed);
-  const VirtualInstrument tracker =
-      standard_instrument(InstrumentKind::LaserTracker, truth, noise_mm);
-  RandomConfigurationOptions options;
-  options.box = published_joint_box(truth.robot.model);
-  if (!turn_joint6) options.box[5] = {deg2rad(30), deg2rad(30)};
-  Campaign c;
-  c.calibration = simulate_measurements(
-                      truth, tracker, random_configurations(truth, tracker, 100, rng, options), rng)
-                      .measurements;
-  options.name_prefix = "V";
-  c.validation = simulate_measurements(truth, tracker,
-                                       random_configurations(truth, tracker, 60, rng, options), rng)
-                     .measurements;
-  return c;
+  std::array<JointLimit, kJointCount> box = published_joint_box(truth.robot.model);
+  if (!turn_joint6) box[5] = {deg2rad(30), deg2rad(30)};
+  return test::simulate_campaign(truth, noise_mm, seed, box);
 }
 
 TrueRobot published_truth(bool periodic) {
@@ -154,14 +141,8 @@ TrueRobot published_truth(bool periodic) {
 }
 
 IdentificationResult fit(const MeasurementSet& data, bool periodic) {
-  IdentifyOptions options;
-  options.level = CalibrationLevel::Full;
-  if (periodic) options.identify = {"joint6.periodic*"};
-  return calibrate(load_robot("abb-irb120"), default_simulation_tool(), data, options);
-}
-
-double validation_mean_mm(const IdentificationResult& r, const MeasurementSet& validation) {
-  return validate_model(r.robot, validation, 1).positions.position_mm.mean;
+  return test::fit_full(
+      data, periodic ? std::vector<std::string>{"joint6.periodic*"} : std::vector<std::string>{});
 }
 
 const GroupSignificance& joint6_group(const std::vector<GroupSignificance>& groups) {
@@ -175,15 +156,10 @@ TEST(PeriodicErrors, SimulatedGearErrorIdentifiedAndCompensated) {
   constexpr double kNoise = 0.01;
   const Campaign clean = simulate(published_truth(false), kNoise, 1901);
   const Campaign gear = simulate(published_truth(true), kNoise, 1901);
-  const double free_of_effect = validation_mean_mm(fit(clean.calibration, false), clean.validation);
-  const IdentificationResult without = fit(gear.calibration, false);
-  const IdentificationResult with = fit(gear.calibration, true);
-  const double today = validation_mean_mm(without, gear.validation);
-  const double enabled = validation_mean_mm(with, gear.validation);
-  std::printf(
-      "validation mean: effect-free %.4f mm, effect %.4f mm without the group, %.4f mm "
-      "with it\n",
-      free_of_effect, today, enabled);
+  const test::GroupEffect effect = test::group_effect(clean, gear, {"joint6.periodic*"});
+  const double free_of_effect = effect.free_of_effect, today = effect.without_group,
+               enabled = effect.with_group;
+  const IdentificationResult& with = effect.with;
   EXPECT_GT(today, 1.15 * free_of_effect);  // the effect is visible at this noise (+27 %)
   EXPECT_LT(enabled, 1.10 * free_of_effect);
   const auto groups = group_significance(with.robot);
@@ -202,21 +178,13 @@ TEST(PeriodicErrors, MonteCarloRecoveryWithin3Sigma) {
                phi = deg2rad(truth.effects.j6_phase_deg);
   // A·sin(2q + φ) = A·sin φ·cos 2q + A·cos φ·sin 2q; no first harmonic.
   const double expected[4] = {0, 0, A * std::sin(phi), A * std::cos(phi)};
-  double sum_sq = 0;
-  int count = 0;
+  test::NormalisedErrors z;
   for (uint64_t seed = 1; seed <= 6; ++seed) {
     const IdentificationResult r = fit(simulate(truth, 0.01, 1910 + seed).calibration, true);
-    for (int k = 0; k < 4; ++k) {
-      const int i = periodic_param(6, 1, false) + k;
-      ASSERT_EQ(r.robot.status[static_cast<size_t>(i)], ParameterStatus::Identified);
-      const double sigma = std::sqrt(r.robot.covariance(i, i));
-      const double z = (r.robot.params[i] - expected[k]) / sigma;
-      EXPECT_LT(std::abs(z), 3.0) << parameter_table()[i].name << " seed " << seed;
-      sum_sq += z * z;
-      ++count;
-    }
+    for (int k = 0; k < 4; ++k) z.add(r, periodic_param(6, 1, false) + k, expected[k], seed);
   }
-  const double rms_z = std::sqrt(sum_sq / count);
+  const double rms_z = z.rms();
+  const int count = z.count;
   std::printf("normalised periodic errors: RMS %.2f over %d estimates\n", rms_z, count);
   EXPECT_LT(rms_z, 1.8);
 }
@@ -225,17 +193,9 @@ TEST(PeriodicErrors, MonteCarloRecoveryWithin3Sigma) {
 // cross-validated error by less than 2 % and the group is reported not significant.
 TEST(PeriodicErrors, GroupOnDataWithoutTheEffectIsHarmlessAndNotSignificant) {
   const Campaign clean = simulate(published_truth(false), 0.01, 1902);
-  const RobotModel model = load_robot("abb-irb120");
-  IdentifyOptions plain;
-  IdentifyOptions periodic;
-  periodic.identify = {"joint6.periodic*"};
-  const CrossValidation a =
-      cross_validate(model, default_simulation_tool(), clean.calibration, plain, 5, 7);
-  const CrossValidation b =
-      cross_validate(model, default_simulation_tool(), clean.calibration, periodic, 5, 7);
-  std::printf("cross-validated mean: %.4f mm without, %.4f mm with the group\n", a.mean_mm,
-              b.mean_mm);
-  EXPECT_LT(b.mean_mm, 1.02 * a.mean_mm);
+  const auto [without, with_group] =
+      test::cross_validated_cost(clean.calibration, {"joint6.periodic*"});
+  EXPECT_LT(with_group, 1.02 * without);
   const IdentificationResult with = fit(clean.calibration, true);
   const GroupSignificance& g = joint6_group(group_significance(with.robot));
   EXPECT_TRUE(g.enabled);
@@ -275,7 +235,7 @@ TEST(PeriodicErrors, TruthFileRoundTrip) {
   const std::string text = truth_to_yaml(truth, "abb-irb120");
   EXPECT_NE(text.find("periodic_deg"), std::string::npos);
   const TrueRobot back = parse_truth(yaml::parse(text, "truth.yaml"));
-  for (int i = kPeriodicOffset; i < kParameterCount; ++i)
+  for (int i = kPeriodicOffset; i < kBacklashOffset; ++i)
     EXPECT_NEAR(back.robot.params[i], truth.robot.params[i], 1e-15) << parameter_table()[i].name;
   std::string bad = text;
   const size_t at = bad.find("periodic_deg:\n  2:");

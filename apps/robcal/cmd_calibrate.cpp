@@ -93,7 +93,10 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
                  v.unit, v.before);
   }
   for (const GroupSignificance& g : group_significance(r.robot))
-    if (g.enabled)
+    if (g.enabled && g.identified == 0)
+      fmt::print("group {}: NOT identified by these measurements (the warning above says why)\n",
+                 g.group);
+    else if (g.enabled)
       fmt::print("group {}: Wald {:.1f} for {} parameters, p = {:.2g}: {}\n", g.group, g.wald,
                  g.identified, g.p_value,
                  g.significant ? "significant"

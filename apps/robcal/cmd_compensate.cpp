@@ -11,6 +11,7 @@
 #include "command_registry.hpp"
 #include "robcal/compensate/compensate_targets.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/io/robot_pulses.hpp"
 #include "robcal/programs/program_compensation.hpp"
@@ -25,6 +26,7 @@ struct ModelOptions {
   std::string payload_mass;
   std::string payload_cog;
   std::string method = "newton";
+  std::string approach = "++++++";
   bool json = false;
 };
 
@@ -45,6 +47,7 @@ CompensationSetup parse_setup(const ModelOptions& o) {
     setup.payload = PointMass{parse_numbers(o.payload_mass, 1, "--payload-mass-kg")[0],
                               Eigen::Vector3d(cog[0], cog[1], cog[2])};
   }
+  setup.approach = parse_approach(o.approach, {"", 0, 0, "--approach"});
   return setup;
 }
 
@@ -133,6 +136,10 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
                   "Payload carried now, if not the tool's (the compliance re-compensates)");
   cmd->add_option("--payload-cog-mm", o.payload_cog,
                   "Its centre of gravity x,y,z in the flange frame");
+  cmd->add_option("--approach", o.approach,
+                  "Side each joint reaches the targets from, one of + (below, as the measurement "
+                  "programs do), - (above), 0 (unknown) per joint: the backlash group's sign")
+      ->capture_default_str();
   cmd->add_flag("--json", o.json, "Machine-readable summary on stdout");
 }
 

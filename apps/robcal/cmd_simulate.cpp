@@ -62,7 +62,8 @@ const bool registered = register_command(80, [](CLI::App& app) {
       ->delimiter(',');
   cmd->add_option("--approach", o->request.approach,
                   "below: every configuration approached from below (cancels backlash); "
-                  "sequence: straight from the previous one")
+                  "sequence: straight from the previous one; random: each joint from below or "
+                  "above at random (seeded), recorded in the 'approach' column (backlash group)")
       ->capture_default_str();
   cmd->add_option("--error-length-mm", o->request.error_length_mm,
                   "Random truth: ± bound of a_i, d_i")

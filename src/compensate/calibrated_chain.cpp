@@ -82,7 +82,8 @@ void chain_frames(const CalibratedChain& c, const std::array<double, kJointCount
 }  // namespace
 
 CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& params,
-                                      const PointMass& payload, const Pose<double>& flange_T_tcp) {
+                                      const PointMass& payload, const Pose<double>& flange_T_tcp,
+                                      const Vector6d* approach) {
   CalibratedChain c;
   const double ca = std::cos(params[3]), sa = std::sin(params[3]);
   const double cb = std::cos(params[4]), sb = std::sin(params[4]);
@@ -109,6 +110,9 @@ CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVe
     c.mass[i] = model.link_masses[i].mass_kg;
     c.moment[i] = model.link_masses[i].mass_kg * model.link_masses[i].cog_mm;
   }
+  for (int joint = 1; joint <= kJointCount; ++joint)
+    c.theta_offset[joint - 1] += backlash_shift(
+        params.data(), model_approach(model, approach ? approach->data() : nullptr, joint), joint);
   c.mass[5] += payload.mass_kg;
   c.moment[5] += payload.mass_kg * payload.cog_mm;
   c.gravity = model.gravity_m_s2;

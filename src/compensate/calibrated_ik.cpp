@@ -235,8 +235,8 @@ const char* to_string(CalibratedIkStatus status) {
   return "unknown";
 }
 
-Compensator make_compensator(const CalibratedRobot& robot,
-                             const std::optional<PointMass>& payload) {
+Compensator make_compensator(const CalibratedRobot& robot, const std::optional<PointMass>& payload,
+                             const Vector6d* approach) {
   Compensator comp;
   comp.model = robot.model;
   std::string why_not;
@@ -259,7 +259,9 @@ Compensator make_compensator(const CalibratedRobot& robot,
   comp.flange_T_tcp.R = robot.tool.flange_T_tcp.linear();
   comp.flange_T_tcp.p = robot.tool.flange_T_tcp.translation();
   comp.payload = payload.value_or(robot.tool.payload);
-  comp.chain = make_calibrated_chain(robot.model, robot.params, comp.payload, comp.flange_T_tcp);
+  if (approach) comp.approach = *approach;
+  comp.chain =
+      make_calibrated_chain(robot.model, robot.params, comp.payload, comp.flange_T_tcp, approach);
   // world_T_base = world_A_1(q1 = 0) · (nominal base_A_1(q1 = 0))⁻¹ = (R_xy·Rz(γ), p_b − d1·R_xy·ẑ)
   const CalibratedChain& c = comp.chain;
   const double cg = std::cos(c.base_gamma), sg = std::sin(c.base_gamma);

@@ -37,13 +37,19 @@ ClosedLoopReport closed_loop_check(const Compensator& comp, const TrueRobot& tru
   for (size_t i = 0; i < wanted.size() && i < corrected.size(); ++i) {
     const Pose<double>& want = wanted[i].world_T_tcp;
     const Vector6d& joints = corrected[i].ik.joints;
+    // Each joint arrives from the compensator's side, as the program will move it.
+    MotionState motion;
+    motion.from_below = false;
+    motion.previous_joints = joints - deg2rad(5.0) * comp.approach;
     add(report.compensated, report.compensated_mm, want,
-        true_flange_pose(truth, joints) * comp.flange_T_tcp);
+        true_flange_pose(truth, joints, motion) * comp.flange_T_tcp);
     const auto plain =
         nominal_solution(comp, comp.world_T_base.inverse() * want, corrected[i].config, joints);
-    if (plain)
+    if (plain) {
+      motion.previous_joints = *plain - deg2rad(5.0) * comp.approach;
       add(report.uncompensated, report.uncompensated_mm, want,
-          true_flange_pose(truth, *plain) * comp.flange_T_tcp);
+          true_flange_pose(truth, *plain, motion) * comp.flange_T_tcp);
+    }
   }
   finish(report.compensated);
   finish(report.uncompensated);

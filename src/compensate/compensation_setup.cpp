@@ -24,7 +24,8 @@ Compensation prepare_compensation(const CompensationSetup& setup) {
       throw InputError({"", 0, 0, "--payload-cog-mm"},
                        "expected a finite centre of gravity x,y,z in mm");
   }
-  Compensation out{robot, make_compensator(robot, setup.payload), setup.pulses_per_degree};
+  Compensation out{robot, make_compensator(robot, setup.payload, &setup.approach),
+                   setup.pulses_per_degree};
   return out;
 }
 

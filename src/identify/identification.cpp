@@ -101,7 +101,8 @@ SolverStatus solve(const ResidualContext& context, const std::vector<int>& free,
   const ParameterVector start_params = start.head<kParameterCount>();
   for (size_t row = 0; row < rows; ++row)
     configurations[row] =
-        prepare_configuration(*context.model, start_params, row_joints(*context.data, row));
+        prepare_configuration(*context.model, start_params, row_joints(*context.data, row),
+                              &row_approach(*context.data, row));
   std::vector<double> z(free.size(), 0.0);
   ceres::Problem problem;
   if (huber_scale > 0) {
@@ -211,14 +212,54 @@ MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& d
   std::mt19937_64 rng(20140601);
   MeasurementSet synthetic;
   synthetic.kind = data.kind;
+  // Both approach sides on every joint: the backlash is then no combination of the offsets
+  // (one-sided data are refused by name in drop_one_sided_backlash).
+  std::mt19937_64 sides(20140602);
   for (const Vector6d& q : sample_configurations(lower, upper, 60, rng)) {
     for (int t : targets) {
-      if (data.kind == MeasurementKind::Points) synthetic.points.push_back({"", t, q, {}, 0});
-      if (data.kind == MeasurementKind::Poses) synthetic.poses.push_back({"", q, {}, 0});
-      if (data.kind == MeasurementKind::Distances) synthetic.distances.push_back({"", t, q, 0, 0});
+      Vector6d s;
+      for (int j = 0; j < kJointCount; ++j) s[j] = (sides() & 1U) ? 1.0 : -1.0;
+      if (data.kind == MeasurementKind::Points) synthetic.points.push_back({"", t, q, {}, 0, s});
+      if (data.kind == MeasurementKind::Poses) synthetic.poses.push_back({"", q, {}, 0, s});
+      if (data.kind == MeasurementKind::Distances)
+        synthetic.distances.push_back({"", t, q, 0, 0, s});
     }
   }
   return synthetic;
+}
+
+/// Requested backlash of a joint that the rows do not approach from both sides is taken out of
+/// `candidates` and dropped by name (docs/method/03-error-model.md §6): with every row from one
+/// side the dead band only shifts the joint's zero, so only its sum with the joint offset is
+/// determined.
+void drop_one_sided_backlash(const MeasurementSet& data, std::vector<bool>& candidates,
+                             IdentificationSetup& setup) {
+  for (int joint = 1; joint <= kJointCount; ++joint) {
+    const int i = backlash_param(joint);
+    if (!candidates[static_cast<size_t>(i)]) continue;
+    size_t below = 0, above = 0;
+    for (size_t row = 0; row < data.size(); ++row) {
+      const double s = row_approach(data, row)[joint - 1];
+      below += s > 0 ? 1 : 0;
+      above += s < 0 ? 1 : 0;
+    }
+    if (below > 0 && above > 0) continue;
+    candidates[static_cast<size_t>(i)] = false;
+    Dependency dep{i, {}, 1.0, {}};
+    dep.reason = fmt::format(
+        "every row approaches joint {} from {} ({} rows from below, {} from above, {} of unknown "
+        "side), so only the sum of the backlash and the joint's zero offset is determined: "
+        "measure configurations approached from both sides and record them in the 'approach' "
+        "column (simulate --approach random)",
+        joint,
+        below > 0   ? "below"
+        : above > 0 ? "above"
+                    : "an unknown side",
+        below, above, data.size() - below - above);
+    setup.dropped.push_back(dep);
+    setup.warnings.push_back(fmt::format("{} not identified: {}",
+                                         setup.layout.names[static_cast<size_t>(i)], dep.reason));
+  }
 }
 
 /// Requested compliances that no measured configuration loads (docs/method/03-error-model.md: δθ_j
@@ -435,6 +476,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
         "to identify it (6 parameters)");
   std::vector<bool> candidates = setup.requested;
   drop_unloaded_compliances(model, tool, data, u0, candidates, setup);
+  drop_one_sided_backlash(data, candidates, setup);
 
   // The model's own dependencies, on a rich synthetic design.
   const std::vector<int> order = preference_order(setup.layout, candidates);

@@ -57,11 +57,24 @@ const Vector6d& row_joints(const MeasurementSet& data, size_t row) {
   return data.points[row].joints;
 }
 
+const Vector6d& row_approach(const MeasurementSet& data, size_t row) {
+  switch (data.kind) {
+    case MeasurementKind::Points:
+      return data.points[row].approach;
+    case MeasurementKind::Poses:
+      return data.poses[row].approach;
+    case MeasurementKind::Distances:
+      return data.distances[row].approach;
+  }
+  return data.points[row].approach;
+}
+
 void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
                    double* residuals, Eigen::MatrixXd* jacobian) {
   const ParameterVector params = unknowns.head<kParameterCount>();
   row_residuals(context, unknowns, row, parameter_trig(params),
-                prepare_configuration(*context.model, params, row_joints(*context.data, row)),
+                prepare_configuration(*context.model, params, row_joints(*context.data, row),
+                                      &row_approach(*context.data, row)),
                 residuals, jacobian);
 }
 
@@ -173,7 +186,7 @@ Eigen::Vector3d modelled_position(const ResidualContext& context, const Eigen::V
   const ParameterVector params = unknowns.head<kParameterCount>();
   Pose<double> flange;
   flange_twist_jacobian(*context.model, context.tool->payload, params, row_joints(data, row),
-                        &flange, nullptr);
+                        &flange, nullptr, &row_approach(data, row));
   switch (data.kind) {
     case MeasurementKind::Points:
       return flange * target_coordinates(context, unknowns, data.points[row].target);

@@ -111,6 +111,11 @@ class RowReader {
     return {length_mm(row, "x"), length_mm(row, "y"), length_mm(row, "z")};
   }
 
+  [[nodiscard]] Vector6d approach(const Row& row) const {
+    return parse_approach(row.fields[static_cast<size_t>(columns_.at("approach"))],
+                          where(row, "approach"));
+  }
+
   [[nodiscard]] int target(const Row& row, const Tool& tool) const {
     const std::string_view name = text(row, "target");
     const int index = tool.target_index(name);
@@ -260,6 +265,12 @@ double degrees_reading_back(double rad) {
 /// Quaternions must be unit up to what 6-decimal files keep; they are normalised after.
 constexpr double kQuaternionTolerance = 1e-5;
 
+const Vector6d& approach_of(const MeasurementSet& set, size_t row) {
+  return set.kind == MeasurementKind::Points  ? set.points[row].approach
+         : set.kind == MeasurementKind::Poses ? set.poses[row].approach
+                                              : set.distances[row].approach;
+}
+
 const Vector6d& joints_of(const MeasurementSet& set, size_t row) {
   return set.kind == MeasurementKind::Points  ? set.points[row].joints
          : set.kind == MeasurementKind::Poses ? set.poses[row].joints
@@ -324,6 +335,22 @@ Eigen::Matrix3d rotation_from_axis_angles(const Eigen::Vector3d& angles, const E
     R = R * Eigen::AngleAxisd(angles[axis], Eigen::Vector3d::Unit(axis)).toRotationMatrix();
   }
   return R;
+}
+
+Vector6d parse_approach(std::string_view text, const SourceLocation& where) {
+  Vector6d s;
+  bool valid = text.size() == kJointCount;
+  for (int j = 0; valid && j < kJointCount; ++j) {
+    const char c = text[static_cast<size_t>(j)];
+    valid = c == '+' || c == '-' || c == '0';
+    s[j] = c == '+' ? 1.0 : c == '-' ? -1.0 : 0.0;
+  }
+  if (!valid)
+    throw InputError(where, fmt::format("'{}' is not an approach: expected six characters, one "
+                                        "per joint, '+' (approached from below), '-' (from "
+                                        "above) or '0' (unknown), e.g. '++-+++'",
+                                        text));
+  return s;
 }
 
 void parse_units(std::string_view text, const SourceLocation& where, MeasurementFormat& format) {
@@ -457,11 +484,12 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
       throw InputError({source_name, header_line, 0, name},
                        fmt::format("missing column '{}': a {} file needs the columns {}", name,
                                    kind_name, join(required, ",")));
+  const bool has_approach = columns.count("approach") > 0;
   for (size_t i = 0; i < header.size(); ++i) {
     const auto used = std::find_if(required.begin(), required.end(), [&](const std::string& r) {
       return columns.at(r) == static_cast<int>(i);
     });
-    if (used == required.end())
+    if (used == required.end() && !(has_approach && columns.at("approach") == static_cast<int>(i)))
       result.warnings.push_back(
           fmt::format("{}:{}:{}: column '{}' is not used by a {} file; ignored", source_name,
                       header_line, i + 1, header[i], kind_name));
@@ -500,6 +528,7 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
         m.config = config;
         m.target = reader.target(row, tool);
         m.joints = reader.joints_rad(row);
+        if (has_approach) m.approach = reader.approach(row);
         m.position_mm = reader.xyz(row);
         m.line = row.line;
         set.points.push_back(std::move(m));
@@ -509,6 +538,7 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
         PoseMeasurement m;
         m.config = config;
         m.joints = reader.joints_rad(row);
+        if (has_approach) m.approach = reader.approach(row);
         if (orientation && !orientation->quaternion) {
           const std::vector<std::string>& n = orientation->names;
           m.world_T_tcp.R =
@@ -540,6 +570,7 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
         m.config = config;
         m.target = reader.target(row, tool);
         m.joints = reader.joints_rad(row);
+        if (has_approach) m.approach = reader.approach(row);
         m.length_mm = reader.length_mm(row, "length");
         if (m.length_mm < 0)
           throw InputError(
@@ -570,7 +601,18 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
     out += fmt::format("# {}\n", comment.substr(start, newline - start));
     start = newline + 1;
   }
-  out += join(columns_of(set.kind), ",") + "\n";
+  // The approach column only when some row was not approached from below on every joint: files
+  // of the measurement programs' practice stay as they were.
+  bool approach = false;
+  for (size_t row = 0; row < set.size(); ++row)
+    approach = approach || approach_of(set, row) != Vector6d::Ones();
+  out += join(columns_of(set.kind), ",") + (approach ? ",approach\n" : "\n");
+  const auto sides = [&](const Vector6d& s) {
+    if (!approach) return std::string();
+    std::string text = ",";
+    for (int j = 0; j < kJointCount; ++j) text += s[j] > 0 ? '+' : s[j] < 0 ? '-' : '0';
+    return text;
+  };
 
   const auto config = [](const std::string& name) -> const std::string& {
     if (name.empty() || name.find_first_of(",\n\r#") != std::string::npos)
@@ -595,23 +637,23 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
   switch (set.kind) {
     case MeasurementKind::Points:
       for (const PointMeasurement& m : set.points)
-        out +=
-            fmt::format("{},{},{},{},{},{}\n", config(m.config), target(m.target), joints(m.joints),
-                        m.position_mm.x(), m.position_mm.y(), m.position_mm.z());
+        out += fmt::format("{},{},{},{},{},{}{}\n", config(m.config), target(m.target),
+                           joints(m.joints), m.position_mm.x(), m.position_mm.y(),
+                           m.position_mm.z(), sides(m.approach));
       break;
     case MeasurementKind::Poses:
       for (const PoseMeasurement& m : set.poses) {
         Eigen::Quaterniond q(m.world_T_tcp.R);
         if (q.w() < 0) q.coeffs() = -q.coeffs();
-        out += fmt::format("{},{},{},{},{},{},{},{},{}\n", config(m.config), joints(m.joints),
+        out += fmt::format("{},{},{},{},{},{},{},{},{}{}\n", config(m.config), joints(m.joints),
                            m.world_T_tcp.p.x(), m.world_T_tcp.p.y(), m.world_T_tcp.p.z(), q.w(),
-                           q.x(), q.y(), q.z());
+                           q.x(), q.y(), q.z(), sides(m.approach));
       }
       break;
     case MeasurementKind::Distances:
       for (const DistanceMeasurement& m : set.distances)
-        out += fmt::format("{},{},{},{}\n", config(m.config), target(m.target), joints(m.joints),
-                           m.length_mm);
+        out += fmt::format("{},{},{},{}{}\n", config(m.config), target(m.target), joints(m.joints),
+                           m.length_mm, sides(m.approach));
       break;
   }
   return out;

@@ -3,8 +3,10 @@
 namespace robcal {
 
 Pose<double> flange_pose(const RobotModel& model, const PointMass& payload,
-                         const ParameterVector& params, const Vector6d& joints) {
-  return flange_pose<double>(model, payload, params.data(), joints.data());
+                         const ParameterVector& params, const Vector6d& joints,
+                         const Vector6d* approach) {
+  return flange_pose<double>(model, payload, params.data(), joints.data(),
+                             approach ? approach->data() : nullptr);
 }
 
 }  // namespace robcal

@@ -41,9 +41,11 @@ std::array<Pose<double>, kJointCount> chain(const RobotModel& model, const doubl
 }
 
 /// Undeflected link angles θu_1..θu_6 (θ_1 with the base γ) of model joint values q, the
-/// periodic errors included (`basis`: periodic_basis of each q).
+/// periodic errors (`basis`: periodic_basis of each q) and the backlash (`approach`: the model
+/// joints' sides) included.
 std::array<double, kJointCount> undeflected_angles(const RobotModel& model, const double* x,
-                                                   const Vector6d& q, const PeriodicBasis& basis) {
+                                                   const Vector6d& q, const PeriodicBasis& basis,
+                                                   const Vector6d& approach) {
   std::array<double, kJointCount> theta;
   theta[0] = x[scale_param(1)] * q[0] + model.mdh[0].theta_offset + x[5];
   for (int link = 2; link <= kJointCount; ++link)
@@ -51,6 +53,8 @@ std::array<double, kJointCount> undeflected_angles(const RobotModel& model, cons
   for (int joint = 1; joint <= kJointCount; ++joint)
     for (int k = 0; k < kPeriodicPerJoint; ++k)
       theta[joint - 1] += x[periodic_param(joint, 1, false) + k] * basis[joint - 1][k];
+  for (int joint = 1; joint <= kJointCount; ++joint)
+    theta[joint - 1] += backlash_shift(x, approach[joint - 1], joint);
   return theta;
 }
 
@@ -70,11 +74,13 @@ ParameterTrig parameter_trig(const ParameterVector& params) {
 
 PreparedConfiguration prepare_configuration(const RobotModel& model,
                                             const ParameterVector& reference,
-                                            const Vector6d& joints) {
+                                            const Vector6d& joints, const Vector6d* approach) {
   PreparedConfiguration out;
   out.q = model.joint_map.matrix * joints + model.joint_map.offset;
   for (int k = 0; k < kJointCount; ++k) out.basis[k] = periodic_basis(out.q[k]);
-  out.theta = undeflected_angles(model, reference.data(), out.q, out.basis);
+  for (int joint = 1; joint <= kJointCount; ++joint)
+    out.approach[joint - 1] = model_approach(model, approach ? approach->data() : nullptr, joint);
+  out.theta = undeflected_angles(model, reference.data(), out.q, out.basis, out.approach);
   for (int k = 0; k < kJointCount; ++k) sin_cos(out.theta[k], &out.s[k], &out.c[k]);
   return out;
 }
@@ -85,9 +91,11 @@ FlangeRegressor::FlangeRegressor(const RobotModel& model, const PointMass& paylo
     : q_(configuration.q),
       c_(Vector6d::Zero()),
       basis_(configuration.basis),
+      approach_(configuration.approach),
       R_base_xy_(trig.R_base_xy) {
   const double* x = params.data();
-  const std::array<double, kJointCount> theta_u = undeflected_angles(model, x, q_, basis_);
+  const std::array<double, kJointCount> theta_u =
+      undeflected_angles(model, x, q_, basis_, approach_);
   std::array<double, kJointCount> s_u, c_u;
   for (int k = 0; k < kJointCount; ++k)
     sin_cos_shifted(configuration.s[k], configuration.c[k], theta_u[k] - configuration.theta[k],
@@ -190,14 +198,15 @@ void FlangeRegressor::jacobian(const Eigen::Matrix<double, K, 6>& P,
       J.col(it).noalias() += PZ * dtheta.col(f);
     }
   }
-  // Scales and periodic errors move θu_j by q_j and by the periodic basis at q_j: the column of
-  // θu_j (joint twist, plus the deflections it causes) times that factor.
+  // Scales, periodic errors and backlash move θu_j by q_j, by the periodic basis at q_j and by
+  // −s_j/2: the column of θu_j (joint twist, plus the deflections it causes) times that factor.
   for (int joint = 1; joint <= kJointCount; ++joint) {
     Rows joint_column = PZ.col(joint - 1);
     if (compliant_) joint_column.noalias() += PZ * dtheta.col(joint - 1);
     J.col(scale_param(joint)) = q_[joint - 1] * joint_column;
     for (int k = 0; k < kPeriodicPerJoint; ++k)
       J.col(periodic_param(joint, 1, false) + k) = basis_[joint - 1][k] * joint_column;
+    J.col(backlash_param(joint)) = (-0.5 * approach_[joint - 1]) * joint_column;
   }
 }
 
@@ -210,9 +219,10 @@ template void FlangeRegressor::jacobian<6>(const Eigen::Matrix<double, 6, 6>&,
 
 void flange_twist_jacobian(const RobotModel& model, const PointMass& payload,
                            const ParameterVector& params, const Vector6d& joints,
-                           Pose<double>* world_T_flange, TwistJacobian* jacobian) {
+                           Pose<double>* world_T_flange, TwistJacobian* jacobian,
+                           const Vector6d* approach) {
   const FlangeRegressor regressor(model, payload, params, parameter_trig(params),
-                                  prepare_configuration(model, params, joints));
+                                  prepare_configuration(model, params, joints, approach));
   if (world_T_flange) *world_T_flange = regressor.flange();
   if (jacobian) regressor.jacobian<6>(Eigen::Matrix<double, 6, 6>::Identity(), jacobian);
 }
@@ -236,9 +246,9 @@ Eigen::Matrix<double, 3, 6> point_output_map(const Eigen::Vector3d& p) {
 void target_position_jacobian(const RobotModel& model, const PointMass& payload,
                               const ParameterVector& params, const Vector6d& joints,
                               const Eigen::Vector3d& target_flange_mm, Eigen::Vector3d* position_mm,
-                              PositionJacobian* jacobian) {
+                              PositionJacobian* jacobian, const Vector6d* approach) {
   const FlangeRegressor regressor(model, payload, params, parameter_trig(params),
-                                  prepare_configuration(model, params, joints));
+                                  prepare_configuration(model, params, joints, approach));
   const Eigen::Vector3d p = regressor.flange() * target_flange_mm;
   if (position_mm) *position_mm = p;
   if (jacobian) regressor.jacobian<3>(point_output_map(p), jacobian);

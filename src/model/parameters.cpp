@@ -38,6 +38,8 @@ const std::array<ParameterInfo, kParameterCount>& parameter_table() {
           t[periodic_param(joint, h, sine)] = {
               fmt::format("joint{}.periodic{}.{}", joint, h, sine ? "sin" : "cos"),
               ParamKind::Angle, "deg"};
+    for (int joint = 1; joint <= kJointCount; ++joint)
+      t[backlash_param(joint)] = {fmt::format("joint{}.backlash", joint), ParamKind::Angle, "deg"};
     return t;
   }();
   return kTable;
@@ -52,6 +54,8 @@ const std::vector<ParameterGroup>& opt_in_groups() {
         group.params.push_back(periodic_param(joint, 1, false) + k);
       g.push_back(group);
     }
+    for (int joint = 1; joint <= kJointCount; ++joint)
+      g.push_back({fmt::format("joint{}.backlash", joint), {backlash_param(joint)}});
     return g;
   }();
   return kGroups;

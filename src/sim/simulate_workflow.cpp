@@ -38,8 +38,8 @@ TrueRobot make_true_robot(const SimulateRequest& r, const RobotModel& model, con
 SimulateResult run_simulation(const SimulateRequest& r) {
   if (r.configs.empty() == (r.random <= 0))
     throw InputError({"", 0, 0, "--configs"}, "give exactly one of --configs FILE or --random N");
-  if (r.approach != "below" && r.approach != "sequence")
-    throw InputError({"", 0, 0, "--approach"}, "expected 'below' or 'sequence'");
+  if (r.approach != "below" && r.approach != "sequence" && r.approach != "random")
+    throw InputError({"", 0, 0, "--approach"}, "expected 'below', 'sequence' or 'random'");
   if (r.noise_mm < 0)
     throw InputError({"", 0, 0, "--noise-mm"},
                      fmt::format("expected a σ ≥ 0 mm, found {}", r.noise_mm));
@@ -104,6 +104,8 @@ SimulateResult run_simulation(const SimulateRequest& r) {
   result.configurations = configs.size();
   SimulationOptions sim;
   sim.approach_from_below = r.approach == "below";
+  sim.approach_random = r.approach == "random";  // sides drawn from seed + 3
+  sim.approach_seed = r.seed + 3;
   result.simulation = simulate_measurements(truth, instrument, configs, noise_rng, sim);
   if (result.simulation.measurements.size() == 0)
     throw InputError({"", 0, 0, r.configs.empty() ? "--random" : "--configs"},

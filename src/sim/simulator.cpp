@@ -167,6 +167,26 @@ VirtualInstrument standard_instrument(InstrumentKind kind, const TrueRobot& trut
   return instrument;
 }
 
+namespace {
+
+/// The side each joint reaches `joints` from (+1 below, −1 above), the way the true robot's
+/// backlash sees it: drawn for `approach_random` (the move then starts 5° away on that side),
+/// else below, or the direction of the straight move from the previous configuration.
+Vector6d approach_to(const Vector6d& joints, const SimulationOptions& options,
+                     std::mt19937_64& sides, MotionState& motion) {
+  Vector6d approach = Vector6d::Ones();
+  if (options.approach_random) {
+    for (int j = 0; j < kJointCount; ++j) approach[j] = (sides() & 1U) ? 1.0 : -1.0;
+    motion.previous_joints = joints - deg2rad(5.0) * approach;
+  } else if (!options.approach_from_below) {
+    for (int j = 0; j < kJointCount; ++j)
+      if (joints[j] < motion.previous_joints[j]) approach[j] = -1.0;
+  }
+  return approach;
+}
+
+}  // namespace
+
 SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInstrument& instrument,
                                        const std::vector<PlannedConfiguration>& configs,
                                        std::mt19937_64& rng, const SimulationOptions& options) {
@@ -177,11 +197,13 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
              : instrument.kind == InstrumentKind::OpticalCmm ? MeasurementKind::Poses
                                                              : MeasurementKind::Distances;
   MotionState motion;
-  motion.from_below = options.approach_from_below;
+  motion.from_below = options.approach_from_below && !options.approach_random;
   motion.previous_joints = configs.empty() ? Vector6d::Zero() : configs.front().joints;
+  std::mt19937_64 sides(options.approach_seed);
   for (size_t k = 0; k < configs.size(); ++k) {
     const PlannedConfiguration& config = configs[k];
     motion.time_s = options.seconds_per_measurement * static_cast<double>(k);
+    const Vector6d approach = approach_to(config.joints, options, sides, motion);
     const Pose<double> flange = true_flange_pose(truth, config.joints, motion);
     motion.previous_joints = config.joints;
     if (config.target >= static_cast<int>(tool.targets.size()))
@@ -202,8 +224,8 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
           continue;
         }
         const Eigen::Vector3d p = flange * tool.targets[static_cast<size_t>(target)].position_mm;
-        set.points.push_back(
-            {config.name, target, config.joints, read_point(instrument.tracker, p, rng), 0});
+        set.points.push_back({config.name, target, config.joints,
+                              read_point(instrument.tracker, p, rng), 0, approach});
         break;
       }
       case InstrumentKind::OpticalCmm: {
@@ -215,8 +237,8 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
         Pose<double> flange_T_tcp;
         flange_T_tcp.R = tool.flange_T_tcp.linear();
         flange_T_tcp.p = tool.flange_T_tcp.translation();
-        set.poses.push_back(
-            {config.name, config.joints, read_pose(instrument.cmm, flange * flange_T_tcp, rng), 0});
+        set.poses.push_back({config.name, config.joints,
+                             read_pose(instrument.cmm, flange * flange_T_tcp, rng), 0, approach});
         break;
       }
       case InstrumentKind::Ballbar: {
@@ -231,7 +253,7 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
                           instrument.ballbar.nominal_length_mm, instrument.ballbar.range_mm));
           continue;
         }
-        set.distances.push_back({config.name, target, config.joints, *length, 0});
+        set.distances.push_back({config.name, target, config.joints, *length, 0, approach});
         break;
       }
     }

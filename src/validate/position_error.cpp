@@ -12,8 +12,11 @@
 namespace robcal {
 namespace {
 
-Pose<double> world_T_flange(const CalibratedRobot& robot, const Vector6d& joints) {
-  return flange_pose(robot.model, robot.tool.payload, robot.params, joints);
+/// Each row with its recorded approach: the backlash group's sign (docs/method/03-error-model.md
+/// §6).
+Pose<double> world_T_flange(const CalibratedRobot& robot, const Vector6d& joints,
+                            const Vector6d& approach) {
+  return flange_pose(robot.model, robot.tool.payload, robot.params, joints, &approach);
 }
 
 Eigen::Vector3d target_position(const CalibratedRobot& robot, const MeasurementSet& set, int target,
@@ -40,18 +43,18 @@ Eigen::Matrix3Xd predicted_positions(const CalibratedRobot& robot, const Measure
     switch (set.kind) {
       case MeasurementKind::Points: {
         const PointMeasurement& m = set.points[r];
-        predicted.col(col) =
-            world_T_flange(robot, m.joints) * target_position(robot, set, m.target, m.line);
+        predicted.col(col) = world_T_flange(robot, m.joints, m.approach) *
+                             target_position(robot, set, m.target, m.line);
         break;
       }
       case MeasurementKind::Poses:
-        predicted.col(col) =
-            world_T_flange(robot, set.poses[r].joints) * robot.tool.flange_T_tcp.translation();
+        predicted.col(col) = world_T_flange(robot, set.poses[r].joints, set.poses[r].approach) *
+                             robot.tool.flange_T_tcp.translation();
         break;
       case MeasurementKind::Distances: {
         const DistanceMeasurement& m = set.distances[r];
-        predicted.col(col) =
-            world_T_flange(robot, m.joints) * target_position(robot, set, m.target, m.line);
+        predicted.col(col) = world_T_flange(robot, m.joints, m.approach) *
+                             target_position(robot, set, m.target, m.line);
         break;
       }
     }
@@ -93,7 +96,7 @@ PositionErrors position_errors(const CalibratedRobot& robot, const MeasurementSe
     out.orientation_error_deg.resize(set.size());
     for (size_t r = 0; r < set.size(); ++r) {
       const Eigen::Matrix3d world_R_tcp =
-          world_T_flange(robot, set.poses[r].joints).R * flange_R_tcp;
+          world_T_flange(robot, set.poses[r].joints, set.poses[r].approach).R * flange_R_tcp;
       out.orientation_error_deg[r] =
           rad2deg(rotation_distance(set.poses[r].world_T_tcp.R, world_R_tcp));
     }

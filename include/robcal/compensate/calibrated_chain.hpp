@@ -36,7 +36,7 @@ struct CalibratedChain {
   Eigen::Vector3d base_p = Eigen::Vector3d::Zero();         ///< (x_b, y_b, d1 + z_b)
   double base_gamma = 0;
   std::array<double, kJointCount> cos_alpha{}, sin_alpha{}, a{}, d{};  ///< links 2..6 at [1..5]
-  std::array<double, kJointCount> theta_offset{};  ///< link 1: the model's θ offset
+  std::array<double, kJointCount> theta_offset{};  ///< link 1: the model's θ offset; + backlash
   std::array<double, kJointCount> scale{};
   /// Periodic error coefficients of each joint (jointI.periodicH.cos|sin, rad).
   std::array<std::array<double, kPeriodicPerJoint>, kJointCount> periodic{};
@@ -71,9 +71,12 @@ struct ChainState {
 void table_sin_cos(double theta, double* s, double* c);
 
 /// Precomputes the chain for `params` (docs/method/03-error-model.md layout), the payload carried
-/// and the tool.
+/// and the tool, every target reached with each joint approached from `approach` (+1 below, −1
+/// above, 0 unknown; null: from below, the programs' practice): the backlash shift −s·b/2 is
+/// constant there, so it joins the joint's θ offset (§6).
 CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& params,
-                                      const PointMass& payload, const Pose<double>& flange_T_tcp);
+                                      const PointMass& payload, const Pose<double>& flange_T_tcp,
+                                      const Vector6d* approach = nullptr);
 
 /// World pose of the TCP for controller joints (rad), recording in `state` what
 /// calibrated_jacobian needs. Equals flange_pose(model, payload, params, joints) · flange_T_tcp.

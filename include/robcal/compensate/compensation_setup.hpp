@@ -24,6 +24,9 @@ struct CompensationSetup {
   std::optional<PointMass> payload;
   /// Yaskawa: encoder pulses per degree of each joint (io/robot_pulses.hpp); all zero: unknown.
   std::array<double, kJointCount> pulses_per_degree{};
+  /// The side each joint reaches the targets from (+1 below, −1 above, 0 unknown): the backlash
+  /// group's sign (docs/method/03-error-model.md §6); the programs approach from below.
+  Vector6d approach = Vector6d::Ones();
 };
 
 /// The calibrated robot with the tool and payload applied, and its compensator. The

@@ -57,6 +57,9 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
 /// The joint values (controller, rad) of a row of any kind.
 const Vector6d& row_joints(const MeasurementSet& data, size_t row);
 
+/// Each joint's approach in a row of any kind (+1 from below, −1 from above, 0 unknown).
+const Vector6d& row_approach(const MeasurementSet& data, size_t row);
+
 /// All residuals stacked row by row, and the Jacobian restricted to the `columns` unknowns
 /// (in that order) when `jacobian` is not null.
 void stacked_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns,

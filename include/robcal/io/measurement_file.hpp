@@ -20,6 +20,10 @@
 ///
 /// Any quaternion column, or a complete set of Euler columns in a file without `target`, makes a
 /// poses file; otherwise x/y/z make a points file; otherwise `length` makes a distances file.
+/// Any kind may add `approach`: six characters, one per joint, '+' approached from below, '-'
+/// from above, '0' unknown (e.g. `++-+++`), which the backlash group needs
+/// (docs/method/03-error-model.md §6); without it every joint counts as approached from below,
+/// as the measurement programs do. The writer adds it only when a row is not '++++++'.
 /// Joints are the controller's values as commanded. `target` names a target of the tool. Columns
 /// the kind does not use are ignored with a warning. A UTF-8 byte-order mark is skipped.
 ///
@@ -73,6 +77,10 @@ struct MeasurementFormat {
   std::optional<AngleUnit> angle;
   std::optional<EulerOrder> euler;
 };
+
+/// Parses an approach such as "++-+++" (the `approach` column, `--approach`): per joint +1 from
+/// below, −1 from above, 0 unknown; InputError at `where` for anything but six of '+', '-', '0'.
+Vector6d parse_approach(std::string_view text, const SourceLocation& where);
 
 /// Parses "m, rad" / "mm" / "rad" (`--units`, `# units:`) into `format`; InputError at `where`.
 void parse_units(std::string_view text, const SourceLocation& where, MeasurementFormat& format);

@@ -145,12 +145,29 @@ std::array<T, kPeriodicPerJoint> periodic_basis(const T& q) {
   return {c, s, c * c - s * s, T(2) * s * c};
 }
 
-/// Joint angles θ_1..θ_6 (rad) used in the links: θ_i = scale_i·q_i + offset_i + δθ_i(q_i) (+
-/// c_i·τ_i when the model has compliance), δθ_i the periodic error, docs/method/02-frames.md,
-/// 03-error-model.md. `q` are model joint angles.
+/// The side model joint `joint` (1..6) is approached from: +1 from below, −1 from above, 0
+/// unknown (the middle of the dead band), the controller joint's `approach` (null: every joint
+/// from below, the measurement programs' practice), reversed where the joint map reverses the
+/// joint (docs/method/03-error-model.md §6).
+inline double model_approach(const RobotModel& model, const double* approach, int joint) {
+  const double s = approach ? approach[joint - 1] : 1.0;
+  return model.joint_map.matrix(joint - 1, joint - 1) < 0 ? -s : s;
+}
+
+/// The backlash term −s·b/2 of joint `joint` approached from side s (model_approach).
+template <typename T>
+T backlash_shift(const T* params, double side, int joint) {
+  return params[backlash_param(joint)] * (-0.5 * side);
+}
+
+/// Joint angles θ_1..θ_6 (rad) used in the links: θ_i = scale_i·q_i + offset_i + δθ_i(q_i)
+/// − s_i·b_i/2 (+ c_i·τ_i when the model has compliance), δθ_i the periodic error, b_i the
+/// backlash and s_i the approach of joint i (`approach`, see backlash_shift),
+/// docs/method/02-frames.md, 03-error-model.md. `q` are model joint angles.
 template <typename T>
 std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass& payload,
-                                       const T* params, const std::array<T, kJointCount>& q) {
+                                       const T* params, const std::array<T, kJointCount>& q,
+                                       const double* approach = nullptr) {
   std::array<T, kJointCount> theta;
   theta[0] = params[scale_param(1)] * q[0] + T(model.mdh[0].theta_offset);
   for (int link = 2; link <= kJointCount; ++link)
@@ -163,6 +180,9 @@ std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass&
     const std::array<T, kPeriodicPerJoint> b = periodic_basis(q[joint - 1]);
     for (int k = 0; k < kPeriodicPerJoint; ++k) theta[joint - 1] += e[k] * b[k];
   }
+  for (int joint = 1; joint <= kJointCount; ++joint)
+    if (detail::is_nonzero(params[backlash_param(joint)]))
+      theta[joint - 1] += backlash_shift(params, model_approach(model, approach, joint), joint);
   bool compliant = false;
   for (int link = 2; link <= kJointCount; ++link)
     compliant = compliant || detail::is_nonzero(params[compliance_param(link)]);
@@ -176,12 +196,14 @@ std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass&
 
 /// World poses of the link frames Φ1..Φ6 (frames[5] is the flange, Φ6).
 /// \param params  parameter vector (docs/method/03-error-model.md layout, internal units),
-/// kParameterCount values \param joints  controller joint values, rad
+/// kParameterCount values \param joints  controller joint values, rad \param approach  each
+/// joint's approach (+1 from below, −1 from above, 0 unknown; null: from below)
 template <typename T>
 std::array<Pose<T>, kJointCount> link_frames(const RobotModel& model, const PointMass& payload,
-                                             const T* params, const T* joints) {
+                                             const T* params, const T* joints,
+                                             const double* approach = nullptr) {
   const std::array<T, kJointCount> q = model_joint_angles(model, joints);
-  const std::array<T, kJointCount> theta = link_angles(model, payload, params, q);
+  const std::array<T, kJointCount> theta = link_angles(model, payload, params, q, approach);
   std::array<Pose<T>, kJointCount> frames;
   frames[0] = detail::base_transform(params, T(model.mdh[0].d), theta[0]);
   for (int link = 2; link <= kJointCount; ++link)
@@ -195,12 +217,14 @@ std::array<Pose<T>, kJointCount> link_frames(const RobotModel& model, const Poin
 /// World pose of the flange (Φ6): world_T_flange = world_A_1 · A_2 ⋯ A_6.
 template <typename T>
 Pose<T> flange_pose(const RobotModel& model, const PointMass& payload, const T* params,
-                    const T* joints) {
-  return link_frames(model, payload, params, joints)[kJointCount - 1];
+                    const T* joints, const double* approach = nullptr) {
+  return link_frames(model, payload, params, joints, approach)[kJointCount - 1];
 }
 
-/// Convenience for double: flange pose from a parameter vector and controller joints (rad).
+/// Convenience for double: flange pose from a parameter vector and controller joints (rad),
+/// each joint approached from `approach` (null: from below).
 Pose<double> flange_pose(const RobotModel& model, const PointMass& payload,
-                         const ParameterVector& params, const Vector6d& joints);
+                         const ParameterVector& params, const Vector6d& joints,
+                         const Vector6d* approach = nullptr);
 
 }  // namespace robcal

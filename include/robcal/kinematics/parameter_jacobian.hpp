@@ -29,16 +29,19 @@ using TwistJacobian = Eigen::Matrix<double, 6, kParameterCount>;
 /// - each geometric parameter is an elementary motion along the chain: a base translation, a
 ///   rotation about a base axis, a link's Rot_x(α_i) about x_{i-1} through o_{i-1}, Trans_x(a_i)
 ///   along x_{i-1}, Trans_z(d_i) along z_i;
-/// - joint offsets, scales, periodic errors and compliances act through the joint angles θ_i,
+/// - joint offsets, scales, periodic errors, backlash and compliances act through the joint angles
+/// θ_i,
 ///   whose column is the joint twist (o_i × z_i; z_i) of the deflected chain;
 /// - with compliance, θ_i = θu_i + c_i·τ_i(θu, params) (docs/method/03-error-model.md), so every
 /// parameter also
 ///   moves θ_i through the gravity torque τ_i; its derivative follows from the same elementary
 ///   motions applied to τ_i = z_i · ((Σ_{j≥i} m_j (c_j − o_i)) × g) in the undeflected chain.
 /// Cost: two chain evaluations plus O(parameters × joints) dot products, ≈1 µs.
+/// `approach`: each joint's approach (forward_kinematics.hpp backlash_shift; null: from below).
 void flange_twist_jacobian(const RobotModel& model, const PointMass& payload,
                            const ParameterVector& params, const Vector6d& joints,
-                           Pose<double>* world_T_flange, TwistJacobian* jacobian);
+                           Pose<double>* world_T_flange, TwistJacobian* jacobian,
+                           const Vector6d* approach = nullptr);
 
 /// The sines and cosines that depend on the parameters alone (link twists α_2..α_6, base α and
 /// β): computed once per parameter vector, shared by every configuration.
@@ -57,11 +60,15 @@ using PeriodicBasis = std::array<std::array<double, kPeriodicPerJoint>, kJointCo
 struct PreparedConfiguration {
   Vector6d q = Vector6d::Zero();  ///< model joint values (joint map applied)
   PeriodicBasis basis{};          ///< periodic_basis of each q (the periodic errors' factors)
+  /// Each model joint's side (model_approach: +1 below, −1 above, 0 unknown), the backlash's
+  /// factor.
+  Vector6d approach = Vector6d::Ones();
   std::array<double, kJointCount> theta{}, s{}, c{};
 };
 PreparedConfiguration prepare_configuration(const RobotModel& model,
                                             const ParameterVector& reference,
-                                            const Vector6d& joints);
+                                            const Vector6d& joints,
+                                            const Vector6d* approach = nullptr);
 
 /// The analytic regressor in two steps, for residuals whose derivative depends on the flange
 /// pose: construction evaluates the chain at a prepared configuration (the flange pose), then
@@ -83,6 +90,7 @@ class FlangeRegressor {
  private:
   Vector6d q_, c_;  ///< model joint values; compliances (c_[0] = 0)
   PeriodicBasis basis_;
+  Vector6d approach_;
   bool compliant_ = false;
   Eigen::Matrix3d R_base_xy_;
   std::array<Pose<double>, kJointCount> undeflected_, deflected_;
@@ -101,7 +109,7 @@ class FlangeRegressor {
 void target_position_jacobian(const RobotModel& model, const PointMass& payload,
                               const ParameterVector& params, const Vector6d& joints,
                               const Eigen::Vector3d& target_flange_mm, Eigen::Vector3d* position_mm,
-                              PositionJacobian* jacobian);
+                              PositionJacobian* jacobian, const Vector6d* approach = nullptr);
 
 /// The output map [I −[p]×] of a world point p carried by the flange (its change under a
 /// flange twist), for FlangeRegressor::jacobian.
@@ -116,6 +124,7 @@ PositionJacobian point_jacobian_from_twist(const TwistJacobian& twist, const Eig
 void target_position_jacobian_autodiff(const RobotModel& model, const PointMass& payload,
                                        const ParameterVector& params, const Vector6d& joints,
                                        const Eigen::Vector3d& target_flange_mm,
-                                       Eigen::Vector3d* position_mm, PositionJacobian* jacobian);
+                                       Eigen::Vector3d* position_mm, PositionJacobian* jacobian,
+                                       const Vector6d* approach = nullptr);
 
 }  // namespace robcal

@@ -19,13 +19,16 @@ enum class MeasurementKind {
   Distances  ///< ballbar: distance from a target to a fixed centre per row
 };
 
-/// `config,target,j1..j6,x,y,z`
+/// `config,target,j1..j6,x,y,z` (+ `approach`: how the program reached the configuration, each
+/// joint from below or above, which the backlash group needs, docs/method/03-error-model.md §6;
+/// from below when the file does not say, the measurement programs' practice).
 struct PointMeasurement {
   std::string config;  ///< configuration label as written in the file
   int target = 0;      ///< index into Tool::targets
   Vector6d joints = Vector6d::Zero();
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();
-  int line = 0;  ///< 1-based line in the source file (0: not from a file)
+  int line = 0;                          ///< 1-based line in the source file (0: not from a file)
+  Vector6d approach = Vector6d::Ones();  ///< per joint: +1 from below, −1 from above, 0 unknown
 };
 
 /// `config,j1..j6,x,y,z,qw,qx,qy,qz`: world_T_tcp.
@@ -34,6 +37,7 @@ struct PoseMeasurement {
   Vector6d joints = Vector6d::Zero();
   Pose<double> world_T_tcp;
   int line = 0;
+  Vector6d approach = Vector6d::Ones();  ///< as PointMeasurement::approach
 };
 
 /// `config,target,j1..j6,length`: |p_target − centre| in mm.
@@ -43,6 +47,7 @@ struct DistanceMeasurement {
   Vector6d joints = Vector6d::Zero();
   double length_mm = 0;
   int line = 0;
+  Vector6d approach = Vector6d::Ones();  ///< as PointMeasurement::approach
 };
 
 /// The rows of one measurement file; exactly one of the three vectors is filled.

@@ -3,7 +3,7 @@
 /// The robot's parameter vector: every quantity the error model of docs/method/03-error-model.md
 /// may identify, stored as absolute values in internal units (mm, rad, rad/(N·mm), unitless scale).
 ///
-/// Layout (kParameterCount = 61):
+/// Layout (kParameterCount = 67):
 ///   [0, 6)   base.x base.y base.z (mm), base.alpha base.beta base.gamma (rad):
 ///            world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1)
 ///   [6, 26)  linkI.alpha (rad), linkI.a (mm), linkI.theta (rad, the joint zero offset),
@@ -13,6 +13,9 @@
 ///   [37, 61) jointI.periodicH.cos, jointI.periodicH.sin (rad) for I = 1..6, H = 1, 2: the
 ///            periodic joint error δθ_I = Σ_H (cos_H·cos(H·q_I) + sin_H·sin(H·q_I)), an opt-in
 ///            group (docs/method/03-error-model.md §5), zero and fixed unless asked for.
+///   [61, 67) jointI.backlash (rad) for I = 1..6: the dead band b_I of the joint, θ_I shifted by
+///            −s_I·b_I/2 for a joint approached from below (s = +1) or above (s = −1), an
+///            opt-in group (docs/method/03-error-model.md §6).
 /// The 31 of the published full model are the first 31; scales are fixed unless asked for.
 
 #include <array>
@@ -30,7 +33,8 @@ inline constexpr int kScaleOffset = 31;
 inline constexpr int kPeriodicOffset = 37;
 inline constexpr int kPeriodicHarmonics = 2;  ///< first and second harmonic of the joint angle
 inline constexpr int kPeriodicPerJoint = 2 * kPeriodicHarmonics;
-inline constexpr int kParameterCount = kPeriodicOffset + kJointCount * kPeriodicPerJoint;
+inline constexpr int kBacklashOffset = kPeriodicOffset + kJointCount * kPeriodicPerJoint;
+inline constexpr int kParameterCount = kBacklashOffset + kJointCount;
 
 /// Index of MDH quantity k (0 alpha, 1 a, 2 theta, 3 d) of link i (2..6).
 constexpr int link_param(int link, int k) {
@@ -49,6 +53,11 @@ constexpr int scale_param(int joint) {
 /// (sine = false) or sine term.
 constexpr int periodic_param(int joint, int harmonic, bool sine) {
   return kPeriodicOffset + kPeriodicPerJoint * (joint - 1) + 2 * (harmonic - 1) + (sine ? 1 : 0);
+}
+
+/// Index of the backlash (dead band) of joint i (1..6).
+constexpr int backlash_param(int joint) {
+  return kBacklashOffset + (joint - 1);
 }
 
 enum class ParamKind { Length, Angle, Compliance, Scale };
@@ -73,7 +82,8 @@ struct ParameterGroup {
   std::vector<int> params;  ///< indices in the layout
 };
 
-/// The opt-in groups: one periodic group per joint ("joint1.periodic" .. "joint6.periodic").
+/// The opt-in groups: one periodic group per joint ("joint1.periodic" .. "joint6.periodic"),
+/// then one backlash group per joint ("joint1.backlash" .. "joint6.backlash").
 const std::vector<ParameterGroup>& opt_in_groups();
 
 /// True for a parameter of an opt-in group.

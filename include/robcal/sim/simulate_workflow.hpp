@@ -28,7 +28,7 @@ struct SimulateRequest {
   double noise_mm = 0;     ///< σ per axis; 0: the instrument's own
   bool exact = false;      ///< noise-free readings
   std::vector<std::string> effects;  ///< unmodelled effects of the true robot (enable_effects)
-  std::string approach = "below";    ///< below (q − 5° on every joint) or sequence
+  std::string approach = "below";    ///< below (q − 5° on every joint), sequence or random
   double error_length_mm = ErrorBounds{}.length_mm;  ///< random truth's error bounds
   double error_angle_deg = ErrorBounds{}.angle_deg;
   std::string out;  ///< folder to write (measurements.csv, tool, instrument, truth/); "": none

@@ -58,6 +58,11 @@ struct SimulationOptions {
   /// one configuration to the next.
   bool approach_from_below = true;
   double seconds_per_measurement = 20;  ///< clock for thermal drift
+  /// Each joint of each configuration approached from below or above at random (from q ∓ 5°),
+  /// drawn from `approach_seed` (overrides approach_from_below): data for the backlash group,
+  /// docs/method/03-error-model.md §6. The rows record the side of every joint either way.
+  bool approach_random = false;
+  uint64_t approach_seed = 0;
 };
 
 struct SimulationResult {

@@ -1,0 +1,117 @@
+#pragma once
+// Shared by the tests of the opt-in error groups (issue 19, docs/method/03-error-model.md §5–6):
+// simulated campaigns on the published IRB 120, a level-full fit with groups, the validation
+// error and the cross-validated cost of a group.
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "robcal/identify/cross_validation.hpp"
+#include "robcal/identify/identification.hpp"
+#include "robcal/io/robot_file.hpp"
+#include "robcal/sim/simulator.hpp"
+#include "robcal/validate/validation.hpp"
+
+namespace robcal::test {
+
+struct GroupCampaign {
+  MeasurementSet calibration, validation;
+};
+
+/// 100 calibration and 60 validation positions drawn in the joint box `box` on `truth`, laser
+/// tracker with σ = `noise_mm`, measured with `sim` (the validation's approach sides drawn from
+/// approach_seed + 1).
+inline GroupCampaign simulate_campaign(const TrueRobot& truth, double noise_mm, uint64_t seed,
+                                       const std::array<JointLimit, kJointCount>& box,
+                                       SimulationOptions sim = {}) {
+  std::mt19937_64 rng(seed);
+  const VirtualInstrument tracker =
+      standard_instrument(InstrumentKind::LaserTracker, truth, noise_mm);
+  RandomConfigurationOptions options;
+  options.box = box;
+  GroupCampaign c;
+  c.calibration =
+      simulate_measurements(truth, tracker,
+                            random_configurations(truth, tracker, 100, rng, options), rng, sim)
+          .measurements;
+  options.name_prefix = "V";
+  ++sim.approach_seed;
+  c.validation =
+      simulate_measurements(truth, tracker, random_configurations(truth, tracker, 60, rng, options),
+                            rng, sim)
+          .measurements;
+  return c;
+}
+
+/// Level full on the IRB 120 with the default simulation tool, the groups `identify` enabled.
+inline IdentificationResult fit_full(const MeasurementSet& data,
+                                     const std::vector<std::string>& identify) {
+  IdentifyOptions options;
+  options.level = CalibrationLevel::Full;
+  options.identify = identify;
+  return calibrate(load_robot("abb-irb120"), default_simulation_tool(), data, options);
+}
+
+inline double validation_mean_mm(const IdentificationResult& r, const MeasurementSet& validation) {
+  return validate_model(r.robot, validation, 1).positions.position_mm.mean;
+}
+
+/// Validation mean errors (mm) of level full: on effect-free data; on data with the effect,
+/// without and with the groups `identify`; and that last fit.
+struct GroupEffect {
+  double free_of_effect = 0, without_group = 0, with_group = 0;
+  IdentificationResult with;
+};
+inline GroupEffect group_effect(const GroupCampaign& clean, const GroupCampaign& effect,
+                                const std::vector<std::string>& identify) {
+  GroupEffect g;
+  g.free_of_effect = validation_mean_mm(fit_full(clean.calibration, {}), clean.validation);
+  g.without_group = validation_mean_mm(fit_full(effect.calibration, {}), effect.validation);
+  g.with = fit_full(effect.calibration, identify);
+  g.with_group = validation_mean_mm(g.with, effect.validation);
+  std::printf(
+      "validation mean: effect-free %.4f mm, effect %.4f mm without the group, %.4f mm "
+      "with it\n",
+      g.free_of_effect, g.without_group, g.with_group);
+  return g;
+}
+
+/// Normalised errors z = (estimate − truth)/σ (σ as reported) of parameters recovered over
+/// Monte Carlo fits: each must be identified and within 3σ; rms() near 1 says the σ are honest.
+struct NormalisedErrors {
+  double sum_sq = 0;
+  int count = 0;
+  /// Adds parameter `i` of `r` against its true value; returns its σ.
+  double add(const IdentificationResult& r, int i, double truth, uint64_t seed) {
+    EXPECT_EQ(r.robot.status[static_cast<size_t>(i)], ParameterStatus::Identified);
+    const double sigma = std::sqrt(r.robot.covariance(i, i));
+    const double z = (r.robot.params[i] - truth) / sigma;
+    EXPECT_LT(std::abs(z), 3.0) << parameter_table()[i].name << " seed " << seed;
+    sum_sq += z * z;
+    ++count;
+    return sigma;
+  }
+  [[nodiscard]] double rms() const { return std::sqrt(sum_sq / count); }
+};
+
+/// Cross-validated mean error (5 folds, seed 7) without and with the groups `identify`.
+inline std::pair<double, double> cross_validated_cost(const MeasurementSet& data,
+                                                      const std::vector<std::string>& identify) {
+  const RobotModel model = load_robot("abb-irb120");
+  IdentifyOptions plain;
+  IdentifyOptions with = plain;
+  with.identify = identify;
+  const double a = cross_validate(model, default_simulation_tool(), data, plain, 5, 7).mean_mm;
+  const double b = cross_validate(model, default_simulation_tool(), data, with, 5, 7).mean_mm;
+  std::printf("cross-validated mean: %.4f mm without, %.4f mm with the group\n", a, b);
+  return {a, b};
+}
+
+}  // namespace robcal::test
