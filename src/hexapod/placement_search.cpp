@@ -434,6 +434,7 @@ PlacementsDesign design_placements(const RobotModel& model, const std::vector<He
       task.block<3, 1>(3 * static_cast<Eigen::Index>(t), k) = Jp.col(c.design.parameters[k]);
   }
   std::vector<Vector6d> joints;
+  joints.reserve(candidates.size());
   for (const Candidate& k : candidates) joints.push_back(k.joints);
   SelectionGuard guard;
   guard.enabled = false;
