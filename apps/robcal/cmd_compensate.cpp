@@ -24,6 +24,7 @@ struct ModelOptions {
   std::string tool;
   std::string payload_mass;
   std::string payload_cog;
+  std::string payload_name;
   std::string method = "newton";
   bool json = false;
 };
@@ -45,6 +46,7 @@ CompensationSetup parse_setup(const ModelOptions& o) {
     setup.payload = PointMass{parse_numbers(o.payload_mass, 1, "--payload-mass-kg")[0],
                               Eigen::Vector3d(cog[0], cog[1], cog[2])};
   }
+  setup.payload_name = o.payload_name;
   return setup;
 }
 
@@ -130,6 +132,9 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
                   "Payload carried now, if not the tool's (the compliance re-compensates)");
   cmd->add_option("--payload-cog-mm", o.payload_cog,
                   "Its centre of gravity x,y,z in the flange frame");
+  cmd->add_option("--payload", o.payload_name,
+                  "Payload carried now by name, one of the tool's 'payloads:' (the compliance "
+                  "re-compensates)");
   cmd->add_flag("--json", o.json, "Machine-readable summary on stdout");
 }
 

@@ -124,6 +124,24 @@ class RowReader {
     return index;
   }
 
+  /// The optional `payload` column (several payloads, docs/method/03-error-model.md §6): a name
+  /// of the tool's `payloads`, or empty for its own `payload`.
+  [[nodiscard]] int payload(const Row& row, const Tool& tool) const {
+    const std::string_view name = text(row, "payload");
+    if (name.empty()) return -1;
+    const int index = tool.payload_index(name);
+    if (index < 0) {
+      std::vector<std::string> known;
+      for (const NamedPayload& p : tool.payloads) known.push_back("'" + p.name + "'");
+      throw InputError(
+          where(row, "payload"),
+          fmt::format("unknown payload '{}': expected a name under 'payloads:' in the tool file "
+                      "({}), or empty for its 'payload'",
+                      name, known.empty() ? std::string("it lists none") : join(known, ", ")));
+    }
+    return index;
+  }
+
  private:
   const std::string& file_;
   const std::map<std::string, int>& columns_;
@@ -461,6 +479,9 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
     const auto used = std::find_if(required.begin(), required.end(), [&](const std::string& r) {
       return columns.at(r) == static_cast<int>(i);
     });
+    if (used == required.end() && columns.count("payload") &&
+        columns.at("payload") == static_cast<int>(i))
+      continue;
     if (used == required.end())
       result.warnings.push_back(
           fmt::format("{}:{}:{}: column '{}' is not used by a {} file; ignored", source_name,
@@ -550,6 +571,7 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
         break;
       }
     }
+    if (columns.count("payload")) set.set_payload(set.size() - 1, reader.payload(row, tool));
   }
   check_units(set, format, header_line, columns);
   return result;
@@ -570,7 +592,18 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
     out += fmt::format("# {}\n", comment.substr(start, newline - start));
     start = newline + 1;
   }
-  out += join(columns_of(set.kind), ",") + "\n";
+  bool payloads = false;  // an optional last column, written when a row names one
+  for (size_t row = 0; row < set.size(); ++row) payloads = payloads || set.payload(row) >= 0;
+  out += join(columns_of(set.kind), ",") + (payloads ? ",payload\n" : "\n");
+  const auto payload = [&](int index) -> std::string {
+    if (!payloads) return "\n";
+    if (index >= static_cast<int>(tool.payloads.size()))
+      throw InputError({"", 0, 0, "payload"},
+                       fmt::format("payload index {} is not a payload of the tool ({} payloads)",
+                                   index, tool.payloads.size()));
+    return "," + (index < 0 ? std::string() : tool.payloads[static_cast<size_t>(index)].name) +
+           "\n";
+  };
 
   const auto config = [](const std::string& name) -> const std::string& {
     if (name.empty() || name.find_first_of(",\n\r#") != std::string::npos)
@@ -596,22 +629,25 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
     case MeasurementKind::Points:
       for (const PointMeasurement& m : set.points)
         out +=
-            fmt::format("{},{},{},{},{},{}\n", config(m.config), target(m.target), joints(m.joints),
-                        m.position_mm.x(), m.position_mm.y(), m.position_mm.z());
+            fmt::format("{},{},{},{},{},{}", config(m.config), target(m.target), joints(m.joints),
+                        m.position_mm.x(), m.position_mm.y(), m.position_mm.z()) +
+            payload(m.payload);
       break;
     case MeasurementKind::Poses:
       for (const PoseMeasurement& m : set.poses) {
         Eigen::Quaterniond q(m.world_T_tcp.R);
         if (q.w() < 0) q.coeffs() = -q.coeffs();
-        out += fmt::format("{},{},{},{},{},{},{},{},{}\n", config(m.config), joints(m.joints),
+        out += fmt::format("{},{},{},{},{},{},{},{},{}", config(m.config), joints(m.joints),
                            m.world_T_tcp.p.x(), m.world_T_tcp.p.y(), m.world_T_tcp.p.z(), q.w(),
-                           q.x(), q.y(), q.z());
+                           q.x(), q.y(), q.z()) +
+               payload(m.payload);
       }
       break;
     case MeasurementKind::Distances:
       for (const DistanceMeasurement& m : set.distances)
-        out += fmt::format("{},{},{},{}\n", config(m.config), target(m.target), joints(m.joints),
-                           m.length_mm);
+        out += fmt::format("{},{},{},{}", config(m.config), target(m.target), joints(m.joints),
+                           m.length_mm) +
+               payload(m.payload);
       break;
   }
   return out;

@@ -38,6 +38,7 @@ const std::array<ParameterInfo, kParameterCount>& parameter_table() {
           t[periodic_param(joint, h, sine)] = {
               fmt::format("joint{}.periodic{}.{}", joint, h, sine ? "sin" : "cos"),
               ParamKind::Angle, "deg"};
+    t[kJoint1Compliance] = {"joint1.compliance", ParamKind::Compliance, "rad/N·mm"};
     return t;
   }();
   return kTable;
@@ -52,6 +53,7 @@ const std::vector<ParameterGroup>& opt_in_groups() {
         group.params.push_back(periodic_param(joint, 1, false) + k);
       g.push_back(group);
     }
+    g.push_back({"joint1.compliance", {kJoint1Compliance}});
     return g;
   }();
   return kGroups;

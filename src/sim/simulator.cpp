@@ -158,6 +158,9 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
   for (size_t k = 0; k < configs.size(); ++k) {
     const PlannedConfiguration& config = configs[k];
     motion.time_s = options.seconds_per_measurement * static_cast<double>(k);
+    if (options.random_payloads)  // -1: the tool's own payload, else one of its `payloads`
+      motion.payload =
+          std::uniform_int_distribution<int>(-1, static_cast<int>(tool.payloads.size()) - 1)(rng);
     const Pose<double> flange = true_flange_pose(truth, config.joints, motion);
     motion.previous_joints = config.joints;
     if (config.target >= static_cast<int>(tool.targets.size()))
@@ -211,6 +214,7 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
         break;
       }
     }
+    set.set_payload(set.size() - 1, motion.payload);
   }
   return result;
 }

@@ -81,9 +81,10 @@ class FlangeRegressor {
                 Eigen::Matrix<double, K, kParameterCount>* out) const;
 
  private:
-  Vector6d q_, c_;  ///< model joint values; compliances (c_[0] = 0)
+  Vector6d q_, c_;  ///< model joint values; compliances (c_[0]: joint 1's, §6)
   PeriodicBasis basis_;
   bool compliant_ = false;
+  bool gravity_turns_with_base_ = false;  ///< RobotModel::gravity_in_base
   Eigen::Matrix3d R_base_xy_;
   std::array<Pose<double>, kJointCount> undeflected_, deflected_;
   /// Gravity torques of the undeflected chain and what their derivatives need

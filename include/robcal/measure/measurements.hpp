@@ -25,7 +25,8 @@ struct PointMeasurement {
   int target = 0;      ///< index into Tool::targets
   Vector6d joints = Vector6d::Zero();
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();
-  int line = 0;  ///< 1-based line in the source file (0: not from a file)
+  int line = 0;      ///< 1-based line in the source file (0: not from a file)
+  int payload = -1;  ///< index into Tool::payloads (`payload` column); -1: the tool's payload
 };
 
 /// `config,j1..j6,x,y,z,qw,qx,qy,qz`: world_T_tcp.
@@ -34,6 +35,7 @@ struct PoseMeasurement {
   Vector6d joints = Vector6d::Zero();
   Pose<double> world_T_tcp;
   int line = 0;
+  int payload = -1;  ///< as PointMeasurement::payload
 };
 
 /// `config,target,j1..j6,length`: |p_target − centre| in mm.
@@ -43,6 +45,7 @@ struct DistanceMeasurement {
   Vector6d joints = Vector6d::Zero();
   double length_mm = 0;
   int line = 0;
+  int payload = -1;  ///< as PointMeasurement::payload
 };
 
 /// The rows of one measurement file; exactly one of the three vectors is filled.
@@ -63,6 +66,31 @@ struct MeasurementSet {
         return distances.size();
     }
     return 0;
+  }
+  /// The payload row `row` carried (any kind): index into Tool::payloads, -1 the tool's own.
+  [[nodiscard]] int payload(size_t row) const {
+    switch (kind) {
+      case MeasurementKind::Points:
+        return points[row].payload;
+      case MeasurementKind::Poses:
+        return poses[row].payload;
+      case MeasurementKind::Distances:
+        return distances[row].payload;
+    }
+    return -1;
+  }
+  void set_payload(size_t row, int payload) {
+    switch (kind) {
+      case MeasurementKind::Points:
+        points[row].payload = payload;
+        return;
+      case MeasurementKind::Poses:
+        poses[row].payload = payload;
+        return;
+      case MeasurementKind::Distances:
+        distances[row].payload = payload;
+        return;
+    }
   }
   /// Scalar residuals one row gives: 3, 6 or 1.
   [[nodiscard]] int residuals_per_row() const {

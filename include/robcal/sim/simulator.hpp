@@ -58,6 +58,9 @@ struct SimulationOptions {
   /// one configuration to the next.
   bool approach_from_below = true;
   double seconds_per_measurement = 20;  ///< clock for thermal drift
+  /// true: each configuration carries a payload drawn (seeded) from the true tool's payload and
+  /// its `payloads`, recorded in the row (several payloads in one calibration, §6).
+  bool random_payloads = false;
 };
 
 struct SimulationResult {
