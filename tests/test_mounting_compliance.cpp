@@ -8,6 +8,7 @@
 // cross-validation when the robot does not need it.
 
 #include <ceres/jet.h>
+#include <fmt/ranges.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -18,6 +19,7 @@
 #include "robcal/identify/cross_validation.hpp"
 #include "robcal/identify/identification.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/report/report.hpp"
 #include "robcal/sim/simulator.hpp"
 #include "robcal/validate/validation.hpp"
 #include "test_compensate_support.hpp"
@@ -241,6 +243,20 @@ TEST(MountingCompliance, WallMountedRobotIdentifiedAndCompensated) {
   const std::string text = calibrated_robot_to_yaml(with.robot);
   EXPECT_NE(text.find("gravity_base_m_s2"), std::string::npos);
   EXPECT_NE(text.find("joint1.compliance"), std::string::npos);
+  // The HTML report shows every group with its test; only this one enabled and significant.
+  ReportData data;
+  data.title = "wall";
+  data.robot = "abb-irb120";
+  data.parameters = report_parameters(with.robot);
+  data.groups = groups;
+  const std::string page = report_html(report_json(data), "");
+  const size_t table = page.find("<table id=\"groups\">");
+  ASSERT_NE(table, std::string::npos);
+  const size_t row = page.find("<tr><td>joint1.compliance</td><td>1</td>", table);
+  ASSERT_NE(row, std::string::npos) << page.substr(table, 2000);
+  EXPECT_EQ(page.find("significant: the robot needs it", table),
+            page.find("significant: the robot needs it", row));
+  EXPECT_NE(page.find("<tr><td>joint6.periodic</td><td>–</td>", table), std::string::npos);
 }
 
 // Seeded Monte Carlo: the six compliances of the wall-mounted robot recovered within 3σ in each

@@ -69,7 +69,7 @@ TEST(PeriodicErrors, ForwardModelShiftsTheJointAngle) {
 CalibratedRobot calibrated_with_periodic(const char* name, std::mt19937_64& rng) {
   CalibratedRobot robot = test::random_calibrated(name, rng);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (int i = kPeriodicOffset; i < kParameterCount; ++i) robot.params[i] = deg2rad(0.03 * u(rng));
+  for (int i = kPeriodicOffset; i < kMountingOffset; ++i) robot.params[i] = deg2rad(0.03 * u(rng));
   return robot;
 }
 

@@ -76,8 +76,8 @@ Campaign simulate(bool several, uint64_t seed) {
   sim.random_payloads = several;
   Campaign c;
   c.calibration =
-      simulate_measurements(truth, tracker, random_configurations(truth, tracker, 100, rng, options),
-                            rng, sim)
+      simulate_measurements(truth, tracker,
+                            random_configurations(truth, tracker, 100, rng, options), rng, sim)
           .measurements;
   options.name_prefix = "V";
   c.validation =
@@ -137,7 +137,8 @@ TEST(SeveralPayloads, ComplianceSeparatedFromGeometry) {
                rb = geometry_compliance_correlation(b.robot);
   std::printf("largest geometry/compliance correlation: one payload %.3f, several %.3f\n", ra, rb);
   EXPECT_LT(rb, ra - 0.05);
-  const double validation = validate_model(b.robot, several.validation, 1).positions.position_mm.mean;
+  const double validation =
+      validate_model(b.robot, several.validation, 1).positions.position_mm.mean;
   std::printf("validation mean with each row's payload: %.4f mm\n", validation);
   EXPECT_LT(validation, 0.03);
 }

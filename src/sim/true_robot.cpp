@@ -202,7 +202,7 @@ std::string truth_to_yaml(const TrueRobot& truth, const std::string& robot_name)
       << std::vector<double>(x.data() + kScaleOffset, x.data() + kScaleOffset + kJointCount);
   // Periodic joint errors (opt-in group, docs/method/03-error-model.md §5), joints that have one.
   bool periodic = false;
-  for (int i = kPeriodicOffset; i < kParameterCount; ++i) periodic = periodic || x[i] != 0.0;
+  for (int i = kPeriodicOffset; i < kMountingOffset; ++i) periodic = periodic || x[i] != 0.0;
   if (periodic) {
     out << YAML::Key << "periodic_deg" << YAML::Value << YAML::BeginMap;
     for (int joint = 1; joint <= kJointCount; ++joint) {
