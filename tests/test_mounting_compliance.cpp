@@ -111,7 +111,7 @@ TEST(MountingCompliance, JointOneDeflectionIsTheComplianceTimesTheTorque) {
   const Pose<double> got = flange_pose(model, payload, deflected, q);
   const Pose<double> want = flange_pose(model, payload, shifted, q);
   EXPECT_LT((got.p - want.p).norm(), 1e-9);
-  EXPECT_LT((got.p - flange_pose(model, payload, x, q).p).norm(), 1e-3);
+  EXPECT_GT((got.p - flange_pose(model, payload, x, q).p).norm(), 0.1);  // ≈ 1 mm here
   // On the floor (gravity along axis 1 in the base frame) joint 1 carries nothing.
   RobotModel floor = model;
   floor.gravity_m_s2 = Eigen::Vector3d(0, 0, -9.81);
@@ -223,12 +223,17 @@ double validation_mean_mm(const IdentificationResult& r, const MeasurementSet& v
 // gravity without the group gives today's clearly worse figure.
 TEST(MountingCompliance, WallMountedRobotIdentifiedAndCompensated) {
   constexpr double kNoise = 0.01;
-  const Campaign floor = simulate(published_truth(false), kNoise, 1960);
+  // Means over 4 seeded campaigns: one campaign's validation mean varies by ±10 % with the draw.
+  double free_of_effect = 0, today = 0, enabled = 0;
+  for (uint64_t seed = 1960; seed < 1964; ++seed) {
+    const Campaign floor = simulate(published_truth(false), kNoise, seed);
+    const Campaign wall = simulate(published_truth(true), kNoise, seed);
+    free_of_effect += validation_mean_mm(fit(floor.calibration, false), floor.validation) / 4;
+    today += validation_mean_mm(fit(wall.calibration, false), wall.validation) / 4;
+    enabled += validation_mean_mm(fit(wall.calibration, true), wall.validation) / 4;
+  }
   const Campaign wall = simulate(published_truth(true), kNoise, 1960);
-  const double free_of_effect = validation_mean_mm(fit(floor.calibration, false), floor.validation);
-  const double today = validation_mean_mm(fit(wall.calibration, false), wall.validation);
   const IdentificationResult with = fit(wall.calibration, true);
-  const double enabled = validation_mean_mm(with, wall.validation);
   std::printf(
       "validation mean: floor %.4f mm; wall %.4f mm assuming the floor, %.4f mm with the "
       "mounting and joint1.compliance\n",

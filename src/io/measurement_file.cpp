@@ -127,7 +127,7 @@ class RowReader {
   /// The optional `payload` column (several payloads, docs/method/03-error-model.md §6): a name
   /// of the tool's `payloads`, or empty for its own `payload`.
   [[nodiscard]] int payload(const Row& row, const Tool& tool) const {
-    const std::string_view name = text(row, "payload");
+    const std::string_view name = row.fields[static_cast<size_t>(columns_.at("payload"))];
     if (name.empty()) return -1;
     const int index = tool.payload_index(name);
     if (index < 0) {
