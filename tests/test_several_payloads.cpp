@@ -56,7 +56,7 @@ TEST(SeveralPayloads, ToolFileAndMeasurementColumnRoundTrip) {
   std::string bad = text;
   bad.replace(bad.find(",gripper\n"), 9, ",grippr\n");
   EXPECT_REFUSED(parse_measurements_csv(bad, "m.csv", tool), InputError,
-                 "m.csv:3:13 (payload): unknown payload 'grippr': expected a name under "
+                 "m.csv:3:12 (payload): unknown payload 'grippr': expected a name under "
                  "'payloads:' in the tool file ('empty', 'gripper')");
 }
 
@@ -129,14 +129,15 @@ TEST(SeveralPayloads, ComplianceSeparatedFromGeometry) {
     const double sa = std::sqrt(a.robot.covariance(i, i)), sb = std::sqrt(b.robot.covariance(i, i));
     std::printf("joint%d.compliance σ: one payload %.3g, several %.3g rad/N·mm (ratio %.2f)\n",
                 joint, sa, sb, sb / sa);
-    EXPECT_LT(sb, 0.8 * sa) << parameter_table()[i].name;
+    EXPECT_LT(sb, 0.5 * sa) << parameter_table()[i].name;  // measured 0.26–0.47
     EXPECT_LT(std::abs(b.robot.params[i] - truth.robot.params[i]), 3 * sb)
         << parameter_table()[i].name;
   }
   const double ra = geometry_compliance_correlation(a.robot),
                rb = geometry_compliance_correlation(b.robot);
   std::printf("largest geometry/compliance correlation: one payload %.3f, several %.3f\n", ra, rb);
-  EXPECT_LT(rb, ra - 0.05);
+  EXPECT_GT(ra, 0.9);   // measured 0.937
+  EXPECT_LT(rb, 0.85);  // measured 0.783
   const double validation =
       validate_model(b.robot, several.validation, 1).positions.position_mm.mean;
   std::printf("validation mean with each row's payload: %.4f mm\n", validation);
