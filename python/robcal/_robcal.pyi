@@ -499,9 +499,11 @@ def read_program_points(text: str, language: str, joints: bool = False,
 def filter_program(compensator: Compensator, text: str, language: str, joints: bool = False,
                    keep_going: bool = False, frames: Optional[str] = None,
                    file: str = "<text>",
-                   pulses_per_degree: Optional[ArrayLike] = None) -> Dict[str, Any]:
+                   pulses_per_degree: Optional[ArrayLike] = None,
+                   dat: Optional[str] = None, dat_file: str = "<dat>") -> Dict[str, Any]:
     """Corrects every target of a program text with a Compensator: the `robcal
-    compensate-program` summary plus the corrected 'text' and 'confidence_csv'."""
+    compensate-program` summary plus the corrected 'text' and 'confidence_csv'. KRL: with
+    `dat`, the .src text and its .dat corrected together as a module ('dat_text')."""
 
 
 def write_measurement_program(language: str, names: Sequence[str], joints_deg: ArrayLike,
@@ -511,9 +513,23 @@ def write_measurement_program(language: str, names: Sequence[str], joints_deg: A
                               tool_number: int = 1,
                               pulses_per_degree: Optional[ArrayLike] = None,
                               robot: Optional[str] = None,
-                              date: str = "2000/01/01 00:00") -> List[Dict[str, str]]:
+                              date: str = "2000/01/01 00:00",
+                              approach: Optional[Sequence[bool]] = None,
+                              measure: Optional[Sequence[bool]] = None) -> List[Dict[str, str]]:
     """The measurement program visiting each configuration (N×6 joints, deg) from q -
-    approach_deg, as `robcal program`: a list of {'name', 'text'} files."""
+    approach_deg, as `robcal program`: a list of {'name', 'text'} files. `approach` and
+    `measure` (one flag per configuration) turn the approach move and the measurement hook off
+    where False (e.g. pre-poses visited but not measured)."""
+
+
+def write_measurement_program_files(language: str, configs: str, out_dir: str,
+                                    robot: Optional[str] = None, tool: Optional[str] = None,
+                                    name: str = "RCMEAS", hook: str = "wait",
+                                    approach_deg: float = 5.0,
+                                    pulses_per_degree: Optional[ArrayLike] = None,
+                                    date: str = "2000/01/01 00:00") -> List[str]:
+    """`robcal program`: reads the configurations CSV (what `robcal plan` writes), checks them
+    against the robot's limits and writes the program's files into out_dir; their paths."""
 
 
 def read_joint_moves(text: str, language: str,

@@ -162,12 +162,15 @@ CalibratedRobot load_calibrated_robot(const std::string& path) {
     throw root.at("format").error(fmt::format(
         "unknown format '{}': expected robcal-calibrated-model", root.at("format").as_string()));
   robot.level = root.has("level") ? root.at("level").as_string() : "nominal";
-  // What the writers put there (calibrate's levels, a nominal model, a simulator's truth).
-  constexpr std::array<std::string_view, 8> kLevels{"nominal",   "truth", "base", "joints",
-                                                    "kinematic", "full",  "tool", "patterns"};
+  // What the writers put there (calibrate's levels, a nominal model, a simulator's truth, a
+  // model imported from UR's calibration.conf).
+  constexpr std::array<std::string_view, 9> kLevels{"nominal", "truth",     "base",
+                                                    "joints",  "kinematic", "full",
+                                                    "tool",    "patterns",  "ur-calibration"};
   if (std::find(kLevels.begin(), kLevels.end(), robot.level) == kLevels.end())
     throw root.at("level").error(fmt::format(
-        "unknown level '{}': expected nominal, base, joints, kinematic, full, tool or patterns",
+        "unknown level '{}': expected nominal, base, joints, kinematic, full, tool or patterns "
+        "(calibrate's levels), truth (a simulator's) or ur-calibration (imported)",
         robot.level));
   robot.base_fitted = root.has("base_fitted") && root.at("base_fitted").node.as<bool>(false);
   robot.params = robot.model.nominal();

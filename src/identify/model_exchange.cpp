@@ -29,7 +29,7 @@ ModelImportResult import_ur_calibration(const ModelImportRequest& request) {
   out.ur_calibration = load_ur_calibration(request.calibration_path);
   CalibratedRobot robot = CalibratedRobot::nominal(load_robot(request.robot), Tool{});
   robot.params = params_from_ur_calibration(robot.model, out.ur_calibration);
-  robot.level = "factory calibration (UR calibration.conf)";
+  robot.level = "ur-calibration";  // imported from UR's factory calibration.conf
   out.model_file = true;
   out.yaml = calibrated_robot_to_yaml(robot);
   return out;

@@ -62,7 +62,7 @@ PY
 "$ROBCAL" model import --format ur-calibration --calibration tests/data/ur/ur10e-calibration.conf \
   --robot universal-robots-ur10e --out "$TMP/ur.yaml" >"$TMP/ur.txt" || fail "import calibration.conf"
 grep -q "calibration_status linearised" "$TMP/ur.txt" || fail "no calibration status: $(cat "$TMP/ur.txt")"
-grep -q "level: factory calibration" "$TMP/ur.yaml" || fail "not a model file"
+grep -q "level: ur-calibration" "$TMP/ur.yaml" || fail "not a model file"
 "$ROBCAL" model export --model "$TMP/ur.yaml" --format ur-calibration --out "$TMP/back.conf" \
   >"$TMP/back.txt" || fail "export calibration.conf"
 /usr/bin/python3 - tests/data/ur/ur10e-calibration.conf "$TMP/back.conf" <<'PY' || fail "deltas differ"
