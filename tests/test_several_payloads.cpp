@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/identify/identification.hpp"
@@ -28,7 +30,10 @@ Tool tool_with_payloads() {
 
 TEST(SeveralPayloads, ToolFileAndMeasurementColumnRoundTrip) {
   const Tool tool = tool_with_payloads();
-  const Tool back = parse_tool(yaml::parse(tool_to_yaml(tool), "tool.yaml"));
+  // Through a file: the tool reader accepts the 'payloads' key.
+  const std::string path = testing::TempDir() + "several-payloads-tool.yaml";
+  std::ofstream(path) << tool_to_yaml(tool);
+  const Tool back = load_tool(path);
   ASSERT_EQ(back.payloads.size(), 2u);
   EXPECT_EQ(back.payloads[1].name, "gripper");
   EXPECT_EQ(back.payloads[1].mass.mass_kg, 6.0);
@@ -42,21 +47,27 @@ TEST(SeveralPayloads, ToolFileAndMeasurementColumnRoundTrip) {
   set.points.push_back({"C3", 2, Vector6d::Constant(0.3), Eigen::Vector3d(7, 8, 9), 0});
   set.points[1].payload = 1;
   set.points[2].payload = 0;
+  set.points[1].approach << 1, -1, 1, 1, 0, 1;  // both optional columns in one file
   const std::string text = write_measurements_csv(set, tool);
-  EXPECT_NE(text.find(",payload\n"), std::string::npos) << text;
+  EXPECT_NE(text.find(",approach,payload\n"), std::string::npos) << text;
+  EXPECT_NE(text.find(",+-++0+,gripper\n"), std::string::npos) << text;
   EXPECT_NE(text.find(",gripper\n"), std::string::npos) << text;
   const MeasurementFile read = parse_measurements_csv(text, "m.csv", tool);
   EXPECT_TRUE(read.warnings.empty());
   ASSERT_EQ(read.measurements.size(), 3u);
-  for (size_t r = 0; r < 3; ++r) EXPECT_EQ(read.measurements.payload(r), set.payload(r));
+  for (size_t r = 0; r < 3; ++r) {
+    EXPECT_EQ(read.measurements.payload(r), set.payload(r));
+    EXPECT_EQ(read.measurements.points[r].approach, set.points[r].approach);
+  }
   // Without any payload named, the file keeps today's columns.
   set.points[1].payload = set.points[2].payload = -1;
+  set.points[1].approach.setOnes();
   EXPECT_EQ(write_measurements_csv(set, tool).find("payload"), std::string::npos);
 
   std::string bad = text;
   bad.replace(bad.find(",gripper\n"), 9, ",grippr\n");
   EXPECT_REFUSED(parse_measurements_csv(bad, "m.csv", tool), InputError,
-                 "m.csv:3:12 (payload): unknown payload 'grippr': expected a name under "
+                 "m.csv:3:13 (payload): unknown payload 'grippr': expected a name under "
                  "'payloads:' in the tool file ('empty', 'gripper')");
 }
 

@@ -372,7 +372,7 @@ Tool parse_tool(const yaml::Node& root) {
 
 Tool load_tool(const std::string& path) {
   const yaml::Node root = yaml::load_file(path);
-  if (root.defined()) yaml::expect_keys(root, {"payload", "targets", "tcp"});
+  if (root.defined()) yaml::expect_keys(root, {"payload", "payloads", "targets", "tcp"});
   return parse_tool(root);
 }
 
