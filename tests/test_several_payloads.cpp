@@ -15,6 +15,7 @@
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/simulator.hpp"
 #include "robcal/validate/validation.hpp"
+#include "test_error_groups_support.hpp"
 #include "test_support.hpp"
 
 namespace robcal {
@@ -71,31 +72,13 @@ TEST(SeveralPayloads, ToolFileAndMeasurementColumnRoundTrip) {
                  "'payloads:' in the tool file ('empty', 'gripper')");
 }
 
-struct Campaign {
-  MeasurementSet calibration, validation;
-};
-
 /// 100 calibration and 60 validation positions on the published IRB 120; `several`: each row
 /// carries a payload drawn (seeded) from the tool's three.
-Campaign simulate(bool several, uint64_t seed) {
-  TrueRobot truth = published_irb120_truth(load_robot("abb-irb120"), tool_with_payloads());
-  std::mt19937_64 rng(seed);
-  const VirtualInstrument tracker = standard_instrument(InstrumentKind::LaserTracker, truth, 0.01);
-  RandomConfigurationOptions options;
-  options.box = published_joint_box(truth.robot.model);
+test::GroupCampaign simulate(bool several, uint64_t seed) {
+  const TrueRobot truth = published_irb120_truth(load_robot("abb-irb120"), tool_with_payloads());
   SimulationOptions sim;
   sim.random_payloads = several;
-  Campaign c;
-  c.calibration =
-      simulate_measurements(truth, tracker,
-                            random_configurations(truth, tracker, 100, rng, options), rng, sim)
-          .measurements;
-  options.name_prefix = "V";
-  c.validation =
-      simulate_measurements(truth, tracker, random_configurations(truth, tracker, 60, rng, options),
-                            rng, sim)
-          .measurements;
-  return c;
+  return test::simulate_campaign(truth, 0.01, seed, published_joint_box(truth.robot.model), sim);
 }
 
 IdentificationResult fit(const MeasurementSet& data) {
@@ -125,8 +108,8 @@ double geometry_compliance_correlation(const CalibratedRobot& robot) {
 // payload. The estimates stay within 3σ of the truth and validation with each row's payload
 // is at the noise.
 TEST(SeveralPayloads, ComplianceSeparatedFromGeometry) {
-  const Campaign one = simulate(false, 1990);
-  const Campaign several = simulate(true, 1990);
+  const test::GroupCampaign one = simulate(false, 1990);
+  const test::GroupCampaign several = simulate(true, 1990);
   int carried[3] = {0, 0, 0};
   for (size_t r = 0; r < several.calibration.size(); ++r)
     ++carried[several.calibration.payload(r) + 1];
