@@ -3,6 +3,7 @@
 // simulated campaigns on the published IRB 120, a level-full fit with groups, the validation
 // error and the cross-validated cost of a group.
 
+#include <ceres/jet.h>
 #include <gtest/gtest.h>
 
 #include <array>
@@ -18,8 +19,36 @@
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/simulator.hpp"
 #include "robcal/validate/validation.hpp"
+#include "test_compensate_support.hpp"
 
 namespace robcal::test {
+
+/// The calibrated chain of `robot` against the templated forward model at 30 random joint sets:
+/// the TCP pose, and the position rows of its joint Jacobian against autodiff.
+inline void expect_chain_matches_forward_model(const CalibratedRobot& robot, std::mt19937_64& rng,
+                                               const std::string& name) {
+  const Compensator comp = make_compensator(robot);
+  using Jet = ceres::Jet<double, 6>;
+  std::array<Jet, kParameterCount> params;
+  for (int i = 0; i < kParameterCount; ++i) params[i] = Jet(robot.params[i]);
+  for (int k = 0; k < 30; ++k) {
+    const Vector6d j = random_joints(robot.model, rng);
+    Matrix6d J;
+    const Pose<double> got = calibrated_tcp_pose(comp.chain, j, &J);
+    const Pose<double> want =
+        flange_pose(robot.model, robot.tool.payload, robot.params, j) * comp.flange_T_tcp;
+    ASSERT_LT((got.p - want.p).norm(), 1e-9) << name;
+    ASSERT_LT((got.R - want.R).norm(), 1e-12) << name;
+    std::array<Jet, kJointCount> jj;
+    for (int i = 0; i < kJointCount; ++i) jj[i] = Jet(j[i], i);
+    const Pose<Jet> flange =
+        flange_pose<Jet>(robot.model, robot.tool.payload, params.data(), jj.data());
+    const Vector3<Jet> tcp = flange * comp.flange_T_tcp.p.cast<Jet>();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < kJointCount; ++c)
+        ASSERT_NEAR(J(r, c), tcp[r].v[c], 1e-9 * (1 + J.cwiseAbs().maxCoeff())) << name;
+  }
+}
 
 struct GroupCampaign {
   MeasurementSet calibration, validation;

@@ -32,19 +32,20 @@ ParameterVector perturbed(const RobotModel& model, std::mt19937_64& rng, bool co
     const bool angle = parameter_table()[i].kind == ParamKind::Angle;
     x[i] += angle ? deg2rad(2.0 * n(rng)) : 20.0 * n(rng);
   }
-  for (int j = 2; j <= 6; ++j) x[compliance_param(j)] = compliance ? 5e-7 * (1 + n(rng)) : 0.0;
+  for (int j = 1; j <= 6; ++j) x[compliance_param(j)] = compliance ? 5e-7 * (1 + n(rng)) : 0.0;
   for (int j = 1; j <= 6; ++j) x[scale_param(j)] = 1.0 + 0.01 * n(rng);
-  for (int i = kPeriodicOffset; i < kParameterCount; ++i) x[i] = deg2rad(0.05 * n(rng));
+  for (int i = kPeriodicOffset; i < kMountingOffset; ++i) x[i] = deg2rad(0.05 * n(rng));
   return x;
 }
 
-/// Finite-difference steps per parameter: 1e-4 mm, 1e-6 rad, 1e-10 rad/N·mm (≈ 4e-6 rad of
-/// deflection), 1e-6.
+/// Finite-difference steps per parameter: 1e-4 mm, 1e-6 rad, 1e-9 rad/N·mm, 1e-6. The compliance
+/// step deflects by 1e-9·τ: ≈ 1e-6 rad on joint 6 (τ ≈ 1e3 N·mm), where a smaller step leaves
+/// the difference to rounding, and ≈ 4e-5 rad on joint 2, still far from curvature.
 ParameterVector difference_steps() {
   ParameterVector step;
   for (int i = 0; i < kParameterCount; ++i) {
     const ParamKind kind = parameter_table()[i].kind;
-    step[i] = kind == ParamKind::Length ? 1e-4 : kind == ParamKind::Compliance ? 1e-10 : 1e-6;
+    step[i] = kind == ParamKind::Length ? 1e-4 : kind == ParamKind::Compliance ? 1e-9 : 1e-6;
   }
   return step;
 }
@@ -59,9 +60,16 @@ void expect_columns_match(const PositionJacobian& analytic, const Eigen::MatrixX
   }
 }
 
-void check_robot(const std::string& robot, uint64_t seed) {
+/// `gravity_base`: gravity given in the robot's base frame (a wall or ceiling mounting,
+/// docs/method/03-error-model.md §7) instead of the world's default.
+void check_robot(const std::string& robot, uint64_t seed,
+                 const Eigen::Vector3d* gravity_base = nullptr) {
   SCOPED_TRACE("robot " + robot + ", seed " + std::to_string(seed));
-  const RobotModel model = load_robot(robot);
+  RobotModel model = load_robot(robot);
+  if (gravity_base) {
+    model.gravity_m_s2 = *gravity_base;
+    model.gravity_in_base = true;
+  }
   const PointMass payload{2.6, Eigen::Vector3d(50, 25, 100)};
   auto rng = test::seeded_rng(seed);
   for (int trial = 0; trial < 20; ++trial) {
@@ -97,6 +105,12 @@ TEST(ParameterJacobian, AnalyticMatchesAutodiffAndFiniteDifferencesFanucCoupledJ
   check_robot("fanuc-lrmate200ic", 12);
 }
 
+TEST(ParameterJacobian, WallAndCeilingMountingWithJoint1Compliance) {
+  const Eigen::Vector3d wall(0, -9.81, 0), inclined(3.1, 2.0, -9.1);
+  check_robot("abb-irb120", 13, &wall);
+  check_robot("fanuc-lrmate200ic", 14, &inclined);
+}
+
 TEST(ParameterJacobian, ComplianceColumnAtZeroComplianceIsTheTorqueTimesTheJointColumn) {
   // At c = 0 the compliance column is τ_i · (joint i column): compare with the autodiff one
   // (which must not vanish although the compliance is zero) and with the FK's own torques.
@@ -114,8 +128,8 @@ TEST(ParameterJacobian, ComplianceColumnAtZeroComplianceIsTheTorqueTimesTheJoint
   for (int i = 0; i < kJointCount; ++i)
     theta[i] = qm[i] + (i == 0 ? model.mdh[0].theta_offset : x[link_param(i + 1, 2)]);
   const auto tau = gravity_torques<double>(model, payload, x.data(), theta);
-  for (int joint = 2; joint <= 6; ++joint) {
-    const Eigen::Vector3d expected = J.col(link_param(joint, 2)) * tau[joint - 2];
+  for (int joint = 2; joint <= 6; ++joint) {  // joint 1: τ_1 = 0 on the floor
+    const Eigen::Vector3d expected = J.col(link_param(joint, 2)) * tau[joint - 1];
     EXPECT_LT((J.col(compliance_param(joint)) - expected).norm(), 1e-9 * expected.norm() + 1e-9)
         << "joint " << joint;
     EXPECT_LT((J_auto.col(compliance_param(joint)) - expected).norm(),

@@ -27,14 +27,14 @@ namespace robcal {
 namespace {
 
 TEST(PeriodicErrors, NamesUnitsAndGroups) {
-  EXPECT_EQ(kParameterCount, 67);
+  EXPECT_EQ(kParameterCount, 68);
   EXPECT_EQ(parameter_table()[periodic_param(6, 2, true)].name, "joint6.periodic2.sin");
   EXPECT_EQ(parameter_table()[periodic_param(1, 1, false)].name, "joint1.periodic1.cos");
   EXPECT_EQ(parameter_table()[periodic_param(3, 1, true)].unit, "deg");
   EXPECT_EQ(parameter_index("joint4.periodic2.cos"), periodic_param(4, 2, false));
   EXPECT_EQ(match_parameters("joint6.periodic*").size(), 4u);
   EXPECT_EQ(match_parameters("*.periodic1.*").size(), 12u);
-  ASSERT_EQ(opt_in_groups().size(), 12u);
+  ASSERT_EQ(opt_in_groups().size(), 13u);
   EXPECT_EQ(opt_in_groups()[5].name, "joint6.periodic");
   EXPECT_FALSE(is_opt_in(scale_param(6)));
   EXPECT_TRUE(is_opt_in(periodic_param(1, 1, false)));
@@ -77,29 +77,7 @@ CalibratedRobot calibrated_with_periodic(const char* name, std::mt19937_64& rng)
 TEST(PeriodicErrors, CalibratedChainMatchesTheForwardModelAndItsJacobian) {
   auto rng = test::seeded_rng(192);
   for (const char* name : test::kRobots) {
-    const CalibratedRobot robot = calibrated_with_periodic(name, rng);
-    const Compensator comp = make_compensator(robot);
-    using Jet = ceres::Jet<double, 6>;
-    std::array<Jet, kParameterCount> params;
-    for (int i = 0; i < kParameterCount; ++i) params[i] = Jet(robot.params[i]);
-    for (int k = 0; k < 30; ++k) {
-      const Vector6d j = test::random_joints(robot.model, rng);
-      Matrix6d J;
-      const Pose<double> got = calibrated_tcp_pose(comp.chain, j, &J);
-      const Pose<double> want =
-          flange_pose(robot.model, robot.tool.payload, robot.params, j) * comp.flange_T_tcp;
-      ASSERT_LT((got.p - want.p).norm(), 1e-9) << name;
-      ASSERT_LT((got.R - want.R).norm(), 1e-12) << name;
-      // Position rows of the joint Jacobian against autodiff of the templated forward model.
-      std::array<Jet, kJointCount> jj;
-      for (int i = 0; i < kJointCount; ++i) jj[i] = Jet(j[i], i);
-      const Pose<Jet> flange =
-          flange_pose<Jet>(robot.model, robot.tool.payload, params.data(), jj.data());
-      const Vector3<Jet> tcp = flange * comp.flange_T_tcp.p.cast<Jet>();
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < kJointCount; ++c)
-          ASSERT_NEAR(J(r, c), tcp[r].v[c], 1e-9 * (1 + J.cwiseAbs().maxCoeff())) << name;
-    }
+    test::expect_chain_matches_forward_model(calibrated_with_periodic(name, rng), rng, name);
   }
 }
 

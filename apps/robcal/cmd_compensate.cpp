@@ -25,6 +25,7 @@ struct ModelOptions {
   std::string tool;
   std::string payload_mass;
   std::string payload_cog;
+  std::string payload_name;
   std::string method = "newton";
   std::string approach = "++++++";
   bool json = false;
@@ -48,6 +49,7 @@ CompensationSetup parse_setup(const ModelOptions& o) {
                               Eigen::Vector3d(cog[0], cog[1], cog[2])};
   }
   setup.approach = parse_approach(o.approach, {"", 0, 0, "--approach"});
+  setup.payload_name = o.payload_name;
   return setup;
 }
 
@@ -140,6 +142,9 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
                   "Side each joint reaches the targets from, one of + (below, as the measurement "
                   "programs do), - (above), 0 (unknown) per joint: the backlash group's sign")
       ->capture_default_str();
+  cmd->add_option("--payload", o.payload_name,
+                  "Payload carried now by name, one of the tool's 'payloads:' (the compliance "
+                  "re-compensates)");
   cmd->add_flag("--json", o.json, "Machine-readable summary on stdout");
 }
 

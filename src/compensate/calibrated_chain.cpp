@@ -98,7 +98,9 @@ CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVe
     c.a[i] = params[link_param(link, 1)];
     c.theta_offset[i] = params[link_param(link, 2)];
     c.d[i] = params[link_param(link, 3)];
-    c.compliance[i] = params[compliance_param(link)];
+  }
+  for (int i = 0; i < kJointCount; ++i) {
+    c.compliance[i] = params[compliance_param(i + 1)];
     c.compliant = c.compliant || c.compliance[i] != 0.0;
   }
   for (int i = 0; i < kJointCount; ++i) {
@@ -116,6 +118,12 @@ CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVe
   c.mass[5] += payload.mass_kg;
   c.moment[5] += payload.mass_kg * payload.cog_mm;
   c.gravity = model.gravity_m_s2;
+  if (model.gravity_in_base) {  // given in the base frame: turned by R_xy·Rot_z(γ) (§7)
+    const Eigen::Vector3d& g = model.gravity_m_s2;
+    const double cg = std::cos(c.base_gamma), sg = std::sin(c.base_gamma);
+    c.gravity =
+        c.base_R_xy * Eigen::Vector3d(cg * g.x() - sg * g.y(), sg * g.x() + cg * g.y(), g.z());
+  }
   c.joint_map = model.joint_map.matrix;
   c.joint_offset = model.joint_map.offset;
   c.map_identity = model.joint_map.is_identity();
@@ -156,7 +164,7 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
     // first moment of links i..6 (world) accumulate tip to base.
     double M = 0;
     Eigen::Vector3d C = Eigen::Vector3d::Zero();
-    for (int i = kJointCount - 1; i >= 1; --i) {
+    for (int i = kJointCount - 1; i >= 0; --i) {
       const Eigen::Vector3d p = frames[i].p, m = c.moment[i];
       M += c.mass[i];
       C += c.mass[i] * p + m.x() * Eigen::Vector3d(frames[i].R.col(0)) +
@@ -165,13 +173,12 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
       state.V[i] = C - M * p;
     }
     for (int i = 0; i < kJointCount; ++i) state.z_undeflected[i] = frames[i].R.col(2);
-    for (int i = 1; i < kJointCount; ++i) {
+    for (int i = 0; i < kJointCount; ++i) {
+      if (c.compliance[i] == 0.0) continue;
       const double tau = state.z_undeflected[i].dot(state.V[i].cross(c.gravity));
       sin_cos_shifted(sin_t[i], cos_t[i], c.compliance[i] * tau, &sin_t[i], &cos_t[i]);
     }
-    for (int i = 1; i < kJointCount; ++i)
-      next_frame(frames[i - 1], c.cos_alpha[i], c.sin_alpha[i], c.a[i], c.d[i], cos_t[i], sin_t[i],
-                 frames[i]);
+    chain_frames(c, cos_t, sin_t, frames);
   }
   // frames[5] · flange_T_tcp on copied columns (as in next_frame).
   const Eigen::Vector3d x = frames[kJointCount - 1].R.col(0), y = frames[kJointCount - 1].R.col(1),
@@ -196,17 +203,15 @@ void calibrated_jacobian(const CalibratedChain& c, const ChainState& state, Matr
     // J_θ + J_θ·diag(c)·∂τ/∂θu, ∂τ_i/∂θu_k = y_max(i,k) · w_min(i,k) (file comment).
     const auto& z = state.z_undeflected;
     std::array<Eigen::Vector3d, kJointCount> w, y;
-    Eigen::Matrix<double, 6, kJointCount - 1> J_c;
+    Matrix6d J_c;
     for (int i = 0; i < kJointCount; ++i) {
       w[i] = c.gravity.cross(z[i]);
-      if (i == 0) continue;
       y[i] = z[i].cross(state.V[i]);
-      J_c.col(i - 1) = c.compliance[i] * J.col(i);
+      J_c.col(i) = c.compliance[i] * J.col(i);
     }
-    Eigen::Matrix<double, kJointCount - 1, kJointCount> dtau;
-    for (int i = 1; i < kJointCount; ++i)
-      for (int k = 0; k < kJointCount; ++k)
-        dtau(i - 1, k) = k <= i ? y[i].dot(w[k]) : y[k].dot(w[i]);
+    Matrix6d dtau;
+    for (int i = 0; i < kJointCount; ++i)
+      for (int k = 0; k < kJointCount; ++k) dtau(i, k) = k <= i ? y[i].dot(w[k]) : y[k].dot(w[i]);
     J.noalias() += J_c * dtau;
   }
   for (int k = 0; k < kJointCount; ++k) J.col(k) *= state.rate[k];

@@ -1,10 +1,36 @@
 #include "robcal/compensate/compensation_setup.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "robcal/core/error.hpp"
 
 namespace robcal {
+
+namespace {
+
+/// The payload `setup.payload_name` of the tool in use (--tool, else the model's).
+PointMass named_payload(const CompensationSetup& setup, const Tool& model_tool) {
+  if (setup.payload)
+    throw InputError({"", 0, 0, "--payload"},
+                     "give the payload either by name (--payload) or by --payload-mass-kg and "
+                     "--payload-cog-mm, not both");
+  const Tool& tool = setup.tool ? *setup.tool : model_tool;
+  const int index = tool.payload_index(setup.payload_name);
+  if (index < 0) {
+    std::vector<std::string> names;
+    for (const NamedPayload& p : tool.payloads) names.push_back("'" + p.name + "'");
+    throw InputError(
+        {"", 0, 0, "--payload"},
+        fmt::format("the tool has no payload '{}': expected one of its 'payloads:' "
+                    "({})",
+                    setup.payload_name,
+                    names.empty() ? "it lists none" : fmt::format("{}", fmt::join(names, ", "))));
+  }
+  return tool.payload_of(index);
+}
+
+}  // namespace
 
 Compensation prepare_compensation(const CompensationSetup& setup) {
   CalibratedRobot robot = setup.robot;
@@ -24,7 +50,9 @@ Compensation prepare_compensation(const CompensationSetup& setup) {
       throw InputError({"", 0, 0, "--payload-cog-mm"},
                        "expected a finite centre of gravity x,y,z in mm");
   }
-  Compensation out{robot, make_compensator(robot, setup.payload, &setup.approach),
+  std::optional<PointMass> payload = setup.payload;
+  if (!setup.payload_name.empty()) payload = named_payload(setup, robot.tool);
+  Compensation out{robot, make_compensator(robot, payload, &setup.approach),
                    setup.pulses_per_degree};
   return out;
 }

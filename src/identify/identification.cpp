@@ -57,7 +57,8 @@ class RowsCost final : public ceres::CostFunction {
       const ParameterVector params = unknowns_.head<kParameterCount>();
       chains_.clear();
       for (size_t row = begin_; row < end_; ++row)
-        chains_.emplace_back(*context_.model, context_.tool->payload, params, trig,
+        chains_.emplace_back(*context_.model,
+                             context_.tool->payload_of(context_.data->payload(row)), params, trig,
                              configurations_[row]);
     }
     const int k = context_.data->residuals_per_row();
@@ -262,6 +263,20 @@ void drop_one_sided_backlash(const MeasurementSet& data, std::vector<bool>& cand
   }
 }
 
+/// Why the gravity torque about axis `joint` stays below the floor: axis 1 of a robot whose
+/// gravity lies along it (a floor or ceiling mounting, docs/method/03-error-model.md §7), else
+/// centres of gravity on the axis.
+std::string unloaded_cause(const RobotModel& model, const Tool& tool, int joint) {
+  const Eigen::Vector3d& g = model.gravity_m_s2;
+  if (joint == 1 && g.head<2>().norm() <= 1e-9 * g.norm())
+    return fmt::format(
+        "gravity lies along axis 1, as on a floor{} mounting; an inclined, wall or ceiling "
+        "mounting is given by 'gravity_base_m_s2' or 'mounting_deg' in the robot file",
+        model.gravity_in_base ? " or ceiling" : "");
+  return fmt::format("the centres of gravity lie on the axis{}",
+                     tool.payload.mass_kg > 0 ? "" : " and the tool has no payload");
+}
+
 /// Requested compliances that no measured configuration loads (docs/method/03-error-model.md: δθ_j
 /// = c_j·τ_j) are taken out of `candidates` and dropped with their real reason: no masses in the
 /// robot file, or a gravity torque below kGravityTorqueFloorNmm in every row (centres of gravity on
@@ -272,32 +287,34 @@ void drop_unloaded_compliances(const RobotModel& model, const Tool& tool,
                                std::vector<bool>& candidates, IdentificationSetup& setup) {
   ParameterVector params = unknowns.head<kParameterCount>();
   params.segment<kJointCount - 1>(kComplianceOffset).setZero();
-  std::array<double, kJointCount - 1> largest{};
+  params[kJoint1Compliance] = 0;
+  std::array<double, kJointCount> largest{};
   for (size_t row = 0; row < data.size(); ++row) {
     const auto q = model_joint_angles(model, row_joints(data, row).data());
-    const auto tau = gravity_torques(model, tool.payload, params.data(),
-                                     link_angles(model, tool.payload, params.data(), q));
-    for (int j = 0; j < kJointCount - 1; ++j)
+    const PointMass& payload = tool.payload_of(data.payload(row));
+    const auto tau = gravity_torques(model, payload, params.data(),
+                                     link_angles(model, payload, params.data(), q));
+    for (int j = 0; j < kJointCount; ++j)
       largest[static_cast<size_t>(j)] =
           std::max(largest[static_cast<size_t>(j)], std::abs(tau[static_cast<size_t>(j)]));
   }
   bool masses = tool.payload.mass_kg > 0;
   for (const PointMass& m : model.link_masses) masses = masses || m.mass_kg > 0;
   std::vector<std::string> names;
-  for (int joint = 2; joint <= kJointCount; ++joint) {
+  for (int joint = 1; joint <= kJointCount; ++joint) {
     const int i = compliance_param(joint);
-    const double tau = largest[static_cast<size_t>(joint - 2)];
+    const double tau = largest[static_cast<size_t>(joint - 1)];
     if (!candidates[static_cast<size_t>(i)] || tau >= kGravityTorqueFloorNmm) continue;
     candidates[static_cast<size_t>(i)] = false;
     Dependency dep{i, {}, 1.0, {}};
-    dep.reason = masses ? fmt::format(
-                              "the gravity torque about axis {} is below {:g} N·mm in every "
-                              "measured configuration (largest {:.2g} N·mm: the centres of "
-                              "gravity lie on the axis{}), so nothing deflects the joint",
-                              joint, kGravityTorqueFloorNmm, tau,
-                              tool.payload.mass_kg > 0 ? "" : " and the tool has no payload")
-                        : "the robot file gives no masses ('masses:'), so the gravity torques that "
-                          "deflect the joint are unknown";
+    dep.reason = masses
+                     ? fmt::format(
+                           "the gravity torque about axis {} is below {:g} N·mm in every "
+                           "measured configuration (largest {:.2g} N·mm: {}), so nothing "
+                           "deflects the joint",
+                           joint, kGravityTorqueFloorNmm, tau, unloaded_cause(model, tool, joint))
+                     : "the robot file gives no masses ('masses:'), so the gravity torques that "
+                       "deflect the joint are unknown";
     setup.dropped.push_back(dep);
     names.push_back(setup.layout.names[static_cast<size_t>(i)]);
     if (masses)

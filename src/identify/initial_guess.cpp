@@ -34,8 +34,8 @@ void fit_unknown_targets(const ResidualContext& context, Eigen::VectorXd& unknow
   for (size_t row = 0; row < data.points.size(); ++row) {
     const PointMeasurement& m = data.points[row];
     if (layout.target_slot[static_cast<size_t>(m.target)] < 0) continue;
-    const Pose<double> F =
-        flange_pose(*context.model, context.tool->payload, params, m.joints, &m.approach);
+    const Pose<double> F = flange_pose(*context.model, context.tool->payload_of(m.payload), params,
+                                       m.joints, &m.approach);
     sum[static_cast<size_t>(m.target)] += F.R.transpose() * (m.position_mm - F.p);
     ++count[static_cast<size_t>(m.target)];
   }
@@ -56,8 +56,8 @@ void fit_unknown_tcp(const ResidualContext& context, Eigen::VectorXd& unknowns) 
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Zero();
   for (const PoseMeasurement& m : data.poses) {
-    const Pose<double> F =
-        flange_pose(*context.model, context.tool->payload, params, m.joints, &m.approach);
+    const Pose<double> F = flange_pose(*context.model, context.tool->payload_of(m.payload), params,
+                                       m.joints, &m.approach);
     position += F.R.transpose() * (m.world_T_tcp.p - F.p);
     rotation += (F.R * S).transpose() * m.world_T_tcp.R;
   }

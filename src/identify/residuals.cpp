@@ -81,10 +81,11 @@ void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknow
 void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
                    const ParameterTrig& trig, const PreparedConfiguration& configuration,
                    double* residuals, Eigen::MatrixXd* jacobian) {
-  row_residuals(context, unknowns, row,
-                FlangeRegressor(*context.model, context.tool->payload,
-                                unknowns.head<kParameterCount>(), trig, configuration),
-                residuals, jacobian);
+  row_residuals(
+      context, unknowns, row,
+      FlangeRegressor(*context.model, context.tool->payload_of(context.data->payload(row)),
+                      unknowns.head<kParameterCount>(), trig, configuration),
+      residuals, jacobian);
 }
 
 void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
@@ -185,8 +186,8 @@ Eigen::Vector3d modelled_position(const ResidualContext& context, const Eigen::V
   const MeasurementSet& data = *context.data;
   const ParameterVector params = unknowns.head<kParameterCount>();
   Pose<double> flange;
-  flange_twist_jacobian(*context.model, context.tool->payload, params, row_joints(data, row),
-                        &flange, nullptr, &row_approach(data, row));
+  flange_twist_jacobian(*context.model, context.tool->payload_of(data.payload(row)), params,
+                        row_joints(data, row), &flange, nullptr, &row_approach(data, row));
   switch (data.kind) {
     case MeasurementKind::Points:
       return flange * target_coordinates(context, unknowns, data.points[row].target);

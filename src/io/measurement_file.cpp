@@ -129,6 +129,24 @@ class RowReader {
     return index;
   }
 
+  /// The optional `payload` column (several payloads, docs/method/03-error-model.md §7): a name
+  /// of the tool's `payloads`, or empty for its own `payload`.
+  [[nodiscard]] int payload(const Row& row, const Tool& tool) const {
+    const std::string_view name = row.fields[static_cast<size_t>(columns_.at("payload"))];
+    if (name.empty()) return -1;
+    const int index = tool.payload_index(name);
+    if (index < 0) {
+      std::vector<std::string> known;
+      for (const NamedPayload& p : tool.payloads) known.push_back("'" + p.name + "'");
+      throw InputError(
+          where(row, "payload"),
+          fmt::format("unknown payload '{}': expected a name under 'payloads:' in the tool file "
+                      "({}), or empty for its 'payload'",
+                      name, known.empty() ? std::string("it lists none") : join(known, ", ")));
+    }
+    return index;
+  }
+
  private:
   const std::string& file_;
   const std::map<std::string, int>& columns_;
@@ -489,7 +507,10 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
     const auto used = std::find_if(required.begin(), required.end(), [&](const std::string& r) {
       return columns.at(r) == static_cast<int>(i);
     });
-    if (used == required.end() && !(has_approach && columns.at("approach") == static_cast<int>(i)))
+    const auto optional = [&](const char* name) {
+      return columns.count(name) > 0 && columns.at(name) == static_cast<int>(i);
+    };
+    if (used == required.end() && !optional("approach") && !optional("payload"))
       result.warnings.push_back(
           fmt::format("{}:{}:{}: column '{}' is not used by a {} file; ignored", source_name,
                       header_line, i + 1, header[i], kind_name));
@@ -581,6 +602,7 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
         break;
       }
     }
+    if (columns.count("payload")) set.set_payload(set.size() - 1, reader.payload(row, tool));
   }
   check_units(set, format, header_line, columns);
   return result;
@@ -606,12 +628,24 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
   bool approach = false;
   for (size_t row = 0; row < set.size(); ++row)
     approach = approach || approach_of(set, row) != Vector6d::Ones();
-  out += join(columns_of(set.kind), ",") + (approach ? ",approach\n" : "\n");
   const auto sides = [&](const Vector6d& s) {
     if (!approach) return std::string();
     std::string text = ",";
     for (int j = 0; j < kJointCount; ++j) text += s[j] > 0 ? '+' : s[j] < 0 ? '-' : '0';
     return text;
+  };
+  bool payloads = false;  // an optional last column, written when a row names one
+  for (size_t row = 0; row < set.size(); ++row) payloads = payloads || set.payload(row) >= 0;
+  out += join(columns_of(set.kind), ",") + (approach ? ",approach" : "") +
+         (payloads ? ",payload\n" : "\n");
+  const auto payload = [&](int index) -> std::string {
+    if (!payloads) return "\n";
+    if (index >= static_cast<int>(tool.payloads.size()))
+      throw InputError({"", 0, 0, "payload"},
+                       fmt::format("payload index {} is not a payload of the tool ({} payloads)",
+                                   index, tool.payloads.size()));
+    return "," + (index < 0 ? std::string() : tool.payloads[static_cast<size_t>(index)].name) +
+           "\n";
   };
 
   const auto config = [](const std::string& name) -> const std::string& {
@@ -637,23 +671,26 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
   switch (set.kind) {
     case MeasurementKind::Points:
       for (const PointMeasurement& m : set.points)
-        out += fmt::format("{},{},{},{},{},{}{}\n", config(m.config), target(m.target),
+        out += fmt::format("{},{},{},{},{},{}{}", config(m.config), target(m.target),
                            joints(m.joints), m.position_mm.x(), m.position_mm.y(),
-                           m.position_mm.z(), sides(m.approach));
+                           m.position_mm.z(), sides(m.approach)) +
+               payload(m.payload);
       break;
     case MeasurementKind::Poses:
       for (const PoseMeasurement& m : set.poses) {
         Eigen::Quaterniond q(m.world_T_tcp.R);
         if (q.w() < 0) q.coeffs() = -q.coeffs();
-        out += fmt::format("{},{},{},{},{},{},{},{},{}{}\n", config(m.config), joints(m.joints),
+        out += fmt::format("{},{},{},{},{},{},{},{},{}{}", config(m.config), joints(m.joints),
                            m.world_T_tcp.p.x(), m.world_T_tcp.p.y(), m.world_T_tcp.p.z(), q.w(),
-                           q.x(), q.y(), q.z(), sides(m.approach));
+                           q.x(), q.y(), q.z(), sides(m.approach)) +
+               payload(m.payload);
       }
       break;
     case MeasurementKind::Distances:
       for (const DistanceMeasurement& m : set.distances)
-        out += fmt::format("{},{},{},{}{}\n", config(m.config), target(m.target), joints(m.joints),
-                           m.length_mm, sides(m.approach));
+        out += fmt::format("{},{},{},{}{}", config(m.config), target(m.target), joints(m.joints),
+                           m.length_mm, sides(m.approach)) +
+               payload(m.payload);
       break;
   }
   return out;

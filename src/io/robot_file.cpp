@@ -141,9 +141,48 @@ EulerConvention parse_euler(const yaml::Node& node) {
 
 }  // namespace
 
+void parse_gravity(const yaml::Node& root, RobotModel& model) {
+  const char* keys[3] = {"gravity_m_s2", "gravity_base_m_s2", "mounting_deg"};
+  const char* given = nullptr;
+  for (const char* key : keys) {
+    if (!root.has(key)) continue;
+    if (given)
+      throw root.at(key).error(
+          fmt::format("'{}' and '{}' both give gravity: keep one (gravity_m_s2 in the world frame, "
+                      "gravity_base_m_s2 in the robot's base frame, or mounting_deg [rx, ry])",
+                      given, key));
+    given = key;
+  }
+  if (root.has("gravity_m_s2")) {
+    model.gravity_m_s2 = yaml::vector3_in(root.at("gravity_m_s2"), kGravity);
+    model.gravity_in_base = false;
+  }
+  if (root.has("gravity_base_m_s2")) {
+    model.gravity_m_s2 = yaml::vector3_in(root.at("gravity_base_m_s2"), kGravity);
+    model.gravity_in_base = true;
+  }
+  if (root.has("mounting_deg")) {
+    const auto tilt = yaml::numbers_in(root.at("mounting_deg"), 2, kAngleDeg);
+    // g_base = (Rot_x(rx)·Rot_y(ry))ᵀ · (0, 0, −9.81).
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(deg2rad(tilt[0]), Eigen::Vector3d::UnitX()) *
+                               Eigen::AngleAxisd(deg2rad(tilt[1]), Eigen::Vector3d::UnitY()))
+                                  .toRotationMatrix();
+    model.gravity_m_s2 = R.transpose() * Eigen::Vector3d(0, 0, -9.81);
+    model.gravity_in_base = true;
+  }
+}
+
+void emit_gravity(YAML::Emitter& out, const RobotModel& model) {
+  out << YAML::Key << (model.gravity_in_base ? "gravity_base_m_s2" : "gravity_m_s2") << YAML::Value
+      << YAML::Flow
+      << std::vector<double>{model.gravity_m_s2.x(), model.gravity_m_s2.y(),
+                             model.gravity_m_s2.z()};
+}
+
 RobotModel parse_robot(const yaml::Node& root) {
   yaml::expect_keys(root, {"name", "manufacturer", "source", "euler", "mdh", "joint_limits_deg",
-                           "masses", "gravity_m_s2", "joint_map", "reach_mm", "pulses_per_degree"});
+                           "masses", "gravity_m_s2", "joint_map", "reach_mm", "pulses_per_degree",
+                           "gravity_base_m_s2", "mounting_deg"});
   RobotModel model;
   model.name = root.at("name").as_string();
   if (root.has("manufacturer")) model.manufacturer = root.at("manufacturer").as_string();
@@ -191,8 +230,7 @@ RobotModel parse_robot(const yaml::Node& root) {
       model.link_masses[*link - 1] = {mass, yaml::vector3_in(entry.at("cog_mm"), kLengthMm)};
     }
   }
-  if (root.has("gravity_m_s2"))
-    model.gravity_m_s2 = yaml::vector3_in(root.at("gravity_m_s2"), kGravity);
+  parse_gravity(root, model);
 
   if (root.has("joint_map")) {
     const yaml::Node map = root.at("joint_map");
@@ -244,9 +282,7 @@ void emit_robot_fields(YAML::Emitter& out, const RobotModel& model) {
         << std::vector<double>{m.cog_mm.x(), m.cog_mm.y(), m.cog_mm.z()} << YAML::EndMap;
   }
   out << YAML::EndMap;
-  out << YAML::Key << "gravity_m_s2" << YAML::Value << YAML::Flow
-      << std::vector<double>{model.gravity_m_s2.x(), model.gravity_m_s2.y(),
-                             model.gravity_m_s2.z()};
+  emit_gravity(out, model);
   if (!model.joint_map.is_identity()) {
     out << YAML::Key << "joint_map" << YAML::Value << YAML::BeginMap << YAML::Key << "matrix"
         << YAML::Value << YAML::BeginSeq;
@@ -271,13 +307,30 @@ std::string robot_to_yaml(const RobotModel& model) {
   return std::string(out.c_str()) + "\n";
 }
 
+namespace {
+
+PointMass parse_payload(const yaml::Node& payload) {
+  yaml::expect_keys(payload, {"mass_kg", "cog_mm"});
+  return {yaml::number_in(payload.at("mass_kg"), kPayloadKg),
+          yaml::vector3_in(payload.at("cog_mm"), kLengthMm)};
+}
+
+void emit_payload(YAML::Emitter& out, const PointMass& payload) {
+  out << YAML::BeginMap << YAML::Key << "mass_kg" << YAML::Value << payload.mass_kg << YAML::Key
+      << "cog_mm" << YAML::Value << YAML::Flow
+      << std::vector<double>{payload.cog_mm.x(), payload.cog_mm.y(), payload.cog_mm.z()}
+      << YAML::EndMap;
+}
+
+}  // namespace
+
 Tool parse_tool(const yaml::Node& root) {
   Tool tool;
-  if (root.has("payload")) {
-    const yaml::Node payload = root.at("payload");
-    yaml::expect_keys(payload, {"mass_kg", "cog_mm"});
-    tool.payload.mass_kg = yaml::number_in(payload.at("mass_kg"), kPayloadKg);
-    tool.payload.cog_mm = yaml::vector3_in(payload.at("cog_mm"), kLengthMm);
+  if (root.has("payload")) tool.payload = parse_payload(root.at("payload"));
+  if (root.has("payloads")) {  // several payloads in one calibration (§7), named by rows
+    const yaml::Node payloads = root.at("payloads");
+    for (const std::string& name : payloads.keys())
+      tool.payloads.push_back({name, parse_payload(payloads.at(name))});
   }
   if (root.has("targets")) {
     const yaml::Node targets = root.at("targets");
@@ -319,7 +372,7 @@ Tool parse_tool(const yaml::Node& root) {
 
 Tool load_tool(const std::string& path) {
   const yaml::Node root = yaml::load_file(path);
-  if (root.defined()) yaml::expect_keys(root, {"payload", "targets", "tcp"});
+  if (root.defined()) yaml::expect_keys(root, {"payload", "payloads", "targets", "tcp"});
   return parse_tool(root);
 }
 
@@ -327,11 +380,16 @@ std::string tool_to_yaml(const Tool& tool) {
   YAML::Emitter out;
   out.SetDoublePrecision(12);
   out << YAML::BeginMap;
-  out << YAML::Key << "payload" << YAML::Value << YAML::BeginMap << YAML::Key << "mass_kg"
-      << YAML::Value << tool.payload.mass_kg << YAML::Key << "cog_mm" << YAML::Value << YAML::Flow
-      << std::vector<double>{tool.payload.cog_mm.x(), tool.payload.cog_mm.y(),
-                             tool.payload.cog_mm.z()}
-      << YAML::EndMap;
+  out << YAML::Key << "payload" << YAML::Value;
+  emit_payload(out, tool.payload);
+  if (!tool.payloads.empty()) {
+    out << YAML::Key << "payloads" << YAML::Value << YAML::BeginMap;
+    for (const NamedPayload& p : tool.payloads) {
+      out << YAML::Key << YAML::DoubleQuoted << p.name << YAML::Value;
+      emit_payload(out, p.mass);
+    }
+    out << YAML::EndMap;
+  }
   out << YAML::Key << "targets" << YAML::Value << YAML::BeginMap;
   for (const Target& t : tool.targets) {
     out << YAML::Key << YAML::DoubleQuoted << t.name << YAML::Value;

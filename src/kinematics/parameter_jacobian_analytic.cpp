@@ -58,6 +58,15 @@ std::array<double, kJointCount> undeflected_angles(const RobotModel& model, cons
   return theta;
 }
 
+/// Gravity in the world (m/s²): the robot file's vector, or, given in the base frame, turned by
+/// the base rotation R_xy(α, β)·Rot_z(γ) (docs/method/03-error-model.md §7).
+Vector3d world_gravity(const RobotModel& model, const ParameterTrig& f, const double* x) {
+  if (!model.gravity_in_base) return model.gravity_m_s2;
+  const Vector3d& gb = model.gravity_m_s2;
+  const double c = std::cos(x[5]), s = std::sin(x[5]);
+  return f.R_base_xy * Vector3d(c * gb.x() - s * gb.y(), s * gb.x() + c * gb.y(), gb.z());
+}
+
 }  // namespace
 
 ParameterTrig parameter_trig(const ParameterVector& params) {
@@ -105,7 +114,7 @@ FlangeRegressor::FlangeRegressor(const RobotModel& model, const PointMass& paylo
   // Gravity torques (docs/method/03-error-model.md): suffix sums of the bodies' first moments and
   // masses.
   const std::array<Pose<double>, kJointCount>& F = undeflected_;
-  const Vector3d g = model.gravity_m_s2;
+  const Vector3d g = world_gravity(model, trig, x);
   C_[kJointCount].setZero();
   M_[kJointCount] = 0;
   for (int j = kJointCount - 1; j >= 0; --j) {
@@ -127,11 +136,12 @@ FlangeRegressor::FlangeRegressor(const RobotModel& model, const PointMass& paylo
   }
 
   std::array<double, kJointCount> s_d = s_u, c_d = c_u;  // θd_k = θu_k + c_k·τ_k
-  for (int k = 1; k < kJointCount; ++k) {
+  for (int k = 0; k < kJointCount; ++k) {
     c_[k] = x[compliance_param(k + 1)];
     if (c_[k] != 0.0) sin_cos_shifted(s_u[k], c_u[k], c_[k] * tau_[k], &s_d[k], &c_d[k]);
   }
   compliant_ = !c_.isZero(0.0);
+  gravity_turns_with_base_ = model.gravity_in_base;
   deflected_ = compliant_ ? chain(model, x, trig, s_d, c_d) : undeflected_;
 }
 
@@ -150,14 +160,13 @@ void FlangeRegressor::jacobian(const Eigen::Matrix<double, K, 6>& P,
   const auto rotation = [&](const Vector3d& u, const Vector3d& p, int f) {
     const Vector3d e = u.cross(C_[f] - M_[f] * p);
     Vector6d d;
-    d[0] = 0;
-    for (int k = 1; k < kJointCount; ++k)
+    for (int k = 0; k < kJointCount; ++k)
       d[k] = c_[k] * (k >= f ? u.dot(a_.col(k)) : e.dot(h_.col(k)));
     return d;
   };
   const auto translation = [&](const Vector3d& u, int f) {
     Vector6d d = Vector6d::Zero();
-    for (int k = 1; k < f; ++k) d[k] = c_[k] * M_[f] * u.dot(h_.col(k));
+    for (int k = 0; k < f; ++k) d[k] = c_[k] * M_[f] * u.dot(h_.col(k));
     return d;
   };
 
@@ -176,12 +185,15 @@ void FlangeRegressor::jacobian(const Eigen::Matrix<double, K, 6>& P,
     for (int j = 0; j < kJointCount; ++j) dtheta.col(j) = rotation(Fu[j].R.col(2), Fu[j].p, j);
 
   // Base: translations along the world axes, rotations about x, Rot_x(α)·y and z_1 through o_1.
+  // Gravity given in the base frame turns with the base: the torques do not change (§7).
   const Vector3d base_axes[3] = {Vector3d::UnitX(), R_base_xy_.col(1), Fd[0].R.col(2)};
   for (int i = 0; i < 3; ++i) {
     J.col(i) = PL.col(i);
     J.col(3 + i) = rotation_column(base_axes[i], Fd[0].p);
-    if (compliant_) J.col(3 + i).noalias() += PZ * rotation(base_axes[i], Fu[0].p, 0);
+    if (compliant_ && !gravity_turns_with_base_)
+      J.col(3 + i).noalias() += PZ * rotation(base_axes[i], Fu[0].p, 0);
   }
+  J.col(kJoint1Compliance) = tau_[0] * PZ.col(0);
   for (int link = 2; link <= kJointCount; ++link) {
     const int f = link - 1, prev = link - 2;  // 0-based frames Φ_link and Φ_{link-1}
     const int ia = link_param(link, 0), i_a = link_param(link, 1), it = link_param(link, 2),

@@ -40,6 +40,7 @@ const std::array<ParameterInfo, kParameterCount>& parameter_table() {
               ParamKind::Angle, "deg"};
     for (int joint = 1; joint <= kJointCount; ++joint)
       t[backlash_param(joint)] = {fmt::format("joint{}.backlash", joint), ParamKind::Angle, "deg"};
+    t[kJoint1Compliance] = {"joint1.compliance", ParamKind::Compliance, "rad/N·mm"};
     return t;
   }();
   return kTable;
@@ -56,6 +57,7 @@ const std::vector<ParameterGroup>& opt_in_groups() {
     }
     for (int joint = 1; joint <= kJointCount; ++joint)
       g.push_back({fmt::format("joint{}.backlash", joint), {backlash_param(joint)}});
+    g.push_back({"joint1.compliance", {kJoint1Compliance}});
     return g;
   }();
   return kGroups;

@@ -176,6 +176,33 @@ std::string parameters_html(const nlohmann::json& parameters) {
   return rows;
 }
 
+/// The opt-in groups (each parameter's σ is in the parameters table): the Wald statistic of the
+/// enabled ones and whether the data need them; the others listed as not enabled.
+std::string groups_html(const nlohmann::json& groups) {
+  if (groups.is_null() || groups.empty()) return "";
+  std::string rows;
+  for (const auto& g : groups) {
+    const bool enabled = g["enabled"].get<bool>();
+    const int identified = g["identified"].get<int>();
+    const std::string verdict = !enabled          ? "not enabled"
+                                : identified == 0 ? "enabled, nothing identified"
+                                : g["significant"].get<bool>()
+                                    ? "significant: the robot needs it"
+                                    : "not significant: harmless, not needed";
+    rows += fmt::format(
+        "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+        html_escape(g["name"].get<std::string>()), enabled ? std::to_string(identified) : "–",
+        enabled && identified > 0 ? number(g["wald"].get<double>(), 2) : std::string("–"),
+        enabled && identified > 0 ? fmt::format("{:.2g}", g["p_value"].get<double>())
+                                  : std::string("–"),
+        verdict);
+  }
+  return "<section><h2>Parameter groups (Wald test, significant when p &lt; 0.001)</h2>\n"
+         "<table id=\"groups\"><thead><tr><th>group</th><th>identified</th><th>W</th>"
+         "<th>p</th><th class=\"l\">verdict</th></tr></thead><tbody>\n" +
+         rows + "</tbody></table></section>\n";
+}
+
 /// A JSON value as a line of text for the diagnostics table: numbers to 6 significant digits,
 /// lists joined by "; " (lists of scalars in parentheses), objects as "key value" pairs.
 std::string plain_text(const nlohmann::json& value) {
@@ -281,7 +308,7 @@ distance the longer).</p></section>
 <table id="parameters"><thead><tr><th>parameter</th><th class="l">unit</th><th>nominal</th><th>value</th><th>std dev</th><th class="l">status</th><th class="l">reason</th></tr></thead>
 <tbody>
 @PARAMETERS@</tbody></table></section>
-<section class="long"><h2>Fit diagnostics</h2>
+@GROUPS@<section class="long"><h2>Fit diagnostics</h2>
 <table id="diagnostics"><tbody>
 @DIAGNOSTICS@</tbody></table></section>
 @NOTES@
@@ -670,6 +697,14 @@ nlohmann::json report_json(const ReportData& data) {
                                  {"nominal", p.nominal},
                                  {"value", p.value},
                                  {"std_dev", p.std_dev}});
+  out["groups"] = nlohmann::json::array();
+  for (const GroupSignificance& g : data.groups)
+    out["groups"].push_back({{"name", g.group},
+                             {"enabled", g.enabled},
+                             {"identified", g.identified},
+                             {"wald", g.wald},
+                             {"p_value", g.p_value},
+                             {"significant", g.significant}});
   out["diagnostics"] = data.diagnostics;
   out["notes"] = data.notes;
   out["provenance"] = provenance_json(data.provenance);
@@ -722,6 +757,7 @@ std::string report_html(const nlohmann::json& report, std::string_view chartjs) 
   replace_all(page, "@BALLBAR@", ballbar_html(report["ballbar"]));
   replace_all(page, "@TARGETS@", per_target_html(report["models"]));
   replace_all(page, "@PARAMETERS@", parameters_html(report["parameters"]));
+  replace_all(page, "@GROUPS@", groups_html(report["groups"]));
   replace_all(page, "@DIAGNOSTICS@", diagnostics);
   replace_all(page, "@NOTES@", notes);
   const size_t data_at = page.find("@DATA@");

@@ -127,6 +127,7 @@ ReportBuild build_report(const ReportRequest& o) {
     data.provenance.files.push_back(provenance_file("ballbar", o.ballbar));
   }
   data.parameters = report_parameters(model);
+  data.groups = group_significance(model);
   const yaml::Node root = yaml::load_file(o.model);
   if (root.has("statistics"))
     data.diagnostics = yaml_to_json(YAML::Dump(root.at("statistics").node));

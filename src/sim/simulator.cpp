@@ -204,6 +204,9 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
     const PlannedConfiguration& config = configs[k];
     motion.time_s = options.seconds_per_measurement * static_cast<double>(k);
     const Vector6d approach = approach_to(config.joints, options, sides, motion);
+    if (options.random_payloads)  // -1: the tool's own payload, else one of its `payloads`
+      motion.payload =
+          std::uniform_int_distribution<int>(-1, static_cast<int>(tool.payloads.size()) - 1)(rng);
     const Pose<double> flange = true_flange_pose(truth, config.joints, motion);
     motion.previous_joints = config.joints;
     if (config.target >= static_cast<int>(tool.targets.size()))
@@ -257,6 +260,7 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
         break;
       }
     }
+    set.set_payload(set.size() - 1, motion.payload);
   }
   return result;
 }

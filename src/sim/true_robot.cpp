@@ -56,10 +56,11 @@ EffectiveState effective_state(const TrueRobot& truth, const Vector6d& joints,
 
 Pose<double> true_flange_pose(const TrueRobot& truth, const Vector6d& joints,
                               const MotionState& motion) {
+  const PointMass& payload = truth.robot.tool.payload_of(motion.payload);
   if (!truth.effects.backlash && !truth.effects.j6_periodic && !truth.effects.thermal)
-    return flange_pose(truth.robot.model, truth.robot.tool.payload, truth.robot.params, joints);
+    return flange_pose(truth.robot.model, payload, truth.robot.params, joints);
   const EffectiveState state = effective_state(truth, joints, motion);
-  return flange_pose(truth.robot.model, truth.robot.tool.payload, state.params, state.joints);
+  return flange_pose(truth.robot.model, payload, state.params, state.joints);
 }
 
 std::array<double, 6> default_base_placement() {
@@ -224,8 +225,9 @@ std::string truth_to_yaml(const TrueRobot& truth, const std::string& robot_name)
   out << YAML::Key << "payload" << YAML::Value;
   emit_mass(out, truth.robot.tool.payload);
   out << YAML::EndMap;
-  out << YAML::Key << "gravity_m_s2" << YAML::Value << YAML::Flow
-      << as_list(truth.robot.model.gravity_m_s2);
+  emit_gravity(out, truth.robot.model);
+  if (x[kJoint1Compliance] != 0.0)  // inclined, wall or ceiling mounting (§7)
+    out << YAML::Key << "joint1_compliance" << YAML::Value << x[kJoint1Compliance];
   out << YAML::Key << "targets" << YAML::Value << YAML::BeginMap;
   for (const Target& t : truth.robot.tool.targets)
     out << YAML::Key << YAML::DoubleQuoted << t.name << YAML::Value << YAML::Flow
@@ -254,7 +256,8 @@ std::string truth_to_yaml(const TrueRobot& truth, const std::string& robot_name)
 TrueRobot parse_truth(const yaml::Node& root, const std::string& robot, const Tool& tool) {
   // A typo ('efects:', 'scale:') would silently simulate another robot than the one meant.
   yaml::expect_keys(root, {"robot", "origin", "base", "links", "scales", "masses", "payload",
-                           "gravity_m_s2", "targets", "effects", "periodic_deg"});
+                           "gravity_m_s2", "targets", "effects", "periodic_deg",
+                           "gravity_base_m_s2", "mounting_deg", "joint1_compliance"});
   const std::string robot_name = root.has("robot") ? root.at("robot").as_string() : robot;
   RobotModel model = load_robot(robot_name);
   TrueRobot truth =
@@ -308,7 +311,9 @@ TrueRobot parse_truth(const yaml::Node& root, const std::string& robot, const To
     true_tool.payload = parse_mass(masses.at("payload"));
   else if (root.has("payload"))
     true_tool.payload = parse_tool(root).payload;
-  if (root.has("gravity_m_s2")) true_model.gravity_m_s2 = root.at("gravity_m_s2").as_vector3();
+  parse_gravity(root, true_model);
+  if (root.has("joint1_compliance"))
+    x[kJoint1Compliance] = root.at("joint1_compliance").as_double();
   if (root.has("targets")) {
     true_tool.targets.clear();
     const yaml::Node targets = root.at("targets");

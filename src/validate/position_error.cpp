@@ -7,16 +7,22 @@
 
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/identify/residuals.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal {
 namespace {
 
-/// Each row with its recorded approach: the backlash group's sign (docs/method/03-error-model.md
-/// §6).
-Pose<double> world_T_flange(const CalibratedRobot& robot, const Vector6d& joints,
-                            const Vector6d& approach) {
-  return flange_pose(robot.model, robot.tool.payload, robot.params, joints, &approach);
+/// The flange with the payload the row carried (several payloads, docs/method/03-error-model.md
+/// §7) and its recorded approach (the backlash group's sign, §6).
+Pose<double> world_T_flange(const CalibratedRobot& robot, const MeasurementSet& set, size_t row) {
+  const int payload = set.payload(row);
+  if (payload >= static_cast<int>(robot.tool.payloads.size()))
+    throw InputError({set.file, 0, 0, "payload"},
+                     fmt::format("a row carries payload {} but the model's tool has {} payloads",
+                                 payload + 1, robot.tool.payloads.size()));
+  return flange_pose(robot.model, robot.tool.payload_of(payload), robot.params,
+                     row_joints(set, row), &row_approach(set, row));
 }
 
 Eigen::Vector3d target_position(const CalibratedRobot& robot, const MeasurementSet& set, int target,
@@ -43,18 +49,17 @@ Eigen::Matrix3Xd predicted_positions(const CalibratedRobot& robot, const Measure
     switch (set.kind) {
       case MeasurementKind::Points: {
         const PointMeasurement& m = set.points[r];
-        predicted.col(col) = world_T_flange(robot, m.joints, m.approach) *
-                             target_position(robot, set, m.target, m.line);
+        predicted.col(col) =
+            world_T_flange(robot, set, r) * target_position(robot, set, m.target, m.line);
         break;
       }
       case MeasurementKind::Poses:
-        predicted.col(col) = world_T_flange(robot, set.poses[r].joints, set.poses[r].approach) *
-                             robot.tool.flange_T_tcp.translation();
+        predicted.col(col) = world_T_flange(robot, set, r) * robot.tool.flange_T_tcp.translation();
         break;
       case MeasurementKind::Distances: {
         const DistanceMeasurement& m = set.distances[r];
-        predicted.col(col) = world_T_flange(robot, m.joints, m.approach) *
-                             target_position(robot, set, m.target, m.line);
+        predicted.col(col) =
+            world_T_flange(robot, set, r) * target_position(robot, set, m.target, m.line);
         break;
       }
     }
@@ -95,8 +100,7 @@ PositionErrors position_errors(const CalibratedRobot& robot, const MeasurementSe
     const Eigen::Matrix3d flange_R_tcp = robot.tool.flange_T_tcp.rotation();
     out.orientation_error_deg.resize(set.size());
     for (size_t r = 0; r < set.size(); ++r) {
-      const Eigen::Matrix3d world_R_tcp =
-          world_T_flange(robot, set.poses[r].joints, set.poses[r].approach).R * flange_R_tcp;
+      const Eigen::Matrix3d world_R_tcp = world_T_flange(robot, set, r).R * flange_R_tcp;
       out.orientation_error_deg[r] =
           rad2deg(rotation_distance(set.poses[r].world_T_tcp.R, world_R_tcp));
     }

@@ -70,6 +70,12 @@ PY
 "$robcal" compensate --model "$out/model.yaml" --tool "$out/sim/tool.yaml" \
   --targets "$out/wanted.csv" --out "$out/heavy.csv" --payload-mass-kg 3 --payload-cog-mm 0,0,80 > /dev/null
 ! cmp -s "$out/corrected.csv" "$out/heavy.csv"
+# The same payload named in the tool file's 'payloads:' (--payload NAME) gives the same joints.
+cp "$out/sim/tool.yaml" "$out/named.yaml"
+printf 'payloads:\n  gripper: {mass_kg: 3, cog_mm: [0, 0, 80]}\n' >> "$out/named.yaml"
+"$robcal" compensate --model "$out/model.yaml" --tool "$out/named.yaml" \
+  --targets "$out/wanted.csv" --out "$out/named.csv" --payload gripper > /dev/null
+cmp "$out/heavy.csv" "$out/named.csv"
 
 # Program filtering: only the robtarget lines change, the original stays.
 cp tests/data/programs/pick_place.mod "$out/in.mod"
@@ -98,6 +104,12 @@ printf 'name,x,y,z,qw,qx,qy,qz\nfar,9000,0,0,1,0,0,0\n' > "$out/far.csv"
 expect_error "far.csv:2 (far)" compensate --model "$out/model.yaml" --targets "$out/far.csv" --out "$out/bad.csv"
 expect_error "--payload-cog-mm" compensate --model "$out/model.yaml" --targets "$out/wanted.csv" \
   --out "$out/bad.csv" --payload-mass-kg 2
+expect_error "--payload: the tool has no payload 'vise': expected one of its 'payloads:' ('gripper')" \
+  compensate --model "$out/model.yaml" --tool "$out/named.yaml" --targets "$out/wanted.csv" \
+  --out "$out/bad.csv" --payload vise
+expect_error "give the payload either by name (--payload) or by --payload-mass-kg" compensate \
+  --model "$out/model.yaml" --tool "$out/named.yaml" --targets "$out/wanted.csv" \
+  --out "$out/bad.csv" --payload gripper --payload-mass-kg 3 --payload-cog-mm 0,0,80
 printf 'MODULE m\n  CONST robtarget p10:=[[400,0,500],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  PROC main()\n    MoveL p10, v100, fine, tool0\\WObj:=wobjTable;\n  ENDPROC\nENDMODULE\n' > "$out/wobj.mod"
 expect_error "wobj.mod:2:24 (p10): unknown work object 'WOBJTABLE'" compensate-program \
   --model "$out/model.yaml" --in "$out/wobj.mod" --out "$out/bad.mod"

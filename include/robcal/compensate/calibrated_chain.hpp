@@ -41,11 +41,11 @@ struct CalibratedChain {
   /// Periodic error coefficients of each joint (jointI.periodicH.cos|sin, rad).
   std::array<std::array<double, kPeriodicPerJoint>, kJointCount> periodic{};
   std::array<bool, kJointCount> has_periodic{};
-  std::array<double, kJointCount> compliance{};  ///< [0] = 0 (joint 1 has none)
+  std::array<double, kJointCount> compliance{};  ///< [0]: joint 1's (opt-in, §7)
   bool compliant = false;
   std::array<double, kJointCount> mass{};             ///< link 6 includes the payload
   std::array<Eigen::Vector3d, kJointCount> moment{};  ///< m·CoG in the link frame (kg·mm)
-  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< world, m/s²
+  Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< world, m/s² (base-frame gravity turned)
   Matrix6d joint_map = Matrix6d::Identity();
   Vector6d joint_offset = Vector6d::Zero();
   bool map_identity = true;

@@ -96,7 +96,7 @@ struct Compensator {
 /// inverse (neither ortho-parallel nor of the UR family) or a parameter is not finite.
 /// `approach`: the side each joint reaches its targets from (+1 below, −1 above; null: from
 /// below, the measurement programs' practice), for the backlash group
-/// (docs/method/03-error-model.md §6).
+/// (docs/method/03-error-model.md §7).
 Compensator make_compensator(const CalibratedRobot& robot,
                              const std::optional<PointMass>& payload = std::nullopt,
                              const Vector6d* approach = nullptr);

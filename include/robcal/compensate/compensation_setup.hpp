@@ -22,6 +22,9 @@ struct CompensationSetup {
   std::optional<Tool> tool;
   /// The payload carried now, when not the tool's: the compliance re-compensates for it.
   std::optional<PointMass> payload;
+  /// The payload carried now by name, one of the tool's `payloads` (`--payload NAME`, several
+  /// payloads, docs/method/03-error-model.md §7); empty: none named.
+  std::string payload_name;
   /// Yaskawa: encoder pulses per degree of each joint (io/robot_pulses.hpp); all zero: unknown.
   std::array<double, kJointCount> pulses_per_degree{};
   /// The side each joint reaches the targets from (+1 below, −1 above, 0 unknown): the backlash
@@ -40,7 +43,8 @@ struct Compensation {
 
 /// Applies the tool and payload and builds the compensator. InputError: the model is not the
 /// expected robot (key "--robot"), the payload mass is outside [0, 10000) kg or not finite
-/// (key "--payload-mass-kg"), its centre of gravity not finite (key "--payload-cog-mm").
+/// (key "--payload-mass-kg"), its centre of gravity not finite (key "--payload-cog-mm"), a
+/// payload name the tool does not list or given with a mass (key "--payload").
 Compensation prepare_compensation(const CompensationSetup& setup);
 
 /// "newton" or "pose-shift"; InputError (key `key`) otherwise.

@@ -26,6 +26,9 @@
 /// as the measurement programs do. The writer adds it only when a row is not '++++++'.
 /// Joints are the controller's values as commanded. `target` names a target of the tool. Columns
 /// the kind does not use are ignored with a warning. A UTF-8 byte-order mark is skipped.
+/// An optional `payload` column names the payload a row carried, one of the tool file's
+/// `payloads:` (empty: its `payload`), for several payloads in one calibration
+/// (docs/method/03-error-model.md §7).
 ///
 /// Units: mm and degrees (radians in memory) unless declared by a header comment
 /// `# units: m, rad` (a length unit mm or m, an angle unit deg or rad — for the joints and the

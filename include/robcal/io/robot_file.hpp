@@ -34,6 +34,16 @@ std::string robot_to_yaml(const RobotModel& model);
 /// Emits the robot's fields into an open YAML map (shared by robot and calibrated-model files).
 void emit_robot_fields(YAML::Emitter& out, const RobotModel& model);
 
+/// The robot's gravity from a robot or truth file (docs/method/03-error-model.md §7): at most one
+/// of `gravity_m_s2` (world frame, the default (0, 0, −9.81)), `gravity_base_m_s2` (robot base
+/// frame) or `mounting_deg: [rx, ry]` (the base tilted by Rot_x(rx)·Rot_y(ry) from a level floor:
+/// [90, 0] a wall, [180, 0] the ceiling; gravity 9.81 m/s² in the base frame).
+void parse_gravity(const yaml::Node& root, RobotModel& model);
+
+/// Writes the gravity as `gravity_m_s2` or `gravity_base_m_s2` (round-trips through
+/// parse_gravity).
+void emit_gravity(YAML::Emitter& out, const RobotModel& model);
+
 /// Tool file: payload, targets (a target written `~` is to be identified), optional tcp.
 Tool load_tool(const std::string& path);
 Tool parse_tool(const yaml::Node& root);

@@ -98,23 +98,34 @@ std::array<T, kJointCount> model_joint_angles(const RobotModel& model, const T* 
   return q;
 }
 
-/// Static gravity torques τ_2..τ_6 (N·mm) about joint axes 2..6 for undeflected joint angles
+/// Static gravity torques τ_1..τ_6 (N·mm) about joint axes 1..6 for undeflected joint angles
 /// `theta` (rad, θ_i of links 1..6 before compliance), docs/method/03-error-model.md: τ_i =
 /// (Σ_{j≥i} m_j u_j^i × g_i)_z. Computed tip to base with the first moment S_i = Σ_{j≥i} m_j u_j^i,
-/// so it is O(n). `payload` (flange frame) is lumped with link 6.
+/// so it is O(n). `payload` (flange frame) is lumped with link 6. τ_1 is zero on a floor-mounted
+/// robot (gravity along axis 1) and loads joint 1 on an inclined, wall or ceiling mounting (§7).
 template <typename T>
-std::array<T, 5> gravity_torques(const RobotModel& model, const PointMass& payload, const T* params,
-                                 const std::array<T, kJointCount>& theta) {
+std::array<T, kJointCount> gravity_torques(const RobotModel& model, const PointMass& payload,
+                                           const T* params,
+                                           const std::array<T, kJointCount>& theta) {
   // Relative transforms A_2..A_6 with the undeflected angles.
   std::array<Pose<T>, kJointCount> A;  // A[i] = A_{i+1}, frame i -> i+1 (0-based: A[1] = A_2)
   for (int link = 2; link <= kJointCount; ++link)
     A[link - 1] = detail::mdh_transform(params[link_param(link, 0)], params[link_param(link, 1)],
                                         theta[link - 1], params[link_param(link, 3)]);
   // Gravity in each link frame: g_1 = R_world_1^T g_world (the base tilt alpha, beta matters:
-  // gravity acts in the world, which the reference data set confirms), g_i = R_{i-1,i}^T g_{i-1}.
+  // gravity acts in the world, which the reference data set confirms), or g_1 = Rot_z(θ1)^T g_base
+  // when the mounting gives it in the base frame (§7); g_i = R_{i-1,i}^T g_{i-1}.
   std::array<Vector3<T>, kJointCount> g;
-  g[0] = detail::base_transform(params, T(0), theta[0]).R.transpose() *
-         model.gravity_m_s2.template cast<T>();
+  if (model.gravity_in_base) {
+    using std::cos;
+    using std::sin;
+    const Vector3<T> gb = model.gravity_m_s2.template cast<T>();
+    const T c = cos(theta[0]), s = sin(theta[0]);
+    g[0] << c * gb.x() + s * gb.y(), c * gb.y() - s * gb.x(), gb.z();
+  } else {
+    g[0] = detail::base_transform(params, T(0), theta[0]).R.transpose() *
+           model.gravity_m_s2.template cast<T>();
+  }
   for (int i = 1; i < kJointCount; ++i) g[i] = A[i].R.transpose() * g[i - 1];
   // First moments from the tip: S_6 = m_6 u_6 + m_p u_p; S_i = m_i u_i + A_{i+1}·(S_{i+1},
   // M_{i+1}).
@@ -122,14 +133,14 @@ std::array<T, 5> gravity_torques(const RobotModel& model, const PointMass& paylo
                   payload.mass_kg * payload.cog_mm)
                      .template cast<T>();
   double M = model.link_masses[5].mass_kg + payload.mass_kg;
-  std::array<T, 5> tau;
-  for (int i = kJointCount - 1; i >= 1; --i) {  // 0-based frame index i = link i+1
+  std::array<T, kJointCount> tau;
+  for (int i = kJointCount - 1; i >= 0; --i) {  // 0-based frame index i = link i+1
     if (i < kJointCount - 1) {
       S = A[i + 1].R * S + A[i + 1].p * T(M) +
           (model.link_masses[i].mass_kg * model.link_masses[i].cog_mm).template cast<T>();
       M += model.link_masses[i].mass_kg;
     }
-    tau[i - 1] = S.x() * g[i].y() - S.y() * g[i].x();
+    tau[i] = S.x() * g[i].y() - S.y() * g[i].x();
   }
   return tau;
 }
@@ -161,7 +172,8 @@ T backlash_shift(const T* params, double side, int joint) {
 }
 
 /// Joint angles θ_1..θ_6 (rad) used in the links: θ_i = scale_i·q_i + offset_i + δθ_i(q_i)
-/// − s_i·b_i/2 (+ c_i·τ_i when the model has compliance), δθ_i the periodic error, b_i the
+/// − s_i·b_i/2 (+ c_i·τ_i when the model has compliance, joint 1's included), δθ_i the
+/// periodic error, b_i the
 /// backlash and s_i the approach of joint i (`approach`, see backlash_shift),
 /// docs/method/02-frames.md, 03-error-model.md. `q` are model joint angles.
 template <typename T>
@@ -184,12 +196,12 @@ std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass&
     if (detail::is_nonzero(params[backlash_param(joint)]))
       theta[joint - 1] += backlash_shift(params, model_approach(model, approach, joint), joint);
   bool compliant = false;
-  for (int link = 2; link <= kJointCount; ++link)
-    compliant = compliant || detail::is_nonzero(params[compliance_param(link)]);
+  for (int joint = 1; joint <= kJointCount; ++joint)
+    compliant = compliant || detail::is_nonzero(params[compliance_param(joint)]);
   if (compliant) {
-    const std::array<T, 5> tau = gravity_torques(model, payload, params, theta);
-    for (int link = 2; link <= kJointCount; ++link)
-      theta[link - 1] += params[compliance_param(link)] * tau[link - 2];
+    const std::array<T, kJointCount> tau = gravity_torques(model, payload, params, theta);
+    for (int joint = 1; joint <= kJointCount; ++joint)
+      theta[joint - 1] += params[compliance_param(joint)] * tau[joint - 1];
   }
   return theta;
 }

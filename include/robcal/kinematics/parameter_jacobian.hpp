@@ -88,10 +88,11 @@ class FlangeRegressor {
                 Eigen::Matrix<double, K, kParameterCount>* out) const;
 
  private:
-  Vector6d q_, c_;  ///< model joint values; compliances (c_[0] = 0)
+  Vector6d q_, c_;  ///< model joint values; compliances (c_[0]: joint 1's, §7)
   PeriodicBasis basis_;
   Vector6d approach_;
   bool compliant_ = false;
+  bool gravity_turns_with_base_ = false;  ///< RobotModel::gravity_in_base
   Eigen::Matrix3d R_base_xy_;
   std::array<Pose<double>, kJointCount> undeflected_, deflected_;
   /// Gravity torques of the undeflected chain and what their derivatives need

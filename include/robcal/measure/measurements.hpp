@@ -29,6 +29,7 @@ struct PointMeasurement {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();
   int line = 0;                          ///< 1-based line in the source file (0: not from a file)
   Vector6d approach = Vector6d::Ones();  ///< per joint: +1 from below, −1 from above, 0 unknown
+  int payload = -1;  ///< index into Tool::payloads (`payload` column); -1: the tool's payload
 };
 
 /// `config,j1..j6,x,y,z,qw,qx,qy,qz`: world_T_tcp.
@@ -38,6 +39,7 @@ struct PoseMeasurement {
   Pose<double> world_T_tcp;
   int line = 0;
   Vector6d approach = Vector6d::Ones();  ///< as PointMeasurement::approach
+  int payload = -1;                      ///< as PointMeasurement::payload
 };
 
 /// `config,target,j1..j6,length`: |p_target − centre| in mm.
@@ -48,6 +50,7 @@ struct DistanceMeasurement {
   double length_mm = 0;
   int line = 0;
   Vector6d approach = Vector6d::Ones();  ///< as PointMeasurement::approach
+  int payload = -1;                      ///< as PointMeasurement::payload
 };
 
 /// The rows of one measurement file; exactly one of the three vectors is filled.
@@ -68,6 +71,31 @@ struct MeasurementSet {
         return distances.size();
     }
     return 0;
+  }
+  /// The payload row `row` carried (any kind): index into Tool::payloads, -1 the tool's own.
+  [[nodiscard]] int payload(size_t row) const {
+    switch (kind) {
+      case MeasurementKind::Points:
+        return points[row].payload;
+      case MeasurementKind::Poses:
+        return poses[row].payload;
+      case MeasurementKind::Distances:
+        return distances[row].payload;
+    }
+    return -1;
+  }
+  void set_payload(size_t row, int payload) {
+    switch (kind) {
+      case MeasurementKind::Points:
+        points[row].payload = payload;
+        return;
+      case MeasurementKind::Poses:
+        poses[row].payload = payload;
+        return;
+      case MeasurementKind::Distances:
+        distances[row].payload = payload;
+        return;
+    }
   }
   /// Scalar residuals one row gives: 3, 6 or 1.
   [[nodiscard]] int residuals_per_row() const {

@@ -3,7 +3,7 @@
 /// The robot's parameter vector: every quantity the error model of docs/method/03-error-model.md
 /// may identify, stored as absolute values in internal units (mm, rad, rad/(N·mm), unitless scale).
 ///
-/// Layout (kParameterCount = 67):
+/// Layout (kParameterCount = 68):
 ///   [0, 6)   base.x base.y base.z (mm), base.alpha base.beta base.gamma (rad):
 ///            world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1)
 ///   [6, 26)  linkI.alpha (rad), linkI.a (mm), linkI.theta (rad, the joint zero offset),
@@ -16,6 +16,9 @@
 ///   [61, 67) jointI.backlash (rad) for I = 1..6: the dead band b_I of the joint, θ_I shifted by
 ///            −s_I·b_I/2 for a joint approached from below (s = +1) or above (s = −1), an
 ///            opt-in group (docs/method/03-error-model.md §6).
+///   [67]     joint1.compliance (rad per N·mm): joint 1 under gravity, loaded only when the
+///            robot is not floor-mounted (inclined, wall, ceiling); an opt-in group
+///            (docs/method/03-error-model.md §7).
 /// The 31 of the published full model are the first 31; scales are fixed unless asked for.
 
 #include <array>
@@ -34,15 +37,19 @@ inline constexpr int kPeriodicOffset = 37;
 inline constexpr int kPeriodicHarmonics = 2;  ///< first and second harmonic of the joint angle
 inline constexpr int kPeriodicPerJoint = 2 * kPeriodicHarmonics;
 inline constexpr int kBacklashOffset = kPeriodicOffset + kJointCount * kPeriodicPerJoint;
-inline constexpr int kParameterCount = kBacklashOffset + kJointCount;
+/// The mounting group (docs/method/03-error-model.md §7) follows the backlash group.
+inline constexpr int kMountingOffset = kBacklashOffset + kJointCount;
+inline constexpr int kJoint1Compliance = kMountingOffset;  ///< joint1.compliance
+inline constexpr int kMountingParamCount = 1;
+inline constexpr int kParameterCount = kMountingOffset + kMountingParamCount;
 
 /// Index of MDH quantity k (0 alpha, 1 a, 2 theta, 3 d) of link i (2..6).
 constexpr int link_param(int link, int k) {
   return kLinkParamOffset + 4 * (link - 2) + k;
 }
-/// Index of the compliance of joint i (2..6).
+/// Index of the compliance of joint i (2..6; joint 1's is kJoint1Compliance, opt-in).
 constexpr int compliance_param(int joint) {
-  return kComplianceOffset + (joint - 2);
+  return joint == 1 ? kJoint1Compliance : kComplianceOffset + (joint - 2);
 }
 /// Index of the scale of joint i (1..6).
 constexpr int scale_param(int joint) {
@@ -83,7 +90,8 @@ struct ParameterGroup {
 };
 
 /// The opt-in groups: one periodic group per joint ("joint1.periodic" .. "joint6.periodic"),
-/// then one backlash group per joint ("joint1.backlash" .. "joint6.backlash").
+/// then one backlash group per joint ("joint1.backlash" .. "joint6.backlash"), then
+/// "joint1.compliance" (docs/method/03-error-model.md §7).
 const std::vector<ParameterGroup>& opt_in_groups();
 
 /// True for a parameter of an opt-in group.

@@ -69,6 +69,10 @@ struct RobotModel {
   JointMap joint_map;
   std::array<PointMass, kJointCount> link_masses{};  ///< links 1..6, CoG in the link frame
   Eigen::Vector3d gravity_m_s2{0, 0, -9.81};         ///< in the world (measurement) frame, levelled
+  /// True when gravity_m_s2 is in the robot's base frame (frame 1 at θ1 = 0, without the base
+  /// γ), as a wall, ceiling or inclined mounting gives it (robot file `gravity_base_m_s2` or
+  /// `mounting_deg`): it then turns with the base placement (docs/method/03-error-model.md §7).
+  bool gravity_in_base = false;
 
   /// Nominal parameter vector (docs/method/03-error-model.md layout, internal units).
   [[nodiscard]] ParameterVector nominal() const;

@@ -19,6 +19,13 @@ struct Target {
   bool known = true;
 };
 
+/// One of several payloads a calibration carries (tool file `payloads:`), named by measurement
+/// rows' `payload` column (docs/method/03-error-model.md §7).
+struct NamedPayload {
+  std::string name;
+  PointMass mass;
+};
+
 struct Tool {
   PointMass payload;  ///< mass and CoG in the flange frame
   std::vector<Target> targets;
@@ -27,6 +34,19 @@ struct Tool {
   /// False when the tool file writes `tcp: ~` or `position_mm: ~` / `quaternion_wxyz: ~`: the
   /// part is identified from pose measurements (flange_T_tcp holds the start: identity, zero).
   bool tcp_position_known = true, tcp_orientation_known = true;
+
+  std::vector<NamedPayload> payloads;  ///< further payloads rows may name (empty: one payload)
+
+  /// The payload of a row: payloads[index], or `payload` for index −1.
+  [[nodiscard]] const PointMass& payload_of(int index) const {
+    return index < 0 ? payload : payloads[static_cast<size_t>(index)].mass;
+  }
+  /// Index of the named payload in `payloads`, or -1.
+  [[nodiscard]] int payload_index(std::string_view name) const {
+    for (size_t i = 0; i < payloads.size(); ++i)
+      if (payloads[i].name == name) return static_cast<int>(i);
+    return -1;
+  }
 
   /// Index of the target with this name, or -1.
   [[nodiscard]] int target_index(std::string_view name) const {

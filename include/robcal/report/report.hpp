@@ -53,6 +53,9 @@ struct ReportData {
   /// calibration position; empty when no calibration set was given.
   std::vector<double> distance_to_calibration_mm;
   std::vector<ReportParameter> parameters;
+  /// Every opt-in parameter group (model/parameters.hpp) with its Wald test: enabled or not,
+  /// significant or not (docs/method/03-error-model.md §5).
+  std::vector<GroupSignificance> groups;
   nlohmann::json diagnostics = nlohmann::json::object();  ///< the fit's statistics
   std::vector<std::string> notes;
   Provenance provenance;  ///< empty fields are shown as "not recorded"

@@ -63,6 +63,9 @@ struct SimulationOptions {
   /// docs/method/03-error-model.md §6. The rows record the side of every joint either way.
   bool approach_random = false;
   uint64_t approach_seed = 0;
+  /// true: each configuration carries a payload drawn (seeded) from the true tool's payload and
+  /// its `payloads`, recorded in the row (several payloads in one calibration, §7).
+  bool random_payloads = false;
 };
 
 struct SimulationResult {

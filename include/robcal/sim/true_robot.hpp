@@ -59,6 +59,7 @@ struct MotionState {
   bool from_below = true;      ///< every joint approached from below (the published practice)
   Vector6d previous_joints{};  ///< controller joints before the move (when !from_below), rad
   double time_s = 0;           ///< time since the robot started moving (thermal drift)
+  int payload = -1;            ///< carried payload: index into the tool's payloads, -1 its own
 };
 
 /// Controller joints (rad) the true arm actually sits at when commanded to `joints`, and the
