@@ -102,6 +102,24 @@ TEST(HexapodLegFit, NoiseFreeFitReproducesTheTrueToolCupsAndTheOffset) {
         worst_frame = std::max(worst_frame, (a * t.position_mm - b * t.position_mm).norm());
     }
     EXPECT_LT(worst_frame, 1e-9);
+    // The same with gravity given in the base frame (a wall mounting): it turns with the base
+    // placement, so re-expressing the frame must not turn it a second time.
+    RobotModel wall = f.model;
+    wall.gravity_m_s2 = Eigen::Vector3d(-9.81, 0, 0);
+    wall.gravity_in_base = true;
+    const CalibratedRobot wall_robot =
+        leg_fit_robot(wall, f.cell.truth.robot.tool.payload, fit, f.cell.world.robot_T_fixture);
+    double worst_wall = 0;
+    for (int k = 0; k < 20; ++k) {
+      Vector6d q;
+      q << 1.2 * u(rng), 0.3 + 0.6 * u(rng), 0.3 * u(rng), 2 * u(rng), 1.5 * u(rng), 3 * u(rng);
+      const Pose<double> a =
+          flange_pose(wall_robot.model, wall_robot.tool.payload, wall_robot.params, q);
+      const Pose<double> b = T * flange_pose(wall, wall_robot.tool.payload, fit.params, q);
+      for (const Target& t : wall_robot.tool.targets)
+        worst_wall = std::max(worst_wall, (a * t.position_mm - b * t.position_mm).norm());
+    }
+    EXPECT_LT(worst_wall, 1e-9);
     std::printf(
         "leg fit (offset %.3f mm): %zu configurations, %d residuals, rms %.2g -> %.2g mm, "
         "offset %.6f mm, worst tool-cup prediction error %.2g mm\n",

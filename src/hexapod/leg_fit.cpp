@@ -253,8 +253,10 @@ CalibratedRobot leg_fit_robot(const RobotModel& model, const PointMass& payload,
   robot.params[4] = std::asin(std::clamp(T.R(0, 2), -1.0, 1.0));
   robot.params[5] = std::atan2(-T.R(0, 1), T.R(0, 0));
   for (int i = 0; i < kBaseParamCount; ++i) robot.status[i] = ParameterStatus::Identified;
-  // Gravity was along the fit's robot z: seen from the new world it is tilted by T.
-  robot.model.gravity_m_s2 = T.R * model.gravity_m_s2;
+  // Gravity given in the world was along the fit's robot z: seen from the new world it is
+  // tilted by T. Gravity given in the base frame turns with the base placement already
+  // (docs/method/03-error-model.md §7), so it stays as it is.
+  if (!model.gravity_in_base) robot.model.gravity_m_s2 = T.R * model.gravity_m_s2;
   robot.tool.payload = payload;
   const Pose<double> flange_T_tool = frame_from_cups(fit.tool_cups_flange);
   robot.tool.flange_T_tcp.linear() = flange_T_tool.R;
