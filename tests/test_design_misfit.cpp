@@ -117,8 +117,8 @@ TEST(MisfitAllowance, FromAPriorModelFileAgreesWithTheTruth) {
   }
   const double parameter_noise = m.parameter_noise_mm / std::sqrt(5.0 / 4.0);  // all rows
   const double true_misfit = std::sqrt(std::max(0.0, sum / n - parameter_noise * parameter_noise));
-  EXPECT_GT(m.misfit_mm, 0.5 * true_misfit);
-  EXPECT_LT(m.misfit_mm, 1.5 * true_misfit);
+  EXPECT_GT(m.misfit_mm, 0.8 * true_misfit);
+  EXPECT_LT(m.misfit_mm, 1.2 * true_misfit);
   EXPECT_GT(m.misfit_mm, m.noise_mm);  // a misfit the instrument's noise does not explain
 
   // `plan` with that prior: both predictions, the misfit-aware one larger by it.
@@ -172,8 +172,15 @@ TEST(MisfitAllowance, UnreadableStatisticsAreRefusedByKey) {
                  "m.yaml (statistics): unreadable fit statistics");
   prior.statistics = "cross_validation: {folds: 1, mean_mm: 0.05, std_mm: 0.01}\n";
   EXPECT_REFUSED(misfit_from_prior_model(prior, "m.yaml", 0.02), InputError,
-                 "m.yaml (statistics.cross_validation): expected a non-negative mean_mm and "
-                 "std_mm and at least 2 folds");
+                 "m.yaml (statistics.cross_validation): expected finite non-negative mean_mm "
+                 "and std_mm");
+  // yaml-cpp reads .nan and .inf as numbers: refused, never a NaN misfit.
+  prior.statistics = "cross_validation: {folds: 5, mean_mm: .nan, std_mm: 0.01}\n";
+  EXPECT_REFUSED(misfit_from_prior_model(prior, "m.yaml", 0.02), InputError,
+                 "expected finite non-negative mean_mm");
+  prior.statistics = "cross_validation: {folds: 5, mean_mm: 0.05, std_mm: .inf}\n";
+  EXPECT_REFUSED(misfit_from_prior_model(prior, "m.yaml", 0.02), InputError,
+                 "expected finite non-negative mean_mm");
   prior.statistics = "just text";
   EXPECT_REFUSED(misfit_from_prior_model(prior, "m.yaml", 0.02), InputError,
                  "the prior model holds no cross-validation");

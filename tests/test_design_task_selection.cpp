@@ -173,7 +173,7 @@ TEST(PlanWorkflow, CriterionDefaultsToTaskAwareWithATaskRegion) {
   const PlanResult d = plan_calibration(request);
   EXPECT_EQ(d.criterion, SelectionCriterion::DOptimal);
   // D-optimality rests on the edges, past the guard's cap: the user is told (6 of 12 here).
-  EXPECT_GT(d.near_edge, 3);
+  EXPECT_EQ(d.near_edge, 6);
   ASSERT_EQ(d.notes.size(), 1u);
   EXPECT_NE(d.notes[0].find(fmt::format("{} of 12 configurations are near a joint-range edge "
                                         "(the guard allows 3)",

@@ -93,8 +93,12 @@ TEST(UrCalibration, DeltasRoundTrip) {
   // The nominal robot's deltas are all zero.
   const UrCalibration zero = parse_ur_calibration(
       export_model({"universal-robots-ur5e", "", "ur-calibration"}).text, "nominal");
-  for (int i = 0; i < kJointCount; ++i)
-    EXPECT_EQ(zero.delta_theta[i] + zero.delta_a[i] + zero.delta_d[i] + zero.delta_alpha[i], 0);
+  for (int i = 0; i < kJointCount; ++i) {
+    EXPECT_EQ(zero.delta_theta[i], 0) << i;
+    EXPECT_EQ(zero.delta_a[i], 0) << i;
+    EXPECT_EQ(zero.delta_d[i], 0) << i;
+    EXPECT_EQ(zero.delta_alpha[i], 0) << i;
+  }
 }
 
 // A calibrated model's base placement off axis 1, tool and compliance are named as left out;

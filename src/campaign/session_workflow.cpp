@@ -35,6 +35,10 @@ SessionSettings settings_of(const PointSessionRequest& request) {
   } else if (request.every > 0) {
     throw InputError({"", 0, 0, "--every"}, "drift checks need the reference (--reference NAME)");
   }
+  // The timeout becomes a count of milliseconds: NaN, negative or huge values would overflow it.
+  if (!(request.follow_timeout_s >= 0 && request.follow_timeout_s <= 86400))
+    throw InputError({"", 0, 0, "--follow-timeout"},
+                     fmt::format("expected 0 to 86400 seconds, got {}", request.follow_timeout_s));
   return settings;
 }
 

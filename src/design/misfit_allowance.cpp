@@ -62,9 +62,14 @@ MisfitAllowance misfit_from_prior_model(const CalibratedRobot& prior, const std:
                                  "`robcal calibrate` writes them",
                                  e.what()));
   }
-  if (!(p.mean_mm >= 0) || !(p.std_mm >= 0) || p.folds < 2)
+  // yaml-cpp reads .inf and .nan as numbers: every figure must be finite, or the misfit is.
+  const bool finite = std::isfinite(p.mean_mm) && std::isfinite(p.std_mm) &&
+                      std::isfinite(p.instrument_sigma_mm) && std::isfinite(p.sigma_posterior_mm) &&
+                      std::isfinite(p.predicted_rms_mm);
+  if (!finite || p.mean_mm < 0 || p.std_mm < 0 || p.folds < 2)
     throw InputError({path, 0, 0, "statistics.cross_validation"},
-                     "expected a non-negative mean_mm and std_mm and at least 2 folds");
+                     "expected finite non-negative mean_mm and std_mm, finite σ and predicted "
+                     "figures, and at least 2 folds");
   MisfitAllowance out = misfit_from_cross_validation(p);
   out.source = fmt::format("{}: {}-fold cross-validated error rms {:.4f} mm", path, p.folds,
                            out.held_out_rms_mm);
