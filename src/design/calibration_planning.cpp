@@ -42,7 +42,7 @@ const char* criterion_name(SelectionCriterion criterion) {
 }
 
 JointConstraints default_joint_constraints(const RobotModel& model) {
-  // The published constraints (one-signed gearbox torques, docs/method/05-observability.md) were
+  // The published constraints (one-signed gearbox torques, docs/method/05-observability.md §2) were
   // chosen for the IRB 120's geometry and zero positions; on another robot the same numbers mean
   // other poses (on a UR θ2 ≥ 0 points the upper arm down), so only its own limits apply.
   return model.name == "ABB IRB 120" ? published_joint_constraints() : unconstrained_joints();

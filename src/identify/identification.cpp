@@ -277,11 +277,11 @@ std::string unloaded_cause(const RobotModel& model, const Tool& tool, int joint)
                      tool.payload.mass_kg > 0 ? "" : " and the tool has no payload");
 }
 
-/// Requested compliances that no measured configuration loads (docs/method/03-error-model.md: δθ_j
-/// = c_j·τ_j) are taken out of `candidates` and dropped with their real reason: no masses in the
-/// robot file, or a gravity torque below kGravityTorqueFloorNmm in every row (centres of gravity on
-/// the axis, no payload). Their columns would otherwise be rounding noise that a fit turns into
-/// absurd values (−2e7 ± 3e7).
+/// Requested compliances that no measured configuration loads (docs/method/03-error-model.md §3:
+/// δθ_j = c_j·τ_j) are taken out of `candidates` and dropped with their real reason: no masses in
+/// the robot file, or a gravity torque below kGravityTorqueFloorNmm in every row (centres of
+/// gravity on the axis, no payload). Their columns would otherwise be rounding noise that a fit
+/// turns into absurd values (−2e7 ± 3e7).
 void drop_unloaded_compliances(const RobotModel& model, const Tool& tool,
                                const MeasurementSet& data, const Eigen::VectorXd& unknowns,
                                std::vector<bool>& candidates, IdentificationSetup& setup) {
@@ -350,7 +350,7 @@ std::string describe_dependency(const UnknownLayout& layout, const RobotModel& m
                         dep.depends_on[i].second);
   if (dep.depends_on.size() > 4) text += fmt::format(" and {} more", dep.depends_on.size() - 4);
   // Two d's along parallel consecutive axes move the chain identically
-  // (docs/method/03-error-model.md).
+  // (docs/method/03-error-model.md §2).
   const auto& name = layout.names[dep.column];
   for (const auto& [other, weight] : dep.depends_on) {
     const std::string& o = layout.names[other];

@@ -61,11 +61,11 @@ void check_limits(const MeasurementProgramRequest& r, const std::string& name,
       if (q < l.lower || q > l.upper)
         throw InputError(
             SourceLocation{"", 0, 0, name},
-            fmt::format("joint {} at {:.4f} deg{} is outside its limits [{:.4f}, "
-                        "{:.4f}] deg; the approach moves every joint by -{} deg "
-                        "(docs/method/05-observability.md), so a configuration needs that margin",
-                        j + 1, rad2deg(q), what, rad2deg(l.lower), rad2deg(l.upper),
-                        r.approach_deg));
+            fmt::format(
+                "joint {} at {:.4f} deg{} is outside its limits [{:.4f}, "
+                "{:.4f}] deg; the approach moves every joint by -{} deg "
+                "(docs/method/05-observability.md §4), so a configuration needs that margin",
+                j + 1, rad2deg(q), what, rad2deg(l.lower), rad2deg(l.upper), r.approach_deg));
   }
 }
 

@@ -70,9 +70,9 @@ struct ChainState {
 /// std::sin and std::cos, without their calls, which took ~40 % of a fresh chain evaluation.
 void table_sin_cos(double theta, double* s, double* c);
 
-/// Precomputes the chain for `params` (docs/method/03-error-model.md layout), the payload carried
-/// and the tool, every target reached with each joint approached from `approach` (+1 below, −1
-/// above, 0 unknown; null: from below, the programs' practice): the backlash shift −s·b/2 is
+/// Precomputes the chain for `params` (docs/method/03-error-model.md §1 layout), the payload
+/// carried and the tool, every target reached with each joint approached from `approach` (+1 below,
+/// −1 above, 0 unknown; null: from below, the programs' practice): the backlash shift −s·b/2 is
 /// constant there, so it joins the joint's θ offset (§6).
 CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& params,
                                       const PointMass& payload, const Pose<double>& flange_T_tcp,

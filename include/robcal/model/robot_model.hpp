@@ -74,7 +74,7 @@ struct RobotModel {
   /// `mounting_deg`): it then turns with the base placement (docs/method/03-error-model.md §7).
   bool gravity_in_base = false;
 
-  /// Nominal parameter vector (docs/method/03-error-model.md layout, internal units).
+  /// Nominal parameter vector (docs/method/03-error-model.md §1 layout, internal units).
   [[nodiscard]] ParameterVector nominal() const;
 
   /// True when the controller joint values are all inside the limits (with `tolerance` rad).
