@@ -12,6 +12,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/identify/calibration_output.hpp"
 #include "robcal/identify/cross_validation.hpp"
+#include "robcal/identify/model_exchange.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -42,6 +43,39 @@ double to_external(int i) {
 }
 
 const bool registered = register_bindings(30, [](py::module_& m) {
+  m.def(
+      "model_import",
+      [](const std::string& out, const std::string& urdf, const std::string& tip,
+         const std::string& format, const std::string& calibration, const std::string& robot) {
+        const ModelImportRequest request{urdf, tip, format, calibration, robot};
+        const ModelImportResult r = import_model(request);
+        if (!out.empty()) write_file_atomically(out, r.yaml);
+        py::object d = json_to_python(model_import_json(request, r, out));
+        d["yaml"] = r.yaml;
+        return d;
+      },
+      py::arg("out") = "", py::arg("urdf") = "", py::arg("tip") = "", py::arg("format") = "urdf",
+      py::arg("calibration") = "", py::arg("robot") = "",
+      "A URDF (format 'urdf') or a UR calibration.conf on its nominal robot (format "
+      "'ur-calibration') as a robot or nominal model file (`robcal model import`): the CLI's "
+      "JSON as a dict plus yaml (the file's text, written to `out` when given)");
+  m.def(
+      "model_export",
+      [](const std::string& out, const std::string& robot, const std::string& model,
+         const std::string& format, uint64_t seed) {
+        const ModelExportRequest request{robot, model, format, seed};
+        const ModelExportResult r = export_model(request);
+        if (!out.empty()) write_file_atomically(out, r.text);
+        py::object d = json_to_python(model_export_json(request, r, out));
+        d["text"] = r.text;
+        return d;
+      },
+      py::arg("out") = "", py::arg("robot") = "", py::arg("model") = "", py::arg("format") = "urdf",
+      py::arg("seed") = 1,
+      "A robot (`robot`) or calibrated model file (`model`) as URDF, UR calibration.conf deltas "
+      "or its MDH table with σ (format 'urdf', 'ur-calibration', 'mdh-csv'; `robcal model "
+      "export`): the CLI's JSON as a dict (what the format leaves out and its cost at the TCP) "
+      "plus text (written to `out` when given)");
   py::class_<SolverStatus>(m, "SolverStatus", "How the least-squares solver ended")
       .def_readonly("converged", &SolverStatus::converged)
       .def_readonly("iterations", &SolverStatus::iterations)

@@ -550,6 +550,21 @@ def montecarlo(runs: int = 1000, poses: int = 50, validation: int = 1000, thread
     prediction (`robcal montecarlo`): observed and predicted errors (mm), their ratio."""
 
 
+def model_import(out: str = "", urdf: str = "", tip: str = "", format: str = "urdf",
+                 calibration: str = "", robot: str = "") -> Dict[str, Any]:
+    """A URDF (format 'urdf') or a UR calibration.conf on its nominal robot (format
+    'ur-calibration') as a robot or nominal model file (`robcal model import`): the CLI's JSON as
+    a dict plus yaml (the file's text, written to `out` when given)."""
+
+
+def model_export(out: str = "", robot: str = "", model: str = "", format: str = "urdf",
+                 seed: int = 1) -> Dict[str, Any]:
+    """A robot (`robot`) or calibrated model file (`model`) as URDF, UR calibration.conf deltas or
+    its MDH table with σ (format 'urdf', 'ur-calibration', 'mdh-csv'; `robcal model export`): the
+    CLI's JSON as a dict (what the format leaves out and its cost at the TCP) plus text (written
+    to `out` when given)."""
+
+
 def plan(robot: str = "abb-irb120", tool: Optional[str] = None,
          instrument: str = "laser-tracker", level: str = "full", count: int = 40,
          candidates: int = 5000, candidate_joints_deg: Optional[Array] = None,
@@ -558,11 +573,11 @@ def plan(robot: str = "abb-irb120", tool: Optional[str] = None,
          cell: Optional[str] = None, task_joints_deg: Optional[Array] = None,
          task_box: Optional[str] = None, task_count: int = 1000,
          prior_model: Optional[str] = None, misfit_mm: Optional[float] = None) -> Dict[str, Any]:
-    """Choose calibration configurations and predict their accuracy (`robcal plan`):
-    joints_deg (count×6) and targets of the chosen configurations, indices for them and for a
-    random choice, predicted TCP error over the task region (mm) from instrument noise only,
-    and with_misfit when the misfit is known (prior_model: a calibrated model file with its
-    cross-validation; or misfit_mm)."""
+    """Choose calibration configurations and predict their accuracy (`robcal plan`): the CLI's
+    JSON as a dict (indices for the chosen and a random choice, predicted_error_mm over the task
+    region from instrument noise only, predicted_error_with_misfit_mm when the misfit is known:
+    prior_model, a calibrated model file with its cross-validation, or misfit_mm) plus
+    joints_deg (count×6) and targets of the chosen configurations."""
 
 
 def plan_study(robot: str = "abb-irb120", tool: Optional[str] = None,
