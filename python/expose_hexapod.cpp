@@ -228,18 +228,17 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
          double gauge_range_mm, double gauge_sigma_mm, double cup_diameter_mm,
          const std::optional<std::string>& cell) {
-        HexapodPlanRequest r;
-        r.robot = robot;
-        r.geometry = {sides(base_sides_mm), sides(tool_sides_mm), leg_mm};
-        r.placement = placement;
-        r.tilt_deg = tilt_deg;
-        r.tool_offset_mm = tool_offset_mm;
-        r.ball_offset_mm = ball_offset_mm;
-        r.table_z_mm = table_z_mm;
-        r.angle_deg = angle_deg;
-        r.distance_mm = distance_mm;
-        r.gauge = {gauge_range_mm, gauge_sigma_mm};
-        r.cups.cup_diameter_mm = cup_diameter_mm;
+        HexapodPlanRequest r{.robot = robot,
+                             .geometry = {sides(base_sides_mm), sides(tool_sides_mm), leg_mm},
+                             .placement = placement,
+                             .tilt_deg = tilt_deg,
+                             .tool_offset_mm = tool_offset_mm,
+                             .ball_offset_mm = ball_offset_mm,
+                             .table_z_mm = table_z_mm,
+                             .angle_deg = angle_deg,
+                             .distance_mm = distance_mm,
+                             .gauge = {gauge_range_mm, gauge_sigma_mm},
+                             .cups = {cup_diameter_mm}};
         if (cell) r.workcell = campaign::load_cell(*cell);
         return plan_hexapod(load_robot(robot), r);
       },
@@ -316,19 +315,18 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::string& robot, const std::array<double, 4>& placement, double tool_offset_mm,
          double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
          uint64_t seed, int validation, int threads, bool leg_fit, bool relative) {
-        HexapodPlanRequest cell;
-        cell.placement = placement;
-        cell.tool_offset_mm = tool_offset_mm;
-        cell.ball_offset_mm = ball_offset_mm;
-        cell.table_z_mm = table_z_mm;
-        cell.angle_deg = angle_deg;
-        cell.distance_mm = distance_mm;
+        const HexapodPlanRequest cell{.placement = placement,
+                                      .tool_offset_mm = tool_offset_mm,
+                                      .ball_offset_mm = ball_offset_mm,
+                                      .table_z_mm = table_z_mm,
+                                      .angle_deg = angle_deg,
+                                      .distance_mm = distance_mm};
+        const EndToEndOptions settings{.validation_configurations = validation,
+                                       .threads = threads,
+                                       .leg_fit = leg_fit,
+                                       .relative_pose_fit = relative};
+        const EndToEndOptions o = end_to_end_options(cell, settings);
         const RobotModel model = load_robot(robot);
-        EndToEndOptions o = end_to_end_options(cell);
-        o.validation_configurations = validation;
-        o.threads = threads;
-        o.leg_fit = leg_fit;
-        o.relative_pose_fit = relative;
         std::mt19937_64 rng(seed);
         EndToEndReport report;
         {

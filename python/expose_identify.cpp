@@ -161,6 +161,15 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       .def_static("from_file", &load_calibrated_robot, py::arg("path"),
                   "Loads a calibrated model file written by calibrate")
       .def_static(
+          "from_dict",
+          [](const py::dict& d) {
+            return parse_calibrated_robot(
+                py::module_::import("json").attr("dumps")(d).cast<std::string>(), "<dict>");
+          },
+          py::arg("d"),
+          "A calibrated model from a dict with the calibrated model file's fields (errors name "
+          "the key)")
+      .def_static(
           "nominal",
           [](const RobotModel& model, const std::optional<Tool>& tool) {
             return CalibratedRobot::nominal(model, tool.value_or(Tool{}));

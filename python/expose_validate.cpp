@@ -22,22 +22,14 @@ namespace robcal::python {
 namespace {
 
 py::dict statistics_dict(const ErrorStatistics& s) {
-  py::dict d;
-  d["count"] = s.count;
-  d["mean"] = s.mean;
-  d["std"] = s.std;
-  d["mean_plus_3std"] = s.mean_plus_3std();
-  d["min"] = s.min;
-  d["max"] = s.max;
-  return d;
+  return py::dict(py::arg("count") = s.count, py::arg("mean") = s.mean, py::arg("std") = s.std,
+                  py::arg("mean_plus_3std") = s.mean_plus_3std(), py::arg("min") = s.min,
+                  py::arg("max") = s.max);
 }
 
 py::dict histogram_dict(const Histogram& h) {
-  py::dict d;
-  d["lower"] = h.lower;
-  d["upper"] = h.upper;
-  d["counts"] = h.counts;
-  return d;
+  return py::dict(py::arg("lower") = h.lower, py::arg("upper") = h.upper,
+                  py::arg("counts") = h.counts);
 }
 
 Eigen::Matrix3Xd positions_from_rows(const Eigen::MatrixXd& rows, const char* name) {

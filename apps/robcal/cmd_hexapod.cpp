@@ -482,19 +482,14 @@ void run_session(const HexapodSessionRequest& request, bool json) {
 
 // ---- simulate ------------------------------------------------------------------------------
 
-void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m, uint64_t seed,
-                  int validation, int threads, bool leg_fit, bool relative, bool json) {
+void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m,
+                  const EndToEndOptions& settings, uint64_t seed, bool json) {
   HexapodPlanRequest cell = cell_options.request(HexapodGeometry{});
   cell.gauge = m.gauge;
   cell.cups = m.cups;
-  const RobotModel model = load_robot(cell.robot);
-  EndToEndOptions o = end_to_end_options(cell);
-  o.validation_configurations = validation;
-  o.threads = threads;
-  o.leg_fit = leg_fit;
-  o.relative_pose_fit = relative;
+  const EndToEndOptions o = end_to_end_options(cell, settings);
   std::mt19937_64 rng(seed);
-  const EndToEndReport r = run_end_to_end(model, o, rng);
+  const EndToEndReport r = run_end_to_end(load_robot(cell.robot), o, rng);
   const nlohmann::json out = end_to_end_json(r, o, seed);
   if (json) {
     print_json(out);
@@ -515,7 +510,8 @@ void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m, ui
       "mm, "
       "{:.4f}° (the uncalibrated robot placed the cups){}\n",
       r.world_frame_rms_mm, r.world_frame_error_mm, r.world_frame_error_deg,
-      relative ? "; pose fits hold the base (relative model)" : "; pose fits identify the base");
+      o.relative_pose_fit ? "; pose fits hold the base (relative model)"
+                          : "; pose fits identify the base");
   fmt::print("validation on {} random configurations (laser tracker), mm:\n",
              r.validation_configurations);
   fmt::print("{:<26} {:>8} {:>8} {:>8}   {:>10} {:>10}\n", "model", "mean", "std", "max",
@@ -527,7 +523,7 @@ void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m, ui
   row("nominal", r.nominal);
   row("preliminary (poses)", r.preliminary.validation);
   row("final (poses)", r.final_pose_fit.validation);
-  if (leg_fit) row("final (raw legs)", r.leg_fit.validation);
+  if (o.leg_fit) row("final (raw legs)", r.leg_fit.validation);
   fmt::print(
       "published (LR Mate 200iC, real robot): nominal 1.355 mean; 46 configs 0.517 / 1.223; "
       "61 configs 0.796 / 1.630; pairs 1.062 → 0.400 / 1.666\n");
@@ -709,26 +705,26 @@ const bool registered = register_command(60, [](CLI::App& app) {
     auto cell = std::make_shared<CellOptions>();
     auto measuring = std::make_shared<MeasuringOptions>();
     auto seed = std::make_shared<uint64_t>(1);
-    auto validation = std::make_shared<int>(10000);
-    auto threads = std::make_shared<int>(2);
+    auto settings = std::make_shared<EndToEndOptions>();
     auto no_leg_fit = std::make_shared<bool>(false);
-    auto relative = std::make_shared<bool>(false);
     auto json = std::make_shared<bool>(false);
     cell->add_to(cmd);
     measuring->add_to(cmd);
     cmd->add_option("--seed", *seed, "Seed of the true robot, the readings and the validation")
         ->capture_default_str();
-    cmd->add_option("--validation", *validation, "Random validation configurations")
+    cmd->add_option("--validation", settings->validation_configurations,
+                    "Random validation configurations")
         ->capture_default_str();
-    cmd->add_option("--threads", *threads, "Threads of the all-pairs statistics")
+    cmd->add_option("--threads", settings->threads, "Threads of the all-pairs statistics")
         ->capture_default_str();
     cmd->add_flag("--no-leg-fit", *no_leg_fit, "Skip the fit from the raw leg readings");
-    cmd->add_flag("--relative", *relative,
+    cmd->add_flag("--relative", settings->relative_pose_fit,
                   "Pose fits hold the base (the published relative model) instead of identifying "
                   "it");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
-      run_simulate(*cell, *measuring, *seed, *validation, *threads, !*no_leg_fit, *relative, *json);
+      settings->leg_fit = !*no_leg_fit;
+      run_simulate(*cell, *measuring, *settings, *seed, *json);
     });
   }
   {

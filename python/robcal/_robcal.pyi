@@ -199,6 +199,11 @@ class CalibratedRobot:
         """Loads a calibrated model file written by calibrate."""
 
     @staticmethod
+    def from_dict(d: Dict[str, Any]) -> "CalibratedRobot":
+        """A calibrated model from a dict with the calibrated model file's fields (errors name
+        the key)."""
+
+    @staticmethod
     def nominal(model: RobotModel, tool: Optional[Tool] = None) -> "CalibratedRobot":
         """The nominal robot as a model with no world frame (validate with fit_base=True)."""
 
@@ -380,6 +385,14 @@ def fk(robot: RobotModel, joints_deg: ArrayLike, check_limits: bool = False) -> 
 
 def fk_batch(robot: RobotModel, joints_deg: ArrayLike) -> Dict[str, Array]:
     """fk over the rows of an N×6 array: {'position_mm': N×3, 'quaternion_wxyz': N×4}."""
+
+
+def ik_batch(robot: RobotModel, position_mm: ArrayLike, quaternion_wxyz: ArrayLike,
+             seed_joints_deg: Optional[ArrayLike] = None) -> Dict[str, Any]:
+    """ik over the rows of N×3 positions (mm) and N×4 quaternions (w, x, y, z), the inverse of
+    fk_batch: per pose the solution nearest the previous pose's (the first nearest the seed),
+    {'joints_deg': N×6 (NaN rows: unreachable or outside the limits), 'config': labels,
+    'status': per pose}."""
 
 
 def ik(robot: RobotModel, position_mm: ArrayLike, quaternion_wxyz: ArrayLike,

@@ -57,8 +57,8 @@ CalibrationStage stage_of(const IdentificationResult& r, int configurations) {
 
 }  // namespace
 
-EndToEndOptions end_to_end_options(const HexapodPlanRequest& plan) {
-  EndToEndOptions o;
+EndToEndOptions end_to_end_options(const HexapodPlanRequest& plan, EndToEndOptions settings) {
+  EndToEndOptions o = std::move(settings);
   o.cell.design = plan.geometry;
   o.cell.placement = placement_pose(plan.placement, plan.tilt_deg);
   o.cell.tool_offset_mm = plan.tool_offset_mm;

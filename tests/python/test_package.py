@@ -66,6 +66,20 @@ def test_robot_from_dict_is_the_robot_file():
     assert again.to_yaml() == text
 
 
+def test_calibrated_robot_from_dict_is_the_model_file():
+    import json
+    yaml = pytest.importorskip("yaml")
+    tool = robcal.Tool.from_file(TOOL)
+    rows = robcal.Measurements.from_file(os.path.join(REF, "calibration.csv"), tool)
+    model = robcal.calibrate(robcal.load_robot("abb-irb120"), rows, level="kinematic").robot
+    text = model.to_yaml()
+    again = robcal.CalibratedRobot.from_dict(json.loads(json.dumps(yaml.safe_load(text))))
+    assert again.to_yaml() == text
+    assert again.parameters == model.parameters and again.level == model.level
+    with pytest.raises(robcal.InputError, match="<dict>.*parameters"):
+        robcal.CalibratedRobot.from_dict({"robot": {}})
+
+
 def test_measurements_round_trip_through_dict_arrays_and_csv():
     tool = robcal.Tool.from_file(TOOL)
     rows = robcal.Measurements.from_file(os.path.join(REF, "calibration.csv"), tool)

@@ -39,9 +39,9 @@ struct EndToEndOptions {
   bool relative_pose_fit = false;
 };
 
-/// The simulation of the cell `plan` describes: its fixtures, placement (tilt included), offsets,
-/// table, pruning, gauge and cup clearance; the rest at the defaults.
-EndToEndOptions end_to_end_options(const HexapodPlanRequest& plan);
+/// `settings` (validation, threads, fits, errors) in the cell `plan` describes: its fixtures,
+/// placement (tilt included), offsets, table, pruning, gauge and cup clearance.
+EndToEndOptions end_to_end_options(const HexapodPlanRequest& plan, EndToEndOptions settings = {});
 
 /// Accuracy of one model on the validation configurations.
 struct ValidationFigures {
