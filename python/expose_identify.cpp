@@ -10,6 +10,7 @@
 #include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/identify/calibrated_robot_file.hpp"
 #include "robcal/identify/calibration_output.hpp"
 #include "robcal/identify/cross_validation.hpp"
 #include "robcal/identify/model_exchange.hpp"

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/identify/calibrated_robot_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/io/yaml_checks.hpp"
 #include "robcal/io/yaml_support.hpp"

@@ -92,8 +92,4 @@ void check_tool_against_model(const CalibratedRobot& robot, const Tool& tool,
 /// Loads a calibrated model file (errors name the file, line and key).
 CalibratedRobot load_calibrated_robot(const std::string& path);
 
-/// A calibrated model file's text (YAML, or JSON: a YAML subset) read as load_calibrated_robot
-/// reads the file; errors name `source` with the line and key.
-CalibratedRobot parse_calibrated_robot(const std::string& text, const std::string& source);
-
 }  // namespace robcal

@@ -1,7 +1,6 @@
 #pragma once
 /// \file
-/// Identification (docs/method/04-identification.md §2): fit the robot's parameters to
-/// measurements.
+/// Identification (docs/method/04-identification.md §2): fit the robot's parameters to data.
 ///
 /// 1. Unknowns: the level's parameters refined by `--identify`/`--fix` patterns, plus target
 ///    coordinates given without values and the ballbar centre (unknowns.hpp).
