@@ -9,6 +9,7 @@
 
 #include "module_registry.hpp"
 #include "py_measurements.hpp"
+#include "py_session_io.hpp"
 #include "robcal/campaign/cell.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
@@ -416,22 +417,12 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::string& plan, const std::string& journal,
          const std::vector<std::string>& answers, bool resume,
          const std::optional<std::string>& out) {
-        std::string transcript;
-        std::vector<std::string> refused;
-        size_t next = 0;
-        const campaign::SessionIo io{[&](const std::string& text) { transcript += text; },
-                                     [&](const std::string& why) { refused.push_back(why); },
-                                     [&](std::string& line) {
-                                       if (next >= answers.size()) return false;
-                                       line = answers[next++];
-                                       return true;
-                                     },
-                                     {}};
+        ListedAnswers operator_side{answers};
         const HexapodSessionRun run =
-            run_hexapod_session({plan, journal, resume, out.value_or("")}, io);
+            run_hexapod_session({plan, journal, resume, out.value_or("")}, operator_side.io());
         py::object d = json_to_python(hexapod_session_json(run));
-        d["transcript"] = transcript;
-        d["refused"] = refused;
+        d["transcript"] = operator_side.transcript;
+        d["refused"] = operator_side.refused;
         return d;
       },
       py::arg("plan"), py::arg("journal"), py::arg("answers"), py::arg("resume") = false,

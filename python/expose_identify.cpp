@@ -43,6 +43,16 @@ double to_external(int i) {
   return i < kParameterCount ? parameter_table()[static_cast<size_t>(i)].to_external() : 1.0;
 }
 
+/// `robcal model import|export` from Python: the file's text written to `out` when given, the
+/// CLI's JSON as a dict with the text under `key`.
+py::object written_model(const std::string& out, const std::string& text,
+                         const nlohmann::json& report, const char* key) {
+  if (!out.empty()) write_file_atomically(out, text);
+  py::object d = json_to_python(report);
+  d[key] = text;
+  return d;
+}
+
 const bool registered = register_bindings(30, [](py::module_& m) {
   m.def(
       "model_import",
@@ -50,10 +60,7 @@ const bool registered = register_bindings(30, [](py::module_& m) {
          const std::string& format, const std::string& calibration, const std::string& robot) {
         const ModelImportRequest request{urdf, tip, format, calibration, robot};
         const ModelImportResult r = import_model(request);
-        if (!out.empty()) write_file_atomically(out, r.yaml);
-        py::object d = json_to_python(model_import_json(request, r, out));
-        d["yaml"] = r.yaml;
-        return d;
+        return written_model(out, r.yaml, model_import_json(request, r, out), "yaml");
       },
       py::arg("out") = "", py::arg("urdf") = "", py::arg("tip") = "", py::arg("format") = "urdf",
       py::arg("calibration") = "", py::arg("robot") = "",
@@ -66,10 +73,7 @@ const bool registered = register_bindings(30, [](py::module_& m) {
          const std::string& format, uint64_t seed) {
         const ModelExportRequest request{robot, model, format, seed};
         const ModelExportResult r = export_model(request);
-        if (!out.empty()) write_file_atomically(out, r.text);
-        py::object d = json_to_python(model_export_json(request, r, out));
-        d["text"] = r.text;
-        return d;
+        return written_model(out, r.text, model_export_json(request, r, out), "text");
       },
       py::arg("out") = "", py::arg("robot") = "", py::arg("model") = "", py::arg("format") = "urdf",
       py::arg("seed") = 1,
