@@ -153,12 +153,14 @@ def test_hexapod_setup_and_dkp():
     c = cli_json("hexapod", "setup", "--placement", "450,0,300,0", "--tilt-deg", "20")
     p = robcal.hexapod.setup(placement=(450, 0, 300, 0), tilt_deg=20)
     assert c == p
-    # Tilted about the placement's x axis: B3 (off that axis) rises, the robot's own model places
-    # the cups `side_mm` apart.
+    # Tilted 20° about the placement's x axis (along B1 B2): B1 and B2 stay level, B3 rises by the
+    # triangle's height times sin 20°; the cups stay 300 mm apart.
     b = np.array([x["ball_position_mm"] for x in p["setting_ball"]])
     for i, j in ((0, 1), (1, 2), (2, 0)):
         assert np.linalg.norm(b[i] - b[j]) == pytest.approx(300, abs=1e-6)
-    assert np.ptp(b[:, 2]) > 100
+    assert b[0, 2] == pytest.approx(b[1, 2], abs=1e-9)
+    assert b[2, 2] - b[0, 2] == pytest.approx(300 * np.sqrt(3) / 2 * np.sin(np.radians(20)),
+                                              abs=1e-6)
 
 
 def without_seconds(d):

@@ -83,11 +83,12 @@ def test_ik_batch_inverts_fk_batch_along_a_path(name):
     far = np.vstack([poses["position_mm"], [[5000.0, 0.0, 0.0]]])
     quaternions = np.vstack([poses["quaternion_wxyz"], [[1.0, 0.0, 0.0, 0.0]]])
     r = robcal.ik_batch(robot, far, quaternions, seed_joints_deg=joints[0])
-    assert r["status"][:-1] == ["solved"] * 40 and r["status"][-1] == "unreachable"
+    # UR joints span two turns: more solutions than kept ("truncated"), the path's among them.
+    assert set(r["status"][:-1]) <= {"solved", "truncated"} and r["status"][-1] == "unreachable"
     assert np.isnan(r["joints_deg"][-1]).all() and r["config"][-1] == ""
-    # Seeded at the path's start, each row stays on the path's branch: the path's own joints.
+    # Seeded at the path's start, each row follows the path: its own joints (its configuration
+    # label may change along the way, the joints do not jump).
     np.testing.assert_allclose(r["joints_deg"][:-1], joints, rtol=0, atol=1e-7)
-    assert len(set(r["config"][:-1])) == 1
     # And each row is that pose's ik solution of the same branch.
     one = robcal.ik(robot, poses["position_mm"][7], poses["quaternion_wxyz"][7])
     mine = [s for s in one["solutions"] if s["config"] == r["config"][7]]

@@ -66,16 +66,20 @@ def test_robot_from_dict_is_the_robot_file():
     assert again.to_yaml() == text
 
 
-def test_calibrated_robot_from_dict_is_the_model_file():
+def test_calibrated_robot_from_dict_is_the_model_file(tmp_path):
     import json
     yaml = pytest.importorskip("yaml")
     tool = robcal.Tool.from_file(TOOL)
     rows = robcal.Measurements.from_file(os.path.join(REF, "calibration.csv"), tool)
     model = robcal.calibrate(robcal.load_robot("abb-irb120"), rows, level="kinematic").robot
     text = model.to_yaml()
+    (tmp_path / "model.yaml").write_text(text)
+    from_file = robcal.CalibratedRobot.from_file(str(tmp_path / "model.yaml"))
     again = robcal.CalibratedRobot.from_dict(json.loads(json.dumps(yaml.safe_load(text))))
-    assert again.to_yaml() == text
-    assert again.parameters == model.parameters and again.level == model.level
+    assert again.to_yaml() == from_file.to_yaml()  # the file's reader, on the dict
+    assert again.level == model.level == "kinematic"
+    for name, value in model.parameters.items():  # the file's 17 digits, in mm and deg
+        assert again.parameters[name] == pytest.approx(value, rel=1e-14, abs=1e-12), name
     with pytest.raises(robcal.InputError, match="<dict>.*parameters"):
         robcal.CalibratedRobot.from_dict({"robot": {}})
 
