@@ -3,11 +3,9 @@
 // finite-difference Jacobian check (STYLE practice 6).
 
 #include <Eigen/Core>
-#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
-#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -21,17 +19,6 @@ namespace robcal::test {
 
 /// A file of the test data folder (tests/data/), by its path inside it.
 std::string data_path(const std::string& relative);
-
-/// A file of the read-only external reference data (public data read in place, never copied
-/// into the project), by its path inside that folder.
-struct ExternalFile {
-  std::optional<std::filesystem::path> path;  ///< nullopt when not found
-  std::string searched;                       ///< the places looked at, one per line
-};
-
-/// Looks in $ROBCAL_EXTERNAL_DATA_DIR, else in shared/data/external beside the source tree or
-/// one of its parents (CI keeps shared/ beside the clone): the first that holds the file.
-ExternalFile find_external_data(const std::filesystem::path& relative);
 
 /// A numeric CSV table with a header row; '#' lines are skipped.
 struct CsvTable {
