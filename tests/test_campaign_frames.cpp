@@ -21,6 +21,7 @@
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/simulator.hpp"
 #include "robcal/validate/base_fit.hpp"
+#include "test_external_data.hpp"
 #include "test_support.hpp"
 
 namespace robcal::campaign {

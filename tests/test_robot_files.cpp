@@ -27,6 +27,7 @@
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/kinematics/orientation.hpp"
+#include "test_external_data.hpp"
 #include "test_support.hpp"
 
 namespace robcal {

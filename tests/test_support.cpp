@@ -1,4 +1,5 @@
 #include "test_support.hpp"
+#include "test_external_data.hpp"
 
 #include <cstdlib>
 
