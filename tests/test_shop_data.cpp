@@ -10,9 +10,11 @@
 
 #include <Eigen/Geometry>
 
+#include "robcal/compensate/calibrated_ik.hpp"
 #include "robcal/identify/calibration_run.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
+#include "robcal/kinematics/inverse_kinematics.hpp"
 #include "test_support.hpp"
 
 namespace robcal {
@@ -103,6 +105,34 @@ void expect_within_3_sigma(const IdentificationResult& r, const ParameterVector&
   EXPECT_LE(beyond_3_sigma, 2);
 }
 
+/// Compensation works with the fitted model (issue 13: a singular or absurd model must not be
+/// written). At configurations ≥ 10° from singularities, the calibrated inverse converges for
+/// the calibration's payload and for 5 kg (`compensate --payload-mass-kg 5`), and the true robot
+/// at the compensated joints puts the TCP (`true_tcp`: the truth's flange_T_tcp) where it was
+/// wanted, within 4 × the fit's own predicted maximum error against the true robot.
+void expect_compensates(const IdentificationResult& r, const RobotModel& real,
+                        const ParameterVector& truth, const Pose<double>& true_tcp,
+                        std::mt19937_64& rng) {
+  const Compensator as_calibrated = make_compensator(r.robot);
+  const Compensator heavy = make_compensator(r.robot, PointMass{5.0, {0, 0, 80}});
+  int solved = 0;
+  for (const Vector6d& q : configurations(real, 30, rng)) {
+    if (test::near_singular(real, q, 10)) continue;
+    ++solved;
+    const PointMass& payload = as_calibrated.payload;
+    const Pose<double> wanted = flange_pose(real, payload, truth, q) * true_tcp;
+    const CalibratedIkResult ik = calibrated_ik(as_calibrated, wanted, arm_config(real, q), q);
+    ASSERT_TRUE(ik.ok()) << to_string(ik.status);
+    const Pose<double> reached = flange_pose(real, payload, truth, ik.joints) * true_tcp;
+    // A floor of 1 µm for noise-free data: the inverse's own tolerance is 5e-7 mm.
+    EXPECT_LT((reached.p - wanted.p).norm(), std::max(4 * r.predicted.max_mm, 1e-3));
+    const Pose<double> wanted_heavy = flange_pose(real, heavy.payload, truth, q) * true_tcp;
+    const CalibratedIkResult ik_heavy = calibrated_ik(heavy, wanted_heavy, arm_config(real, q), q);
+    EXPECT_TRUE(ik_heavy.ok()) << to_string(ik_heavy.status);
+  }
+  EXPECT_GE(solved, 15);
+}
+
 TEST(ShopData, ChiSquareTailMatchesTabulatedQuantiles) {
   // χ² quantiles (Abramowitz & Stegun table 26.8): P(χ²_ν ≥ x) for (ν, x, P).
   EXPECT_NEAR(chi_square_upper_tail(149.449, 100), 0.001, 0.0002);
@@ -177,6 +207,7 @@ TEST(ShopData, OneTargetOnTheToolAxisPayloadFreeToolInMetres) {
   EXPECT_TRUE(r.noise_test.consistent) << r.noise_test.p_value;
   EXPECT_TRUE(run.problems.empty());
   expect_within_3_sigma(r, truth);
+  expect_compensates(r, model, truth, {}, rng);
 }
 
 TEST(ShopData, NearlyOnAxisTargetIsHeldAndNamedBeforeTheFit) {
@@ -198,6 +229,7 @@ TEST(ShopData, NearlyOnAxisTargetIsHeldAndNamedBeforeTheFit) {
   EXPECT_TRUE(has_warning(r, "link6.theta: these measurements barely see it"));
   EXPECT_TRUE(has_warning(r, "link6.a is held at its nominal value"));
   expect_within_3_sigma(r, truth);
+  expect_compensates(r, model, truth, {}, rng);
   // Asked to keep them, the fit says so and the correlated pair is free.
   options.resolve_near_dependencies = false;
   const IdentificationResult kept = calibrate(model, tool, file.measurements, options);
@@ -236,6 +268,46 @@ TEST(ShopData, RobotFileWithoutMassesSaysSo) {
             "the robot file gives no masses ('masses:'), so the gravity torques that deflect the "
             "joint are unknown");
   expect_within_3_sigma(r, truth);
+  expect_compensates(r, model, truth, {}, rng);
+}
+
+TEST(ShopData, RobotFileWithoutLinkMassesButAPayloadSaysTheCompliancesAreBiased) {
+  // The real arm has its link masses; the user's robot file does not, the tool has 2.6 kg.
+  const RobotModel real = load_robot("abb-irb120");
+  RobotModel stripped = real;
+  for (PointMass& m : stripped.link_masses) m = {};
+  auto rng = test::seeded_rng(1307);
+  const ParameterVector truth = shop_truth(real, rng, {}, 4e-7);
+  const Tool tool = published_tool();
+  MeasurementSet data;
+  data.kind = MeasurementKind::Points;
+  std::normal_distribution<double> noise(0.0, 0.02);
+  const auto configs = configurations(real, 60, rng);
+  for (size_t k = 0; k < configs.size(); ++k) {
+    PointMeasurement m{std::to_string(k), static_cast<int>(k % 3), configs[k], {}, int(k) + 2};
+    m.position_mm =
+        flange_pose(real, tool.payload, truth, configs[k]) * tool.targets[k % 3].position_mm;
+    for (int a = 0; a < 3; ++a) m.position_mm[a] += noise(rng);
+    data.points.push_back(m);
+  }
+  const IdentificationResult r = calibrate(stripped, tool, data, IdentifyOptions{});
+  EXPECT_TRUE(has_warning(r,
+                          "the robot file of ABB IRB 120 gives no link masses ('masses:'), only "
+                          "the tool's payload: the compliances (joint2.compliance, "
+                          "joint3.compliance, joint4.compliance, joint5.compliance, "
+                          "joint6.compliance) see the payload's torque alone and absorb the "
+                          "deflection under the arm's own weight, so their values are biased. "
+                          "Add each link's mass_kg and cog_mm to the robot file"));
+  // The warning is warranted: joint 2 carries the arm, its compliance is far off the truth.
+  const int j2 = compliance_param(2);
+  const UnknownEstimate& c2 = r.unknowns[static_cast<size_t>(j2)];
+  ASSERT_EQ(c2.status, ParameterStatus::Identified);
+  const double truth_external =
+      truth[j2] * parameter_table()[static_cast<size_t>(j2)].to_external();
+  EXPECT_GT(std::abs(c2.value - truth_external), 3 * c2.std_dev)
+      << c2.value << " ± " << c2.std_dev << ", truth " << truth_external;
+  // With the masses in the robot file there is no such warning.
+  EXPECT_FALSE(has_warning(calibrate(real, tool, data, IdentifyOptions{}), "no link masses"));
 }
 
 /// A 6D instrument's poses file of the truth's TCP frame, orientation in `convention`.
@@ -305,6 +377,7 @@ TEST(ShopData, UnknownTcpFromEulerPoseFilesOfThreeConventionsAndAMovedBase) {
     for (const UnknownEstimate& u : r.unknowns)
       if (u.name.starts_with("tcp.")) EXPECT_EQ(u.status, ParameterStatus::Identified) << u.name;
     expect_within_3_sigma(r, truth);
+    expect_compensates(r, model, truth, {tcp.linear(), tcp.translation()}, rng);
   }
   // The same poses with a tool file that has no tcp: loudly taken as the flange.
   const MeasurementFile file =
@@ -395,6 +468,7 @@ TEST(ShopData, MisfitIsReportedAndCrossValidatedAnotherRobotIsNotTrusted) {
   EXPECT_LE(fine.result.mean_mm, fine.result.rms_mm);
   EXPECT_LE(fine.result.rms_mm, fine.result.max_mm);
   EXPECT_GT(fine.result.start_rms_mm, 10 * fine.result.rms_mm);
+  expect_compensates(fine.result, model, truth, {}, rng);
 
   // The KUKA's model on the IRB 120's data: not trustworthy, says what to check.
   const CalibrationRun wrong =
@@ -425,6 +499,7 @@ TEST(ShopData, JointsOutsideTheLimitsAreWarnedWithTheirLines) {
                                          "(wrong robot file, or another joint convention?):\n"
                                          "  lim.csv:9: j2 = {:.3f}° outside [-110, 110]°",
                                          rad2deg(configs[7][1]))));
+  expect_compensates(r, model, truth, {}, rng);
 }
 
 }  // namespace
