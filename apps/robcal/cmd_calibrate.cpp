@@ -10,6 +10,7 @@
 #include "command_registry.hpp"
 #include "robcal/identify/calibrate_workflow.hpp"
 #include "robcal/identify/calibration_output.hpp"
+#include "robcal/io/measurement_file.hpp"
 
 namespace robcal::cli {
 namespace {
