@@ -334,10 +334,12 @@ const bool registered = register_bindings(30, [](py::module_& m) {
           py::arg("path"), py::arg("force") = false,
           "Writes the calibrated model file (YAML), whole or not at all; refused (InputError) "
           "when the run lists problems unless force=True")
-      .def("__getattr__",
-           [](const py::object& self, const std::string& name) {
-             return self.attr("result").attr(name.c_str());
-           })
+      .def(
+          "__getattr__",
+          [](const py::object& self, const std::string& name) -> py::object {
+            return self.attr("result").attr(name.c_str());
+          },
+          py::arg("name"), "The identification result's attributes (rms_mm, parameters, robot…)")
       .def("__repr__", [](const CalibrationRun& run) {
         return "<Calibration " + run.result.robot.model.name + ": rms " +
                fmt::format("{:.4f}", run.result.rms_mm) + " mm, " +
