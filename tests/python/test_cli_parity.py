@@ -415,3 +415,35 @@ def assert_close(a, b, path=""):
         assert a == pytest.approx(b, rel=1e-11, abs=1e-12), path
     else:
         assert a == b, path
+
+
+def test_calibrate_guards_and_options(tmp_path):
+    data = os.path.join(REF, "calibration.csv")
+    out = str(tmp_path / "cli.yaml")
+    c = cli_json("calibrate", "--robot", "abb-irb120", "--tool", TOOL, "--measurements", data,
+                 "--sigma", "0.005", "--kfold", "4", "--seed", "7", "--out", out)
+    p = robcal.calibrate("abb-irb120", TOOL, data, sigma=0.005, kfold=4, seed=7)
+    for key, value in (("mean", p.mean_mm), ("rms", p.rms_mm), ("max", p.max_mm)):
+        assert c["residual_per_row_mm"][key] == pytest.approx(value, rel=0, abs=5.1e-10)
+    assert c["noise_test"]["dof"] == p.noise_test.dof
+    assert c["noise_test"]["consistent"] == p.noise_test.consistent is False  # 0.005 mm: misfit
+    assert c["noise_test"]["p_value"] == pytest.approx(p.noise_test.p_value, rel=1e-12)
+    cv = p.cross_validation
+    assert c["cross_validation"]["folds"] == cv["folds"] == 4
+    assert c["cross_validation"]["error_mm"]["mean"] == pytest.approx(cv["mean_mm"], abs=5.1e-10)
+    assert [f["rows"] for f in c["cross_validation"]["per_fold"]] == [
+        f["rows"] for f in cv["per_fold"]]
+    assert c["warnings"] == p.warnings and c["problems"] == p.problems == []
+    assert c["output"] == out
+    # Another robot's model: refused alike, nothing written by either.
+    kuka = str(tmp_path / "kuka.yaml")
+    cli = subprocess.run([CLI, "calibrate", "--robot", "kuka-kr6-r900-sixx", "--tool", TOOL,
+                          "--measurements", data, "--out", kuka, "--json"],
+                         capture_output=True, text=True)
+    assert cli.returncode == 1 and "not written" in cli.stderr
+    document = json.loads(cli.stdout)
+    run = robcal.calibrate("kuka-kr6-r900-sixx", TOOL, data)
+    assert document["problems"] == run.problems and document["output"] is None
+    with pytest.raises(robcal.InputError, match="not written"):
+        run.save(kuka)
+    assert not os.path.exists(kuka)

@@ -102,7 +102,8 @@ def test_calibration_from_objects_equals_calibration_from_files():
     b = robcal.calibrate("abb-irb120", TOOL, os.path.join(REF, "calibration.csv"), level="full")
     assert a.rms_mm == b.rms_mm
     np.testing.assert_array_equal(a.parameter_table["value"], b.parameter_table["value"])
-    assert "IdentificationResult" in repr(a) and "converged" in repr(a)
+    assert "IdentificationResult" in repr(a.result) and "converged" in repr(a.result)
+    assert repr(a).startswith("<Calibration ABB IRB 120: rms ") and "PROBLEMS" not in repr(a)
     html = a._repr_html_()
     assert html.count("<tr>") == len(a.parameters) + 1 and "link3.d" in html
 

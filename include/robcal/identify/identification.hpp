@@ -180,6 +180,7 @@ struct IdentificationResult {
   /// the start (nominal robot placed by the rigid fit).
   double mean_mm = 0, rms_mm = 0, max_mm = 0;
   double start_mean_mm = 0, start_rms_mm = 0, start_max_mm = 0;
+  std::vector<double> row_errors_mm;  ///< that error of each row at the solution, rows' order
   NoiseTest noise_test;
   double huber_scale_mm = 0;
   std::vector<TargetResiduals> by_target;
