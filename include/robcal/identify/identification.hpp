@@ -185,7 +185,7 @@ struct IdentificationResult {
   double huber_scale_mm = 0;
   std::vector<TargetResiduals> by_target;
   std::vector<Correlation> correlations;   ///< strongest (|ρ| ≥ 0.5), at most 10, largest first
-  std::vector<SuspectedOutlier> outliers;  ///< rows above 3 robust σ (per axis)
+  std::vector<SuspectedOutlier> outliers;  ///< rows beyond 4 robust σ per axis (3.3: distances)
   double condition_number = 0;             ///< of the column-scaled Jacobian at the solution
   PredictedAccuracy predicted;
   Eigen::VectorXd values;      ///< all unknowns, internal units
