@@ -103,11 +103,13 @@ TEST(TaskSelection, GuardCapsEdgesKeepsSpacingAndTheTaskShare) {
   for (int i : s.chosen) {
     edge += near_joint_edge(f.guard, f.joints[static_cast<size_t>(i)]) ? 1 : 0;
     near += in_task[static_cast<size_t>(i)];
-    for (int j : s.chosen)
-      if (i != j)
+    for (int j : s.chosen) {
+      if (i != j) {
         EXPECT_GE(joint_spacing(f.guard, f.joints[static_cast<size_t>(i)],
                                 f.joints[static_cast<size_t>(j)]),
                   f.guard.min_spacing);
+      }
+    }
   }
   EXPECT_EQ(s.near_edge, edge);
   EXPECT_LE(edge, 5);   // ⌊0.25 · 20⌋
