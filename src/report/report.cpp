@@ -74,11 +74,15 @@ nlohmann::json rows_json(const ReportData& data) {
   nlohmann::json out = nlohmann::json::array();
   if (data.models.empty()) return out;
   const ModelErrors& last = data.models.back();
+  // Names a caller did not fill in (ReportData built by hand) stay empty.
+  const auto name = [](const std::vector<std::string>& names, size_t r) {
+    return r < names.size() ? names[r] : std::string();
+  };
   for (size_t r = 0; r < last.errors_mm.size(); ++r) {
     nlohmann::json row = {{"row", r + 1},
-                          {"config", last.config_of_row.at(r)},
-                          {"target", last.target_of_row.at(r)},
-                          {"class", last.class_of_row.at(r)}};
+                          {"config", name(last.config_of_row, r)},
+                          {"target", name(last.target_of_row, r)},
+                          {"class", name(last.class_of_row, r)}};
     row["errors_mm"] = nlohmann::json::array();
     for (const ModelErrors& m : data.models) row["errors_mm"].push_back(m.errors_mm.at(r));
     if (!last.orientation_deg.empty()) {
@@ -244,7 +248,8 @@ std::string groups_html(const nlohmann::json& groups) {
                                   : std::string("–"),
         verdict);
   }
-  return "<section><h2>Parameter groups (Wald test, significant when p &lt; 0.001)</h2>\n"
+  return "<section id=\"groups-section\"><h2>Parameter groups (Wald test, significant when p &lt; "
+         "0.001)</h2>\n"
          "<table id=\"groups\"><thead><tr><th>group</th><th>identified</th><th>W</th>"
          "<th>p</th><th class=\"l\">verdict</th></tr></thead><tbody>\n" +
          rows + "</tbody></table></section>\n";
@@ -336,13 +341,13 @@ constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
 <p class="caption">Share of validation rows at or below each position error, every model on one
 logarithmic axis; below, each model's histogram on bins of a round width.</p>
 <div class="charts" id="histograms"></div></section>
-<section class="long"><h2>Errors by configuration class (mm)</h2>
+<section class="long" id="classes-section"><h2>Errors by configuration class (mm)</h2>
 @CLASSES@</section>
 <section><h2>Error against distance to the calibration region</h2>
 <div class="chart"><canvas id="distance-chart"></canvas></div>
 <p class="caption">Position error of the last model at each validation row against the distance
 from its measured position to the nearest calibration position.</p></section>
-<section class="long"><h2>Residuals per configuration</h2>
+<section class="long" id="residuals-section"><h2>Residuals per configuration</h2>
 @RESIDUALS@</section>
 <section><h2>Distance errors over every pair of validation rows (mm)</h2>
 @PAIRS@
@@ -355,7 +360,7 @@ distance the longer).</p>
 <table><thead><tr><th>model</th><th class="l">target</th><th>rows</th><th>mean</th><th>std</th><th>mean + 3 std</th><th>max</th></tr></thead>
 <tbody>
 @TARGETS@</tbody></table></section>
-@ISO9283@@BALLBAR@<section class="long"><h2>Parameters (± one standard deviation)</h2>
+@ISO9283@@BALLBAR@<section class="long" id="parameters-section"><h2>Parameters (± one standard deviation)</h2>
 <table id="parameters"><thead><tr><th>parameter</th><th class="l">unit</th><th>nominal</th><th>value</th><th>std dev</th><th class="l">status</th><th class="l">reason</th></tr></thead>
 <tbody>
 @PARAMETERS@</tbody></table></section>
@@ -674,7 +679,8 @@ std::string ballbar_html(const nlohmann::json& ballbar, const nlohmann::json& ra
     }
     classes += "</tbody></table>\n";
   }
-  return "<section><h2>Ballbar length errors (mm)</h2>\n<table id=\"ballbar\"><thead><tr>"
+  return "<section id=\"ballbar-section\"><h2>Ballbar length errors (mm)</h2>\n<table "
+         "id=\"ballbar\"><thead><tr>"
          "<th>model</th><th>rows</th><th>mean |e|</th><th>std</th><th>max</th><th>signed mean</th>"
          "<th>positive (%)</th><th class=\"l\">centre</th></tr></thead><tbody>\n" +
          rows + "</tbody></table>\n" +
