@@ -23,12 +23,22 @@ cd "$work"
   --instrument demo/calibration/instrument.yaml --seed 1 \
   --ballbar bar/measurements.csv --ballbar-length 150 \
   --title "robcal demo: virtual IRB 120, laser tracker" --out report.html >/dev/null
-shoot() {  # PNG, section anchor ("" for the top)
+shoot() {  # PNG, then the ids of the sections to show (none: the page from its top)
+  local png=$1 page=report.html
+  shift
+  if [ $# -gt 0 ]; then
+    # A copy of the page showing only these sections (a headless screenshot shows the top).
+    local keep=""
+    for id in "$@"; do keep="$keep:not(#$id)"; done
+    page="part-$png.html"
+    sed "s|</style>|body > section$keep, body > h1, body > p.sub { display: none; }\n</style>|" \
+      report.html > "$page"
+  fi
   "$chromium" --headless --no-sandbox --disable-gpu --no-first-run --hide-scrollbars \
     --user-data-dir="$work/profile" --window-size=1200,1500 --virtual-time-budget=5000 \
-    --screenshot="$root/docs/$1" "file://$work/report.html${2:+#$2}" 2>/dev/null
-  echo "wrote docs/$1"
+    --screenshot="$root/docs/$png" "file://$work/$page" 2>/dev/null
+  echo "wrote docs/$png"
 }
-shoot report-screenshot.png ""
-shoot report-screenshot-classes.png classes-section
-shoot report-screenshot-groups.png ballbar-section
+shoot report-screenshot.png
+shoot report-screenshot-classes.png classes-section residuals-section
+shoot report-screenshot-groups.png ballbar-section groups-section

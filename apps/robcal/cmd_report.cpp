@@ -49,6 +49,9 @@ const bool registered = register_command(85, [](CLI::App& app) {
       "--before", o->request.before,
       "Model to compare with (default: the nominal robot, rigid base fit to --calibration, "
       "else to the first validation file)");
+  cmd->add_option("--between", o->request.between,
+                  "Further calibrated models shown between --before and --model, in this order "
+                  "(e.g. the lower levels), each labelled by its level");
   cmd->add_option("--instrument", o->request.instrument,
                   "Instrument file (instrument.yaml: name and sigma_mm) for the provenance");
   cmd->add_option("--seed", o->request.seed, "Seed of the plan or simulation, for the provenance")
