@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <limits>
 
 #include "robcal/core/error.hpp"
@@ -493,31 +494,31 @@ std::string orientation_html(const nlohmann::json& models) {
          rows + "</tbody></table>\n";
 }
 
-/// One table per class table: rows = classes, columns = models (rows, mean, max).
-std::string classes_html(const nlohmann::json& models) {
-  if (models.empty() || models.back()["classes"].empty())
-    return "<p class=\"nodata\">no class statistics (no validation rows)</p>\n";
+/// One HTML table per class table of the last group (a model, or a model's ballbar errors):
+/// rows = classes, for each group the `headers` and the cells `cells` makes of the group's row
+/// (group["classes"][t]["rows"][r]); tables `include` rejects are left out.
+std::string by_class_html(const nlohmann::json& groups, const std::vector<std::string>& headers,
+                          const std::function<bool(const nlohmann::json&)>& include,
+                          const std::function<std::string(const nlohmann::json&)>& cells) {
   std::string out;
-  const auto& tables = models.back()["classes"];
+  const auto& tables = groups.back()["classes"];
+  const std::string span =
+      fmt::format("<td colspan=\"{}\" class=\"nodata\">no data</td>", headers.size());
   for (size_t t = 0; t < tables.size(); ++t) {
-    const std::string name = tables[t]["table"].get<std::string>();
-    out += "<table class=\"classes\"><thead><tr><th>" + html_escape(name) + "</th>";
-    for (const auto& m : models)
-      out += "<th colspan=\"3\">" + html_escape(m["label"].get<std::string>()) + "</th>";
+    if (!include(tables[t])) continue;
+    out += "<table class=\"classes\"><thead><tr><th>" +
+           html_escape(tables[t]["table"].get<std::string>()) + "</th>";
+    for (const auto& g : groups)
+      out += fmt::format("<th colspan=\"{}\">{}</th>", headers.size(),
+                         html_escape(g["label"].get<std::string>()));
     out += "</tr><tr><th></th>";
-    for (size_t k = 0; k < models.size(); ++k) out += "<th>rows</th><th>mean</th><th>max</th>";
+    for (size_t k = 0; k < groups.size(); ++k)
+      for (const std::string& h : headers) out += "<th>" + h + "</th>";
     out += "</tr></thead><tbody>\n";
     for (size_t r = 0; r < tables[t]["rows"].size(); ++r) {
       out += "<tr><td>" + html_escape(tables[t]["rows"][r]["class"].get<std::string>()) + "</td>";
-      for (const auto& m : models) {
-        if (m["classes"].size() <= t) {
-          out += "<td colspan=\"3\" class=\"nodata\">no data</td>";
-          continue;
-        }
-        const auto& s = m["classes"][t]["rows"][r]["position_mm"];
-        out += fmt::format("<td>{}</td>{}{}", s["count"].get<uint64_t>(), cell(s, "mean"),
-                           cell(s, "max"));
-      }
+      for (const auto& g : groups)
+        out += g["classes"].size() <= t ? span : cells(g["classes"][t]["rows"][r]);
       out += "</tr>\n";
     }
     out += "</tbody></table>\n";
@@ -525,38 +526,43 @@ std::string classes_html(const nlohmann::json& models) {
   return out;
 }
 
+/// Rows, mean and max of a class summary (`key` of the row).
+std::function<std::string(const nlohmann::json&)> count_mean_max(const char* key) {
+  return [key](const nlohmann::json& row) {
+    const auto& s = row[key];
+    return fmt::format("<td>{}</td>{}{}", s["count"].get<uint64_t>(), cell(s, "mean"),
+                       cell(s, "max"));
+  };
+}
+
+bool every_table(const nlohmann::json& /*table*/) {
+  return true;
+}
+
+/// Position errors by class: rows = classes, columns = models (rows, mean, max).
+std::string classes_html(const nlohmann::json& models) {
+  if (models.empty() || models.back()["classes"].empty())
+    return "<p class=\"nodata\">no class statistics (no validation rows)</p>\n";
+  return by_class_html(models, {"rows", "mean", "max"}, every_table, count_mean_max("position_mm"));
+}
+
 /// The configuration classes' pair distance errors: rows = classes, columns = models.
 std::string class_pairs_html(const nlohmann::json& models) {
   if (models.empty()) return "";
-  std::string out;
-  const auto& tables = models.back()["classes"];
-  for (size_t t = 0; t < tables.size(); ++t) {
-    if (!tables[t]["rows"].empty() && !tables[t]["rows"][0].contains("pairs")) continue;
-    out += "<table class=\"class-pairs\"><thead><tr><th>" +
-           html_escape(tables[t]["table"].get<std::string>()) + "</th>";
-    for (const auto& m : models)
-      out += "<th colspan=\"4\">" + html_escape(m["label"].get<std::string>()) + "</th>";
-    out += "</tr><tr><th></th>";
-    for (size_t k = 0; k < models.size(); ++k)
-      out += "<th>pairs</th><th>mean |e|</th><th>signed mean</th><th>positive (%)</th>";
-    out += "</tr></thead><tbody>\n";
-    for (size_t r = 0; r < tables[t]["rows"].size(); ++r) {
-      out += "<tr><td>" + html_escape(tables[t]["rows"][r]["class"].get<std::string>()) + "</td>";
-      for (const auto& m : models) {
-        const auto& p = m["classes"][t]["rows"][r]["pairs"];
-        if (p["count"].get<uint64_t>() == 0) {
-          out += "<td>0</td><td colspan=\"3\" class=\"nodata\">no data</td>";
-          continue;
-        }
-        out +=
-            fmt::format("<td>{}</td><td>{}</td><td>{}</td><td>{}</td>", p["count"].get<uint64_t>(),
-                        number(p["mean_mm"]), number(p["signed_mean_mm"]),
-                        number(100 * p["positive_share"].get<double>(), 1));
-      }
-      out += "</tr>\n";
-    }
-    out += "</tbody></table>\n";
-  }
+  const std::string out = by_class_html(
+      models, {"pairs", "mean |e|", "signed mean", "positive (%)"},
+      [](const nlohmann::json& table) {
+        return !table["rows"].empty() && table["rows"][0].contains("pairs");
+      },
+      [](const nlohmann::json& row) {
+        const auto& p = row["pairs"];
+        if (p["count"].get<uint64_t>() == 0)
+          return std::string("<td>0</td><td colspan=\"3\" class=\"nodata\">no data</td>");
+        return fmt::format("<td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+                           p["count"].get<uint64_t>(), number(p["mean_mm"]),
+                           number(p["signed_mean_mm"]),
+                           number(100 * p["positive_share"].get<double>(), 1));
+      });
   if (out.empty()) return "";
   return "<h3>By configuration class (pairs of rows both in the class)</h3>\n" + out;
 }
@@ -657,28 +663,8 @@ std::string ballbar_html(const nlohmann::json& ballbar, const nlohmann::json& ra
         html_escape(b["label"].get<std::string>()), b["count"].get<uint64_t>(),
         number(b["mean_mm"]), number(b["std_mm"]), number(b["max_mm"]), number(b["signed_mean_mm"]),
         number(100 * b["positive_share"].get<double>(), 1), b["centre"].get<std::string>());
-  std::string classes;
-  const auto& tables = ballbar.back()["classes"];
-  for (size_t t = 0; t < tables.size(); ++t) {
-    classes += "<table class=\"ballbar-classes\"><thead><tr><th>" +
-               html_escape(tables[t]["table"].get<std::string>()) + "</th>";
-    for (const auto& b : ballbar)
-      classes += "<th colspan=\"3\">" + html_escape(b["label"].get<std::string>()) + "</th>";
-    classes += "</tr><tr><th></th>";
-    for (size_t k = 0; k < ballbar.size(); ++k) classes += "<th>rows</th><th>mean</th><th>max</th>";
-    classes += "</tr></thead><tbody>\n";
-    for (size_t r = 0; r < tables[t]["rows"].size(); ++r) {
-      classes +=
-          "<tr><td>" + html_escape(tables[t]["rows"][r]["class"].get<std::string>()) + "</td>";
-      for (const auto& b : ballbar) {
-        const auto& c = b["classes"][t]["rows"][r]["length_mm"];
-        classes += fmt::format("<td>{}</td>{}{}", c["count"].get<uint64_t>(), cell(c, "mean"),
-                               cell(c, "max"));
-      }
-      classes += "</tr>\n";
-    }
-    classes += "</tbody></table>\n";
-  }
+  const std::string classes =
+      by_class_html(ballbar, {"rows", "mean", "max"}, every_table, count_mean_max("length_mm"));
   return "<section id=\"ballbar-section\"><h2>Ballbar length errors (mm)</h2>\n<table "
          "id=\"ballbar\"><thead><tr>"
          "<th>model</th><th>rows</th><th>mean |e|</th><th>std</th><th>max</th><th>signed mean</th>"
