@@ -81,6 +81,7 @@ BallbarRange check_ballbar_readings(const MeasurementSet& set, std::optional<dou
     out.nominal_length_mm = positive_length(*length_mm, "--ballbar-length", "nominal length");
   } else if (!set.distances.empty()) {
     std::vector<double> lengths;
+    lengths.reserve(set.distances.size());
     for (const DistanceMeasurement& m : set.distances) lengths.push_back(m.length_mm);
     const auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
     std::nth_element(lengths.begin(), middle, lengths.end());

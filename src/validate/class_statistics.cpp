@@ -44,6 +44,7 @@ std::vector<ClassPartition> configuration_partitions(const RobotModel& model,
   std::vector<ClassPartition> out = {{"front/back", {"front", "back"}, {}},
                                      {"up/down", {"up", "down"}, {}},
                                      {"flip/no-flip", {"no-flip", "flip"}, {}}};
+  for (ClassPartition& p : out) p.class_of_row.reserve(set.size());
   for (size_t r = 0; r < set.size(); ++r) {
     const ArmConfig config = arm_config(model, row_joints(set, r));
     out[0].class_of_row.push_back(config.back ? 1 : 0);
@@ -94,6 +95,8 @@ std::vector<ClassTable> class_tables(const CalibratedRobot& robot, const Measure
   if (set.kind == MeasurementKind::Points) {
     std::vector<std::string> names;
     std::vector<int> target_of_row;
+    names.reserve(robot.tool.targets.size());
+    target_of_row.reserve(set.points.size());
     for (const Target& t : robot.tool.targets) names.push_back(t.name);
     for (const PointMeasurement& m : set.points) target_of_row.push_back(m.target);
     out.push_back(table("target", names, errors, target_of_row));
@@ -110,6 +113,7 @@ std::vector<ClassTable> class_tables(const CalibratedRobot& robot, const Measure
     }
     labels.push_back(fmt::format("≥ {:g} mm", lower));
     std::vector<int> region_of_row;
+    region_of_row.reserve(distance.size());
     for (const double d : distance)
       region_of_row.push_back(
           static_cast<int>(std::upper_bound(region_edges_mm.begin(), region_edges_mm.end(), d) -
