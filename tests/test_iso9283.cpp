@@ -128,7 +128,8 @@ TEST(Iso9283Analyse, MatchesTheFormulasWrittenOut) {
     }
     EXPECT_GT(f.rp_mm, 0.005);  // the data do scatter
   }
-  // vAP of P1: directions 0 (counted as the first), 2 and 3.
+  // vAP of P1 from directions 2 and 3 alone: the unidirectional cycles (direction 0) never
+  // enter vAP.
   const Iso9283PoseFigures& p1 = result.poses[0];
   ASSERT_TRUE(p1.vap_mm.has_value());
   EXPECT_EQ(p1.directions, 2);  // directions 2 and 3; direction 0 is the unidirectional test
@@ -183,6 +184,13 @@ TEST(Iso9283Analyse, TooFewCyclesIsAClearError) {
   }
   EXPECT_REFUSED((void)iso9283_analyse({"hand.csv", d.commanded, d.samples, 1}), InputError,
                  "--min-cycles: at least 2 cycles are needed for a standard deviation");
+  // Each approach direction of vAP needs the cycles too: one reading per direction is refused.
+  std::vector<Iso9283Sample> short_direction;
+  for (const Iso9283Sample& s : d.samples)
+    if (s.direction != 3 || s.cycle <= 2) short_direction.push_back(s);
+  EXPECT_REFUSED((void)iso9283_analyse({"hand.csv", d.commanded, short_direction, 3}), InputError,
+                 "hand.csv: P1 has 2 cycles from direction 3: at least 3 are needed for vAP");
+  EXPECT_NO_THROW((void)iso9283_analyse({"hand.csv", d.commanded, short_direction, 2}));
   std::vector<Iso9283Sample> twice = d.samples;
   twice.push_back(twice.front());
   EXPECT_REFUSED((void)iso9283_analyse({"hand.csv", d.commanded, twice, 4}), InputError,

@@ -17,9 +17,12 @@
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/report/provenance.hpp"
 #include "robcal/report/report.hpp"
+#include "robcal/report/report_workflow.hpp"
 #include "robcal/validate/base_fit.hpp"
+#include "robcal/validate/validation.hpp"
 #include "test_support.hpp"
 #include "test_validate_support.hpp"
 
@@ -246,6 +249,7 @@ ReportData reference_report() {
   data.models.push_back(model_errors("full", after, {validation}, anchors));
   data.distance_to_calibration_mm = distance_to_calibration({validation}, calibration);
   data.parameters = report_parameters(after);
+  data.groups = group_significance(after);
   data.diagnostics = yaml_to_json("iterations: 4\nrms_mm: 0.021\n");
   // ISO 9283: 4 cycles of 5 poses, 0.05 mm off in x and ±0.01 mm in y.
   Iso9283AnalysisRequest iso;
@@ -269,6 +273,8 @@ ReportData reference_report() {
                               after.tool.targets[static_cast<size_t>(m.target)].position_mm;
     bar.distances.push_back({m.config, m.target, m.joints, (p - centre).norm() + 0.01, 0});
   }
+  // The rows are spread over the arm's reach, not on one bar's sphere: a wide range.
+  data.ballbar_range = check_ballbar_readings(bar, std::nullopt, 2000.0);
   data.ballbar.emplace_back("full", ballbar_errors(after, bar, centre));
   return data;
 }
@@ -302,6 +308,92 @@ TEST(ReportJson, ClassesPairsIsoBallbarAndProvenance) {
   EXPECT_EQ(report["provenance"]["files"][0]["sha256"].get<std::string>().size(), 64u);
 }
 
+TEST(ReportJson, ResidualsPerConfigurationAndPairsByClass) {
+  const ReportData data = reference_report();
+  const nlohmann::json report = report_json(data);
+  const CalibratedRobot truth = test::reference_true_robot();
+  const MeasurementSet validation =
+      read_measurements_csv(test::data_path("irb120-published/validation.csv"), truth.tool,
+                            {MeasurementKind::Points})
+          .measurements;
+  // Every row: its name, target, class and each model's error, in file order.
+  ASSERT_EQ(report["rows"].size(), validation.size());
+  size_t front = 0;
+  for (size_t r = 0; r < validation.size(); ++r) {
+    const auto& row = report["rows"][r];
+    const PointMeasurement& m = validation.points[r];
+    EXPECT_EQ(row["config"], m.config);
+    EXPECT_EQ(row["target"], std::to_string(m.target + 1));  // targets "1", "2", "3"
+    const ArmConfig config = arm_config(truth.model, m.joints);
+    EXPECT_EQ(row["class"], config.label());
+    front += config.back ? 0 : 1;
+    for (size_t k = 0; k < 2; ++k)
+      EXPECT_EQ(row["errors_mm"][k].get<double>(), data.models[k].errors_mm[r]);
+    EXPECT_EQ(row["distance_to_calibration_mm"].get<double>(), data.distance_to_calibration_mm[r]);
+  }
+  // Pair distances by class: the pairs with both rows in the class; none for a class of fewer
+  // than two rows ("no data", never a number).
+  const auto& front_back = report["models"][1]["classes"][0];
+  EXPECT_EQ(front_back["rows"][0]["pairs"]["count"], front * (front - 1) / 2);
+  EXPECT_EQ(front_back["rows"][1]["pairs"]["status"], "no data");
+  // The page shows the 20 largest errors of the last model, largest first.
+  const std::string html = report_html(report, "");
+  const size_t table = html.find("<table id=\"residuals\">");
+  ASSERT_NE(table, std::string::npos);
+  const std::string body = html.substr(table, html.find("</table>", table) - table);
+  std::vector<double> sorted = data.models[1].errors_mm;
+  std::sort(sorted.rbegin(), sorted.rend());
+  size_t rows = 0;
+  for (size_t at = body.find("<tr><td>"); at != std::string::npos;
+       at = body.find("<tr><td>", at + 1))
+    ++rows;
+  EXPECT_EQ(rows, 20u);
+  EXPECT_NE(body.find(fmt::format("<td>{:.4f}</td>", sorted[0])), std::string::npos);
+  EXPECT_NE(body.find(fmt::format("<td>{:.4f}</td>", sorted[19])), std::string::npos);
+  EXPECT_NE(html.find("By configuration class (pairs of rows both in the class)"),
+            std::string::npos);
+}
+
+TEST(ReportWorkflow, NominalRowIsFittedOnTheCalibrationData) {
+  const CalibratedRobot truth = test::reference_true_robot();
+  const fs::path dir = fs::path(::testing::TempDir()) / "report_nominal";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  write_file_atomically(dir / "model.yaml", calibrated_robot_to_yaml(truth));
+  ReportRequest request;
+  request.model = (dir / "model.yaml").string();
+  request.measurements = {test::data_path("irb120-published/validation.csv")};
+  const auto read = [&](const char* name) {
+    return read_measurements_csv(test::data_path(name), truth.tool, {MeasurementKind::Points})
+        .measurements;
+  };
+  const MeasurementSet validation = read("irb120-published/validation.csv");
+  const MeasurementSet calibration = read("irb120-published/calibration.csv");
+  const CalibratedRobot nominal = CalibratedRobot::nominal(truth.model, truth.tool);
+  const auto rms = [](const std::vector<double>& e) {
+    double sum = 0;
+    for (const double v : e) sum += v * v;
+    return std::sqrt(sum / static_cast<double>(e.size()));
+  };
+  // With --calibration: the base comes from the calibration rows, as the demo places it.
+  request.calibration = test::data_path("irb120-published/calibration.csv");
+  const ReportBuild with = build_report(request);
+  EXPECT_EQ(with.data.models.front().label, "nominal (base fitted on the calibration data)");
+  const std::vector<double> expected =
+      validate_model(fit_base(nominal, calibration), validation, 1).positions.position_error_mm;
+  ASSERT_EQ(with.data.models.front().errors_mm.size(), expected.size());
+  for (size_t r = 0; r < expected.size(); ++r)
+    EXPECT_NEAR(with.data.models.front().errors_mm[r], expected[r], 1e-9);
+  // Without: only the validation rows can place it, which the label says; that fit minimises
+  // the squared errors over these very rows, so it can only look better.
+  request.calibration.clear();
+  const ReportBuild without = build_report(request);
+  EXPECT_EQ(without.data.models.front().label, "nominal (base fitted on the validation data)");
+  EXPECT_LT(rms(without.data.models.front().errors_mm), rms(expected));
+  // The calibrated model's row does not depend on where the nominal one was placed.
+  EXPECT_EQ(without.data.models.back().errors_mm, with.data.models.back().errors_mm);
+}
+
 /// Runs `command`, failing the test with its stderr when it fails.
 void run(const std::string& command, const fs::path& err) {
   ASSERT_EQ(std::system((command + " 2> " + err.string()).c_str()), 0) << read_text_file(err);
@@ -323,7 +415,13 @@ TEST(ReportBrowser, PrintsToPdfWithoutAHeadingAloneAtAPageFoot) {
   fs::remove_all(dir);
   fs::create_directories(dir / "profile");
   const fs::path page = dir / "report.html", pdf = dir / "report.pdf", err = dir / "stderr.txt";
-  const std::string html = report_html(report_json(reference_report()), chartjs);
+  ReportData data = reference_report();
+  // Orientation errors as a poses file gives them, for the orientation table.
+  for (size_t k = 0; k < data.models.size(); ++k)
+    for (size_t r = 0; r < data.models[k].errors_mm.size(); ++r)
+      data.models[k].orientation_deg.push_back(0.001 *
+                                               static_cast<double>((r % 7 + 1) * (k ? 1 : 20)));
+  const std::string html = report_html(report_json(data), chartjs);
   write_file_atomically(page, html);
   const std::string flags = chromium_flags(dir / "profile");
   run("timeout 120 " + chromium + " " + flags + " --dump-dom file://" + page.string() + " > " +
@@ -357,9 +455,13 @@ TEST(ReportBrowser, PrintsToPdfWithoutAHeadingAloneAtAPageFoot) {
     headings.push_back(text);
   }
   for (const char* section :
-       {"Provenance", "Before and after on shared axes", "Errors by configuration class (mm)",
-        "Distance errors over every pair of validation rows (mm)", "ISO 9283 pose characteristics",
-        "Ballbar length errors (mm)", "Parameters (± one standard deviation)"})
+       {"Provenance", "Orientation error (deg)", "Before and after on shared axes",
+        "Errors by configuration class (mm)", "Residuals per configuration",
+        "Distance errors over every pair of validation rows (mm)",
+        "By configuration class (pairs of rows both in the class)", "ISO 9283 pose characteristics",
+        "Ballbar length errors (mm)", "Length error by configuration class (mm)",
+        "Parameters (± one standard deviation)",
+        "Parameter groups (Wald test, significant when p < 0.001)"})
     EXPECT_NE(std::find(headings.begin(), headings.end(), section), headings.end()) << section;
   const auto trim = [](std::string line) {
     line.erase(0, line.find_first_not_of(" \t\f"));

@@ -14,6 +14,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/validate/ballbar_error.hpp"
 #include "robcal/validate/base_fit.hpp"
 #include "robcal/validate/validation.hpp"
@@ -95,6 +96,9 @@ TEST(ValidatePairwise, FewerThanTwoRowsHaveNoPairs) {
   EXPECT_EQ(r.stats.count, 0u);
   EXPECT_EQ(r.stats.mean, 0.0);
   EXPECT_EQ(r.histogram.total(), 0u);
+  // No rows at all (an empty class): no pairs either, not an error.
+  const Eigen::Matrix3Xd none(3, 0);
+  EXPECT_EQ(pairwise_distance_errors(none, none, 2).stats.count, 0u);
   EXPECT_REFUSED((void)pairwise_distance_errors(one, Eigen::Matrix3Xd::Ones(3, 2)),
                  std::invalid_argument, "1 measured and 2 modelled positions");
   Eigen::Matrix3Xd bad = Eigen::Matrix3Xd::Ones(3, 2);
@@ -456,6 +460,85 @@ TEST(ValidateBallbar, IdentifiedCentreIsTheTrueOneForExactLengths) {
   EXPECT_REFUSED(
       (void)ballbar_errors(robot, three, std::nullopt), InputError,
       "--ballbar-centre: cannot locate the ballbar centre: the distances need at least four rows");
+}
+
+/// Five readings of a 150 mm bar on lines 2..6 of "b.csv".
+MeasurementSet bar_readings(const std::vector<double>& lengths) {
+  MeasurementSet set;
+  set.kind = MeasurementKind::Distances;
+  set.file = "b.csv";
+  for (size_t r = 0; r < lengths.size(); ++r) {
+    DistanceMeasurement m;
+    m.length_mm = lengths[r];
+    m.line = static_cast<int>(r) + 2;
+    set.distances.push_back(m);
+  }
+  return set;
+}
+
+TEST(ValidateBallbar, ReadingsOutsideTheBarsRangeAreRefusedByLine) {
+  const MeasurementSet set = bar_readings({150.2, 150.4, 149.8, 152.5, 151.3});
+  // Given length: 152.5 (line 5) and 151.3 (line 6) are more than 1 mm from 150.
+  EXPECT_REFUSED((void)check_ballbar_readings(set, 150.0, std::nullopt), InputError,
+                 "b.csv:5 (length): reading 152.5000 mm is outside the ballbar's range 150 ± 1 "
+                 "mm (nominal length given; 2 of 5 readings are outside)");
+  const BallbarRange wide = check_ballbar_readings(set, 150.0, 2.5);
+  EXPECT_EQ(wide.nominal_length_mm, 150.0);
+  EXPECT_EQ(wide.range_mm, 2.5);
+  EXPECT_TRUE(wide.length_given);
+  // Default length: the median reading, 150.4; only 152.5 is out of ±1 mm of it.
+  EXPECT_REFUSED((void)check_ballbar_readings(set, std::nullopt, std::nullopt), InputError,
+                 "b.csv:5 (length): reading 152.5000 mm is outside the ballbar's range 150.4 ± "
+                 "1 mm (nominal length the median reading; 1 of 5");
+  const BallbarRange median = check_ballbar_readings(set, std::nullopt, 2.1);
+  EXPECT_EQ(median.nominal_length_mm, 150.4);
+  EXPECT_FALSE(median.length_given);
+  // The edge itself is readable.
+  EXPECT_NO_THROW((void)check_ballbar_readings(bar_readings({149.0, 151.0}), 150.0, 1.0));
+  // Bad set-ups name their flag.
+  EXPECT_REFUSED((void)check_ballbar_readings(set, 0.0, std::nullopt), InputError,
+                 "--ballbar-length: expected the bar's nominal length as a positive length");
+  EXPECT_REFUSED((void)check_ballbar_readings(set, std::nan(""), std::nullopt), InputError,
+                 "--ballbar-length");
+  EXPECT_REFUSED((void)check_ballbar_readings(set, 150.0, -1.0), InputError,
+                 "--ballbar-range: expected the bar's measuring range");
+  EXPECT_REFUSED((void)check_ballbar_readings(set, 150.0, 150.0), InputError,
+                 "--ballbar-range: a range of ±150 mm is not below the bar's length 150 mm");
+}
+
+TEST(ValidateBallbar, LengthErrorsByConfigurationClass) {
+  const CalibratedRobot robot = reference_robot();
+  const Eigen::Vector3d centre(400, -50, 300);
+  std::vector<double> offsets;
+  for (int r = 0; r < 40; ++r) offsets.push_back(0.001 * (r % 7) - 0.003);
+  const MeasurementSet set = ballbar_rows(robot, centre, offsets);
+  const BallbarErrors e = ballbar_errors(robot, set, centre);
+  ASSERT_EQ(e.classes.size(), 3u);
+  EXPECT_EQ(e.classes[2].name, "flip/no-flip");
+  for (size_t t = 0; t < 3; ++t) {
+    uint64_t rows = 0;
+    for (size_t c = 0; c < 2; ++c) {
+      // Straightforward: the |offsets| of the rows in the class.
+      double sum = 0, max = 0;
+      uint64_t n = 0;
+      for (size_t r = 0; r < set.size(); ++r) {
+        const ArmConfig config = arm_config(robot.model, set.distances[r].joints);
+        const bool second[] = {config.back, config.down, config.flip};
+        if (second[t] != (c == 1)) continue;
+        ++n;
+        sum += std::abs(offsets[r]);
+        max = std::max(max, std::abs(offsets[r]));
+      }
+      const ErrorStatistics& s = e.classes[t].rows[c].position_mm;
+      EXPECT_EQ(s.count, n);
+      if (n > 0) {
+        EXPECT_NEAR(s.mean, sum / static_cast<double>(n), 1e-9);
+        EXPECT_NEAR(s.max, max, 1e-9);
+      }
+      rows += s.count;
+    }
+    EXPECT_EQ(rows, set.size());
+  }
 }
 
 TEST(ValidatePositions, TargetWithoutCoordinatesIsNamed) {

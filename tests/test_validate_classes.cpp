@@ -14,6 +14,7 @@
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
+#include "robcal/validate/base_fit.hpp"
 #include "robcal/validate/class_statistics.hpp"
 #include "robcal/validate/validation.hpp"
 #include "test_validate_support.hpp"
@@ -96,6 +97,60 @@ TEST(ValidateClasses, MatchRowByRowRecomputation) {
   EXPECT_GE(report.classes[4].rows[0].position_mm.count, 50u);
   // Without calibration positions there is no region table.
   EXPECT_EQ(validate_model(robot, set, 2).classes.size(), 4u);
+}
+
+TEST(ValidateClasses, PairDistancesPerConfigurationClassAreThePairsInsideTheClass) {
+  const CalibratedRobot truth = test::reference_true_robot();
+  const MeasurementSet all =
+      read_measurements_csv(test::data_path("irb120-published/validation.csv"), truth.tool,
+                            {MeasurementKind::Points})
+          .measurements;
+  // 300 rows of the nominal robot (errors of a few mm), placed by a rigid fit.
+  MeasurementSet set = all;
+  set.points.resize(300);
+  const CalibratedRobot nominal = fit_base(CalibratedRobot::nominal(truth.model, truth.tool), set);
+  const ValidationReport report = validate_model(nominal, set, 2);
+  const Eigen::Matrix3Xd& m = report.positions.measured_mm;
+  const Eigen::Matrix3Xd& p = report.positions.predicted_mm;
+  for (size_t t = 0; t < 3; ++t) {
+    const ClassTable& table = report.classes[t];
+    SCOPED_TRACE(table.name);
+    for (size_t c = 0; c < table.rows.size(); ++c) {
+      SCOPED_TRACE(table.rows[c].label);
+      // Straightforward: every pair i < j with both rows in the class, in double precision.
+      std::vector<Eigen::Index> rows;
+      for (size_t r = 0; r < set.size(); ++r) {
+        const ArmConfig config = arm_config(truth.model, set.points[r].joints);
+        const bool in_second[] = {config.back, config.down, config.flip};
+        if (in_second[t] == (c == 1)) rows.push_back(static_cast<Eigen::Index>(r));
+      }
+      uint64_t pairs = 0, positive = 0;
+      double sum = 0, signed_sum = 0, max = 0;
+      for (size_t i = 0; i < rows.size(); ++i)
+        for (size_t j = i + 1; j < rows.size(); ++j) {
+          const double e =
+              (m.col(rows[i]) - m.col(rows[j])).norm() - (p.col(rows[i]) - p.col(rows[j])).norm();
+          ++pairs;
+          sum += std::abs(e);
+          signed_sum += e;
+          max = std::max(max, std::abs(e));
+          positive += e > 0 ? 1 : 0;
+        }
+      ASSERT_TRUE(table.rows[c].pairs.has_value());
+      const PairwiseDistanceErrors& got = *table.rows[c].pairs;
+      EXPECT_EQ(got.stats.count, pairs);
+      if (pairs == 0) {
+        EXPECT_EQ(value_or_no_data(got.stats, got.stats.mean), "no data");
+        continue;
+      }
+      EXPECT_NEAR(got.stats.mean, sum / static_cast<double>(pairs), 1e-6 * max);
+      EXPECT_NEAR(got.stats.max, max, 1e-6 * max);
+      EXPECT_NEAR(got.signed_mean, signed_sum / static_cast<double>(pairs), 1e-6 * max);
+      EXPECT_NEAR(static_cast<double>(got.positive_pairs), static_cast<double>(positive), 2);
+    }
+  }
+  // The target and region tables carry no pair statistics.
+  EXPECT_FALSE(report.classes[3].rows[0].pairs.has_value());
 }
 
 TEST(ValidateClasses, EmptyClassSaysNoData) {

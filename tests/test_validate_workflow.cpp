@@ -93,6 +93,14 @@ TEST(ValidateWorkflow, RefusalsNameTheirKey) {
   options.ballbar_centre_mm = Eigen::Vector3d(400, 0, 300);
   EXPECT_EQ(refusal_key([&] { validate(ref.nominal, ref.rows, options, "v.csv"); }),
             "--ballbar-centre");
+  options.ballbar_centre_mm.reset();
+  options.ballbar_length_mm = 150;
+  EXPECT_EQ(refusal_key([&] { validate(ref.nominal, ref.rows, options, "v.csv"); }),
+            "--ballbar-length");
+  options.ballbar_length_mm.reset();
+  options.ballbar_range_mm = 1;
+  EXPECT_EQ(refusal_key([&] { validate(ref.nominal, ref.rows, options, "v.csv"); }),
+            "--ballbar-range");
 }
 
 TEST(KinematicsWorkflow, HomePoseAndLimits) {

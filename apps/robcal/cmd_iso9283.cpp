@@ -97,7 +97,7 @@ void run_analyse(const AnalyseOptions& o) {
   if (r.distance) {
     const Iso9283DistanceFigures& d = *r.distance;
     fmt::print(
-        "distance P2-P4 (clause 7.4): commanded {:.4f} mm, AD {:+.4f} mm, RD ±{:.4f} mm over "
+        "distance P2-P4 (clause 7.3): commanded {:.4f} mm, AD {:+.4f} mm, RD ±{:.4f} mm over "
         "{} cycles\n",
         d.commanded_mm, d.ad_mm, d.rd_mm, d.cycles);
     if (d.has_orientation)

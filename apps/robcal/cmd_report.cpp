@@ -45,8 +45,13 @@ const bool registered = register_command(85, [](CLI::App& app) {
       ->required();
   cmd->add_option("--calibration", o->request.calibration,
                   "The calibration measurements (for the error against distance to them)");
-  cmd->add_option("--before", o->request.before,
-                  "Model to compare with (default: the nominal robot, rigid base fit)");
+  cmd->add_option(
+      "--before", o->request.before,
+      "Model to compare with (default: the nominal robot, rigid base fit to --calibration, "
+      "else to the first validation file)");
+  cmd->add_option("--between", o->request.between,
+                  "Further calibrated models shown between --before and --model, in this order "
+                  "(e.g. the lower levels), each labelled by its level");
   cmd->add_option("--instrument", o->request.instrument,
                   "Instrument file (instrument.yaml: name and sigma_mm) for the provenance");
   cmd->add_option("--seed", o->request.seed, "Seed of the plan or simulation, for the provenance")
@@ -60,6 +65,12 @@ const bool registered = register_command(85, [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--ballbar", o->request.ballbar,
                   "Ballbar (distances) file: length errors of both models");
+  cmd->add_option("--ballbar-length", o->request.ballbar_length_mm,
+                  "The bar's nominal length in mm (default: the median reading); a reading "
+                  "outside length ± range is refused");
+  cmd->add_option(
+      "--ballbar-range", o->request.ballbar_range_mm,
+      fmt::format("The bar reads length ± range (mm; default {:g})", kDefaultBallbarRangeMm));
   cmd->add_option("--title", o->request.title, "Page title")->capture_default_str();
   cmd->add_option("--out", o->out, "Output .html (the JSON goes beside it)")->required();
   cmd->add_flag("--json", o->json, "Print the report's JSON");

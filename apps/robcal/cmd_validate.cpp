@@ -29,6 +29,25 @@ void print_statistics_row(const std::string& label, const ErrorStatistics& s, in
              s.mean, s.std, s.mean_plus_3std(), s.max);
 }
 
+/// Distance errors over the pairs of rows inside each configuration class.
+void print_class_pairs(const std::vector<ClassTable>& tables) {
+  fmt::print("\ndistance error by class (mm), over the pairs of rows both in the class\n");
+  for (const ClassTable& t : tables) {
+    if (t.rows.empty() || !t.rows.front().pairs) continue;
+    fmt::print("  {:<12} {:>10} {:>10} {:>10} {:>10} {:>12} {:>10}\n", t.name, "pairs", "mean",
+               "std", "max", "signed mean", "positive");
+    for (const ClassRow& r : t.rows) {
+      const PairwiseDistanceErrors& p = *r.pairs;
+      if (p.stats.count == 0)
+        fmt::print("  {:<12} {:>10} {:>10}\n", r.label, 0, "no data");
+      else
+        fmt::print("  {:<12} {:>10} {:>10.4f} {:>10.4f} {:>10.4f} {:>+12.4f} {:>9.1f}%\n", r.label,
+                   p.stats.count, p.stats.mean, p.stats.std, p.stats.max, p.signed_mean,
+                   100 * p.positive_share());
+    }
+  }
+}
+
 void print_class_tables(const std::vector<ClassTable>& tables, bool poses) {
   const auto print = [&](const char* title, auto statistics_of) {
     fmt::print("\n{}\n", title);
@@ -44,6 +63,7 @@ void print_class_tables(const std::vector<ClassTable>& tables, bool poses) {
         [](const ClassRow& r) { return r.position_mm; });
   if (poses)
     print("orientation error by class (deg)", [](const ClassRow& r) { return r.orientation_deg; });
+  print_class_pairs(tables);
 }
 
 void print_ballbar(const ValidateResult& result) {
@@ -63,6 +83,15 @@ void print_ballbar(const ValidateResult& result) {
   print_statistics_row("all", errors.absolute_mm);
   fmt::print("signed (measured − modelled): mean {:+.4f}  std {:.4f} mm; {:.1f}% positive\n",
              errors.signed_mean_mm, errors.signed_std_mm, 100 * errors.positive_share);
+  fmt::print("every reading within the bar's range {:g} ± {:g} mm (nominal length {})\n",
+             result.ballbar_range.nominal_length_mm, result.ballbar_range.range_mm,
+             result.ballbar_range.length_given ? "given" : "the median reading");
+  fmt::print("\nlength error by class (mm); configuration classes of the rows' joints\n");
+  for (const ClassTable& t : errors.classes) {
+    fmt::print("  {:<12} {:>8} {:>10} {:>10} {:>10} {:>10}\n", t.name, "rows", "mean", "std",
+               "mean+3std", "max");
+    for (const ClassRow& r : t.rows) print_statistics_row(r.label, r.position_mm, 12);
+  }
   fmt::print("\nlength error histogram\n{}", histogram_text(result.ballbar_histogram, "mm"));
 }
 
@@ -162,6 +191,13 @@ const bool registered = register_command(60, [](CLI::App& app) {
   cmd->add_option("--ballbar-centre", flags->ballbar_centre,
                   "Distances (ballbar) files: the fixed centre X,Y,Z in mm in the model's frame "
                   "(default: identified from the rows)");
+  cmd->add_option("--ballbar-length", r.options.ballbar_length_mm,
+                  "Distances (ballbar) files: the bar's nominal length in mm (default: the median "
+                  "reading); a reading outside length ± range is refused");
+  cmd->add_option("--ballbar-range", r.options.ballbar_range_mm,
+                  fmt::format("Distances (ballbar) files: the bar reads length ± range (mm; "
+                              "default {:g})",
+                              kDefaultBallbarRangeMm));
   cmd->add_option("--calibration", r.calibration,
                   "The calibration measurements (points or poses): adds the error tables by "
                   "region, the distance to the nearest calibration position");

@@ -8,10 +8,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <limits>
 
 #include "robcal/core/error.hpp"
+#include "robcal/identify/residuals.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/validate/error_statistics.hpp"
 #include "robcal/validate/histogram.hpp"
 #include "robcal/validate/position_error.hpp"
@@ -22,6 +25,7 @@ namespace robcal {
 namespace {
 
 constexpr int kHistogramBins = 20;
+constexpr size_t kResidualRowsShown = 20;  ///< rows of the residual table on the page
 
 nlohmann::json summary_json(std::span<const double> errors) {
   const ErrorStatistics s = error_statistics(errors);
@@ -56,6 +60,54 @@ nlohmann::json class_summary_json(const ErrorStatistics& s) {
           {"std", s.std},
           {"mean_plus_3std", s.mean_plus_3std()},
           {"max", s.max}};
+}
+
+/// Pair distance errors (absolute and signed); fewer than two rows: {count 0, "no data"}.
+nlohmann::json pairs_json(const PairwiseDistanceErrors& pairs) {
+  if (pairs.stats.count == 0) return {{"count", 0}, {"status", "no data"}};
+  return {{"count", pairs.stats.count},          {"mean_mm", pairs.stats.mean},
+          {"std_mm", pairs.stats.std},           {"max_mm", pairs.stats.max},
+          {"signed_mean_mm", pairs.signed_mean}, {"positive_share", pairs.positive_share()}};
+}
+
+/// Every validation row with its name, target, class and each model's errors.
+nlohmann::json rows_json(const ReportData& data) {
+  nlohmann::json out = nlohmann::json::array();
+  if (data.models.empty()) return out;
+  const ModelErrors& last = data.models.back();
+  // Names a caller did not fill in (ReportData built by hand) stay empty.
+  const auto name = [](const std::vector<std::string>& names, size_t r) {
+    return r < names.size() ? names[r] : std::string();
+  };
+  for (size_t r = 0; r < last.errors_mm.size(); ++r) {
+    nlohmann::json row = {{"row", r + 1},
+                          {"config", name(last.config_of_row, r)},
+                          {"target", name(last.target_of_row, r)},
+                          {"class", name(last.class_of_row, r)}};
+    row["errors_mm"] = nlohmann::json::array();
+    for (const ModelErrors& m : data.models) row["errors_mm"].push_back(m.errors_mm.at(r));
+    if (!last.orientation_deg.empty()) {
+      row["orientation_deg"] = nlohmann::json::array();
+      for (const ModelErrors& m : data.models)
+        row["orientation_deg"].push_back(m.orientation_deg.at(r));
+    }
+    if (r < data.distance_to_calibration_mm.size())
+      row["distance_to_calibration_mm"] = data.distance_to_calibration_mm[r];
+    out.push_back(row);
+  }
+  return out;
+}
+
+/// The ballbar's length errors by configuration class.
+nlohmann::json ballbar_classes_json(const std::vector<ClassTable>& tables) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const ClassTable& t : tables) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const ClassRow& r : t.rows)
+      rows.push_back({{"class", r.label}, {"length_mm", class_summary_json(r.position_mm)}});
+    out.push_back({{"table", t.name}, {"rows", rows}});
+  }
+  return out;
 }
 
 /// A round bin width (1, 2, 2.5 or 5 × 10^k) giving about `bins` bins up to `top`.
@@ -197,7 +249,8 @@ std::string groups_html(const nlohmann::json& groups) {
                                   : std::string("–"),
         verdict);
   }
-  return "<section><h2>Parameter groups (Wald test, significant when p &lt; 0.001)</h2>\n"
+  return "<section id=\"groups-section\"><h2>Parameter groups (Wald test, significant when p &lt; "
+         "0.001)</h2>\n"
          "<table id=\"groups\"><thead><tr><th>group</th><th>identified</th><th>W</th>"
          "<th>p</th><th class=\"l\">verdict</th></tr></thead><tbody>\n" +
          rows + "</tbody></table></section>\n";
@@ -239,8 +292,9 @@ void flatten(const nlohmann::json& value, const std::string& prefix, std::string
 // The page. Tables are static HTML (readable even without scripts); the charts are drawn by
 // Chart.js from the embedded data. Each part is a <section> that prints whole when it fits a
 // page, and headings never end a page (break-after: avoid). Markers: @TITLE@, @SUBTITLE@,
-// @PROVENANCE@, @SUMMARY@, @ORIENTATION@, @CLASSES@, @PAIRS@, @TARGETS@, @ISO9283@, @BALLBAR@,
-// @PARAMETERS@, @DIAGNOSTICS@, @NOTES@, @DATA@, @CHARTJS@.
+// @PROVENANCE@, @SUMMARY@, @ORIENTATION@, @CLASSES@, @RESIDUALS@, @PAIRS@, @CLASS_PAIRS@,
+// @TARGETS@, @ISO9283@, @BALLBAR@, @PARAMETERS@, @GROUPS@, @DIAGNOSTICS@, @NOTES@, @DATA@,
+// @CHARTJS@.
 constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
 <html lang="en">
 <head>
@@ -288,23 +342,26 @@ constexpr std::string_view kPage = R"HTML(<!DOCTYPE html>
 <p class="caption">Share of validation rows at or below each position error, every model on one
 logarithmic axis; below, each model's histogram on bins of a round width.</p>
 <div class="charts" id="histograms"></div></section>
-<section class="long"><h2>Errors by configuration class (mm)</h2>
+<section class="long" id="classes-section"><h2>Errors by configuration class (mm)</h2>
 @CLASSES@</section>
 <section><h2>Error against distance to the calibration region</h2>
 <div class="chart"><canvas id="distance-chart"></canvas></div>
 <p class="caption">Position error of the last model at each validation row against the distance
 from its measured position to the nearest calibration position.</p></section>
+<section class="long" id="residuals-section"><h2>Residuals per configuration</h2>
+@RESIDUALS@</section>
 <section><h2>Distance errors over every pair of validation rows (mm)</h2>
 @PAIRS@
 <div class="charts" id="pair-histograms"></div>
 <p class="caption">| |m<sub>i</sub> − m<sub>j</sub>| − |p<sub>i</sub> − p<sub>j</sub>| | over every
 pair of rows: no world frame enters; signed mean and share of positive errors above (measured
-distance the longer).</p></section>
+distance the longer).</p>
+@CLASS_PAIRS@</section>
 <section><h2>Per target</h2>
 <table><thead><tr><th>model</th><th class="l">target</th><th>rows</th><th>mean</th><th>std</th><th>mean + 3 std</th><th>max</th></tr></thead>
 <tbody>
 @TARGETS@</tbody></table></section>
-@ISO9283@@BALLBAR@<section class="long"><h2>Parameters (± one standard deviation)</h2>
+@ISO9283@@BALLBAR@<section class="long" id="parameters-section"><h2>Parameters (± one standard deviation)</h2>
 <table id="parameters"><thead><tr><th>parameter</th><th class="l">unit</th><th>nominal</th><th>value</th><th>std dev</th><th class="l">status</th><th class="l">reason</th></tr></thead>
 <tbody>
 @PARAMETERS@</tbody></table></section>
@@ -437,36 +494,116 @@ std::string orientation_html(const nlohmann::json& models) {
          rows + "</tbody></table>\n";
 }
 
-/// One table per class table: rows = classes, columns = models (rows, mean, max).
-std::string classes_html(const nlohmann::json& models) {
-  if (models.empty() || models.back()["classes"].empty())
-    return "<p class=\"nodata\">no class statistics (no validation rows)</p>\n";
+/// One HTML table per class table of the last group (a model, or a model's ballbar errors):
+/// rows = classes, for each group the `headers` and the cells `cells` makes of the group's row
+/// (group["classes"][t]["rows"][r]); tables `include` rejects are left out.
+std::string by_class_html(const nlohmann::json& groups, const std::vector<std::string>& headers,
+                          const std::function<bool(const nlohmann::json&)>& include,
+                          const std::function<std::string(const nlohmann::json&)>& cells) {
   std::string out;
-  const auto& tables = models.back()["classes"];
+  const auto& tables = groups.back()["classes"];
+  const std::string span =
+      fmt::format("<td colspan=\"{}\" class=\"nodata\">no data</td>", headers.size());
   for (size_t t = 0; t < tables.size(); ++t) {
-    const std::string name = tables[t]["table"].get<std::string>();
-    out += "<table class=\"classes\"><thead><tr><th>" + html_escape(name) + "</th>";
-    for (const auto& m : models)
-      out += "<th colspan=\"3\">" + html_escape(m["label"].get<std::string>()) + "</th>";
+    if (!include(tables[t])) continue;
+    out += "<table class=\"classes\"><thead><tr><th>" +
+           html_escape(tables[t]["table"].get<std::string>()) + "</th>";
+    for (const auto& g : groups)
+      out += fmt::format("<th colspan=\"{}\">{}</th>", headers.size(),
+                         html_escape(g["label"].get<std::string>()));
     out += "</tr><tr><th></th>";
-    for (size_t k = 0; k < models.size(); ++k) out += "<th>rows</th><th>mean</th><th>max</th>";
+    for (size_t k = 0; k < groups.size(); ++k)
+      for (const std::string& h : headers) out += "<th>" + h + "</th>";
     out += "</tr></thead><tbody>\n";
     for (size_t r = 0; r < tables[t]["rows"].size(); ++r) {
       out += "<tr><td>" + html_escape(tables[t]["rows"][r]["class"].get<std::string>()) + "</td>";
-      for (const auto& m : models) {
-        if (m["classes"].size() <= t) {
-          out += "<td colspan=\"3\" class=\"nodata\">no data</td>";
-          continue;
-        }
-        const auto& s = m["classes"][t]["rows"][r]["position_mm"];
-        out += fmt::format("<td>{}</td>{}{}", s["count"].get<uint64_t>(), cell(s, "mean"),
-                           cell(s, "max"));
-      }
+      for (const auto& g : groups)
+        out += g["classes"].size() <= t ? span : cells(g["classes"][t]["rows"][r]);
       out += "</tr>\n";
     }
     out += "</tbody></table>\n";
   }
   return out;
+}
+
+/// Rows, mean and max of a class summary (`key` of the row).
+std::function<std::string(const nlohmann::json&)> count_mean_max(const char* key) {
+  return [key](const nlohmann::json& row) {
+    const auto& s = row[key];
+    return fmt::format("<td>{}</td>{}{}", s["count"].get<uint64_t>(), cell(s, "mean"),
+                       cell(s, "max"));
+  };
+}
+
+bool every_table(const nlohmann::json& /*table*/) {
+  return true;
+}
+
+/// Position errors by class: rows = classes, columns = models (rows, mean, max).
+std::string classes_html(const nlohmann::json& models) {
+  if (models.empty() || models.back()["classes"].empty())
+    return "<p class=\"nodata\">no class statistics (no validation rows)</p>\n";
+  return by_class_html(models, {"rows", "mean", "max"}, every_table, count_mean_max("position_mm"));
+}
+
+/// The configuration classes' pair distance errors: rows = classes, columns = models.
+std::string class_pairs_html(const nlohmann::json& models) {
+  if (models.empty()) return "";
+  const std::string out = by_class_html(
+      models, {"pairs", "mean |e|", "signed mean", "positive (%)"},
+      [](const nlohmann::json& table) {
+        return !table["rows"].empty() && table["rows"][0].contains("pairs");
+      },
+      [](const nlohmann::json& row) {
+        const auto& p = row["pairs"];
+        if (p["count"].get<uint64_t>() == 0)
+          return std::string("<td>0</td><td colspan=\"3\" class=\"nodata\">no data</td>");
+        return fmt::format("<td>{}</td><td>{}</td><td>{}</td><td>{}</td>",
+                           p["count"].get<uint64_t>(), number(p["mean_mm"]),
+                           number(p["signed_mean_mm"]),
+                           number(100 * p["positive_share"].get<double>(), 1));
+      });
+  if (out.empty()) return "";
+  return "<h3>By configuration class (pairs of rows both in the class)</h3>\n" + out;
+}
+
+/// The rows of the largest errors of the last model (all rows are in the JSON).
+std::string residuals_html(const nlohmann::json& report) {
+  const auto& rows = report["rows"];
+  const auto& models = report["models"];
+  if (rows.empty()) return "<p class=\"nodata\">no data</p>\n";
+  std::vector<size_t> order(rows.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto last_error = [&](size_t i) { return rows[i]["errors_mm"].back().get<double>(); };
+  const size_t shown = std::min(order.size(), kResidualRowsShown);
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(shown), order.end(),
+                    [&](size_t a, size_t b) { return last_error(a) > last_error(b); });
+  const bool distances = rows[0].contains("distance_to_calibration_mm");
+  std::string out =
+      "<table id=\"residuals\"><thead><tr><th>row</th><th class=\"l\">config</th>"
+      "<th class=\"l\">target</th><th class=\"l\">class</th>";
+  for (const auto& m : models) out += "<th>" + html_escape(m["label"].get<std::string>()) + "</th>";
+  if (distances) out += "<th>to calibration</th>";
+  out += "</tr></thead><tbody>\n";
+  for (size_t k = 0; k < shown; ++k) {
+    const auto& row = rows[order[k]];
+    out += fmt::format(
+        "<tr><td>{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td>"
+        "<td class=\"l\">{}</td>",
+        row["row"].get<size_t>(), html_escape(row["config"].get<std::string>()),
+        html_escape(row["target"].get<std::string>()),
+        html_escape(row["class"].get<std::string>()));
+    for (const auto& e : row["errors_mm"]) out += "<td>" + number(e.get<double>()) + "</td>";
+    if (distances)
+      out += "<td>" + number(row["distance_to_calibration_mm"].get<double>(), 1) + "</td>";
+    out += "</tr>\n";
+  }
+  return fmt::format(
+             "<p class=\"caption\">The {} largest position errors (mm) of {} of {} rows, "
+             "largest first; every row with every model's error is in the JSON "
+             "(\"rows\").</p>\n",
+             shown, html_escape(models.back()["label"].get<std::string>()), rows.size()) +
+         out + "</tbody></table>\n";
 }
 
 std::string pairs_html(const nlohmann::json& models) {
@@ -505,7 +642,7 @@ std::string iso9283_html(const nlohmann::json& iso) {
   std::string distance;
   if (iso.contains("distance"))
     distance = fmt::format(
-        "<p>Distance P2–P4 (clause 7.4): commanded {} mm, AD {} mm, RD ±{} mm "
+        "<p>Distance P2–P4 (clause 7.3): commanded {} mm, AD {} mm, RD ±{} mm "
         "over {} cycles.</p>\n",
         number(iso["distance"]["D_c_mm"]), number(iso["distance"]["AD_mm"]),
         number(iso["distance"]["RD_mm"]), iso["distance"]["cycles"].get<int>());
@@ -513,12 +650,11 @@ std::string iso9283_html(const nlohmann::json& iso) {
          "<th>pose</th><th>cycles</th><th>AP (mm)</th><th>RP (mm)</th><th>vAP (mm)</th>"
          "<th>AP a/b/c (deg)</th><th>RP ±a/b/c (deg)</th></tr></thead><tbody>\n" +
          rows + "</tbody></table>\n" + distance +
-         "<p class=\"sub\">ISO 9283:1998 clauses 7.2.1 (AP), 7.2.2 (RP), 7.3 (vAP), 7.4 (AD, "
+         "<p class=\"sub\">ISO 9283:1998 clauses 7.2.1 (AP), 7.2.2 (RP), 7.2.3 (vAP), 7.3 (AD, "
          "RD).</p></section>\n";
 }
 
-std::string ballbar_html(const nlohmann::json& ballbar) {
-  if (ballbar.empty()) return "";
+std::string ballbar_html(const nlohmann::json& ballbar, const nlohmann::json& range) {
   std::string rows;
   for (const auto& b : ballbar)
     rows += fmt::format(
@@ -527,10 +663,19 @@ std::string ballbar_html(const nlohmann::json& ballbar) {
         html_escape(b["label"].get<std::string>()), b["count"].get<uint64_t>(),
         number(b["mean_mm"]), number(b["std_mm"]), number(b["max_mm"]), number(b["signed_mean_mm"]),
         number(100 * b["positive_share"].get<double>(), 1), b["centre"].get<std::string>());
-  return "<section><h2>Ballbar length errors (mm)</h2>\n<table id=\"ballbar\"><thead><tr>"
+  const std::string classes =
+      by_class_html(ballbar, {"rows", "mean", "max"}, every_table, count_mean_max("length_mm"));
+  return "<section id=\"ballbar-section\"><h2>Ballbar length errors (mm)</h2>\n<table "
+         "id=\"ballbar\"><thead><tr>"
          "<th>model</th><th>rows</th><th>mean |e|</th><th>std</th><th>max</th><th>signed mean</th>"
          "<th>positive (%)</th><th class=\"l\">centre</th></tr></thead><tbody>\n" +
-         rows + "</tbody></table></section>\n";
+         rows + "</tbody></table>\n" +
+         fmt::format(
+             "<p class=\"caption\">Every reading within the bar's range {} ± {} mm "
+             "(nominal length {}).</p>\n",
+             number(range["nominal_length_mm"].get<double>(), 3),
+             number(range["range_mm"].get<double>(), 3), range["length"].get<std::string>()) +
+         "<h3>Length error by configuration class (mm)</h3>\n" + classes + "</section>\n";
 }
 
 void replace_all(std::string& text, std::string_view key, const std::string& value) {
@@ -572,6 +717,11 @@ ModelErrors model_errors(const std::string& label, const CalibratedRobot& robot,
   for (const PointMeasurement& m : set.points)
     out.target_of_row.push_back(robot.tool.targets.at(static_cast<size_t>(m.target)).name);
   for (size_t i = 0; i < set.poses.size(); ++i) out.target_of_row.emplace_back("tcp");
+  for (size_t r = 0; r < set.size(); ++r) {
+    out.config_of_row.push_back(set.kind == MeasurementKind::Points ? set.points[r].config
+                                                                    : set.poses[r].config);
+    out.class_of_row.push_back(arm_config(robot.model, row_joints(set, r)).label());
+  }
   out.orientation_deg = report.positions.orientation_error_deg;
   out.classes = report.classes;
   out.pairs = report.distances;
@@ -669,25 +819,21 @@ nlohmann::json report_json(const ReportData& data) {
                               {"position_mm", class_summary_json(r.position_mm)}};
         if (!m.orientation_deg.empty())
           row["orientation_deg"] = class_summary_json(r.orientation_deg);
+        if (r.pairs) row["pairs"] = pairs_json(*r.pairs);
         rows.push_back(row);
       }
       model["classes"].push_back({{"table", t.name}, {"rows", rows}});
     }
     if (m.pairs && m.pairs->stats.count > 0) {
       const Histogram merged = merge_bins(m.pairs->histogram, 8);
-      model["pairs"] = {
-          {"count", m.pairs->stats.count},
-          {"mean_mm", m.pairs->stats.mean},
-          {"std_mm", m.pairs->stats.std},
-          {"max_mm", m.pairs->stats.max},
-          {"signed_mean_mm", m.pairs->signed_mean},
-          {"positive_share", m.pairs->positive_share()},
-          {"histogram",
-           {{"lower_mm", merged.lower}, {"upper_mm", merged.upper}, {"counts", merged.counts}}}};
+      model["pairs"] = pairs_json(*m.pairs);
+      model["pairs"]["histogram"] = {
+          {"lower_mm", merged.lower}, {"upper_mm", merged.upper}, {"counts", merged.counts}};
     }
     out["models"].push_back(model);
   }
   out["distance_to_calibration_mm"] = data.distance_to_calibration_mm;
+  out["rows"] = rows_json(data);
   out["parameters"] = nlohmann::json::array();
   for (const ReportParameter& p : data.parameters)
     out["parameters"].push_back({{"name", p.name},
@@ -719,7 +865,13 @@ nlohmann::json report_json(const ReportData& data) {
                               {"signed_mean_mm", b.signed_mean_mm},
                               {"positive_share", b.positive_share},
                               {"centre_mm", {b.centre_mm.x(), b.centre_mm.y(), b.centre_mm.z()}},
-                              {"centre", b.centre_fitted ? "identified" : "given"}});
+                              {"centre", b.centre_fitted ? "identified" : "given"},
+                              {"classes", ballbar_classes_json(b.classes)}});
+  if (!data.ballbar.empty())
+    out["ballbar_range"] = {
+        {"nominal_length_mm", data.ballbar_range.nominal_length_mm},
+        {"range_mm", data.ballbar_range.range_mm},
+        {"length", data.ballbar_range.length_given ? "given" : "median of the readings"}};
   return out;
 }
 
@@ -754,7 +906,11 @@ std::string report_html(const nlohmann::json& report, std::string_view chartjs) 
   replace_all(page, "@CLASSES@", classes_html(report["models"]));
   replace_all(page, "@PAIRS@", pairs_html(report["models"]));
   replace_all(page, "@ISO9283@", iso9283_html(report["iso9283"]));
-  replace_all(page, "@BALLBAR@", ballbar_html(report["ballbar"]));
+  replace_all(page, "@BALLBAR@",
+              report["ballbar"].empty() ? std::string()
+                                        : ballbar_html(report["ballbar"], report["ballbar_range"]));
+  replace_all(page, "@CLASS_PAIRS@", class_pairs_html(report["models"]));
+  replace_all(page, "@RESIDUALS@", residuals_html(report));
   replace_all(page, "@TARGETS@", per_target_html(report["models"]));
   replace_all(page, "@PARAMETERS@", parameters_html(report["parameters"]));
   replace_all(page, "@GROUPS@", groups_html(report["groups"]));

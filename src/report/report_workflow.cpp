@@ -80,12 +80,13 @@ ReportBuild build_report(const ReportRequest& o) {
     data.provenance.files.push_back(provenance_file("instrument", o.instrument));
   }
   std::optional<Eigen::Matrix3Xd> calibration;
+  std::optional<MeasurementSet> calibration_set;
   if (!o.calibration.empty()) {
     data.sources.push_back("calibration " + o.calibration);
     data.provenance.files.push_back(provenance_file("calibration", o.calibration));
-    const MeasurementSet set = read_positions(o.calibration, model.tool, out.warnings);
-    calibration = measured_positions(set);
-    data.distance_to_calibration_mm = distance_to_calibration(validation, set);
+    calibration_set = read_positions(o.calibration, model.tool, out.warnings);
+    calibration = measured_positions(*calibration_set);
+    data.distance_to_calibration_mm = distance_to_calibration(validation, *calibration_set);
   } else {
     data.notes.push_back(
         "No --calibration file: distances to the calibration region are not "
@@ -94,10 +95,13 @@ ReportBuild build_report(const ReportRequest& o) {
   CalibratedRobot before;
   std::string before_label;
   if (o.before.empty()) {
-    // The nominal robot placed by a rigid fit to the first validation file: the best a
-    // nominal model does once its base frame is known.
-    before = fit_base(CalibratedRobot::nominal(model.model, model.tool), validation.front());
-    before_label = "nominal (rigid base fit)";
+    // The nominal robot placed by a rigid fit to the calibration data, as the published tables
+    // and `robcal demo` place it: validation rows never enter a model they rate. Without a
+    // calibration file only the validation rows can place it, which the label says.
+    const CalibratedRobot nominal = CalibratedRobot::nominal(model.model, model.tool);
+    before = fit_base(nominal, calibration_set ? *calibration_set : validation.front());
+    before_label = calibration_set ? "nominal (base fitted on the calibration data)"
+                                   : "nominal (base fitted on the validation data)";
   } else {
     before = load_calibrated_robot(o.before);
     before_label = "before: " + o.before;
@@ -121,6 +125,7 @@ ReportBuild build_report(const ReportRequest& o) {
   if (!o.ballbar.empty()) {
     const MeasurementSet set =
         read_set(o.ballbar, model.tool, {MeasurementKind::Distances}, out.warnings);
+    data.ballbar_range = check_ballbar_readings(set, o.ballbar_length_mm, o.ballbar_range_mm);
     // The centre is identified for each model: no world frame is needed.
     data.ballbar.emplace_back(before_label, ballbar_errors(before, set, std::nullopt));
     data.ballbar.emplace_back(after_label, ballbar_errors(model, set, std::nullopt));

@@ -2,10 +2,14 @@
 
 #include <ceres/ceres.h>
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 
 #include "robcal/core/error.hpp"
+#include "robcal/measure/instrument.hpp"
 
 namespace robcal {
 namespace {
@@ -56,7 +60,58 @@ Eigen::Vector3d fit_centre(const Eigen::Matrix3Xd& p, const MeasurementSet& set)
   return Eigen::Map<const Eigen::Vector3d>(c.data());
 }
 
+/// `value` when positive and finite, else an InputError naming `flag`.
+double positive_length(double value, const char* flag, const char* what) {
+  if (!std::isfinite(value) || value <= 0)
+    throw InputError(
+        {"", 0, 0, flag},
+        fmt::format("expected the bar's {} as a positive length in mm, got {}", what, value));
+  return value;
+}
+
 }  // namespace
+
+BallbarRange check_ballbar_readings(const MeasurementSet& set, std::optional<double> length_mm,
+                                    std::optional<double> range_mm) {
+  BallbarRange out;
+  out.range_mm = positive_length(range_mm.value_or(kDefaultBallbarRangeMm), "--ballbar-range",
+                                 "measuring range (± mm)");
+  out.length_given = length_mm.has_value();
+  if (length_mm) {
+    out.nominal_length_mm = positive_length(*length_mm, "--ballbar-length", "nominal length");
+  } else if (!set.distances.empty()) {
+    std::vector<double> lengths;
+    lengths.reserve(set.distances.size());
+    for (const DistanceMeasurement& m : set.distances) lengths.push_back(m.length_mm);
+    const auto middle = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+    std::nth_element(lengths.begin(), middle, lengths.end());
+    out.nominal_length_mm = *middle;
+  }
+  if (out.length_given && out.range_mm >= out.nominal_length_mm)
+    throw InputError({"", 0, 0, "--ballbar-range"},
+                     fmt::format("a range of ±{:g} mm is not below the bar's length {:g} mm",
+                                 out.range_mm, out.nominal_length_mm));
+  Ballbar bar;
+  bar.nominal_length_mm = out.nominal_length_mm;
+  bar.range_mm = out.range_mm;
+  const auto outside = [&](const DistanceMeasurement& m) {
+    return !ballbar_readable(bar, m.length_mm);
+  };
+  const auto first = std::find_if(set.distances.begin(), set.distances.end(), outside);
+  if (first != set.distances.end()) {
+    const auto count = std::count_if(set.distances.begin(), set.distances.end(), outside);
+    throw InputError(
+        {set.file, first->line, 0, "length"},
+        fmt::format("reading {:.4f} mm is outside the ballbar's range {:g} ± {:g} mm (nominal "
+                    "length {}; {} of {} readings are outside): such a reading cannot come from "
+                    "the bar. Check the file, or give the bar's set-up with --ballbar-length "
+                    "and --ballbar-range",
+                    first->length_mm, out.nominal_length_mm, out.range_mm,
+                    out.length_given ? "given" : "the median reading", count,
+                    set.distances.size()));
+  }
+  return out;
+}
 
 BallbarErrors ballbar_errors(const CalibratedRobot& robot, const MeasurementSet& set,
                              const std::optional<Eigen::Vector3d>& centre) {
@@ -88,6 +143,16 @@ BallbarErrors ballbar_errors(const CalibratedRobot& robot, const MeasurementSet&
       if (set.distances[i].target == static_cast<int>(t)) errors.push_back(absolute[i]);
     if (!errors.empty())
       out.per_target.push_back({robot.tool.targets[t].name, error_statistics(errors)});
+  }
+  for (const ClassPartition& p : configuration_partitions(robot.model, set)) {
+    ClassTable table{p.name, {}};
+    for (size_t c = 0; c < p.labels.size(); ++c) {
+      std::vector<double> errors;
+      for (size_t i = 0; i < set.size(); ++i)
+        if (p.class_of_row[i] == static_cast<int>(c)) errors.push_back(absolute[i]);
+      table.rows.push_back({p.labels[c], error_statistics(errors), {}, {}});
+    }
+    out.classes.push_back(std::move(table));
   }
   return out;
 }

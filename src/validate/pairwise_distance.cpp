@@ -257,8 +257,8 @@ PairwiseDistanceErrors pairwise_distance_errors(const Eigen::Matrix3Xd& measured
   // The kernel squares distances in single precision (up to 3e38): 1e12 mm leaves room.
   constexpr double kMaxCoordinate = 1e12;
   if (!measured_mm.allFinite() || !modelled_mm.allFinite() ||
-      measured_mm.cwiseAbs().maxCoeff() > kMaxCoordinate ||
-      modelled_mm.cwiseAbs().maxCoeff() > kMaxCoordinate)
+      (measured_mm.cols() > 0 && (measured_mm.cwiseAbs().maxCoeff() > kMaxCoordinate ||
+                                  modelled_mm.cwiseAbs().maxCoeff() > kMaxCoordinate)))
     throw std::invalid_argument(
         "pairwise_distance_errors: positions must be finite and within ±1e12 mm");
   if (threads < 1 || bins < 1)

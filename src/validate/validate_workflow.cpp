@@ -72,14 +72,25 @@ nlohmann::json class_statistics_json(const ErrorStatistics& s) {
   return out;
 }
 
-nlohmann::json classes_json(const std::vector<ClassTable>& tables, bool poses) {
+/// Pair distance errors inside a class; fewer than two rows: {"pairs": 0, "status": "no data"}.
+nlohmann::json class_pairs_json(const PairwiseDistanceErrors& pairs) {
+  if (pairs.stats.count == 0) return {{"pairs", 0}, {"status", "no data"}};
+  nlohmann::json out = statistics_json(pairs.stats);
+  out["pairs"] = pairs.stats.count;
+  out["signed_mean"] = pairs.signed_mean;
+  out["positive_share"] = pairs.positive_share();
+  return out;
+}
+
+nlohmann::json classes_json(const std::vector<ClassTable>& tables, bool poses,
+                            const char* error_key = "position_error_mm") {
   nlohmann::json out = nlohmann::json::array();
   for (const ClassTable& t : tables) {
     nlohmann::json rows = nlohmann::json::array();
     for (const ClassRow& r : t.rows) {
-      nlohmann::json row = {{"class", r.label},
-                            {"position_error_mm", class_statistics_json(r.position_mm)}};
+      nlohmann::json row = {{"class", r.label}, {error_key, class_statistics_json(r.position_mm)}};
       if (poses) row["orientation_error_deg"] = class_statistics_json(r.orientation_deg);
+      if (r.pairs) row["distance_error_mm"] = class_pairs_json(*r.pairs);
       rows.push_back(row);
     }
     out.push_back({{"table", t.name}, {"rows", rows}});
@@ -99,7 +110,11 @@ nlohmann::json ballbar_json(const ValidateResult& result) {
   out["length_error_histogram_mm"] = histogram_json(result.ballbar_histogram);
   out["ballbar_centre_mm"] = {errors.centre_mm.x(), errors.centre_mm.y(), errors.centre_mm.z()};
   out["ballbar_centre"] = errors.centre_fitted ? "identified" : "given";
+  out["ballbar_length_mm"] = result.ballbar_range.nominal_length_mm;
+  out["ballbar_range_mm"] = result.ballbar_range.range_mm;
+  out["ballbar_length"] = result.ballbar_range.length_given ? "given" : "median of the readings";
   out["per_target"] = per_target_json(errors.per_target);
+  out["classes"] = classes_json(errors.classes, false, "length_error_mm");
   out["robot"] = result.robot;
   out["level"] = result.level;
   out["measurements"] = result.measurements;
@@ -129,17 +144,22 @@ ValidateResult validate_set(CalibratedRobot robot, const MeasurementSet& set,
   result.region_classes = options.calibration_mm.has_value();
   if (const auto warning = poses_without_tcp_warning(robot.tool, set))
     result.warnings.push_back(*warning);
-  if (options.ballbar_centre_mm && set.kind != MeasurementKind::Distances)
-    throw InputError({measurements, 0, 0, "--ballbar-centre"},
-                     fmt::format("--ballbar-centre is for distances (ballbar) files; this is a "
-                                 "{} file",
-                                 measurement_kind_name(set.kind)));
+  for (const auto& [given, flag] :
+       {std::pair{options.ballbar_centre_mm.has_value(), "--ballbar-centre"},
+        std::pair{options.ballbar_length_mm.has_value(), "--ballbar-length"},
+        std::pair{options.ballbar_range_mm.has_value(), "--ballbar-range"}})
+    if (given && set.kind != MeasurementKind::Distances)
+      throw InputError({measurements, 0, 0, flag},
+                       fmt::format("{} is for distances (ballbar) files; this is a {} file", flag,
+                                   measurement_kind_name(set.kind)));
   if (set.kind == MeasurementKind::Distances) {
     if (options.fit_base)
       throw InputError({measurements, 0, 0, "--fit-base"},
                        "a distances (ballbar) file has no positions to fit a world frame to; "
                        "without --ballbar-centre the centre is identified, so no frame is needed");
     result.level = robot.level;
+    result.ballbar_range =
+        check_ballbar_readings(set, options.ballbar_length_mm, options.ballbar_range_mm);
     result.ballbar = ballbar_errors(robot, set, options.ballbar_centre_mm);
     std::vector<double> absolute;
     for (double e : result.ballbar->length_error_mm) absolute.push_back(std::abs(e));

@@ -15,7 +15,8 @@ ValidationReport validate_model(const CalibratedRobot& robot, const MeasurementS
       make_histogram(report.positions.position_error_mm, kPositionHistogramBins, 0.0, top);
   report.distances = pairwise_distance_errors(report.positions.measured_mm,
                                               report.positions.predicted_mm, threads);
-  report.classes = class_tables(robot, set, report.positions, calibration_mm);
+  report.classes =
+      class_tables(robot, set, report.positions, calibration_mm, kDefaultRegionEdgesMm, threads);
   return report;
 }
 

@@ -87,11 +87,28 @@ assert abs(le["signed_mean"]) < 0.1 * le["std"] + 1e-6, le
 assert sum(le_count for le_count in fitted["length_error_histogram_mm"]["counts"]) == rows
 for key in ("mean", "std", "max", "signed_mean"):
     assert abs(given["length_error_mm"][key] - le[key]) < 1e-9, key
+# Every reading was checked against the bar: the median reading ± 1 mm by default.
+assert fitted["ballbar_range_mm"] == 1 and fitted["ballbar_length"] == "median of the readings"
+assert abs(fitted["ballbar_length_mm"] - 150) < 1, fitted["ballbar_length_mm"]
+for t in fitted["classes"]:
+    assert sum(r["length_error_mm"]["rows"] for r in t["rows"]) == rows, t
 PY
 "$robcal" validate --robot abb-irb120 --tool "$tmp/bb/tool.yaml" \
   --measurements "$tmp/bb/measurements.csv" >"$tmp/bb.txt"
 grep -q "centre identified from these rows" "$tmp/bb.txt" || fail "ballbar centre not reported"
 grep -q "length error (mm)" "$tmp/bb.txt" || fail "no ballbar table"
+grep -q "every reading within the bar's range" "$tmp/bb.txt" || fail "ballbar range not reported"
+grep -q "length error by class" "$tmp/bb.txt" || fail "no ballbar class table"
+# The simulated bar is a 150 mm one: a 100 mm bar could not have read these lengths.
+set +e
+"$robcal" validate --robot abb-irb120 --tool "$tmp/bb/tool.yaml" \
+  --measurements "$tmp/bb/measurements.csv" --ballbar-length 100 2>"$tmp/err" >"$tmp/out"
+rc=$?
+set -e
+[ $rc -eq 2 ] || fail "readings outside the bar's range: exit $rc"
+grep -q "measurements.csv:3 (length): reading .* is outside the ballbar's range 100 ± 1 mm" \
+  "$tmp/err" || fail "message: $(cat "$tmp/err")"
+[ ! -s "$tmp/out" ] || fail "output printed for readings outside the range"
 set +e
 "$robcal" validate --robot abb-irb120 --tool "$tmp/bb/tool.yaml" \
   --measurements "$tmp/bb/measurements.csv" --fit-base 2>"$tmp/err" >"$tmp/out"
@@ -197,12 +214,24 @@ back = tables["front/back"][1]
 assert back["class"] == "back" and back["position_error_mm"] == {"rows": 0, "status": "no data"}, back
 de = c["distance_error_mm"]
 assert 0 < de["positive_share"] < 1 and abs(de["signed_mean"]) <= de["mean"], de
+# Pair distances by configuration class: the pairs with both rows in the class.
+for name in ("front/back", "up/down", "flip/no-flip"):
+    for r in tables[name]:
+        n = r["position_error_mm"]["rows"]
+        if n < 2:
+            assert r["distance_error_mm"] == {"pairs": 0, "status": "no data"}, r
+        else:
+            assert r["distance_error_mm"]["pairs"] == n * (n - 1) // 2, r
+            assert 0 <= r["distance_error_mm"]["positive_share"] <= 1, r
+assert "distance_error_mm" not in tables["target"][0]
 PY
 "$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --model "$tmp/full.yaml" \
   --measurements $data/validation.csv --calibration $data/calibration.csv >"$tmp/classes.txt"
 grep -q "^  back  *0  *no data$" "$tmp/classes.txt" || fail "no 'no data' row: $(cat "$tmp/classes.txt")"
 grep -q "^  ≥ 200 mm" "$tmp/classes.txt" || fail "no region table"
 grep -q "% positive (measured distance the longer)" "$tmp/classes.txt" || fail "no signed pair errors"
+grep -q "^distance error by class (mm), over the pairs of rows both in the class" "$tmp/classes.txt" \
+  || fail "no pair distances by class"
 ! grep -qi "nan" "$tmp/classes.txt" || fail "NaN printed"
 
 # ISO 9283: plan the cube, "measure" 30 cycles of the poses with known offsets, analyse.

@@ -32,6 +32,8 @@ struct ModelErrors {
   std::string label;              ///< "nominal", "base", "kinematic", "full", "calibrated"…
   std::vector<double> errors_mm;  ///< per validation row, in row order
   std::vector<std::string> target_of_row;  ///< per row: the target's name ("tcp" for poses)
+  std::vector<std::string> config_of_row;  ///< per row: its name in the file ("config")
+  std::vector<std::string> class_of_row;   ///< per row: "front-up-noflip" (ArmConfig::label)
   std::vector<double> orientation_deg;     ///< per row of poses files; empty for points
   std::vector<ClassTable> classes;         ///< by configuration, target, region (when computed)
   std::optional<PairwiseDistanceErrors> pairs;  ///< distance errors over every pair of rows
@@ -62,6 +64,7 @@ struct ReportData {
   std::optional<Iso9283Result> iso9283;
   /// Ballbar length errors per model (label, errors), e.g. nominal and calibrated.
   std::vector<std::pair<std::string, BallbarErrors>> ballbar;
+  BallbarRange ballbar_range;  ///< what the ballbar readings were checked against
 };
 
 /// The parameter rows of a calibrated robot: every parameter that is not fixed, with its
@@ -87,7 +90,9 @@ std::vector<double> distance_to_calibration(const std::vector<MeasurementSet>& v
 nlohmann::json yaml_to_json(const std::string& yaml_text);
 
 /// The report's content as JSON: summaries (mean, std, mean + 3 std, max) per model and per
-/// target, histograms on common bins, the error/distance pairs, parameters and diagnostics.
+/// target, histograms on common bins, classes (with pair distances for the configuration
+/// classes), every row's residuals ("rows": config, target, class, one error per model),
+/// parameters and diagnostics.
 nlohmann::json report_json(const ReportData& data);
 
 /// The Chart.js source to embed. Reads the file found at configure time (or $ROBCAL_CHARTJS);

@@ -19,7 +19,9 @@ struct ReportRequest {
   std::string model;                      ///< calibrated model file (with a world frame)
   std::vector<std::string> measurements;  ///< validation files (points or poses), one or more
   std::string calibration;  ///< calibration measurements (error against distance), optional
-  std::string before;       ///< model to compare with; empty: the nominal robot, rigid base fit
+  /// Model to compare with; empty: the nominal robot placed by a rigid base fit to the
+  /// calibration measurements (to the first validation file without them).
+  std::string before;
   /// Further calibrated models shown between `before` and `model`, in this order (e.g. the lower
   /// calibration levels), each labelled by its level.
   std::vector<std::string> between;
@@ -30,6 +32,9 @@ struct ReportRequest {
   std::string iso9283_measurements;
   int iso9283_min_cycles = 30;  ///< fewest cycles accepted per pose (the standard: 30)
   std::string ballbar;          ///< ballbar (distances) file: length errors of both models
+  /// The bar's nominal length (empty: the median reading) and range (empty: ±1 mm); a reading
+  /// outside is refused (check_ballbar_readings).
+  std::optional<double> ballbar_length_mm, ballbar_range_mm;
 };
 
 struct ReportBuild {

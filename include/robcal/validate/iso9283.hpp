@@ -2,17 +2,20 @@
 /// \file
 /// ISO 9283:1998 ("Manipulating industrial robots — Performance criteria and related test
 /// methods") pose characteristics: the test cube and its poses P1–P5, and the analysis of
-/// measured cycles. The clause numbers, corner labels and P2–P5 assignment below are from
-/// memory of ISO 9283:1998 and not verified against its (non-public) text; the cube, the 10 %
-/// corner offset and the formulas agree with the public sources listed in docs/validation.md.
+/// measured cycles. The clause numbers were checked against the standard's published table of
+/// contents (6.8 poses, 6.9 cycles, 7.2 pose accuracy and repeatability, 7.3 distance) and a
+/// test house's description of GB/T 12642-2013, the identical Chinese adoption (7.2.1 AP, 7.2.2
+/// RP, 7.2.3 vAP); sources in docs/validation.md. The corner labels, the P2–P5 assignment and
+/// the cycle order are robcal's reading, not verified against the (non-public) text; the cube,
+/// the 10 % corner offset and the formulas agree with the public sources listed there.
 ///
-/// Test cube (clause 6.8.1): the largest cube inside the given workspace region, edges parallel
+/// Test cube (clause 6.8): the largest cube inside the given workspace region, edges parallel
 /// to the world axes. Corners here: C1 (−,−,−), C2 (+,−,−), C3 (+,+,−), C4 (−,+,−) below and
-/// C5..C8 above them. The poses lie on the diagonal plane C1–C2–C7–C8 (clause 6.8.2): P1 at
+/// C5..C8 above them. The poses lie on the diagonal plane C1–C2–C7–C8 (clause 6.8): P1 at
 /// the centre of the cube, P2..P5 on the diagonals towards C1, C2, C7, C8 at 10 % of the
 /// diagonal's length from the corner, i.e. P = centre + 0.8·(C − centre). Every pose has the
-/// same commanded tool orientation. A cycle visits P1 → P5 → P4 → P3 → P2 (clause 7.2.1);
-/// 30 cycles (clause 6.8, table of cycles).
+/// same commanded tool orientation. A cycle visits P1 → P5 → P4 → P3 → P2; 30 cycles
+/// (clause 6.9, number of cycles).
 ///
 /// Analysis, for n cycles of pose P with commanded position (x_c, y_c, z_c) and attained
 /// positions (x_j, y_j, z_j), j = 1..n (clause 7.2.1, pose accuracy):
@@ -25,11 +28,11 @@
 ///   l_j = √((x_j − x̄)² + (y_j − ȳ)² + (z_j − z̄)²);  l̄ = (1/n) Σ l_j;
 ///   S_l = √(Σ (l_j − l̄)² / (n − 1));  RP_l = l̄ + 3·S_l;
 ///   RP_a = ±3·S_a, S_a = √(Σ (a_j − ā)² / (n − 1)) (likewise b, c).
-/// Multi-directional pose accuracy variation (clause 7.3), the pose approached from three
+/// Multi-directional pose accuracy variation (clause 7.2.3), the pose approached from three
 /// directions h = 1..3 (mean positions x̄_h…):
 ///   vAP_P = max_{h,k} √((x̄_h − x̄_k)² + (ȳ_h − ȳ_k)² + (z̄_h − z̄_k)²);
 ///   vAP_a = max_{h,k} |ā_h − ā_k| (likewise b, c).
-/// Distance accuracy and repeatability (clause 7.4) between P2 and P4 (the poses at opposite
+/// Distance accuracy and repeatability (clause 7.3) between P2 and P4 (the poses at opposite
 /// corners): D_c = |P_c2 − P_c4|, D_j = |P_2j − P_4j|, D̄ = (1/n) Σ D_j;
 ///   AD_P = D̄ − D_c;  RD_P = ±3·S_D, S_D = √(Σ (D_j − D̄)² / (n − 1));
 ///   orientation D_aj = a_2j − a_4j (deviations, so D_ca = 0): AD_a = D̄_a, RD_a = ±3·S_Da.
@@ -46,7 +49,7 @@
 
 namespace robcal {
 
-/// Cycles the standard asks for (clause 6.8).
+/// Cycles the standard asks for (clause 6.9).
 inline constexpr int kIso9283Cycles = 30;
 /// Fewest cycles any figure can be computed from (S uses n − 1).
 inline constexpr int kIso9283MinimumCycles = 2;
@@ -124,7 +127,7 @@ MeasurementProgramRequest iso9283_program_request(const Iso9283Plan& plan,
 struct Iso9283Sample {
   int pose = 1;       ///< 1..5
   int cycle = 1;      ///< 1-based
-  int direction = 0;  ///< 1..3 for the multi-directional test (clause 7.3); 0: unidirectional
+  int direction = 0;  ///< 1..3 for the multi-directional test (clause 7.2.3); 0: unidirectional
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();
   std::optional<Eigen::Matrix3d> world_R_tcp;  ///< when the instrument measured orientation
   int line = 0;                                ///< in the file, for messages
@@ -138,7 +141,7 @@ struct Iso9283AnalysisRequest {
   int min_cycles = kIso9283Cycles;  ///< fewer cycles for a pose: InputError
 };
 
-/// Figures of one pose (clauses 7.2, 7.3).
+/// Figures of one pose (clause 7.2).
 struct Iso9283PoseFigures {
   int pose = 1;
   int cycles = 0;
@@ -155,7 +158,7 @@ struct Iso9283PoseFigures {
   std::optional<Eigen::Vector3d> vap_abc_deg;
 };
 
-/// Distance figures between P2 and P4 (clause 7.4).
+/// Distance figures between P2 and P4 (clause 7.3).
 struct Iso9283DistanceFigures {
   int cycles = 0;
   double commanded_mm = 0, mean_mm = 0;

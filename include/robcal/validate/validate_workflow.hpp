@@ -27,6 +27,9 @@ struct ValidateOptions {
   int threads = 2;  ///< all-pairs distance errors; results do not depend on it
   double orientation_weight_mm = kDefaultOrientationWeightMm;  ///< poses sets: mm per rad
   std::optional<Eigen::Vector3d> ballbar_centre_mm;  ///< distances sets; empty: identified
+  /// Distances sets: the bar's nominal length (empty: the median reading) and range (empty:
+  /// kDefaultBallbarRangeMm); a reading outside length ± range is refused.
+  std::optional<double> ballbar_length_mm, ballbar_range_mm;
   /// Measured positions of the calibration set: adds the region classes.
   std::optional<Eigen::Matrix3Xd> calibration_mm;
 };
@@ -62,6 +65,7 @@ struct ValidateResult {
   bool region_classes = false;             ///< calibration positions were given
   std::optional<ValidationReport> report;  ///< points and poses sets
   std::optional<BallbarErrors> ballbar;    ///< distances sets
+  BallbarRange ballbar_range;              ///< distances sets: what the readings were checked by
   Histogram ballbar_histogram;             ///< of |length error|, kPositionHistogramBins bins
   std::vector<std::string> warnings;       ///< the files' (ignored columns…), poses without a tcp
   std::vector<std::string> notes;  ///< the model's target coordinates used instead of the tool's
@@ -73,7 +77,8 @@ ValidateResult validate(const ValidateRequest& request);
 
 /// Validates a loaded model against loaded rows; `measurements` names them in the result and in
 /// errors. Throws InputError when the model has no world frame and fit_base is not set, when
-/// fit_base or ballbar_centre_mm is given for a set of the wrong kind, or for a bad weight.
+/// fit_base or a ballbar option is given for a set of the wrong kind, for a bad weight, or for
+/// a ballbar reading outside the bar's range (check_ballbar_readings).
 ValidateResult validate(CalibratedRobot robot, const MeasurementSet& set,
                         const ValidateOptions& options, const std::string& measurements);
 
@@ -81,7 +86,9 @@ ValidateResult validate(CalibratedRobot robot, const MeasurementSet& set,
 /// position_histogram_mm, per_target, classes, (orientation_error_deg, pose_error_mm,
 /// orientation_weight_mm_per_rad), kind, robot, level, base_fitted_to_measurements, measurements,
 /// threads}; distances {rows, kind, length_error_mm, length_error_histogram_mm, ballbar_centre_mm,
-/// ballbar_centre, per_target, robot, level, measurements}.
+/// ballbar_centre, ballbar_length_mm, ballbar_range_mm, ballbar_length, per_target, classes,
+/// robot, level, measurements}. Configuration classes of points/poses carry
+/// distance_error_mm over the pairs inside the class.
 nlohmann::json validate_json(const ValidateResult& result);
 
 }  // namespace robcal
