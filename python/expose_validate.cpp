@@ -39,12 +39,16 @@ Eigen::Matrix3Xd positions_from_rows(const Eigen::MatrixXd& rows, const char* na
 }
 
 ValidateOptions options_of(bool fit_base, int threads, double orientation_weight,
-                           const std::optional<Eigen::Vector3d>& ballbar_centre) {
+                           const std::optional<Eigen::Vector3d>& ballbar_centre,
+                           std::optional<double> ballbar_length,
+                           std::optional<double> ballbar_range) {
   ValidateOptions options;
   options.fit_base = fit_base;
   options.threads = threads;
   options.orientation_weight_mm = orientation_weight;
   options.ballbar_centre_mm = ballbar_centre;
+  options.ballbar_length_mm = ballbar_length;
+  options.ballbar_range_mm = ballbar_range;
   return options;
 }
 
@@ -131,29 +135,35 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::string& robot, const std::string& tool_file, const std::string& measurements,
          const std::string& model, bool fit_base, int threads, double orientation_weight,
          const std::optional<Eigen::Vector3d>& ballbar_centre, const std::string& calibration,
-         const std::string& units, const std::string& euler) {
+         const std::string& units, const std::string& euler, std::optional<double> ballbar_length,
+         std::optional<double> ballbar_range) {
         ValidateRequest request{robot,       tool_file, model, measurements,
                                 calibration, {},        units, euler};
-        request.options = options_of(fit_base, threads, orientation_weight, ballbar_centre);
+        request.options = options_of(fit_base, threads, orientation_weight, ballbar_centre,
+                                     ballbar_length, ballbar_range);
         return validate_dict(run_released([&] { return validate(request); }));
       },
       py::arg("robot"), py::arg("tool_file"), py::arg("measurements"), py::arg("model") = "",
       py::arg("fit_base") = false, py::arg("threads") = 2,
       py::arg("orientation_weight") = kDefaultOrientationWeightMm,
       py::arg("ballbar_centre") = py::none(), py::arg("calibration") = "", py::arg("units") = "",
-      py::arg("euler") = "",
+      py::arg("euler") = "", py::arg("ballbar_length") = py::none(),
+      py::arg("ballbar_range") = py::none(),
       "`robcal validate`: a calibrated model file (`model`), or the nominal robot `robot`, "
       "against a points, poses or distances (ballbar) file (units, euler: as calibrate's, for "
-      "files that do not declare them); the CLI's --json document as a dict "
+      "files that do not declare them; ballbar_length, ballbar_range: mm, as --ballbar-length "
+      "and --ballbar-range); the CLI's --json document as a dict "
       "plus per-row arrays (docs/method/09-validation.md)");
 
   m.def(
       "validate_rows",
       [](const CalibratedRobot& model, const Measurements& measurements, bool fit_base, int threads,
          double orientation_weight, const std::optional<Eigen::Vector3d>& ballbar_centre,
-         const std::optional<Measurements>& calibration, const std::string& name) {
+         const std::optional<Measurements>& calibration, const std::string& name,
+         std::optional<double> ballbar_length, std::optional<double> ballbar_range) {
         check_same_targets(model.tool, measurements.tool, name);
-        ValidateOptions options = options_of(fit_base, threads, orientation_weight, ballbar_centre);
+        ValidateOptions options = options_of(fit_base, threads, orientation_weight, ballbar_centre,
+                                             ballbar_length, ballbar_range);
         if (calibration) options.calibration_mm = measured_positions(calibration->set);
         ValidateResult result =
             run_released([&] { return validate(model, measurements.set, options, name); });
@@ -164,7 +174,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("model"), py::arg("measurements"), py::arg("fit_base") = false,
       py::arg("threads") = 2, py::arg("orientation_weight") = kDefaultOrientationWeightMm,
       py::arg("ballbar_centre") = py::none(), py::arg("calibration") = py::none(),
-      py::arg("name") = "<arrays>",
+      py::arg("name") = "<arrays>", py::arg("ballbar_length") = py::none(),
+      py::arg("ballbar_range") = py::none(),
       "validate() of a CalibratedRobot against Measurements (from files, dicts or arrays); "
       "`calibration` (Measurements) adds the region classes");
 });

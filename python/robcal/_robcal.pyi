@@ -504,9 +504,11 @@ def pairwise_distance_errors(measured_mm: ArrayLike, modelled_mm: ArrayLike, thr
 def validate(robot: str, tool_file: str, measurements: str, model: str = "",
              fit_base: bool = False, threads: int = 2, orientation_weight: float = 100.0,
              ballbar_centre: Optional[ArrayLike] = None, calibration: str = "",
-             units: str = "", euler: str = "") -> Dict[str, Any]:
+             units: str = "", euler: str = "", ballbar_length: Optional[float] = None,
+             ballbar_range: Optional[float] = None) -> Dict[str, Any]:
     """`robcal validate`: a calibrated model file or the nominal robot against a points, poses or
-    distances (ballbar) file (units, euler: as calibrate's); the CLI's --json document plus per-row arrays
+    distances (ballbar) file (units, euler: as calibrate's; ballbar_length, ballbar_range: mm, as
+    --ballbar-length and --ballbar-range); the CLI's --json document plus per-row arrays
     (position_errors_mm, orientation_errors_deg, pose_errors_mm or length_errors_mm), warnings
     and notes."""
 
@@ -515,7 +517,8 @@ def validate_rows(model: CalibratedRobot, measurements: Measurements, fit_base: 
                   threads: int = 2, orientation_weight: float = 100.0,
                   ballbar_centre: Optional[ArrayLike] = None,
                   calibration: Optional[Measurements] = None,
-                  name: str = "<arrays>") -> Dict[str, Any]:
+                  name: str = "<arrays>", ballbar_length: Optional[float] = None,
+                  ballbar_range: Optional[float] = None) -> Dict[str, Any]:
     """validate() of a CalibratedRobot against Measurements (files, dicts or arrays);
     `calibration` adds the region classes."""
 

@@ -372,6 +372,13 @@ def test_validate_ballbar_file(simulated):
         robcal.validate("abb-irb120", tool, rows, fit_base=True)
     with pytest.raises(robcal.InputError, match="expected 1 to 256 threads"):
         robcal.validate("abb-irb120", tool, rows, threads=0)
+    # The bar's length and range (--ballbar-length, --ballbar-range): the same check as the CLI's.
+    c = cli_json("validate", "--robot", "abb-irb120", "--tool", tool, "--measurements", rows,
+                 "--ballbar-length", "150", "--ballbar-range", "5")
+    p = robcal.validate("abb-irb120", tool, rows, ballbar_length=150, ballbar_range=5)
+    assert same_document(c, p)
+    with pytest.raises(robcal.InputError, match="outside the ballbar's range"):
+        robcal.validate("abb-irb120", tool, rows, ballbar_length=140, ballbar_range=1)
 
 
 def test_validate_refuses_a_model_of_another_robot(tmp_path):
