@@ -78,7 +78,7 @@ struct Fixture {
       m.config = std::to_string(k + 1);
       if (all_groups)
         for (int j = 0; j < 6; ++j) m.approach[j] = (rng() & 1U) ? 1.0 : -1.0;
-      m.position_mm = flange_pose(model, tool.payload, truth, m.joints, &m.approach) *
+      m.position_mm = flange_pose(model, tool.payload, truth, m.joints, {&m.approach}) *
                       tool.targets[static_cast<size_t>(m.target)].position_mm;
       for (int a = 0; a < 3; ++a) m.position_mm[a] += noise(rng);
       data.points.push_back(m);
