@@ -55,7 +55,8 @@ TEST(Thermal, GroupNamesSelectTheirParameters) {
             static_cast<size_t>(kParameterCount - kPeriodicOffset));
   for (const char* other : {"compliance", "link3.a", "expansion", "*"})
     EXPECT_TRUE(opt_in_group_parameters(other).empty()) << other;
-  const UnknownLayout layout = make_unknown_layout(default_simulation_tool(), MeasurementKind::Points);
+  const UnknownLayout layout =
+      make_unknown_layout(default_simulation_tool(), MeasurementKind::Points);
   const std::vector<bool> free =
       select_unknowns(layout, CalibrationLevel::Full, {"groups"}, {"periodic", "joint1.backlash"});
   for (int i = 0; i < kParameterCount; ++i) {
@@ -103,9 +104,8 @@ TEST(Thermal, ForwardModelIsTheSimulatorsGrowth) {
     EXPECT_LT((real.p - model.p).norm(), 1e-9);
     EXPECT_LT((real.R - model.R).norm(), 1e-12);
     const Pose<double> cold = flange_pose(truth.robot.model, truth.robot.tool.payload, x, q);
-    EXPECT_EQ(cold.p, flange_pose(truth.robot.model, truth.robot.tool.payload,
-                                  truth.robot.params, q)
-                          .p);
+    EXPECT_EQ(cold.p,
+              flange_pose(truth.robot.model, truth.robot.tool.payload, truth.robot.params, q).p);
     if (k > 2) {
       EXPECT_GT((cold.p - model.p).norm(), 1e-3);  // the effect is there
     }
@@ -189,7 +189,7 @@ TEST(Thermal, CalibratedChainIkAndSetupTakeTheTemperature) {
   setup.robot = test::random_calibrated("abb-irb120", rng);
   setup.robot.model.reference_temperature_c = 22;
   setup.temperature_c = 31.5;
-  EXPECT_EQ(prepare_compensation(setup).compensator.temperature_rise_k, 9.5);
+  EXPECT_EQ(prepare_compensation(setup).comp.temperature_rise_k, 9.5);
   setup.temperature_c = 300;  // °F or K for °C
   EXPECT_REFUSED(prepare_compensation(setup), InputError, "--temperature-c");
 }

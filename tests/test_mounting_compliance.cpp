@@ -305,5 +305,28 @@ TEST(MountingCompliance, GroupOnAFloorRobotIsHarmless) {
   EXPECT_LT(b.mean_mm, 1.02 * a.mean_mm);
 }
 
+// Model-selection guard on the mounting that loads joint 1: a wall-mounted robot whose joint 1
+// is stiff (c_1 = 0). The group is identified (τ_1 ≠ 0), costs less than 2 % cross-validated
+// and is reported not significant.
+TEST(MountingCompliance, GroupOnAStiffJoint1IsHarmlessAndNotSignificant) {
+  TrueRobot truth = published_truth(true);
+  truth.robot.params[kJoint1Compliance] = 0;
+  const Campaign wall = simulate(truth, 0.01, 1965);
+  const RobotModel model = wall_mounted("abb-irb120");
+  IdentifyOptions plain;
+  IdentifyOptions group;
+  group.identify = {"joint1.compliance"};
+  const double a =
+      cross_validate(model, default_simulation_tool(), wall.calibration, plain, 5, 7).mean_mm;
+  const double b =
+      cross_validate(model, default_simulation_tool(), wall.calibration, group, 5, 7).mean_mm;
+  std::printf("cross-validated mean: %.4f mm without, %.4f mm with the group\n", a, b);
+  EXPECT_LT(b, 1.02 * a);
+  const GroupSignificance g = group_significance(fit(wall.calibration, true).robot)[12];
+  EXPECT_EQ(g.group, "joint1.compliance");
+  EXPECT_EQ(g.identified, 1);
+  EXPECT_FALSE(g.significant) << "W = " << g.wald << ", p = " << g.p_value;
+}
+
 }  // namespace
 }  // namespace robcal

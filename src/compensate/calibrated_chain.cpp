@@ -119,8 +119,8 @@ CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVe
     c.moment[i] = model.link_masses[i].mass_kg * model.link_masses[i].cog_mm;
   }
   for (int joint = 1; joint <= kJointCount; ++joint)
-    c.theta_offset[joint - 1] += backlash_shift(
-        params.data(), model_approach(model, approach, joint), joint);
+    c.theta_offset[joint - 1] +=
+        backlash_shift(params.data(), model_approach(model, approach, joint), joint);
   c.mass[5] += payload.mass_kg;
   c.moment[5] += payload.mass_kg * payload.cog_mm;
   c.gravity = model.gravity_m_s2;

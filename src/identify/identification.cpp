@@ -217,7 +217,7 @@ MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& d
   // (one-sided data are refused by name in drop_one_sided_backlash).
   // Temperatures 0–10 K over the reference: the expansion is then no combination of the lengths
   // (isothermal data are refused by name in drop_isothermal_expansion).
-  std::mt19937_64 sides(20140602);
+  std::mt19937_64 sides(20140602), heat(20140603);
   std::uniform_real_distribution<double> warming(0.0, 10.0);
   for (const Vector6d& q : sample_configurations(lower, upper, 60, rng)) {
     for (int t : targets) {
@@ -228,7 +228,7 @@ MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& d
       if (data.kind == MeasurementKind::Distances)
         synthetic.distances.push_back({"", t, q, 0, 0, s});
       synthetic.set_temperature_c(synthetic.size() - 1,
-                                  model.reference_temperature_c + warming(sides));
+                                  model.reference_temperature_c + warming(heat));
     }
   }
   return synthetic;
@@ -289,8 +289,8 @@ void drop_isothermal_expansion(const RobotModel& model, const MeasurementSet& da
     if (!candidates[static_cast<size_t>(i)]) continue;
     std::string reason;
     if (model.mdh[link - 1].a == 0 && model.mdh[link - 1].d == 0)
-      reason = fmt::format("link {} has no length (a = d = 0 in the robot file): nothing expands",
-                           link);
+      reason =
+          fmt::format("link {} has no length (a = d = 0 in the robot file): nothing expands", link);
     else if (recorded == 0)
       reason =
           "no row records a temperature: add a 'temperature' column (°C, the arm's temperature "
@@ -300,9 +300,9 @@ void drop_isothermal_expansion(const RobotModel& model, const MeasurementSet& da
           "every row was measured at {} °C{}, so the expansion only rescales the lengths and "
           "cannot be told from them: measure at several temperatures (during the warm-up)",
           highest,
-          recorded < data.size() ? fmt::format(" ({} rows without a temperature)",
-                                               data.size() - recorded)
-                                 : std::string());
+          recorded < data.size()
+              ? fmt::format(" ({} rows without a temperature)", data.size() - recorded)
+              : std::string());
     if (reason.empty()) continue;
     candidates[static_cast<size_t>(i)] = false;
     Dependency dep{i, {}, 1.0, {}};

@@ -122,9 +122,9 @@ class RowReader {
     if (row.fields[static_cast<size_t>(columns_.at("temperature"))].empty()) return std::nullopt;
     const double t = number(row, "temperature", " (°C)");
     if (t < -50 || t > 150)  // workshop to foundry; outside is a unit slip (°F, K)
-      throw InputError(where(row, "temperature"),
-                       fmt::format("temperature {} °C is implausible: expected °C in [-50, 150]",
-                                   t));
+      throw InputError(
+          where(row, "temperature"),
+          fmt::format("temperature {} °C is implausible: expected °C in [-50, 150]", t));
     return t;
   }
 

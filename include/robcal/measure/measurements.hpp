@@ -33,7 +33,7 @@ struct PointMeasurement {
   int payload = -1;  ///< index into Tool::payloads (`payload` column); -1: the tool's payload
   /// The arm's temperature (°C, `temperature` column), the thermal group's input
   /// (docs/method/03-error-model.md §8); none: at the robot's reference temperature.
-  std::optional<double> temperature_c;
+  std::optional<double> temperature_c{};
 };
 
 /// `config,j1..j6,x,y,z,qw,qx,qy,qz`: world_T_tcp.
@@ -42,9 +42,9 @@ struct PoseMeasurement {
   Vector6d joints = Vector6d::Zero();
   Pose<double> world_T_tcp;
   int line = 0;
-  Vector6d approach = Vector6d::Ones();  ///< as PointMeasurement::approach
-  int payload = -1;                      ///< as PointMeasurement::payload
-  std::optional<double> temperature_c;   ///< as PointMeasurement::temperature_c
+  Vector6d approach = Vector6d::Ones();   ///< as PointMeasurement::approach
+  int payload = -1;                       ///< as PointMeasurement::payload
+  std::optional<double> temperature_c{};  ///< as PointMeasurement::temperature_c
 };
 
 /// `config,target,j1..j6,length`: |p_target − centre| in mm.
@@ -54,9 +54,9 @@ struct DistanceMeasurement {
   Vector6d joints = Vector6d::Zero();
   double length_mm = 0;
   int line = 0;
-  Vector6d approach = Vector6d::Ones();  ///< as PointMeasurement::approach
-  int payload = -1;                      ///< as PointMeasurement::payload
-  std::optional<double> temperature_c;   ///< as PointMeasurement::temperature_c
+  Vector6d approach = Vector6d::Ones();   ///< as PointMeasurement::approach
+  int payload = -1;                       ///< as PointMeasurement::payload
+  std::optional<double> temperature_c{};  ///< as PointMeasurement::temperature_c
 };
 
 /// The rows of one measurement file; exactly one of the three vectors is filled.
