@@ -271,7 +271,7 @@ TEST(Thermal, SimulatedRowsRecordTheTemperature) {
     EXPECT_GE(rise, previous);
     previous = rise;
   }
-  EXPECT_EQ(*c.calibration.points.front().temperature_c, 20);
+  EXPECT_LT(*c.calibration.points.front().temperature_c, 20.2);  // from a cold start
   EXPECT_GT(previous, 1.5);  // 2000 s of a 30 min warm-up to 3 K
   for (const PointMeasurement& m : simulate(published_truth(false), 0.01, 2014).calibration.points)
     EXPECT_FALSE(m.temperature_c.has_value());
