@@ -79,21 +79,22 @@ TEST(Backlash, ForwardModelIsTheSimulatorsDeadBand) {
     EXPECT_LT((real.R - model.R).norm(), 1e-12);
     // The effect is there: from the other side the flange moves by the dead bands.
     const Vector6d other = -approach;
-    EXPECT_GT(
-        (flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, &other).p - model.p).norm(),
-        1e-3);
+    EXPECT_GT((flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, {&other}).p - model.p)
+                  .norm(),
+              1e-3);
   }
   // Unknown side (0): the middle of the band, half-way between the two sides' joint angles.
   const Vector6d q = test::random_joints(truth.robot.model, rng);
   const Vector6d below = Vector6d::Ones(), unknown = Vector6d::Zero();
   ParameterVector middle = x;
   middle.segment<kJointCount>(kBacklashOffset).setZero();
-  const Pose<double> mid = flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, &unknown);
+  const Pose<double> mid =
+      flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, {&unknown});
   EXPECT_LT((mid.p - flange_pose(truth.robot.model, truth.robot.tool.payload, middle, q).p).norm(),
             1e-12);
   // No approach given: from below.
   EXPECT_EQ(flange_pose(truth.robot.model, truth.robot.tool.payload, x, q).p,
-            flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, &below).p);
+            flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, {&below}).p);
 }
 
 // The analytic regressor's backlash columns (the joint column times −s/2) against autodiff of the
