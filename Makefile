@@ -6,7 +6,7 @@ CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 DEBIAN_PACKAGES = build-essential cmake libeigen3-dev libceres-dev libcli11-dev libyaml-cpp-dev \
   nlohmann-json3-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev pybind11-dev \
   python3-dev python3-numpy python3-pytest libjs-chart.js help2man bash-completion pkgconf \
-  python3-pip python3-setuptools python3-wheel \
+  python3-pip python3-setuptools python3-wheel python3-yaml \
   liburdfdom-dev liborocos-kdl-dev
 
 .PHONY: deps build test demo bench experiments format tidy clean browser-deps sanitize fuzz-long

@@ -3,8 +3,9 @@
 // below 4000 candidates) against the published exchange on O1 (eigenvalue recomputation per trial),
 // on the same IRB 120 candidates (full model, 31 parameters of which 30 are identifiable, points):
 // 5000 candidates (seed 1) and three sets of 500 (seeds 1–3). Run interleaved:
-//   build/robcal_bench --benchmark_filter=Design --benchmark_repetitions=5 \
+//   build/robcal_bench --benchmark_filter=Design --benchmark_repetitions=5
 //     --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true
+//   (one command line)
 // The published exchange runs once per repetition (about 1–4 s for 500, 15–45 s for 5000).
 // Both benchmarks report `O1` and `O1_published` side by side (the published selection with
 // its start seed 7, computed once per candidate set) and `O1_ratio` = fast / published,

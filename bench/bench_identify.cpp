@@ -6,6 +6,7 @@
 
 #include <benchmark/benchmark.h>
 #include <ceres/ceres.h>
+#include <fmt/format.h>
 #include <cmath>
 
 #include <random>
@@ -117,6 +118,37 @@ struct PointResidual {
   }
 };
 
+/// The settings of a Ceres solve, for the benchmark's label: what the comparison holds equal.
+std::string settings_of(const ceres::Solver::Options& o) {
+  return fmt::format(
+      "{} {}, initial trust region {:g}, function/gradient/parameter tolerance {:g}/{:g}/{:g}, "
+      "at most {} iterations, jacobi scaling {}, {} thread",
+      ceres::TrustRegionStrategyTypeToString(o.trust_region_strategy_type),
+      ceres::LinearSolverTypeToString(o.linear_solver_type), o.initial_trust_region_radius,
+      o.function_tolerance, o.gradient_tolerance, o.parameter_tolerance, o.max_num_iterations,
+      o.jacobi_scaling ? "on" : "off", o.num_threads);
+}
+
+/// The identification's own solver settings (src/identify/identification.cpp), so that only
+/// the Jacobian differs: Levenberg–Marquardt, dense normal Cholesky, initial trust region 1e6,
+/// function / gradient / parameter tolerances 1e-8 / 1e-14 / 1e-12, at most
+/// IdentifyOptions::max_iterations iterations, one thread. The fast path scales its columns by
+/// hand; Ceres' Jacobi scaling (on by default) does the same here.
+ceres::Solver::Options autodiff_options(const Fixture& f) {
+  ceres::Solver::Options options;
+  options.minimizer_type = ceres::TRUST_REGION;
+  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+  options.initial_trust_region_radius = 1e6;
+  options.max_num_iterations = f.setup.options.max_iterations;
+  options.function_tolerance = 1e-8;
+  options.gradient_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-12;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  return options;
+}
+
 ParameterVector solve_autodiff(const Fixture& f, int* iterations = nullptr) {
   // Same start as the fast path: the rigid fit of the nominal robot.
   const ResidualContext context{&f.setup.model, &f.setup.tool, &f.data, &f.setup.layout};
@@ -133,24 +165,8 @@ ParameterVector solve_autodiff(const Fixture& f, int* iterations = nullptr) {
     if (std::find(f.setup.free.begin(), f.setup.free.end(), i) == f.setup.free.end())
       fixed.push_back(i);
   problem.SetManifold(x.data(), new ceres::SubsetManifold(kParameterCount, fixed));
-  // The identification's own solver settings (src/identify/identification.cpp), so that only
-  // the Jacobian differs: Levenberg–Marquardt, dense normal Cholesky, initial trust region 1e6,
-  // function / gradient / parameter tolerances 1e-8 / 1e-14 / 1e-12, at most
-  // IdentifyOptions::max_iterations iterations, one thread. The fast path scales its columns by
-  // hand; Ceres' Jacobi scaling (on by default) does the same here.
-  ceres::Solver::Options options;
-  options.minimizer_type = ceres::TRUST_REGION;
-  options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-  options.initial_trust_region_radius = 1e6;
-  options.max_num_iterations = f.setup.options.max_iterations;
-  options.function_tolerance = 1e-8;
-  options.gradient_tolerance = 1e-14;
-  options.parameter_tolerance = 1e-12;
-  options.num_threads = 1;
-  options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
+  ceres::Solve(autodiff_options(f), &problem, &summary);
   if (iterations != nullptr) *iterations = static_cast<int>(summary.iterations.size()) - 1;
   return x;
 }
@@ -164,6 +180,10 @@ void BM_IdentifyFull31From50_Analytic(benchmark::State& state) {
   const FitResult fit = fit_unknowns(f.setup, f.data);
   state.counters["iterations"] = fit.status.iterations;
   state.counters["rms_mm"] = fit.status.final_rms_mm;
+  // The same settings but the scaling, which the fast path does by hand on its columns.
+  ceres::Solver::Options same = autodiff_options(f);
+  same.jacobi_scaling = false;
+  state.SetLabel("analytic Jacobian, columns scaled by hand; " + settings_of(same));
 }
 
 void BM_IdentifyFull31From50_CeresAutodiff(benchmark::State& state) {
@@ -177,6 +197,7 @@ void BM_IdentifyFull31From50_CeresAutodiff(benchmark::State& state) {
   const ParameterVector x = solve_autodiff(f, &iterations);
   const FitResult fit = fit_unknowns(f.setup, f.data);
   state.counters["iterations"] = iterations;
+  state.SetLabel("Ceres autodiff, one residual block per row; " + settings_of(autodiff_options(f)));
   state.counters["max_abs_diff_vs_analytic"] =
       (x - fit.unknowns.head<kParameterCount>()).cwiseAbs().maxCoeff();
 }

@@ -29,7 +29,8 @@ tool = robcal.Tool.from_file(tool_path)
 rows = robcal.Measurements.from_file(os.path.join(DATA, "calibration.csv"), tool)
 print(robot, tool, rows, sep="\n")
 
-# %% Calibrate: every identifiable parameter of the full model (METHOD §3, §4).
+# %% Calibrate: every identifiable parameter of the full model (docs/method/03-error-model.md,
+# 04-identification.md §3).
 result = robcal.calibrate(robot, rows, level="full")
 print(result)
 table = result.parameter_table

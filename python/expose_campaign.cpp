@@ -9,6 +9,7 @@
 
 #include "module_registry.hpp"
 #include "py_measurements.hpp"
+#include "py_session_io.hpp"
 #include "robcal/campaign/frames_workflow.hpp"
 #include "robcal/campaign/import_workflow.hpp"
 #include "robcal/campaign/point_session.hpp"
@@ -192,18 +193,8 @@ void expose_session(py::module_& m) {
          const std::optional<std::vector<std::string>>& answers, const std::string& tool,
          const std::string& reference, int every, bool resume, const std::string& follow,
          const std::string& map, double follow_timeout_s, const std::string& world_frame) {
-        std::string transcript;
-        std::vector<std::string> refused;
-        size_t next = 0;
-        const std::vector<std::string> lines = answers.value_or(std::vector<std::string>{});
-        const campaign::SessionIo io{[&](const std::string& text) { transcript += text; },
-                                     [&](const std::string& error) { refused.push_back(error); },
-                                     [&](std::string& line) {
-                                       if (next >= lines.size()) return false;
-                                       line = lines[next++];
-                                       return true;
-                                     },
-                                     {}};
+        ListedAnswers operator_side{answers.value_or(std::vector<std::string>{})};
+        const campaign::SessionIo io = operator_side.io();
         const campaign::PointSessionRun run = [&] {
           py::gil_scoped_release release;
           return campaign::run_point_session({configs, tool, journal, resume, reference, every,
@@ -213,8 +204,8 @@ void expose_session(py::module_& m) {
         py::dict d = json_to_python(campaign::point_session_json(run));
         d["measurements"] = Measurements{run.result.measurements, run.tool, {}};
         d["csv"] = run.csv;
-        d["transcript"] = transcript;
-        d["refused"] = refused;
+        d["transcript"] = operator_side.transcript;
+        d["refused"] = operator_side.refused;
         return d;
       },
       py::arg("configs"), py::arg("journal"), py::arg("out"), py::arg("answers") = py::none(),

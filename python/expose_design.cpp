@@ -14,6 +14,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/design/calibration_planning.hpp"
 #include "robcal/design/observability.hpp"
+#include "robcal/design/plan_report.hpp"
 #include "robcal/design/selection.hpp"
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -56,7 +57,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         return indices_dict(observability_indices(jacobian, configurations));
       },
       py::arg("jacobian"), py::arg("configurations"),
-      "O1…O5 (docs/method/05-observability.md) of a column-scaled identification Jacobian of n "
+      "O1…O5 (docs/method/05-observability.md §1) of a column-scaled identification Jacobian of n "
       "configurations");
   m.def(
       "select_d_optimal",
@@ -148,41 +149,9 @@ const bool registered = register_bindings(60, [](py::module_& m) {
             joints(static_cast<Eigen::Index>(k), j) = rad2deg(r.configurations[k].joints[j]);
           targets.push_back(r.configurations[k].target);
         }
-        py::dict out;
+        py::object out = json_to_python(plan_json(request, r, ""));
         out["joints_deg"] = joints;
         out["targets"] = targets;
-        out["criterion"] = criterion_name(r.criterion);
-        out["candidates"] = r.candidates;
-        out["pooled"] = r.pooled;
-        out["selected"] = indices_dict(r.selected);
-        out["random"] = indices_dict(r.random);
-        out["d_efficiency"] = r.d_efficiency_selected;
-        out["d_efficiency_random"] = r.d_efficiency_random;
-        out["near_edge"] = r.near_edge;
-        out["near_edge_random"] = r.near_edge_random;
-        out["edge_limit"] = r.edge_limit;
-        out["sigma_mm"] = r.sigma_mm;
-        out["task_region"] = r.region;
-        out["task_configurations"] = r.task_configurations;
-        out["predicted_mean_mm"] = r.predicted_selected.mean_mm;
-        out["predicted_max_mm"] = r.predicted_selected.max_mm;
-        out["predicted_random_mean_mm"] = r.predicted_random.mean_mm;
-        out["predicted_random_max_mm"] = r.predicted_random.max_mm;
-        out["predicted_rms_mm"] = r.predicted_selected.rms_mm;  // instrument noise only
-        out["predicted_random_rms_mm"] = r.predicted_random.rms_mm;
-        if (r.misfit) {
-          py::dict misfit;
-          misfit["misfit_rms_mm"] = r.misfit->misfit_mm;
-          misfit["source"] = r.misfit->source;
-          misfit["held_out_rms_mm"] = r.misfit->held_out_rms_mm;
-          misfit["held_out_noise_mm"] = r.misfit->noise_mm;
-          misfit["held_out_parameter_noise_mm"] = r.misfit->parameter_noise_mm;
-          misfit["predicted_rms_mm"] = r.predicted_rms_with_misfit_selected;
-          misfit["predicted_random_rms_mm"] = r.predicted_rms_with_misfit_random;
-          out["with_misfit"] = misfit;
-        }
-        out["cell"] = r.cell;
-        out["notes"] = r.notes;
         return out;
       },
       py::arg("robot") = "abb-irb120", py::arg("tool") = py::none(),
@@ -193,11 +162,11 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("cell") = py::none(), py::arg("task_joints_deg") = py::none(),
       py::arg("task_box") = py::none(), py::arg("task_count") = 1000,
       py::arg("prior_model") = py::none(), py::arg("misfit_mm") = py::none(),
-      "Choose calibration configurations and predict their accuracy (`robcal plan`): "
-      "joints_deg (count×6) and targets of the chosen configurations, indices for them and for "
-      "a random choice, predicted TCP error over the task region (mm) from instrument noise "
-      "only, and with_misfit when the misfit is known (prior_model: a calibrated model file "
-      "with its cross-validation; or misfit_mm)");
+      "Choose calibration configurations and predict their accuracy (`robcal plan`): the CLI's "
+      "JSON as a dict (indices for the chosen and a random choice, predicted_error_mm over the "
+      "task region from instrument noise only, predicted_error_with_misfit_mm when the misfit "
+      "is known: prior_model, a calibrated model file with its cross-validation, or misfit_mm) "
+      "plus joints_deg (count×6) and targets of the chosen configurations");
 });
 
 }  // namespace

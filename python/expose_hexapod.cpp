@@ -9,16 +9,21 @@
 
 #include "module_registry.hpp"
 #include "py_measurements.hpp"
+#include "py_session_io.hpp"
+#include "robcal/campaign/cell.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/device_validation.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
+#include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/end_to_end_report.hpp"
+#include "robcal/hexapod/geometry_reports.hpp"
 #include "robcal/hexapod/placement_search.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/replan.hpp"
 #include "robcal/hexapod/session_calibration.hpp"
+#include "robcal/hexapod/session_workflow.hpp"
 #include "robcal/hexapod/simulated_readings.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/world_frame.hpp"
@@ -67,7 +72,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         return tripod(v1, v2, v3, l1, l2, l3, sign);
       },
       py::arg("v1"), py::arg("v2"), py::arg("v3"), py::arg("l1"), py::arg("l2"), py::arg("l3"),
-      py::arg("sign"), "Tri of docs/method/07-hexapod.md; None when there is no real solution");
+      py::arg("sign"), "Tri of docs/method/07-hexapod.md §2; None when there is no real solution");
   h.def(
       "solve_dkp",
       [](const std::array<double, 3>& base, const std::array<double, 3>& tool,
@@ -113,11 +118,10 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "uncertainty",
       [](double base_mm, double tool_mm, double leg_mm, double sigma_um, int samples,
          uint64_t seed) {
-        if (!(sigma_um > 0) || samples < 2) throw py::value_error("need sigma_um > 0, samples ≥ 2");
         const HexapodGeometry g{{base_mm, base_mm, base_mm}, {tool_mm, tool_mm, tool_mm}, leg_mm};
-        std::mt19937_64 rng(seed);
-        const auto analytic = dkp_uncertainty(g);
-        const auto mc = dkp_uncertainty_monte_carlo(g, sigma_um * 1e-3, samples, rng);
+        const UncertaintyStudy study = uncertainty_study(g, sigma_um, seed, samples);
+        const auto& analytic = study.analytic;
+        const auto& mc = study.monte_carlo;
         py::list out;
         for (size_t m = 0; m < analytic.size(); ++m) {
           py::dict d;
@@ -221,27 +225,37 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "plan",
       [](const std::string& robot, const std::array<double, 3>& base_sides_mm,
          const std::array<double, 3>& tool_sides_mm, double leg_mm,
-         const std::array<double, 4>& placement, double tool_offset_mm, double ball_offset_mm,
-         double table_z_mm, double angle_deg, double distance_mm) {
-        HexapodPlanRequest r;
-        r.robot = robot;
-        r.geometry = {sides(base_sides_mm), sides(tool_sides_mm), leg_mm};
-        r.placement = placement;
-        r.tool_offset_mm = tool_offset_mm;
-        r.ball_offset_mm = ball_offset_mm;
-        r.table_z_mm = table_z_mm;
-        r.angle_deg = angle_deg;
-        r.distance_mm = distance_mm;
+         const std::array<double, 4>& placement, double tilt_deg, double tool_offset_mm,
+         double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
+         double gauge_range_mm, double gauge_sigma_mm, double cup_diameter_mm,
+         const std::optional<std::string>& cell) {
+        HexapodPlanRequest r{.robot = robot,
+                             .geometry = {sides(base_sides_mm), sides(tool_sides_mm), leg_mm},
+                             .placement = placement,
+                             .tilt_deg = tilt_deg,
+                             .tool_offset_mm = tool_offset_mm,
+                             .ball_offset_mm = ball_offset_mm,
+                             .table_z_mm = table_z_mm,
+                             .angle_deg = angle_deg,
+                             .distance_mm = distance_mm,
+                             .gauge = {gauge_range_mm, gauge_sigma_mm},
+                             .cups = {cup_diameter_mm}};
+        if (cell) r.workcell = campaign::load_cell(*cell);
         return plan_hexapod(load_robot(robot), r);
       },
       py::arg("robot") = "fanuc-lrmate200ic",
       py::arg("base_sides_mm") = std::array<double, 3>{300, 300, 300},
       py::arg("tool_sides_mm") = std::array<double, 3>{150, 150, 150}, py::arg("leg_mm") = 300.0,
-      py::arg("placement") = std::array<double, 4>{450, 0, 300, 0},
+      py::arg("placement") = std::array<double, 4>{450, 0, 300, 0}, py::arg("tilt_deg") = 0.0,
       py::arg("tool_offset_mm") = 100.0, py::arg("ball_offset_mm") = 100.0,
       py::arg("table_z_mm") = 0.0, py::arg("angle_deg") = 30.0, py::arg("distance_mm") = 50.0,
+      py::arg("gauge_range_mm") = LengthGauge{}.range_mm,
+      py::arg("gauge_sigma_mm") = LengthGauge{}.sigma_mm,
+      py::arg("cup_diameter_mm") = CupClearance{}.cup_diameter_mm, py::arg("cell") = py::none(),
       "Plans a hexapod measurement (`robcal hexapod plan`): placement = (x, y, z mm, yaw deg) of "
-      "the base cups' centroid in the robot frame");
+      "the base cups' centroid in the robot frame, tilt_deg of the pivoting platform, the gauge's "
+      "range and σ, the cup diameter (colliding poses refused) and a cell file (its floor and "
+      "keep-out boxes respected)");
   h.def(
       "place",
       [](const std::string& robot, const std::vector<double>& x_mm, const std::vector<double>& y_mm,
@@ -260,14 +274,14 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         r.level = parse_calibration_level(level);
         r.validation_configurations = validation;
         r.seed = seed;
-        r.pair_candidates = std::max(best, 2);
+        r.best = best;
         const RobotModel model = load_robot(robot);
         PlacementSearchResult result;
         {
           py::gil_scoped_release release;
           result = search_placements(model, r);
         }
-        return json_to_python(placement_search_json(result, best));
+        return json_to_python(placement_search_json(result));
       },
       py::arg("robot") = "fanuc-lrmate200ic", py::arg("x_mm") = std::vector<double>{350, 450, 550},
       py::arg("y_mm") = std::vector<double>{-200, 0, 200},
@@ -302,18 +316,18 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::string& robot, const std::array<double, 4>& placement, double tool_offset_mm,
          double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
          uint64_t seed, int validation, int threads, bool leg_fit, bool relative) {
+        const HexapodPlanRequest cell{.placement = placement,
+                                      .tool_offset_mm = tool_offset_mm,
+                                      .ball_offset_mm = ball_offset_mm,
+                                      .table_z_mm = table_z_mm,
+                                      .angle_deg = angle_deg,
+                                      .distance_mm = distance_mm};
+        const EndToEndOptions settings{.validation_configurations = validation,
+                                       .threads = threads,
+                                       .leg_fit = leg_fit,
+                                       .relative_pose_fit = relative};
+        const EndToEndOptions o = end_to_end_options(cell, settings);
         const RobotModel model = load_robot(robot);
-        EndToEndOptions o;
-        o.cell.placement = placement_pose(placement);
-        o.cell.tool_offset_mm = tool_offset_mm;
-        o.cell.ball_offset_mm = ball_offset_mm;
-        o.cell.table_z_mm = table_z_mm;
-        o.angle_deg = angle_deg;
-        o.distance_mm = distance_mm;
-        o.validation_configurations = validation;
-        o.threads = threads;
-        o.leg_fit = leg_fit;
-        o.relative_pose_fit = relative;
         std::mt19937_64 rng(seed);
         EndToEndReport report;
         {
@@ -382,57 +396,81 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "simulate_readings",
       [](const HexapodPlan& plan, const std::string& robot, const std::optional<Tool>& payload,
          uint64_t seed, int validation) {
-        const SimulatedReadings r = simulate_readings(
-            plan, "<plan>", load_robot(robot),
-            payload ? payload->payload : PointMass{2.6, {50, 25, 100}}, seed, validation);
-        py::dict d;
+        SimulatedReadingsRequest request{"<plan>", std::nullopt, seed, validation};
+        if (payload) request.payload = payload->payload;
+        const SimulatedReadings r = simulate_readings(plan, load_robot(robot), request);
+        py::object d = json_to_python(simulated_readings_json(r, "", "", ""));
         d["text"] = readings_text(r);
-        d["legs_out_of_range"] = r.out_of_range;
-        d["readings"] = r.readings.size();
         d["tool"] = r.tool;
         d["validation"] = Measurements{r.validation, r.tool, {}};
         return d;
       },
       py::arg("plan"), py::arg("robot") = "fanuc-lrmate200ic", py::arg("payload") = py::none(),
       py::arg("seed") = 1, py::arg("validation") = 1000,
-      "Simulated readings of a planned session (`robcal hexapod simulate-readings`): text (the "
-      "session's input), legs_out_of_range, readings, tool (the tool fixture as a Tool) and "
-      "validation (tracker Measurements on cup T1); `payload` is a Tool whose payload the robot "
-      "carries (default 2.6 kg)");
+      "Simulated readings of a planned session (`robcal hexapod simulate-readings`): the CLI's "
+      "JSON as a dict (seed, readings, legs_out_of_range) with text (the session's input), tool "
+      "(the tool fixture as a Tool) and validation (tracker Measurements on cup T1) in place of "
+      "the files; `payload` is a Tool whose payload the robot carries (default 2.6 kg at (50, "
+      "25, 100) mm)");
+  h.def(
+      "session",
+      [](const std::string& plan, const std::string& journal,
+         const std::vector<std::string>& answers, bool resume,
+         const std::optional<std::string>& out) {
+        ListedAnswers operator_side{answers};
+        const HexapodSessionRun run =
+            run_hexapod_session({plan, journal, resume, out.value_or("")}, operator_side.io());
+        py::object d = json_to_python(hexapod_session_json(run));
+        d["transcript"] = operator_side.transcript;
+        d["refused"] = operator_side.refused;
+        return d;
+      },
+      py::arg("plan"), py::arg("journal"), py::arg("answers"), py::arg("resume") = false,
+      py::arg("out") = py::none(),
+      "The guided session (`robcal hexapod session`) fed `answers` (lines: a reading in mm, "
+      "'out', 'quit'; e.g. simulate_readings' text.splitlines()) instead of a terminal; every "
+      "reading journalled at once, `resume` continues a journal. The CLI's JSON as a dict "
+      "(status complete or paused-…, replayed, answered, result when complete: also written to "
+      "`out`) plus transcript (the prompts and messages) and refused (answers asked again)");
+  h.def(
+      "export_poses",
+      [](const std::vector<std::string>& sessions, const std::string& out,
+         const std::optional<std::string>& legs_out, const std::optional<std::string>& tool_out,
+         const std::optional<std::string>& tool, const std::optional<std::string>& plan) {
+        const SessionData data = load_sessions(sessions, plan.value_or(""));
+        const SessionExportPaths paths{out, legs_out.value_or(""), tool_out.value_or("")};
+        const SessionExport exported =
+            export_session(data, tool ? load_tool(*tool).payload : PointMass{}, paths);
+        for (const auto& [path, text] : exported.files) write_file_atomically(path, text);
+        py::object d = json_to_python(session_export_json(data, exported, paths));
+        d["tool_fixture"] = exported.tool;
+        d["measurements"] = Measurements{session_pose_measurements(data), exported.tool, {}};
+        return d;
+      },
+      py::arg("sessions"), py::arg("out"), py::arg("legs_out") = py::none(),
+      py::arg("tool_out") = py::none(), py::arg("tool") = py::none(), py::arg("plan") = py::none(),
+      "Writes a session's readings as a poses measurement CSV `out` (for calibrate), and the raw "
+      "legs CSV and the tool file when given (`robcal hexapod export-poses`); `tool`: the tool "
+      "file whose payload the robot carried. The CLI's JSON as a dict plus tool_fixture (Tool) "
+      "and measurements (the poses as Measurements)");
   h.def(
       "read_plan", [](const std::string& path) { return read_hexapod_plan(path); }, py::arg("path"),
       "Reads a plan file (written by `robcal hexapod plan` or `replan`, or by hand)");
   h.def(
       "setup",
-      [](const std::string& robot, const std::array<double, 4>& placement, double side_mm,
-         double ball_offset_mm) {
-        const auto points = plan_setting_ball(load_robot(robot), placement_pose(placement), side_mm,
-                                              ball_offset_mm);
-        py::list out;
-        for (int i = 0; i < 3; ++i) {
-          Eigen::MatrixXd joints(static_cast<Eigen::Index>(points[i].configurations.size()),
-                                 kJointCount);
-          std::vector<std::string> labels;
-          for (size_t c = 0; c < points[i].configurations.size(); ++c) {
-            labels.push_back(points[i].configurations[c].config.label());
-            for (int j = 0; j < kJointCount; ++j)
-              joints(static_cast<Eigen::Index>(c), j) =
-                  rad2deg(points[i].configurations[c].joints[j]);
-          }
-          py::dict d;
-          d["cup"] = "B" + std::to_string(i + 1);
-          d["ball_position_mm"] = points[i].ball_position_mm;
-          d["labels"] = labels;
-          d["joints_deg"] = joints;
-          out.append(d);
-        }
-        return out;
+      [](const std::string& robot, const std::array<double, 4>& placement, double tilt_deg,
+         double side_mm, double ball_offset_mm) {
+        return json_to_python(
+            setup_json(robot, side_mm,
+                       plan_setting_ball(load_robot(robot), placement_pose(placement, tilt_deg),
+                                         side_mm, ball_offset_mm)));
       },
       py::arg("robot") = "fanuc-lrmate200ic",
-      py::arg("placement") = std::array<double, 4>{450, 0, 300, 0}, py::arg("side_mm") = 300.0,
-      py::arg("ball_offset_mm") = 100.0,
-      "Where to put the setting ball for each base cup (`robcal hexapod setup`): per cup its "
-      "position (robot frame, mm) and the configurations reaching it (labels, joints_deg K×6)");
+      py::arg("placement") = std::array<double, 4>{450, 0, 300, 0}, py::arg("tilt_deg") = 0.0,
+      py::arg("side_mm") = 300.0, py::arg("ball_offset_mm") = 100.0,
+      "Where to put the setting ball for each base cup (`robcal hexapod setup`): the CLI's JSON "
+      "as a dict, setting_ball holding per cup its position (robot frame, mm) and the "
+      "configurations reaching it (labels, joints_deg)");
 });
 
 }  // namespace

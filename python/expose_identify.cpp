@@ -10,8 +10,11 @@
 #include "py_measurements.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/identify/calibrate_workflow.hpp"
+#include "robcal/identify/calibrated_robot_file.hpp"
 #include "robcal/identify/calibration_output.hpp"
 #include "robcal/identify/cross_validation.hpp"
+#include "robcal/identify/model_exchange.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -21,18 +24,47 @@ namespace py = pybind11;
 namespace robcal::python {
 namespace {
 
-IdentifyOptions make_options(const std::string& level, const std::vector<std::string>& identify,
-                             const std::vector<std::string>& fix, const std::string& loss,
-                             uint64_t seed) {
-  if (loss != "none" && loss != "huber")
-    throw InputError({"", 0, 0, "loss"}, "unknown loss '" + loss + "': expected none or huber");
-  IdentifyOptions options;
+/// The identification options every calibrate variant takes, checked by the library
+/// (calibrate_files) or here with the same messages for the array variants.
+CalibrationRequest make_request(const std::string& level, const std::vector<std::string>& identify,
+                                const std::vector<std::string>& fix, const std::string& loss,
+                                uint64_t seed, double sigma_mm, int kfold,
+                                double orientation_weight_mm, bool keep_near_dependent) {
+  CalibrationRequest request;
+  IdentifyOptions& options = request.options;
   options.level = parse_calibration_level(level);
   options.identify = identify;
   options.fix = fix;
-  options.huber = loss == "huber";
   options.seed = seed;
-  return options;
+  options.instrument_sigma_mm = sigma_mm;
+  options.orientation_weight_mm = orientation_weight_mm;
+  options.resolve_near_dependencies = !keep_near_dependent;
+  request.kfold = kfold;
+  options = checked_options(options, loss);
+  return request;
+}
+
+/// A cross-validation's held-out errors (mm) and their statistics, pooled and per fold.
+py::dict cross_validation_dict(const CrossValidation& cv) {
+  py::dict out;
+  out["folds"] = cv.folds;
+  out["seed"] = cv.seed;
+  out["user_folds"] = cv.user_folds;
+  out["errors_mm"] = cv.errors_mm;
+  out["mean_mm"] = cv.mean_mm;
+  out["std_mm"] = cv.std_mm;
+  out["max_mm"] = cv.max_mm;
+  py::list per_fold;
+  for (const FoldErrors& f : cv.per_fold) {
+    py::dict fold;
+    fold["rows"] = f.rows;
+    fold["mean_mm"] = f.mean_mm;
+    fold["std_mm"] = f.std_mm;
+    fold["max_mm"] = f.max_mm;
+    per_fold.append(fold);
+  }
+  out["per_fold"] = per_fold;
+  return out;
 }
 
 /// Factor from the internal unit of unknown `i` to its external one (parameters: mm or deg or
@@ -41,7 +73,44 @@ double to_external(int i) {
   return i < kParameterCount ? parameter_table()[static_cast<size_t>(i)].to_external() : 1.0;
 }
 
+/// `robcal model import|export` from Python: the file's text written to `out` when given, the
+/// CLI's JSON as a dict with the text under `key`.
+py::object written_model(const std::string& out, const std::string& text,
+                         const nlohmann::json& report, const char* key) {
+  if (!out.empty()) write_file_atomically(out, text);
+  py::object d = json_to_python(report);
+  d[key] = text;
+  return d;
+}
+
 const bool registered = register_bindings(30, [](py::module_& m) {
+  m.def(
+      "model_import",
+      [](const std::string& out, const std::string& urdf, const std::string& tip,
+         const std::string& format, const std::string& calibration, const std::string& robot) {
+        const ModelImportRequest request{urdf, tip, format, calibration, robot};
+        const ModelImportResult r = import_model(request);
+        return written_model(out, r.yaml, model_import_json(request, r, out), "yaml");
+      },
+      py::arg("out") = "", py::arg("urdf") = "", py::arg("tip") = "", py::arg("format") = "urdf",
+      py::arg("calibration") = "", py::arg("robot") = "",
+      "A URDF (format 'urdf') or a UR calibration.conf on its nominal robot (format "
+      "'ur-calibration') as a robot or nominal model file (`robcal model import`): the CLI's "
+      "JSON as a dict plus yaml (the file's text, written to `out` when given)");
+  m.def(
+      "model_export",
+      [](const std::string& out, const std::string& robot, const std::string& model,
+         const std::string& format, uint64_t seed) {
+        const ModelExportRequest request{robot, model, format, seed};
+        const ModelExportResult r = export_model(request);
+        return written_model(out, r.text, model_export_json(request, r, out), "text");
+      },
+      py::arg("out") = "", py::arg("robot") = "", py::arg("model") = "", py::arg("format") = "urdf",
+      py::arg("seed") = 1,
+      "A robot (`robot`) or calibrated model file (`model`) as URDF, UR calibration.conf deltas "
+      "or its MDH table with σ (format 'urdf', 'ur-calibration', 'mdh-csv'; `robcal model "
+      "export`): the CLI's JSON as a dict (what the format leaves out and its cost at the TCP) "
+      "plus text (written to `out` when given)");
   py::class_<SolverStatus>(m, "SolverStatus", "How the least-squares solver ended")
       .def_readonly("converged", &SolverStatus::converged)
       .def_readonly("iterations", &SolverStatus::iterations)
@@ -62,6 +131,16 @@ const bool registered = register_bindings(30, [](py::module_& m) {
         return "<" + u.name + " = " + std::to_string(u.value) + " " + u.unit + " (" +
                status_name(u.status) + ")>";
       });
+
+  py::class_<NoiseTest>(m, "NoiseTest",
+                        "Are the residuals the instrument's noise? RSS/σ² against χ²(m − n)")
+      .def_readonly("tested", &NoiseTest::tested, "False without a stated instrument σ")
+      .def_readonly("instrument_sigma_mm", &NoiseTest::instrument_sigma_mm)
+      .def_readonly("chi_square", &NoiseTest::chi_square)
+      .def_readonly("dof", &NoiseTest::dof)
+      .def_readonly("p_value", &NoiseTest::p_value)
+      .def_readonly("consistent", &NoiseTest::consistent,
+                    "False when the residuals exceed what the instrument's σ explains (misfit)");
 
   py::class_<PredictedAccuracy>(m, "PredictedAccuracy",
                                 "Cramér–Rao predicted position error (mm) over configurations")
@@ -127,6 +206,15 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       .def_static("from_file", &load_calibrated_robot, py::arg("path"),
                   "Loads a calibrated model file written by calibrate")
       .def_static(
+          "from_dict",
+          [](const py::dict& d) {
+            return parse_calibrated_robot(
+                py::module_::import("json").attr("dumps")(d).cast<std::string>(), "<dict>");
+          },
+          py::arg("d"),
+          "A calibrated model from a dict with the calibrated model file's fields (errors name "
+          "the key)")
+      .def_static(
           "nominal",
           [](const RobotModel& model, const std::optional<Tool>& tool) {
             return CalibratedRobot::nominal(model, tool.value_or(Tool{}));
@@ -148,9 +236,25 @@ const bool registered = register_bindings(30, [](py::module_& m) {
                     "Every unknown (model parameters, then target coordinates, ballbar centre)")
       .def_readonly("residual_count", &IdentificationResult::residual_count)
       .def_readonly("identified_count", &IdentificationResult::identified_count)
+      .def_readonly("warnings", &IdentificationResult::warnings,
+                    "Found before fitting: dropped, near-dependent or unloaded parameters, joints "
+                    "outside limits, poses without a tcp")
       .def_readonly("sigma_mm", &IdentificationResult::sigma_mm)
+      .def_readonly("mean_mm", &IdentificationResult::mean_mm)
       .def_readonly("rms_mm", &IdentificationResult::rms_mm)
       .def_readonly("max_mm", &IdentificationResult::max_mm)
+      .def_readonly("start_mean_mm", &IdentificationResult::start_mean_mm)
+      .def_readonly("start_rms_mm", &IdentificationResult::start_rms_mm)
+      .def_readonly("start_max_mm", &IdentificationResult::start_max_mm)
+      .def_readonly("noise_test", &IdentificationResult::noise_test)
+      .def_property_readonly(
+          "residuals",
+          [](const IdentificationResult& r) {
+            return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
+                r.row_errors_mm.data(), static_cast<Eigen::Index>(r.row_errors_mm.size())));
+          },
+          "Residual of each measurement row at the solution (mm; the 3D position error, the "
+          "TCP's for poses, |length error| for distances): mean_mm, rms_mm, max_mm are its")
       .def_readonly("condition_number", &IdentificationResult::condition_number)
       .def_readonly("predicted", &IdentificationResult::predicted)
       .def_property_readonly("correlations",
@@ -242,82 +346,132 @@ const bool registered = register_bindings(30, [](py::module_& m) {
             return html + "</table>";
           },
           "The result as an HTML table (Jupyter shows it)")
-      .def("__repr__",
-           [](const IdentificationResult& r) {
-             return "<IdentificationResult " + r.robot.model.name + ": " +
-                    std::to_string(r.identified_count) + " identified, rms " +
-                    std::to_string(r.rms_mm) + " mm, " +
-                    (r.status.converged ? "converged" : "NOT converged") + ">";
-           })
+      .def("__repr__", [](const IdentificationResult& r) {
+        return "<IdentificationResult " + r.robot.model.name + ": " +
+               std::to_string(r.identified_count) + " identified, rms " + std::to_string(r.rms_mm) +
+               " mm, " + (r.status.converged ? "converged" : "NOT converged") + ">";
+      });
+
+  py::class_<CalibrationRun>(
+      m, "Calibration",
+      "A calibration run: the identification (`result`; its attributes are also this "
+      "object's), the warnings, the cross-validation and the problems that keep the model from "
+      "being saved")
+      .def_readonly("result", &CalibrationRun::result)
+      .def_readonly("warnings", &CalibrationRun::warnings,
+                    "The measurement file's warnings, then the fit's")
+      .def_readonly("problems", &CalibrationRun::problems,
+                    "Why the model must not be trusted (each says what to check); empty when "
+                    "plausible")
+      .def_property_readonly(
+          "cross_validation",
+          [](const CalibrationRun& run) -> py::object {
+            if (!run.cross_validation) return py::none();
+            py::dict out = cross_validation_dict(*run.cross_validation);
+            out["run_because_of_misfit"] = run.cross_validation_for_misfit;
+            return out;
+          },
+          "K-fold held-out errors (asked for with kfold/folds, or run because the noise test "
+          "failed): dict folds, seed, errors_mm, mean_mm, std_mm, max_mm, per_fold; None when "
+          "not run")
       .def(
           "save",
-          [](const IdentificationResult& r, const std::string& path) {
-            write_file_atomically(path, calibrated_model_file(r, nullptr));
+          [](const CalibrationRun& run, const std::string& path, bool force) {
+            if (const auto refusal = write_calibration(run, path, force, nullptr))
+              throw InputError({path, 0, 0, "force"}, *refusal);
           },
-          py::arg("path"), "Writes the calibrated model file (YAML), whole or not at all");
+          py::arg("path"), py::arg("force") = false,
+          "Writes the calibrated model file (YAML), whole or not at all; refused (InputError) "
+          "when the run lists problems unless force=True")
+      .def(
+          "__getattr__",
+          [](const py::object& self, const std::string& name) -> py::object {
+            return self.attr("result").attr(name.c_str());
+          },
+          py::arg("name"), "The identification result's attributes (rms_mm, parameters, robot…)")
+      .def("__repr__", [](const CalibrationRun& run) {
+        return "<Calibration " + run.result.robot.model.name + ": rms " +
+               fmt::format("{:.4f}", run.result.rms_mm) + " mm, " +
+               (run.result.status.converged ? "converged" : "NOT converged") +
+               (run.problems.empty() ? "" : fmt::format(", {} PROBLEMS", run.problems.size())) +
+               ">";
+      });
 
   m.def(
       "calibrate",
       [](const std::optional<std::string>& robot, const std::optional<std::string>& tool,
          const std::string& measurements, const std::optional<std::string>& level,
          const std::vector<std::string>& identify, const std::vector<std::string>& fix,
-         const std::string& loss, uint64_t seed, const std::optional<std::string>& model) {
-        // The CLI's library calls (run_calibration, reidentify), same numbers as `calibrate`.
-        std::optional<Tool> t;
-        if (tool) t = load_tool(*tool);
-        if (!model) {
-          if (!robot || !t) throw InputError({"", 0, 0, "robot"}, "give robot and tool, or model");
-          const MeasurementFile file = read_measurements_csv(measurements, *t);
-          const CalibrationRequest request{
-              make_options(level.value_or("full"), identify, fix, loss, seed), 0, {}};
-          return run_calibration(load_robot(*robot), *t, file.measurements, request).result;
-        }
-        if (robot) throw InputError({"", 0, 0, "robot"}, "model already holds the robot");
-        const CalibratedRobot start = load_calibrated_robot(*model);
-        const MeasurementFile file = read_measurements_csv(measurements, t ? *t : start.tool);
-        CalibrationRequest request{make_options("full", identify, fix, loss, seed), 0, {}};
-        request.options.level =
-            level ? parse_reidentification_level(*level) : CalibrationLevel::Patterns;
-        return reidentify(start, t, file.measurements, request).result;
+         const std::string& loss, uint64_t seed, const std::optional<std::string>& model,
+         double sigma, int kfold, const std::optional<std::string>& folds,
+         const std::optional<std::string>& units, const std::optional<std::string>& euler,
+         double orientation_weight, bool keep_near_dependent) {
+        CalibrateFilesRequest request{robot.value_or(""), model.value_or(""),
+                                      tool.value_or(""),  measurements,
+                                      units.value_or(""), euler.value_or(""),
+                                      level.value_or(""), loss,
+                                      folds.value_or(""), {}};
+        IdentifyOptions& options = request.request.options;
+        options.identify = identify;
+        options.fix = fix;
+        options.seed = seed;
+        options.instrument_sigma_mm = sigma;
+        options.orientation_weight_mm = orientation_weight;
+        options.resolve_near_dependencies = !keep_near_dependent;
+        request.request.kfold = kfold;
+        return calibrate_files(request);
       },
       py::arg("robot"), py::arg("tool"), py::arg("measurements"), py::arg("level") = py::none(),
       py::arg("identify") = std::vector<std::string>{}, py::arg("fix") = std::vector<std::string>{},
       py::arg("loss") = "none", py::arg("seed") = 1, py::arg("model") = py::none(),
-      "Calibrate from files: robot name or file, tool file, measurement CSV (level default "
-      "full). With model= (a calibrated model file; robot=None) only what level ('tool', "
-      "'base') or identify asks is re-identified, the rest kept (tool: the new tool, or None)");
+      py::arg("sigma") = 0.0, py::arg("kfold") = 0, py::arg("folds") = py::none(),
+      py::arg("units") = py::none(), py::arg("euler") = py::none(),
+      py::arg("orientation_weight") = kDefaultOrientationWeightMm,
+      py::arg("keep_near_dependent") = false,
+      "`robcal calibrate` from files: robot name or file, tool file, measurement CSV (level "
+      "default full), with the CLI's options (sigma: the instrument's σ in mm, kfold/folds, "
+      "units/euler of the file, orientation_weight, keep_near_dependent) and checks. With "
+      "model= (a calibrated model file; robot=None) only what level ('tool', 'base') or "
+      "identify asks is re-identified, the rest kept (tool: the new tool, or None). Returns a "
+      "Calibration: save(path) refuses a model with problems unless force=True");
 
   m.def(
       "calibrate",
       [](const RobotModel& robot, const Measurements& measurements, const std::string& level,
          const std::vector<std::string>& identify, const std::vector<std::string>& fix,
-         const std::string& loss, uint64_t seed) {
+         const std::string& loss, uint64_t seed, double sigma, int kfold, double orientation_weight,
+         bool keep_near_dependent) {
         return run_calibration(robot, measurements.tool, measurements.set,
-                               {make_options(level, identify, fix, loss, seed), 0, {}})
-            .result;
+                               make_request(level, identify, fix, loss, seed, sigma, kfold,
+                                            orientation_weight, keep_near_dependent));
       },
       py::arg("robot"), py::arg("measurements"), py::arg("level") = "full",
       py::arg("identify") = std::vector<std::string>{}, py::arg("fix") = std::vector<std::string>{},
-      py::arg("loss") = "none", py::arg("seed") = 1,
-      "Calibrate a RobotModel from Measurements (their tool included)");
+      py::arg("loss") = "none", py::arg("seed") = 1, py::arg("sigma") = 0.0, py::arg("kfold") = 0,
+      py::arg("orientation_weight") = kDefaultOrientationWeightMm,
+      py::arg("keep_near_dependent") = false,
+      "Calibrate a RobotModel from Measurements (their tool included); a Calibration");
 
   m.def(
       "calibrate_points",
       [](const std::string& robot, const std::string& tool, const Eigen::MatrixXd& joints_deg,
          const std::vector<std::string>& targets, const Eigen::MatrixXd& positions_mm,
          const std::string& level, const std::vector<std::string>& identify,
-         const std::vector<std::string>& fix, const std::string& loss, uint64_t seed) {
+         const std::vector<std::string>& fix, const std::string& loss, uint64_t seed, double sigma,
+         int kfold, bool keep_near_dependent) {
         const Tool t = load_tool(tool);
         return run_calibration(load_robot(robot), t,
                                points_from_arrays(t, joints_deg, targets, positions_mm).set,
-                               {make_options(level, identify, fix, loss, seed), 0, {}})
-            .result;
+                               make_request(level, identify, fix, loss, seed, sigma, kfold,
+                                            kDefaultOrientationWeightMm, keep_near_dependent));
       },
       py::arg("robot"), py::arg("tool"), py::arg("joints_deg"), py::arg("targets"),
       py::arg("positions_mm"), py::arg("level") = "full",
       py::arg("identify") = std::vector<std::string>{}, py::arg("fix") = std::vector<std::string>{},
-      py::arg("loss") = "none", py::arg("seed") = 1,
-      "Calibrate from arrays: joints N×6 (deg), target names (N), measured positions N×3 (mm)");
+      py::arg("loss") = "none", py::arg("seed") = 1, py::arg("sigma") = 0.0, py::arg("kfold") = 0,
+      py::arg("keep_near_dependent") = false,
+      "Calibrate from arrays: joints N×6 (deg), target names (N), measured positions N×3 (mm); "
+      "a Calibration");
 
   m.def(
       "cross_validate",
@@ -326,15 +480,10 @@ const bool registered = register_bindings(30, [](py::module_& m) {
         const RobotModel model = load_robot(robot);
         const Tool t = load_tool(tool);
         const MeasurementFile file = read_measurements_csv(measurements, t);
-        const CrossValidation cv = cross_validate(
-            model, t, file.measurements, make_options(level, {}, {}, "none", seed), folds, seed);
-        py::dict out;
-        out["folds"] = cv.folds;
-        out["errors_mm"] = cv.errors_mm;
-        out["mean_mm"] = cv.mean_mm;
-        out["std_mm"] = cv.std_mm;
-        out["max_mm"] = cv.max_mm;
-        return out;
+        const CalibrationRequest request =
+            make_request(level, {}, {}, "none", seed, 0, 0, kDefaultOrientationWeightMm, false);
+        return cross_validation_dict(
+            cross_validate(model, t, file.measurements, request.options, folds, seed));
       },
       py::arg("robot"), py::arg("tool"), py::arg("measurements"), py::arg("folds"),
       py::arg("level") = "full", py::arg("seed") = 1,

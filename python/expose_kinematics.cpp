@@ -139,6 +139,43 @@ const bool registered = register_bindings(10, [](py::module_& m) {
       "CLI)");
 
   m.def(
+      "ik_batch",
+      [](const RobotModel& robot, const Eigen::MatrixXd& position_mm,
+         const Eigen::MatrixXd& quaternion_wxyz, std::optional<Eigen::VectorXd> seed_deg) {
+        if (position_mm.cols() != 3 || quaternion_wxyz.cols() != 4 ||
+            position_mm.rows() != quaternion_wxyz.rows())
+          throw InputError({"<arrays>", 0, 0, "position_mm/quaternion_wxyz"},
+                           "expected N×3 positions (mm) and N×4 quaternions (w, x, y, z)");
+        std::vector<Pose<double>> poses;
+        for (Eigen::Index r = 0; r < position_mm.rows(); ++r)
+          poses.push_back(pose_from_position_quaternion(position_mm.row(r).transpose(),
+                                                        quaternion_wxyz.row(r).transpose()));
+        const IkPath path = inverse_kinematics_path(
+            robot, poses, seed_deg ? joints_from_deg(*seed_deg, "ik seed") : Vector6d::Zero());
+        Eigen::MatrixXd joints(position_mm.rows(), kJointCount);
+        std::vector<std::string> configs, status;
+        for (size_t r = 0; r < poses.size(); ++r) {
+          const auto& chosen = path.chosen[r];
+          joints.row(static_cast<Eigen::Index>(r)) =
+              chosen ? Eigen::RowVectorXd(joints_to_deg(chosen->joints).transpose())
+                     : Eigen::RowVectorXd::Constant(kJointCount, NAN);
+          configs.push_back(chosen ? chosen->config.label() : "");
+          status.push_back(to_string(path.status[r]));
+        }
+        py::dict out;
+        out["joints_deg"] = joints;
+        out["config"] = configs;
+        out["status"] = status;
+        return out;
+      },
+      py::arg("robot"), py::arg("position_mm"), py::arg("quaternion_wxyz"),
+      py::arg("seed_joints_deg") = py::none(),
+      "ik over the rows of N×3 positions (mm) and N×4 quaternions (w, x, y, z), the inverse of "
+      "fk_batch: per pose the solution nearest the previous pose's (the first nearest the seed), "
+      "{'joints_deg': N×6 (NaN rows: unreachable or outside the limits), 'config': labels, "
+      "'status': per pose}");
+
+  m.def(
       "robot_catalogue", [] { return json_to_python(robot_catalogue_json(robot_catalogue())); },
       "`robcal robots`: [{'name', 'model', 'manufacturer', 'reach_mm'}] of the built-in robots");
   m.def(

@@ -83,7 +83,7 @@ py::dict simulate(const std::string& instrument_name, const std::string& truth_n
 
 const bool registered = register_bindings(40, [](py::module_& m) {
   py::class_<LaserTracker>(m, "LaserTracker",
-                           "Laser tracker: 3D point of one SMR (docs/method/06-instruments.md)")
+                           "Laser tracker: 3D point of one SMR (docs/method/06-instruments.md §1)")
       .def(py::init<>())
       .def_readwrite("position_mm", &LaserTracker::position_mm)
       .def_readwrite("sigma_mm", &LaserTracker::sigma_mm, "σ per axis, mm")

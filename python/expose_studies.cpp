@@ -35,7 +35,7 @@ const bool registered = register_bindings(80, [](py::module_& m) {
         return json_to_python(j);
       },
       py::arg("seed") = 1, py::arg("out") = "",
-      "The published simulation experiments (docs/method/11-published-results.md, `robcal "
+      "The published simulation experiments (docs/method/11-published-results.md §2, `robcal "
       "experiments`): {seed, calibration_configurations, validation_configurations, "
       "experiments: {a, b, c}}; with `out` (a folder) also timed ('seconds') and written there "
       "as results.json and results.md, as the CLI does");

@@ -22,22 +22,14 @@ namespace robcal::python {
 namespace {
 
 py::dict statistics_dict(const ErrorStatistics& s) {
-  py::dict d;
-  d["count"] = s.count;
-  d["mean"] = s.mean;
-  d["std"] = s.std;
-  d["mean_plus_3std"] = s.mean_plus_3std();
-  d["min"] = s.min;
-  d["max"] = s.max;
-  return d;
+  return py::dict(py::arg("count") = s.count, py::arg("mean") = s.mean, py::arg("std") = s.std,
+                  py::arg("mean_plus_3std") = s.mean_plus_3std(), py::arg("min") = s.min,
+                  py::arg("max") = s.max);
 }
 
 py::dict histogram_dict(const Histogram& h) {
-  py::dict d;
-  d["lower"] = h.lower;
-  d["upper"] = h.upper;
-  d["counts"] = h.counts;
-  return d;
+  return py::dict(py::arg("lower") = h.lower, py::arg("upper") = h.upper,
+                  py::arg("counts") = h.counts);
 }
 
 Eigen::Matrix3Xd positions_from_rows(const Eigen::MatrixXd& rows, const char* name) {
@@ -138,17 +130,21 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "validate",
       [](const std::string& robot, const std::string& tool_file, const std::string& measurements,
          const std::string& model, bool fit_base, int threads, double orientation_weight,
-         const std::optional<Eigen::Vector3d>& ballbar_centre, const std::string& calibration) {
-        ValidateRequest request{robot, tool_file, model, measurements, calibration, {}};
+         const std::optional<Eigen::Vector3d>& ballbar_centre, const std::string& calibration,
+         const std::string& units, const std::string& euler) {
+        ValidateRequest request{robot,       tool_file, model, measurements,
+                                calibration, {},        units, euler};
         request.options = options_of(fit_base, threads, orientation_weight, ballbar_centre);
         return validate_dict(run_released([&] { return validate(request); }));
       },
       py::arg("robot"), py::arg("tool_file"), py::arg("measurements"), py::arg("model") = "",
       py::arg("fit_base") = false, py::arg("threads") = 2,
       py::arg("orientation_weight") = kDefaultOrientationWeightMm,
-      py::arg("ballbar_centre") = py::none(), py::arg("calibration") = "",
+      py::arg("ballbar_centre") = py::none(), py::arg("calibration") = "", py::arg("units") = "",
+      py::arg("euler") = "",
       "`robcal validate`: a calibrated model file (`model`), or the nominal robot `robot`, "
-      "against a points, poses or distances (ballbar) file; the CLI's --json document as a dict "
+      "against a points, poses or distances (ballbar) file (units, euler: as calibrate's, for "
+      "files that do not declare them); the CLI's --json document as a dict "
       "plus per-row arrays (docs/method/09-validation.md)");
 
   m.def(
@@ -161,7 +157,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         if (calibration) options.calibration_mm = measured_positions(calibration->set);
         ValidateResult result =
             run_released([&] { return validate(model, measurements.set, options, name); });
-        result.warnings = measurements.warnings;
+        result.warnings.insert(result.warnings.begin(), measurements.warnings.begin(),
+                               measurements.warnings.end());
         return validate_dict(result);
       },
       py::arg("model"), py::arg("measurements"), py::arg("fit_base") = false,

@@ -21,6 +21,8 @@
 #include "robcal/io/robot_file.hpp"
 #include "robcal/sim/simulator.hpp"
 #include "robcal/validate/base_fit.hpp"
+#include "test_external_data.hpp"
+#include "test_support.hpp"
 
 namespace robcal::campaign {
 namespace {
@@ -98,8 +100,12 @@ TEST(CampaignFrames, CircleFitAgreesWithTheNeuebotIrb140Recording) {
   // Cross-check on public data (read in place, never copied): neuebot/Kinematic-Calibration's
   // ABB IRB 140 joint-2 sweep, t,x,y,z in metres, whose centre lies on the nominal geometry
   // (a1 = 0.070, d1 = 0.352 m) and whose axis is the base y axis.
-  const std::string path = "/work/shared/data/external/neuebot__Kinematic-Calibration/ABB/j2.csv";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is not on this machine";
+  const test::ExternalFile file =
+      test::find_external_data("neuebot__Kinematic-Calibration/ABB/j2.csv");
+  if (!file.path)
+    GTEST_SKIP() << "the read-only reference is not beside the source tree; looked at:"
+                 << file.searched;
+  const std::string path = file.path->string();
   std::ifstream in(path);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const TextTable table = read_text_table(text, path);

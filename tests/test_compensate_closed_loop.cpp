@@ -78,7 +78,7 @@ TEST(CompensateClosedLoop, CompensatedErrorFarBelowUncompensated) {
       report.uncompensated.mean_mm, report.uncompensated.max_mm, report.uncompensated.max_deg);
   EXPECT_EQ(report.compensated.count, 200);
   EXPECT_EQ(report.uncompensated.count, 200);
-  // The published robot is off by about a millimetre (docs/method/11-published-results.md); the
+  // The published robot is off by about a millimetre (docs/method/11-published-results.md §1); the
   // model of the truth is the fitted one's, so what is left is noise propagated through the fit.
   EXPECT_GT(report.uncompensated.mean_mm, 0.3);
   EXPECT_LT(report.compensated.max_mm, 0.1);

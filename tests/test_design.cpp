@@ -1,5 +1,6 @@
-// Configuration design (docs/method/05-observability.md): observability indices, rank-r information
-// updates, candidates, selection quality against random sets and the continuous D-optimum.
+// Configuration design (docs/method/05-observability.md §1): observability indices, rank-r
+// information updates, candidates, selection quality against random sets and the continuous
+// D-optimum.
 
 #include <gtest/gtest.h>
 

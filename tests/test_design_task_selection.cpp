@@ -1,5 +1,5 @@
-// Task-aware selection and the `plan` workflow (docs/method/05-observability.md, issue 13 item 7,
-// issue 16 `plan --cell`, issue 21 streamed candidates): the I-optimal criterion against the
+// Task-aware selection and the `plan` workflow (docs/method/05-observability.md §5, issue 13 item
+// 7, issue 16 `plan --cell`, issue 21 streamed candidates): the I-optimal criterion against the
 // prediction it stands for, a local optimum checked by brute force, the robustness guard,
 // default constraints from the robot file, the user's candidate list, the cell's feasibility.
 

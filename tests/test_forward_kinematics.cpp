@@ -1,5 +1,5 @@
 // Forward kinematics against independent values: the IRB 120 home pose, the reference data
-// set's 200 nominal and true poses (an independent implementation of METHOD), pybotics' UR10
+// set's 200 nominal and true poses (an independent implementation of docs/method/), pybotics' UR10
 // poses (Craig MDH), and derivatives against finite differences.
 
 #include <ceres/jet.h>

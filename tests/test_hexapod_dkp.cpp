@@ -1,5 +1,6 @@
-// Ballbar hexapod geometry (docs/method/07-hexapod.md): Tri against hand cases, fixture triangles,
-// the DKP round trip in the right assembly mode, ill-posed inputs, the 72 poses and their pruning.
+// Ballbar hexapod geometry (docs/method/07-hexapod.md §2): Tri against hand cases, fixture
+// triangles, the DKP round trip in the right assembly mode, ill-posed inputs, the 72 poses and
+// their pruning.
 
 #include <gtest/gtest.h>
 

@@ -299,17 +299,20 @@ TEST(HexapodFourCup, RefusesIllPosedInputWithReasons) {
   EXPECT_NE(r.message.find("base fixture: the fourth cup B4 is collinear with B1 and B2"),
             std::string::npos)
       << r.message;
+  EXPECT_EQ(r.culprit, FourCupInput::BaseFixture);
   collinear = c;
   collinear.tool[3] = c.tool[2] + 0.4 * (c.tool[2] - c.tool[1]);  // beyond T3 on the line T2 T3
   r = solve_four_cup_dkp(four_cup_distances(collinear.base, collinear.tool, collinear.legs));
   EXPECT_NE(r.message.find("tool fixture: the fourth cup T4 is collinear with T2 and T3"),
             std::string::npos)
       << r.message;
+  EXPECT_EQ(r.culprit, FourCupInput::ToolFixture);
 
   FourCupDkpRequest request = four_cup_distances(c.base, c.tool, design_legs_plus({{2, 3}}));
   r = solve_four_cup_dkp(request);
   EXPECT_EQ(r.message,
             "base cup B4 has no leg: measure at least one leg from B4 or leave the cup out");
+  EXPECT_EQ(r.culprit, FourCupInput::Legs);  // the missing leg, not the fixture
   request = four_cup_distances(c.base, c.tool, design_legs_plus({{3, 0}}));
   r = solve_four_cup_dkp(request);
   EXPECT_NE(r.message.find("tool cup T4 has no leg"), std::string::npos) << r.message;
@@ -324,14 +327,16 @@ TEST(HexapodFourCup, RefusesIllPosedInputWithReasons) {
             std::string::npos);
   request = four_cup_distances(c.base, c.tool, c.legs);
   request.base.fourth->at(1) = -2;
-  EXPECT_NE(solve_four_cup_dkp(request).message.find("base fixture: side d24 = -2 mm"),
-            std::string::npos);
+  r = solve_four_cup_dkp(request);
+  EXPECT_NE(r.message.find("base fixture: side d24 = -2 mm"), std::string::npos);
+  EXPECT_EQ(r.culprit, FourCupInput::BaseFixture);
   // Without ρ31 no base cup reaches T1 alone: no 3-3 design to start from.
   request = four_cup_distances(c.base, c.tool, c.legs);
   request.legs.erase(request.legs.begin() + 5);
   r = solve_four_cup_dkp(request);
   EXPECT_EQ(r.status, FourCupDkpStatus::InvalidInput);
   EXPECT_NE(r.message.find("do not include a 1^12 2^123 3^1 design"), std::string::npos);
+  EXPECT_EQ(r.culprit, FourCupInput::Legs);
 }
 
 TEST(HexapodCupCollision, RefusesCoincidingCupsCrossingLegsAndLegsThroughCups) {

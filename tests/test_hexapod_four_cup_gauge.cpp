@@ -48,7 +48,7 @@ TEST(HexapodGauge, FixtureSidesMustBeWithinTheGaugeReach) {
 }
 
 /// Configurations of the plan with a leg the gauge cannot read when the robot goes where its
-/// nominal model says (the first pass of docs/method/07-hexapod.md, before any preliminary
+/// nominal model says (the first pass of docs/method/07-hexapod.md §5, before any preliminary
 /// calibration).
 int unreadable_with_nominal_model(double range_mm, int* planned) {
   const RobotModel model = load_robot("fanuc-lrmate200ic");

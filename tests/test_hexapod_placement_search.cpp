@@ -171,6 +171,9 @@ TEST(HexapodPlacementSearch, BadGridsAreRefused) {
   request.y_mm = std::vector<double>(50, 0.0);
   request.x_mm = std::vector<double>(50, 450.0);
   EXPECT_REFUSED(search_placements(model, request), InputError, "2500 placements");
+  request = PlacementSearchRequest{};
+  request.best = 0;
+  EXPECT_REFUSED(search_placements(model, request), InputError, "--best");
 }
 
 }  // namespace

@@ -180,6 +180,31 @@ TEST(MeasurementFileErrors, NanAndInfinity) {
             "m.csv:2:11 (z): '1e999' is not finite: expected a finite number (mm)");
 }
 
+// The plausible ranges of the header (±100 m, ±720°) in the file's declared units, the bounds
+// themselves accepted.
+TEST(MeasurementFileErrors, ImplausibleValuesNameTheRangeInTheFilesUnit) {
+  const std::string tail =
+      ": a typo or a unit slip? (declare the units with '# units: m, rad' or --units if they are "
+      "not mm and degrees)";
+  EXPECT_EQ(error_of(std::string(kPointsHeader) + "c1,A,0,0,0,0,0,0,1e300,2,3\n"),
+            "m.csv:2:9 (x): 1e300 is outside the plausible range [-100000, 100000] mm" + tail);
+  EXPECT_EQ(error_of(std::string(kPointsHeader) + "c1,A,0,0,0,0,0,0,1,-100000.5,3\n"),
+            "m.csv:2:10 (y): -100000.5 is outside the plausible range [-100000, 100000] mm" + tail);
+  EXPECT_EQ(error_of(std::string(kPointsHeader) + "c1,A,0,0,0,0,0,721,1,2,3\n"),
+            "m.csv:2:8 (j6): 721 is outside the plausible range [-720, 720] degrees" + tail);
+  EXPECT_EQ(
+      error_of("# units: m, rad\n" + std::string(kPointsHeader) + "c1,A,0,13,0,0,0,0,1,2,3\n"),
+      "m.csv:3:4 (j2): 13 is outside the plausible range [-12.5664, 12.5664] rad" + tail);
+  EXPECT_EQ(error_of("# units: m\n" + std::string(kPointsHeader) + "c1,A,0,0,0,0,0,0,1,2,101\n"),
+            "m.csv:3:11 (z): 101 is outside the plausible range [-100, 100] m" + tail);
+  EXPECT_EQ(error_of("config,target,j1,j2,j3,j4,j5,j6,length\nb,A,0,0,0,0,0,0,2e5\n"),
+            "m.csv:2:9 (length): length 2e5 is outside the plausible range (0, 100000] mm: "
+            "expected a distance above 0");
+  EXPECT_EQ(error_of("config,j1,j2,j3,j4,j5,j6,x,y,z,a,b,c\np,0,0,0,0,0,0,0,0,0,0,900,0\n"),
+            "m.csv:2:12 (b): 900 is outside the plausible range [-720, 720] degrees" + tail);
+  EXPECT_EQ(error_of(std::string(kPointsHeader) + "c1,A,720,-720,0,0,0,0,100000,-100000,3\n"), "");
+}
+
 TEST(MeasurementFileErrors, DuplicateRowsNameBothLines) {
   EXPECT_EQ(error_of(std::string(kPointsHeader) +
                      "c1,A,0,0,0,0,0,0,1,2,3\nc1,B,0,0,0,0,0,0,1,2,3\nc1,A,0,0,0,0,0,0,1,2,3\n"),
@@ -203,9 +228,13 @@ TEST(MeasurementFileErrors, NonUnitQuaternion) {
             "a unit quaternion (within 1e-05)");
 }
 
-TEST(MeasurementFileErrors, NegativeLengthAndEmptyConfig) {
+TEST(MeasurementFileErrors, NonPositiveLengthAndEmptyConfig) {
   EXPECT_EQ(error_of("config,target,j1,j2,j3,j4,j5,j6,length\nb,A,0,0,0,0,0,0,-1\n"),
-            "m.csv:2:9 (length): length -1 is negative: expected a distance ≥ 0 (mm)");
+            "m.csv:2:9 (length): length -1 is outside the plausible range (0, 100000] mm: "
+            "expected a distance above 0");
+  EXPECT_EQ(error_of("config,target,j1,j2,j3,j4,j5,j6,length\nb,A,0,0,0,0,0,0,0\n"),
+            "m.csv:2:9 (length): length 0 is outside the plausible range (0, 100000] mm: "
+            "expected a distance above 0");
   EXPECT_EQ(error_of(std::string(kPointsHeader) + ",A,0,0,0,0,0,0,1,2,3\n"),
             "m.csv:2:1 (config): empty config: expected a name");
 }

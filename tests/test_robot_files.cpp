@@ -27,6 +27,7 @@
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
 #include "robcal/kinematics/orientation.hpp"
+#include "test_external_data.hpp"
 #include "test_support.hpp"
 
 namespace robcal {
@@ -127,24 +128,12 @@ TEST(RobotFiles, KukaKr6R900MatchesRosIndustrialOpwParameters) {
 }
 
 TEST(RobotFiles, FanucLrMate200iCMatchesRosIndustrialOpwParameters) {
-  const std::filesystem::path file =
-      "JeroenDM__wip_fanuc_opw_parameters/kinematics_lrmate200ic.yaml";
-  std::vector<std::filesystem::path> searched;
-  if (const char* env = std::getenv("ROBCAL_EXTERNAL_DATA_DIR")) searched.emplace_back(env);
-  // The source tree (above tests/data) and its parents: the first shared/data/external found.
-  const std::filesystem::path tests_data =
-      std::filesystem::absolute(test::data_path("")).lexically_normal().parent_path();
-  for (std::filesystem::path dir = tests_data.parent_path().parent_path(); dir.has_relative_path();
-       dir = dir.parent_path())
-    searched.push_back(dir / "shared" / "data" / "external");
-  const auto found = std::find_if(searched.begin(), searched.end(),
-                                  [&](const auto& d) { return std::filesystem::exists(d / file); });
-  if (found == searched.end()) {
-    std::string where;
-    for (const auto& d : searched) where += "\n  " + (d / file).string();
-    GTEST_SKIP() << "the read-only reference is not beside the source tree; looked at:" << where;
-  }
-  const std::filesystem::path path = *found / file;
+  const test::ExternalFile file =
+      test::find_external_data("JeroenDM__wip_fanuc_opw_parameters/kinematics_lrmate200ic.yaml");
+  if (!file.path)
+    GTEST_SKIP() << "the read-only reference is not beside the source tree; looked at:"
+                 << file.searched;
+  const std::filesystem::path& path = *file.path;
   const OpwParameters opw = read_opw(path.string());
   // The OPW geometry is docs/method/02-frames.md §7's table: a1 = link2.a, a2 = −link4.a, c1 = d1,
   // c2 = link3.a, c3 = link4.d, c4 = link6.d.

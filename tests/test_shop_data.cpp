@@ -10,9 +10,12 @@
 
 #include <Eigen/Geometry>
 
+#include "robcal/compensate/calibrated_ik.hpp"
 #include "robcal/identify/calibration_run.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
+#include "robcal/kinematics/inverse_kinematics.hpp"
+#include "test_compensate_support.hpp"
 #include "test_support.hpp"
 
 namespace robcal {
@@ -103,6 +106,34 @@ void expect_within_3_sigma(const IdentificationResult& r, const ParameterVector&
   EXPECT_LE(beyond_3_sigma, 2);
 }
 
+/// Compensation works with the fitted model (issue 13: a singular or absurd model must not be
+/// written). At configurations ≥ 10° from singularities, the calibrated inverse converges for
+/// the calibration's payload and for 5 kg (`compensate --payload-mass-kg 5`), and the true robot
+/// at the compensated joints puts the TCP (`true_tcp`: the truth's flange_T_tcp) where it was
+/// wanted, within 4 × the fit's own predicted maximum error against the true robot.
+void expect_compensates(const IdentificationResult& r, const RobotModel& real,
+                        const ParameterVector& truth, const Pose<double>& true_tcp,
+                        std::mt19937_64& rng) {
+  const Compensator as_calibrated = make_compensator(r.robot);
+  const Compensator heavy = make_compensator(r.robot, PointMass{5.0, {0, 0, 80}});
+  int solved = 0;
+  for (const Vector6d& q : configurations(real, 30, rng)) {
+    if (test::near_singular(real, q, 10)) continue;
+    ++solved;
+    const PointMass& payload = as_calibrated.payload;
+    const Pose<double> wanted = flange_pose(real, payload, truth, q) * true_tcp;
+    const CalibratedIkResult ik = calibrated_ik(as_calibrated, wanted, arm_config(real, q), q);
+    ASSERT_TRUE(ik.ok()) << to_string(ik.status);
+    const Pose<double> reached = flange_pose(real, payload, truth, ik.joints) * true_tcp;
+    // A floor of 1 µm for noise-free data: the inverse's own tolerance is 5e-7 mm.
+    EXPECT_LT((reached.p - wanted.p).norm(), std::max(4 * r.predicted.max_mm, 1e-3));
+    const Pose<double> wanted_heavy = flange_pose(real, heavy.payload, truth, q) * true_tcp;
+    const CalibratedIkResult ik_heavy = calibrated_ik(heavy, wanted_heavy, arm_config(real, q), q);
+    EXPECT_TRUE(ik_heavy.ok()) << to_string(ik_heavy.status);
+  }
+  EXPECT_GE(solved, 15);
+}
+
 TEST(ShopData, ChiSquareTailMatchesTabulatedQuantiles) {
   // χ² quantiles (Abramowitz & Stegun table 26.8): P(χ²_ν ≥ x) for (ν, x, P).
   EXPECT_NEAR(chi_square_upper_tail(149.449, 100), 0.001, 0.0002);
@@ -177,6 +208,7 @@ TEST(ShopData, OneTargetOnTheToolAxisPayloadFreeToolInMetres) {
   EXPECT_TRUE(r.noise_test.consistent) << r.noise_test.p_value;
   EXPECT_TRUE(run.problems.empty());
   expect_within_3_sigma(r, truth);
+  expect_compensates(r, model, truth, {}, rng);
 }
 
 TEST(ShopData, NearlyOnAxisTargetIsHeldAndNamedBeforeTheFit) {
@@ -198,6 +230,7 @@ TEST(ShopData, NearlyOnAxisTargetIsHeldAndNamedBeforeTheFit) {
   EXPECT_TRUE(has_warning(r, "link6.theta: these measurements barely see it"));
   EXPECT_TRUE(has_warning(r, "link6.a is held at its nominal value"));
   expect_within_3_sigma(r, truth);
+  expect_compensates(r, model, truth, {}, rng);
   // Asked to keep them, the fit says so and the correlated pair is free.
   options.resolve_near_dependencies = false;
   const IdentificationResult kept = calibrate(model, tool, file.measurements, options);
@@ -236,6 +269,46 @@ TEST(ShopData, RobotFileWithoutMassesSaysSo) {
             "the robot file gives no masses ('masses:'), so the gravity torques that deflect the "
             "joint are unknown");
   expect_within_3_sigma(r, truth);
+  expect_compensates(r, model, truth, {}, rng);
+}
+
+TEST(ShopData, RobotFileWithoutLinkMassesButAPayloadSaysTheCompliancesAreBiased) {
+  // The real arm has its link masses; the user's robot file does not, the tool has 2.6 kg.
+  const RobotModel real = load_robot("abb-irb120");
+  RobotModel stripped = real;
+  for (PointMass& m : stripped.link_masses) m = {};
+  auto rng = test::seeded_rng(1307);
+  const ParameterVector truth = shop_truth(real, rng, {}, 4e-7);
+  const Tool tool = published_tool();
+  MeasurementSet data;
+  data.kind = MeasurementKind::Points;
+  std::normal_distribution<double> noise(0.0, 0.02);
+  const auto configs = configurations(real, 60, rng);
+  for (size_t k = 0; k < configs.size(); ++k) {
+    PointMeasurement m{std::to_string(k), static_cast<int>(k % 3), configs[k], {}, int(k) + 2};
+    m.position_mm =
+        flange_pose(real, tool.payload, truth, configs[k]) * tool.targets[k % 3].position_mm;
+    for (int a = 0; a < 3; ++a) m.position_mm[a] += noise(rng);
+    data.points.push_back(m);
+  }
+  const IdentificationResult r = calibrate(stripped, tool, data, IdentifyOptions{});
+  EXPECT_TRUE(has_warning(r,
+                          "the robot file of ABB IRB 120 gives no link masses ('masses:'), only "
+                          "the tool's payload: the compliances (joint2.compliance, "
+                          "joint3.compliance, joint4.compliance, joint5.compliance, "
+                          "joint6.compliance) see the payload's torque alone and absorb the "
+                          "deflection under the arm's own weight, so their values are biased. "
+                          "Add each link's mass_kg and cog_mm to the robot file"));
+  // The warning is warranted: joint 2 carries the arm, its compliance is far off the truth.
+  const int j2 = compliance_param(2);
+  const UnknownEstimate& c2 = r.unknowns[static_cast<size_t>(j2)];
+  ASSERT_EQ(c2.status, ParameterStatus::Identified);
+  const double truth_external =
+      truth[j2] * parameter_table()[static_cast<size_t>(j2)].to_external();
+  EXPECT_GT(std::abs(c2.value - truth_external), 3 * c2.std_dev)
+      << c2.value << " ± " << c2.std_dev << ", truth " << truth_external;
+  // With the masses in the robot file there is no such warning.
+  EXPECT_FALSE(has_warning(calibrate(real, tool, data, IdentifyOptions{}), "no link masses"));
 }
 
 /// A 6D instrument's poses file of the truth's TCP frame, orientation in `convention`.
@@ -305,12 +378,65 @@ TEST(ShopData, UnknownTcpFromEulerPoseFilesOfThreeConventionsAndAMovedBase) {
     for (const UnknownEstimate& u : r.unknowns)
       if (u.name.starts_with("tcp.")) EXPECT_EQ(u.status, ParameterStatus::Identified) << u.name;
     expect_within_3_sigma(r, truth);
+    expect_compensates(r, model, truth, {tcp.linear(), tcp.translation()}, rng);
   }
   // The same poses with a tool file that has no tcp: loudly taken as the flange.
   const MeasurementFile file =
       parse_measurements_csv(pose_file(model, truth, tcp, configs, "abc", rng), "p.csv", Tool{});
   const IdentificationResult flange = calibrate(model, Tool{}, file.measurements, {});
   EXPECT_TRUE(has_warning(flange, "POSES WITHOUT A TCP: the tool file has no 'tcp'"));
+}
+
+TEST(ShopData, TcpGivenInPartIdentifiesOnlyTheMissingPart) {
+  RobotModel model = load_robot("abb-irb120");
+  for (PointMass& m : model.link_masses) m = {};
+  auto rng = test::seeded_rng(1308);
+  const ParameterVector truth = shop_truth(model, rng, {"link6.d", "link6.theta"}, 0.0);
+  Eigen::Isometry3d tcp = Eigen::Isometry3d::Identity();
+  tcp.translation() = Eigen::Vector3d(-8, 30, 140);
+  tcp.linear() =
+      Eigen::AngleAxisd(deg2rad(25), Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  const Eigen::Quaterniond q(tcp.linear());
+  const std::string position = fmt::format("[{:.12f}, {:.12f}, {:.12f}]", tcp.translation().x(),
+                                           tcp.translation().y(), tcp.translation().z());
+  const std::string rotation =
+      fmt::format("[{:.15f}, {:.15f}, {:.15f}, {:.15f}]", q.w(), q.x(), q.y(), q.z());
+  const auto configs = configurations(model, 40, rng);
+  const std::string text = pose_file(model, truth, tcp, configs, "abc", rng);
+  for (const bool position_missing : {true, false}) {
+    SCOPED_TRACE(position_missing ? "position_mm: ~" : "quaternion_wxyz: ~");
+    const Tool tool = parse_tool(
+        yaml::parse(position_missing ? "tcp: {position_mm: ~, quaternion_wxyz: " + rotation + "}\n"
+                                     : "tcp: {position_mm: " + position + ", quaternion_wxyz: ~}\n",
+                    "tool.yaml"));
+    EXPECT_EQ(tool.tcp_position_known, !position_missing);
+    EXPECT_EQ(tool.tcp_orientation_known, position_missing);
+    const MeasurementFile file = parse_measurements_csv(text, "part.csv", tool);
+    CalibrationRequest request;
+    request.options.level = CalibrationLevel::Kinematic;
+    request.options.instrument_sigma_mm = 0.01;
+    const CalibrationRun run = run_calibration(model, tool, file.measurements, request);
+    const IdentificationResult& r = run.result;
+    EXPECT_TRUE(run.problems.empty()) << (run.problems.empty() ? "" : run.problems[0]);
+    EXPECT_TRUE(r.noise_test.consistent) << r.noise_test.chi_square << " / " << r.noise_test.dof;
+    std::vector<std::string> tcp_unknowns;
+    for (const UnknownEstimate& u : r.unknowns)
+      if (u.name.starts_with("tcp.")) {
+        tcp_unknowns.push_back(u.name);
+        EXPECT_EQ(u.status, ParameterStatus::Identified) << u.name;
+      }
+    const std::vector<std::string> expected =
+        position_missing ? std::vector<std::string>{"tcp.x", "tcp.y", "tcp.z"}
+                         : std::vector<std::string>{"tcp.rx", "tcp.ry", "tcp.rz"};
+    EXPECT_EQ(tcp_unknowns, expected);
+    // The missing part identified, the given part kept as written.
+    const Eigen::Isometry3d& got = r.robot.tool.flange_T_tcp;
+    const double rotation_error_deg =
+        rad2deg(Eigen::AngleAxisd(got.linear().transpose() * tcp.linear()).angle());
+    EXPECT_LT((got.translation() - tcp.translation()).norm(), position_missing ? 0.05 : 1e-9);
+    EXPECT_LT(rotation_error_deg, position_missing ? 1e-9 : 0.01);
+    expect_compensates(r, model, truth, {tcp.linear(), tcp.translation()}, rng);
+  }
 }
 
 TEST(ShopData, TcpRotationJacobianMatchesFiniteDifferences) {
@@ -379,22 +505,55 @@ TEST(ShopData, MisfitIsReportedAndCrossValidatedAnotherRobotIsNotTrusted) {
   ASSERT_TRUE(run.cross_validation.has_value());
   EXPECT_TRUE(run.cross_validation_for_misfit);
   EXPECT_EQ(run.cross_validation->folds, kMisfitFolds);
-  // The held-out error shows the misfit that the covariance prediction calls noise.
-  EXPECT_GT(run.cross_validation->mean_mm, run.result.predicted.mean_mm);
+  // Like with like, on new configurations of the same robot: the calibrated model's error
+  // against the true robot (the periodic error included) exceeds what the covariance predicts
+  // against the truth, which counts the misfit as noise; against new measurements (the truth
+  // plus the instrument's noise) the held-out error of the cross-validation predicts it.
+  const CalibratedRobot& fitted = run.result.robot;
+  double truth_error = 0, measurement_error = 0;
+  const auto fresh = configurations(model, 300, rng);
+  for (size_t k = 0; k < fresh.size(); ++k) {
+    Vector6d q = fresh[k];
+    q[1] += deg2rad(0.02) * std::sin(3 * q[1] + 1.0);
+    const Eigen::Vector3d truth_mm =
+        flange_pose(model, tool.payload, truth, q) * tool.targets[k % 3].position_mm;
+    const Eigen::Vector3d model_mm = flange_pose(model, tool.payload, fitted.params, fresh[k]) *
+                                     fitted.tool.targets[k % 3].position_mm;
+    truth_error += (model_mm - truth_mm).norm() / static_cast<double>(fresh.size());
+    measurement_error +=
+        (model_mm - truth_mm - Eigen::Vector3d(noise(rng), noise(rng), noise(rng))).norm() /
+        static_cast<double>(fresh.size());
+  }
+  std::cout << fmt::format(
+      "misfit: mean error against the truth {:.4f} mm (covariance predicts {:.4f}), against new "
+      "measurements {:.4f} mm (cross-validated {:.4f}, covariance {:.4f})\n",
+      truth_error, run.result.predicted.mean_mm, measurement_error, run.cross_validation->mean_mm,
+      run.result.predicted.mean_vs_measurements_mm);
+  EXPECT_GT(truth_error, 1.5 * run.result.predicted.mean_mm)
+      << "predicted " << run.result.predicted.mean_mm;
+  EXPECT_NEAR(run.cross_validation->mean_mm, measurement_error, 0.25 * measurement_error);
+  // Without the misfit the two agree (within the spread of 50 held-out rows).
+  CalibrationRequest asked = request;
+  asked.kfold = kMisfitFolds;
   // Consistent without the effect: no cross-validation unless asked.
   MeasurementSet clean = data;
   for (size_t k = 0; k < configs.size(); ++k)
     clean.points[k].position_mm =
         flange_pose(model, tool.payload, truth, configs[k]) * tool.targets[k % 3].position_mm +
         Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
-  const CalibrationRun fine = run_calibration(model, tool, clean, request);
+  const CalibrationRun fine = run_calibration(model, tool, clean, asked);
   EXPECT_TRUE(fine.result.noise_test.consistent) << fine.result.noise_test.p_value;
-  EXPECT_FALSE(fine.cross_validation.has_value());
+  ASSERT_TRUE(fine.cross_validation.has_value());
+  EXPECT_FALSE(fine.cross_validation_for_misfit);
+  EXPECT_NEAR(fine.cross_validation->mean_mm, fine.result.predicted.mean_vs_measurements_mm,
+              0.3 * fine.result.predicted.mean_vs_measurements_mm);
+  EXPECT_FALSE(run_calibration(model, tool, clean, request).cross_validation.has_value());
   EXPECT_TRUE(fine.problems.empty());
   // One residual definition: start and calibrated alike, mean ≤ rms ≤ max.
   EXPECT_LE(fine.result.mean_mm, fine.result.rms_mm);
   EXPECT_LE(fine.result.rms_mm, fine.result.max_mm);
   EXPECT_GT(fine.result.start_rms_mm, 10 * fine.result.rms_mm);
+  expect_compensates(fine.result, model, truth, {}, rng);
 
   // The KUKA's model on the IRB 120's data: not trustworthy, says what to check.
   const CalibrationRun wrong =
@@ -425,6 +584,7 @@ TEST(ShopData, JointsOutsideTheLimitsAreWarnedWithTheirLines) {
                                          "(wrong robot file, or another joint convention?):\n"
                                          "  lim.csv:9: j2 = {:.3f}° outside [-110, 110]°",
                                          rad2deg(configs[7][1]))));
+  expect_compensates(r, model, truth, {}, rng);
 }
 
 }  // namespace

@@ -8,10 +8,9 @@
 
 #include "cli_common.hpp"
 #include "command_registry.hpp"
+#include "robcal/identify/calibrate_workflow.hpp"
 #include "robcal/identify/calibration_output.hpp"
-#include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
-#include "robcal/io/robot_file.hpp"
 
 namespace robcal::cli {
 namespace {
@@ -27,23 +26,22 @@ struct CalibrateArgs {
   bool json = false, keep_near_dependent = false, force = false;
 };
 
-void print_report(const CalibrationRun& run, const CalibrateArgs& args,
-                  const MeasurementSet& data) {
+void print_report(const CalibrationRun& run, const std::string& out, bool refused) {
   const IdentificationResult& r = run.result;
   const CrossValidation* cv = run.cross_validation ? &*run.cross_validation : nullptr;
   if (r.reidentification)
     fmt::print("re-identified {} on the calibrated {} (level {}) from {} rows of {} ({})\n",
-               r.reidentification->what, r.robot.model.name, r.robot.level, data.size(),
-               measurement_kind_name(data.kind), data.file);
+               r.reidentification->what, r.robot.model.name, r.robot.level, run.rows,
+               measurement_kind_name(run.kind), run.file);
   else
     fmt::print("calibrated {} at level {} from {} rows of {} ({})\n", r.robot.model.name,
-               r.robot.level, data.size(), measurement_kind_name(data.kind), data.file);
+               r.robot.level, run.rows, measurement_kind_name(run.kind), run.file);
   fmt::print("solver: {} after {} iterations ({})\n",
              r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations,
              r.status.message);
-  const char* what = data.kind == MeasurementKind::Distances ? "|length error|"
-                     : data.kind == MeasurementKind::Poses   ? "TCP position error"
-                                                             : "3D position error";
+  const char* what = run.kind == MeasurementKind::Distances ? "|length error|"
+                     : run.kind == MeasurementKind::Poses   ? "TCP position error"
+                                                            : "3D position error";
   fmt::print("residual per row ({}), training data:\n", what);
   fmt::print("  calibrated:               mean {:.4f}  rms {:.4f}  max {:.4f} mm\n", r.mean_mm,
              r.rms_mm, r.max_mm);
@@ -60,7 +58,7 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
         r.noise_test.consistent ? "the residuals are the instrument's noise"
                                 : "the residuals EXCEED what the instrument's noise explains: "
                                   "the model misses systematic effects (or σ is understated)");
-  if (data.kind == MeasurementKind::Poses)
+  if (run.kind == MeasurementKind::Poses)
     fmt::print("orientation residuals weighted {:g} mm per rad (--orientation-weight)\n",
                run.options.orientation_weight_mm);
   for (const auto& t : r.by_target)
@@ -141,66 +139,33 @@ void print_report(const CalibrationRun& run, const CalibrateArgs& args,
                  cv->per_fold[f].rows, cv->per_fold[f].mean_mm, cv->per_fold[f].std_mm,
                  cv->per_fold[f].max_mm);
   for (const std::string& problem : run.problems) fmt::print("PROBLEM: {}\n", problem);
-  if (run.problems.empty() || args.force) fmt::print("written {}\n", args.out);
+  if (!refused) fmt::print("written {}\n", out);
 }
 
 void run_calibrate(const CalibrateArgs& args) {
-  check_orientation_weight(args.orientation_weight);
-  std::optional<CalibratedRobot> start;
-  if (!args.model.empty()) start = load_calibrated_robot(args.model);
-  if (!start && args.robot.empty())
-    throw InputError({"", 0, 0, "--robot"},
-                     "give the robot (--robot) to calibrate, or a calibrated model (--model) to "
-                     "re-identify a part of");
-  if (!start && args.tool.empty())
-    throw InputError({"", 0, 0, "--tool"}, "give the tool file (--tool)");
-  if (start && !args.robot.empty())
-    throw InputError({"", 0, 0, "--robot"},
-                     "--model already holds the robot; give either --robot or --model");
-  std::optional<Tool> tool;
-  if (!args.tool.empty()) tool = load_tool(args.tool);
-  MeasurementFormat format;
-  if (!args.units.empty()) parse_units(args.units, {"", 0, 0, "--units"}, format);
-  if (!args.euler.empty()) format.euler = parse_euler_order(args.euler, {"", 0, 0, "--euler"});
-  const MeasurementFile file =
-      read_measurements_csv(args.measurements, tool ? *tool : start->tool, {}, format);
-  for (const std::string& w : file.warnings) std::cerr << "warning: " << w << "\n";
-  if (args.loss != "none" && args.loss != "huber")
-    throw InputError({"", 0, 0, "--loss"},
-                     fmt::format("unknown loss '{}': expected none or huber", args.loss));
-  IdentifyOptions options;
-  options.level = !start ? parse_calibration_level(args.level.empty() ? "full" : args.level)
-                  : args.level.empty() ? CalibrationLevel::Patterns
-                                       : parse_reidentification_level(args.level);
+  CalibrateFilesRequest request{args.robot, args.model, args.tool, args.measurements, args.units,
+                                args.euler, args.level, args.loss, args.folds,        {}};
+  IdentifyOptions& options = request.request.options;
   options.identify = args.identify;
   options.fix = args.fix;
-  options.huber = args.loss == "huber";
   options.huber_scale_mm = args.huber_scale;
   options.orientation_weight_mm = args.orientation_weight;
   options.seed = args.seed;
   options.instrument_sigma_mm = args.sigma;
   options.resolve_near_dependencies = !args.keep_near_dependent;
-  CalibrationRequest request{options, args.kfold, {}};
-  if (!args.folds.empty()) request.folds = read_folds_csv(args.folds);
-  const bool progress = !args.json && stdout_is_terminal();
-  if (progress) fmt::print("calibrating ({} rows)…\n", file.measurements.size());
-  const CalibrationRun run =
-      start ? reidentify(*start, tool, file.measurements, request)
-            : run_calibration(load_robot(args.robot), *tool, file.measurements, request);
-  for (const std::string& w : run.result.warnings) std::cerr << "warning: " << w << "\n";
+  request.request.kfold = args.kfold;
+  if (!args.json && stdout_is_terminal()) fmt::print("calibrating…\n");
+  const CalibrationRun run = calibrate_files(request);
+  for (const std::string& w : run.warnings) std::cerr << "warning: " << w << "\n";
   const Provenance provenance =
       calibration_provenance(run, {args.model, args.tool, args.measurements});
-  const bool write = run.problems.empty() || args.force;
-  if (write) write_file_atomically(args.out, calibrated_model_file(run, &provenance));
+  const std::optional<std::string> refusal =
+      write_calibration(run, args.out, args.force, &provenance);
   if (args.json)
-    print_json(calibration_run_json(run, write ? args.out : ""));
+    print_json(calibration_run_json(run, refusal ? "" : args.out));
   else
-    print_report(run, args, file.measurements);
-  if (!write)
-    throw std::runtime_error(fmt::format(
-        "{} not written: the fit is not trustworthy ({} problem{} above); fix the cause, or "
-        "write it anyway with --force",
-        args.out, run.problems.size(), run.problems.size() > 1 ? "s" : ""));
+    print_report(run, args.out, refusal.has_value());
+  if (refusal) throw std::runtime_error(*refusal);
 }
 
 const bool registered = register_command(30, [](CLI::App& app) {

@@ -35,7 +35,7 @@ void run(const DemoOptions& o) {
   fmt::print("robcal demo: ABB IRB 120 measured by a simulated laser tracker (seed {})\n",
              o.request.seed);
   fmt::print(
-      "  true robot: the published identified IRB 120 (docs/method/11-published-results.md), "
+      "  true robot: the published identified IRB 120 (docs/method/11-published-results.md §3), "
       "tracker σ 0.022 mm/axis\n");
   fmt::print(
       "  plan: {} configurations chosen D-optimally among {} feasible candidates; {} measured\n",
@@ -60,7 +60,8 @@ void run(const DemoOptions& o) {
         std::to_string(level.fit.identified_count));
   fmt::print(
       "\nPublished, real IRB 120 + laser tracker, 1000 validation configurations "
-      "(docs/method/11-published-results.md):\n  before 3.168 mm mean; after (full model) 0.146 mm "
+      "(docs/method/11-published-results.md §1):\n  before 3.168 mm mean; after (full model) 0.146 "
+      "mm "
       "mean\n");
   fmt::print(
       "\nwrote {}/ (calibration/, validation/, plan.csv, models/, report.html, report.json) "

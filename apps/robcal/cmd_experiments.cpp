@@ -1,5 +1,5 @@
-/// `robcal experiments`: the published simulation experiments (docs/method/11-published-results.md)
-/// reproduced as a bench, results as JSON and a markdown table beside the published figures.
+/// `robcal experiments`: the published simulation experiments (docs/method/11-published-results.md
+/// §2) reproduced as a bench, results as JSON and a markdown table beside the published figures.
 
 #include <fmt/format.h>
 
@@ -36,7 +36,7 @@ const bool registered = register_command(96, [](CLI::App& app) {
   auto o = std::make_shared<ExperimentOptions>();
   auto* cmd = app.add_subcommand(
       "experiments",
-      "Reproduce the published simulation experiments (docs/method/11-published-results.md)");
+      "Reproduce the published simulation experiments (docs/method/11-published-results.md §2)");
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   cmd->add_option("--seed", o->seed, "Seed of every random draw")->capture_default_str();
   cmd->add_flag("--json", o->json, "Machine-readable output");

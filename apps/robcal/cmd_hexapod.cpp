@@ -26,7 +26,7 @@
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
-#include "robcal/hexapod/session.hpp"
+#include "robcal/hexapod/session_workflow.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/world_frame.hpp"
 #include "robcal/identify/unknowns.hpp"
@@ -110,24 +110,13 @@ void run_four_cup_dkp(const std::string& base, const std::string& tool,
                             parse_measured_legs(legs_text)};
   const FourCupDkpResult r = solve_four_cup_dkp(request);
   if (r.status != FourCupDkpStatus::Ok) {
-    const std::string key = r.message.rfind("base fixture", 0) == 0   ? "--base-mm"
-                            : r.message.rfind("tool fixture", 0) == 0 ? "--tool-mm"
-                                                                      : "--legs";
-    throw InputError({"", 0, 0, key}, r.message);
+    const char* flag = r.culprit == FourCupInput::BaseFixture   ? "--base-mm"
+                       : r.culprit == FourCupInput::ToolFixture ? "--tool-mm"
+                                                                : "--legs";
+    throw InputError({"", 0, 0, flag}, r.message);
   }
   if (json) {
-    nlohmann::json out{{"distances", r.distance_names}, {"solutions", nlohmann::json::array()}};
-    for (const FourCupSolution& s : r.solutions) {
-      nlohmann::json cups = nlohmann::json::array();
-      for (const Eigen::Vector3d& c : s.tool_cups) cups.push_back({c.x(), c.y(), c.z()});
-      nlohmann::json sigma = nlohmann::json::array();
-      for (const CupUncertainty& u : s.uncertainty) sigma.push_back(u.norm);
-      out["solutions"].push_back({{"mode", s.mode},
-                                  {"rms_residual_mm", s.rms_residual_mm},
-                                  {"tool_cups_mm", cups},
-                                  {"uncertainty_sigma_multiple", sigma}});
-    }
-    print_json(out);
+    print_json(four_cup_dkp_json(r));
     return;
   }
   fmt::print(
@@ -292,22 +281,18 @@ void run_world_frame(const std::string& points, const std::string& sides, bool j
 
 // ---- set-up and planning ---------------------------------------------------------------------
 
-/// The cell options shared by `setup`, `plan` and `simulate`.
+/// The cell options shared by `setup`, `plan`, `place` and `simulate`: the flags set the plan
+/// request's fields; the fixtures and the placement text are parsed by request().
 struct CellOptions {
-  std::string robot = "fanuc-lrmate200ic";
+  HexapodPlanRequest plan;
   std::string placement = "450,0,300,0";
-  double tool_offset_mm = 100;
-  double ball_offset_mm = 100;
-  double table_z_mm = 0;
-  double angle_deg = 30;
-  double distance_mm = 50;
-  double tilt_deg = 0;
 
   /// `with_placement` false: the command searches placements itself (`place`).
   void add_to(CLI::App* cmd, bool with_placement = true) {
-    cmd->add_option("--robot", robot, "Built-in robot name or robot file")->capture_default_str();
+    cmd->add_option("--robot", plan.robot, "Built-in robot name or robot file")
+        ->capture_default_str();
     if (with_placement) {
-      cmd->add_option("--tilt-deg", tilt_deg,
+      cmd->add_option("--tilt-deg", plan.tilt_deg,
                       "Tilt of the base fixture's pivoting platform about the placement's x axis")
           ->capture_default_str();
       cmd->add_option("--placement", placement,
@@ -315,51 +300,45 @@ struct CellOptions {
                       "cups (mm) and yaw about z (deg)")
           ->capture_default_str();
     }
-    cmd->add_option("--tool-offset-mm", tool_offset_mm,
+    cmd->add_option("--tool-offset-mm", plan.tool_offset_mm,
                     "Tool fixture centroid along the flange z axis (fixture plane ⟂ flange axis)")
         ->capture_default_str();
-    cmd->add_option("--ball-offset-mm", ball_offset_mm,
+    cmd->add_option("--ball-offset-mm", plan.ball_offset_mm,
                     "Setting ball (TCP used to place the base cups) along the flange z axis")
         ->capture_default_str();
-    cmd->add_option("--table-z-mm", table_z_mm, "Table plane height in the robot frame")
+    cmd->add_option("--table-z-mm", plan.table_z_mm, "Table plane height in the robot frame")
         ->capture_default_str();
-    cmd->add_option("--angle-deg", angle_deg, "Pruning: redundant when closer in orientation…")
+    cmd->add_option("--angle-deg", plan.angle_deg, "Pruning: redundant when closer in orientation…")
         ->capture_default_str();
-    cmd->add_option("--distance-mm", distance_mm,
+    cmd->add_option("--distance-mm", plan.distance_mm,
                     "… and closer in position (tool-fixture centroid)")
         ->capture_default_str();
   }
   [[nodiscard]] HexapodPlanRequest request(const HexapodGeometry& geometry) const {
-    HexapodPlanRequest r;
-    r.robot = robot;
+    HexapodPlanRequest r = plan;
     r.geometry = geometry;
     r.placement = parse_placement(placement, {"", 0, 0, "--placement"});
-    r.tool_offset_mm = tool_offset_mm;
-    r.ball_offset_mm = ball_offset_mm;
-    r.table_z_mm = table_z_mm;
-    r.angle_deg = angle_deg;
-    r.distance_mm = distance_mm;
-    r.tilt_deg = tilt_deg;
     return r;
   }
   [[nodiscard]] Pose<double> rough_placement() const {
-    return placement_pose(parse_placement(placement, {"", 0, 0, "--placement"}), tilt_deg);
+    return placement_pose(parse_placement(placement, {"", 0, 0, "--placement"}), plan.tilt_deg);
   }
 };
 
 void run_setup(const CellOptions& o, double side_mm, bool json) {
-  const RobotModel model = load_robot(o.robot);
-  const nlohmann::json points =
-      setting_ball_json(plan_setting_ball(model, o.rough_placement(), side_mm, o.ball_offset_mm));
+  const nlohmann::json out =
+      setup_json(o.plan.robot, side_mm,
+                 plan_setting_ball(load_robot(o.plan.robot), o.rough_placement(), side_mm,
+                                   o.plan.ball_offset_mm));
   if (json) {
-    print_json({{"robot", o.robot}, {"side_mm", side_mm}, {"setting_ball", points}});
+    print_json(out);
     return;
   }
   fmt::print(
       "Put the setting ball (TCP {} mm along the flange z, pointing down) at these points, "
       "{} mm apart by the robot's own model; snap and lock each base cup there:\n",
-      o.ball_offset_mm, side_mm);
-  for (const nlohmann::json& p : points) {
+      o.plan.ball_offset_mm, side_mm);
+  for (const nlohmann::json& p : out["setting_ball"]) {
     fmt::print("{}  x {:.3f}  y {:.3f}  z {:.3f} mm\n", p["cup"].get<std::string>(),
                p["ball_position_mm"][0].get<double>(), p["ball_position_mm"][1].get<double>(),
                p["ball_position_mm"][2].get<double>());
@@ -375,7 +354,7 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
   request.gauge = m.gauge;
   request.cups = m.cups;
   if (!cell_path.empty()) request.workcell = campaign::load_cell(cell_path);
-  const RobotModel model = load_robot(o.robot);
+  const RobotModel model = load_robot(o.plan.robot);
   const HexapodPlan plan = plan_hexapod(model, request);
   if (!out_path.empty()) write_hexapod_plan(out_path, plan);
   if (json) {
@@ -422,12 +401,11 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
   request.level = parse_calibration_level(level);
   request.validation_configurations = validation;
   request.seed = seed;
-  if (best < 1) throw InputError({"", 0, 0, "--best"}, "expected at least 1");
-  request.pair_candidates = std::max(best, 2);
-  const RobotModel model = load_robot(o.robot);
+  request.best = best;
+  const RobotModel model = load_robot(o.plan.robot);
   const PlacementSearchResult r = search_placements(model, request);
   if (json) {
-    print_json(placement_search_json(r, best));
+    print_json(placement_search_json(r));
     return;
   }
   fmt::print(
@@ -478,101 +456,40 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
 
 // ---- session ---------------------------------------------------------------------------------
 
-/// One operator answer: a reading (mm), "out" (ballbar out of range), "quit", or invalid.
-struct Answer {
-  enum Kind { Reading, Out, Quit, Invalid } kind = Invalid;
-  double value = 0;
-};
-
-Answer parse_answer(const std::string& line) {
-  const auto first = line.find_first_not_of(" \t\r");
-  if (first == std::string::npos) return {};
-  const std::string text = line.substr(first, line.find_last_not_of(" \t\r") - first + 1);
-  if (text == "out" || text == "x") return {Answer::Out};
-  if (text == "quit" || text == "q") return {Answer::Quit};
-  try {
-    size_t used = 0;
-    const double v = std::stod(text, &used);
-    if (used == text.size() && std::isfinite(v)) return {Answer::Reading, v};
-  } catch (const std::exception&) {
-  }
-  return {};
-}
-
-void run_session(const std::string& plan_path, const std::string& journal_path, bool resume,
-                 const std::string& out_path, bool json) {
-  Session session(read_hexapod_plan(plan_path).session);
-  SessionJournal journal =
-      resume ? SessionJournal::open_for_resume(journal_path) : SessionJournal::create(journal_path);
+void run_session(const HexapodSessionRequest& request, bool json) {
   std::FILE* talk = json ? stderr : stdout;  // prompts never mix with the JSON result
-  if (resume)
-    fmt::print(talk, "Resumed {}: {} readings replayed.\n", journal_path, journal.replay(session));
-  while (const std::optional<SessionStep> step = session.next_step()) {
-    fmt::print(talk, "{}\n> ", step->prompt);
-    std::fflush(talk);
-    std::string line;
-    if (!std::getline(std::cin, line)) {
-      fmt::print(talk, "\nInput ended. Every reading is in {}; continue with --resume.\n",
-                 journal_path);
-      return;
-    }
-    const Answer answer = parse_answer(line);
-    if (answer.kind == Answer::Quit) {
-      fmt::print(talk, "Stopped. Every reading is in {}; continue with --resume.\n", journal_path);
-      return;
-    }
-    if (answer.kind == Answer::Invalid ||
-        (answer.kind == Answer::Out && step->kind != StepKind::Leg)) {
-      fmt::print(talk, "'{}' is not a reading: enter a length in mm{}, or 'quit'.\n", line,
-                 step->kind == StepKind::Leg ? ", 'out' when the ballbar does not fit" : "");
-      continue;
-    }
-    const std::optional<double> reading =
-        answer.kind == Answer::Reading ? std::optional<double>(answer.value) : std::nullopt;
-    std::string message;
-    try {
-      message = session.record(reading);
-    } catch (const InputError& e) {
-      fmt::print(talk, "{}\n", e.what());
-      continue;
-    }
-    journal.append(step->key, reading);
-    if (!message.empty()) fmt::print(talk, "{}\n", message);
-  }
-  const nlohmann::json result = session.result_json();
-  if (!out_path.empty()) write_file_atomically(out_path, result.dump(2) + "\n");
+  const campaign::SessionIo io{
+      [talk](const std::string& text) {
+        fmt::print(talk, "{}", text);
+        std::fflush(talk);
+      },
+      [talk](const std::string& why) { fmt::print(talk, "{}\n", why); },
+      [](std::string& line) { return static_cast<bool>(std::getline(std::cin, line)); },
+      {}};
+  const HexapodSessionRun run = run_hexapod_session(request, io);
   if (json) {
-    print_json(result);
+    print_json(hexapod_session_json(run));
     return;
   }
+  if (run.stop != HexapodSessionStop::Complete) return;
+  const nlohmann::json result = run.session.result_json();
   fmt::print(
       "Session complete: {} configurations measured, {} to retry after the preliminary "
       "calibration.{}\n",
       result["measured"].get<int>(), result["retry_after_preliminary_calibration"].get<int>(),
-      out_path.empty() ? "" : " Result: " + out_path);
+      request.out.empty() ? "" : " Result: " + request.out);
 }
 
 // ---- simulate ------------------------------------------------------------------------------
 
-void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m, uint64_t seed,
-                  int validation, int threads, bool leg_fit, bool relative, bool json) {
-  const RobotModel model = load_robot(cell_options.robot);
-  EndToEndOptions o;
-  o.cell.range_mm = m.gauge.range_mm;
-  o.cell.sigma_mm = m.gauge.sigma_mm;
-  o.cups = m.cups;
-  o.cell.placement = cell_options.rough_placement();
-  o.cell.tool_offset_mm = cell_options.tool_offset_mm;
-  o.cell.ball_offset_mm = cell_options.ball_offset_mm;
-  o.cell.table_z_mm = cell_options.table_z_mm;
-  o.angle_deg = cell_options.angle_deg;
-  o.distance_mm = cell_options.distance_mm;
-  o.validation_configurations = validation;
-  o.threads = threads;
-  o.leg_fit = leg_fit;
-  o.relative_pose_fit = relative;
+void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m,
+                  const EndToEndOptions& settings, uint64_t seed, bool json) {
+  HexapodPlanRequest cell = cell_options.request(HexapodGeometry{});
+  cell.gauge = m.gauge;
+  cell.cups = m.cups;
+  const EndToEndOptions o = end_to_end_options(cell, settings);
   std::mt19937_64 rng(seed);
-  const EndToEndReport r = run_end_to_end(model, o, rng);
+  const EndToEndReport r = run_end_to_end(load_robot(cell.robot), o, rng);
   const nlohmann::json out = end_to_end_json(r, o, seed);
   if (json) {
     print_json(out);
@@ -593,7 +510,8 @@ void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m, ui
       "mm, "
       "{:.4f}° (the uncalibrated robot placed the cups){}\n",
       r.world_frame_rms_mm, r.world_frame_error_mm, r.world_frame_error_deg,
-      relative ? "; pose fits hold the base (relative model)" : "; pose fits identify the base");
+      o.relative_pose_fit ? "; pose fits hold the base (relative model)"
+                          : "; pose fits identify the base");
   fmt::print("validation on {} random configurations (laser tracker), mm:\n",
              r.validation_configurations);
   fmt::print("{:<26} {:>8} {:>8} {:>8}   {:>10} {:>10}\n", "model", "mean", "std", "max",
@@ -605,7 +523,7 @@ void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m, ui
   row("nominal", r.nominal);
   row("preliminary (poses)", r.preliminary.validation);
   row("final (poses)", r.final_pose_fit.validation);
-  if (leg_fit) row("final (raw legs)", r.leg_fit.validation);
+  if (o.leg_fit) row("final (raw legs)", r.leg_fit.validation);
   fmt::print(
       "published (LR Mate 200iC, real robot): nominal 1.355 mean; 46 configs 0.517 / 1.223; "
       "61 configs 0.796 / 1.630; pairs 1.062 → 0.400 / 1.666\n");
@@ -787,26 +705,26 @@ const bool registered = register_command(60, [](CLI::App& app) {
     auto cell = std::make_shared<CellOptions>();
     auto measuring = std::make_shared<MeasuringOptions>();
     auto seed = std::make_shared<uint64_t>(1);
-    auto validation = std::make_shared<int>(10000);
-    auto threads = std::make_shared<int>(2);
+    auto settings = std::make_shared<EndToEndOptions>();
     auto no_leg_fit = std::make_shared<bool>(false);
-    auto relative = std::make_shared<bool>(false);
     auto json = std::make_shared<bool>(false);
     cell->add_to(cmd);
     measuring->add_to(cmd);
     cmd->add_option("--seed", *seed, "Seed of the true robot, the readings and the validation")
         ->capture_default_str();
-    cmd->add_option("--validation", *validation, "Random validation configurations")
+    cmd->add_option("--validation", settings->validation_configurations,
+                    "Random validation configurations")
         ->capture_default_str();
-    cmd->add_option("--threads", *threads, "Threads of the all-pairs statistics")
+    cmd->add_option("--threads", settings->threads, "Threads of the all-pairs statistics")
         ->capture_default_str();
     cmd->add_flag("--no-leg-fit", *no_leg_fit, "Skip the fit from the raw leg readings");
-    cmd->add_flag("--relative", *relative,
+    cmd->add_flag("--relative", settings->relative_pose_fit,
                   "Pose fits hold the base (the published relative model) instead of identifying "
                   "it");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
-      run_simulate(*cell, *measuring, *seed, *validation, *threads, !*no_leg_fit, *relative, *json);
+      settings->leg_fit = !*no_leg_fit;
+      run_simulate(*cell, *measuring, *settings, *seed, *json);
     });
   }
   {
@@ -814,20 +732,20 @@ const bool registered = register_command(60, [](CLI::App& app) {
         "session",
         "Guided measurement: prompts step by step, readings typed or piped on stdin, every "
         "reading journaled at once");
-    auto plan = std::make_shared<std::string>();
-    auto journal = std::make_shared<std::string>();
-    auto resume = std::make_shared<bool>(false);
-    auto out = std::make_shared<std::string>();
+    auto request = std::make_shared<HexapodSessionRequest>();
     auto json = std::make_shared<bool>(false);
-    cmd->add_option("--plan", *plan, "Plan file (JSON, from `robcal hexapod plan --out`)")
+    cmd->add_option("--plan", request->plan, "Plan file (JSON, from `robcal hexapod plan --out`)")
         ->required();
-    cmd->add_option("--journal", *journal,
+    cmd->add_option("--journal", request->journal,
                     "Session journal (created; must not exist unless --resume)")
         ->required();
-    cmd->add_flag("--resume", *resume, "Replay the journal and continue where it stopped");
-    cmd->add_option("--out", *out, "Result file (JSON), written once the session is complete");
-    cmd->add_flag("--json", *json, "Print the result as JSON (prompts go to stderr)");
-    cmd->callback([=] { run_session(*plan, *journal, *resume, *out, *json); });
+    cmd->add_flag("--resume", request->resume, "Replay the journal and continue where it stopped");
+    cmd->add_option("--out", request->out,
+                    "Result file (JSON), written once the session is complete");
+    cmd->add_flag("--json", *json,
+                  "Print the status and, when complete, the result as JSON (prompts go to "
+                  "stderr)");
+    cmd->callback([=] { run_session(*request, *json); });
   }
 });
 

@@ -20,7 +20,6 @@
 #include "robcal/hexapod/session_data.hpp"
 #include "robcal/hexapod/simulated_readings.hpp"
 #include "robcal/io/atomic_file.hpp"
-#include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 
 namespace robcal::cli {
@@ -48,9 +47,8 @@ struct SessionOptions {
                       "targets are replaced by the tool fixture's cups");
   }
   [[nodiscard]] SessionData load() const { return load_sessions(sessions, plan); }
-  [[nodiscard]] Tool hexapod_tool_of(const SessionData& data) const {
-    const PointMass payload = tool.empty() ? PointMass{} : load_tool(tool).payload;
-    return hexapod_tool(payload, data.flange_T_tool, data.tool_sides);
+  [[nodiscard]] PointMass payload() const {
+    return tool.empty() ? PointMass{} : load_tool(tool).payload;
   }
 };
 
@@ -68,6 +66,9 @@ class OutputFiles {
   void add(const std::string& path, std::string text) {
     if (!path.empty()) files_.emplace_back(path, std::move(text));
   }
+  void add(const RenderedFiles& files) {
+    for (const auto& [path, text] : files) add(path, text);
+  }
   void write() const {
     for (const auto& [path, text] : files_) write_file_atomically(path, text);
   }
@@ -75,23 +76,6 @@ class OutputFiles {
  private:
   std::vector<std::pair<std::string, std::string>> files_;
 };
-
-/// The poses CSV (the tool fixture poses `poses`, or the session's when not given), the raw legs
-/// CSV and the tool file, for those of the paths given.
-void add_exports(OutputFiles& files, const SessionData& data, const Tool& tool,
-                 const MeasurementSet* poses, const std::string& poses_out,
-                 const std::string& legs_out, const std::string& tool_out) {
-  if (!poses_out.empty()) {
-    const std::string comment = fmt::format(
-        "tool fixture poses of {} by the ballbar hexapod's direct kinematics, robot frame through "
-        "the world frame of the base cups",
-        data.source);
-    files.add(poses_out, write_measurements_csv(poses ? *poses : session_pose_measurements(data),
-                                                tool, comment));
-  }
-  if (!legs_out.empty()) files.add(legs_out, session_legs_csv(data));
-  if (!tool_out.empty()) files.add(tool_out, tool_to_yaml(tool));
-}
 
 // ---- calibrate -------------------------------------------------------------------------------
 
@@ -115,24 +99,16 @@ void run_calibrate(const CalibrateOptions& o) {
   request.orientation_weight_mm = o.orientation_weight;
   request.seed = o.seed;
   const RobotModel model = load_robot(o.robot);
+  request.exports = {o.poses_out, o.legs_out, o.tool_out};
   const std::vector<SessionData> placements = load_placements(o.session.sessions, o.session.plan);
   const SessionData& data = placements.front();
-  if (placements.size() > 1)
-    for (const auto& [flag, path] :
-         {std::pair{"--poses-out", &o.poses_out}, {"--legs-out", &o.legs_out}})
-      if (!path->empty())
-        throw InputError({*path, 0, 0, flag},
-                         fmt::format("sessions of {} placements: export each placement's sessions "
-                                     "with `robcal hexapod export-poses`",
-                                     placements.size()));
-  const PointMass payload =
-      o.session.tool.empty() ? PointMass{} : load_tool(o.session.tool).payload;
+  const PointMass payload = o.session.payload();
   if (request.fit == SessionFit::Poses && !o.json && stdout_is_terminal())
     fmt::print("calibrating ({} poses)…\n", data.readings.size());
   const SessionCalibration c = calibrate_sessions(placements, model, payload, request);
   OutputFiles files;
   files.add(o.out, c.model_file);
-  add_exports(files, data, c.tool, &c.poses, o.poses_out, o.legs_out, o.tool_out);
+  files.add(c.exports);
   files.write();
   if (o.json) {
     print_json(session_calibration_json(placements, model, c, o.out));
@@ -158,11 +134,14 @@ void run_calibrate(const CalibrateOptions& o) {
   }
   const IdentificationResult& r = *c.identification;
   fmt::print(
-      "calibrated {} at level {}{} from {} poses: {} after {} iterations, residual rms {:.4f} mm "
-      "(max {:.4f}, start {:.4f}), {} unknowns identified\nwritten {}\n",
+      "calibrated {} at level {}{} from {} poses: {} after {} iterations, {} unknowns "
+      "identified\n"
+      "TCP error per pose, mm: mean {:.4f} rms {:.4f} max {:.4f} (nominal at the start: mean "
+      "{:.4f} rms {:.4f} max {:.4f})\nwritten {}\n",
       model.name, r.robot.level, o.relative ? " (relative: base held)" : "", c.poses.size(),
-      r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations, r.rms_mm,
-      r.max_mm, r.status.initial_rms_mm, r.identified_count, o.out);
+      r.status.converged ? "converged" : "DID NOT CONVERGE", r.status.iterations,
+      r.identified_count, r.mean_mm, r.rms_mm, r.max_mm, r.start_mean_mm, r.start_rms_mm,
+      r.start_max_mm, o.out);
   if (!data.retry.empty())
     fmt::print(
         "{} configurations were out of the ballbar's range: re-plan them on this model with "
@@ -173,24 +152,19 @@ void run_calibrate(const CalibrateOptions& o) {
 
 // ---- export-poses ----------------------------------------------------------------------------
 
-void run_export(const SessionOptions& s, const std::string& out, const std::string& legs_out,
-                const std::string& tool_out, bool json) {
+void run_export(const SessionOptions& s, const SessionExportPaths& paths, bool json) {
   const SessionData data = s.load();
-  const WorldFrameFit world = session_world_frame(data);
+  const SessionExport exported = export_session(data, s.payload(), paths);
   OutputFiles files;
-  add_exports(files, data, s.hexapod_tool_of(data), nullptr, out, legs_out, tool_out);
+  files.add(exported.files);
   files.write();
   if (json) {
-    nlohmann::json summary = session_summary_json(data, world);
-    summary["poses"] = out;
-    summary["legs"] = legs_out;
-    summary["tool"] = tool_out;
-    print_json(summary);
+    print_json(session_export_json(data, exported, paths));
     return;
   }
-  print_session_summary(data, world);
-  fmt::print("written {}{}{}\n", out, legs_out.empty() ? "" : ", " + legs_out,
-             tool_out.empty() ? "" : ", " + tool_out);
+  print_session_summary(data, exported.world);
+  fmt::print("written {}{}{}\n", paths.poses, paths.legs.empty() ? "" : ", " + paths.legs,
+             paths.tool.empty() ? "" : ", " + paths.tool);
 }
 
 // ---- replan ----------------------------------------------------------------------------------
@@ -218,34 +192,23 @@ struct SimulateReadingsOptions {
 };
 
 void run_simulate_readings(const SimulateReadingsOptions& o) {
-  const RobotModel model = load_robot(o.robot);
-  const PointMass payload = o.payload.empty() ? PointMass{2.6, Eigen::Vector3d(50, 25, 100)}
-                                              : load_tool(o.payload).payload;
+  SimulatedReadingsRequest request{
+      o.plan, std::nullopt, o.seed,
+      o.validation_out.empty() ? std::min(o.validation, 0) : o.validation};
+  if (!o.payload.empty()) request.payload = load_tool(o.payload).payload;
   const SimulatedReadings r =
-      simulate_readings(read_hexapod_plan(o.plan), o.plan, model, payload, o.seed,
-                        o.validation_out.empty() ? std::min(o.validation, 0) : o.validation);
+      simulate_readings(read_hexapod_plan(o.plan), load_robot(o.robot), request);
   OutputFiles files;
   files.add(o.out, readings_text(r));
   files.add(o.tool_out, tool_to_yaml(r.tool));
-  if (!r.validation.points.empty())
-    files.add(
-        o.validation_out,
-        write_measurements_csv(
-            r.validation, r.tool,
-            fmt::format("simulated laser tracker (0.022 mm) on tool cup T1, seed {}", o.seed)));
+  if (!r.validation.points.empty()) files.add(o.validation_out, validation_csv(r));
   files.write();
-  const int readings = static_cast<int>(r.readings.size());
   if (o.json) {
-    print_json({{"seed", o.seed},
-                {"readings", readings},
-                {"legs_out_of_range", r.out_of_range},
-                {"out", o.out},
-                {"tool", o.tool_out},
-                {"validation", o.validation_out}});
+    print_json(simulated_readings_json(r, o.out, o.tool_out, o.validation_out));
     return;
   }
-  fmt::print("{} readings ({} legs out of range) for {} written to {} (seed {})\n", readings,
-             r.out_of_range, o.plan, o.out, o.seed);
+  fmt::print("{} readings ({} legs out of range) for {} written to {} (seed {})\n",
+             r.readings.size(), r.out_of_range, o.plan, o.out, o.seed);
 }
 
 const bool registered = register_command(61, [](CLI::App& app) {
@@ -286,16 +249,16 @@ const bool registered = register_command(61, [](CLI::App& app) {
         "Write a session's readings as a poses measurement CSV (for `robcal calibrate`), the raw "
         "legs CSV and the tool file");
     auto s = std::make_shared<SessionOptions>();
-    auto out = std::make_shared<std::string>();
-    auto legs = std::make_shared<std::string>();
-    auto tool = std::make_shared<std::string>();
+    auto paths = std::make_shared<SessionExportPaths>();
     auto json = std::make_shared<bool>(false);
     s->add_to(cmd);
-    cmd->add_option("--out", *out, "Poses CSV: config,j1..j6,x,y,z,qw,qx,qy,qz")->required();
-    cmd->add_option("--legs-out", *legs, "Raw legs CSV");
-    cmd->add_option("--tool-out", *tool, "Tool file: payload, cups T1..T3, TCP = tool fixture");
+    cmd->add_option("--out", paths->poses, "Poses CSV: config,j1..j6,x,y,z,qw,qx,qy,qz")
+        ->required();
+    cmd->add_option("--legs-out", paths->legs, "Raw legs CSV");
+    cmd->add_option("--tool-out", paths->tool,
+                    "Tool file: payload, cups T1..T3, TCP = tool fixture");
     cmd->add_flag("--json", *json, "Machine-readable summary");
-    cmd->callback([=] { run_export(*s, *out, *legs, *tool, *json); });
+    cmd->callback([=] { run_export(*s, *paths, *json); });
   }
   {
     auto* cmd = hex->add_subcommand(

@@ -11,6 +11,7 @@
 #include "robcal/campaign/cell.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/design/calibration_planning.hpp"
+#include "robcal/design/plan_report.hpp"
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/pose_list_file.hpp"
@@ -47,21 +48,13 @@ struct PlanOptions {
   bool json = false;
 };
 
-nlohmann::json indices_json(const ObservabilityIndices& o) {
-  return {{"O1", tidy(o.O1)},
-          {"O2", tidy(o.O2)},
-          {"O3", tidy(o.O3)},
-          {"O4", tidy(o.O4)},
-          {"O5", tidy(o.O5)}};
-}
-
 /// The world the task region is given in: the planning cell's, where the robot stands as in the
 /// simulator's standard cell (and its instruments see it).
 std::string planning_world_help() {
   const std::array<double, 6> b = default_base_placement();
   return fmt::format(
       "World frame: the cell's (without --cell the simulator's, robot base at x {} y {} z {} mm, "
-      "α β γ {} {} {} deg, docs/method/02-frames.md)",
+      "α β γ {} {} {} deg, docs/method/02-frames.md §4)",
       b[0], b[1], b[2], b[3], b[4], b[5]);
 }
 
@@ -117,50 +110,7 @@ void run_plan(const PlanOptions& o) {
   for (int p : r.dropped) dropped.push_back(parameter_table()[static_cast<size_t>(p)].name);
   const std::string level = level_name(request.level);
   if (o.json) {
-    nlohmann::json out;
-    out["selected"] = indices_json(r.selected);
-    out["random"] = indices_json(r.random);
-    out["count"] = request.count;
-    out["d_efficiency"] = tidy(r.d_efficiency_selected, 4);
-    out["d_efficiency_random"] = tidy(r.d_efficiency_random, 4);
-    out["candidates"] = r.candidates;
-    out["pooled"] = r.pooled;
-    out["parameters"] = r.parameters.size();
-    out["dropped"] = dropped;
-    out["criterion"] = criterion_name(r.criterion);
-    out["guard"] = request.guard.enabled && r.criterion == SelectionCriterion::IOptimal;
-    out["near_edge"] = {
-        {"selected", r.near_edge}, {"random", r.near_edge_random}, {"limit", r.edge_limit}};
-    out["exchanges"] = r.exchanges;
-    out["notes"] = r.notes;
-    out["restarts"] = r.restarts;
-    out["seed"] = request.seed;
-    out["instrument"] = r.instrument;
-    out["cell"] = r.cell;
-    out["level"] = level;
-    out["sigma_mm"] = r.sigma_mm;
-    out["predicted_error_mm"] = {{"task_configurations", r.task_configurations},
-                                 {"task_region", r.region},
-                                 {"basis", "instrument noise only"},
-                                 {"selected",
-                                  {{"mean", tidy(r.predicted_selected.mean_mm, 6)},
-                                   {"rms", tidy(r.predicted_selected.rms_mm, 6)},
-                                   {"max", tidy(r.predicted_selected.max_mm, 6)}}},
-                                 {"random",
-                                  {{"mean", tidy(r.predicted_random.mean_mm, 6)},
-                                   {"rms", tidy(r.predicted_random.rms_mm, 6)},
-                                   {"max", tidy(r.predicted_random.max_mm, 6)}}}};
-    if (r.misfit)
-      out["predicted_error_with_misfit_mm"] = {
-          {"misfit_rms", tidy(r.misfit->misfit_mm, 6)},
-          {"source", r.misfit->source},
-          {"held_out_rms", tidy(r.misfit->held_out_rms_mm, 6)},
-          {"held_out_noise", tidy(r.misfit->noise_mm, 6)},
-          {"held_out_parameter_noise", tidy(r.misfit->parameter_noise_mm, 6)},
-          {"selected", {{"rms", tidy(r.predicted_rms_with_misfit_selected, 6)}}},
-          {"random", {{"rms", tidy(r.predicted_rms_with_misfit_random, 6)}}}};
-    out["out"] = o.out;
-    print_json(out);
+    print_json(plan_json(request, r, o.out));
     return;
   }
   if (r.candidates < request.candidates && request.candidate_configurations.empty())

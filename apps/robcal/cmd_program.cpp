@@ -81,7 +81,7 @@ const bool registered = register_command(65, [](CLI::App& app) {
   cmd->add_option("--settle-s", r->settle_s, "Wait after reaching each configuration (s)");
   cmd->add_option(
       "--approach-deg", r->approach_deg,
-      "Approach offset on every joint (deg, docs/method/05-observability.md; default 5)");
+      "Approach offset on every joint (deg, docs/method/05-observability.md §4; default 5)");
   cmd->add_option("--speed-percent", r->joint_speed_percent, "Joint speed, % (default 10)");
   cmd->add_option("--max-configs-per-file", r->max_configs_per_file,
                   "Split into programs of at most this many configurations (default: the "

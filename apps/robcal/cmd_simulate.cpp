@@ -39,7 +39,7 @@ const bool registered = register_command(80, [](CLI::App& app) {
   cmd->add_option("--robot", o->request.robot, "Built-in robot name or robot file")
       ->capture_default_str();
   cmd->add_option("--truth", o->request.truth,
-                  "The real robot: published (docs/method/11-published-results.md IRB 120), "
+                  "The real robot: published (docs/method/11-published-results.md §3 IRB 120), "
                   "random, or a truth file")
       ->capture_default_str();
   cmd->add_option(

@@ -149,6 +149,12 @@ const bool registered = register_command(60, [](CLI::App& app) {
                   "Validation measurements: points, poses or distances (ballbar) CSV (mm, "
                   "degrees)")
       ->required();
+  cmd->add_option("--units", r.units,
+                  "Units of the measurement files when they do not declare them ('# units: m, "
+                  "rad'): a length unit mm or m and/or an angle unit deg or rad (as calibrate)");
+  cmd->add_option("--euler", r.euler,
+                  "Rotation order of rx,ry,rz columns when the file does not declare it "
+                  "('# euler: intrinsic ZYX'): intrinsic or extrinsic and an order of X, Y, Z");
   cmd->add_option("--orientation-weight", r.options.orientation_weight_mm,
                   "Poses files: mm per rad of orientation error in the combined pose error "
                   "(as calibrate --orientation-weight)")

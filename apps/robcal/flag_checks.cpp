@@ -15,9 +15,9 @@ namespace {
 
 // Flags whose negative values mean nothing: a negative σ or scale is a slip. (--floor-mm may be
 // negative: a robot on a pedestal.)
-constexpr std::array<std::string_view, 9> kNonNegativeFlags{
+constexpr std::array<std::string_view, 10> kNonNegativeFlags{
     "--error-angle-deg",    "--noise-mm",        "--huber-scale", "--error-length-mm", "--sigma-um",
-    "--orientation-weight", "--payload-mass-kg", "--angle-deg",   "--distance-mm"};
+    "--orientation-weight", "--payload-mass-kg", "--angle-deg",   "--distance-mm",     "--sigma"};
 // Counts (of configurations, runs, samples, …): whole numbers from 0 to a bound that keeps what
 // they size in memory. --candidates has its own, larger, bound in the library.
 constexpr std::array<std::string_view, 11> kCountFlags{

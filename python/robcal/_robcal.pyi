@@ -161,6 +161,23 @@ class UnknownEstimate:
     """Why fixed or dropped."""
 
 
+class NoiseTest:
+    """Are the residuals the instrument's noise? RSS/σ² against χ²(m − n)."""
+
+    tested: bool
+    """False without a stated instrument σ."""
+    instrument_sigma_mm: float
+    """The instrument's stated σ per axis, mm."""
+    chi_square: float
+    """RSS / σ²."""
+    dof: int
+    """Degrees of freedom, m − n."""
+    p_value: float
+    """P(χ²_dof ≥ chi_square)."""
+    consistent: bool
+    """False when the residuals exceed what the instrument's σ explains (misfit)."""
+
+
 class PredictedAccuracy:
     """Cramér–Rao predicted position error (mm) over configurations."""
 
@@ -199,6 +216,11 @@ class CalibratedRobot:
         """Loads a calibrated model file written by calibrate."""
 
     @staticmethod
+    def from_dict(d: Dict[str, Any]) -> "CalibratedRobot":
+        """A calibrated model from a dict with the calibrated model file's fields (errors name
+        the key)."""
+
+    @staticmethod
     def nominal(model: RobotModel, tool: Optional[Tool] = None) -> "CalibratedRobot":
         """The nominal robot as a model with no world frame (validate with fit_base=True)."""
 
@@ -225,12 +247,28 @@ class IdentificationResult:
     """Scalar residuals."""
     identified_count: int
     """Identified unknowns."""
+    warnings: List[str]
+    """Found before fitting: dropped, near-dependent or unloaded parameters, joints outside
+    limits, poses without a tcp."""
     sigma_mm: float
     """A-posteriori residual standard deviation, mm."""
+    mean_mm: float
+    """Mean over rows of the position residual norm, mm."""
     rms_mm: float
     """RMS over rows of the position residual norm, mm."""
     max_mm: float
     """Largest row residual, mm."""
+    start_mean_mm: float
+    """Mean row residual of the nominal robot after the rigid fit, mm."""
+    start_rms_mm: float
+    """RMS row residual of the nominal robot after the rigid fit, mm."""
+    start_max_mm: float
+    """Largest row residual of the nominal robot after the rigid fit, mm."""
+    noise_test: NoiseTest
+    """The χ² test of the residuals against the instrument's σ (tested when sigma is given)."""
+    residuals: Array
+    """Residual of each measurement row at the solution, mm (3D position error; the TCP's for
+    poses; |length error| for distances)."""
     condition_number: float
     """Of the column-scaled Jacobian at the solution."""
     predicted: PredictedAccuracy
@@ -248,11 +286,31 @@ class IdentificationResult:
     covariance: Array
     """Covariance of the identified unknowns, external units (mm, deg, rad/N·mm)."""
 
-    def save(self, path: str) -> None:
-        """Writes the calibrated model file (YAML), whole or not at all."""
-
     def _repr_html_(self) -> str:
         """The result as an HTML table (Jupyter shows it)."""
+
+
+class Calibration:
+    """A calibration run (`robcal calibrate`): the identification (`result`, whose attributes
+    are also this object's), the warnings, the cross-validation and the problems that keep the
+    model from being saved."""
+
+    result: IdentificationResult
+    """The identification and its statistics."""
+    warnings: List[str]
+    """The measurement file's warnings, then the fit's."""
+    problems: List[str]
+    """Why the model must not be trusted (each says what to check); empty when plausible."""
+    cross_validation: Optional[Dict[str, Any]]
+    """K-fold held-out errors (kfold/folds, or run because the noise test failed): folds, seed,
+    errors_mm, mean_mm, std_mm, max_mm, per_fold, run_because_of_misfit; None when not run."""
+
+    def save(self, path: str, force: bool = False) -> None:
+        """Writes the calibrated model file (YAML), whole or not at all; InputError when the run
+        lists problems, unless force=True."""
+
+    def __getattr__(self, name: str) -> Any:
+        """The identification result's attributes (rms_mm, parameters, robot, …)."""
 
 
 class Compensator:
@@ -382,6 +440,14 @@ def fk_batch(robot: RobotModel, joints_deg: ArrayLike) -> Dict[str, Array]:
     """fk over the rows of an N×6 array: {'position_mm': N×3, 'quaternion_wxyz': N×4}."""
 
 
+def ik_batch(robot: RobotModel, position_mm: ArrayLike, quaternion_wxyz: ArrayLike,
+             seed_joints_deg: Optional[ArrayLike] = None) -> Dict[str, Any]:
+    """ik over the rows of N×3 positions (mm) and N×4 quaternions (w, x, y, z), the inverse of
+    fk_batch: per pose the solution nearest the previous pose's (the first nearest the seed),
+    {'joints_deg': N×6 (NaN rows: unreachable or outside the limits), 'config': labels,
+    'status': per pose}."""
+
+
 def ik(robot: RobotModel, position_mm: ArrayLike, quaternion_wxyz: ArrayLike,
        seed_joints_deg: Optional[ArrayLike] = None,
        require_solution: bool = False) -> Dict[str, Any]:
@@ -398,18 +464,22 @@ def robot_description(robot: RobotModel) -> Dict[str, Any]:
 
 
 def calibrate(robot: Union[None, str, RobotModel], tool: Union[None, str, Measurements],
-              *args: Any, **kwargs: Any) -> IdentificationResult:
+              *args: Any, **kwargs: Any) -> Calibration:
     """calibrate(robot, tool, measurements, level='full', identify=[], fix=[], loss='none',
-    seed=1, model=None) from files, or calibrate(robot_model, measurements, level=..., ...) from
-    objects. With model='calibrated.yaml' (robot=None) only what level ('tool': the new tool's
-    points or TCP frame; 'base': a moved base) or identify asks is re-identified, the rest kept;
-    tool=None then means the model's tool."""
+    seed=1, model=None, sigma=0, kfold=0, folds=None, units=None, euler=None,
+    orientation_weight=100, keep_near_dependent=False) from files, as `robcal calibrate` (the
+    same library workflow and checks), or calibrate(robot_model, measurements, level=..., ...,
+    sigma=0, kfold=0, orientation_weight=100, keep_near_dependent=False) from objects. With
+    model='calibrated.yaml' (robot=None) only what level ('tool': the new tool's points or TCP
+    frame; 'base': a moved base) or identify asks is re-identified, the rest kept; tool=None then
+    means the model's tool. save(path) refuses a model with problems unless force=True."""
 
 
 def calibrate_points(robot: str, tool: str, joints_deg: ArrayLike, targets: Sequence[str],
                      positions_mm: ArrayLike, level: str = "full", identify: Sequence[str] = ...,
-                     fix: Sequence[str] = ..., loss: str = "none",
-                     seed: int = 1) -> IdentificationResult:
+                     fix: Sequence[str] = ..., loss: str = "none", seed: int = 1,
+                     sigma: float = 0.0, kfold: int = 0,
+                     keep_near_dependent: bool = False) -> Calibration:
     """Calibrate from arrays: joints N×6 (deg), target names (N), positions N×3 (mm)."""
 
 
@@ -433,9 +503,10 @@ def pairwise_distance_errors(measured_mm: ArrayLike, modelled_mm: ArrayLike, thr
 
 def validate(robot: str, tool_file: str, measurements: str, model: str = "",
              fit_base: bool = False, threads: int = 2, orientation_weight: float = 100.0,
-             ballbar_centre: Optional[ArrayLike] = None, calibration: str = "") -> Dict[str, Any]:
+             ballbar_centre: Optional[ArrayLike] = None, calibration: str = "",
+             units: str = "", euler: str = "") -> Dict[str, Any]:
     """`robcal validate`: a calibrated model file or the nominal robot against a points, poses or
-    distances (ballbar) file; the CLI's --json document plus per-row arrays
+    distances (ballbar) file (units, euler: as calibrate's); the CLI's --json document plus per-row arrays
     (position_errors_mm, orientation_errors_deg, pose_errors_mm or length_errors_mm), warnings
     and notes."""
 
@@ -550,6 +621,21 @@ def montecarlo(runs: int = 1000, poses: int = 50, validation: int = 1000, thread
     prediction (`robcal montecarlo`): observed and predicted errors (mm), their ratio."""
 
 
+def model_import(out: str = "", urdf: str = "", tip: str = "", format: str = "urdf",
+                 calibration: str = "", robot: str = "") -> Dict[str, Any]:
+    """A URDF (format 'urdf') or a UR calibration.conf on its nominal robot (format
+    'ur-calibration') as a robot or nominal model file (`robcal model import`): the CLI's JSON as
+    a dict plus yaml (the file's text, written to `out` when given)."""
+
+
+def model_export(out: str = "", robot: str = "", model: str = "", format: str = "urdf",
+                 seed: int = 1) -> Dict[str, Any]:
+    """A robot (`robot`) or calibrated model file (`model`) as URDF, UR calibration.conf deltas or
+    its MDH table with σ (format 'urdf', 'ur-calibration', 'mdh-csv'; `robcal model export`): the
+    CLI's JSON as a dict (what the format leaves out and its cost at the TCP) plus text (written
+    to `out` when given)."""
+
+
 def plan(robot: str = "abb-irb120", tool: Optional[str] = None,
          instrument: str = "laser-tracker", level: str = "full", count: int = 40,
          candidates: int = 5000, candidate_joints_deg: Optional[Array] = None,
@@ -558,11 +644,11 @@ def plan(robot: str = "abb-irb120", tool: Optional[str] = None,
          cell: Optional[str] = None, task_joints_deg: Optional[Array] = None,
          task_box: Optional[str] = None, task_count: int = 1000,
          prior_model: Optional[str] = None, misfit_mm: Optional[float] = None) -> Dict[str, Any]:
-    """Choose calibration configurations and predict their accuracy (`robcal plan`):
-    joints_deg (count×6) and targets of the chosen configurations, indices for them and for a
-    random choice, predicted TCP error over the task region (mm) from instrument noise only,
-    and with_misfit when the misfit is known (prior_model: a calibrated model file with its
-    cross-validation; or misfit_mm)."""
+    """Choose calibration configurations and predict their accuracy (`robcal plan`): the CLI's
+    JSON as a dict (indices for the chosen and a random choice, predicted_error_mm over the task
+    region from instrument noise only, predicted_error_with_misfit_mm when the misfit is known:
+    prior_model, a calibrated model file with its cross-validation, or misfit_mm) plus
+    joints_deg (count×6) and targets of the chosen configurations."""
 
 
 def plan_study(robot: str = "abb-irb120", tool: Optional[str] = None,

@@ -71,11 +71,15 @@ def fit_world_frame(robot_points: npt.ArrayLike,
 
 def plan(robot: str = "fanuc-lrmate200ic", base_sides_mm: Sequence[float] = ...,
          tool_sides_mm: Sequence[float] = ..., leg_mm: float = 300.0,
-         placement: Tuple[float, float, float, float] = ..., tool_offset_mm: float = 100.0,
-         ball_offset_mm: float = 100.0, table_z_mm: float = 0.0, angle_deg: float = 30.0,
-         distance_mm: float = 50.0) -> Plan:
+         placement: Tuple[float, float, float, float] = ..., tilt_deg: float = 0.0,
+         tool_offset_mm: float = 100.0, ball_offset_mm: float = 100.0, table_z_mm: float = 0.0,
+         angle_deg: float = 30.0, distance_mm: float = 50.0, gauge_range_mm: float = 1.0,
+         gauge_sigma_mm: float = 0.00051, cup_diameter_mm: float = 25.0,
+         cell: Optional[str] = None) -> Plan:
     """Plans a hexapod measurement (`robcal hexapod plan`): placement = (x, y, z mm, yaw deg) of
-    the base cups' centroid in the robot frame."""
+    the base cups' centroid in the robot frame, tilt_deg of the pivoting platform, the gauge's
+    range and σ, the cup diameter (colliding poses refused) and a cell file (its floor and
+    keep-out boxes respected)."""
 
 
 def read_plan(path: str) -> Plan:
@@ -83,8 +87,11 @@ def read_plan(path: str) -> Plan:
 
 
 def setup(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, float, float] = ...,
-          side_mm: float = 300.0, ball_offset_mm: float = 100.0) -> List[Dict[str, Any]]:
-    """Where to put the setting ball for each base cup (`robcal hexapod setup`)."""
+          tilt_deg: float = 0.0, side_mm: float = 300.0,
+          ball_offset_mm: float = 100.0) -> Dict[str, Any]:
+    """Where to put the setting ball for each base cup (`robcal hexapod setup`): the CLI's JSON
+    as a dict, setting_ball holding per cup its position (robot frame, mm) and the
+    configurations reaching it (labels, joints_deg)."""
 
 
 def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, float, float] = ...,
@@ -122,10 +129,29 @@ def replan(sessions: Sequence[str], model: str, out: str,
 
 def simulate_readings(plan: Plan, robot: str = "fanuc-lrmate200ic", payload: Optional[Any] = None,
                       seed: int = 1, validation: int = 1000) -> Dict[str, Any]:
-    """Simulated readings of a planned session (`robcal hexapod simulate-readings`): text (the
-    session's input), legs_out_of_range, readings, tool (the tool fixture as a Tool) and
-    validation (tracker Measurements on cup T1); `payload` is a Tool whose payload the robot
-    carries (default 2.6 kg)."""
+    """Simulated readings of a planned session (`robcal hexapod simulate-readings`): the CLI's
+    JSON as a dict (seed, readings, legs_out_of_range) with text (the session's input), tool (the
+    tool fixture as a Tool) and validation (tracker Measurements on cup T1) in place of the
+    files; `payload` is a Tool whose payload the robot carries (default 2.6 kg at (50, 25, 100)
+    mm)."""
+
+
+def session(plan: str, journal: str, answers: Sequence[str], resume: bool = False,
+            out: Optional[str] = None) -> Dict[str, Any]:
+    """The guided session (`robcal hexapod session`) fed `answers` (lines: a reading in mm, 'out',
+    'quit'; e.g. simulate_readings' text.splitlines()) instead of a terminal; every reading
+    journalled at once, `resume` continues a journal. The CLI's JSON as a dict (status complete or
+    paused-…, replayed, answered, result when complete: also written to `out`) plus transcript
+    (the prompts and messages) and refused (answers asked again)."""
+
+
+def export_poses(sessions: Sequence[str], out: str, legs_out: Optional[str] = None,
+                 tool_out: Optional[str] = None, tool: Optional[str] = None,
+                 plan: Optional[str] = None) -> Dict[str, Any]:
+    """Writes a session's readings as a poses measurement CSV `out` (for calibrate), and the raw
+    legs CSV and the tool file when given (`robcal hexapod export-poses`); `tool`: the tool file
+    whose payload the robot carried. The CLI's JSON as a dict plus tool_fixture (Tool) and
+    measurements (the poses as Measurements)."""
 
 
 def calibrate(sessions: Sequence[str], robot: str = "fanuc-lrmate200ic",

@@ -175,8 +175,8 @@ FrameEstimate base_from_sweeps(const RobotModel& model, const JointSweep& joint1
     R1 << x1, z1.cross(x1), z1;
     Pose<double> base;
     base.R = R1 * Eigen::AngleAxisd(-theta1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    base.p = origin1 -
-             Eigen::Vector3d(0, 0, model.mdh[0].d);  // docs/method/02-frames.md: d1 along world z
+    // d1 along world z (docs/method/02-frames.md §4).
+    base.p = origin1 - Eigen::Vector3d(0, 0, model.mdh[0].d);
     return pose_values(base);
   };
   const TwoSweepEstimate e = from_two_sweeps(joint1, a1, joint2, a2, place, sigma_mm);

@@ -6,6 +6,7 @@
 
 #include "robcal/campaign/cell.hpp"
 #include "robcal/campaign/frames_file.hpp"
+#include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
@@ -47,9 +48,20 @@ TargetFrameResult target_result(const TargetFrameRequest& request, const RobotMo
   return {model.name, request.target, point, text};
 }
 
+/// --sigma-mm: 0 estimates the noise from the fit residuals; a tracker or CMM reads to
+/// hundredths of a millimetre, so beyond 10 mm per axis it is a typo or a unit slip.
+void check_sigma_mm(double sigma_mm) {
+  if (!(sigma_mm >= 0 && sigma_mm <= 10))
+    throw InputError({"", 0, 0, "--sigma-mm"},
+                     fmt::format("expected 0 (estimated from the fit residuals) or an instrument "
+                                 "noise per axis above 0 and at most 10 mm, found {:g}",
+                                 sigma_mm));
+}
+
 }  // namespace
 
 BaseFrameResult frames_base(const BaseFrameRequest& request) {
+  check_sigma_mm(request.sigma_mm);
   const RobotModel model = load_robot(request.robot);
   const JointSweep s1 = read_sweep(request.joint1, request.target, 1, model);
   const JointSweep s2 = read_sweep(request.joint2, request.target, 2, model);
@@ -66,6 +78,7 @@ BaseFrameResult frames_base(const BaseFrameRequest& request) {
 }
 
 TargetFrameResult frames_tool(const TargetFrameRequest& request) {
+  check_sigma_mm(request.sigma_mm);
   const RobotModel model = load_robot(request.robot);
   const JointSweep s5 = read_sweep(request.first, request.target, 5, model);
   const JointSweep s6 = read_sweep(request.second, request.target, 6, model);
@@ -76,6 +89,7 @@ TargetFrameResult frames_tool(const TargetFrameRequest& request) {
 }
 
 TargetFrameResult frames_point(const TargetFrameRequest& request) {
+  check_sigma_mm(request.sigma_mm);
   const RobotModel model = load_robot(request.robot);
   const Cell cell = load_cell(request.cell);
   const MeasurementSet set = read_target_rows(request.first, request.target);
@@ -87,6 +101,7 @@ TargetFrameResult frames_point(const TargetFrameRequest& request) {
 }
 
 NestFrameResult frames_world(const NestFrameRequest& request) {
+  check_sigma_mm(request.sigma_mm);
   NestFrameResult result;
   result.frame =
       frame_from_named_nests({request.measured, read_text_file(request.measured)},

@@ -64,7 +64,7 @@ void next_frame(const Pose<double>& prev, double ca, double sa, double a, double
   out.p = prev.p + a * r0 + d * z;
 }
 
-/// World frames Φ1..Φ6 (docs/method/02-frames.md) from the cosines and sines of θ1 + γ_base and
+/// World frames Φ1..Φ6 (docs/method/02-frames.md §5) from the cosines and sines of θ1 + γ_base and
 /// θ2..θ6.
 void chain_frames(const CalibratedChain& c, const std::array<double, kJointCount>& cos_t,
                   const std::array<double, kJointCount>& sin_t,
@@ -166,7 +166,7 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
   auto& frames = state.frames;
   chain_frames(c, cos_t, sin_t, frames);
   if (c.compliant) {
-    // The torques are taken on the undeflected chain (docs/method/03-error-model.md); mass and
+    // The torques are taken on the undeflected chain (docs/method/03-error-model.md §3); mass and
     // first moment of links i..6 (world) accumulate tip to base.
     double M = 0;
     Eigen::Vector3d C = Eigen::Vector3d::Zero();

@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numeric>
 
@@ -42,7 +43,7 @@ const char* criterion_name(SelectionCriterion criterion) {
 }
 
 JointConstraints default_joint_constraints(const RobotModel& model) {
-  // The published constraints (one-signed gearbox torques, docs/method/05-observability.md) were
+  // The published constraints (one-signed gearbox torques, docs/method/05-observability.md §2) were
   // chosen for the IRB 120's geometry and zero positions; on another robot the same numbers mean
   // other poses (on a UR θ2 ≥ 0 points the upper arm down), so only its own limits apply.
   return model.name == "ABB IRB 120" ? published_joint_constraints() : unconstrained_joints();
@@ -300,6 +301,12 @@ PlanResult plan_calibration(const PlanRequest& request) {
     throw InputError({"", 0, 0, "--pool"},
                      fmt::format("expected a pool of at least twice the count ({}), got {}",
                                  2 * request.count, request.pool));
+  // The floor is a height in the cell: beyond ±20 m it is a typo or a unit slip, not a floor.
+  if (!(std::abs(request.floor_mm) <= 20000))
+    throw InputError({"", 0, 0, "--floor-mm"},
+                     fmt::format("{:g} mm is outside the plausible range [-20000, 20000] mm of a "
+                                 "floor height over the robot's base plane",
+                                 request.floor_mm));
   if (request.prior_model && request.misfit_mm)
     throw InputError({"", 0, 0, "--misfit-mm"},
                      "give the misfit either from a prior model (--prior-model) or directly "

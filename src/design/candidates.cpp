@@ -139,7 +139,7 @@ CandidateSet generate_candidates(const RobotModel& model, const Tool& tool,
         ++out.not_visible;
         continue;
       }
-      // One target per configuration (docs/method/05-observability.md: one SMR seen at a time),
+      // One target per configuration (docs/method/05-observability.md §2: one SMR seen at a time),
       // drawn among the visible ones so every target gets used.
       c.target = visible_targets[std::uniform_int_distribution<size_t>(
           0, visible_targets.size() - 1)(rng)];

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The M⁻¹-weighted leverage blocks of every candidate of a design
-/// (docs/method/05-observability.md), the quantity the fast D-optimal selection scores with: for
+/// (docs/method/05-observability.md §3), the quantity the fast D-optimal selection scores with: for
 /// candidate i with scaled rows A_i (r × m) and the information matrix M of the chosen set, G_i =
 /// A_i M⁻¹ A_iᵀ (r × r). By the matrix determinant lemma adding candidate i multiplies det M by
 /// det(I + G_i) and removing it by det(I − G_i), so scoring all candidates costs O(N r³) and no

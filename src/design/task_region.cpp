@@ -69,7 +69,7 @@ class TcpPoseSolver {
                           joint_box_[static_cast<size_t>(j)].upper);
     // The placement taking the nominal robot (base at the origin, which the closed-form IK
     // solves) onto the placed one: the base offset d1 is applied along world z
-    // (docs/method/02-frames.md), so world_T_base = world_A_1(params, θ1 = 0) · Trans_z(−d1).
+    // (docs/method/02-frames.md §4), so world_T_base = world_A_1(params, θ1 = 0) · Trans_z(−d1).
     Pose<double> lower_d1;
     lower_d1.p.z() = -model.mdh[0].d;
     base_T_world_ =

@@ -57,6 +57,21 @@ CalibrationStage stage_of(const IdentificationResult& r, int configurations) {
 
 }  // namespace
 
+EndToEndOptions end_to_end_options(const HexapodPlanRequest& plan, EndToEndOptions settings) {
+  EndToEndOptions o = std::move(settings);
+  o.cell.design = plan.geometry;
+  o.cell.placement = placement_pose(plan.placement, plan.tilt_deg);
+  o.cell.tool_offset_mm = plan.tool_offset_mm;
+  o.cell.ball_offset_mm = plan.ball_offset_mm;
+  o.cell.table_z_mm = plan.table_z_mm;
+  o.cell.sigma_mm = plan.gauge.sigma_mm;
+  o.cell.range_mm = plan.gauge.range_mm;
+  o.angle_deg = plan.angle_deg;
+  o.distance_mm = plan.distance_mm;
+  o.cups = plan.cups;
+  return o;
+}
+
 EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
                               std::mt19937_64& rng) {
   if (o.validation_configurations < 2)
@@ -66,8 +81,8 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   EndToEndReport rep;
   rep.robot = model.name;
   // The true robot: random errors, levelled on its table (the relative model keeps gravity along
-  // the base z), carrying the published end-effector (docs/method/03-error-model.md: 2.6 kg at (50,
-  // 25, 100) mm).
+  // the base z), carrying the published end-effector (docs/method/03-error-model.md §3: 2.6 kg at
+  // (50, 25, 100) mm).
   const PointMass payload{2.6, Eigen::Vector3d(50, 25, 100)};
   const TrueRobot truth = levelled_random_truth(model, payload, o.errors, rng);
   const SimulatedHexapodCell cell = set_up_simulated_cell(truth, model, o.cell, rng);

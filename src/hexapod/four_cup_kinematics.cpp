@@ -142,28 +142,35 @@ std::vector<Eigen::Vector3d> fixture_start(const FixtureDistances& f) {
   return cups;
 }
 
-std::string input_problem(const FourCupDkpRequest& request) {
-  for (const auto& [f, what] :
-       {std::pair{&request.base, "base fixture"}, std::pair{&request.tool, "tool fixture"}})
-    if (std::string problem = fixture_problem(*f, what); !problem.empty()) return problem;
+/// A problem of the request's input and where it lies; an empty message: none.
+struct InputProblem {
+  std::string message;
+  FourCupInput culprit = FourCupInput::Legs;
+};
+
+InputProblem input_problem(const FourCupDkpRequest& request) {
+  if (std::string problem = fixture_problem(request.base, "base fixture"); !problem.empty())
+    return {std::move(problem), FourCupInput::BaseFixture};
+  if (std::string problem = fixture_problem(request.tool, "tool fixture"); !problem.empty())
+    return {std::move(problem), FourCupInput::ToolFixture};
   std::array<bool, 2> fourth_has_leg{false, false};
   for (const MeasuredLeg& leg : request.legs) {
     if (leg.base < 0 || leg.base >= request.base.cup_count() || leg.tool < 0 ||
         leg.tool >= request.tool.cup_count())
-      return fmt::format("leg B{}-T{}: the fixtures have cups B1..B{} and T1..T{}", leg.base + 1,
-                         leg.tool + 1, request.base.cup_count(), request.tool.cup_count());
+      return {fmt::format("leg B{}-T{}: the fixtures have cups B1..B{} and T1..T{}", leg.base + 1,
+                          leg.tool + 1, request.base.cup_count(), request.tool.cup_count())};
     if (!std::isfinite(leg.length_mm) || leg.length_mm <= 0)
-      return fmt::format("leg B{}-T{} = {} mm is not a positive length", leg.base + 1, leg.tool + 1,
-                         leg.length_mm);
+      return {fmt::format("leg B{}-T{} = {} mm is not a positive length", leg.base + 1,
+                          leg.tool + 1, leg.length_mm)};
     fourth_has_leg[0] = fourth_has_leg[0] || leg.base == 3;
     fourth_has_leg[1] = fourth_has_leg[1] || leg.tool == 3;
   }
   // Without a leg, a fourth cup's distances to its own fixture fix it only up to a mirror
   // through the fixture plane, and not at all to first order across it.
   if (request.base.fourth && !fourth_has_leg[0])
-    return "base cup B4 has no leg: measure at least one leg from B4 or leave the cup out";
+    return {"base cup B4 has no leg: measure at least one leg from B4 or leave the cup out"};
   if (request.tool.fourth && !fourth_has_leg[1])
-    return "tool cup T4 has no leg: measure at least one leg to T4 or leave the cup out";
+    return {"tool cup T4 has no leg: measure at least one leg to T4 or leave the cup out"};
   return {};
 }
 
@@ -223,9 +230,10 @@ FourCupDkpRequest four_cup_distances(const std::vector<Eigen::Vector3d>& base,
 
 FourCupDkpResult solve_four_cup_dkp(const FourCupDkpRequest& request) {
   FourCupDkpResult result;
-  if (std::string problem = input_problem(request); !problem.empty()) {
+  if (InputProblem problem = input_problem(request); !problem.message.empty()) {
     result.status = FourCupDkpStatus::InvalidInput;
-    result.message = std::move(problem);
+    result.message = std::move(problem.message);
+    result.culprit = problem.culprit;
     return result;
   }
   const Problem problem = build_problem(request);

@@ -23,6 +23,21 @@ nlohmann::json dkp_json(const DkpResult& dkp) {
   return out;
 }
 
+nlohmann::json four_cup_dkp_json(const FourCupDkpResult& dkp) {
+  nlohmann::json out{{"distances", dkp.distance_names}, {"solutions", nlohmann::json::array()}};
+  for (const FourCupSolution& s : dkp.solutions) {
+    nlohmann::json cups = nlohmann::json::array();
+    for (const Eigen::Vector3d& c : s.tool_cups) cups.push_back({c.x(), c.y(), c.z()});
+    nlohmann::json sigma = nlohmann::json::array();
+    for (const CupUncertainty& u : s.uncertainty) sigma.push_back(u.norm);
+    out["solutions"].push_back({{"mode", s.mode},
+                                {"rms_residual_mm", s.rms_residual_mm},
+                                {"tool_cups_mm", cups},
+                                {"uncertainty_sigma_multiple", sigma}});
+  }
+  return out;
+}
+
 nlohmann::json world_frame_json(const WorldFrameFit& fit) {
   nlohmann::json corrected = nlohmann::json::array();
   for (const auto& c : fit.corrected) corrected.push_back(vec_json(c));

@@ -206,11 +206,10 @@ PlacementSearchResult search_placements(const RobotModel& model,
   if (grid > 2000)
     throw InputError({"", 0, 0, "placement grid"},
                      fmt::format("{} placements: expected at most 2000", grid));
-  if (!(request.pose_sigma_multiple > 0) || request.validation_configurations < 2 ||
-      request.pair_candidates < 0)
+  if (request.best < 1) throw InputError({"", 0, 0, "--best"}, "expected at least 1");
+  if (!(request.pose_sigma_multiple > 0) || request.validation_configurations < 2)
     throw InputError({"", 0, 0, "placement search"},
-                     "expected a positive σ multiple, at least 2 validation configurations and a "
-                     "non-negative number of pair candidates");
+                     "expected a positive σ multiple and at least 2 validation configurations");
   fixture_cups(base.geometry.base, "--base-mm");
   fixture_cups(base.geometry.tool, "--tool-mm");
   check_gauge(base.gauge, "--gauge-range-mm", "--gauge-sigma-mm");
@@ -292,6 +291,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
 
   setting_points.resize(scores.size());
   PlacementSearchResult result;
+  result.best = request.best;
   result.parameters = static_cast<int>(level_parameters(request.level).size());
   result.pose_sigma_mm = request.pose_sigma_multiple * base.gauge.sigma_mm;
   if (std::none_of(scores.begin(), scores.end(),
@@ -364,8 +364,9 @@ PlacementSearchResult search_placements(const RobotModel& model,
   }
 
   // Pairs of the best fully determined placements.
+  const int pair_candidates = std::max(request.best, 2);
   int eligible = 0;
-  while (eligible < static_cast<int>(result.ranked.size()) && eligible < request.pair_candidates &&
+  while (eligible < static_cast<int>(result.ranked.size()) && eligible < pair_candidates &&
          result.ranked[eligible].usable() && result.ranked[eligible].undetermined == 0)
     ++eligible;
   for (int a = 0; a < eligible; ++a)
@@ -457,8 +458,9 @@ PlacementsDesign design_placements(const RobotModel& model, const std::vector<He
   return out;
 }
 
-nlohmann::json placement_search_json(const PlacementSearchResult& r, int best) {
+nlohmann::json placement_search_json(const PlacementSearchResult& r) {
   using nlohmann::json;
+  const int best = r.best;
   json out{{"parameters", r.parameters},
            {"identified_parameters", r.identified_parameters.size()},
            {"pose_sigma_mm", rounded(r.pose_sigma_mm, 9)},

@@ -237,6 +237,11 @@ nlohmann::json setting_ball_json(const std::array<SettingBallPoint, 3>& points) 
   return out;
 }
 
+nlohmann::json setup_json(const std::string& robot, double side_mm,
+                          const std::array<SettingBallPoint, 3>& points) {
+  return {{"robot", robot}, {"side_mm", side_mm}, {"setting_ball", setting_ball_json(points)}};
+}
+
 HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& request) {
   const HexapodGeometry& g = request.geometry;
   const Cups<double> base_cups = fixture_cups(g.base, "--base-mm");

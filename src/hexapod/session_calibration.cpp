@@ -8,9 +8,28 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/rounding.hpp"
 #include "robcal/hexapod/measurement.hpp"
+#include "robcal/io/measurement_file.hpp"
+#include "robcal/io/robot_file.hpp"
 
 namespace robcal::hexapod {
 namespace {
+
+/// The poses CSV, the raw legs CSV and the tool file, for those of the paths given.
+RenderedFiles export_files(const SessionData& data, const Tool& tool, const MeasurementSet& poses,
+                           const SessionExportPaths& paths) {
+  RenderedFiles files;
+  if (!paths.poses.empty())
+    files.emplace_back(
+        paths.poses,
+        write_measurements_csv(poses, tool,
+                               fmt::format("tool fixture poses of {} by the ballbar hexapod's "
+                                           "direct kinematics, robot frame through the world "
+                                           "frame of the base cups",
+                                           data.source)));
+  if (!paths.legs.empty()) files.emplace_back(paths.legs, session_legs_csv(data));
+  if (!paths.tool.empty()) files.emplace_back(paths.tool, tool_to_yaml(tool));
+  return files;
+}
 
 /// The fit from the raw legs: the level's link and compliance parameters, the cups and the
 /// ballbar's offset; written in the frame of the pose fit.
@@ -52,6 +71,24 @@ SessionFit parse_session_fit(const std::string& text) {
                    fmt::format("unknown fit '{}': expected poses or legs", text));
 }
 
+SessionExport export_session(const SessionData& data, const PointMass& payload,
+                             const SessionExportPaths& paths) {
+  SessionExport out;
+  out.world = session_world_frame(data);
+  out.tool = hexapod_tool(payload, data.flange_T_tool, data.tool_sides);
+  out.files = export_files(data, out.tool, session_pose_measurements(data), paths);
+  return out;
+}
+
+nlohmann::json session_export_json(const SessionData& data, const SessionExport& exported,
+                                   const SessionExportPaths& paths) {
+  nlohmann::json out = session_summary_json(data, exported.world);
+  out["poses"] = paths.poses;
+  out["legs"] = paths.legs;
+  out["tool"] = paths.tool;
+  return out;
+}
+
 SessionCalibration calibrate_sessions(const std::vector<SessionData>& placements,
                                       const RobotModel& model, const PointMass& payload,
                                       const SessionCalibrationRequest& request) {
@@ -65,6 +102,14 @@ SessionCalibration calibrate_sessions(const std::vector<SessionData>& placements
                     "calibrate them together with --fit legs (each placement's base cups are "
                     "identified, docs/method/08-world-frame.md §4)",
                     placements.size()));
+  if (placements.size() > 1)
+    for (const auto& [flag, path] : {std::pair{"--poses-out", &request.exports.poses},
+                                     std::pair{"--legs-out", &request.exports.legs}})
+      if (!path->empty())
+        throw InputError({*path, 0, 0, flag},
+                         fmt::format("sessions of {} placements: export each placement's sessions "
+                                     "with `robcal hexapod export-poses`",
+                                     placements.size()));
   check_orientation_weight(request.orientation_weight_mm);
   const SessionData& data = placements.front();
   SessionCalibration out;
@@ -75,6 +120,7 @@ SessionCalibration calibrate_sessions(const std::vector<SessionData>& placements
   out.world = out.placement_worlds.front();
   out.tool = hexapod_tool(payload, data.flange_T_tool, data.tool_sides);
   out.poses = session_pose_measurements(data);
+  out.exports = export_files(data, out.tool, out.poses, request.exports);
   if (request.fit == SessionFit::Legs) {
     fit_legs(placements, model, request.level, out);
     return out;
@@ -151,7 +197,13 @@ nlohmann::json session_calibration_json(const std::vector<SessionData>& placemen
     out["converged"] = r.status.converged;
     out["iterations"] = r.status.iterations;
     out["identified"] = r.identified_count;
-    out["initial_rms_mm"] = rounded(r.status.initial_rms_mm);
+    // One definition (the per-row 3D TCP error), at the solution and at the start, as
+    // `robcal calibrate` reports it.
+    out["residual_per_row_mm"] = {
+        {"mean", rounded(r.mean_mm)}, {"rms", rounded(r.rms_mm)}, {"max", rounded(r.max_mm)}};
+    out["start_residual_per_row_mm"] = {{"mean", rounded(r.start_mean_mm)},
+                                        {"rms", rounded(r.start_rms_mm)},
+                                        {"max", rounded(r.start_max_mm)}};
     out["rms_mm"] = rounded(r.rms_mm);
     out["max_mm"] = rounded(r.max_mm);
     out["sigma_mm"] = rounded(r.sigma_mm);

@@ -2,10 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <nlohmann/json.hpp>
+
 #include "robcal/core/error.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/measurement.hpp"
+#include "robcal/hexapod/session_answers.hpp"
 #include "robcal/hexapod/simulation.hpp"
+#include "robcal/io/measurement_file.hpp"
 
 namespace robcal::hexapod {
 namespace {
@@ -30,13 +34,15 @@ SimulatedHexapodCell cell_of_plan(const std::string& file, const HexapodPlan& pl
 
 }  // namespace
 
-SimulatedReadings simulate_readings(const HexapodPlan& plan, const std::string& plan_file,
-                                    const RobotModel& model, const PointMass& payload,
-                                    uint64_t seed, int validation) {
+SimulatedReadings simulate_readings(const HexapodPlan& plan, const RobotModel& model,
+                                    const SimulatedReadingsRequest& request) {
+  const int validation = request.validation;
   if (validation < 0) throw InputError({"", 0, 0, "--validation"}, "expected a non-negative count");
-  std::mt19937_64 rng(seed);
-  const SimulatedHexapodCell cell = cell_of_plan(plan_file, plan, model, payload, rng);
+  const PointMass payload = request.payload.value_or(PointMass{2.6, Eigen::Vector3d(50, 25, 100)});
+  std::mt19937_64 rng(request.seed);
+  const SimulatedHexapodCell cell = cell_of_plan(request.plan_file, plan, model, payload, rng);
   SimulatedReadings out;
+  out.seed = request.seed;
   // Drive the session script itself, so the readings come in the order the session asks.
   Session session(plan.session);
   while (const std::optional<SessionStep> step = session.next_step()) {
@@ -64,9 +70,25 @@ SimulatedReadings simulate_readings(const HexapodPlan& plan, const std::string& 
 
 std::string readings_text(const SimulatedReadings& simulated) {
   std::string text;
-  for (const std::optional<double>& r : simulated.readings)
-    text += r ? fmt::format("{}\n", *r) : std::string("out\n");
+  for (const std::optional<double>& r : simulated.readings) text += session_answer_text(r) + "\n";
   return text;
+}
+
+std::string validation_csv(const SimulatedReadings& simulated) {
+  return write_measurements_csv(
+      simulated.validation, simulated.tool,
+      fmt::format("simulated laser tracker (0.022 mm) on tool cup T1, seed {}", simulated.seed));
+}
+
+nlohmann::json simulated_readings_json(const SimulatedReadings& simulated, const std::string& out,
+                                       const std::string& tool_out,
+                                       const std::string& validation_out) {
+  return {{"seed", simulated.seed},
+          {"readings", simulated.readings.size()},
+          {"legs_out_of_range", simulated.out_of_range},
+          {"out", out},
+          {"tool", tool_out},
+          {"validation", validation_out}};
 }
 
 }  // namespace robcal::hexapod

@@ -78,6 +78,7 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
   std::map<std::string, std::pair<int, std::pair<double, double>>> by_target;  // rows, (Σe², max)
   for (Eigen::Index row = 0; row < rows; ++row) {
     const double e = row_error(r, k, row);
+    out.row_errors_mm.push_back(e);
     sum_sq_error += e * e;
     sum_error += e;
     out.max_mm = std::max(out.max_mm, e);

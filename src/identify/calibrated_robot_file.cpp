@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/identify/calibrated_robot_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/io/yaml_checks.hpp"
 #include "robcal/io/yaml_support.hpp"
@@ -32,6 +33,87 @@ ParameterStatus parse_status(const yaml::Node& node) {
   if (text == "fixed") return ParameterStatus::Fixed;
   if (text == "dropped") return ParameterStatus::Dropped;
   throw node.error(fmt::format("unknown status '{}': expected identified, fixed or dropped", text));
+}
+
+/// The calibrated model a file's YAML root describes.
+CalibratedRobot calibrated_robot_from(const yaml::Node& root) {
+  const auto& table = parameter_table();
+  if (!root.has("parameters") || !root.has("robot"))
+    throw root.error(
+        "not a calibrated model: expected the keys 'robot' and 'parameters' "
+        "(a file written by `robcal calibrate`)");
+  // A misspelt key ('covarience:') would silently drop what it holds.
+  yaml::expect_keys(root, {"format", "level", "base_fitted", "robot", "tool", "parameters",
+                           "covariance", "groups", "statistics", "reidentified"});
+  CalibratedRobot robot;
+  robot.model = parse_robot(root.at("robot"));
+  robot.tool = root.has("tool") ? parse_tool(root.at("tool")) : Tool{};
+  if (root.has("format") && root.at("format").as_string() != "robcal-calibrated-model")
+    throw root.at("format").error(fmt::format(
+        "unknown format '{}': expected robcal-calibrated-model", root.at("format").as_string()));
+  robot.level = root.has("level") ? root.at("level").as_string() : "nominal";
+  // What the writers put there (calibrate's levels, a nominal model, a simulator's truth, a
+  // model imported from UR's calibration.conf).
+  constexpr std::array<std::string_view, 9> kLevels{"nominal", "truth",     "base",
+                                                    "joints",  "kinematic", "full",
+                                                    "tool",    "patterns",  "ur-calibration"};
+  if (std::find(kLevels.begin(), kLevels.end(), robot.level) == kLevels.end())
+    throw root.at("level").error(fmt::format(
+        "unknown level '{}': expected nominal, base, joints, kinematic, full, tool or patterns "
+        "(calibrate's levels), truth (a simulator's) or ur-calibration (imported)",
+        robot.level));
+  robot.base_fitted = root.has("base_fitted") && root.at("base_fitted").node.as<bool>(false);
+  robot.params = robot.model.nominal();
+  robot.status.fill(ParameterStatus::Fixed);
+  std::array<bool, kParameterCount> seen{};
+  const yaml::Node parameters = root.at("parameters");
+  if (!parameters.node.IsSequence()) throw parameters.error("expected a list of parameters");
+  for (size_t k = 0; k < parameters.size(); ++k) {
+    const yaml::Node entry = parameters.at(k);
+    yaml::expect_keys(entry, {"name", "unit", "nominal", "value", "std", "status", "reason"});
+    const yaml::Node name = entry.at("name");
+    const int i = parameter_index(name.as_string());
+    if (i < 0) throw name.error(fmt::format("unknown parameter '{}'", name.as_string()));
+    const auto s = static_cast<size_t>(i);
+    if (seen[s]) throw name.error(fmt::format("parameter '{}' given twice", table[i].name));
+    seen[s] = true;
+    if (entry.has("unit") && entry.at("unit").as_string() != table[i].unit)
+      throw entry.at("unit").error(fmt::format("{} is in {}, not {}", table[i].name, table[i].unit,
+                                               entry.at("unit").as_string()));
+    robot.params[i] = entry.at("value").as_double() / table[i].to_external();
+    if (entry.has("status")) robot.status[s] = parse_status(entry.at("status"));
+    if (entry.has("reason")) robot.reason[s] = entry.at("reason").as_string();
+  }
+  if (root.has("statistics")) robot.statistics = YAML::Dump(root.at("statistics").node);
+  if (root.has("reidentified")) {
+    const yaml::Node records = root.at("reidentified");
+    if (!records.node.IsSequence()) throw records.error("expected a list of re-identifications");
+    for (size_t k = 0; k < records.size(); ++k)
+      robot.reidentified.push_back(YAML::Dump(records.at(k).node));
+  }
+  if (root.has("covariance")) {
+    const yaml::Node cov = root.at("covariance");
+    yaml::expect_keys(cov, {"units", "parameters", "matrix"});
+    const yaml::Node names = cov.at("parameters");
+    std::vector<int> index;
+    for (size_t k = 0; k < names.size(); ++k) {
+      const int i = parameter_index(names.at(k).as_string());
+      if (i < 0)
+        throw names.at(k).error(fmt::format("unknown parameter '{}'", names.at(k).as_string()));
+      index.push_back(i);
+    }
+    const yaml::Node matrix = cov.at("matrix");
+    if (!matrix.node.IsSequence() || matrix.size() != index.size())
+      throw matrix.error(fmt::format("expected {} rows, one per parameter", index.size()));
+    robot.covariance = Eigen::MatrixXd::Zero(kParameterCount, kParameterCount);
+    for (size_t a = 0; a < index.size(); ++a) {
+      const auto row = matrix.at(a).as_doubles(static_cast<int>(index.size()));
+      for (size_t b = 0; b < index.size(); ++b)
+        robot.covariance(index[a], index[b]) =
+            row[b] / (table[index[a]].to_external() * table[index[b]].to_external());
+    }
+  }
+  return robot;
 }
 
 }  // namespace
@@ -146,84 +228,11 @@ void check_tool_against_model(const CalibratedRobot& robot, const Tool& tool,
 }
 
 CalibratedRobot load_calibrated_robot(const std::string& path) {
-  const yaml::Node root = yaml::load_file(path);
-  const auto& table = parameter_table();
-  if (!root.has("parameters") || !root.has("robot"))
-    throw root.error(
-        "not a calibrated model: expected the keys 'robot' and 'parameters' "
-        "(a file written by `robcal calibrate`)");
-  // A misspelt key ('covarience:') would silently drop what it holds.
-  yaml::expect_keys(root, {"format", "level", "base_fitted", "robot", "tool", "parameters",
-                           "covariance", "groups", "statistics", "reidentified"});
-  CalibratedRobot robot;
-  robot.model = parse_robot(root.at("robot"));
-  robot.tool = root.has("tool") ? parse_tool(root.at("tool")) : Tool{};
-  if (root.has("format") && root.at("format").as_string() != "robcal-calibrated-model")
-    throw root.at("format").error(fmt::format(
-        "unknown format '{}': expected robcal-calibrated-model", root.at("format").as_string()));
-  robot.level = root.has("level") ? root.at("level").as_string() : "nominal";
-  // What the writers put there (calibrate's levels, a nominal model, a simulator's truth, a
-  // model imported from UR's calibration.conf).
-  constexpr std::array<std::string_view, 9> kLevels{"nominal", "truth",     "base",
-                                                    "joints",  "kinematic", "full",
-                                                    "tool",    "patterns",  "ur-calibration"};
-  if (std::find(kLevels.begin(), kLevels.end(), robot.level) == kLevels.end())
-    throw root.at("level").error(fmt::format(
-        "unknown level '{}': expected nominal, base, joints, kinematic, full, tool or patterns "
-        "(calibrate's levels), truth (a simulator's) or ur-calibration (imported)",
-        robot.level));
-  robot.base_fitted = root.has("base_fitted") && root.at("base_fitted").node.as<bool>(false);
-  robot.params = robot.model.nominal();
-  robot.status.fill(ParameterStatus::Fixed);
-  std::array<bool, kParameterCount> seen{};
-  const yaml::Node parameters = root.at("parameters");
-  if (!parameters.node.IsSequence()) throw parameters.error("expected a list of parameters");
-  for (size_t k = 0; k < parameters.size(); ++k) {
-    const yaml::Node entry = parameters.at(k);
-    yaml::expect_keys(entry, {"name", "unit", "nominal", "value", "std", "status", "reason"});
-    const yaml::Node name = entry.at("name");
-    const int i = parameter_index(name.as_string());
-    if (i < 0) throw name.error(fmt::format("unknown parameter '{}'", name.as_string()));
-    const auto s = static_cast<size_t>(i);
-    if (seen[s]) throw name.error(fmt::format("parameter '{}' given twice", table[i].name));
-    seen[s] = true;
-    if (entry.has("unit") && entry.at("unit").as_string() != table[i].unit)
-      throw entry.at("unit").error(fmt::format("{} is in {}, not {}", table[i].name, table[i].unit,
-                                               entry.at("unit").as_string()));
-    robot.params[i] = entry.at("value").as_double() / table[i].to_external();
-    if (entry.has("status")) robot.status[s] = parse_status(entry.at("status"));
-    if (entry.has("reason")) robot.reason[s] = entry.at("reason").as_string();
-  }
-  if (root.has("statistics")) robot.statistics = YAML::Dump(root.at("statistics").node);
-  if (root.has("reidentified")) {
-    const yaml::Node records = root.at("reidentified");
-    if (!records.node.IsSequence()) throw records.error("expected a list of re-identifications");
-    for (size_t k = 0; k < records.size(); ++k)
-      robot.reidentified.push_back(YAML::Dump(records.at(k).node));
-  }
-  if (root.has("covariance")) {
-    const yaml::Node cov = root.at("covariance");
-    yaml::expect_keys(cov, {"units", "parameters", "matrix"});
-    const yaml::Node names = cov.at("parameters");
-    std::vector<int> index;
-    for (size_t k = 0; k < names.size(); ++k) {
-      const int i = parameter_index(names.at(k).as_string());
-      if (i < 0)
-        throw names.at(k).error(fmt::format("unknown parameter '{}'", names.at(k).as_string()));
-      index.push_back(i);
-    }
-    const yaml::Node matrix = cov.at("matrix");
-    if (!matrix.node.IsSequence() || matrix.size() != index.size())
-      throw matrix.error(fmt::format("expected {} rows, one per parameter", index.size()));
-    robot.covariance = Eigen::MatrixXd::Zero(kParameterCount, kParameterCount);
-    for (size_t a = 0; a < index.size(); ++a) {
-      const auto row = matrix.at(a).as_doubles(static_cast<int>(index.size()));
-      for (size_t b = 0; b < index.size(); ++b)
-        robot.covariance(index[a], index[b]) =
-            row[b] / (table[index[a]].to_external() * table[index[b]].to_external());
-    }
-  }
-  return robot;
+  return calibrated_robot_from(yaml::load_file(path));
+}
+
+CalibratedRobot parse_calibrated_robot(const std::string& text, const std::string& source) {
+  return calibrated_robot_from(yaml::parse(text, source));
 }
 
 }  // namespace robcal

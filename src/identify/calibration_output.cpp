@@ -84,7 +84,7 @@ nlohmann::json calibration_run_json(const CalibrationRun& run, const std::string
   out["identified"] = r.identified_count;
   if (run.kind == MeasurementKind::Poses)
     out["orientation_weight_mm_per_rad"] = run.options.orientation_weight_mm;
-  out["warnings"] = r.warnings;
+  out["warnings"] = run.warnings;
   out["residual_per_row_mm"] = {
       {"mean", rounded(r.mean_mm)}, {"rms", rounded(r.rms_mm)}, {"max", rounded(r.max_mm)}};
   out["start_residual_per_row_mm"] = {{"mean", rounded(r.start_mean_mm)},

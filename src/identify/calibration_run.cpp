@@ -24,7 +24,12 @@ std::vector<std::string> implausible_parameters(const IdentificationResult& resu
       out.push_back(fmt::format("{} moved {:+.3f}° from nominal (more than 5°)", u.name, change));
     if (kind == ParamKind::Scale && std::abs(u.value - 1) > 0.01)
       out.push_back(fmt::format("{} is {:.5f} (more than 1 % from 1)", u.name, u.value));
-    if (kind == ParamKind::Compliance && u.value + 3 * u.std_dev < 0)
+    if (kind == ParamKind::Compliance && std::abs(u.value) > kImplausibleComplianceRadPerNmm)
+      out.push_back(fmt::format(
+          "{} is {:.3g} {}: more than {:g} in magnitude, a joint that would turn 1 rad under "
+          "{:.3g} N·m",
+          u.name, u.value, u.unit, kImplausibleComplianceRadPerNmm, 1e-3 / std::abs(u.value)));
+    else if (kind == ParamKind::Compliance && u.value + 3 * u.std_dev < 0)
       out.push_back(fmt::format("{} is {:.3g} ± {:.2g} {}: a negative compliance", u.name, u.value,
                                 u.std_dev, u.unit));
     if (kind == ParamKind::Expansion && std::abs(u.value) > 100)
@@ -39,8 +44,10 @@ CalibrationRun run_calibration(const RobotModel& model, const Tool& tool,
   run.options = request.options;
   run.kind = data.kind;
   run.rows = data.size();
+  run.file = data.file;
   run.result = calibrate(model, tool, data, request.options);
   const IdentificationResult& r = run.result;
+  run.warnings = r.warnings;
   std::set<std::string> configs;
   for (size_t row = 0; row < data.size(); ++row)
     configs.insert(data.kind == MeasurementKind::Points  ? data.points[row].config

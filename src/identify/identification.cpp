@@ -13,6 +13,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/identify/initial_guess.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
+#include "robcal/measure/tcp_warning.hpp"
 
 namespace robcal {
 namespace {
@@ -327,11 +328,11 @@ std::string unloaded_cause(const RobotModel& model, const Tool& tool, int joint)
                      tool.payload.mass_kg > 0 ? "" : " and the tool has no payload");
 }
 
-/// Requested compliances that no measured configuration loads (docs/method/03-error-model.md: δθ_j
-/// = c_j·τ_j) are taken out of `candidates` and dropped with their real reason: no masses in the
-/// robot file, or a gravity torque below kGravityTorqueFloorNmm in every row (centres of gravity on
-/// the axis, no payload). Their columns would otherwise be rounding noise that a fit turns into
-/// absurd values (−2e7 ± 3e7).
+/// Requested compliances that no measured configuration loads (docs/method/03-error-model.md §3:
+/// δθ_j = c_j·τ_j) are taken out of `candidates` and dropped with their real reason: no masses in
+/// the robot file, or a gravity torque below kGravityTorqueFloorNmm in every row (centres of
+/// gravity on the axis, no payload). Their columns would otherwise be rounding noise that a fit
+/// turns into absurd values (−2e7 ± 3e7).
 void drop_unloaded_compliances(const RobotModel& model, const Tool& tool,
                                const MeasurementSet& data, const Eigen::VectorXd& unknowns,
                                std::vector<bool>& candidates, IdentificationSetup& setup) {
@@ -348,8 +349,9 @@ void drop_unloaded_compliances(const RobotModel& model, const Tool& tool,
       largest[static_cast<size_t>(j)] =
           std::max(largest[static_cast<size_t>(j)], std::abs(tau[static_cast<size_t>(j)]));
   }
-  bool masses = tool.payload.mass_kg > 0;
-  for (const PointMass& m : model.link_masses) masses = masses || m.mass_kg > 0;
+  bool link_masses = false;
+  for (const PointMass& m : model.link_masses) link_masses = link_masses || m.mass_kg > 0;
+  const bool masses = link_masses || tool.payload.mass_kg > 0;
   std::vector<std::string> names;
   for (int joint = 1; joint <= kJointCount; ++joint) {
     const int i = compliance_param(joint);
@@ -376,6 +378,19 @@ void drop_unloaded_compliances(const RobotModel& model, const Tool& tool,
         "and the tool no payload, so the joint compliances ({}) cannot be identified: add the "
         "masses to the robot file, or calibrate at level kinematic",
         model.name, fmt::join(names, ", ")));
+  // A payload without link masses: the fit explains the arm's own weight, which deflects the
+  // joints too, by the payload's torque alone — compliances biased, silently.
+  std::vector<std::string> biased;
+  for (int joint = 1; joint <= kJointCount && masses && !link_masses; ++joint)
+    if (candidates[static_cast<size_t>(compliance_param(joint))])
+      biased.push_back(setup.layout.names[static_cast<size_t>(compliance_param(joint))]);
+  if (!biased.empty())
+    setup.warnings.push_back(fmt::format(
+        "the robot file of {} gives no link masses ('masses:'), only the tool's payload: the "
+        "compliances ({}) see the payload's torque alone and absorb the deflection under the "
+        "arm's own weight, so their values are biased. Add each link's mass_kg and cog_mm to the "
+        "robot file (the maker's data sheet or CAD), or calibrate at level kinematic",
+        model.name, fmt::join(biased, ", ")));
 }
 
 /// Preferred order for the rank test: extras (target coordinates, ballbar centre) first, then
@@ -400,7 +415,7 @@ std::string describe_dependency(const UnknownLayout& layout, const RobotModel& m
                         dep.depends_on[i].second);
   if (dep.depends_on.size() > 4) text += fmt::format(" and {} more", dep.depends_on.size() - 4);
   // Two d's along parallel consecutive axes move the chain identically
-  // (docs/method/03-error-model.md).
+  // (docs/method/03-error-model.md §2).
   const auto& name = layout.names[dep.column];
   for (const auto& [other, weight] : dep.depends_on) {
     const std::string& o = layout.names[other];
@@ -535,12 +550,8 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   initial_guess(context, setup.fit_base, u0);
 
   warn_joint_limits(model, data, setup.warnings);
-  if (data.kind == MeasurementKind::Poses && !tool.tcp_given)
-    setup.warnings.push_back(
-        "POSES WITHOUT A TCP: the tool file has no 'tcp', so the measured poses are taken as "
-        "the flange's own frame; if the instrument measures a tool frame, give its pose in the "
-        "flange ('tcp: {position_mm: [x, y, z], quaternion_wxyz: [w, x, y, z]}') or 'tcp: ~' "
-        "to identify it (6 parameters)");
+  if (const auto warning = poses_without_tcp_warning(tool, data))
+    setup.warnings.push_back(*warning);
   std::vector<bool> candidates = setup.requested;
   drop_unloaded_compliances(model, tool, data, u0, candidates, setup);
   drop_one_sided_backlash(data, candidates, setup);

@@ -2,10 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <nlohmann/json.hpp>
+
+#include <array>
 #include <cmath>
 #include <random>
 
 #include "robcal/core/error.hpp"
+#include "robcal/core/rounding.hpp"
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/identify/parameter_csv.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -134,6 +138,43 @@ ModelExportResult export_model(const ModelExportRequest& request) {
   }
   out.left_out_rms_mm = std::sqrt(sum / request.configurations);
   return out;
+}
+
+nlohmann::json model_import_json(const ModelImportRequest& request, const ModelImportResult& r,
+                                 const std::string& written_to) {
+  nlohmann::json out{{"format", request.format}, {"model_file", r.model_file}};
+  if (request.format == "ur-calibration") {
+    static constexpr std::array<const char*, 3> kStatus{"not initialized", "not linearised",
+                                                        "linearised"};
+    const int status = r.ur_calibration.calibration_status;
+    out["source"] = request.calibration_path;
+    out["robot"] = request.robot;
+    out["calibration_status"] = status;
+    out["calibration_status_name"] =
+        status < 0 ? "not given" : kStatus.at(static_cast<size_t>(status));
+    out["calibrated"] = status != 0;
+  } else {
+    const UrdfImport& u = r.imported;
+    out["source"] = request.urdf_path;
+    out["joints"] = u.joint_names;
+    out["root_link"] = u.root_link;
+    out["tip_link"] = u.tip_link;
+    out["base_placement"] = u.has_base_placement();
+    out["tip_offset"] = u.has_tip_offset();
+  }
+  out["out"] = written_to;
+  return out;
+}
+
+nlohmann::json model_export_json(const ModelExportRequest& request, const ModelExportResult& r,
+                                 const std::string& written_to) {
+  return {{"format", request.format},
+          {"left_out", r.left_out},
+          {"left_out_rms_mm", rounded(r.left_out_rms_mm)},
+          {"left_out_max_mm", rounded(r.left_out_max_mm)},
+          {"configurations", request.configurations},
+          {"seed", request.seed},
+          {"out", written_to}};
 }
 
 }  // namespace robcal

@@ -47,6 +47,11 @@ std::string join(const std::vector<std::string>& items, std::string_view separat
   return out;
 }
 
+/// Plausible ranges of the fields, in mm and degrees (see the header): a robot cell is metres
+/// across, a joint turns at most ±455° on a six-axis arm.
+constexpr double kMaxCoordinateMm = 100000;
+constexpr double kMaxAngleDeg = 720;
+
 /// One data line of the file: its 1-based number and its trimmed fields.
 struct Row {
   int line = 0;
@@ -56,14 +61,14 @@ struct Row {
 /// Reads the fields of the rows by column name, with errors that name the place.
 class RowReader {
  public:
-  RowReader(const std::string& file, const std::map<std::string, int>& columns, double mm_per_unit,
-            double rad_per_unit, const char* length_unit, const char* angle_unit)
+  RowReader(const std::string& file, const std::map<std::string, int>& columns, bool metres,
+            bool radians)
       : file_(file),
         columns_(columns),
-        mm_per_unit_(mm_per_unit),
-        rad_per_unit_(rad_per_unit),
-        length_unit_(length_unit),
-        angle_unit_(angle_unit) {}
+        mm_per_unit_(metres ? 1000.0 : 1.0),
+        rad_per_unit_(radians ? 1.0 : deg2rad(1.0)),
+        length_unit_(metres ? "m" : "mm"),
+        angle_unit_(radians ? "rad" : "degrees") {}
 
   [[nodiscard]] SourceLocation where(const Row& row, const std::string& name) const {
     return {file_, row.line, columns_.at(name) + 1, name};
@@ -76,6 +81,7 @@ class RowReader {
     return value;
   }
 
+  /// A number of the column `name`; `unit` (with a leading blank) is said in the messages.
   [[nodiscard]] double number(const Row& row, const std::string& name,
                               std::string_view unit) const {
     std::string_view value = row.fields[static_cast<size_t>(columns_.at(name))];
@@ -93,6 +99,20 @@ class RowReader {
     return parsed;
   }
 
+  /// A number within [lowest, highest] (in the file's unit `unit`), else refused with the range.
+  [[nodiscard]] double number_within(const Row& row, const std::string& name, const char* unit,
+                                     double lowest, double highest) const {
+    const double value = number(row, name, fmt::format(" ({})", unit));
+    if (value < lowest || value > highest)
+      throw InputError(
+          where(row, name),
+          fmt::format("{} is outside the plausible range [{:g}, {:g}] {}: a typo or "
+                      "a unit slip? (declare the units with '# units: m, rad' or "
+                      "--units if they are not mm and degrees)",
+                      row.fields[static_cast<size_t>(columns_.at(name))], lowest, highest, unit));
+    return value;
+  }
+
   [[nodiscard]] Vector6d joints_rad(const Row& row) const {
     Vector6d q;
     for (int i = 0; i < kJointCount; ++i) q[i] = angle_rad(row, kJointColumns[i]);
@@ -100,11 +120,26 @@ class RowReader {
   }
 
   [[nodiscard]] double angle_rad(const Row& row, const std::string& name) const {
-    return rad_per_unit_ * number(row, name, angle_unit_);
+    const double limit = deg2rad(kMaxAngleDeg) / rad_per_unit_;
+    return rad_per_unit_ * number_within(row, name, angle_unit_, -limit, limit);
   }
 
   [[nodiscard]] double length_mm(const Row& row, const std::string& name) const {
-    return mm_per_unit_ * number(row, name, length_unit_);
+    const double limit = kMaxCoordinateMm / mm_per_unit_;
+    return mm_per_unit_ * number_within(row, name, length_unit_, -limit, limit);
+  }
+
+  /// A ballbar or wire length: above 0 and at most the cell's size.
+  [[nodiscard]] double distance_mm(const Row& row, const std::string& name) const {
+    const double limit = kMaxCoordinateMm / mm_per_unit_;
+    const double length = number(row, name, fmt::format(" ({})", length_unit_));
+    if (length <= 0 || length > limit)
+      throw InputError(
+          where(row, name),
+          fmt::format("length {} is outside the plausible range (0, {:g}] {}: "
+                      "expected a distance above 0",
+                      row.fields[static_cast<size_t>(columns_.at(name))], limit, length_unit_));
+    return mm_per_unit_ * length;
   }
 
   [[nodiscard]] Eigen::Vector3d xyz(const Row& row) const {
@@ -532,10 +567,8 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
     throw InputError({source_name, header_line, 0, ""},
                      "no measurement rows after the header: expected at least one row");
 
-  const bool metres = format.length == LengthUnit::Metre;
-  const bool radians = format.angle == AngleUnit::Radian;
-  const RowReader reader(source_name, columns, metres ? 1000.0 : 1.0, radians ? 1.0 : deg2rad(1.0),
-                         metres ? " (m)" : " (mm)", radians ? " (rad)" : " (degrees)");
+  const RowReader reader(source_name, columns, format.length == LengthUnit::Metre,
+                         format.angle == AngleUnit::Radian);
   std::unordered_map<std::string, int> seen;  // "config\ntarget" -> line
   for (const Row& row : rows) {
     if (row.fields.size() != header.size())
@@ -605,11 +638,7 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
         m.target = reader.target(row, tool);
         m.joints = reader.joints_rad(row);
         if (has_approach) m.approach = reader.approach(row);
-        m.length_mm = reader.length_mm(row, "length");
-        if (m.length_mm < 0)
-          throw InputError(
-              reader.where(row, "length"),
-              fmt::format("length {} is negative: expected a distance ≥ 0 (mm)", m.length_mm));
+        m.length_mm = reader.distance_mm(row, "length");
         m.line = row.line;
         set.distances.push_back(std::move(m));
         break;

@@ -84,4 +84,23 @@ nlohmann::json ik_json(const IkReport& result) {
   return out;
 }
 
+IkPath inverse_kinematics_path(const RobotModel& robot, const std::vector<Pose<double>>& poses,
+                               const Vector6d& seed) {
+  IkPath path;
+  Vector6d previous = seed;
+  for (const Pose<double>& pose : poses) {
+    const AnyIkResult ik = solve_ik(robot, pose, previous);
+    path.status.push_back(ik.status);
+    std::optional<IkSolution> best;
+    for (const IkSolution& s : ik.solutions)
+      if (!best || (s.joints - previous).cwiseAbs().maxCoeff() <
+                       (best->joints - previous).cwiseAbs().maxCoeff())
+        best = s;
+    if (ik.status == IkStatus::Unreachable || ik.status == IkStatus::OutsideLimits) best.reset();
+    if (best) previous = best->joints;
+    path.chosen.push_back(best);
+  }
+  return path;
+}
+
 }  // namespace robcal

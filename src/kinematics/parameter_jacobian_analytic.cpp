@@ -17,7 +17,7 @@ void sin_cos(double angle, double* s, double* c) {
 
 /// World frames Φ1..Φ6 for link angles given by their sin and cos, composed column by column:
 /// Rot_x(α)·Trans_x(a) mixes the previous y, z axes and moves along the previous x;
-/// Rot_z(θ)·Trans_z(d) mixes the new x, y and moves along the new z (docs/method/02-frames.md).
+/// Rot_z(θ)·Trans_z(d) mixes the new x, y and moves along the new z (docs/method/02-frames.md §3).
 std::array<Pose<double>, kJointCount> chain(const RobotModel& model, const double* x,
                                             const ParameterTrig& f,
                                             const std::array<double, kJointCount>& s,
@@ -125,8 +125,8 @@ FlangeRegressor::FlangeRegressor(const RobotModel& model, const PointMass& paylo
                     &s_u[k], &c_u[k]);
   undeflected_ = chain(model, x, trig, s_u, c_u);
 
-  // Gravity torques (docs/method/03-error-model.md): suffix sums of the bodies' first moments and
-  // masses.
+  // Gravity torques (docs/method/03-error-model.md §3): suffix sums of the bodies' first moments
+  // and masses.
   const std::array<Pose<double>, kJointCount>& F = undeflected_;
   const Vector3d g = world_gravity(model, trig, x);
   C_[kJointCount].setZero();

@@ -61,11 +61,11 @@ void check_limits(const MeasurementProgramRequest& r, const std::string& name,
       if (q < l.lower || q > l.upper)
         throw InputError(
             SourceLocation{"", 0, 0, name},
-            fmt::format("joint {} at {:.4f} deg{} is outside its limits [{:.4f}, "
-                        "{:.4f}] deg; the approach moves every joint by -{} deg "
-                        "(docs/method/05-observability.md), so a configuration needs that margin",
-                        j + 1, rad2deg(q), what, rad2deg(l.lower), rad2deg(l.upper),
-                        r.approach_deg));
+            fmt::format(
+                "joint {} at {:.4f} deg{} is outside its limits [{:.4f}, "
+                "{:.4f}] deg; the approach moves every joint by -{} deg "
+                "(docs/method/05-observability.md §4), so a configuration needs that margin",
+                j + 1, rad2deg(q), what, rad2deg(l.lower), rad2deg(l.upper), r.approach_deg));
   }
 }
 
@@ -104,6 +104,17 @@ std::vector<ProgramFile> write_measurement_program(const MeasurementProgramReque
   if (r.signal < 0 || r.signal > 4096)
     throw InputError(SourceLocation{"", 0, 0, "--signal"},
                      fmt::format("expected a signal number 0 to 4096, found {}", r.signal));
+  if (r.max_configs_per_file < 0)
+    throw InputError(SourceLocation{"", 0, 0, "--max-configs-per-file"},
+                     fmt::format("expected a positive count of configurations per program (0: "
+                                 "the controller's limit, {} for {}), found {}",
+                                 program_size_limit(r.language), program_language_name(r.language),
+                                 r.max_configs_per_file));
+  // Tool numbers: Fanuc UTOOL 0..10 (more on some options), KUKA TOOL_DATA[1..16], Yaskawa
+  // TOOL 0..63: beyond 63 is none of them.
+  if (r.tool_number < 0 || r.tool_number > 63)
+    throw InputError(SourceLocation{"", 0, 0, "--tool-number"},
+                     fmt::format("expected a tool number 0 to 63, found {}", r.tool_number));
   if (r.language == ProgramLanguage::Jbi && !r.pulses_per_degree)
     throw InputError(SourceLocation{"", 0, 0, "--pulses-per-degree"},
                      "a Yaskawa job stores joints in encoder pulses: give the pulses per degree "

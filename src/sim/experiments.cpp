@@ -29,11 +29,11 @@ double nominal_max_error_mm(const TrueRobot& truth, const RobotModel& model, con
   return position_errors(placed, readings).position_mm.max;
 }
 
-/// The random true robot of experiments (a) and (b), docs/method/11-published-results.md's "errors
-/// up to 5 mm": one seeded draw of uniform errors, then every error (links, compliance, base)
-/// scaled by one factor so that the nominal error peaks at 5 mm over 1000 random configurations
-/// (uniform bounds alone give anything from 2 to 14 mm). The error is nearly linear in the factor,
-/// so the fixed-point iteration factor ← factor · 5 / peak settles in a few steps.
+/// The random true robot of experiments (a) and (b), docs/method/11-published-results.md §2's
+/// "errors up to 5 mm": one seeded draw of uniform errors, then every error (links, compliance,
+/// base) scaled by one factor so that the nominal error peaks at 5 mm over 1000 random
+/// configurations (uniform bounds alone give anything from 2 to 14 mm). The error is nearly linear
+/// in the factor, so the fixed-point iteration factor ← factor · 5 / peak settles in a few steps.
 TrueRobot five_millimetre_truth(const RobotModel& model, const Tool& tool, std::mt19937_64& rng,
                                 double& factor) {
   constexpr double kPeakMm = 5.0;

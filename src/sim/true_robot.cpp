@@ -89,7 +89,7 @@ TrueRobot published_irb120_truth(const RobotModel& model, const Tool& tool,
   TrueRobot truth = make_truth(model, tool, "published");
   ParameterVector& x = truth.robot.params;
   set_base(x, base);
-  // docs/method/11-published-results.md, links 2..6: alpha (deg), a (mm), theta offset (deg), d
+  // docs/method/11-published-results.md §3, links 2..6: alpha (deg), a (mm), theta offset (deg), d
   // (mm), compliance.
   const double links[5][5] = {{-90.006, 0.134, -89.909, 0.000, 0.032e-6},
                               {-0.011, 270.236, 0.054, 0.006, 0.130e-6},

@@ -7,8 +7,9 @@
 #include <nlohmann/json.hpp>
 
 #include "robcal/core/error.hpp"
-#include "robcal/io/measurement_file.hpp"
+#include "robcal/io/format_options.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/measure/tcp_warning.hpp"
 #include "robcal/validate/base_fit.hpp"
 
 namespace robcal {
@@ -126,6 +127,8 @@ ValidateResult validate_set(CalibratedRobot robot, const MeasurementSet& set,
   result.fit_base = options.fit_base;
   result.threads = options.threads;
   result.region_classes = options.calibration_mm.has_value();
+  if (const auto warning = poses_without_tcp_warning(robot.tool, set))
+    result.warnings.push_back(*warning);
   if (options.ballbar_centre_mm && set.kind != MeasurementKind::Distances)
     throw InputError({measurements, 0, 0, "--ballbar-centre"},
                      fmt::format("--ballbar-centre is for distances (ballbar) files; this is a "
@@ -175,18 +178,19 @@ ValidateResult validate(CalibratedRobot robot, const MeasurementSet& set,
 ValidateResult validate(const ValidateRequest& request) {
   std::vector<std::string> notes;
   const CalibratedRobot robot = load_model(request, notes);
+  const MeasurementFormat format = declared_format(request.units, request.euler);
   MeasurementFile file = read_measurements_csv(
       request.measurements, robot.tool,
-      {MeasurementKind::Points, MeasurementKind::Poses, MeasurementKind::Distances});
+      {MeasurementKind::Points, MeasurementKind::Poses, MeasurementKind::Distances}, format);
   ValidateOptions options = request.options;
   if (!request.calibration.empty()) {
     const MeasurementFile calibration = read_measurements_csv(
-        request.calibration, robot.tool, {MeasurementKind::Points, MeasurementKind::Poses});
+        request.calibration, robot.tool, {MeasurementKind::Points, MeasurementKind::Poses}, format);
     options.calibration_mm = measured_positions(calibration.measurements);
   }
   ValidateResult result = validate_set(robot, file.measurements, options, request.measurements,
                                        {request.robot, request.tool});
-  result.warnings = std::move(file.warnings);
+  result.warnings.insert(result.warnings.begin(), file.warnings.begin(), file.warnings.end());
   result.notes = std::move(notes);
   return result;
 }

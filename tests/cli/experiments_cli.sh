@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# robcal experiments: the published simulation experiments (docs/method/11-published-results.md) against the published
+# robcal experiments: the published simulation experiments (docs/method/11-published-results.md §2) against the published
 # figures: (a) nominal error up to ~5 mm, no noise → model error far below 0.004 mm; (b) noise
 # and mass error → the published 0.05–0.10 mm band; (c) compliance visibly matters.
 set -euo pipefail

@@ -35,6 +35,14 @@ python3 - "$tmp/prelim.json" "$tmp/generic.json" <<'PY'
 import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:])
 assert abs(a["rms_mm"] - b["rms_mm"]) < 1e-6, (a["rms_mm"], b["rms_mm"])
+# One definition of the residual (per-pose 3D TCP error) at the solution and at the start.
+for key in ("residual_per_row_mm", "start_residual_per_row_mm"):
+    for stat in ("mean", "rms", "max"):
+        assert abs(a[key][stat] - b[key][stat]) < 1e-6, (key, stat, a[key], b[key])
+    s = a[key]
+    assert 0 < s["mean"] <= s["rms"] <= s["max"], (key, s)
+assert a["start_residual_per_row_mm"]["rms"] > 10 * a["residual_per_row_mm"]["rms"]
+assert "initial_rms_mm" not in a
 PY
 
 # Stage 2: re-plan the retries on the preliminary model, measure them (fixture sides are not asked

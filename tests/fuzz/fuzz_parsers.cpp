@@ -28,6 +28,7 @@
 #include "robcal/campaign/frames_file.hpp"
 #include "robcal/campaign/frames_world.hpp"
 #include "robcal/campaign/instrument_import.hpp"
+#include "robcal/campaign/point_session.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/session.hpp"
@@ -37,8 +38,10 @@
 #include "robcal/io/opw_file.hpp"
 #include "robcal/io/pose_list_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "robcal/io/ur_calibration_file.hpp"
 #include "robcal/io/urdf_file.hpp"
 #include "robcal/programs/frames_file.hpp"
+#include "robcal/programs/measurement_program.hpp"
 #include "robcal/programs/program_filter.hpp"
 #include "robcal/sim/simulator.hpp"
 #include "robcal/sim/true_robot.hpp"
@@ -74,23 +77,62 @@ std::map<std::string, Target> targets(const fs::path& root) {
     c.joints_deg = p.joints_deg;
     return c;
   };
-  const auto program = [correct](ProgramLanguage language) {
-    return [correct, language](const std::string& text, const fs::path& file) {
-      ProgramFilterOptions options;
-      options.joints = true;
-      // The tools and frames the seeds use but do not define (as a frames file gives them).
-      options.tools["TOOL_DATA[1]"] = Pose<double>{};
-      options.tools["UT[2]"] = Pose<double>{};
-      options.frames["UF[1]"] = Pose<double>{};
-      options.tools["TOOL[1]"] = Pose<double>{};
-      options.tools["TOOL[2]"] = Pose<double>{};
-      options.frames["USER[1]"] = Pose<double>{};
-      options.pulses_per_degree = {1341.2, 1341.2, 1341.2, 1092.3, 1092.3, 614.4};
+  // The tools and frames the seeds use but do not define (as a frames file gives them).
+  ProgramFilterOptions options;
+  options.joints = true;
+  options.tools["TOOL_DATA[1]"] = Pose<double>{};
+  options.tools["UT[2]"] = Pose<double>{};
+  options.frames["UF[1]"] = Pose<double>{};
+  options.tools["TOOL[1]"] = Pose<double>{};
+  options.tools["TOOL[2]"] = Pose<double>{};
+  options.frames["USER[1]"] = Pose<double>{};
+  options.frames["BASE_DATA[1]"] = Pose<double>{};
+  options.frames["BASE_DATA[2]"] = Pose<double>{};
+  options.pulses_per_degree = {1341.2, 1341.2, 1341.2, 1092.3, 1092.3, 614.4};
+  const auto program = [correct, options](ProgramLanguage language) {
+    return [correct, options, language](const std::string& text, const fs::path& file) {
       (void)read_program_points(text, language, file.string(), options);
       (void)filter_program(text, language, file.string(), options, correct);
     };
   };
+  // A KUKA module seed is the .src, this line, then the .dat (a mutant that loses the line
+  // is all .src, with an empty .dat).
+  const auto krl_module = [correct, options](const std::string& text, const fs::path& file) {
+    static const std::string kSeparator = "\n&&& robcal_fuzz: the .dat follows &&&\n";
+    const size_t at = text.find(kSeparator);
+    const std::string src = text.substr(0, at);
+    const std::string dat = at == std::string::npos ? "" : text.substr(at + kSeparator.size());
+    const std::string src_file = file.string() + ".src", dat_file = file.string() + ".dat";
+    (void)read_krl_module_points(src, dat, src_file, dat_file, options);
+    (void)filter_krl_module(src, dat, src_file, dat_file, options, correct);
+  };
+  // The point session of corpus/candidates/configs.csv, a reference every 3 configurations.
+  campaign::SessionSettings session;
+  session.configs =
+      read_configurations_csv((root / "corpus" / "candidates" / "configs.csv").string(), tool);
+  session.tool = tool;
+  session.reference = 0;
+  session.every = 3;
+  const std::vector<campaign::SessionStep> steps = campaign::session_steps(session);
+  const auto joint_moves = [](ProgramLanguage language) {
+    return [language](const std::string& text, const fs::path& f) {
+      (void)read_joint_moves(
+          text, language, f.string(),
+          std::array<double, kJointCount>{1341.2, 1341.2, 1341.2, 1092.3, 1092.3, 614.4});
+    };
+  };
   return {
+      {"ur_calibration", [](const std::string& text,
+                            const fs::path& f) { (void)parse_ur_calibration(text, f.string()); }},
+      {"krl_module", krl_module},
+      {"session_journal",
+       [session, steps](const std::string& text, const fs::path& f) {
+         (void)campaign::session_result(session, steps,
+                                        campaign::replay_journal(text, f.string(), steps));
+       }},
+      {"joint_moves_ls", joint_moves(ProgramLanguage::FanucLs)},
+      {"joint_moves_jbi", joint_moves(ProgramLanguage::Jbi)},
+      {"joint_moves_urscript", joint_moves(ProgramLanguage::UrScript)},
       {"robot", [](const std::string&, const fs::path& f) { (void)load_robot(f.string()); }},
       {"tool", [](const std::string&, const fs::path& f) { (void)load_tool(f.string()); }},
       {"model",

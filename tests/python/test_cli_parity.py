@@ -137,17 +137,30 @@ def test_hexapod_plan_is_the_same_file(tmp_path):
     np.testing.assert_allclose(plan.joints_deg, [x["joints_deg"] for x in c["configurations"]],
                                rtol=0, atol=5e-7)
     assert "hexapod.Plan" in repr(plan)
+    # The CLI's other cell options: tilt, gauge and cup diameter.
+    c = cli_json("hexapod", "plan", "--placement", "450,0,300,0", "--tilt-deg", "15",
+                 "--gauge-range-mm", "3", "--gauge-sigma-mm", "0.002", "--cup-diameter-mm", "40")
+    tilted = robcal.hexapod.plan(placement=(450, 0, 300, 0), tilt_deg=15, gauge_range_mm=3,
+                                 gauge_sigma_mm=0.002, cup_diameter_mm=40)
+    assert json.loads(tilted.to_json()) == c
+    assert tilted.to_json() != robcal.hexapod.plan(placement=(450, 0, 300, 0)).to_json()
 
 
 def test_hexapod_setup_and_dkp():
     c = cli_json("hexapod", "setup", "--robot", "fanuc-lrmate200ic", "--placement", "450,0,300,0")
     p = robcal.hexapod.setup("fanuc-lrmate200ic", placement=(450, 0, 300, 0))
-    for a, b in zip(c["setting_ball"], p):
-        assert a["cup"] == b["cup"]
-        np.testing.assert_allclose(a["ball_position_mm"], b["ball_position_mm"], rtol=0, atol=1e-9)
-        assert [x["labels"] for x in a["configurations"]] == b["labels"]
-        np.testing.assert_allclose([x["joints_deg"] for x in a["configurations"]],
-                                   b["joints_deg"], rtol=0, atol=5e-7)
+    assert c == p and [b["cup"] for b in p["setting_ball"]] == ["B1", "B2", "B3"]
+    c = cli_json("hexapod", "setup", "--placement", "450,0,300,0", "--tilt-deg", "20")
+    p = robcal.hexapod.setup(placement=(450, 0, 300, 0), tilt_deg=20)
+    assert c == p
+    # Tilted 20° about the placement's x axis (along B1 B2): B1 and B2 stay level, B3 rises by the
+    # triangle's height times sin 20°; the cups stay 300 mm apart.
+    b = np.array([x["ball_position_mm"] for x in p["setting_ball"]])
+    for i, j in ((0, 1), (1, 2), (2, 0)):
+        assert np.linalg.norm(b[i] - b[j]) == pytest.approx(300, abs=1e-6)
+    assert b[0, 2] == pytest.approx(b[1, 2], abs=1e-9)
+    assert b[2, 2] - b[0, 2] == pytest.approx(300 * np.sqrt(3) / 2 * np.sin(np.radians(20)),
+                                              abs=1e-6)
 
 
 def without_seconds(d):
@@ -198,12 +211,18 @@ def test_plan_misfit(tmp_path):
     c = cli_json("plan", "--count", "12", "--candidates", "300", "--task-count", "40",
                  "--misfit-mm", "0.04", "--out", out)
     p = robcal.plan(count=12, candidates=300, task_count=40, misfit_mm=0.04)
-    assert c["predicted_error_mm"]["selected"]["rms"] == pytest.approx(p["predicted_rms_mm"], abs=1e-6)
-    w = c["predicted_error_with_misfit_mm"]
-    assert w["selected"]["rms"] == pytest.approx(p["with_misfit"]["predicted_rms_mm"], abs=1e-6)
-    assert p["with_misfit"]["predicted_rms_mm"] == pytest.approx(
-        np.hypot(p["predicted_rms_mm"], 0.04), abs=1e-12)
-    assert "with_misfit" not in robcal.plan(count=12, candidates=300, task_count=40)
+    # One serializer: Python's dict is the CLI's JSON, plus the chosen configurations as arrays.
+    assert p.pop("out") == "" and c.pop("out") == out
+    joints, targets = p.pop("joints_deg"), p.pop("targets")
+    assert c == p
+    csv = np.loadtxt(out, delimiter=",", skiprows=1, usecols=range(2, 8), comments="#")
+    np.testing.assert_allclose(joints, csv, rtol=0, atol=1e-6)
+    assert len(targets) == 12
+    w = p["predicted_error_with_misfit_mm"]
+    assert w["selected"]["rms"] == pytest.approx(
+        np.hypot(p["predicted_error_mm"]["selected"]["rms"], 0.04), abs=2e-6)
+    assert "predicted_error_with_misfit_mm" not in robcal.plan(count=12, candidates=300,
+                                                               task_count=40)
 
 
 def test_hexapod_simulate():
@@ -256,6 +275,11 @@ def test_hexapod_replan(tmp_path):
     assert sim["text"] == open(tmp_path / "r1.txt").read()
     assert sim["tool"].to_yaml() == open(tmp_path / "tool.yaml").read()
     assert len(sim["validation"]) == 50 and sim["legs_out_of_range"] > 10
+    c = cli_json("hexapod", "simulate-readings", "--plan", str(s1 / "plan.json"), "--seed", "5",
+                 "--out", str(tmp_path / "r2.txt"))
+    keys = ("seed", "readings", "legs_out_of_range")
+    assert {k: c[k] for k in keys} == {k: sim[k] for k in keys}
+    assert sim["readings"] == len(sim["text"].splitlines()) and sim["seed"] == 5
     with open(tmp_path / "r1.txt") as readings:
         subprocess.run([CLI, "hexapod", "session", "--plan", str(s1 / "plan.json"), "--journal",
                         str(s1 / "journal.jsonl")], stdin=readings, check=True,
@@ -391,3 +415,35 @@ def assert_close(a, b, path=""):
         assert a == pytest.approx(b, rel=1e-11, abs=1e-12), path
     else:
         assert a == b, path
+
+
+def test_calibrate_guards_and_options(tmp_path):
+    data = os.path.join(REF, "calibration.csv")
+    out = str(tmp_path / "cli.yaml")
+    c = cli_json("calibrate", "--robot", "abb-irb120", "--tool", TOOL, "--measurements", data,
+                 "--sigma", "0.005", "--kfold", "4", "--seed", "7", "--out", out)
+    p = robcal.calibrate("abb-irb120", TOOL, data, sigma=0.005, kfold=4, seed=7)
+    for key, value in (("mean", p.mean_mm), ("rms", p.rms_mm), ("max", p.max_mm)):
+        assert c["residual_per_row_mm"][key] == pytest.approx(value, rel=0, abs=5.1e-10)
+    assert c["noise_test"]["dof"] == p.noise_test.dof
+    assert c["noise_test"]["consistent"] == p.noise_test.consistent is False  # 0.005 mm: misfit
+    assert c["noise_test"]["p_value"] == pytest.approx(p.noise_test.p_value, rel=1e-12)
+    cv = p.cross_validation
+    assert c["cross_validation"]["folds"] == cv["folds"] == 4
+    assert c["cross_validation"]["error_mm"]["mean"] == pytest.approx(cv["mean_mm"], abs=5.1e-10)
+    assert [f["rows"] for f in c["cross_validation"]["per_fold"]] == [
+        f["rows"] for f in cv["per_fold"]]
+    assert c["warnings"] == p.warnings and c["problems"] == p.problems == []
+    assert c["output"] == out
+    # Another robot's model: refused alike, nothing written by either.
+    kuka = str(tmp_path / "kuka.yaml")
+    cli = subprocess.run([CLI, "calibrate", "--robot", "kuka-kr6-r900-sixx", "--tool", TOOL,
+                          "--measurements", data, "--out", kuka, "--json"],
+                         capture_output=True, text=True)
+    assert cli.returncode == 1 and "not written" in cli.stderr
+    document = json.loads(cli.stdout)
+    run = robcal.calibrate("kuka-kr6-r900-sixx", TOOL, data)
+    assert document["problems"] == run.problems and document["output"] is None
+    with pytest.raises(robcal.InputError, match="not written"):
+        run.save(kuka)
+    assert not os.path.exists(kuka)

@@ -52,8 +52,9 @@ def test_plan_returns_joint_arrays_and_selects_among_given_ones():
     r = robcal.plan(count=10, candidates=300, task_count=40, task_box=task_box)
     assert r["joints_deg"].shape == (10, 6)
     assert r["criterion"] == "I-optimal"
-    assert r["near_edge"] <= r["edge_limit"] == 2
-    assert 0 < r["predicted_mean_mm"] < r["predicted_random_mean_mm"]
+    assert r["near_edge"]["selected"] <= r["near_edge"]["limit"] == 2
+    e = r["predicted_error_mm"]
+    assert 0 < e["selected"]["mean"] < e["random"]["mean"]
     # Among the user's configurations: every chosen row is one of them.
     given = robcal.plan(count=30, candidates=300, criterion="d", task_count=40)["joints_deg"]
     chosen = robcal.plan(count=12, candidate_joints_deg=given, criterion="d", task_count=40)

@@ -83,3 +83,39 @@ def test_bad_input_is_a_value_error():
         robcal.calibrate_points("abb-irb120", TOOL, joints, targets, positions, level="all")
     with pytest.raises(ValueError):
         robcal.load_calibrated_robot(os.path.join(REF, "tool.yaml"))
+
+
+def test_another_robots_model_is_refused_unless_forced(tmp_path):
+    # The KUKA's model on the IRB 120's data: the CLI's guards, not a silent save.
+    run = robcal.calibrate("kuka-kr6-r900-sixx", TOOL, os.path.join(REF, "calibration.csv"))
+    assert run.problems, "another robot's model passed as plausible"
+    assert "check the robot (--robot: is it this arm's model?)" in run.problems[0]
+    assert run.rms_mm > 2.0  # forwarded to the identification result
+    path = tmp_path / "kuka.yaml"
+    with pytest.raises(robcal.InputError, match="not written: the fit is not trustworthy"):
+        run.save(str(path))
+    assert not path.exists()
+    run.save(str(path), force=True)
+    assert "problems:" in path.read_text()  # the forced model records why it is not trusted
+
+
+def test_result_carries_warnings_noise_test_and_per_row_residuals():
+    data = os.path.join(REF, "calibration.csv")
+    run = robcal.calibrate("abb-irb120", TOOL, data, sigma=0.001)
+    r = run.result
+    # Per-row residuals: their mean, RMS and maximum are the result's.
+    rows = sum(1 for _ in open(data)) - 1
+    assert r.residuals.shape == (rows,)
+    assert float(np.mean(r.residuals)) == pytest.approx(r.mean_mm, rel=1e-12)
+    assert float(np.sqrt(np.mean(r.residuals ** 2))) == pytest.approx(r.rms_mm, rel=1e-12)
+    assert float(np.max(r.residuals)) == pytest.approx(r.max_mm, rel=1e-12)
+    # 1 µm is far below the tracker's noise: the χ² test fails and the misfit is cross-validated.
+    t = r.noise_test
+    assert t.tested and not t.consistent and t.instrument_sigma_mm == 0.001
+    assert t.chi_square == pytest.approx(r.sigma_mm ** 2 * t.dof / 0.001 ** 2, rel=1e-9)
+    cv = run.cross_validation
+    assert cv["run_because_of_misfit"] and cv["folds"] == 5
+    assert cv["mean_mm"] == pytest.approx(float(np.mean(cv["errors_mm"])), rel=1e-12)
+    assert isinstance(run.warnings, list)
+    with pytest.raises(robcal.InputError, match="--sigma"):
+        robcal.calibrate("abb-irb120", TOOL, data, sigma=-1)

@@ -67,3 +67,31 @@ def test_bad_joint_count_is_a_value_error():
     robot = robcal.load_robot("abb-irb120")
     with pytest.raises(ValueError, match="6 joint values"):
         robcal.fk(robot, [0, 0, 0])
+
+
+@pytest.mark.parametrize("name", ["abb-irb120", "universal-robots-ur10e"])
+def test_ik_batch_inverts_fk_batch_along_a_path(name):
+    robot = robcal.load_robot(name)
+    limits = robot.joint_limits_deg
+    # A smooth joint path well inside the limits and away from the wrist singularity.
+    t = np.linspace(0, 1, 40)[:, None]
+    start = limits[:, 0] * 0.3 + limits[:, 1] * 0.7
+    end = limits[:, 0] * 0.6 + limits[:, 1] * 0.4
+    joints = (1 - t) * start + t * end
+    joints[:, 4] = np.clip(joints[:, 4], 30, 80)
+    poses = robcal.fk_batch(robot, joints)
+    far = np.vstack([poses["position_mm"], [[5000.0, 0.0, 0.0]]])
+    quaternions = np.vstack([poses["quaternion_wxyz"], [[1.0, 0.0, 0.0, 0.0]]])
+    r = robcal.ik_batch(robot, far, quaternions, seed_joints_deg=joints[0])
+    # UR joints span two turns: more solutions than kept ("truncated"), the path's among them.
+    assert set(r["status"][:-1]) <= {"solved", "truncated"} and r["status"][-1] == "unreachable"
+    assert np.isnan(r["joints_deg"][-1]).all() and r["config"][-1] == ""
+    # Seeded at the path's start, each row follows the path: its own joints (its configuration
+    # label may change along the way, the joints do not jump).
+    np.testing.assert_allclose(r["joints_deg"][:-1], joints, rtol=0, atol=1e-7)
+    # And each row is that pose's ik solution of the same branch.
+    one = robcal.ik(robot, poses["position_mm"][7], poses["quaternion_wxyz"][7])
+    mine = [s for s in one["solutions"] if s["config"] == r["config"][7]]
+    assert min(np.max(np.abs(s["joints_deg"] - r["joints_deg"][7])) for s in mine) < 1e-9
+    with pytest.raises(robcal.InputError, match="N×3 positions"):
+        robcal.ik_batch(robot, far[:, :2], quaternions)

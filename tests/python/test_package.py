@@ -57,13 +57,28 @@ def test_robot_from_dict_is_the_robot_file():
     import json
     # The robot file's YAML has only JSON-representable fields: load it as a dict through JSON.
     text = robot.to_yaml()
-    try:
-        import yaml  # noqa: F401
-    except ImportError:
-        pytest.skip("PyYAML not installed: no dict form of the YAML file to start from")
+    import yaml  # python3-yaml, a test dependency of the Makefile's DEBIAN_PACKAGES
     d = json.loads(json.dumps(yaml.safe_load(text)))
     again = robcal.RobotModel.from_dict(d)
     assert again.to_yaml() == text
+
+
+def test_calibrated_robot_from_dict_is_the_model_file(tmp_path):
+    import json
+    yaml = pytest.importorskip("yaml")
+    tool = robcal.Tool.from_file(TOOL)
+    rows = robcal.Measurements.from_file(os.path.join(REF, "calibration.csv"), tool)
+    model = robcal.calibrate(robcal.load_robot("abb-irb120"), rows, level="kinematic").robot
+    text = model.to_yaml()
+    (tmp_path / "model.yaml").write_text(text)
+    from_file = robcal.CalibratedRobot.from_file(str(tmp_path / "model.yaml"))
+    again = robcal.CalibratedRobot.from_dict(json.loads(json.dumps(yaml.safe_load(text))))
+    assert again.to_yaml() == from_file.to_yaml()  # the file's reader, on the dict
+    assert again.level == model.level == "kinematic"
+    for name, value in model.parameters.items():  # the file's 17 digits, in mm and deg
+        assert again.parameters[name] == pytest.approx(value, rel=1e-14, abs=1e-12), name
+    with pytest.raises(robcal.InputError, match="<dict>.*parameters"):
+        robcal.CalibratedRobot.from_dict({"robot": {}})
 
 
 def test_measurements_round_trip_through_dict_arrays_and_csv():
@@ -87,7 +102,8 @@ def test_calibration_from_objects_equals_calibration_from_files():
     b = robcal.calibrate("abb-irb120", TOOL, os.path.join(REF, "calibration.csv"), level="full")
     assert a.rms_mm == b.rms_mm
     np.testing.assert_array_equal(a.parameter_table["value"], b.parameter_table["value"])
-    assert "IdentificationResult" in repr(a) and "converged" in repr(a)
+    assert "IdentificationResult" in repr(a.result) and "converged" in repr(a.result)
+    assert repr(a).startswith("<Calibration ABB IRB 120: rms ") and "PROBLEMS" not in repr(a)
     html = a._repr_html_()
     assert html.count("<tr>") == len(a.parameters) + 1 and "link3.d" in html
 

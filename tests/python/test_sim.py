@@ -51,7 +51,7 @@ def test_simulated_readings_are_truth_plus_noise():
     errors = noisy["position_mm"] - exact["position_mm"]
     assert errors.shape == (200, 3)
     assert abs(errors.std(ddof=1) / 0.05 - 1) < 0.1
-    # Joints within the published test ranges (docs/method/05-observability.md).
+    # Joints within the published test ranges (docs/method/05-observability.md §2).
     assert np.all(exact["joints_deg"][:, 1] >= 0) and np.all(np.abs(exact["joints_deg"][:, 0]) <= 90)
 
 

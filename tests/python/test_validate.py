@@ -75,3 +75,19 @@ def test_validate_nominal_robot_with_fitted_base():
     assert 0.8 < r["position_error_mm"]["mean"] < 3.5  # docs/method/11-published-results.md: 1–5 mm before calibration
     assert [t["target"] for t in r["per_target"]] == ["1", "2", "3"]
     assert r["distance_error_mm"]["pairs"] == 499500
+
+
+def test_validate_takes_units_and_euler_like_calibrate(tmp_path):
+    mm = rc.validate("abb-irb120", TOOL, str(DATA / "validation.csv"), fit_base=True)
+    lines = (DATA / "validation.csv").read_text().splitlines()
+    metres = [lines[0]]
+    for line in lines[1:]:
+        f = line.split(",")
+        metres.append(",".join(f[:8] + [repr(float(v) / 1000) for v in f[8:11]]))
+    path = tmp_path / "validation_m.csv"
+    path.write_text("\n".join(metres) + "\n")
+    m = rc.validate("abb-irb120", TOOL, str(path), fit_base=True, units="m")
+    assert m["position_error_mm"]["mean"] == pytest.approx(mm["position_error_mm"]["mean"],
+                                                           abs=1e-9)
+    with pytest.raises(rc.InputError, match="--euler: 'ZZY' is not a rotation order"):
+        rc.validate("abb-irb120", TOOL, str(path), fit_base=True, units="m", euler="ZZY")

@@ -8,7 +8,7 @@
 /// ```yaml
 /// format: robcal-cell
 /// name: my cell
-/// robot_base:                      # the robot's base placement (docs/method/02-frames.md base
+/// robot_base:                      # the robot's base placement (docs/method/02-frames.md §4 base
 /// parameters)
 ///   position_mm: [-812.25, 1503.5, -95]     # x, y, z: world_A_1 = Trans(x, y, d1 + z)·…
 ///   rotation_xyz_deg: [0.25, -0.4, -57]     # α, β, γ: R = Rx(α)·Ry(β)·Rz(γ)

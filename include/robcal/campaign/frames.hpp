@@ -7,7 +7,7 @@
 ///   joint axis; axis 1 is the base z axis, the common normal of axes 1 and 2 is frame 1's x
 ///   axis (MDH: z1 × z2 = sin α2 · x1), turned back by joint 1's angle it is the base x axis;
 ///   frame 1's origin is where that normal meets axis 1, d1 above the base origin
-///   (docs/method/02-frames.md: world_A_1 = Trans(x, y, d1 + z)·Rx(α)·Ry(β)·Rz(γ + θ1)).
+///   (docs/method/02-frames.md §4: world_A_1 = Trans(x, y, d1 + z)·Rx(α)·Ry(β)·Rz(γ + θ1)).
 /// - **Tool target from sweeps of joints 5 and 6**: axes 5 and 6 meet (common normal) at the
 ///   wrist; the flange origin is d6 along axis 6; x6 is x5 (z5 × z6 = sin α6 · x5) turned by
 ///   θ6; the target's flange coordinates are then read off the joint-6 circle.
@@ -51,7 +51,7 @@ struct FrameEstimate {
   double rms_mm = 0;    ///< fit residual RMS
 };
 
-/// The robot's base placement (the six base parameters of docs/method/02-frames.md, in `values`)
+/// The robot's base placement (the six base parameters of docs/method/02-frames.md §4, in `values`)
 /// from a joint-1 and a joint-2 sweep. `sigma_mm` > 0 gives the instrument's σ; 0 estimates it from
 /// the circle residuals. \throws InputError naming the sweep that cannot be used (wrong joint,
 /// another joint moving, too few points) or parallel axes 1 and 2.

@@ -70,9 +70,9 @@ struct ChainState {
 /// std::sin and std::cos, without their calls, which took ~40 % of a fresh chain evaluation.
 void table_sin_cos(double theta, double* s, double* c);
 
-/// Precomputes the chain for `params` (docs/method/03-error-model.md layout), the payload carried
-/// and the tool, every target reached at `row`: each joint approached from `row.approach` (+1
-/// below, −1 above, 0 unknown; null: from below, the programs' practice), so the backlash shift
+/// Precomputes the chain for `params` (docs/method/03-error-model.md §1 layout), the payload
+/// carried and the tool, every target reached at `row`: each joint approached from `row.approach`
+/// (+1 below, −1 above, 0 unknown; null: from below, the programs' practice), so the backlash shift
 /// −s·b/2 is constant and joins the joint's θ offset (§6), and at `row.temperature_rise_k`, so
 /// the links keep their warm lengths (§8).
 CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& params,

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// Candidate calibration configurations (docs/method/05-observability.md): random controller joint
-/// values inside the robot's limits and the user's joint constraints, every target and the wrist
-/// above a floor/table plane, and a target the instrument can see.
+/// Candidate calibration configurations (docs/method/05-observability.md §2): random controller
+/// joint values inside the robot's limits and the user's joint constraints, every target and the
+/// wrist above a floor/table plane, and a target the instrument can see.
 
 #include <array>
 #include <functional>
@@ -27,9 +27,9 @@ struct JointConstraints {
 /// No constraint beyond the robot's limits.
 JointConstraints unconstrained_joints();
 
-/// The published test constraints (docs/method/05-observability.md): θ2 ≥ 0°, θ3 ≥ −80° (one-signed
-/// gearbox torques, so the linear spring model holds), |θ1| ≤ 90°, |θ4| ≤ 150°, |θ5| ≤ 90°, |θ6| ≤
-/// 180°.
+/// The published test constraints (docs/method/05-observability.md §2): θ2 ≥ 0°, θ3 ≥ −80°
+/// (one-signed gearbox torques, so the linear spring model holds), |θ1| ≤ 90°, |θ4| ≤ 150°, |θ5| ≤
+/// 90°, |θ6| ≤ 180°.
 JointConstraints published_joint_constraints();
 
 /// The robot's limits intersected with `constraints` (controller values, rad). Throws

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Observability indices of a calibration design (docs/method/05-observability.md), from the
+/// Observability indices of a calibration design (docs/method/05-observability.md §1), from the
 /// singular values σ_1 ≥ … ≥ σ_m of the column-scaled identification Jacobian of n configurations:
 ///   O1 = (σ_1·σ_2·…·σ_m)^(1/m) / √n   (the index of the published method)
 ///   O2 = σ_min / σ_max,  O3 = σ_min,  O4 = σ_min² / σ_max (noise amplification),

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Choosing `count` calibration configurations among the candidates
-/// (docs/method/05-observability.md):
+/// (docs/method/05-observability.md §3):
 /// - the published exchange: a random start of 11, then remove/add single configurations
 ///   while the observability index O1 improves, O1 recomputed by SVD for every trial;
 /// - a fast D-optimal greedy + exchange (+ Fedorov's exchange and restarts, see
@@ -76,7 +76,7 @@ struct DOptimalOptions {
   uint64_t seed = 1;  ///< of the restarts' random starts
 };
 
-/// The published exchange algorithm on O1 (docs/method/05-observability.md): start from
+/// The published exchange algorithm on O1 (docs/method/05-observability.md §3): start from
 /// `start_size` random candidates; repeatedly remove the configuration whose removal most increases
 /// O1 (if any does) and add the candidate whose addition most increases O1 (below `count` the best
 /// one is added even when O1 does not increase, since that many are asked for); stop at `count`

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// The task region a calibration is for (docs/method/05-observability.md: predicted accuracy before
-/// measuring): a Cartesian box of TCP positions in the world frame, sampled to reachable
+/// The task region a calibration is for (docs/method/05-observability.md §5: predicted accuracy
+/// before measuring): a Cartesian box of TCP positions in the world frame, sampled to reachable
 /// configurations by inverse kinematics, or a list of TCP poses in the world frame, each solved by
 /// inverse kinematics; the calibrated robot's position error is predicted over these
 /// configurations.

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Task-aware choice of calibration configurations (docs/method/05-observability.md, "Selection
+/// Task-aware choice of calibration configurations (docs/method/05-observability.md §5, "Selection
 /// for a task region"): the I-optimal (V-optimal) criterion minimises the average predicted
 /// position variance over task-region configurations,
 ///   Φ_I(S) = tr(M_S⁻¹ B),  M_S = ridge·I + Σ_{i∈S} A_iᵀA_i,  B = (1/T) Σ_t J_tᵀJ_t,
@@ -25,7 +25,7 @@ namespace robcal {
 /// design.parameters) with the design's column scaling applied.
 Eigen::MatrixXd task_information(const DesignMatrix& design, const Eigen::MatrixXd& task_jacobian);
 
-/// The robustness guard (numbers justified in docs/method/05-observability.md).
+/// The robustness guard (numbers justified in docs/method/05-observability.md §5).
 struct SelectionGuard {
   bool enabled = true;
   /// A configuration is near an edge when some joint is within this fraction of its range

@@ -2,7 +2,7 @@
 /// \file
 /// Which hexapod poses can be set up physically (issue 20): a tool cup must not sit on or bump
 /// into a base cup, and the ballbar of each leg must leave both fixtures on the side their cups
-/// open to and must not run into a third cup. The planned poses of docs/method/07-hexapod.md are
+/// open to and must not run into a third cup. The planned poses of docs/method/07-hexapod.md §3 are
 /// computed for points; with a tool triangle as large as the base one, most of them put a tool cup
 /// on a base cup.
 

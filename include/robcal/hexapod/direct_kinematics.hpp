@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Direct kinematics of the ballbar hexapod (docs/method/07-hexapod.md): the tripod function Tri
+/// Direct kinematics of the ballbar hexapod (docs/method/07-hexapod.md §2): the tripod function Tri
 /// and the three-step cascade of leg design 1^12 2^123 3^1, templated on the scalar so that Jets
 /// give the sensitivity of every tool-cup coordinate to every measured distance.
 ///
@@ -33,14 +33,14 @@ inline constexpr std::array<LegRoles, 6> kDesignLegs{
 template <typename T>
 using LegLengths = std::array<T, 6>;
 
-/// Tri(v1, v2, v3, l1, l2, l3) of docs/method/07-hexapod.md: the point x with |x − v_i| = l_i on
+/// Tri(v1, v2, v3, l1, l2, l3) of docs/method/07-hexapod.md §2: the point x with |x − v_i| = l_i on
 /// side `sign` (±1) of the plane v1 v2 v3. Returns nullopt when the vertices are collinear or the
 /// spheres do not meet (negative discriminant).
 ///
-/// The formula of docs/method/07-hexapod.md is evaluated with v1 moved to the origin (u = v2 − v1,
-/// w = v3 − v1, so ξ1 = ½(l1² − l2² + u·u), ξ2 = ½(l1² − l3² + w·w) and v1·k = 0): the same algebra
-/// without the cancellation of v·v terms of far-away vertices; s² = l1² − |p|² is formed as (l1 −
-/// |p|)(l1 + |p|).
+/// The formula of docs/method/07-hexapod.md §2 is evaluated with v1 moved to the origin (u = v2 −
+/// v1, w = v3 − v1, so ξ1 = ½(l1² − l2² + u·u), ξ2 = ½(l1² − l3² + w·w) and v1·k = 0): the same
+/// algebra without the cancellation of v·v terms of far-away vertices; s² = l1² − |p|² is formed as
+/// (l1 − |p|)(l1 + |p|).
 template <typename T>
 std::optional<Vector3<T>> tripod(const Vector3<T>& v1, const Vector3<T>& v2, const Vector3<T>& v3,
                                  const T& l1, const T& l2, const T& l3, int sign) {
@@ -68,7 +68,7 @@ struct CascadeSolution {
   Cups<T> tool;                ///< t1, t2, t3 (design roles) in the base cups' frame
 };
 
-/// The cascade of docs/method/07-hexapod.md for one sign triple:
+/// The cascade of docs/method/07-hexapod.md §2 for one sign triple:
 /// t1 = Tri(b1,b2,b3, ρ11,ρ21,ρ31); t2 = Tri(b1,b2,t1, ρ12,ρ22,t12); t3 = Tri(t2,b2,t1,
 /// t23,ρ23,t31). `tool_sides` = (t12, t23, t31) in design roles.
 template <typename T>
@@ -112,7 +112,7 @@ std::array<CascadeSolution<T>, 8> cascade_all(const Cups<T>& b, const std::array
   return all;
 }
 
-/// Assembly mode 1..4 of the two last sign choices (docs/method/07-hexapod.md: 4 modes above the
+/// Assembly mode 1..4 of the two last sign choices (docs/method/07-hexapod.md §2: 4 modes above the
 /// base plane).
 constexpr int assembly_mode(int sign2, int sign3) {
   return 1 + (sign2 < 0 ? 2 : 0) + (sign3 < 0 ? 1 : 0);

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "robcal/hexapod/cup_collision.hpp"
+#include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/simulation.hpp"
 #include "robcal/sim/true_robot.hpp"
 #include "robcal/validate/error_statistics.hpp"
@@ -30,13 +31,17 @@ struct EndToEndOptions {
   double distance_mm = 50;
   CupClearance cups;  ///< poses whose cups or legs collide are refused before pruning
   int validation_configurations = 10000;
-  double tracker_sigma_mm = 0.022;  ///< docs/method/06-instruments.md, laser tracker
+  double tracker_sigma_mm = 0.022;  ///< docs/method/06-instruments.md §1, laser tracker
   int threads = 2;                  ///< all-pairs statistics
   bool leg_fit = true;              ///< also fit from the raw readings
   /// Hold the base in the pose fits (the published relative model): the fit then keeps the error
   /// of the world frame the uncalibrated robot gave the base cups.
   bool relative_pose_fit = false;
 };
+
+/// `settings` (validation, threads, fits, errors) in the cell `plan` describes: its fixtures,
+/// placement (tilt included), offsets, table, pruning, gauge and cup clearance.
+EndToEndOptions end_to_end_options(const HexapodPlanRequest& plan, EndToEndOptions settings = {});
 
 /// Accuracy of one model on the validation configurations.
 struct ValidationFigures {

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The two triangular fixtures of the ballbar hexapod (docs/method/07-hexapod.md): cup positions
+/// The two triangular fixtures of the ballbar hexapod (docs/method/07-hexapod.md §1): cup positions
 /// from the three side lengths measured with the ballbar, and the fixture frame that three cup
 /// positions define.
 ///
@@ -45,7 +45,7 @@ struct TriangleSides {
 /// finite, or the triangle inequality broken or within 1e-6 of equality: the cups are collinear).
 std::string triangle_problem(const TriangleSides& sides);
 
-/// Cup positions from the side lengths (docs/method/07-hexapod.md): c1 = 0, c2 = (d12, 0, 0),
+/// Cup positions from the side lengths (docs/method/07-hexapod.md §1): c1 = 0, c2 = (d12, 0, 0),
 /// c3 = (x, y, 0) with x = (d12² − d23² + d31²)/(2·d12) and y = 2·area/d12 (Heron).
 /// Precondition: triangle_problem(sides) is empty (the Jet version cannot throw usefully).
 template <typename T>

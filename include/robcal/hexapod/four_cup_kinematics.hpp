@@ -1,11 +1,11 @@
 #pragma once
 /// \file
 /// Direct kinematics of a ballbar hexapod with a fourth cup on either fixture (issue 20,
-/// docs/method/07-hexapod.md extended): more distances than unknowns, so the cup positions are the
-/// least-squares fit of every measured distance (fixture sides and legs), by Gauss–Newton started
-/// from the closed-form 3-3 cascade on the cups 1..3. The same Jacobian gives the GUM sensitivity
-/// of every tool-cup coordinate to every distance (ISO/IEC Guide 98-3; at the least-squares
-/// solution ∂x/∂d = (JᵀJ)⁻¹Jᵀ), checked against Monte Carlo.
+/// docs/method/07-hexapod.md §7 extended): more distances than unknowns, so the cup positions are
+/// the least-squares fit of every measured distance (fixture sides and legs), by Gauss–Newton
+/// started from the closed-form 3-3 cascade on the cups 1..3. The same Jacobian gives the GUM
+/// sensitivity of every tool-cup coordinate to every distance (ISO/IEC Guide 98-3; at the
+/// least-squares solution ∂x/∂d = (JᵀJ)⁻¹Jᵀ), checked against Monte Carlo.
 ///
 /// Frame: the base fixture frame of cups 1..3 (b1 at the origin, b2 on +x, b3 in the xy plane
 /// with y > 0; fixture.hpp). A fourth cup need not be in its fixture's plane.
@@ -66,9 +66,15 @@ struct FourCupSolution {
 
 enum class FourCupDkpStatus { Ok, InvalidInput, NotDetermined, NoRealSolution };
 
+/// The part of a request a problem lies in (what a caller names: the CLI's --base-mm, --tool-mm
+/// or --legs).
+enum class FourCupInput { BaseFixture, ToolFixture, Legs };
+
 struct FourCupDkpResult {
   FourCupDkpStatus status = FourCupDkpStatus::Ok;
-  std::string message;                      ///< what is wrong when status != Ok
+  std::string message;  ///< what is wrong when status != Ok
+  FourCupInput culprit =
+      FourCupInput::Legs;                   ///< where it is wrong (fixture problems: that fixture)
   std::vector<std::string> distance_names;  ///< "b12", …, "b34", "t12", …, "rho11", …
   LegDesign design;                         ///< the 3-3 design the cascade started from
   /// Distinct converged solutions, smallest residual first. With redundant legs the true

@@ -1,10 +1,11 @@
 #pragma once
 /// \file
-/// The length gauge the hexapod measures with (docs/method/06-instruments.md–8): it reads only
-/// within ±range of its set-up length, with standard uncertainty σ. The published ballbar reads ±1
-/// mm with σ = 0.51 µm; a longer-range gauge (issue 20: ±5 mm) reaches the poses of an uncalibrated
-/// robot, at the price of its own σ. Where the range and σ go: HexapodCellOptions (simulation),
-/// SessionPlan (session), and σ times the σ-multiples of uncertainty.hpp / four_cup_kinematics.hpp.
+/// The length gauge the hexapod measures with (docs/method/06-instruments.md §1, 07-hexapod.md §5):
+/// it reads only within ±range of its set-up length, with standard uncertainty σ. The published
+/// ballbar reads ±1 mm with σ = 0.51 µm; a longer-range gauge (issue 20: ±5 mm) reaches the poses
+/// of an uncalibrated robot, at the price of its own σ. Where the range and σ go:
+/// HexapodCellOptions (simulation), SessionPlan (session), and σ times the σ-multiples of
+/// uncertainty.hpp / four_cup_kinematics.hpp.
 
 #include <string>
 
@@ -24,8 +25,8 @@ void check_gauge(const LengthGauge& gauge, const std::string& range_key,
                  const std::string& sigma_key);
 
 /// Empty when the gauge can measure every fixture side: the base sides at the legs' set-up
-/// (geometry.leg_mm, docs/method/07-hexapod.md step 4) and the tool sides at `tool_setup_mm` (step
-/// 1). Otherwise the first side out of reach, with the reach and what to do.
+/// (geometry.leg_mm, docs/method/08-world-frame.md §3 step 4) and the tool sides at `tool_setup_mm`
+/// (step 1). Otherwise the first side out of reach, with the reach and what to do.
 std::string fixture_range_problem(const HexapodGeometry& geometry, double tool_setup_mm,
                                   const LengthGauge& gauge);
 

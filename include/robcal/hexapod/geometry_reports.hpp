@@ -11,6 +11,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "robcal/hexapod/direct_kinematics.hpp"
+#include "robcal/hexapod/four_cup_kinematics.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/world_frame.hpp"
@@ -19,6 +20,10 @@ namespace robcal::hexapod {
 
 /// {solutions: [{mode, signs, tool_cups_mm, base_T_tool}]}.
 nlohmann::json dkp_json(const DkpResult& dkp);
+
+/// Fixtures with a fourth cup: {distances (names), solutions: [{mode, rms_residual_mm,
+/// tool_cups_mm, uncertainty_sigma_multiple (per tool cup, in multiples of a distance's σ)}]}.
+nlohmann::json four_cup_dkp_json(const FourCupDkpResult& dkp);
 
 /// {robot_T_world, corrected_cups_mm, planar {x_mm, y_mm, phi_deg}, rms_mm, iterations,
 /// converged}.

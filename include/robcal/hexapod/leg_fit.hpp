@@ -3,7 +3,7 @@
 /// Identification straight from the raw ballbar readings (beyond the published method, which
 /// fits poses from the DKP): one Ceres fit whose residuals are the measured distances —
 /// every leg |B_a − H(q)·T_b| and the fixture sides — and whose unknowns are the robot's
-/// parameters (relative model, docs/method/03-error-model.md: base held), the base cups in the
+/// parameters (relative model, docs/method/03-error-model.md §1: base held), the base cups in the
 /// robot frame, the tool cups in the flange frame and the ballbar's length offset at its leg
 /// set-up. Several base-fixture placements each bring their own base cups (their world-frame
 /// unknowns, docs/method/08-world-frame.md §4); the robot, the tool cups and the offset are

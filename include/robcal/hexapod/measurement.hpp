@@ -1,13 +1,13 @@
 #pragma once
 /// \file
-/// From hexapod readings to the records the identification uses (docs/method/07-hexapod.md): the
+/// From hexapod readings to the records the identification uses (docs/method/07-hexapod.md §6): the
 /// six legs of each measured configuration → direct kinematics in the planned assembly mode → the
 /// tool fixture pose in the base fixture (world) frame → a `Poses` MeasurementSet whose TCP is the
 /// tool fixture frame (Tool::flange_T_tcp = the fixture-to-flange transform, an input).
 ///
-/// Frame of the records: the robot frame of the relative model (docs/method/03-error-model.md; base
-/// parameters held at zero), reached from the world frame through the base cups: robot_T_world is
-/// the world frame fitted to the points where the robot placed the cups (world_frame.hpp).
+/// Frame of the records: the robot frame of the relative model (docs/method/03-error-model.md §1;
+/// base parameters held at zero), reached from the world frame through the base cups: robot_T_world
+/// is the world frame fitted to the points where the robot placed the cups (world_frame.hpp).
 
 #include <string>
 #include <vector>

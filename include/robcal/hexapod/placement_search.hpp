@@ -48,7 +48,9 @@ struct PlacementSearchRequest {
   double pose_sigma_multiple = 3.2;
   int validation_configurations = 2000;  ///< random configurations in the joint limits
   uint64_t seed = 1;
-  int pair_candidates = 6;  ///< pairs are searched among this many best single placements
+  /// How many placements, pairs and next placements to report (≥ 1); pairs are searched among
+  /// the max(best, 2) best single placements.
+  int best = 5;
   /// Placements already measured (none: no `next` ranking). Each once, apart from each other.
   std::vector<MeasuredPlacement> measured;
 };
@@ -101,6 +103,7 @@ struct PlacementSearchResult {
   int measured_configurations = 0, measured_undetermined = 0;
   double measured_mean_mm = 0, measured_max_mm = 0;
   std::vector<NextPlacement> next;
+  int best = 0;  ///< the request's: how many of each to report
 };
 
 /// Throws InputError on bad fixtures, gauge or grid (an empty axis, more than 2000 placements),
@@ -123,6 +126,6 @@ PlacementsDesign design_placements(const RobotModel& model, const std::vector<He
                                    int count, const PlacementSearchRequest& request);
 
 /// The result as `robcal hexapod place --json` prints it (the `best` first placements and pairs).
-nlohmann::json placement_search_json(const PlacementSearchResult& result, int best);
+nlohmann::json placement_search_json(const PlacementSearchResult& result);
 
 }  // namespace robcal::hexapod

@@ -69,6 +69,11 @@ std::array<SettingBallPoint, 3> plan_setting_ball(const RobotModel& model,
 /// configurations (labels, joints_deg).
 nlohmann::json setting_ball_json(const std::array<SettingBallPoint, 3>& points);
 
+/// What `robcal hexapod setup` reports: {robot (as given), side_mm, setting_ball
+/// (setting_ball_json)}.
+nlohmann::json setup_json(const std::string& robot, double side_mm,
+                          const std::array<SettingBallPoint, 3>& points);
+
 /// The planning outcome of one pose, as the plan file lists it.
 struct PlannedPose {
   std::string label, description, ik;

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// The measurable poses of the ballbar hexapod (docs/method/07-hexapod.md): with every leg at the
-/// ballbar's nominal length, 4 assembly modes × 3 rotations of the tool fixture (0, ±120° about its
-/// normal) × 6 permutations of the base cups = 72 poses of the tool fixture relative to the base
-/// fixture; poses closer than given orientation and position distances to an earlier one are
+/// The measurable poses of the ballbar hexapod (docs/method/07-hexapod.md §3): with every leg at
+/// the ballbar's nominal length, 4 assembly modes × 3 rotations of the tool fixture (0, ±120° about
+/// its normal) × 6 permutations of the base cups = 72 poses of the tool fixture relative to the
+/// base fixture; poses closer than given orientation and position distances to an earlier one are
 /// redundant and pruned.
 
 #include <array>
@@ -62,8 +62,8 @@ std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry,
                                          ToolRelabelling relabelling = ToolRelabelling::FacingBase);
 
 /// Keeps each pose unless an already kept one is both within `max_angle_rad` in orientation and
-/// `max_distance_mm` between the tool-fixture centroids (docs/method/07-hexapod.md defaults: 30°,
-/// 50 mm).
+/// `max_distance_mm` between the tool-fixture centroids (docs/method/07-hexapod.md §3 defaults:
+/// 30°, 50 mm).
 std::vector<HexapodPose> prune_redundant(const std::vector<HexapodPose>& poses,
                                          double max_angle_rad, double max_distance_mm);
 

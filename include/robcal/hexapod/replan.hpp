@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// The re-plan of `robcal hexapod replan` (docs/method/07-hexapod.md, the two-stage calibration):
-/// the configurations whose legs were out of the ballbar's range, solved again on the preliminary
-/// model for the flange pose that puts every leg at the ballbar's length. The new plan keeps the
-/// first plan's cell and the fixture sides already measured, so the next session asks only for
-/// the legs.
+/// The re-plan of `robcal hexapod replan` (docs/method/07-hexapod.md §5, the two-stage
+/// calibration): the configurations whose legs were out of the ballbar's range, solved again on the
+/// preliminary model for the flange pose that puts every leg at the ballbar's length. The new plan
+/// keeps the first plan's cell and the fixture sides already measured, so the next session asks
+/// only for the legs.
 
 #include <string>
 #include <vector>

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// A measurement session's readings as the calibration uses them (docs/method/07-hexapod.md,
+/// A measurement session's readings as the calibration uses them (docs/method/07-hexapod.md §6,
 /// published procedure): the journal replayed over its plan gives the fixture sides and, per
 /// configuration, the six legs or a "retry"; the plan gives the joints, the leg design and assembly
 /// mode of each configuration, where the robot put the base cups and the tool fixture mount.

@@ -27,7 +27,7 @@ struct HexapodCellOptions {
   double tool_offset_mm = 100;         ///< tool fixture centroid along the flange z
   double ball_offset_mm = 100;         ///< setting ball along the flange z
   double table_z_mm = 0;
-  double sigma_mm = 0.00051;  ///< ballbar σ (docs/method/06-instruments.md)
+  double sigma_mm = 0.00051;  ///< ballbar σ (docs/method/06-instruments.md §1)
   double range_mm = 1.0;      ///< ballbar range about its set-up length
 };
 
@@ -68,9 +68,10 @@ std::optional<double> simulate_session_reading(const SimulatedHexapodCell& cell,
                                                const SessionPlan& plan, const SessionStep& step,
                                                std::mt19937_64& rng);
 
-/// Laser-tracker validation readings (docs/method/09-validation.md): random configurations in the
-/// published joint box (sim/simulator.hpp), the tracker (σ per axis) reading a point of the tool
-/// given in the flange frame of the true robot, registered on the base cups: base fixture frame.
+/// Laser-tracker validation readings (docs/method/09-validation.md §1): random configurations in
+/// the published joint box (sim/simulator.hpp), the tracker (σ per axis) reading a point of the
+/// tool given in the flange frame of the true robot, registered on the base cups: base fixture
+/// frame.
 struct TrackerValidation {
   std::vector<Vector6d> joints;  ///< controller, rad
   Eigen::Matrix3Xd measured;     ///< base fixture frame, mm

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Uncertainty of the ballbar hexapod (docs/method/07-hexapod.md, ISO/IEC Guide 98-3): how the
+/// Uncertainty of the ballbar hexapod (docs/method/07-hexapod.md §4, ISO/IEC Guide 98-3): how the
 /// standard uncertainty σ of each of the 12 measured distances propagates to the tool-cup
 /// coordinates. Sensitivity coefficients are the exact derivatives of the templated cascade (Jets);
 /// the Monte Carlo version draws the distances instead, to confirm the linear propagation.

@@ -36,16 +36,26 @@ inline constexpr double kImplausibleNoiseRatio = 20.0;
 struct CalibrationRun {
   IdentifyOptions options;  ///< as run (the seed, orientation weight… the summaries report)
   MeasurementKind kind = MeasurementKind::Points;
-  size_t rows = 0;  ///< measurement rows
+  size_t rows = 0;   ///< measurement rows
+  std::string file;  ///< the measurements' file (MeasurementSet::file)
   IdentificationResult result;
   std::optional<CrossValidation> cross_validation;
   bool cross_validation_for_misfit = false;  ///< run because the noise test failed
   /// Why the model must not be trusted (each says what to check); empty when plausible.
   std::vector<std::string> problems;
+  /// For the user: the measurement file's (calibrate_files), then the fit's (result.warnings).
+  std::vector<std::string> warnings;
 };
 
+/// Compliance magnitude (rad/N·mm) no joint has: 1e-4 turns a joint by 1 rad under 10 N·m,
+/// a hundred times the softest arms (published IRB 120: ≤ 7e-7; harmonic-drive joints 1e-8 to
+/// 1e-6). Values past it are rounding noise of an unloaded joint (−2e7, −6e5) and make the
+/// compensation's inverse singular.
+inline constexpr double kImplausibleComplianceRadPerNmm = 1e-4;
+
 /// Identified parameters no real arm has: MDH lengths more than 20 mm or link angles more than
-/// 5° from nominal, a joint scale more than 1 % from 1, a compliance below zero by more than 3σ.
+/// 5° from nominal, a joint scale more than 1 % from 1, a compliance beyond
+/// kImplausibleComplianceRadPerNmm in magnitude or below zero by more than 3σ.
 std::vector<std::string> implausible_parameters(const IdentificationResult& result);
 
 /// Calibrates, tests the residuals against the stated instrument σ, cross-validates when asked

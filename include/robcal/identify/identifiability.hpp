@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Which unknowns the measurements can determine (docs/method/03-error-model.md,
+/// Which unknowns the measurements can determine (docs/method/03-error-model.md §2,
 /// 04-identification.md): a rank-revealing QR of the column-scaled identification Jacobian that
 /// keeps columns in a preferred order, so that of a dependent group the later one is dropped
 /// (`link3.d`, not `link2.d`, on a robot whose axes 2 and 3 are parallel), and the null-space

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Identification (docs/method/04-identification.md): fit the robot's parameters to measurements.
+/// Identification (docs/method/04-identification.md §2): fit the robot's parameters to data.
 ///
 /// 1. Unknowns: the level's parameters refined by `--identify`/`--fix` patterns, plus target
 ///    coordinates given without values and the ballbar centre (unknowns.hpp).
@@ -180,11 +180,12 @@ struct IdentificationResult {
   /// the start (nominal robot placed by the rigid fit).
   double mean_mm = 0, rms_mm = 0, max_mm = 0;
   double start_mean_mm = 0, start_rms_mm = 0, start_max_mm = 0;
+  std::vector<double> row_errors_mm;  ///< that error of each row at the solution, rows' order
   NoiseTest noise_test;
   double huber_scale_mm = 0;
   std::vector<TargetResiduals> by_target;
   std::vector<Correlation> correlations;   ///< strongest (|ρ| ≥ 0.5), at most 10, largest first
-  std::vector<SuspectedOutlier> outliers;  ///< rows above 3 robust σ (per axis)
+  std::vector<SuspectedOutlier> outliers;  ///< rows beyond 4 robust σ per axis (3.3: distances)
   double condition_number = 0;             ///< of the column-scaled Jacobian at the solution
   PredictedAccuracy predicted;
   Eigen::VectorXd values;      ///< all unknowns, internal units

@@ -11,7 +11,7 @@
 
 namespace robcal {
 
-/// Base parameters (x, y, z mm; alpha, beta, gamma rad; docs/method/02-frames.md convention
+/// Base parameters (x, y, z mm; alpha, beta, gamma rad; docs/method/02-frames.md §4 convention
 /// world_A_1 = Trans(x, y, d1 + z)·Rot_x(α)·Rot_y(β)·Rot_z(γ + θ1)) that place a robot whose
 /// base frame (the nominal base at the origin) sits at `world_T_base` in the world.
 Vector6d base_parameters_from_transform(const Eigen::Isometry3d& world_T_base, double d1_mm);

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "robcal/io/ur_calibration_file.hpp"
 #include "robcal/io/urdf_file.hpp"
 
@@ -35,6 +37,15 @@ struct ModelImportResult {
 
 ModelImportResult import_model(const ModelImportRequest& request);
 
+/// What `robcal model import` reports: {format, source (the file read), model_file (true: a
+/// nominal model file for --model, false: a robot file for --robot), out: `written_to`} and,
+/// for URDF, {joints, root_link, tip_link, base_placement, tip_offset} (axis 1 off the root's z
+/// axis, the tip off the flange), for a UR calibration {robot, calibration_status (its number,
+/// -1 when not given), calibration_status_name, calibrated (false when the file says not
+/// initialized: its deltas may be zero)}.
+nlohmann::json model_import_json(const ModelImportRequest& request, const ModelImportResult& result,
+                                 const std::string& written_to);
+
 struct ModelExportRequest {
   std::string robot;            ///< built-in robot or robot file (the nominal model), or
   std::string model;            ///< a calibrated model file (exactly one of the two)
@@ -54,5 +65,10 @@ struct ModelExportResult {
 };
 
 ModelExportResult export_model(const ModelExportRequest& request);
+
+/// What `robcal model export` reports: {format, left_out (what the format cannot hold),
+/// left_out_rms_mm, left_out_max_mm (its cost at the TCP), configurations, seed, out}.
+nlohmann::json model_export_json(const ModelExportRequest& request, const ModelExportResult& result,
+                                 const std::string& written_to);
 
 }  // namespace robcal

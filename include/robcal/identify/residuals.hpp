@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// Residuals of the identification (docs/method/04-identification.md) and their exact derivatives
-/// with respect to the unknown vector (model parameters + extras, see unknowns.hpp), built on the
-/// analytic twist Jacobian of the flange:
+/// Residuals of the identification (docs/method/04-identification.md §1) and their exact
+/// derivatives with respect to the unknown vector (model parameters + extras, see unknowns.hpp),
+/// built on the analytic twist Jacobian of the flange:
 /// - points: r = p_model − p_measured (3, mm);
 /// - poses: TCP position (3, mm) and orientation r = w·vee(½(A − Aᵀ)), A = R_model·R_measuredᵀ
 ///   (≈ w·rotation vector; w = `orientation_weight_mm`, mm per rad, makes an orientation error

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// What a calibration solves for: the robot's parameters (docs/method/03-error-model.md layout)
+/// What a calibration solves for: the robot's parameters (docs/method/03-error-model.md §1 layout)
 /// followed by the extra unknowns the measurements bring — coordinates of tool targets given
 /// without coordinates, the ballbar's fixed centre and, on request, the ballbar's length offset —
 /// and which of them a calibration level and the user's `--identify`/`--fix` patterns set free.

@@ -36,6 +36,13 @@
 /// guessed: when undeclared values look like the other unit (positions spanning less than
 /// 10 mm, or ballbar lengths below 10 mm, over ≥ 5 rows: metres; every joint within ±2π over
 /// ≥ 5 rows: radians), the file is refused with what to declare.
+///
+/// Plausible ranges (a value outside is a typo, a unit slip or a corrupt export, refused at its
+/// file:line:column with the range in the file's units): x, y, z within ±100 m (±100000 mm:
+/// any cell, a tracker's frame included); joints and Euler angles within ±720° (two turns: the
+/// widest joint of a six-axis arm turns ±455°, a robot file allows ±1080°); ballbar `length`
+/// above 0 and at most 100 m. Joints inside that range but outside the robot's limits are
+/// warned by calibrate with their lines.
 
 #include <array>
 #include <optional>

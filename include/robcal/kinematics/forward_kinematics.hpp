@@ -99,7 +99,7 @@ std::array<T, kJointCount> model_joint_angles(const RobotModel& model, const T* 
 }
 
 /// Static gravity torques τ_1..τ_6 (N·mm) about joint axes 1..6 for undeflected joint angles
-/// `theta` (rad, θ_i of links 1..6 before compliance), docs/method/03-error-model.md: τ_i =
+/// `theta` (rad, θ_i of links 1..6 before compliance), docs/method/03-error-model.md §3: τ_i =
 /// (Σ_{j≥i} m_j u_j^i × g_i)_z. Computed tip to base with the first moment S_i = Σ_{j≥i} m_j u_j^i,
 /// so it is O(n). `payload` (flange frame) is lumped with link 6. τ_1 is zero on a floor-mounted
 /// robot (gravity along axis 1) and loads joint 1 on an inclined, wall or ceiling mounting (§7).
@@ -240,7 +240,7 @@ std::array<T, kParameterCount> warm_parameters(const T* params, double temperatu
 }
 
 /// World poses of the link frames Φ1..Φ6 (frames[5] is the flange, Φ6).
-/// \param params  parameter vector (docs/method/03-error-model.md layout, internal units),
+/// \param params  parameter vector (docs/method/03-error-model.md §1 layout, internal units),
 /// kParameterCount values \param joints  controller joint values, rad \param row  the row's
 /// approach and temperature (RowConditions; default: from below, at the reference temperature)
 template <typename T>

@@ -5,7 +5,9 @@
 /// flange pose with the solver that ran; each with its one JSON serializer (mm, degrees).
 
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/model/robot_model.hpp"
@@ -53,5 +55,16 @@ IkReport inverse_kinematics(const IkRequest& request);
 /// {robot, status, method, solutions: [{joints_deg, config, wrist_singular}]}, joints rounded to
 /// 1e-9 deg.
 nlohmann::json ik_json(const IkReport& result);
+
+/// IK along a list of flange poses (Python's batched ik): per pose the solution inside the
+/// limits nearest (max-norm over joints) to the previous pose's, the first nearest `seed`, so
+/// that a path stays on one branch; a pose without one keeps the last joints for the next.
+struct IkPath {
+  std::vector<IkStatus> status;  ///< per pose
+  /// Per pose; empty when it is unreachable or every solution violates a limit.
+  std::vector<std::optional<IkSolution>> chosen;
+};
+IkPath inverse_kinematics_path(const RobotModel& robot, const std::vector<Pose<double>>& poses,
+                               const Vector6d& seed = Vector6d::Zero());
 
 }  // namespace robcal

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// Forward kinematics of the *nominal* robot (docs/method/02-frames.md with every error parameter
-/// zero and the base at the world origin) with the constant factors precomputed: the cosines and
-/// sines of the twists α_i. Double only; the error model and derivatives stay in
+/// Forward kinematics of the *nominal* robot (docs/method/02-frames.md §7 with every error
+/// parameter zero and the base at the world origin) with the constant factors precomputed: the
+/// cosines and sines of the twists α_i. Double only; the error model and derivatives stay in
 /// forward_kinematics.hpp. Used where the nominal pose is needed many times (IK checks,
 /// compensation loops, benchmarks); tests check it against flange_pose to 1e-12.
 

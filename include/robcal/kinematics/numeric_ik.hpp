@@ -42,8 +42,8 @@ struct NumericIkResult {
   bool within_limits = false;  ///< the joints are inside the model's limits
 };
 
-/// Joints (controller, rad) whose flange pose under `params` (docs/method/03-error-model.md layout,
-/// with the given payload for compliance) equals `world_T_flange`, iterating from `seed`.
+/// Joints (controller, rad) whose flange pose under `params` (docs/method/03-error-model.md §1
+/// layout, with the given payload for compliance) equals `world_T_flange`, iterating from `seed`.
 NumericIkResult numeric_ik(const RobotModel& model, const PointMass& payload,
                            const ParameterVector& params, const Pose<double>& world_T_flange,
                            const Vector6d& seed, const NumericIkOptions& options = {});

@@ -32,7 +32,7 @@ using TwistJacobian = Eigen::Matrix<double, 6, kParameterCount>;
 /// - joint offsets, scales, periodic errors, backlash and compliances act through the joint angles
 /// θ_i,
 ///   whose column is the joint twist (o_i × z_i; z_i) of the deflected chain;
-/// - with compliance, θ_i = θu_i + c_i·τ_i(θu, params) (docs/method/03-error-model.md), so every
+/// - with compliance, θ_i = θu_i + c_i·τ_i(θu, params) (docs/method/03-error-model.md §3), so every
 /// parameter also
 ///   moves θ_i through the gravity torque τ_i; its derivative follows from the same elementary
 ///   motions applied to τ_i = z_i · ((Σ_{j≥i} m_j (c_j − o_i)) × g) in the undeflected chain.
@@ -101,9 +101,9 @@ class FlangeRegressor {
   Eigen::Matrix3d R_base_xy_;
   std::array<Pose<double>, kJointCount> undeflected_, deflected_;
   /// Gravity torques of the undeflected chain and what their derivatives need
-  /// (docs/method/03-error-model.md in world form): v_k = Σ_{j≥k} m_j (c_j − o_k), τ_k = z_k · (v_k
-  /// × g), a_k = z_k × (v_k × g) + v_k × (g × z_k), h_k = g × z_k; suffix first moments C_k and
-  /// masses M_k of the bodies carried by frame k.
+  /// (docs/method/03-error-model.md §3 in world form): v_k = Σ_{j≥k} m_j (c_j − o_k), τ_k = z_k ·
+  /// (v_k × g), a_k = z_k × (v_k × g) + v_k × (g × z_k), h_k = g × z_k; suffix first moments C_k
+  /// and masses M_k of the bodies carried by frame k.
   std::array<double, kJointCount> tau_{};
   Eigen::Matrix<double, 3, kJointCount> a_, h_;
   std::array<Eigen::Vector3d, kJointCount + 1> C_;

@@ -26,7 +26,7 @@ namespace robcal {
 struct LaserTracker {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  ///< tracker head
   /// Standard deviation of the reading along each axis of the common frame, mm
-  /// (docs/method/06-instruments.md: ≈0.022 mm typical).
+  /// (docs/method/06-instruments.md §1: ≈0.022 mm typical).
   Eigen::Vector3d sigma_mm = Eigen::Vector3d::Constant(0.022);
   double cone_half_angle_deg = 30;
   double min_range_mm = 0;      ///< closer SMRs are not tracked
@@ -57,10 +57,10 @@ Eigen::Vector3d read_point(const LaserTracker& tracker, const Eigen::Vector3d& s
 
 /// Optical CMM (Creaform C-Track class): the 6D pose of a target cluster on the tool. The
 /// cameras see the cluster while one of its faces looks at them within the facing limit
-/// (docs/method/05-observability.md: face normal within 15° of the line of sight).
+/// (docs/method/06-instruments.md §2: face normal within 15° of the line of sight).
 struct OpticalCmm {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  ///< camera bar centre
-  double sigma_mm = 0.05;  ///< per axis, docs/method/06-instruments.md: 0.040–0.065 mm on bars
+  double sigma_mm = 0.05;  ///< per axis, docs/method/06-instruments.md §1: 0.040–0.065 mm on bars
   double sigma_orientation_deg = 0.03;  ///< per rotation axis (≈ σ / 100 mm artifact radius)
   double facing_limit_deg = 15;
   double min_range_mm = 1000;  ///< C-Track 780 working volume, about 1.0–4.0 m from the bar

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The robot's parameter vector: every quantity the error model of docs/method/03-error-model.md
+/// The robot's parameter vector: every quantity the error model of docs/method/03-error-model.md §1
 /// may identify, stored as absolute values in internal units (mm, rad, rad/(N·mm), unitless scale).
 ///
 /// Layout (kParameterCount = 73):

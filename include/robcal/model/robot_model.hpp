@@ -78,7 +78,7 @@ struct RobotModel {
   /// a_i, d_i by (1 + e_i·(T − this)) (docs/method/03-error-model.md §8).
   double reference_temperature_c = 20;
 
-  /// Nominal parameter vector (docs/method/03-error-model.md layout, internal units).
+  /// Nominal parameter vector (docs/method/03-error-model.md §1 layout, internal units).
   [[nodiscard]] ParameterVector nominal() const;
 
   /// True when the controller joint values are all inside the limits (with `tolerance` rad).

@@ -2,9 +2,9 @@
 /// \file
 /// Measurement programs: the robot program that visits the planned configurations while the
 /// instrument measures, in the controller's own language. Every configuration q is approached
-/// from q − 5° on every joint (backlash cancellation, docs/method/05-observability.md) with joint
-/// moves to exact stops (fine points), then the program waits for the arm to settle and runs the
-/// measurement hook; a comment with the configuration's name and joints precedes each one, so
+/// from q − 5° on every joint (backlash cancellation, docs/method/05-observability.md §4) with
+/// joint moves to exact stops (fine points), then the program waits for the arm to settle and runs
+/// the measurement hook; a comment with the configuration's name and joints precedes each one, so
 /// that the instrument's export can be joined to the plan. Long plans are split into several
 /// programs (each standalone, run one after the other) below the controllers' size limits.
 
@@ -43,7 +43,7 @@ struct MeasurementProgramRequest {
   /// Program name: a letter, then letters, digits or '_', at most 6 characters (parts append
   /// two digits; 8 characters is the shortest name limit of the five controllers, INFORM's).
   std::string name = "RCMEAS";
-  double approach_deg = 5.0;  ///< docs/method/05-observability.md
+  double approach_deg = 5.0;  ///< docs/method/05-observability.md §4
   double settle_s = 1.0;      ///< wait at each configuration before the hook
   MeasurementHook hook = MeasurementHook::WaitInput;
   int signal = 1;            ///< input or output number (KRL $IN/$OUT, LS DI/DO, JBI, UR)

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The published simulation experiments (docs/method/11-published-results.md), reproduced: (a)
+/// The published simulation experiments (docs/method/11-published-results.md §2), reproduced: (a)
 /// random errors scaled to a 5 mm nominal peak, no noise; (b) the same with 0.070 mm noise and 10 %
 /// mass error; (c) the published IRB 120 with the tracker's noise, kinematic (25) against full (30)
 /// parameters. The workflow behind `robcal experiments`; its JSON and markdown table are written

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The Monte Carlo study behind `robcal montecarlo` (docs/method/04-identification.md): repeated
+/// The Monte Carlo study behind `robcal montecarlo` (docs/method/04-identification.md §5): repeated
 /// simulated calibrations of the published IRB 120 with a laser tracker, their accuracy spread
 /// against the Cramér–Rao prediction. Its JSON is written here.
 

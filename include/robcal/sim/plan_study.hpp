@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// Closing the loop on configuration design (docs/method/05-observability.md, issue 5 items 5–6):
-/// for several random true robots, plan → simulate → calibrate → compare with the truth over a task
-/// region, for D-optimal configurations and for the same number of random feasible ones, at several
-/// counts (the accuracy-against-count curve), beside the accuracy predicted before measuring from
-/// the design's parameter covariance.
+/// Closing the loop on configuration design (docs/method/05-observability.md §5, issue 5 items
+/// 5–6): for several random true robots, plan → simulate → calibrate → compare with the truth over
+/// a task region, for D-optimal configurations and for the same number of random feasible ones, at
+/// several counts (the accuracy-against-count curve), beside the accuracy predicted before
+/// measuring from the design's parameter covariance.
 
 #include <cstdint>
 #include <functional>

@@ -54,8 +54,8 @@ Eigen::Vector3d world_from_base(const TrueRobot& truth, const Eigen::Vector3d& p
 
 struct SimulationOptions {
   /// true: every configuration approached from below (q − 5° on every joint,
-  /// docs/method/05-observability.md), which cancels backlash; false: the robot moves straight from
-  /// one configuration to the next.
+  /// docs/method/05-observability.md §4), which cancels backlash; false: the robot moves straight
+  /// from one configuration to the next.
   bool approach_from_below = true;
   double seconds_per_measurement = 20;  ///< clock for thermal drift
   /// Each joint of each configuration approached from below or above at random (from q ∓ 5°),

@@ -1,12 +1,12 @@
 #pragma once
 /// \file
 /// The "true" robot of a simulation: a CalibratedRobot whose parameters are the real arm's
-/// (docs/method/11-published-results.md's identified IRB 120, or random errors within bounds), plus
-/// effects the error model of docs/method/03-error-model.md does not contain, so that simulated
-/// results are honest about model error:
+/// (docs/method/11-published-results.md §3's identified IRB 120, or random errors within bounds),
+/// plus effects the error model of docs/method/03-error-model.md does not contain, so that
+/// simulated results are honest about model error:
 ///
 /// - backlash: a joint approached from above stops `backlash_deg` away from where a joint
-///   approached from below does (docs/method/05-observability.md approaches every configuration
+///   approached from below does (docs/method/05-observability.md §4 approaches every configuration
 ///   from q − 5°);
 /// - a periodic error of joint 6: δθ6 = A·sin(h·q6 + φ) (gearbox eccentricity);
 /// - mass error: the true masses and centres of gravity differ from the model's (the truth's
@@ -88,7 +88,7 @@ std::array<double, 6> default_base_placement();
 /// (−23, 0, 100) mm, SMRs "1", "2", "3").
 Tool default_simulation_tool();
 
-/// The identified IRB 120 of docs/method/11-published-results.md placed at `base` (x, y, z mm,
+/// The identified IRB 120 of docs/method/11-published-results.md §3 placed at `base` (x, y, z mm,
 /// alpha, beta, gamma deg). `model` must be the ABB IRB 120 (InputError otherwise).
 TrueRobot published_irb120_truth(const RobotModel& model, const Tool& tool,
                                  const std::array<double, 6>& base = default_base_placement());

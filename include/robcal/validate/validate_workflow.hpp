@@ -39,6 +39,8 @@ struct ValidateRequest {
   std::string measurements;  ///< points, poses or distances CSV
   std::string calibration;   ///< calibration points or poses CSV (region classes), optional
   ValidateOptions options;   ///< calibration_mm is read from `calibration` when given
+  std::string units;  ///< of both files when they do not declare them (`--units`, as calibrate)
+  std::string euler;  ///< rx,ry,rz rotation order (`--euler`, as calibrate)
 };
 
 /// How the model's positions were placed in the measurements' frame.
@@ -61,7 +63,7 @@ struct ValidateResult {
   std::optional<ValidationReport> report;  ///< points and poses sets
   std::optional<BallbarErrors> ballbar;    ///< distances sets
   Histogram ballbar_histogram;             ///< of |length error|, kPositionHistogramBins bins
-  std::vector<std::string> warnings;       ///< ignored columns of the files read
+  std::vector<std::string> warnings;       ///< the files' (ignored columns…), poses without a tcp
   std::vector<std::string> notes;  ///< the model's target coordinates used instead of the tool's
 };
 

@@ -1,0 +1,150 @@
+"""The hexapod commands and their Python functions on the same inputs give the same numbers (the
+CLI's JSON is rounded to 1e-9 mm, the uncertainties to 1e-4 σ): dkp, poses, uncertainty,
+device-validation, world-frame, place, session, export-poses; and `model import|export`,
+`program` beside them."""
+import json
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import robcal
+import robcal.hexapod as hexapod
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+CLI = os.environ.get("ROBCAL_CLI")
+pytestmark = pytest.mark.skipif(not CLI, reason="ROBCAL_CLI names the robcal program")
+
+
+def cli_json(*args, stdin=None):
+    out = subprocess.run([CLI, *args, "--json"], check=True, capture_output=True, text=True,
+                         input=stdin)
+    return json.loads(out.stdout)
+
+
+def numbers(values):
+    return ",".join(repr(float(v)) for v in np.ravel(values))
+
+
+def test_dkp():
+    pose = hexapod.enumerate_poses()[7]
+    legs = hexapod.leg_lengths(hexapod.triangle_from_sides([300, 300, 300]), pose["tool_cups"])
+    c = cli_json("hexapod", "dkp", "--base-mm", "300", "--tool-mm", "150", "--legs", numbers(legs))
+    p = hexapod.solve_dkp([300] * 3, [150] * 3, legs)
+    assert sorted(s["mode"] for s in c["solutions"]) == sorted(p)
+    for s in c["solutions"]:
+        np.testing.assert_allclose(s["tool_cups_mm"], p[s["mode"]], rtol=0, atol=1e-9)
+    # One of the modes is the pose the legs were taken from.
+    assert min(np.abs(p[m] - pose["tool_cups"]).max() for m in p) < 1e-9
+
+
+def test_poses_and_uncertainty():
+    c = cli_json("hexapod", "poses", "--angle-deg", "30", "--distance-mm", "50")
+    p = hexapod.enumerate_poses(angle_deg=30, distance_mm=50)
+    assert c["enumerated"] == 72 and c["kept"] == len(p) == len(c["poses"])
+    for a, b in zip(c["poses"], p):
+        assert (a["label"], a["mode"], a["rotation_deg"]) == (b["label"], b["mode"],
+                                                             b["rotation_deg"])
+        assert a["base_roles"] == [r + 1 for r in b["base_roles"]]
+        np.testing.assert_allclose(a["tool_cups_mm"], b["tool_cups"], rtol=0, atol=1e-9)
+    c = cli_json("hexapod", "uncertainty", "--samples", "2000", "--seed", "3")
+    p = hexapod.uncertainty(samples=2000, seed=3)
+    assert [m["mode"] for m in c["modes"]] == [m["mode"] for m in p]
+    for a, b in zip(c["modes"], p):
+        np.testing.assert_allclose([x["norm_sigma"] for x in a["cups"]], b["norm_sigma"], rtol=0,
+                                   atol=5e-5)
+        np.testing.assert_allclose([x["monte_carlo_norm_sigma"] for x in a["cups"]],
+                                   b["monte_carlo_norm_sigma"], rtol=0, atol=5e-5)
+    with pytest.raises(robcal.InputError, match="--samples"):
+        hexapod.uncertainty(samples=10)
+
+
+def test_device_validation_world_frame_and_place():
+    c = cli_json("hexapod", "device-validation", "--poses", "200", "--seed", "4")
+    assert c == hexapod.device_validation(poses=200, seed=4)
+    # The robot placed the cups 0.05 mm off; the sides were measured.
+    points = hexapod.triangle_from_sides([300, 300, 300]) + [[400, 10, 200]] * 3
+    points[1] += [0.05, -0.03, 0.0]
+    c = cli_json("hexapod", "world-frame", "--points", numbers(points), "--sides", "300")
+    p = hexapod.fit_world_frame(points, [300, 300, 300])
+    np.testing.assert_allclose(c["corrected_cups_mm"], p["corrected"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(c["robot_T_world"]["position_mm"], p["origin_mm"], rtol=0,
+                               atol=1e-9)
+    assert c["rms_mm"] == pytest.approx(p["rms_mm"], abs=1e-9) and c["converged"]
+    np.testing.assert_allclose([c["planar"][k] for k in ("x_mm", "y_mm", "phi_deg")], p["planar"],
+                               rtol=0, atol=1e-9)
+    c = cli_json("hexapod", "place", "--x-mm", "400,500", "--y-mm", "0", "--z-mm", "300",
+                 "--validation", "200", "--best", "2")
+    p = hexapod.place(x_mm=[400, 500], y_mm=[0], z_mm=[300], validation=200, best=2)
+    assert c == p and len(p["ranked"]) == 2
+    with pytest.raises(robcal.InputError, match="--best"):
+        hexapod.place(x_mm=[400], y_mm=[0], z_mm=[300], best=0)
+
+
+def test_session_and_export_poses(tmp_path):
+    plan = hexapod.plan("fanuc-lrmate200ic", placement=(450, 0, 300, 0))
+    for name in ("cli", "py"):
+        (tmp_path / name).mkdir()
+        plan.save(str(tmp_path / name / "plan.json"))
+    sim = hexapod.simulate_readings(plan, seed=5, validation=0)
+    lines = sim["text"].splitlines()
+    c = cli_json("hexapod", "session", "--plan", str(tmp_path / "cli" / "plan.json"), "--journal",
+                 str(tmp_path / "cli" / "journal.jsonl"), stdin=sim["text"])
+    # Python: paused half-way, then resumed with the rest.
+    half = len(lines) // 2
+    py_plan, py_journal = str(tmp_path / "py" / "plan.json"), str(tmp_path / "py" / "journal.jsonl")
+    first = hexapod.session(py_plan, py_journal, lines[:half] + ["abc"])
+    assert first["status"] == "paused-end-of-input" and first["answered"] == half
+    assert first["refused"] == ["'abc' is not a reading: enter a length in mm, 'out' when the "
+                                "ballbar does not fit, or 'quit'."]
+    p = hexapod.session(py_plan, py_journal, lines[half:], resume=True,
+                        out=str(tmp_path / "py" / "result.json"))
+    assert p.pop("transcript").startswith(f"Resumed {py_journal}: {half} readings replayed.")
+    assert p.pop("refused") == [] and p["replayed"] == half
+    assert c == {**p, "replayed": 0}
+    assert c["status"] == "complete" and c["answered"] == len(lines)
+    assert json.load(open(tmp_path / "py" / "result.json")) == c["result"]
+    assert c["result"]["measured"] + c["result"]["retry_after_preliminary_calibration"] == len(plan)
+    assert open(tmp_path / "cli" / "journal.jsonl").read() == open(py_journal).read()
+    # export-poses of the two sessions: the same files.
+    out = {name: {k: str(tmp_path / f"{name}-{k}") for k in ("poses.csv", "legs.csv", "tool.yaml")}
+           for name in ("cli", "py")}
+    c = cli_json("hexapod", "export-poses", "--session", str(tmp_path / "cli"), "--out",
+                 out["cli"]["poses.csv"], "--legs-out", out["cli"]["legs.csv"], "--tool-out",
+                 out["cli"]["tool.yaml"])
+    p = hexapod.export_poses([str(tmp_path / "py")], out["py"]["poses.csv"],
+                             legs_out=out["py"]["legs.csv"], tool_out=out["py"]["tool.yaml"])
+    assert len(p.pop("measurements")) == c["configurations_measured"] > 0
+    assert "Tool" in repr(p.pop("tool_fixture"))
+    for key in ("sessions", "poses", "legs", "tool"):
+        c.pop(key), p.pop(key)
+    assert c == p
+    assert open(out["cli"]["tool.yaml"]).read() == open(out["py"]["tool.yaml"]).read()
+    for k in ("poses.csv", "legs.csv"):  # the same rows; the comments name each session
+        rows = [[r for r in open(out[name][k]).read().splitlines() if not r.startswith("#")]
+                for name in ("cli", "py")]
+        assert rows[0] == rows[1] and len(rows[0]) > c["configurations_measured"]
+
+
+def test_model_import_export_and_program(tmp_path):
+    urdf = str(tmp_path / "r.urdf")
+    c = cli_json("model", "export", "--robot", "kuka-kr6-r900-sixx", "--out", urdf)
+    p = robcal.model_export(robot="kuka-kr6-r900-sixx", out=str(tmp_path / "p.urdf"))
+    assert p.pop("text") == open(urdf).read() == open(tmp_path / "p.urdf").read()
+    assert {**c, "out": ""} == {**p, "out": ""} and c["format"] == "urdf"
+    c = cli_json("model", "import", "--urdf", urdf, "--out", str(tmp_path / "c.yaml"))
+    p = robcal.model_import(urdf=urdf)
+    assert p.pop("yaml") == open(tmp_path / "c.yaml").read()
+    assert {**c, "out": ""} == p and len(p["joints"]) == 6
+    configs = tmp_path / "configs.csv"
+    configs.write_text("config,target,j1,j2,j3,j4,j5,j6\nc1,,10,20,-10,30,40,50\n"
+                       "c2,,-10,25,5,0,30,90\n")
+    subprocess.run([CLI, "program", "--lang", "krl", "--configs", str(configs), "--robot",
+                    "abb-irb120", "--out", str(tmp_path / "cli")], check=True, capture_output=True)
+    paths = robcal.write_measurement_program_files("krl", str(configs), str(tmp_path / "py"),
+                                                   robot="abb-irb120")
+    for path in paths:
+        cli_text = (tmp_path / "cli" / pathlib.Path(path).name).read_text()
+        assert cli_text == pathlib.Path(path).read_text()
