@@ -31,8 +31,8 @@ struct IkFixture {
   CalibratedRobot calibrated;
   Compensator comp;
   std::vector<IkCase> cases;
-  /// `periodic`: with periodic joint errors, backlash and joint-1 compliance on a wall mounting
-  /// too (every opt-in group of issue 19).
+  /// `periodic`: with periodic joint errors, backlash, joint-1 compliance on a wall mounting and
+  /// thermal expansion at 10 K over the reference too (every opt-in group of issue 19).
   IkFixture(const std::string& robot, int count, bool singular, bool periodic = false) {
     std::mt19937_64 rng(kSeed);
     calibrated = test::random_calibrated(robot, rng);
@@ -42,8 +42,10 @@ struct IkFixture {
       calibrated.params[kJoint1Compliance] = 1e-7;
       calibrated.model.gravity_m_s2 = Eigen::Vector3d(0, -9.81, 0);
       calibrated.model.gravity_in_base = true;
+      for (int link = 2; link <= kJointCount; ++link)
+        calibrated.params[expansion_param(link)] = 23e-6;
     }
-    comp = make_compensator(calibrated);
+    comp = make_compensator(calibrated, std::nullopt, {nullptr, periodic ? 10.0 : 0.0});
     while (static_cast<int>(cases.size()) < count) {
       const Vector6d q = test::random_joints(calibrated.model, rng);
       if (test::near_singular(calibrated.model, q) != singular) continue;
@@ -108,7 +110,7 @@ void BM_CalibratedIkPoseShift(benchmark::State& state) {
 }
 BENCHMARK(BM_CalibratedIkNewton)->UseManualTime();
 /// Issue 19: the model with every opt-in group enabled (periodic joint errors, backlash, joint-1
-/// compliance on a wall), ≤ 3 µs median.
+/// compliance on a wall, thermal expansion), ≤ 3 µs median.
 void BM_CalibratedIkNewtonAllGroups(benchmark::State& state) {
   static const IkFixture fixture("abb-irb120", 10000, false, true);
   calibrated_ik_bench(state, IkMethod::Newton, fixture);

@@ -51,8 +51,9 @@ struct Fixture {
 
   /// `positions` rows; with `all_groups` the truth has periodic joint errors (0.01°, both
   /// harmonics, every joint), backlash (up to 0.01°, every joint, each row approaching each
-  /// joint from a random side), stands on a wall with a compliant joint 1 (1e-7 rad/N·mm) and the
-  /// fit frees every opt-in group besides level full (issue 19).
+  /// joint from a random side), stands on a wall with a compliant joint 1 (1e-7 rad/N·mm), its
+  /// links expand by 23 ppm/K while the rows warm up from 20 to 30 °C, and the fit frees every
+  /// opt-in group besides level full (issue 19).
   explicit Fixture(int positions = 50, bool all_groups = false) {
     tool.payload = {2.6, Eigen::Vector3d(-23, 0, 100)};
     tool.targets = {
@@ -65,6 +66,7 @@ struct Fixture {
       for (int joint = 1; joint <= kJointCount; ++joint)
         truth[backlash_param(joint)] = std::abs(truth[backlash_param(joint)]);
       truth[kJoint1Compliance] = 1e-7;
+      for (int link = 2; link <= kJointCount; ++link) truth[expansion_param(link)] = 23e-6;
       model.gravity_m_s2 = Eigen::Vector3d(0, -9.81, 0);  // mounting_deg [90, 0]
       model.gravity_in_base = true;
     }
@@ -77,16 +79,19 @@ struct Fixture {
         m.joints[j] = kDegToRad * std::uniform_real_distribution<double>(lo[j], hi[j])(rng);
       m.target = k % 3;
       m.config = std::to_string(k + 1);
-      if (all_groups)
+      if (all_groups) {
         for (int j = 0; j < 6; ++j) m.approach[j] = (rng() & 1U) ? 1.0 : -1.0;
-      m.position_mm = flange_pose(model, tool.payload, truth, m.joints, &m.approach) *
+        m.temperature_c = model.reference_temperature_c + 10.0 * k / positions;
+      }
+      const double rise = m.temperature_c ? *m.temperature_c - model.reference_temperature_c : 0;
+      m.position_mm = flange_pose(model, tool.payload, truth, m.joints, {&m.approach, rise}) *
                       tool.targets[static_cast<size_t>(m.target)].position_mm;
       for (int a = 0; a < 3; ++a) m.position_mm[a] += noise(rng);
       data.points.push_back(m);
     }
     IdentifyOptions options;
     options.level = CalibrationLevel::Full;
-    if (all_groups) options.identify = {"*.periodic*", "*.backlash", "joint1.compliance"};
+    if (all_groups) options.identify = {"groups"};
     setup = prepare_identification(model, tool, data, options);
   }
 };
@@ -198,8 +203,8 @@ void BM_IdentifyFull31From50_CeresAutodiff(benchmark::State& state) {
 }
 
 /// Issue 19: level full plus every opt-in group (periodic errors, backlash, joint-1 compliance on
-/// a wall: 62 parameters asked for, the counter `parameters` says how many the rank test keeps)
-/// from 100 positions, ≤ 1 ms.
+/// a wall, thermal expansion: 67 parameters asked for, the counter `parameters` says how many the
+/// rank test keeps) from 100 positions, ≤ 1 ms.
 void BM_IdentifyAllGroupsFrom100_Analytic(benchmark::State& state) {
   static const Fixture f(100, true);
   for (auto _ : state) {

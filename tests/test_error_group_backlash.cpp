@@ -31,7 +31,7 @@ TEST(Backlash, NamesUnitsAndGroups) {
   EXPECT_TRUE(is_opt_in(backlash_param(3)));
   for (int i : level_parameters(CalibrationLevel::Full)) EXPECT_NE(i, backlash_param(2));
   const auto& groups = opt_in_groups();
-  ASSERT_EQ(groups.size(), 13u);  // 6 periodic, 6 backlash, then joint1.compliance
+  ASSERT_EQ(groups.size(), 14u);  // 6 periodic, 6 backlash, joint1.compliance, then thermal
   EXPECT_EQ(groups[6].name, "joint1.backlash");
   EXPECT_EQ(groups[11].params, std::vector<int>{backlash_param(6)});
 }
@@ -74,26 +74,27 @@ TEST(Backlash, ForwardModelIsTheSimulatorsDeadBand) {
     motion.previous_joints = q - deg2rad(5.0) * approach;
     const Pose<double> real = true_flange_pose(truth, q, motion);
     const Pose<double> model =
-        flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, &approach);
+        flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, {&approach});
     EXPECT_LT((real.p - model.p).norm(), 1e-9);
     EXPECT_LT((real.R - model.R).norm(), 1e-12);
     // The effect is there: from the other side the flange moves by the dead bands.
     const Vector6d other = -approach;
-    EXPECT_GT(
-        (flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, &other).p - model.p).norm(),
-        1e-3);
+    EXPECT_GT((flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, {&other}).p - model.p)
+                  .norm(),
+              1e-3);
   }
   // Unknown side (0): the middle of the band, half-way between the two sides' joint angles.
   const Vector6d q = test::random_joints(truth.robot.model, rng);
   const Vector6d below = Vector6d::Ones(), unknown = Vector6d::Zero();
   ParameterVector middle = x;
   middle.segment<kJointCount>(kBacklashOffset).setZero();
-  const Pose<double> mid = flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, &unknown);
+  const Pose<double> mid =
+      flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, {&unknown});
   EXPECT_LT((mid.p - flange_pose(truth.robot.model, truth.robot.tool.payload, middle, q).p).norm(),
             1e-12);
   // No approach given: from below.
   EXPECT_EQ(flange_pose(truth.robot.model, truth.robot.tool.payload, x, q).p,
-            flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, &below).p);
+            flange_pose(truth.robot.model, truth.robot.tool.payload, x, q, {&below}).p);
 }
 
 // The analytic regressor's backlash columns (the joint column times −s/2) against autodiff of the
@@ -113,9 +114,9 @@ TEST(Backlash, AnalyticColumnsMatchAutodiffAndFiniteDifferences) {
       Eigen::Vector3d p, p_ad;
       PositionJacobian J, J_ad;
       target_position_jacobian(robot.model, robot.tool.payload, robot.params, q, target, &p, &J,
-                               &approach);
+                               {&approach});
       target_position_jacobian_autodiff(robot.model, robot.tool.payload, robot.params, q, target,
-                                        &p_ad, &J_ad, &approach);
+                                        &p_ad, &J_ad, {&approach});
       EXPECT_LT((p - p_ad).norm(), 1e-9) << name;
       for (int joint = 1; joint <= kJointCount; ++joint) {
         const int i = backlash_param(joint);
@@ -126,8 +127,8 @@ TEST(Backlash, AnalyticColumnsMatchAutodiffAndFiniteDifferences) {
         up[i] += h;
         down[i] -= h;
         const Eigen::Vector3d fd =
-            (flange_pose(robot.model, robot.tool.payload, up, q, &approach) * target -
-             flange_pose(robot.model, robot.tool.payload, down, q, &approach) * target) /
+            (flange_pose(robot.model, robot.tool.payload, up, q, {&approach}) * target -
+             flange_pose(robot.model, robot.tool.payload, down, q, {&approach}) * target) /
             (2 * h);
         EXPECT_LT((J.col(i) - fd).norm(), 1e-5 * (1 + fd.norm()))
             << name << " " << parameter_table()[i].name;
@@ -151,12 +152,12 @@ TEST(Backlash, CalibratedChainAndIkTakeTheApproach) {
     const Vector6d above = -Vector6d::Ones();
     const Vector6d mixed = (Vector6d() << 1, -1, 1, -1, 0, 1).finished();
     for (const Vector6d* approach : {static_cast<const Vector6d*>(nullptr), &above, &mixed}) {
-      const Compensator comp = make_compensator(robot, std::nullopt, approach);
+      const Compensator comp = make_compensator(robot, std::nullopt, {approach});
       for (int k = 0; k < 10; ++k) {
         const Vector6d q = test::random_joints(robot.model, rng);
         const Pose<double> got = calibrated_tcp_pose(comp.chain, q);
         const Pose<double> want =
-            flange_pose(robot.model, robot.tool.payload, robot.params, q, approach) *
+            flange_pose(robot.model, robot.tool.payload, robot.params, q, {approach}) *
             comp.flange_T_tcp;
         EXPECT_LT((got.p - want.p).norm(), 1e-9);
         EXPECT_LT((got.R - want.R).norm(), 1e-12);

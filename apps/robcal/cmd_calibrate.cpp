@@ -194,7 +194,8 @@ const bool registered = register_command(30, [](CLI::App& app) {
                   "tool's points or TCP frame) and no default (say what to re-identify)");
   cmd->add_option("--identify", args->identify,
                   "Also identify the parameters matching this glob (repeatable), e.g. "
-                  "'joint*.scale'");
+                  "'joint*.scale', or an opt-in group by name: periodic, backlash, mounting, "
+                  "thermal, groups (all of them)");
   cmd->add_option("--fix", args->fix,
                   "Hold the parameters matching this glob at nominal (repeatable), e.g. 'link6.*'");
   cmd->add_option("--loss", args->loss, "none (least squares) or huber (robust; lists outliers)");

@@ -28,6 +28,7 @@ struct ModelOptions {
   std::string payload_name;
   std::string method = "newton";
   std::string approach = "++++++";
+  std::string temperature;
   bool json = false;
 };
 
@@ -50,6 +51,8 @@ CompensationSetup parse_setup(const ModelOptions& o) {
   }
   setup.approach = parse_approach(o.approach, {"", 0, 0, "--approach"});
   setup.payload_name = o.payload_name;
+  if (!o.temperature.empty())
+    setup.temperature_c = parse_numbers(o.temperature, 1, "--temperature-c")[0];
   return setup;
 }
 
@@ -145,6 +148,9 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
   cmd->add_option("--payload", o.payload_name,
                   "Payload carried now by name, one of the tool's 'payloads:' (the compliance "
                   "re-compensates)");
+  cmd->add_option("--temperature-c", o.temperature,
+                  "The arm's temperature (°C) at the targets, for the thermal group (default: "
+                  "the robot's reference temperature, 20 °C)");
   cmd->add_flag("--json", o.json, "Machine-readable summary on stdout");
 }
 

@@ -81,9 +81,15 @@ void chain_frames(const CalibratedChain& c, const std::array<double, kJointCount
 
 }  // namespace
 
-CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& params,
+CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& cold_params,
                                       const PointMass& payload, const Pose<double>& flange_T_tcp,
-                                      const Vector6d* approach) {
+                                      const RowConditions& row) {
+  // At the target's temperature the links have their warm lengths (§8).
+  const ParameterVector params =
+      thermal_active(cold_params.data(), row)
+          ? ParameterVector(warm_parameters(cold_params.data(), row.temperature_rise_k).data())
+          : cold_params;
+  const double* approach = row.approach ? row.approach->data() : nullptr;
   CalibratedChain c;
   const double ca = std::cos(params[3]), sa = std::sin(params[3]);
   const double cb = std::cos(params[4]), sb = std::sin(params[4]);
@@ -113,8 +119,8 @@ CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVe
     c.moment[i] = model.link_masses[i].mass_kg * model.link_masses[i].cog_mm;
   }
   for (int joint = 1; joint <= kJointCount; ++joint)
-    c.theta_offset[joint - 1] += backlash_shift(
-        params.data(), model_approach(model, approach ? approach->data() : nullptr, joint), joint);
+    c.theta_offset[joint - 1] +=
+        backlash_shift(params.data(), model_approach(model, approach, joint), joint);
   c.mass[5] += payload.mass_kg;
   c.moment[5] += payload.mass_kg * payload.cog_mm;
   c.gravity = model.gravity_m_s2;

@@ -52,7 +52,12 @@ Compensation prepare_compensation(const CompensationSetup& setup) {
   }
   std::optional<PointMass> payload = setup.payload;
   if (!setup.payload_name.empty()) payload = named_payload(setup, robot.tool);
-  Compensation out{robot, make_compensator(robot, payload, &setup.approach),
+  // Workshop to foundry; outside is a unit slip (°F, K).
+  if (setup.temperature_c && !(*setup.temperature_c >= -50 && *setup.temperature_c <= 150))
+    throw InputError({"", 0, 0, "--temperature-c"}, "expected a temperature in °C in [-50, 150]");
+  const double rise =
+      setup.temperature_c ? *setup.temperature_c - robot.model.reference_temperature_c : 0.0;
+  Compensation out{robot, make_compensator(robot, payload, {&setup.approach, rise}),
                    setup.pulses_per_degree};
   return out;
 }

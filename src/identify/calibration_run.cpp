@@ -32,6 +32,8 @@ std::vector<std::string> implausible_parameters(const IdentificationResult& resu
     else if (kind == ParamKind::Compliance && u.value + 3 * u.std_dev < 0)
       out.push_back(fmt::format("{} is {:.3g} ± {:.2g} {}: a negative compliance", u.name, u.value,
                                 u.std_dev, u.unit));
+    if (kind == ParamKind::Expansion && std::abs(u.value) > 100)
+      out.push_back(fmt::format("{} is {:.1f} ppm/K (metals expand 10–25 ppm/K)", u.name, u.value));
   }
   return out;
 }

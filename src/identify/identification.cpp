@@ -104,7 +104,7 @@ SolverStatus solve(const ResidualContext& context, const std::vector<int>& free,
   for (size_t row = 0; row < rows; ++row)
     configurations[row] =
         prepare_configuration(*context.model, start_params, row_joints(*context.data, row),
-                              &row_approach(*context.data, row));
+                              row_conditions(*context.model, *context.data, row));
   std::vector<double> z(free.size(), 0.0);
   ceres::Problem problem;
   if (huber_scale > 0) {
@@ -216,7 +216,10 @@ MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& d
   synthetic.kind = data.kind;
   // Both approach sides on every joint: the backlash is then no combination of the offsets
   // (one-sided data are refused by name in drop_one_sided_backlash).
-  std::mt19937_64 sides(20140602);
+  // Temperatures 0–10 K over the reference: the expansion is then no combination of the lengths
+  // (isothermal data are refused by name in drop_isothermal_expansion).
+  std::mt19937_64 sides(20140602), heat(20140603);
+  std::uniform_real_distribution<double> warming(0.0, 10.0);
   for (const Vector6d& q : sample_configurations(lower, upper, 60, rng)) {
     for (int t : targets) {
       Vector6d s;
@@ -225,6 +228,8 @@ MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& d
       if (data.kind == MeasurementKind::Poses) synthetic.poses.push_back({"", q, {}, 0, s});
       if (data.kind == MeasurementKind::Distances)
         synthetic.distances.push_back({"", t, q, 0, 0, s});
+      synthetic.set_temperature_c(synthetic.size() - 1,
+                                  model.reference_temperature_c + warming(heat));
     }
   }
   return synthetic;
@@ -258,6 +263,51 @@ void drop_one_sided_backlash(const MeasurementSet& data, std::vector<bool>& cand
         : above > 0 ? "above"
                     : "an unknown side",
         below, above, data.size() - below - above);
+    setup.dropped.push_back(dep);
+    setup.warnings.push_back(fmt::format("{} not identified: {}",
+                                         setup.layout.names[static_cast<size_t>(i)], dep.reason));
+  }
+}
+
+/// Requested expansion coefficients (docs/method/03-error-model.md §8) the rows cannot determine
+/// are taken out of `candidates` and dropped with their real reason: a link without length
+/// (a_i = d_i = 0 nominally: nothing expands), or rows that do not record at least two
+/// different temperatures (at one temperature the expansion only rescales a_i, d_i, so only the
+/// warm lengths are determined).
+void drop_isothermal_expansion(const RobotModel& model, const MeasurementSet& data,
+                               std::vector<bool>& candidates, IdentificationSetup& setup) {
+  size_t recorded = 0;
+  double lowest = 0, highest = 0;
+  for (size_t row = 0; row < data.size(); ++row) {
+    const std::optional<double>& t = data.temperature_c(row);
+    if (!t) continue;
+    lowest = recorded == 0 ? *t : std::min(lowest, *t);
+    highest = recorded == 0 ? *t : std::max(highest, *t);
+    ++recorded;
+  }
+  for (int link = 2; link <= kJointCount; ++link) {
+    const int i = expansion_param(link);
+    if (!candidates[static_cast<size_t>(i)]) continue;
+    std::string reason;
+    if (model.mdh[link - 1].a == 0 && model.mdh[link - 1].d == 0)
+      reason =
+          fmt::format("link {} has no length (a = d = 0 in the robot file): nothing expands", link);
+    else if (recorded == 0)
+      reason =
+          "no row records a temperature: add a 'temperature' column (°C, the arm's temperature "
+          "at each row; simulate writes it for a truth with thermal drift)";
+    else if (highest == lowest)
+      reason = fmt::format(
+          "every row was measured at {} °C{}, so the expansion only rescales the lengths and "
+          "cannot be told from them: measure at several temperatures (during the warm-up)",
+          highest,
+          recorded < data.size()
+              ? fmt::format(" ({} rows without a temperature)", data.size() - recorded)
+              : std::string());
+    if (reason.empty()) continue;
+    candidates[static_cast<size_t>(i)] = false;
+    Dependency dep{i, {}, 1.0, {}};
+    dep.reason = reason;
     setup.dropped.push_back(dep);
     setup.warnings.push_back(fmt::format("{} not identified: {}",
                                          setup.layout.names[static_cast<size_t>(i)], dep.reason));
@@ -505,6 +555,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   std::vector<bool> candidates = setup.requested;
   drop_unloaded_compliances(model, tool, data, u0, candidates, setup);
   drop_one_sided_backlash(data, candidates, setup);
+  drop_isothermal_expansion(model, data, candidates, setup);
 
   // The model's own dependencies, on a rich synthetic design.
   const std::vector<int> order = preference_order(setup.layout, candidates);

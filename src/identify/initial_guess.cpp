@@ -35,7 +35,7 @@ void fit_unknown_targets(const ResidualContext& context, Eigen::VectorXd& unknow
     const PointMeasurement& m = data.points[row];
     if (layout.target_slot[static_cast<size_t>(m.target)] < 0) continue;
     const Pose<double> F = flange_pose(*context.model, context.tool->payload_of(m.payload), params,
-                                       m.joints, &m.approach);
+                                       m.joints, row_conditions(*context.model, data, row));
     sum[static_cast<size_t>(m.target)] += F.R.transpose() * (m.position_mm - F.p);
     ++count[static_cast<size_t>(m.target)];
   }
@@ -55,9 +55,10 @@ void fit_unknown_tcp(const ResidualContext& context, Eigen::VectorXd& unknowns) 
   const Eigen::Matrix3d S = context.tool->flange_T_tcp.linear();
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Zero();
-  for (const PoseMeasurement& m : data.poses) {
+  for (size_t row = 0; row < data.poses.size(); ++row) {
+    const PoseMeasurement& m = data.poses[row];
     const Pose<double> F = flange_pose(*context.model, context.tool->payload_of(m.payload), params,
-                                       m.joints, &m.approach);
+                                       m.joints, row_conditions(*context.model, data, row));
     position += F.R.transpose() * (m.world_T_tcp.p - F.p);
     rotation += (F.R * S).transpose() * m.world_T_tcp.R;
   }

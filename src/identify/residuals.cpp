@@ -69,12 +69,17 @@ const Vector6d& row_approach(const MeasurementSet& data, size_t row) {
   return data.points[row].approach;
 }
 
+RowConditions row_conditions(const RobotModel& model, const MeasurementSet& data, size_t row) {
+  const std::optional<double>& t = data.temperature_c(row);
+  return {&row_approach(data, row), t ? *t - model.reference_temperature_c : 0.0};
+}
+
 void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,
                    double* residuals, Eigen::MatrixXd* jacobian) {
   const ParameterVector params = unknowns.head<kParameterCount>();
   row_residuals(context, unknowns, row, parameter_trig(params),
                 prepare_configuration(*context.model, params, row_joints(*context.data, row),
-                                      &row_approach(*context.data, row)),
+                                      row_conditions(*context.model, *context.data, row)),
                 residuals, jacobian);
 }
 
@@ -187,7 +192,8 @@ Eigen::Vector3d modelled_position(const ResidualContext& context, const Eigen::V
   const ParameterVector params = unknowns.head<kParameterCount>();
   Pose<double> flange;
   flange_twist_jacobian(*context.model, context.tool->payload_of(data.payload(row)), params,
-                        row_joints(data, row), &flange, nullptr, &row_approach(data, row));
+                        row_joints(data, row), &flange, nullptr,
+                        row_conditions(*context.model, data, row));
   switch (data.kind) {
     case MeasurementKind::Points:
       return flange * target_coordinates(context, unknowns, data.points[row].target);

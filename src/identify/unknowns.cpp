@@ -93,6 +93,8 @@ double UnknownLayout::plausible_error(int index) const {
       return 1e-7;
     case ParamKind::Scale:
       return 1e-4;
+    case ParamKind::Expansion:
+      return 1e-5;  // 1/K: metals expand 10–25 ppm/K
   }
   return 1.0;
 }
@@ -141,7 +143,9 @@ std::vector<bool> select_unknowns(const UnknownLayout& layout, CalibrationLevel 
   for (int i = kParameterCount; i < layout.size(); ++i) free[i] = i != layout.length_offset;
   const auto apply = [&](const std::vector<std::string>& patterns, bool value, const char* flag) {
     for (const std::string& pattern : patterns) {
-      bool matched = false;
+      const std::vector<int> group = opt_in_group_parameters(pattern);
+      for (int i : group) free[i] = value;
+      bool matched = !group.empty();
       for (int i = 0; i < layout.size(); ++i) {
         if (!glob_match(pattern, layout.names[i])) continue;
         matched = true;
@@ -158,7 +162,8 @@ std::vector<bool> select_unknowns(const UnknownLayout& layout, CalibrationLevel 
             {"", 0, 0, flag},
             fmt::format(
                 "pattern '{}' matches no parameter (names look like "
-                "base.x, link3.a, joint2.compliance, joint1.scale{})",
+                "base.x, link3.a, joint2.compliance, joint1.scale{}; opt-in groups: periodic, "
+                "backlash, mounting, thermal or groups for all)",
                 pattern,
                 layout.size() > kParameterCount ? ", " + layout.names[kParameterCount] : ""));
     }

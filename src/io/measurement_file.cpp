@@ -151,6 +151,18 @@ class RowReader {
                           where(row, "approach"));
   }
 
+  /// The optional `temperature` column (°C, the thermal group, docs/method/03-error-model.md
+  /// §8): empty for a row without a reading.
+  [[nodiscard]] std::optional<double> temperature_c(const Row& row) const {
+    if (row.fields[static_cast<size_t>(columns_.at("temperature"))].empty()) return std::nullopt;
+    const double t = number(row, "temperature", " (°C)");
+    if (t < -50 || t > 150)  // workshop to foundry; outside is a unit slip (°F, K)
+      throw InputError(
+          where(row, "temperature"),
+          fmt::format("temperature {} °C is implausible: expected °C in [-50, 150]", t));
+    return t;
+  }
+
   [[nodiscard]] int target(const Row& row, const Tool& tool) const {
     const std::string_view name = text(row, "target");
     const int index = tool.target_index(name);
@@ -545,7 +557,8 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
     const auto optional = [&](const char* name) {
       return columns.count(name) > 0 && columns.at(name) == static_cast<int>(i);
     };
-    if (used == required.end() && !optional("approach") && !optional("payload"))
+    if (used == required.end() && !optional("approach") && !optional("payload") &&
+        !optional("temperature"))
       result.warnings.push_back(
           fmt::format("{}:{}:{}: column '{}' is not used by a {} file; ignored", source_name,
                       header_line, i + 1, header[i], kind_name));
@@ -632,6 +645,8 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
       }
     }
     if (columns.count("payload")) set.set_payload(set.size() - 1, reader.payload(row, tool));
+    if (columns.count("temperature"))
+      set.set_temperature_c(set.size() - 1, reader.temperature_c(row));
   }
   check_units(set, format, header_line, columns);
   return result;
@@ -663,10 +678,16 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
     for (int j = 0; j < kJointCount; ++j) text += s[j] > 0 ? '+' : s[j] < 0 ? '-' : '0';
     return text;
   };
+  bool temperatures = false;  // written when a row recorded one; empty for a row without
+  for (size_t row = 0; row < set.size(); ++row)
+    temperatures = temperatures || set.temperature_c(row).has_value();
+  const auto temperature = [&](const std::optional<double>& t) {
+    return !temperatures ? std::string() : t ? fmt::format(",{}", *t) : std::string(",");
+  };
   bool payloads = false;  // an optional last column, written when a row names one
   for (size_t row = 0; row < set.size(); ++row) payloads = payloads || set.payload(row) >= 0;
   out += join(columns_of(set.kind), ",") + (approach ? ",approach" : "") +
-         (payloads ? ",payload\n" : "\n");
+         (temperatures ? ",temperature" : "") + (payloads ? ",payload\n" : "\n");
   const auto payload = [&](int index) -> std::string {
     if (!payloads) return "\n";
     if (index >= static_cast<int>(tool.payloads.size()))
@@ -703,7 +724,7 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
         out += fmt::format("{},{},{},{},{},{}{}", config(m.config), target(m.target),
                            joints(m.joints), m.position_mm.x(), m.position_mm.y(),
                            m.position_mm.z(), sides(m.approach)) +
-               payload(m.payload);
+               temperature(m.temperature_c) + payload(m.payload);
       break;
     case MeasurementKind::Poses:
       for (const PoseMeasurement& m : set.poses) {
@@ -712,14 +733,14 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
         out += fmt::format("{},{},{},{},{},{},{},{},{}{}", config(m.config), joints(m.joints),
                            m.world_T_tcp.p.x(), m.world_T_tcp.p.y(), m.world_T_tcp.p.z(), q.w(),
                            q.x(), q.y(), q.z(), sides(m.approach)) +
-               payload(m.payload);
+               temperature(m.temperature_c) + payload(m.payload);
       }
       break;
     case MeasurementKind::Distances:
       for (const DistanceMeasurement& m : set.distances)
         out += fmt::format("{},{},{},{}{}", config(m.config), target(m.target), joints(m.joints),
                            m.length_mm, sides(m.approach)) +
-               payload(m.payload);
+               temperature(m.temperature_c) + payload(m.payload);
       break;
   }
   return out;

@@ -128,6 +128,7 @@ constexpr yaml::Range kJointLimitDeg{-1080, 1080, "deg"};
 constexpr yaml::Range kLinkMassKg{0, 10000, "kg"};
 constexpr yaml::Range kPayloadKg{0, 5000, "kg"};
 constexpr yaml::Range kGravity{-100, 100, "m/s²"};
+constexpr yaml::Range kTemperatureC{-50, 150, "°C"};  // workshop to foundry
 constexpr yaml::Range kJointMap{-100, 100, ""};
 constexpr yaml::Range kUnit{-1.000001, 1.000001, ""};
 
@@ -182,7 +183,7 @@ void emit_gravity(YAML::Emitter& out, const RobotModel& model) {
 RobotModel parse_robot(const yaml::Node& root) {
   yaml::expect_keys(root, {"name", "manufacturer", "source", "euler", "mdh", "joint_limits_deg",
                            "masses", "gravity_m_s2", "joint_map", "reach_mm", "pulses_per_degree",
-                           "gravity_base_m_s2", "mounting_deg"});
+                           "gravity_base_m_s2", "mounting_deg", "reference_temperature_c"});
   RobotModel model;
   model.name = root.at("name").as_string();
   if (root.has("manufacturer")) model.manufacturer = root.at("manufacturer").as_string();
@@ -231,6 +232,9 @@ RobotModel parse_robot(const yaml::Node& root) {
     }
   }
   parse_gravity(root, model);
+  if (root.has("reference_temperature_c"))
+    model.reference_temperature_c =
+        yaml::number_in(root.at("reference_temperature_c"), kTemperatureC);
 
   if (root.has("joint_map")) {
     const yaml::Node map = root.at("joint_map");
@@ -283,6 +287,8 @@ void emit_robot_fields(YAML::Emitter& out, const RobotModel& model) {
   }
   out << YAML::EndMap;
   emit_gravity(out, model);
+  if (model.reference_temperature_c != RobotModel{}.reference_temperature_c)
+    out << YAML::Key << "reference_temperature_c" << YAML::Value << model.reference_temperature_c;
   if (!model.joint_map.is_identity()) {
     out << YAML::Key << "joint_map" << YAML::Value << YAML::BeginMap << YAML::Key << "matrix"
         << YAML::Value << YAML::BeginSeq;

@@ -83,12 +83,14 @@ ParameterTrig parameter_trig(const ParameterVector& params) {
 
 PreparedConfiguration prepare_configuration(const RobotModel& model,
                                             const ParameterVector& reference,
-                                            const Vector6d& joints, const Vector6d* approach) {
+                                            const Vector6d& joints, const RowConditions& row) {
   PreparedConfiguration out;
+  out.temperature_rise_k = row.temperature_rise_k;
   out.q = model.joint_map.matrix * joints + model.joint_map.offset;
   for (int k = 0; k < kJointCount; ++k) out.basis[k] = periodic_basis(out.q[k]);
   for (int joint = 1; joint <= kJointCount; ++joint)
-    out.approach[joint - 1] = model_approach(model, approach ? approach->data() : nullptr, joint);
+    out.approach[joint - 1] =
+        model_approach(model, row.approach ? row.approach->data() : nullptr, joint);
   out.theta = undeflected_angles(model, reference.data(), out.q, out.basis, out.approach);
   for (int k = 0; k < kJointCount; ++k) sin_cos(out.theta[k], &out.s[k], &out.c[k]);
   return out;
@@ -101,8 +103,20 @@ FlangeRegressor::FlangeRegressor(const RobotModel& model, const PointMass& paylo
       c_(Vector6d::Zero()),
       basis_(configuration.basis),
       approach_(configuration.approach),
+      temperature_rise_k_(configuration.temperature_rise_k),
       R_base_xy_(trig.R_base_xy) {
+  // The chain at the row's temperature (§8): the warm lengths; jacobian() applies the chain rule.
+  std::array<double, kParameterCount> warm;
   const double* x = params.data();
+  for (int link = 2; link <= kJointCount; ++link) {
+    cold_a_[link - 1] = x[link_param(link, 1)];
+    cold_d_[link - 1] = x[link_param(link, 3)];
+    growth_[link - 1] = 1 + x[expansion_param(link)] * temperature_rise_k_;
+  }
+  if (thermal_active(x, {nullptr, temperature_rise_k_})) {
+    warm = warm_parameters(x, temperature_rise_k_);
+    x = warm.data();
+  }
   const std::array<double, kJointCount> theta_u =
       undeflected_angles(model, x, q_, basis_, approach_);
   std::array<double, kJointCount> s_u, c_u;
@@ -220,6 +234,15 @@ void FlangeRegressor::jacobian(const Eigen::Matrix<double, K, 6>& P,
       J.col(periodic_param(joint, 1, false) + k) = basis_[joint - 1][k] * joint_column;
     J.col(backlash_param(joint)) = (-0.5 * approach_[joint - 1]) * joint_column;
   }
+  // Thermal group: the columns above are those of the warm lengths a'_i = a_i·g_i, d'_i = d_i·g_i
+  // (g_i = 1 + e_i·ΔT); da'/da = g_i, da'/de_i = a_i·ΔT (likewise d).
+  for (int link = 2; link <= kJointCount; ++link) {
+    const int i_a = link_param(link, 1), id = link_param(link, 3);
+    J.col(expansion_param(link)) =
+        temperature_rise_k_ * (cold_a_[link - 1] * J.col(i_a) + cold_d_[link - 1] * J.col(id));
+    J.col(i_a) *= growth_[link - 1];
+    J.col(id) *= growth_[link - 1];
+  }
 }
 
 template void FlangeRegressor::jacobian<1>(const Eigen::Matrix<double, 1, 6>&,
@@ -232,9 +255,9 @@ template void FlangeRegressor::jacobian<6>(const Eigen::Matrix<double, 6, 6>&,
 void flange_twist_jacobian(const RobotModel& model, const PointMass& payload,
                            const ParameterVector& params, const Vector6d& joints,
                            Pose<double>* world_T_flange, TwistJacobian* jacobian,
-                           const Vector6d* approach) {
+                           const RowConditions& row) {
   const FlangeRegressor regressor(model, payload, params, parameter_trig(params),
-                                  prepare_configuration(model, params, joints, approach));
+                                  prepare_configuration(model, params, joints, row));
   if (world_T_flange) *world_T_flange = regressor.flange();
   if (jacobian) regressor.jacobian<6>(Eigen::Matrix<double, 6, 6>::Identity(), jacobian);
 }
@@ -258,9 +281,9 @@ Eigen::Matrix<double, 3, 6> point_output_map(const Eigen::Vector3d& p) {
 void target_position_jacobian(const RobotModel& model, const PointMass& payload,
                               const ParameterVector& params, const Vector6d& joints,
                               const Eigen::Vector3d& target_flange_mm, Eigen::Vector3d* position_mm,
-                              PositionJacobian* jacobian, const Vector6d* approach) {
+                              PositionJacobian* jacobian, const RowConditions& row) {
   const FlangeRegressor regressor(model, payload, params, parameter_trig(params),
-                                  prepare_configuration(model, params, joints, approach));
+                                  prepare_configuration(model, params, joints, row));
   const Eigen::Vector3d p = regressor.flange() * target_flange_mm;
   if (position_mm) *position_mm = p;
   if (jacobian) regressor.jacobian<3>(point_output_map(p), jacobian);

@@ -7,7 +7,14 @@
 namespace robcal {
 
 double ParameterInfo::to_external() const {
-  return kind == ParamKind::Angle ? kRadToDeg : 1.0;
+  switch (kind) {
+    case ParamKind::Angle:
+      return kRadToDeg;
+    case ParamKind::Expansion:
+      return 1e6;  // 1/K → ppm/K: steel 11.7, aluminium 23
+    default:
+      return 1.0;
+  }
 }
 
 const std::array<ParameterInfo, kParameterCount>& parameter_table() {
@@ -41,6 +48,9 @@ const std::array<ParameterInfo, kParameterCount>& parameter_table() {
     for (int joint = 1; joint <= kJointCount; ++joint)
       t[backlash_param(joint)] = {fmt::format("joint{}.backlash", joint), ParamKind::Angle, "deg"};
     t[kJoint1Compliance] = {"joint1.compliance", ParamKind::Compliance, "rad/N·mm"};
+    for (int link = 2; link <= kJointCount; ++link)
+      t[expansion_param(link)] = {fmt::format("link{}.expansion", link), ParamKind::Expansion,
+                                  "ppm/K"};
     return t;
   }();
   return kTable;
@@ -58,9 +68,24 @@ const std::vector<ParameterGroup>& opt_in_groups() {
     for (int joint = 1; joint <= kJointCount; ++joint)
       g.push_back({fmt::format("joint{}.backlash", joint), {backlash_param(joint)}});
     g.push_back({"joint1.compliance", {kJoint1Compliance}});
+    ParameterGroup thermal{"thermal", {}};
+    for (int link = 2; link <= kJointCount; ++link) thermal.params.push_back(expansion_param(link));
+    g.push_back(thermal);
     return g;
   }();
   return kGroups;
+}
+
+std::vector<int> opt_in_group_parameters(std::string_view name) {
+  std::vector<int> out;
+  const bool family = name == "periodic" || name == "backlash";  // one group per joint
+  for (const ParameterGroup& group : opt_in_groups()) {
+    if (name == "groups" || name == group.name ||
+        (family && group.name.ends_with(fmt::format(".{}", name))) ||
+        (name == "mounting" && group.name == "joint1.compliance"))
+      out.insert(out.end(), group.params.begin(), group.params.end());
+  }
+  return out;
 }
 
 bool is_opt_in(int index) {

@@ -26,12 +26,11 @@ TrueRobot make_truth(const RobotModel& model, const Tool& tool, std::string orig
   return truth;
 }
 
-/// Temperature rise (K) after `time_s` of operation: first-order warm-up.
+}  // namespace
+
 double temperature_rise(const UnmodelledEffects& effects, double time_s) {
   return effects.temperature_rise_k * (1.0 - std::exp(-time_s / effects.time_constant_s));
 }
-
-}  // namespace
 
 EffectiveState effective_state(const TrueRobot& truth, const Vector6d& joints,
                                const MotionState& motion) {

@@ -14,7 +14,7 @@ namespace robcal {
 namespace {
 
 /// The flange with the payload the row carried (several payloads, docs/method/03-error-model.md
-/// §7) and its recorded approach (the backlash group's sign, §6).
+/// §7), its recorded approach (the backlash group's sign, §6) and temperature (thermal, §8).
 Pose<double> world_T_flange(const CalibratedRobot& robot, const MeasurementSet& set, size_t row) {
   const int payload = set.payload(row);
   if (payload >= static_cast<int>(robot.tool.payloads.size()))
@@ -22,7 +22,7 @@ Pose<double> world_T_flange(const CalibratedRobot& robot, const MeasurementSet& 
                      fmt::format("a row carries payload {} but the model's tool has {} payloads",
                                  payload + 1, robot.tool.payloads.size()));
   return flange_pose(robot.model, robot.tool.payload_of(payload), robot.params,
-                     row_joints(set, row), &row_approach(set, row));
+                     row_joints(set, row), row_conditions(robot.model, set, row));
 }
 
 Eigen::Vector3d target_position(const CalibratedRobot& robot, const MeasurementSet& set, int target,

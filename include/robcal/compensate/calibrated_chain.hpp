@@ -71,12 +71,13 @@ struct ChainState {
 void table_sin_cos(double theta, double* s, double* c);
 
 /// Precomputes the chain for `params` (docs/method/03-error-model.md §1 layout), the payload
-/// carried and the tool, every target reached with each joint approached from `approach` (+1 below,
-/// −1 above, 0 unknown; null: from below, the programs' practice): the backlash shift −s·b/2 is
-/// constant there, so it joins the joint's θ offset (§6).
+/// carried and the tool, every target reached at `row`: each joint approached from `row.approach`
+/// (+1 below, −1 above, 0 unknown; null: from below, the programs' practice), so the backlash shift
+/// −s·b/2 is constant and joins the joint's θ offset (§6), and at `row.temperature_rise_k`, so
+/// the links keep their warm lengths (§8).
 CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& params,
                                       const PointMass& payload, const Pose<double>& flange_T_tcp,
-                                      const Vector6d* approach = nullptr);
+                                      const RowConditions& row = {});
 
 /// World pose of the TCP for controller joints (rad), recording in `state` what
 /// calibrated_jacobian needs. Equals flange_pose(model, payload, params, joints) · flange_T_tcp.

@@ -89,17 +89,19 @@ struct Compensator {
   /// The side each joint reaches the targets from (+1 below, −1 above, 0 unknown): the backlash
   /// group's sign (docs/method/03-error-model.md §6).
   Vector6d approach = Vector6d::Ones();
+  /// The targets' temperature minus the robot's reference (K): the thermal group's ΔT (§8).
+  double temperature_rise_k = 0;
 };
 
 /// Builds the compensator of a calibrated robot; `payload` overrides the tool's (the
 /// compliance re-compensates for it). InputError when the robot has no closed-form nominal
 /// inverse (neither ortho-parallel nor of the UR family) or a parameter is not finite.
-/// `approach`: the side each joint reaches its targets from (+1 below, −1 above; null: from
-/// below, the measurement programs' practice), for the backlash group
-/// (docs/method/03-error-model.md §7).
+/// `row`: the side each joint reaches its targets from (+1 below, −1 above; null: from below,
+/// the measurement programs' practice), for the backlash group (docs/method/03-error-model.md
+/// §6), and their temperature rise over the robot's reference, for the thermal group (§8).
 Compensator make_compensator(const CalibratedRobot& robot,
                              const std::optional<PointMass>& payload = std::nullopt,
-                             const Vector6d* approach = nullptr);
+                             const RowConditions& row = {});
 
 /// The nominal solution (controller joints, rad) of `base_T_tcp` in configuration `config`
 /// inside the limits, of the turn nearest to `near` (wide-range joints), or nullopt.

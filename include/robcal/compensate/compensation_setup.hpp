@@ -30,6 +30,9 @@ struct CompensationSetup {
   /// The side each joint reaches the targets from (+1 below, −1 above, 0 unknown): the backlash
   /// group's sign (docs/method/03-error-model.md §6); the programs approach from below.
   Vector6d approach = Vector6d::Ones();
+  /// The arm's temperature (°C) when it reaches the targets, for the thermal group
+  /// (docs/method/03-error-model.md §8, `--temperature-c`); none: the robot's reference.
+  std::optional<double> temperature_c;
 };
 
 /// The calibrated robot with the tool and payload applied, and its compensator. The
@@ -44,7 +47,8 @@ struct Compensation {
 /// Applies the tool and payload and builds the compensator. InputError: the model is not the
 /// expected robot (key "--robot"), the payload mass is outside [0, 10000) kg or not finite
 /// (key "--payload-mass-kg"), its centre of gravity not finite (key "--payload-cog-mm"), a
-/// payload name the tool does not list or given with a mass (key "--payload").
+/// payload name the tool does not list or given with a mass (key "--payload"), a temperature
+/// outside [−50, 150] °C (key "--temperature-c").
 Compensation prepare_compensation(const CompensationSetup& setup);
 
 /// "newton" or "pose-shift"; InputError (key `key`) otherwise.

@@ -206,14 +206,52 @@ std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass&
   return theta;
 }
 
+/// What a measurement row records beyond its joints, that the opt-in groups depend on.
+struct RowConditions {
+  /// Each controller joint's approach (+1 from below, −1 from above, 0 unknown; null: from
+  /// below), the backlash group's sign (§6).
+  const Vector6d* approach = nullptr;
+  /// Temperature minus the robot's reference temperature (K), the thermal group's factor (§8).
+  double temperature_rise_k = 0;
+};
+
+/// True when the thermal group moves the links at `row` (or, for a ceres::Jet, is differentiated
+/// there): a temperature rise and an expansion coefficient.
+template <typename T>
+bool thermal_active(const T* params, const RowConditions& row) {
+  if (row.temperature_rise_k == 0) return false;
+  for (int link = 2; link <= kJointCount; ++link)
+    if (detail::is_nonzero(params[expansion_param(link)])) return true;
+  return false;
+}
+
+/// The parameters at the row's temperature: a_i and d_i of links 2..6 scaled by (1 + e_i·ΔT)
+/// (docs/method/03-error-model.md §8), every other value as given.
+template <typename T>
+std::array<T, kParameterCount> warm_parameters(const T* params, double temperature_rise_k) {
+  std::array<T, kParameterCount> warm;
+  for (int i = 0; i < kParameterCount; ++i) warm[i] = params[i];
+  for (int link = 2; link <= kJointCount; ++link) {
+    const T growth = T(1) + params[expansion_param(link)] * temperature_rise_k;
+    warm[link_param(link, 1)] = params[link_param(link, 1)] * growth;
+    warm[link_param(link, 3)] = params[link_param(link, 3)] * growth;
+  }
+  return warm;
+}
+
 /// World poses of the link frames Φ1..Φ6 (frames[5] is the flange, Φ6).
 /// \param params  parameter vector (docs/method/03-error-model.md §1 layout, internal units),
-/// kParameterCount values \param joints  controller joint values, rad \param approach  each
-/// joint's approach (+1 from below, −1 from above, 0 unknown; null: from below)
+/// kParameterCount values \param joints  controller joint values, rad \param row  the row's
+/// approach and temperature (RowConditions; default: from below, at the reference temperature)
 template <typename T>
 std::array<Pose<T>, kJointCount> link_frames(const RobotModel& model, const PointMass& payload,
                                              const T* params, const T* joints,
-                                             const double* approach = nullptr) {
+                                             const RowConditions& row = {}) {
+  if (thermal_active(params, row)) {
+    const std::array<T, kParameterCount> warm = warm_parameters(params, row.temperature_rise_k);
+    return link_frames(model, payload, warm.data(), joints, {row.approach, 0});
+  }
+  const double* approach = row.approach ? row.approach->data() : nullptr;
   const std::array<T, kJointCount> q = model_joint_angles(model, joints);
   const std::array<T, kJointCount> theta = link_angles(model, payload, params, q, approach);
   std::array<Pose<T>, kJointCount> frames;
@@ -229,14 +267,14 @@ std::array<Pose<T>, kJointCount> link_frames(const RobotModel& model, const Poin
 /// World pose of the flange (Φ6): world_T_flange = world_A_1 · A_2 ⋯ A_6.
 template <typename T>
 Pose<T> flange_pose(const RobotModel& model, const PointMass& payload, const T* params,
-                    const T* joints, const double* approach = nullptr) {
-  return link_frames(model, payload, params, joints, approach)[kJointCount - 1];
+                    const T* joints, const RowConditions& row = {}) {
+  return link_frames(model, payload, params, joints, row)[kJointCount - 1];
 }
 
-/// Convenience for double: flange pose from a parameter vector and controller joints (rad),
-/// each joint approached from `approach` (null: from below).
+/// Convenience for double: flange pose from a parameter vector and controller joints (rad) at
+/// the row's approach and temperature.
 Pose<double> flange_pose(const RobotModel& model, const PointMass& payload,
                          const ParameterVector& params, const Vector6d& joints,
-                         const Vector6d* approach = nullptr);
+                         const RowConditions& row = {});
 
 }  // namespace robcal

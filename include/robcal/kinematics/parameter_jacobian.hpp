@@ -36,12 +36,14 @@ using TwistJacobian = Eigen::Matrix<double, 6, kParameterCount>;
 /// parameter also
 ///   moves θ_i through the gravity torque τ_i; its derivative follows from the same elementary
 ///   motions applied to τ_i = z_i · ((Σ_{j≥i} m_j (c_j − o_i)) × g) in the undeflected chain.
+/// - the thermal group scales a_i, d_i by (1 + e_i·ΔT): the chain is evaluated with the warm
+///   lengths, whose columns the chain rule turns into those of a_i, d_i and e_i (§8).
 /// Cost: two chain evaluations plus O(parameters × joints) dot products, ≈1 µs.
-/// `approach`: each joint's approach (forward_kinematics.hpp backlash_shift; null: from below).
+/// `row`: the row's approach and temperature (forward_kinematics.hpp RowConditions).
 void flange_twist_jacobian(const RobotModel& model, const PointMass& payload,
                            const ParameterVector& params, const Vector6d& joints,
                            Pose<double>* world_T_flange, TwistJacobian* jacobian,
-                           const Vector6d* approach = nullptr);
+                           const RowConditions& row = {});
 
 /// The sines and cosines that depend on the parameters alone (link twists α_2..α_6, base α and
 /// β): computed once per parameter vector, shared by every configuration.
@@ -63,12 +65,12 @@ struct PreparedConfiguration {
   /// Each model joint's side (model_approach: +1 below, −1 above, 0 unknown), the backlash's
   /// factor.
   Vector6d approach = Vector6d::Ones();
+  double temperature_rise_k = 0;  ///< the thermal group's ΔT (K)
   std::array<double, kJointCount> theta{}, s{}, c{};
 };
 PreparedConfiguration prepare_configuration(const RobotModel& model,
                                             const ParameterVector& reference,
-                                            const Vector6d& joints,
-                                            const Vector6d* approach = nullptr);
+                                            const Vector6d& joints, const RowConditions& row = {});
 
 /// The analytic regressor in two steps, for residuals whose derivative depends on the flange
 /// pose: construction evaluates the chain at a prepared configuration (the flange pose), then
@@ -91,6 +93,9 @@ class FlangeRegressor {
   Vector6d q_, c_;  ///< model joint values; compliances (c_[0]: joint 1's, §7)
   PeriodicBasis basis_;
   Vector6d approach_;
+  /// ΔT, and per link (index link − 1) the cold a_i, d_i and their growth 1 + e_i·ΔT.
+  double temperature_rise_k_ = 0;
+  std::array<double, kJointCount> cold_a_{}, cold_d_{}, growth_{};
   bool compliant_ = false;
   bool gravity_turns_with_base_ = false;  ///< RobotModel::gravity_in_base
   Eigen::Matrix3d R_base_xy_;
@@ -110,7 +115,7 @@ class FlangeRegressor {
 void target_position_jacobian(const RobotModel& model, const PointMass& payload,
                               const ParameterVector& params, const Vector6d& joints,
                               const Eigen::Vector3d& target_flange_mm, Eigen::Vector3d* position_mm,
-                              PositionJacobian* jacobian, const Vector6d* approach = nullptr);
+                              PositionJacobian* jacobian, const RowConditions& row = {});
 
 /// The output map [I −[p]×] of a world point p carried by the flange (its change under a
 /// flange twist), for FlangeRegressor::jacobian.
@@ -126,6 +131,6 @@ void target_position_jacobian_autodiff(const RobotModel& model, const PointMass&
                                        const ParameterVector& params, const Vector6d& joints,
                                        const Eigen::Vector3d& target_flange_mm,
                                        Eigen::Vector3d* position_mm, PositionJacobian* jacobian,
-                                       const Vector6d* approach = nullptr);
+                                       const RowConditions& row = {});
 
 }  // namespace robcal

@@ -5,6 +5,7 @@
 /// mm in the instrument's (world) frame.
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ struct PointMeasurement {
   int line = 0;                          ///< 1-based line in the source file (0: not from a file)
   Vector6d approach = Vector6d::Ones();  ///< per joint: +1 from below, −1 from above, 0 unknown
   int payload = -1;  ///< index into Tool::payloads (`payload` column); -1: the tool's payload
+  /// The arm's temperature (°C, `temperature` column), the thermal group's input
+  /// (docs/method/03-error-model.md §8); none: at the robot's reference temperature.
+  std::optional<double> temperature_c{};
 };
 
 /// `config,j1..j6,x,y,z,qw,qx,qy,qz`: world_T_tcp.
@@ -38,8 +42,9 @@ struct PoseMeasurement {
   Vector6d joints = Vector6d::Zero();
   Pose<double> world_T_tcp;
   int line = 0;
-  Vector6d approach = Vector6d::Ones();  ///< as PointMeasurement::approach
-  int payload = -1;                      ///< as PointMeasurement::payload
+  Vector6d approach = Vector6d::Ones();   ///< as PointMeasurement::approach
+  int payload = -1;                       ///< as PointMeasurement::payload
+  std::optional<double> temperature_c{};  ///< as PointMeasurement::temperature_c
 };
 
 /// `config,target,j1..j6,length`: |p_target − centre| in mm.
@@ -49,8 +54,9 @@ struct DistanceMeasurement {
   Vector6d joints = Vector6d::Zero();
   double length_mm = 0;
   int line = 0;
-  Vector6d approach = Vector6d::Ones();  ///< as PointMeasurement::approach
-  int payload = -1;                      ///< as PointMeasurement::payload
+  Vector6d approach = Vector6d::Ones();   ///< as PointMeasurement::approach
+  int payload = -1;                       ///< as PointMeasurement::payload
+  std::optional<double> temperature_c{};  ///< as PointMeasurement::temperature_c
 };
 
 /// The rows of one measurement file; exactly one of the three vectors is filled.
@@ -94,6 +100,31 @@ struct MeasurementSet {
         return;
       case MeasurementKind::Distances:
         distances[row].payload = payload;
+        return;
+    }
+  }
+  /// The temperature row `row` recorded (any kind), °C; none when the file has no such column.
+  [[nodiscard]] const std::optional<double>& temperature_c(size_t row) const {
+    switch (kind) {
+      case MeasurementKind::Poses:
+        return poses[row].temperature_c;
+      case MeasurementKind::Distances:
+        return distances[row].temperature_c;
+      case MeasurementKind::Points:
+        break;
+    }
+    return points[row].temperature_c;
+  }
+  void set_temperature_c(size_t row, std::optional<double> temperature_c) {
+    switch (kind) {
+      case MeasurementKind::Points:
+        points[row].temperature_c = temperature_c;
+        return;
+      case MeasurementKind::Poses:
+        poses[row].temperature_c = temperature_c;
+        return;
+      case MeasurementKind::Distances:
+        distances[row].temperature_c = temperature_c;
         return;
     }
   }

@@ -3,7 +3,7 @@
 /// The robot's parameter vector: every quantity the error model of docs/method/03-error-model.md §1
 /// may identify, stored as absolute values in internal units (mm, rad, rad/(N·mm), unitless scale).
 ///
-/// Layout (kParameterCount = 68):
+/// Layout (kParameterCount = 73):
 ///   [0, 6)   base.x base.y base.z (mm), base.alpha base.beta base.gamma (rad):
 ///            world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1)
 ///   [6, 26)  linkI.alpha (rad), linkI.a (mm), linkI.theta (rad, the joint zero offset),
@@ -19,6 +19,9 @@
 ///   [67]     joint1.compliance (rad per N·mm): joint 1 under gravity, loaded only when the
 ///            robot is not floor-mounted (inclined, wall, ceiling); an opt-in group
 ///            (docs/method/03-error-model.md §7).
+///   [68, 73) linkI.expansion (1/K inside, ppm/K in files) for I = 2..6: thermal drift, a_I and
+///            d_I scaled by (1 + e_I·ΔT), ΔT the row's temperature minus the robot's reference
+///            temperature; an opt-in group (docs/method/03-error-model.md §8).
 /// The 31 of the published full model are the first 31; scales are fixed unless asked for.
 
 #include <array>
@@ -41,7 +44,10 @@ inline constexpr int kBacklashOffset = kPeriodicOffset + kJointCount * kPeriodic
 inline constexpr int kMountingOffset = kBacklashOffset + kJointCount;
 inline constexpr int kJoint1Compliance = kMountingOffset;  ///< joint1.compliance
 inline constexpr int kMountingParamCount = 1;
-inline constexpr int kParameterCount = kMountingOffset + kMountingParamCount;
+/// The thermal group (docs/method/03-error-model.md §8) follows the mounting group.
+inline constexpr int kThermalOffset = kMountingOffset + kMountingParamCount;
+inline constexpr int kThermalParamCount = kJointCount - 1;  ///< links 2..6
+inline constexpr int kParameterCount = kThermalOffset + kThermalParamCount;
 
 /// Index of MDH quantity k (0 alpha, 1 a, 2 theta, 3 d) of link i (2..6).
 constexpr int link_param(int link, int k) {
@@ -67,14 +73,19 @@ constexpr int backlash_param(int joint) {
   return kBacklashOffset + (joint - 1);
 }
 
-enum class ParamKind { Length, Angle, Compliance, Scale };
+/// Index of the thermal expansion coefficient of link i (2..6): a_i, d_i grow by e_i·ΔT.
+constexpr int expansion_param(int link) {
+  return kThermalOffset + (link - 2);
+}
+
+enum class ParamKind { Length, Angle, Compliance, Scale, Expansion };
 
 /// Name, kind and external unit of one parameter of the layout.
 struct ParameterInfo {
   std::string name;  ///< stable dotted name, e.g. "link3.a", "joint5.compliance"
   ParamKind kind;
-  std::string unit;  ///< external unit: "mm", "deg", "rad/N·mm", "1"
-  /// Factor from internal to external units (1 for mm, 180/π for angles).
+  std::string unit;  ///< external unit: "mm", "deg", "rad/N·mm", "1", "ppm/K"
+  /// Factor from internal to external units (1 for mm, 180/π for angles, 10⁶ for 1/K → ppm/K).
   [[nodiscard]] double to_external() const;
 };
 
@@ -91,8 +102,14 @@ struct ParameterGroup {
 
 /// The opt-in groups: one periodic group per joint ("joint1.periodic" .. "joint6.periodic"),
 /// then one backlash group per joint ("joint1.backlash" .. "joint6.backlash"), then
-/// "joint1.compliance" (docs/method/03-error-model.md §7).
+/// "joint1.compliance" (docs/method/03-error-model.md §7), then "thermal" (the five
+/// linkI.expansion, §8).
 const std::vector<ParameterGroup>& opt_in_groups();
+
+/// The parameters of the opt-in groups a name selects (`--identify thermal`): one group's name
+/// ("joint6.periodic", "thermal"), a family of them ("periodic", "backlash"), "mounting"
+/// (joint1.compliance) or "groups" (every opt-in parameter); empty for any other name.
+std::vector<int> opt_in_group_parameters(std::string_view name);
 
 /// True for a parameter of an opt-in group.
 bool is_opt_in(int index);

@@ -73,6 +73,10 @@ struct RobotModel {
   /// γ), as a wall, ceiling or inclined mounting gives it (robot file `gravity_base_m_s2` or
   /// `mounting_deg`): it then turns with the base placement (docs/method/03-error-model.md §7).
   bool gravity_in_base = false;
+  /// Temperature (°C) at which the link lengths hold (robot file `reference_temperature_c`,
+  /// default 20 °C, ISO 1's reference for dimensional specifications): the thermal group scales
+  /// a_i, d_i by (1 + e_i·(T − this)) (docs/method/03-error-model.md §8).
+  double reference_temperature_c = 20;
 
   /// Nominal parameter vector (docs/method/03-error-model.md §1 layout, internal units).
   [[nodiscard]] ParameterVector nominal() const;

@@ -62,6 +62,10 @@ struct MotionState {
   int payload = -1;            ///< carried payload: index into the tool's payloads, -1 its own
 };
 
+/// Temperature rise (K) of the thermal drift after `time_s` of operation: first-order warm-up
+/// ΔT∞·(1 − e^(−t/τ)), what a thermometer on the arm reads above the robot's reference.
+double temperature_rise(const UnmodelledEffects& effects, double time_s);
+
 /// Controller joints (rad) the true arm actually sits at when commanded to `joints`, and the
 /// parameters it actually has at `motion.time_s` (the unmodelled effects applied).
 struct EffectiveState {
