@@ -306,7 +306,16 @@ TEST(ProgramFilter, YaskawaRefusals) {
             "t.jbi (///NPOS): the job defines positions but has no ///NPOS line in //POS");
   EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n///NPOS 1,0,0,0,0,0\n"),
             "t.jbi:5:1: second ///NPOS line (the first at line 4)");
-  EXPECT_EQ(jbi("///NPOS 1,0,-1,0,0,0\n"), "t.jbi:4:13: ///NPOS: expected whole counts 0..99999");
+  EXPECT_EQ(jbi("///NPOS 1,0,-1,0,0,0\n"),
+            "t.jbi:4:13: ///NPOS: expected a whole EC count 0..100000 (the EC names have 5 digits)");
+  // The names bound the counts: C00000..C99999 are 100,000 positions, P0000..P9999 10,000.
+  std::string all_c;
+  for (int i = 0; i < 100000; ++i) all_c += fmt::format("C{:05d}=1,2,3,4,5,6\n", i);
+  EXPECT_EQ(jbi("///NPOS 100000,0,0,0,0,0\n" + rectan + "///RCONF 0,0,0,0,0,0\n" + all_c), "");
+  EXPECT_EQ(jbi("///NPOS 100001,0,0,0,0,0\n"),
+            "t.jbi:4:9: ///NPOS: expected a whole C count 0..100000 (the C names have 5 digits)");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,10001,0,0\n"),
+            "t.jbi:4:17: ///NPOS: expected a whole P count 0..10000 (the P names have 4 digits)");
   EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n///POSTYPE PULSE\n///PULSE\nC00000=1,2,3,4,5,6\n"),
             "t.jbi:7:8: pulse positions need the robot's pulses per degree (robot file key "
             "pulses_per_degree)");
