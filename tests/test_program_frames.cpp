@@ -338,8 +338,8 @@ TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
         "///POSTYPE USER\n///RECTAN\n" +
         body + "//INST\n///DATE 2026/01/01 00:00\n///ATTR SC,RW\n///GROUP1 RB1\nNOP\nEND\n";
   else
-    text = "def loop():\n" + body +
-           "  set_tcp(p[0.010, 0.020, 0.150, 0.0, 0.5235987756, 0.0])\n" + moves + "end\n";
+    text = "def loop():\n" + body + "  set_tcp(p[0.010, 0.020, 0.150, 0.0, 0.5235987756, 0.0])\n" +
+           moves + "end\n";
   const std::string file = std::string("loop") + program_extension(language);
   const auto result =
       filter_program(text, language, file, options, make_program_corrector(comp, language, &robot));
@@ -485,8 +485,8 @@ INSTANTIATE_TEST_SUITE_P(
                       // CONFIG letters and turns on a cobot with an offset wrist.
                       std::pair{ProgramLanguage::FanucLs, "fanuc-crx10ia"}),
     [](const auto& info) {
-      std::string name = std::string(program_language_name(info.param.first)) + "_" +
-                         info.param.second;
+      std::string name =
+          std::string(program_language_name(info.param.first)) + "_" + info.param.second;
       std::replace(name.begin(), name.end(), '-', '_');
       return name;
     });

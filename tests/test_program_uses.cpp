@@ -46,9 +46,9 @@ struct RecordingCorrector {
 
 TEST(ProgramUses, ProgramInAnotherLanguageIsRefusedNamingIt) {
   const std::vector<std::pair<std::string, ProgramLanguage>> samples = {
-      {"pick_place.mod", ProgramLanguage::Rapid},  {"weld_seam.src", ProgramLanguage::Krl},
-      {"weld_seam.dat", ProgramLanguage::Krl},     {"weld_cell.ls", ProgramLanguage::FanucLs},
-      {"weld_cell.jbi", ProgramLanguage::Jbi},     {"pick.script", ProgramLanguage::UrScript}};
+      {"pick_place.mod", ProgramLanguage::Rapid}, {"weld_seam.src", ProgramLanguage::Krl},
+      {"weld_seam.dat", ProgramLanguage::Krl},    {"weld_cell.ls", ProgramLanguage::FanucLs},
+      {"weld_cell.jbi", ProgramLanguage::Jbi},    {"pick.script", ProgramLanguage::UrScript}};
   const std::map<ProgramLanguage, std::string> looks = {
       {ProgramLanguage::Rapid, "begins an ABB RAPID module"},
       {ProgramLanguage::Krl, "begins a KUKA KRL program"},
@@ -61,9 +61,8 @@ TEST(ProgramUses, ProgramInAnotherLanguageIsRefusedNamingIt) {
     ASSERT_TRUE(marker.has_value()) << file;
     EXPECT_EQ(marker->language, language) << file;
     for (const auto& [other, description] : looks) {
-      const std::string error = error_of([&] {
-        filter_program(text, other, "x", ProgramFilterOptions{}, RecordingCorrector{});
-      });
+      const std::string error = error_of(
+          [&] { filter_program(text, other, "x", ProgramFilterOptions{}, RecordingCorrector{}); });
       if (other == language)
         EXPECT_EQ(error, "") << file;
       else
@@ -103,9 +102,9 @@ TEST(ProgramUses, UrScriptVariableTakesTheToolOfTheMotionUsingIt) {
       "def t():\n  wp = {0}\n  {1}\n  movel(wp, a=1.2, v=0.25)\n  wq = {0}\n  movej(wq)\nend\n",
       kPose, kTcp);
   RecordingCorrector record;
-  const ProgramFilterResult result = filter_program(
-      text, ProgramLanguage::UrScript, "t.script", {},
-      [&](const ProgramPoint& p) { return record(p); });
+  const ProgramFilterResult result =
+      filter_program(text, ProgramLanguage::UrScript, "t.script", {},
+                     [&](const ProgramPoint& p) { return record(p); });
   ASSERT_EQ(record.tools.size(), 2u);
   for (const auto& tool : record.tools) {
     ASSERT_TRUE(tool.has_value());
@@ -128,8 +127,8 @@ TEST(ProgramUses, UrScriptVariableTakesTheToolOfTheMotionUsingIt) {
   EXPECT_EQ(points[1].tool, "SET_TCP@4");
 
   // One assignment used under two tools: refused, both uses located.
-  const std::string two_tools = fmt::format(
-      "def t():\n  wp = {0}\n  movel(wp)\n  {1}\n  movel(wp)\nend\n", kPose, kTcp);
+  const std::string two_tools =
+      fmt::format("def t():\n  wp = {0}\n  movel(wp)\n  {1}\n  movel(wp)\nend\n", kPose, kTcp);
   EXPECT_EQ(error_of([&] {
               filter_program(two_tools, ProgramLanguage::UrScript, "t.script", {},
                              RecordingCorrector{});
@@ -223,9 +222,8 @@ TEST(ProgramUses, KrlSplineSegmentsAreCorrectedWithTheirTool) {
   tool.p = Eigen::Vector3d(0, 0, 150);
   options.tools["TOOL_DATA[1]"] = tool;
   RecordingCorrector record;
-  const ProgramFilterResult r =
-      filter_program(text, ProgramLanguage::Krl, "s.src", options,
-                     [&](const ProgramPoint& p) { return record(p); });
+  const ProgramFilterResult r = filter_program(text, ProgramLanguage::Krl, "s.src", options,
+                                               [&](const ProgramPoint& p) { return record(p); });
   EXPECT_EQ(r.cartesian_points, 5);
   EXPECT_TRUE(r.assumed.empty());
   ASSERT_EQ(record.tools.size(), 5u);

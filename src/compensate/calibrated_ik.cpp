@@ -447,8 +447,7 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
   return iterate_from_seed(comp, world_T_tcp, config, seed.joints, near, method, options);
 }
 
-CalibratedIkResult calibrated_ik_from_seed(const Compensator& comp,
-                                           const Pose<double>& world_T_tcp,
+CalibratedIkResult calibrated_ik_from_seed(const Compensator& comp, const Pose<double>& world_T_tcp,
                                            const ArmConfig& config, const Vector6d& seed,
                                            IkMethod method, const CalibratedIkOptions& options) {
   return iterate_from_seed(comp, world_T_tcp, config, seed, seed, method, options);

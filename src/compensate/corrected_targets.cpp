@@ -137,8 +137,7 @@ std::vector<int> configuration_data(ProgramLanguage language, const Vector6d& jo
 /// first three flags; none for KRL (S leaves flip to the wrist's sign) and URScript.
 std::optional<ArmConfig> written_branch(ProgramLanguage language, const std::vector<int>& config) {
   if (config.empty()) return std::nullopt;
-  if (language == ProgramLanguage::Rapid && config.size() == 4 && config[3] >= 0 &&
-      config[3] <= 7)
+  if (language == ProgramLanguage::Rapid && config.size() == 4 && config[3] >= 0 && config[3] <= 7)
     return ArmConfig{(config[3] & 4) != 0, (config[3] & 2) != 0, (config[3] & 1) != 0};
   if (language == ProgramLanguage::FanucLs && config.size() >= 3)
     return ArmConfig{config[2] != 0, config[1] != 0, config[0] != 0};

@@ -9,13 +9,14 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <numbers>
 #include <optional>
 
 #include "program_scan.hpp"
 #include "robcal/core/error.hpp"
-#include "robcal/io/atomic_file.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/io/atomic_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal {
@@ -53,9 +54,8 @@ class Rewriter {
   /// the written one (then the original bytes stay). `reference` is the written value as read
   /// (a normalised quaternion differs from its text).
   double number(const NumberField& field, double value, int decimals, double reference) {
-    static constexpr double kHalfUnit[] = {0.5,    0.05,    0.005,    5e-4,    5e-5,    5e-6,
-                                           5e-7,   5e-8,    5e-9,     5e-10,   5e-11,   5e-12,
-                                           5e-13,  5e-14,   5e-15,    5e-16};
+    static constexpr double kHalfUnit[] = {0.5,  0.05,  0.005, 5e-4,  5e-5,  5e-6,  5e-7,  5e-8,
+                                           5e-9, 5e-10, 5e-11, 5e-12, 5e-13, 5e-14, 5e-15, 5e-16};
     const int d = std::clamp(decimals, 0, static_cast<int>(std::size(kHalfUnit)) - 1);
     if (std::abs(value - reference) < kHalfUnit[d]) return field.value;
     // Fixed notation, `d` decimals (std::to_chars: no allocation, no locale).
@@ -353,8 +353,8 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
     if (!site.assumption.empty()) {
       result.assumed.push_back({where.describe(), site.assumption});
     } else if (point.tool.empty() && !point.is_joint_target &&
-        (language == ProgramLanguage::Rapid || language == ProgramLanguage::Krl ||
-         language == ProgramLanguage::Jbi))
+               (language == ProgramLanguage::Rapid || language == ProgramLanguage::Krl ||
+                language == ProgramLanguage::Jbi))
       result.assumed.push_back(
           {where.describe(),
            language == ProgramLanguage::Rapid
@@ -367,9 +367,11 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
     corrected.base_T_tcp = base_T_frame.inverse() * corrected.base_T_tcp;
     expected.push_back(rewrite(out, site, corrected, language, options));
     ++(site.point.is_joint_target ? result.joint_points : result.cartesian_points);
-    result.confidence_csv += fmt::format(
-        "{}{},{},{},{}\n", row_prefix, site.point.line, site.point.column, site.point.name,
-        corrected.confidence95_mm ? fmt::format("{:.4f}", *corrected.confidence95_mm) : "");
+    auto row = std::back_inserter(result.confidence_csv);
+    fmt::format_to(row, "{}{},{},{},", row_prefix, site.point.line, site.point.column,
+                   site.point.name);
+    if (corrected.confidence95_mm) fmt::format_to(row, "{:.4f}", *corrected.confidence95_mm);
+    result.confidence_csv += '\n';
   }
   result.text = out.apply();
   return c;
@@ -417,14 +419,11 @@ ProgramFilterResult filter_krl_module(std::string_view src, std::string_view dat
   };
   Correction s = correct(src, scanned.src, src_file);
   Correction d = correct(dat, scanned.dat, dat_file);
-  // The .dat's points do not depend on the .src (scanned first, alone); the .src's depend on
-  // the .dat's declarations, so a changed .src is read back with its .dat.
-  check_reparse(detail::scan_krl(d.result.text, dat_file, options).sites, scanned.dat.sites,
-                d.expected, dat_file);
-  if (s.result.text != src)
-    check_reparse(detail::scan_krl_module(s.result.text, d.result.text, src_file, dat_file, options)
-                      .src.sites,
-                  scanned.src.sites, s.expected, src_file);
+  // Read back as a module, as it was read: the .src's points depend on the .dat's declarations.
+  const detail::KrlModuleScan again =
+      detail::scan_krl_module(s.result.text, d.result.text, src_file, dat_file, options);
+  check_reparse(again.dat.sites, scanned.dat.sites, d.expected, dat_file);
+  check_reparse(again.src.sites, scanned.src.sites, s.expected, src_file);
   ProgramFilterResult result = std::move(s.result);
   result.dat_text = std::move(d.result.text);
   result.cartesian_points += d.result.cartesian_points;

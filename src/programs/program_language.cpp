@@ -108,16 +108,15 @@ std::optional<LanguageMarker> recognise_program_language(std::string_view text) 
 
 void require_program_language(std::string_view text, ProgramLanguage language,
                               const std::string& file) {
-  static constexpr const char* kDescriptions[] = {
-      "an ABB RAPID module", "a KUKA KRL program", "a Fanuc LS program", "a Yaskawa JBI job",
-      "a URScript program"};
+  static constexpr const char* kDescriptions[] = {"an ABB RAPID module", "a KUKA KRL program",
+                                                  "a Fanuc LS program", "a Yaskawa JBI job",
+                                                  "a URScript program"};
   const auto marker = recognise_program_language(text);
   if (!marker || marker->language == language) return;
   throw InputError(SourceLocation{file, marker->line, 1, ""},
                    fmt::format("'{}' here begins {}, not {} (the language of the file's name or "
                                "--lang): nothing corrected; give the file its own extension ({})",
-                               marker->marker,
-                               kDescriptions[static_cast<size_t>(marker->language)],
+                               marker->marker, kDescriptions[static_cast<size_t>(marker->language)],
                                kDescriptions[static_cast<size_t>(language)],
                                program_extension(marker->language)));
 }

@@ -257,12 +257,12 @@ class RapidScanner {
 
   static bool keyword(std::string_view word) {
     static constexpr std::string_view kKeywords[] = {
-        "AND",    "CASE",    "CONNECT", "DEFAULT", "DIV",     "DO",     "ELSE",     "ELSEIF",
-        "ENDFOR", "ENDFUNC", "ENDIF",   "ENDMODULE", "ENDPROC", "ENDTEST", "ENDTRAP", "ENDWHILE",
-        "ERROR",  "EXIT",    "FOR",     "FROM",    "FUNC",    "GOTO",   "IF",       "INOUT",
-        "LOCAL",  "MOD",     "MODULE",  "NOT",     "OR",      "PROC",   "RAISE",    "RECORD",
-        "RETRY",  "RETURN",  "STEP",    "TASK",    "TEST",    "THEN",   "TO",       "TRAP",
-        "TRYNEXT", "UNDO",   "WHILE",   "WITH",    "XOR",     "BACKWARD", "ENDRECORD"};
+        "AND",     "CASE",    "CONNECT", "DEFAULT",   "DIV",     "DO",       "ELSE",     "ELSEIF",
+        "ENDFOR",  "ENDFUNC", "ENDIF",   "ENDMODULE", "ENDPROC", "ENDTEST",  "ENDTRAP",  "ENDWHILE",
+        "ERROR",   "EXIT",    "FOR",     "FROM",      "FUNC",    "GOTO",     "IF",       "INOUT",
+        "LOCAL",   "MOD",     "MODULE",  "NOT",       "OR",      "PROC",     "RAISE",    "RECORD",
+        "RETRY",   "RETURN",  "STEP",    "TASK",      "TEST",    "THEN",     "TO",       "TRAP",
+        "TRYNEXT", "UNDO",    "WHILE",   "WITH",      "XOR",     "BACKWARD", "ENDRECORD"};
     for (std::string_view k : kKeywords)
       if (iequals(word, k)) return true;
     return false;

@@ -238,8 +238,8 @@ class UrScanner {
   }
 
   size_t identifier_end(size_t at) const {
-    if (at >= text_.size() || !(std::isalpha(static_cast<unsigned char>(text_[at])) ||
-                                text_[at] == '_'))
+    if (at >= text_.size() ||
+        !(std::isalpha(static_cast<unsigned char>(text_[at])) || text_[at] == '_'))
       return at;
     while (at < text_.size() &&
            (std::isalnum(static_cast<unsigned char>(text_[at])) || text_[at] == '_'))
@@ -261,7 +261,8 @@ class UrScanner {
   void assign_uses() {
     for (const auto& [name, list] : later_uses_)
       if (const auto it = assignments_.find(name); it != assignments_.end())
-        for (size_t site : it->second) uses_[site].insert(uses_[site].end(), list.begin(), list.end());
+        for (size_t site : it->second)
+          uses_[site].insert(uses_[site].end(), list.begin(), list.end());
     for (const auto& [name, sites] : assignments_)
       for (size_t index : sites) {
         PointSite& site = out_.sites[index];
@@ -270,8 +271,8 @@ class UrScanner {
           site.assumption = fmt::format(
               "no movel/movej/movep/movec names '{}' after this assignment: corrected for the "
               "tool active here ({})",
-              name, site.point.tool.empty() ? "no set_tcp before it: the default tool"
-                                            : site.point.tool);
+              name,
+              site.point.tool.empty() ? "no set_tcp before it: the default tool" : site.point.tool);
           continue;
         }
         const Use& first = found->second.front();
