@@ -101,7 +101,7 @@ std::optional<LanguageMarker> recognise_program_language(std::string_view text) 
     const size_t first = line.find_first_not_of(" \t\r\xEF\xBB\xBF");  // blanks and a BOM
     if (first == std::string_view::npos) continue;
     line.remove_prefix(first);
-    if (const auto marker = marker_of(line, number)) return marker;
+    if (auto marker = marker_of(line, number)) return marker;
   }
   return std::nullopt;
 }
