@@ -386,6 +386,7 @@ class RapidScanner {
       site.point.frame = first.frame;
     }
     // Targets given to an instruction robcal does not know (other_instruction): not corrected.
+    if (other_user_.empty()) return;
     std::vector<PointSite> kept;
     kept.reserve(sites_.size());
     for (size_t i = 0; i < sites_.size(); ++i) {
