@@ -1,7 +1,8 @@
 // Robot programs (issue 17): filtering a 100,000-target program in each language (RAPID, KRL,
 // Fanuc LS, Yaskawa JBI, URScript), with a fixed shift as the corrector (the parsing,
 // rewriting and re-parsing cost alone) and with the calibrated-IK corrector of a 31-parameter IRB
-// 120 model (every target solved, tool and work object applied); writing the measurement program of
+// 120 model (every target solved, tool and work object applied), and on the cobots (UR10e,
+// CRX-10iA); writing the measurement program of
 // 10,000 configurations in each language. Goal: < 1 s per 100,000 targets.
 
 #include <benchmark/benchmark.h>
@@ -158,6 +159,42 @@ BENCHMARK(BM_FilterProgram100k)
          {0, 1}})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
+
+/// The cobots, where the nominal solves cost most: URScript on a UR10e (three parallel axes,
+/// offset wrist: no configuration data, every solution solved for the nearest) and Fanuc LS
+/// on a CRX-10iA (general 6R: the written branch solved alone), calibrated IK per target.
+struct CobotFixture {
+  CalibratedRobot robot;
+  Compensator comp;
+  std::string program;
+  CobotFixture(const char* name, ProgramLanguage language)
+      : robot([name] {
+          std::mt19937_64 rng(kSeed);
+          return test::random_calibrated(name, rng);
+        }()),
+        comp(make_compensator(robot)),
+        program(big_program(language, comp, kTargets)) {}
+};
+
+void BM_FilterCobotProgram100k(benchmark::State& state) {
+  const bool crx = state.range(0) != 0;
+  const ProgramLanguage language = crx ? ProgramLanguage::FanucLs : ProgramLanguage::UrScript;
+  static const CobotFixture ur("universal-robots-ur10e", ProgramLanguage::UrScript);
+  static const CobotFixture fanuc("fanuc-crx10ia", ProgramLanguage::FanucLs);
+  const CobotFixture& f = crx ? fanuc : ur;
+  for (auto _ : state) {
+    ProgramFilterOptions options;
+    options.keep_going = true;
+    const auto result = filter_program(f.program, language, "big", options,
+                                       make_program_corrector(f.comp, language));
+    if (result.cartesian_points + static_cast<int>(result.uncorrected.size()) != kTargets)
+      state.SkipWithError("targets lost");
+    state.counters["uncorrected"] = static_cast<double>(result.uncorrected.size());
+    benchmark::DoNotOptimize(result.text.data());
+  }
+  state.SetLabel(crx ? "ls fanuc-crx10ia calibrated IK" : "urscript ur10e calibrated IK");
+}
+BENCHMARK(BM_FilterCobotProgram100k)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 /// The KRL program's targets as a module (issue 17 item 3): each inline point of big_program
 /// declared in the .dat as XP<n> and used by `LIN XP<n>` in the .src, under BAS(#TOOL,0).

@@ -1,5 +1,6 @@
 // Program filtering: only the points' numbers change, every other byte stays (issue 7).
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -113,6 +114,8 @@ void check_filter(const FilterCase& fc) {
   // Yaskawa prints whole pulses, 1 µm and 0.0001°; the others 4 decimals of a mm and 9
   // quaternion decimals (RAPID) or 5 decimals of a degree.
   const bool jbi = language == ProgramLanguage::Jbi;
+  // URScript joints: radians with 8 decimals.
+  const double ur_joint_deg = rad2deg(0.5e-8) + 1e-12;
   for (size_t i = 0; i < old_points.size(); ++i) {
     const CorrectedPoint want = known_correction(old_points[i]);
     const ProgramPoint& got = new_points[i];
@@ -120,7 +123,9 @@ void check_filter(const FilterCase& fc) {
     if (got.is_joint_target) {
       for (int j = 0; j < kJointCount; ++j)
         EXPECT_LE(std::abs(got.joints_deg[j] - want.joints_deg[j]),
-                  jbi ? 0.5 / kPulses[static_cast<size_t>(j)] : 1e-9)
+                  jbi                                     ? 0.5 / kPulses[static_cast<size_t>(j)]
+                  : language == ProgramLanguage::UrScript ? ur_joint_deg
+                                                          : 1e-9)
             << got.line;
       continue;
     }
@@ -239,6 +244,8 @@ TEST(ProgramFilter, UrScriptPosesChangeOffsetsAndToolsStay) {
   // Targets: the assigned pose (line 5), the inline movel (8), both poses of movec (12); the
   // set_tcp poses, the pose_trans offset, the joint list and the text stay.
   check_filter({"pick.script", false, {5, 8, 12}, 4, 0});
+  // With joints, the movej joint list (line 6) too.
+  check_filter({"pick.script", true, {5, 6, 8, 12}, 4, 1});
 }
 
 TEST(ProgramFilter, YaskawaPositionsChangeBaseAxesAndInstructionsStay) {
@@ -306,7 +313,17 @@ TEST(ProgramFilter, YaskawaRefusals) {
             "t.jbi (///NPOS): the job defines positions but has no ///NPOS line in //POS");
   EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n///NPOS 1,0,0,0,0,0\n"),
             "t.jbi:5:1: second ///NPOS line (the first at line 4)");
-  EXPECT_EQ(jbi("///NPOS 1,0,-1,0,0,0\n"), "t.jbi:4:13: ///NPOS: expected whole counts 0..99999");
+  EXPECT_EQ(
+      jbi("///NPOS 1,0,-1,0,0,0\n"),
+      "t.jbi:4:13: ///NPOS: expected a whole EC count 0..100000 (the EC names have 5 digits)");
+  // The names bound the counts: C00000..C99999 are 100,000 positions, P0000..P9999 10,000.
+  std::string all_c;
+  for (int i = 0; i < 100000; ++i) all_c += fmt::format("C{:05d}=1,2,3,4,5,6\n", i);
+  EXPECT_EQ(jbi("///NPOS 100000,0,0,0,0,0\n" + rectan + "///RCONF 0,0,0,0,0,0\n" + all_c), "");
+  EXPECT_EQ(jbi("///NPOS 100001,0,0,0,0,0\n"),
+            "t.jbi:4:9: ///NPOS: expected a whole C count 0..100000 (the C names have 5 digits)");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,10001,0,0\n"),
+            "t.jbi:4:15: ///NPOS: expected a whole P count 0..10000 (the P names have 4 digits)");
   EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n///POSTYPE PULSE\n///PULSE\nC00000=1,2,3,4,5,6\n"),
             "t.jbi:7:8: pulse positions need the robot's pulses per degree (robot file key "
             "pulses_per_degree)");

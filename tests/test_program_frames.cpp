@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 
 #include "robcal/compensate/corrected_targets.hpp"
 #include "robcal/core/error.hpp"
@@ -276,11 +277,11 @@ std::string loop_target(ProgramLanguage language, int i, const Pose<double>& wri
           "///RCONF {},{},{},{},{},{},0,0\nC{:05d}={:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f}\n",
           cf[0], cf[1], cf[2], cf[3], cf[4], cf[5], i, p.x(), p.y(), p.z(), abc[2], abc[1], abc[0]);
     case ProgramLanguage::UrScript: {
+      // Assigned before the set_tcp of the program: the tool is the one at the movel using it.
       const Eigen::AngleAxisd r(written.R);
       const Eigen::Vector3d v = r.angle() * r.axis();
-      return fmt::format(
-          "  movel(p[{:.7f}, {:.7f}, {:.7f}, {:.8f}, {:.8f}, {:.8f}], a=1.2, v=0.25)\n",
-          p.x() / 1000, p.y() / 1000, p.z() / 1000, v.x(), v.y(), v.z());
+      return fmt::format("  p{} = p[{:.7f}, {:.7f}, {:.7f}, {:.8f}, {:.8f}, {:.8f}]\n", i,
+                         p.x() / 1000, p.y() / 1000, p.z() / 1000, v.x(), v.y(), v.z());
     }
     default:
       return fmt::format(
@@ -317,7 +318,9 @@ TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
     const int i = static_cast<int>(wanted_base.size());
     body +=
         loop_target(language, i, F.inverse() * base_T_tcp, maker_configuration(comp, language, q));
-    moves += fmt::format("    MoveL p{}, v100, fine, tGun\\WObj:=wTable;\n", i);
+    moves += language == ProgramLanguage::UrScript
+                 ? fmt::format("  movel(p{}, a=1.2, v=0.25)\n", i)
+                 : fmt::format("    MoveL p{}, v100, fine, tGun\\WObj:=wTable;\n", i);
     wanted_base.push_back(base_T_tcp);
   }
   std::string text;
@@ -335,8 +338,8 @@ TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
         "///POSTYPE USER\n///RECTAN\n" +
         body + "//INST\n///DATE 2026/01/01 00:00\n///ATTR SC,RW\n///GROUP1 RB1\nNOP\nEND\n";
   else
-    text =
-        "def loop():\n  set_tcp(p[0.010, 0.020, 0.150, 0.0, 0.5235987756, 0.0])\n" + body + "end\n";
+    text = "def loop():\n" + body + "  set_tcp(p[0.010, 0.020, 0.150, 0.0, 0.5235987756, 0.0])\n" +
+           moves + "end\n";
   const std::string file = std::string("loop") + program_extension(language);
   const auto result =
       filter_program(text, language, file, options, make_program_corrector(comp, language, &robot));
@@ -477,10 +480,16 @@ INSTANTIATE_TEST_SUITE_P(
                       std::pair{ProgramLanguage::Krl, "kuka-kr6-r900-sixx"},
                       std::pair{ProgramLanguage::FanucLs, "fanuc-lrmate200ic"},
                       std::pair{ProgramLanguage::Jbi, "yaskawa-gp7"},
-                      // No UR arm in the robot library (none is ortho-parallel): the format
-                      // and the nearest-solution rule on the IRB 120.
-                      std::pair{ProgramLanguage::UrScript, "abb-irb120"}),
-    [](const auto& info) { return std::string(program_language_name(info.param.first)); });
+                      // An offset wrist (three parallel axes) and the nearest-solution rule.
+                      std::pair{ProgramLanguage::UrScript, "universal-robots-ur10e"},
+                      // CONFIG letters and turns on a cobot with an offset wrist.
+                      std::pair{ProgramLanguage::FanucLs, "fanuc-crx10ia"}),
+    [](const auto& info) {
+      std::string name =
+          std::string(program_language_name(info.param.first)) + "_" + info.param.second;
+      std::replace(name.begin(), name.end(), '-', '_');
+      return name;
+    });
 
 }  // namespace
 }  // namespace robcal

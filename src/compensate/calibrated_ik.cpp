@@ -374,40 +374,25 @@ CalibratedIkResult calibrated_ik_pose_shift(const Compensator& comp,
   return r;
 }
 
-CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& world_T_tcp,
-                                 const ArmConfig& config, const Vector6d& near, IkMethod method,
-                                 const CalibratedIkOptions& options) {
-  const Pose<double> base_T_flange = comp.base_T_world * world_T_tcp * comp.tcp_T_flange;
-  auto iterate = [&](const Vector6d& seed) {
+namespace {
+
+/// calibrated_ik from the nominal solution `seed` of `config`; `near` picks the turn of the
+/// last resort (a wide-range joint beyond its limit).
+CalibratedIkResult iterate_from_seed(const Compensator& comp, const Pose<double>& world_T_tcp,
+                                     const ArmConfig& config, const Vector6d& seed,
+                                     const Vector6d& near, IkMethod method,
+                                     const CalibratedIkOptions& options) {
+  auto iterate = [&](const Vector6d& start) {
     if (method == IkMethod::Newton) {
-      CalibratedIkResult r = newton(comp, world_T_tcp, seed, &config, options);
+      CalibratedIkResult r = newton(comp, world_T_tcp, start, &config, options);
       // Near a branch boundary (elbow close to stretch, the nominal seed midway between the
       // calibrated up and down answers) Newton may converge on the other branch; pose shift
       // solves each step on the branch asked for.
       if (r.status != CalibratedIkStatus::LeftConfiguration) return r;
     }
-    return calibrated_ik_pose_shift(comp, world_T_tcp, config, seed, options);
+    return calibrated_ik_pose_shift(comp, world_T_tcp, config, start, options);
   };
-  // The turn nearest `near` on the widened limits first: near a limit the calibrated answer
-  // may lie inside while the nominal seed does not.
-  Seed seed = seed_of(comp.seed_geometry, base_T_flange, config, near);
-  // Near full stretch (or fold) of the elbow the calibrated arm may reach a little further
-  // (or closer) than the nominal one: seed from the pose pulled in towards the shoulder (or
-  // pushed out), by as little as will do (the joints move fast there); the iteration takes it
-  // back.
-  for (const double pull_mm : {1.0, 3.0, 10.0, -1.0, -3.0, -10.0}) {
-    if (seed.status != CalibratedIkStatus::NoNominalSolution) break;
-    Pose<double> moved = base_T_flange;
-    const Eigen::Vector3d out = moved.p - Eigen::Vector3d(0, 0, comp.model.mdh[0].d);
-    moved.p -= pull_mm * out.normalized();
-    seed = seed_of(comp.seed_geometry, moved, config, near);
-  }
-  if (seed.status != CalibratedIkStatus::Converged) {
-    CalibratedIkResult r;
-    r.status = seed.status;
-    return r;
-  }
-  CalibratedIkResult r = iterate(seed.joints);
+  CalibratedIkResult r = iterate(seed);
   if (r.status != CalibratedIkStatus::OutsideLimits) return r;
   // A joint just beyond a limit may be inside one turn back (every joint of a UR spans ±360°):
   // the nominal seed was inside, but its calibrated answer crossed the limit. Iterated again
@@ -428,10 +413,45 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
     if (other.ok()) return other;
   }
   // Beyond a limit: another turn of a wide-range joint may be inside.
+  const Pose<double> base_T_flange = comp.base_T_world * world_T_tcp * comp.tcp_T_flange;
   const Seed inside = seed_of(comp.geometry, base_T_flange, config, near);
-  if (inside.status != CalibratedIkStatus::Converged || inside.joints == seed.joints) return r;
+  if (inside.status != CalibratedIkStatus::Converged || inside.joints == seed) return r;
   const CalibratedIkResult other = iterate(inside.joints);
   return other.ok() ? other : r;
+}
+
+}  // namespace
+
+CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& world_T_tcp,
+                                 const ArmConfig& config, const Vector6d& near, IkMethod method,
+                                 const CalibratedIkOptions& options) {
+  const Pose<double> base_T_flange = comp.base_T_world * world_T_tcp * comp.tcp_T_flange;
+  // The turn nearest `near` on the widened limits first: near a limit the calibrated answer
+  // may lie inside while the nominal seed does not.
+  Seed seed = seed_of(comp.seed_geometry, base_T_flange, config, near);
+  // Near full stretch (or fold) of the elbow the calibrated arm may reach a little further
+  // (or closer) than the nominal one: seed from the pose pulled in towards the shoulder (or
+  // pushed out), by as little as will do (the joints move fast there); the iteration takes it
+  // back.
+  for (const double pull_mm : {1.0, 3.0, 10.0, -1.0, -3.0, -10.0}) {
+    if (seed.status != CalibratedIkStatus::NoNominalSolution) break;
+    Pose<double> moved = base_T_flange;
+    const Eigen::Vector3d out = moved.p - Eigen::Vector3d(0, 0, comp.model.mdh[0].d);
+    moved.p -= pull_mm * out.normalized();
+    seed = seed_of(comp.seed_geometry, moved, config, near);
+  }
+  if (seed.status != CalibratedIkStatus::Converged) {
+    CalibratedIkResult r;
+    r.status = seed.status;
+    return r;
+  }
+  return iterate_from_seed(comp, world_T_tcp, config, seed.joints, near, method, options);
+}
+
+CalibratedIkResult calibrated_ik_from_seed(const Compensator& comp, const Pose<double>& world_T_tcp,
+                                           const ArmConfig& config, const Vector6d& seed,
+                                           IkMethod method, const CalibratedIkOptions& options) {
+  return iterate_from_seed(comp, world_T_tcp, config, seed, seed, method, options);
 }
 
 }  // namespace robcal

@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <optional>
 
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
@@ -132,6 +133,19 @@ std::vector<int> configuration_data(ProgramLanguage language, const Vector6d& jo
   return {s, t};
 }
 
+/// The arm branch the written configuration data names: RAPID cfx, Fanuc's letters, Yaskawa's
+/// first three flags; none for KRL (S leaves flip to the wrist's sign) and URScript.
+std::optional<ArmConfig> written_branch(ProgramLanguage language, const std::vector<int>& config) {
+  if (config.empty()) return std::nullopt;
+  if (language == ProgramLanguage::Rapid && config.size() == 4 && config[3] >= 0 && config[3] <= 7)
+    return ArmConfig{(config[3] & 4) != 0, (config[3] & 2) != 0, (config[3] & 1) != 0};
+  if (language == ProgramLanguage::FanucLs && config.size() >= 3)
+    return ArmConfig{config[2] != 0, config[1] != 0, config[0] != 0};
+  if (language == ProgramLanguage::Jbi && config.size() >= 3)
+    return ArmConfig{config[2] != 0, config[1] != 0, config[0] == 0};
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
@@ -158,11 +172,23 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
       branch = arm_config(comp.model, near);
     } else {
       base_T_tcp = point.base_T_tcp * tool_shift;
-      const IkResult all =
-          nominal_ik(comp.geometry, base_T_tcp * comp.flange_T_tcp.inverse(), *previous);
-      // The written configuration: the branch must match, the turns should.
+      const Pose<double> base_T_flange = base_T_tcp * comp.flange_T_tcp.inverse();
+      // The written branch solved alone (its turn nearest the previous joints) when the
+      // configuration names it: when its turns are the written ones too, no other solution
+      // can score better below.
       const IkSolution* best = nullptr;
-      int best_score = -1;
+      IkBranchResult alone;
+      if (const auto written = written_branch(language, point.config)) {
+        alone = nominal_ik_branch(comp.geometry, base_T_flange, *written, *previous);
+        if (alone.status == IkStatus::Solved &&
+            configuration_data(language, alone.solution.joints, alone.solution.config) ==
+                point.config)
+          best = &alone.solution;
+      }
+      IkResult all;
+      if (!best) all = nominal_ik(comp.geometry, base_T_flange, *previous);
+      // The written configuration: the branch must match, the turns should.
+      int best_score = best ? 2 : -1;
       for (const IkSolution& s : all) {
         // The solver labels its solutions: no forward kinematics per candidate.
         const std::vector<int> cfg = configuration_data(language, s.joints, s.config);
@@ -198,7 +224,9 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
       near = best->joints;
       branch = best->config;
     }
-    const CalibratedIkResult r = calibrated_ik(comp, comp.world_T_base * base_T_tcp, branch, near);
+    // `near` is the nominal solution of `branch`: the seed of the calibrated inverse.
+    const CalibratedIkResult r =
+        calibrated_ik_from_seed(comp, comp.world_T_base * base_T_tcp, branch, near);
     if (!r.ok()) {
       out.failure = fmt::format("cannot correct: {} ({:.3g} mm from the pose)", to_string(r.status),
                                 r.position_error_mm);

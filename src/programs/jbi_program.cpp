@@ -233,8 +233,13 @@ class JbiScanner {
       const std::vector<NumberField> n = numbers(line, 8);
       if (n.size() != 6) fail(8, "///NPOS: expected six counts c,bc,ec,p,bp,ex");
       for (size_t k = 0; k < 6; ++k) {
-        if (n[k].value != std::floor(n[k].value) || n[k].value < 0 || n[k].value > 99999)
-          fail(n[k].begin - line_start_, "///NPOS: expected whole counts 0..99999");
+        // As many as the names allow: C/BC/EC00000..99999 (five digits), P/BP/EX0000..9999.
+        const int most = k < 3 ? 100000 : 10000;
+        if (n[k].value != std::floor(n[k].value) || n[k].value < 0 || n[k].value > most)
+          fail(n[k].begin - line_start_,
+               fmt::format("///NPOS: expected a whole {} count 0..{} (the {} names have {} "
+                           "digits)",
+                           kKinds[k], most, kKinds[k], k < 3 ? 5 : 4));
         declared_[k] = static_cast<int>(n[k].value);
       }
       npos_line_ = line_;

@@ -62,7 +62,7 @@ class KrlScanner {
       if (const auto kind = point_type(word); kind && lexer_.peek().kind == TokenKind::Identifier)
         declaration(*kind);
       else if (word == "PTP" || word == "LIN" || word == "CIRC" || word == "SPTP" ||
-               word == "SLIN" || word == "SCIRC")
+               word == "SLIN" || word == "SCIRC" || word == "SPL")
         motion();
       else if (word == "FDAT" && lexer_.peek().kind == TokenKind::Identifier)
         frame_data();
@@ -559,6 +559,8 @@ ProgramScan scan_krl(std::string_view text, const std::string& file,
 KrlModuleScan scan_krl_module(std::string_view src, std::string_view dat,
                               const std::string& src_file, const std::string& dat_file,
                               const ProgramFilterOptions& options) {
+  require_program_language(dat, ProgramLanguage::Krl, dat_file);
+  require_program_language(src, ProgramLanguage::Krl, src_file);
   KrlScanner dat_scanner(dat, dat_file, options);
   dat_scanner.scan();
   KrlScanner src_scanner(src, src_file, options, &dat_scanner);

@@ -9,11 +9,13 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <numbers>
 #include <optional>
 
 #include "program_scan.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
@@ -25,6 +27,7 @@ using detail::PointSite;
 
 detail::ProgramScan scan(std::string_view text, ProgramLanguage language, const std::string& file,
                          const ProgramFilterOptions& options) {
+  require_program_language(text, language, file);
   switch (language) {
     case ProgramLanguage::Rapid:
       return detail::scan_rapid(text, file, options);
@@ -33,7 +36,7 @@ detail::ProgramScan scan(std::string_view text, ProgramLanguage language, const 
     case ProgramLanguage::FanucLs:
       return detail::scan_ls(text, file, options);
     case ProgramLanguage::UrScript:
-      return detail::scan_urscript(text, file);
+      return detail::scan_urscript(text, file, options);
     case ProgramLanguage::Jbi:
       return detail::scan_jbi(text, file, options);
   }
@@ -51,14 +54,21 @@ class Rewriter {
   /// the written one (then the original bytes stay). `reference` is the written value as read
   /// (a normalised quaternion differs from its text).
   double number(const NumberField& field, double value, int decimals, double reference) {
-    const double half_unit = 0.5 * std::pow(10.0, -decimals);
-    if (std::abs(value - reference) < half_unit) return field.value;
-    std::string printed = fmt::format("{:.{}f}", value, decimals);
-    if (printed.find_first_not_of("-0.") == std::string::npos)
-      printed = printed.substr(printed[0] == '-');
+    static constexpr double kHalfUnit[] = {0.5,  0.05,  0.005, 5e-4,  5e-5,  5e-6,  5e-7,  5e-8,
+                                           5e-9, 5e-10, 5e-11, 5e-12, 5e-13, 5e-14, 5e-15, 5e-16};
+    const int d = std::clamp(decimals, 0, static_cast<int>(std::size(kHalfUnit)) - 1);
+    if (std::abs(value - reference) < kHalfUnit[d]) return field.value;
+    // Fixed notation, `d` decimals (std::to_chars: no allocation, no locale).
+    char buffer[64];
+    const auto [end, error] =
+        std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::fixed, d);
+    if (error != std::errc()) throw std::logic_error("program filter: number too long to print");
+    std::string_view printed(buffer, static_cast<size_t>(end - buffer));
+    if (printed.find_first_not_of("-0.") == std::string_view::npos && printed[0] == '-')
+      printed.remove_prefix(1);  // -0.0000 prints as 0.0000
     double read_back = 0;
     std::from_chars(printed.data(), printed.data() + printed.size(), read_back);
-    edits_.push_back({field.begin, field.end, std::move(printed)});
+    edits_.push_back({field.begin, field.end, std::string(printed)});
     return read_back;
   }
   double number(const NumberField& field, double value, int decimals) {
@@ -127,6 +137,12 @@ std::vector<double> rewrite(Rewriter& out, const PointSite& site, const Correcte
       expected[k] = out.integer(
           f[k], static_cast<int>(std::lround(corrected.joints_deg[k] *
                                              options.pulses_per_degree[static_cast<size_t>(k)])));
+    return expected;
+  }
+  if (site.point.is_joint_target && language == ProgramLanguage::UrScript) {
+    // Radians, printed to the resolution of the Cartesian rotation vectors.
+    for (int k = 0; k < kJointCount; ++k)
+      expected[k] = out.number(f[k], deg2rad(corrected.joints_deg[k]), options.angle_decimals + 3);
     return expected;
   }
   if (site.point.is_joint_target) {
@@ -334,9 +350,11 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
       expected.push_back(std::move(unchanged));
       continue;
     }
-    if (point.tool.empty() && !point.is_joint_target &&
-        (language == ProgramLanguage::Rapid || language == ProgramLanguage::Krl ||
-         language == ProgramLanguage::Jbi))
+    if (!site.assumption.empty()) {
+      result.assumed.push_back({where.describe(), site.assumption});
+    } else if (point.tool.empty() && !point.is_joint_target &&
+               (language == ProgramLanguage::Rapid || language == ProgramLanguage::Krl ||
+                language == ProgramLanguage::Jbi))
       result.assumed.push_back(
           {where.describe(),
            language == ProgramLanguage::Rapid
@@ -349,9 +367,11 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
     corrected.base_T_tcp = base_T_frame.inverse() * corrected.base_T_tcp;
     expected.push_back(rewrite(out, site, corrected, language, options));
     ++(site.point.is_joint_target ? result.joint_points : result.cartesian_points);
-    result.confidence_csv += fmt::format(
-        "{}{},{},{},{}\n", row_prefix, site.point.line, site.point.column, site.point.name,
-        corrected.confidence95_mm ? fmt::format("{:.4f}", *corrected.confidence95_mm) : "");
+    auto row = std::back_inserter(result.confidence_csv);
+    fmt::format_to(row, "{}{},{},{},", row_prefix, site.point.line, site.point.column,
+                   site.point.name);
+    if (corrected.confidence95_mm) fmt::format_to(row, "{:.4f}", *corrected.confidence95_mm);
+    result.confidence_csv += '\n';
   }
   result.text = out.apply();
   return c;

@@ -62,6 +62,9 @@ struct NumberField {
 struct PointSite {
   ProgramPoint point;
   std::vector<NumberField> fields;
+  /// Non-empty when the scanner took the point's tool or frame on an assumption the program
+  /// does not confirm: what it assumed (listed in ProgramFilterResult::assumed).
+  std::string assumption;
 };
 
 /// What a scan finds: the points, and the tools (flange_T_tcp) and frames (base_T_frame) the
@@ -97,8 +100,10 @@ ProgramScan scan_ls(std::string_view text, const std::string& file,
 /// tool TOOL[n], frame USER[n] (ROBOT and BASE: the base frame).
 ProgramScan scan_jbi(std::string_view text, const std::string& file,
                      const ProgramFilterOptions& options);
-/// URScript: pose literals of motions and assignments (m, rotation vector), tool from set_tcp.
-ProgramScan scan_urscript(std::string_view text, const std::string& file);
+/// URScript: pose literals of motions and assignments (m, rotation vector), tool from set_tcp
+/// at the motion; with `joints`, movej joint lists (rad).
+ProgramScan scan_urscript(std::string_view text, const std::string& file,
+                          const ProgramFilterOptions& options);
 
 /// Upper case (RAPID and KRL names are case-insensitive).
 std::string upper(std::string_view text);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -36,20 +37,28 @@ class RapidScanner {
       : lexer_(text, ProgramLanguage::Rapid, file), options_(options) {}
 
   ProgramScan run() {
+    Token previous;
+    int depth = 0;  // parentheses: routine parameter lists are not statements
     for (;;) {
       const Token t = lexer_.next();
       if (t.kind == TokenKind::End) break;
+      if (t.is('(')) ++depth;
+      if (t.is(')')) depth = std::max(depth - 1, 0);
       if (t.kind != TokenKind::Identifier) {
         if (t.is('[')) inline_literal(t);
-        continue;
-      }
-      if (iequals(t.text, "CONST") || iequals(t.text, "PERS") || iequals(t.text, "VAR"))
+      } else if (iequals(t.text, "CONST") || iequals(t.text, "PERS") || iequals(t.text, "VAR")) {
         declaration();
-      else if (const MoveSpec* spec = move_spec(t.text))
+      } else if (const MoveSpec* spec = move_spec(t.text)) {
         move_instruction(*spec);
+      } else if (depth == 0 && procedure_call(previous, t)) {
+        other_instruction(t);
+      }
+      previous = t;
     }
     assign_usages();
-    return {std::move(sites_), std::move(tools_), std::move(frames_), {}};
+    ProgramScan out{std::move(sites_), std::move(tools_), std::move(frames_), {}};
+    out.unresolved = std::move(unresolved_);
+    return out;
   }
 
  private:
@@ -246,6 +255,61 @@ class RapidScanner {
           usages_[name].push_back({tool, upper(wobj), line});
   }
 
+  static bool keyword(std::string_view word) {
+    static constexpr std::string_view kKeywords[] = {
+        "AND",     "CASE",    "CONNECT", "DEFAULT",   "DIV",     "DO",       "ELSE",     "ELSEIF",
+        "ENDFOR",  "ENDFUNC", "ENDIF",   "ENDMODULE", "ENDPROC", "ENDTEST",  "ENDTRAP",  "ENDWHILE",
+        "ERROR",   "EXIT",    "FOR",     "FROM",      "FUNC",    "GOTO",     "IF",       "INOUT",
+        "LOCAL",   "MOD",     "MODULE",  "NOT",       "OR",      "PROC",     "RAISE",    "RECORD",
+        "RETRY",   "RETURN",  "STEP",    "TASK",      "TEST",    "THEN",     "TO",       "TRAP",
+        "TRYNEXT", "UNDO",    "WHILE",   "WITH",      "XOR",     "BACKWARD", "ENDRECORD"};
+    for (std::string_view k : kKeywords)
+      if (iequals(word, k)) return true;
+    return false;
+  }
+
+  // `Name argument ...;`: a procedure call (RAPID calls procedures without parentheses), not
+  // a keyword, a routine's or module's name, nor the left side of an assignment.
+  bool procedure_call(const Token& previous, const Token& name) {
+    if (keyword(name.text)) return false;
+    if (previous.kind == TokenKind::Identifier &&
+        (iequals(previous.text, "PROC") || iequals(previous.text, "FUNC") ||
+         iequals(previous.text, "TRAP") || iequals(previous.text, "MODULE") ||
+         iequals(previous.text, "RECORD") || iequals(previous.text, "GOTO")))
+      return false;
+    const Token& next = lexer_.peek();
+    return (next.kind == TokenKind::Identifier && !keyword(next.text)) || next.is('[') ||
+           next.is('\\') || next.kind == TokenKind::Number || next.kind == TokenKind::String;
+  }
+
+  // A procedure call robcal does not know the arguments of (ArcL, SpotL, a user routine): the
+  // targets it is given, written inline or by name, may be moved to with any tool, so they are
+  // not corrected: refused, or under keep_going left as written and listed (assign_usages).
+  void other_instruction(const Token& instruction) {
+    const size_t first_site = sites_.size();
+    int depth = 0;
+    for (;;) {
+      const Token t = lexer_.peek();
+      if (t.kind == TokenKind::End) break;
+      if (depth == 0 && t.is(';')) {
+        lexer_.next();
+        break;
+      }
+      lexer_.next();
+      if (t.is('[')) {
+        inline_literal(t);
+      } else if (t.is('(') || t.is('{')) {
+        ++depth;
+      } else if (t.is(')') || t.is('}')) {
+        --depth;
+      } else if (t.kind == TokenKind::Identifier) {
+        unknown_uses_[upper(t.text)].push_back({std::string(instruction.text), instruction.line});
+      }
+    }
+    for (size_t i = first_site; i < sites_.size(); ++i)
+      other_user_[i] = fmt::format("{} (line {})", instruction.text, instruction.line);
+  }
+
   // `\Name` (a switch) or `\Name:=value`, never a positional argument. The RAPID grammar
   // wants one identifier after the backslash and a value after `:=`; `tool0\\WObj:=w` or
   // `\WObj:=` would otherwise pass and leave the points in the wrong frame. The work object
@@ -298,9 +362,14 @@ class RapidScanner {
     const auto label = [](const std::string& name, const char* none) {
       return name.empty() ? std::string(none) : name;
     };
-    for (PointSite& site : sites_) {
-      if (site.point.name.empty()) continue;
+    for (size_t i = 0; i < sites_.size(); ++i) {
+      PointSite& site = sites_[i];
       const std::string base = upper(site.point.name.substr(0, site.point.name.find('{')));
+      if (const auto other = unknown_uses_.find(base);
+          !base.empty() && other != unknown_uses_.end())
+        other_user_.try_emplace(i, fmt::format("{} (line {})", other->second.front().instruction,
+                                               other->second.front().line));
+      if (site.point.name.empty()) continue;
       const auto found = usages_.find(base);
       if (found == usages_.end()) continue;
       const Usage& first = found->second.front();
@@ -316,6 +385,27 @@ class RapidScanner {
       site.point.tool = first.tool;
       site.point.frame = first.frame;
     }
+    // Targets given to an instruction robcal does not know (other_instruction): not corrected.
+    if (other_user_.empty()) return;
+    std::vector<PointSite> kept;
+    kept.reserve(sites_.size());
+    for (size_t i = 0; i < sites_.size(); ++i) {
+      const auto other = other_user_.find(i);
+      if (other == other_user_.end()) {
+        kept.push_back(std::move(sites_[i]));
+        continue;
+      }
+      const ProgramPoint& p = sites_[i].point;
+      const SourceLocation where{lexer_.file(), p.line, p.column, p.name};
+      const std::string message = fmt::format(
+          "{} uses this target; robcal knows the tool argument of MoveL/MoveJ/MoveC/MoveAbsJ "
+          "and their DO/Sync/Trigg/Search variants only, so the target is not corrected",
+          other->second);
+      if (!options_.keep_going)
+        throw InputError(where, message + " (--keep-going leaves it as written)");
+      unresolved_.push_back({where.describe(), message});
+    }
+    sites_ = std::move(kept);
   }
 
   [[noreturn]] void not_literal(const Aggregate& value, const char* what) {
@@ -466,6 +556,14 @@ class RapidScanner {
   std::vector<PointSite> sites_;
   std::map<std::string, Pose<double>> tools_, frames_;
   std::map<std::string, std::vector<Usage>> usages_;  ///< by upper-case target name
+  struct OtherUse {
+    std::string instruction;
+    int line = 0;
+  };
+  /// Names given to instructions robcal does not know, by upper-case name.
+  std::map<std::string, std::vector<OtherUse>> unknown_uses_;
+  std::map<size_t, std::string> other_user_;  ///< by site index: the instruction that uses it
+  std::vector<UncorrectedPoint> unresolved_;
 };
 
 }  // namespace

@@ -9,7 +9,9 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <map>
 #include <numbers>
+#include <unordered_map>
 
 #include <Eigen/Geometry>
 
@@ -118,16 +120,22 @@ std::vector<JointMove> read_urscript_joint_moves(const std::string& text, const 
 
 // URScript filtering. Targets: a pose literal p[x, y, z, rx, ry, rz] (metres, rotation vector
 // in radians) that is the first argument of movel/movej/movep/movec (movec: the first two)
-// or the value of an assignment `name = p[...]`; the tool is the last set_tcp(p[...]) before
-// it (the flange before any). Pose literals elsewhere (pose_trans offsets, set_tcp itself) are
-// relative or tool data and stay as written. There are no user frames in the language: the
-// targets are in the robot's base frame.
+// or the value of an assignment `name = p[...]`; with `joints`, the joint list of
+// `movej([q1, ..., q6], ...)` (radians). The tool of a literal written in a motion is the last
+// set_tcp(p[...]) before it (the flange before any); an assigned pose takes the tool of the
+// motions that name the variable (`movel(wp)`: the assignment of `wp` last before it in the
+// text, or every assignment of `wp` when none is before it), as RAPID and KRL declarations do:
+// one value used under two tools is refused, and a pose no motion names keeps the tool active
+// where it is assigned, listed as assumed. Pose literals elsewhere (pose_trans offsets, set_tcp
+// itself) are relative or tool data and stay as written. There are no user frames in the
+// language: the targets are in the robot's base frame.
 namespace robcal::detail {
 namespace {
 
 class UrScanner {
  public:
-  UrScanner(std::string_view text, const std::string& file) : text_(text), file_(file) {}
+  UrScanner(std::string_view text, const std::string& file, const ProgramFilterOptions& options)
+      : text_(text), file_(file), options_(options) {}
 
   ProgramScan run() {
     for (at_ = 0; at_ < text_.size(); ++at_) {
@@ -146,6 +154,7 @@ class UrScanner {
         word();
       }
     }
+    assign_uses();
     return std::move(out_);
   }
 
@@ -181,10 +190,34 @@ class UrScanner {
       size_t arg = skip_blanks(next + 1);
       const int targets = w == "movec" ? 2 : 1;
       for (int k = 0; k < targets; ++k) {
-        if (text_.compare(arg, 2, "p[") != 0) return;  // a variable or joint list
-        const NumberFields f = pose_literal(arg);
-        add_target(f, "", arg);
-        arg = skip_blanks(skip_blanks(f.back().end) + 1);  // after the ']'
+        size_t after = 0;  // the first character after the target argument
+        if (text_.compare(arg, 2, "p[") == 0) {
+          const NumberFields f = pose_literal(arg);
+          add_target(f, "", arg);
+          after = f.back().end;
+        } else if (w == "movej" && text_.compare(arg, 1, "[") == 0) {
+          if (!options_.joints) return;  // joint targets only with `joints`
+          const NumberFields f = joint_list(arg);
+          add_joint_target(f, arg);
+          after = f.back().end;
+        } else if (const size_t end = identifier_end(arg); end > arg) {
+          const size_t close = skip_blanks(end);
+          // A plain variable (not a call, not an expression): a use of its assigned pose.
+          if (close >= text_.size() || !(text_[close] == ',' || text_[close] == ')')) return;
+          use(std::string(text_.substr(arg, end - arg)), arg);
+          arg = close;
+          at_ = arg - 1;
+          if (k + 1 == targets) {
+            motion_arguments(arg, w);
+            return;
+          }
+          if (text_[arg] != ',') return;
+          arg = skip_blanks(arg + 1);
+          continue;
+        } else {
+          return;  // an expression
+        }
+        arg = skip_blanks(skip_blanks(after) + 1);  // after the ']'
         if (k + 1 == targets) {
           at_ = arg - 1;
           motion_arguments(arg, w);
@@ -198,9 +231,65 @@ class UrScanner {
       const size_t value = skip_blanks(next + 1);
       if (text_.compare(value, 2, "p[") != 0) return;
       const NumberFields f = pose_literal(value);
+      assignments_[std::string(w)].push_back(out_.sites.size());
       add_target(f, std::string(w), value);
       at_ = f.back().end - 1;
     }
+  }
+
+  size_t identifier_end(size_t at) const {
+    if (at >= text_.size() ||
+        !(std::isalpha(static_cast<unsigned char>(text_[at])) || text_[at] == '_'))
+      return at;
+    while (at < text_.size() &&
+           (std::isalnum(static_cast<unsigned char>(text_[at])) || text_[at] == '_'))
+      ++at;
+    return at;
+  }
+
+  /// A motion naming a variable: the use of its last assignment so far, with the tool here.
+  void use(const std::string& name, size_t at) {
+    const Use u{tool_, line_, column(at)};
+    const auto it = assignments_.find(name);
+    if (it == assignments_.end())
+      later_uses_[name].push_back(u);
+    else
+      uses_[it->second.back()].push_back(u);
+  }
+
+  // Each assigned pose takes the tool of the motions that use it (file comment above).
+  void assign_uses() {
+    for (const auto& [name, list] : later_uses_)
+      if (const auto it = assignments_.find(name); it != assignments_.end())
+        for (size_t site : it->second)
+          uses_[site].insert(uses_[site].end(), list.begin(), list.end());
+    for (const auto& [name, sites] : assignments_)
+      for (size_t index : sites) {
+        PointSite& site = out_.sites[index];
+        const auto found = uses_.find(index);
+        if (found == uses_.end()) {
+          site.assumption = fmt::format(
+              "no movel/movej/movep/movec names '{}' after this assignment: corrected for the "
+              "tool active here ({})",
+              name,
+              site.point.tool.empty() ? "no set_tcp before it: the default tool" : site.point.tool);
+          continue;
+        }
+        const Use& first = found->second.front();
+        for (const Use& u : found->second)
+          if (u.tool != first.tool)
+            throw InputError(
+                SourceLocation{file_, site.point.line, site.point.column, name},
+                fmt::format("used under {} at {}:{}:{} and under {} at {}:{}:{}: one corrected "
+                            "value cannot serve both; give each use its own pose",
+                            tool_label(first.tool), file_, first.line, first.column,
+                            tool_label(u.tool), file_, u.line, u.column));
+        site.point.tool = first.tool;
+      }
+  }
+
+  static std::string tool_label(const std::string& tool) {
+    return tool.empty() ? std::string("the default tool (no set_tcp before it)") : tool;
   }
 
   // The arguments after a motion's last target, up to its ')': positional values or the
@@ -269,6 +358,33 @@ class UrScanner {
     return f;
   }
 
+  // [q1, ..., q6] at `at` (radians): six number literals, read whole.
+  NumberFields joint_list(size_t at) {
+    NumberFields f;
+    size_t pos = at + 1;
+    for (int k = 0; k < kJointCount; ++k) {
+      pos = skip_blanks(pos);
+      f.push_back(read_number_field(text_, pos, file_, line_, line_start_));
+      pos = skip_blanks(pos);
+      const char want = k + 1 < kJointCount ? ',' : ']';
+      if (pos >= text_.size() || text_[pos] != want)
+        throw InputError(SourceLocation{file_, line_, column(pos), ""},
+                         fmt::format("movej: expected '{}' after joint {}", want, k + 1));
+      ++pos;
+    }
+    return f;
+  }
+
+  void add_joint_target(const NumberFields& f, size_t at) {
+    PointSite site;
+    site.fields = f;
+    site.point.is_joint_target = true;
+    site.point.line = line_;
+    site.point.column = column(at);
+    for (int k = 0; k < kJointCount; ++k) site.point.joints_deg[k] = rad2deg(f[k].value);
+    out_.sites.push_back(std::move(site));
+  }
+
   static Pose<double> pose_of(const NumberFields& f) {
     Pose<double> pose;
     pose.p << 1000 * f[0].value, 1000 * f[1].value, 1000 * f[2].value;  // m → mm
@@ -294,14 +410,24 @@ class UrScanner {
   size_t at_ = 0;
   int line_ = 1;
   size_t line_start_ = 0;
+  const ProgramFilterOptions& options_;
   std::string tool_;  ///< "" = the flange (no set_tcp yet)
   ProgramScan out_;
+  /// A motion's use of a variable: the tool active there.
+  struct Use {
+    std::string tool;
+    int line, column;
+  };
+  std::map<std::string, std::vector<size_t>> assignments_;  ///< sites by variable, text order
+  std::unordered_map<size_t, std::vector<Use>> uses_;       ///< by site
+  std::map<std::string, std::vector<Use>> later_uses_;      ///< before any assignment
 };
 
 }  // namespace
 
-ProgramScan scan_urscript(std::string_view text, const std::string& file) {
-  return UrScanner(text, file).run();
+ProgramScan scan_urscript(std::string_view text, const std::string& file,
+                          const ProgramFilterOptions& options) {
+  return UrScanner(text, file, options).run();
 }
 
 }  // namespace robcal::detail

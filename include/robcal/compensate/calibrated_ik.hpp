@@ -130,4 +130,12 @@ CalibratedIkResult calibrated_ik(const Compensator& comp, const Pose<double>& wo
                                  IkMethod method = IkMethod::Newton,
                                  const CalibratedIkOptions& options = {});
 
+/// calibrated_ik when the nominal solution of `config` is at hand (`seed`, within the joint
+/// limits: the caller solved the branch to read its configuration data): the same answer
+/// without a second nominal solve.
+CalibratedIkResult calibrated_ik_from_seed(const Compensator& comp, const Pose<double>& world_T_tcp,
+                                           const ArmConfig& config, const Vector6d& seed,
+                                           IkMethod method = IkMethod::Newton,
+                                           const CalibratedIkOptions& options = {});
+
 }  // namespace robcal

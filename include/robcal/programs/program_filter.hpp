@@ -16,10 +16,14 @@
 ///   Tool argument, `\WObj:=`); their values come from the program's own literal `tooldata`
 ///   and `wobjdata` declarations or from ProgramFilterOptions::tools / frames. A declared
 ///   target used with two different tools or work objects is refused (one corrected value
-///   cannot serve both); a target no instruction uses keeps the default tool and wobj0.
+///   cannot serve both); a target no instruction uses keeps the default tool and wobj0. A
+///   target given to another instruction (ArcL, SpotL, a user routine: robcal does not know
+///   which argument is its tool) is not corrected: refused, or left as written and listed
+///   under keep_going.
 /// - KRL: `[DECL] [GLOBAL] E6POS|POS name = {X,Y,Z,A,B,C,S,T,...}` (A, B, C = the ZYX Euler
 ///   angles in degrees), assignments to such declared names, and aggregates written after
-///   PTP/LIN/CIRC (and SPTP/SLIN/SCIRC); with `joints`, E6AXIS/AXIS points (A1..A6).
+///   PTP/LIN/CIRC (and SPTP/SLIN/SCIRC, SPL in SPLINE blocks); with `joints`, E6AXIS/AXIS
+///   points (A1..A6).
 ///   Relative motions (PTP_REL, LIN_REL ...) are left alone; incomplete absolute points are
 ///   refused (their missing components come from the robot's state at run time). Tool and
 ///   base: TOOL_DATA[n] / BASE_DATA[n] of the last `BAS(#TOOL|#BASE, n)` or `$TOOL|$BASE =`
@@ -35,7 +39,12 @@
 ///   positions (base and station axes) stay as written; ///NPOS counts are checked.
 /// - URScript: pose literals `p[x,y,z,rx,ry,rz]` (m, rotation vector) that are motion targets
 ///   or assigned to a variable; the tool of the last literal set_tcp (none: the installation's,
-///   the corrector's default); no frames.
+///   the corrector's default) before the motion, for a variable the motions naming it (one
+///   pose under two tools is refused; one no motion names keeps the tool where it is assigned,
+///   listed as assumed); with `joints`, `movej([q1..q6])` joint lists (rad); no frames.
+///
+/// A text that starts a program in another language (a RAPID `MODULE` in a .src, an LS
+/// `/PROG` in a .script: require_program_language) is refused at that line.
 ///
 /// Anything that looks like a point but is not a literal (an expression, a missing component)
 /// is refused with an InputError naming the file, line and column.
@@ -117,8 +126,9 @@ struct ProgramFilterResult {
   int joint_points = 0;
   std::vector<UncorrectedPoint> uncorrected;
   /// Points corrected on an assumption the program does not confirm (RAPID: no instruction
-  /// uses the target; KRL: no FDAT or BAS/$TOOL names its tool and base): the default tool
-  /// in the robot's base frame. Same layout as `uncorrected`, the reason saying what to check.
+  /// uses the target; KRL: no FDAT or BAS/$TOOL names its tool and base: the default tool in
+  /// the robot's base frame; URScript: no motion names the variable: the tool where it is
+  /// assigned). Same layout as `uncorrected`, the reason saying what to check.
   std::vector<UncorrectedPoint> assumed;
   /// One row per corrected point: `line,column,name,confidence95_mm` (empty radius when the
   /// corrector gives none): the side file of the per-target confidence.
