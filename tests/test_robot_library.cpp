@@ -145,6 +145,16 @@ const std::vector<UrdfChain>& chains() {
        {0, 0, 0},
        {0, kPi / 2, 0},
        false},
+      {"staubli-tx2-60",
+       {{{{0, 0, 0.375}, Z},
+         {{0, 0, 0}, Y},
+         {{0, 0.020, 0.290}, Y},
+         {{0, 0, 0}, Z},
+         {{0, 0, 0.310}, Y},
+         {{0, 0, 0.070}, Z}}},
+       {0, 0, 0},
+       {0, 0, 0},
+       false},
   };
   return c;
 }
@@ -153,7 +163,7 @@ using test::random_joints;
 
 TEST(RobotLibrary, EveryRobotHasMakerSourceAndReach) {
   const auto names = builtin_robot_names();
-  EXPECT_GE(names.size(), 29u);
+  EXPECT_GE(names.size(), 30u);
   for (const std::string& name : names) {
     const RobotModel model = load_robot(name);
     EXPECT_FALSE(model.manufacturer.empty()) << name;
