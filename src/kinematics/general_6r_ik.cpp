@@ -51,11 +51,7 @@ constexpr int kMaxCluster = 4;
 constexpr double kAcceptPositionMm = 1e-9;
 constexpr double kAcceptOrientationRad = 1e-11;
 constexpr double kSameSolutionRad = 1e-6;
-constexpr int kNewtonIterations = 40;
-/// A candidate whose scaled error (mm / length_scale + rad) is still above kGiveUpError after
-/// kNewtonGiveUp iterations is not converging to a root.
-constexpr int kNewtonGiveUp = 12;
-constexpr double kGiveUpError = 1e-4;
+constexpr int kNewtonIterations = 20;
 
 Pose<double> rot_z(double theta) {
   const double c = std::cos(theta), s = std::sin(theta);
@@ -117,14 +113,9 @@ double wrap(double angle) {
 }
 
 /// Newton on the exact chain from `theta`; true when it reproduces `target` within the
-/// acceptance tolerances. A step that does not lower the error is halved (near a singular
-/// configuration the Newton step is long and convergence only linear: the CRX within 2e-6 rad
-/// of θ3 = 90°, where the eigenvector start is 3e-3 rad off); a candidate still far off after
-/// kNewtonGiveUp iterations is dropped (most spurious ones), so the longer budget costs little.
+/// acceptance tolerances.
 bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& theta) {
   double previous = std::numeric_limits<double>::infinity();
-  Angles base = theta;
-  Vector6d step = Vector6d::Zero();
   for (int it = 0;; ++it) {
     const Frames f = forward(g, theta);
     Eigen::Matrix<double, 6, 1> e;
@@ -136,23 +127,16 @@ bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& thet
     // Once accepted, go on while a step still gains (quadratic convergence down to rounding).
     const double error = e.head<3>().norm() / g.length_scale + e.tail<3>().norm();
     if (it == kNewtonIterations || (accepted && error > 0.25 * previous)) return accepted;
-    if (it >= kNewtonGiveUp && error > kGiveUpError) return false;
-    if (!accepted && !(error < previous)) {
-      step *= 0.5;  // overshot: back to the last iterate, half the step
-      for (int i = 0; i < kJointCount; ++i) theta[i] = base[i] + step[i];
-      continue;
-    }
     previous = error;
     Matrix6d J;
     for (int i = 0; i < kJointCount; ++i) {
       J.block<3, 1>(0, i) = f.axis[i].cross(f.flange.p - f.origin[i]);
       J.block<3, 1>(3, i) = f.axis[i];
     }
-    step = J.partialPivLu().solve(e);
+    Vector6d step = J.partialPivLu().solve(e);
     if (!step.allFinite()) return accepted;
     const double largest = step.cwiseAbs().maxCoeff();
     if (largest > 0.3) step *= 0.3 / largest;  // far from a root: stay in its basin
-    base = theta;
     for (int i = 0; i < kJointCount; ++i) theta[i] += step[i];
   }
 }
@@ -409,12 +393,12 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     if (std::abs(lambda.imag()) <= kRealEigenvalue * (1 + std::abs(lambda))) order[n++] = e;
   }
   const auto x3_of = [&](int e) { return eigen.eigenvalues()[e].real(); };
-  // How many eigenvalues lie within kTwinRoot of x (the root at x is one), up to kMaxCluster.
-  const auto roots_near = [&](double x) {
+  // Whether a second eigenvalue lies within kTwinRoot of x (the root at x is one).
+  const auto has_neighbour = [&](double x) {
     int close = 0;
     for (int e = 0; e < 24; ++e)
       close += std::abs(eigen.eigenvalues()[e] - x) <= kTwinRoot * (1 + std::abs(x));
-    return std::min(close, kMaxCluster);
+    return close >= 2;
   };
   // The monomial vectors of M(x)'s k-dimensional (near-)null space, each a candidate at x; M is
   // scaled by 1/x² when |x| > 1 (same null space, finite for θ3 near φ3 + π).
@@ -453,17 +437,18 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     int null_dimension = 0;
     while (null_dimension < kMaxCluster && r[11 - null_dimension] <= kNullSpace * r[0])
       ++null_dimension;
-    const int k = std::min(std::max({e - b, null_dimension, roots_near(x3)}), kMaxCluster);
+    const int k =
+        std::min(std::max({e - b, null_dimension, has_neighbour(x3) ? 2 : 0}), kMaxCluster);
     if (k >= 2) search_null_space(x3, k);
   }
   // Twins: two solutions sharing (nearly) the eliminated angle make a (near-)double root whose
   // computed eigenvalues and vectors rounding mixes beyond the clustering above (CRX, Doosan
   // M1013 wrist flips: 1 pose in 50,000 lost a solution). At the exact x3 of each polished
-  // solution with neighbouring eigenvalues, the near-null space of M(x3) (one dimension per
-  // root nearby) holds the twins' monomial vectors (to their separation), which Newton finishes.
+  // solution with a neighbouring eigenvalue, the near-null space of M(x3) holds the twin's
+  // monomial vector (to the twins' separation), which Newton then finishes.
   for (int s = 0; s < count; ++s) {
     const double x = std::tan(0.5 * wrap(out[s][(2 + g.cyclic_shift) % kJointCount] - phi3));
-    if (const int k = roots_near(x); k >= 2) search_null_space(x, k);
+    if (has_neighbour(x)) search_null_space(x, 2);
   }
   return count;
 }
