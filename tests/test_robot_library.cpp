@@ -226,7 +226,12 @@ TEST(RobotLibrary, EveryRobotsIkRoundTripsEveryBranch) {
         ++failures;
         continue;
       }
-      failures += !test::ik_round_trip_ok(model, chain, q, target, r.solution.joints);
+      if (!test::ik_round_trip_ok(model, chain, q, target, r.solution.joints)) {
+        ++failures;
+        std::printf("  %s: drawn joints (rad) %a %a %a %a %a %a, returned %.3e rad away\n",
+                    name.c_str(), q[0], q[1], q[2], q[3], q[4], q[5],
+                    (r.solution.joints - q).cwiseAbs().maxCoeff());
+      }
     }
     std::string counts;
     for (int c : count) counts += " " + std::to_string(c);
