@@ -88,17 +88,21 @@ TEST(CompensateAny6r, Ur10eAtTheWristSingularityNeverAWrongAnswer) {
     const Pose<double> wanted = calibrated_tcp_pose(comp.chain, q);
     const ArmConfig config = arm_config(robot.model, q);
     const CalibratedIkResult r = calibrated_ik(comp, wanted, config, q);
+    const Pose<double> reached = calibrated_tcp_pose(comp.chain, r.joints);
+    const double miss_mm = (reached.p - wanted.p).norm();
+    const double miss_rad = Eigen::AngleAxisd(reached.R.transpose() * wanted.R).angle();
     if (!r.ok()) {
       ++reported;
       continue;
     }
+    // Every answer given is right: the calibrated model reaches the pose with these joints.
     ++converged;
-    const Pose<double> reached = calibrated_tcp_pose(comp.chain, r.joints);
-    EXPECT_LT((reached.p - wanted.p).norm(), 1e-6);
-    EXPECT_LT(Eigen::AngleAxisd(reached.R.transpose() * wanted.R).angle(), deg2rad(1e-6));
+    EXPECT_LT(miss_mm, 1e-6) << k;
+    EXPECT_LT(miss_rad, deg2rad(1e-6)) << k;
   }
   std::printf("UR10e at θ5 = 0: %d converged (checked), %d reported\n", converged, reported);
-  EXPECT_EQ(converged + reported, 50);
+  // The check above is not vacuous: a good part of these poses is reached (22 of 50 here).
+  EXPECT_GE(converged, 10);
 }
 
 // Closing the loop in simulation: a robot with random errors (ErrorBounds defaults), measured

@@ -15,6 +15,7 @@
 #include "robcal/kinematics/nominal_chain.hpp"
 #include "robcal/kinematics/orientation.hpp"
 #include "test_compensate_support.hpp"
+#include "test_ik_round_trip.hpp"
 
 namespace robcal {
 namespace {
@@ -145,6 +146,16 @@ const std::vector<UrdfChain>& chains() {
        {0, 0, 0},
        {0, kPi / 2, 0},
        false},
+      {"staubli-tx2-60",
+       {{{{0, 0, 0.375}, Z},
+         {{0, 0, 0}, Y},
+         {{0, 0.020, 0.290}, Y},
+         {{0, 0, 0}, Z},
+         {{0, 0, 0.310}, Y},
+         {{0, 0, 0.070}, Z}}},
+       {0, 0, 0},
+       {0, 0, 0},
+       false},
   };
   return c;
 }
@@ -153,7 +164,7 @@ using test::random_joints;
 
 TEST(RobotLibrary, EveryRobotHasMakerSourceAndReach) {
   const auto names = builtin_robot_names();
-  EXPECT_GE(names.size(), 29u);
+  EXPECT_GE(names.size(), 30u);
   for (const std::string& name : names) {
     const RobotModel model = load_robot(name);
     EXPECT_FALSE(model.manufacturer.empty()) << name;
@@ -191,8 +202,8 @@ TEST(RobotLibrary, MdhTablesReproduceTheUrdfChains) {
 }
 
 // Every robot with a closed form: random configurations labelled by the link frames, the
-// branch solver seeded with them returns them (|sin θ5| ≥ 1e-4; the pose otherwise); every
-// robot has one (the general 6R inverse for the CRX).
+// branch solver seeded with them returns them (test::ik_round_trip_ok: the pose, and the joints
+// within the wrist's conditioning); every robot has one (the general 6R inverse for the CRX).
 TEST(RobotLibrary, EveryRobotsIkRoundTripsEveryBranch) {
   std::mt19937_64 rng(2512);
   for (const std::string& name : builtin_robot_names()) {
@@ -215,12 +226,11 @@ TEST(RobotLibrary, EveryRobotsIkRoundTripsEveryBranch) {
         ++failures;
         continue;
       }
-      const double theta5 = model.joint_map.to_model(q)[4] + model.mdh[4].theta_offset;
-      if (std::abs(std::sin(theta5)) >= 1e-4) {
-        failures += (r.solution.joints - q).cwiseAbs().maxCoeff() > 1e-9;
-      } else {
-        const Pose<double> back = nominal_flange_pose(chain, r.solution.joints);
-        failures += (back.p - target.p).norm() > 1e-9;
+      if (!test::ik_round_trip_ok(model, chain, q, target, r.solution.joints)) {
+        ++failures;
+        std::printf("  %s: drawn joints (rad) %a %a %a %a %a %a, returned %.3e rad away\n",
+                    name.c_str(), q[0], q[1], q[2], q[3], q[4], q[5],
+                    (r.solution.joints - q).cwiseAbs().maxCoeff());
       }
     }
     std::string counts;

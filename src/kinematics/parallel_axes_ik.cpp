@@ -4,11 +4,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "fast_atan2.hpp"
 #include "ik_sink.hpp"
 
 namespace robcal {
 namespace {
 
+constexpr double kPi = std::numbers::pi;
 constexpr double kReachTolerance = 1e-10;  // |cos θ3| beyond 1 still taken as a stretched elbow
 // P closer to axis 1 than |δ| by less than this (mm², on r² − δ²) still counts as reached.
 constexpr double kShoulderReachMm2 = 1e-9;
@@ -24,10 +26,18 @@ unsigned branch_bits(unsigned backs, unsigned downs, unsigned flips) {
   return bits;
 }
 
-/// The derivation of the header, branch by branch.
+/// Lanes of the atan2 arguments of one solve (fast_atan2 over all of them in one vectorisable
+/// pass): θ1, θ5, θ6 per shoulder b; θ3, atan2(v, u), the elbow's correction and θ2+θ3+θ4 per
+/// slot 2·b + flip.
+constexpr int kTheta1 = 0, kTheta5 = 2, kTheta6 = 4, kTheta3 = 6, kUv = 10, kElbow = 14,
+              kTheta234 = 18, kLanes = 24;
+
+/// The derivation of the header with its transcendental calls reduced to one fast_atan2 per
+/// angle (cos θ1, sin θ1 by rotating P; cos θ6, sin θ6 from Rᵀn / |sin θ5|; the wrist flip
+/// negates sin θ5, cos θ6, sin θ6, hence x4, z5, θ5 and turns θ6 and θ234 by π; the elbows are
+/// the two signs of sin θ3), then the branches in the order shoulder, flip, elbow.
 void solve(const ParallelAxesGeometry& g, const Pose<double>& T, const Vector6d& seed,
            unsigned mask, IkSink& out) {
-  const std::array<double, kJointCount> seed_theta = link_angles_from_controller(g, seed);
   const Eigen::Vector3d X = T.R.col(0), Y = T.R.col(1), Z = T.R.col(2);
   const Eigen::Vector3d P = T.p - g.d6 * Z;
   const double e = -g.s_alpha2 * g.delta;
@@ -36,55 +46,106 @@ void solve(const ParallelAxesGeometry& g, const Pose<double>& T, const Vector6d&
   if (h_sq < -kShoulderReachMm2) return;
   const double h_abs = std::sqrt(std::max(h_sq, 0.0));
   const bool shoulder_singular = r_sq < kShoulderSingularMm * kShoulderSingularMm;
-  const double phi = std::atan2(P.y(), P.x());
-  for (int shoulder = 0; shoulder < 2; ++shoulder) {
-    if (shoulder == 1 && h_abs == 0.0) break;  // both shoulders coincide
-    const double h = shoulder == 0 ? h_abs : -h_abs;
-    const bool back = h < 0;
-    const unsigned backs = h_abs == 0.0 ? 3u : (back ? 2u : 1u);
+  const double inv_2a3a4 = 0.5 / (g.a3 * g.a4), a_sum_sq = g.a3 * g.a3 + g.a4 * g.a4;
+  // The seed's θ1 and θ6, only at a singularity (rare).
+  auto seed_angle = [&](int joint) { return link_angles_from_controller(g, seed)[joint]; };
+  alignas(32) std::array<double, kLanes> y{}, x;
+  x.fill(1.0);
+  std::array<bool, 2> shoulder_used{}, wrist_singular{};
+  std::array<bool, 4> reach{};  // per slot
+  std::array<double, 2> c1{}, s1{};
+  const double inv_he = shoulder_singular ? 0.0 : 1.0 / (h_sq > 0 ? r_sq : e * e);
+  for (int b = 0; b < 2; ++b) {
+    if (b == 1 && h_abs == 0.0) break;  // both shoulders coincide
+    const double h = b == 0 ? h_abs : -h_abs;
+    const unsigned backs = h_abs == 0.0 ? 3u : (b == 1 ? 2u : 1u);
     if ((mask & branch_bits(backs, 3u, 3u)) == 0) continue;
-    const double theta1 = shoulder_singular ? seed_theta[0] : phi - std::atan2(e, h);
-    const double c1 = std::cos(theta1), s1 = std::sin(theta1);
+    shoulder_used[b] = true;
+    // θ1 = atan2(P_y, P_x) − atan2(e, h): P rotated back by the angle of (h, e).
+    if (shoulder_singular) {
+      c1[b] = std::cos(seed_angle(0));
+      s1[b] = std::sin(seed_angle(0));
+    } else {
+      c1[b] = (h * P.x() + e * P.y()) * inv_he;
+      s1[b] = (h * P.y() - e * P.x()) * inv_he;
+    }
+    y[kTheta1 + b] = s1[b];
+    x[kTheta1 + b] = c1[b];
     // n = −s_α2·y1 seen from the flange.
-    const Eigen::Vector3d n(g.s_alpha2 * s1, -g.s_alpha2 * c1, 0.0);
+    const Eigen::Vector3d n(g.s_alpha2 * s1[b], -g.s_alpha2 * c1[b], 0.0);
     const Eigen::Vector3d nf = T.R.transpose() * n;
-    const double s5_abs = std::hypot(nf.x(), nf.y());
+    const double s5_abs = std::sqrt(nf.x() * nf.x() + nf.y() * nf.y());
     const double c5 = -g.s_alpha5 * g.s_alpha6 * nf.z();
-    const bool wrist_singular = s5_abs < kWristSingularSin;
+    wrist_singular[b] = s5_abs < kWristSingularSin;
+    double c6, s6;
+    if (wrist_singular[b]) {
+      c6 = std::cos(seed_angle(5));
+      s6 = std::sin(seed_angle(5));
+    } else {
+      const double inv_s5 = g.s_alpha5 / s5_abs;
+      c6 = nf.x() * inv_s5;
+      s6 = -nf.y() * inv_s5;
+    }
+    y[kTheta5 + b] = s5_abs;
+    x[kTheta5 + b] = c5;
+    y[kTheta6 + b] = s6;
+    x[kTheta6 + b] = c6;
+    // Frame 4's x axis and z5 without the flip; the flip negates both.
+    const Eigen::Vector3d x4 = c5 * (c6 * X - s6 * Y) + (g.s_alpha6 * s5_abs) * Z;
+    const Eigen::Vector3d z5 = g.s_alpha6 * (s6 * X + c6 * Y);
+    const Eigen::Vector3d wrist_offset = g.d5 * z5 + g.a5 * x4;
     for (int flip = 0; flip < 2; ++flip) {
-      if (flip == 1 && wrist_singular) break;  // flip and no-flip coincide
-      const double s5 = flip == 0 ? s5_abs : -s5_abs;
-      const double theta5 = std::atan2(s5, c5);
-      const double sign5 = flip == 0 ? 1.0 : -1.0;
-      const double theta6 =
-          wrist_singular ? seed_theta[5]
-                         : std::atan2(-sign5 * g.s_alpha5 * nf.y(), sign5 * g.s_alpha5 * nf.x());
-      const double c6 = std::cos(theta6), s6 = std::sin(theta6);
-      const Eigen::Vector3d x4 = c5 * (c6 * X - s6 * Y) + (g.s_alpha6 * s5) * Z;
-      const Eigen::Vector3d z5 = g.s_alpha6 * (s6 * X + c6 * Y);
-      const Eigen::Vector3d O4 = P - g.d5 * z5 - g.a5 * x4;
+      if (flip == 1 && wrist_singular[b]) break;  // flip and no-flip coincide
+      const unsigned flips = wrist_singular[b] ? 3u : (flip == 1 ? 2u : 1u);
+      if ((mask & branch_bits(backs, 3u, flips)) == 0) continue;
+      const double sign = flip == 0 ? 1.0 : -1.0;
+      const int slot = 2 * b + flip;
+      const Eigen::Vector3d O4 = P - sign * wrist_offset;
       // The planar arm in frame 2's plane.
-      const double u = c1 * O4.x() + s1 * O4.y() - g.a2;
+      const double u = c1[b] * O4.x() + s1[b] * O4.y() - g.a2;
       const double v = g.s_alpha2 * (O4.z() - g.d1);
-      const double theta234 = std::atan2(g.s_alpha2 * x4.z(), c1 * x4.x() + s1 * x4.y());
-      const double k = (u * u + v * v - g.a3 * g.a3 - g.a4 * g.a4) / (2.0 * g.a3 * g.a4);
-      if (std::abs(k) > 1.0 + kReachTolerance) continue;
+      y[kTheta234 + slot] = sign * g.s_alpha2 * x4.z();
+      x[kTheta234 + slot] = sign * (c1[b] * x4.x() + s1[b] * x4.y());
+      const double k = (u * u + v * v - a_sum_sq) * inv_2a3a4;
+      reach[slot] = std::abs(k) <= 1.0 + kReachTolerance;
       const double c3 = std::clamp(k, -1.0, 1.0);
       const double s3_abs = std::sqrt(1.0 - c3 * c3);
-      const unsigned flips = wrist_singular ? 3u : (s5 < 0 ? 2u : 1u);
+      y[kTheta3 + slot] = s3_abs;
+      x[kTheta3 + slot] = c3;
+      y[kUv + slot] = v;
+      x[kUv + slot] = u;
+      y[kElbow + slot] = g.a4 * s3_abs;
+      x[kElbow + slot] = g.a3 + g.a4 * c3;
+    }
+  }
+  alignas(32) std::array<double, kLanes> angle;
+  for (int i = 0; i < kLanes; ++i) angle[i] = fast_atan2(y[i], x[i]);
+  for (int b = 0; b < 2; ++b) {
+    if (!shoulder_used[b]) continue;
+    const bool back = b == 1;
+    const unsigned backs = h_abs == 0.0 ? 3u : (back ? 2u : 1u);
+    const double theta1 = angle[kTheta1 + b], theta5 = angle[kTheta5 + b];
+    const double theta6 = angle[kTheta6 + b];
+    for (int flip = 0; flip < 2; ++flip) {
+      if (flip == 1 && wrist_singular[b]) break;
+      const int slot = 2 * b + flip;
+      if (!reach[slot]) continue;
+      const unsigned flips = wrist_singular[b] ? 3u : (flip == 1 ? 2u : 1u);
+      const double s3_abs = y[kTheta3 + slot];
       for (int elbow = 0; elbow < 2; ++elbow) {
         if (elbow == 1 && s3_abs == 0.0) break;  // stretched: both elbows coincide
-        const double s3 = elbow == 0 ? s3_abs : -s3_abs;
+        const double sign3 = elbow == 0 ? 1.0 : -1.0;
         // arm_config's side of the elbow, (W − S) × (E − S)·(−y1) = −s_α2·a3·a4·sin θ3.
-        const double side = -g.s_alpha2 * g.a3 * g.a4 * s3;
+        const double side = -g.s_alpha2 * g.a3 * g.a4 * sign3 * s3_abs;
         const bool down = (back ? -side : side) <= 0;
         const unsigned downs = s3_abs == 0.0 ? 3u : (down ? 2u : 1u);
         if ((mask & branch_bits(backs, downs, flips)) == 0) continue;
-        const double theta3 = std::atan2(s3, c3);
-        const double theta2 = std::atan2(v, u) - std::atan2(g.a4 * s3, g.a3 + g.a4 * c3);
-        const double theta4 = theta234 - theta2 - theta3;
-        out.add({theta1, theta2, theta3, theta4, theta5, theta6}, ArmConfig{back, down, s5 < 0},
-                wrist_singular, shoulder_singular);
+        const double theta3 = sign3 * angle[kTheta3 + slot];
+        const double theta2 = angle[kUv + slot] - sign3 * angle[kElbow + slot];
+        const double theta4 = angle[kTheta234 + slot] - theta2 - theta3;
+        out.add({theta1, theta2, theta3, theta4, flip == 0 ? theta5 : -theta5,
+                 flip == 0 ? theta6 : theta6 - std::copysign(kPi, theta6)},
+                ArmConfig{back, down, flip == 1}, wrist_singular[b], shoulder_singular);
       }
     }
   }
