@@ -13,7 +13,6 @@
 #include "robcal/kinematics/general_6r_ik.hpp"
 #include "robcal/kinematics/nominal_chain.hpp"
 #include "robcal/kinematics/numeric_ik.hpp"
-#include "test_ik_round_trip.hpp"
 #include "test_support.hpp"
 
 namespace robcal {
@@ -237,56 +236,9 @@ TEST(General6rIk, DoubleEigenvaluesLoseNoSolution) {
   }
 }
 
-// Configurations where the solver once lost the drawn solution (Any6r_Library100k, seed
-// 20261124; exact bits): the twin of a returned one sharing (nearly) the eliminated angle, whose
-// eigenvalues rounding split or turned complex. The branch solver seeded with the drawn joints
-// returns them; the all-solution set holds them. (Two CRX-10iA configurations are still lost:
-// one 2e-6 rad from θ3 = 90°, where Newton from the eigenvector start overshoots, one in a
-// group of four near-coincident roots.)
-TEST(General6rIk, FindsTheSolutionsItOnceLost) {
-  struct Lost {
-    const char* robot;
-    Vector6d q;  // controller joints, rad
-  };
-  const Lost cases[] = {
-      {"fanuc-crx10ia-l",
-       (Vector6d() << 0x1.e61a322dbc0fcp+0, 0x1.da216cb3352c4p+0, 0x1.c984899e75fc4p+1,
-        -0x1.121274336ea4cp+0, -0x1.1bde3ce2296c8p-1, -0x1.46750b0e561ccp-1)
-           .finished()},
-      {"fanuc-crx10ia-l",
-       (Vector6d() << -0x1.68d8b5c778fdcp+1, -0x1.1e7fe634d6658p+0, -0x1.61f5a399cd0e1p+1,
-        0x1.2e10dca042bcp-5, 0x1.7a3a53df7d018p+0, -0x1.08ed7218b1188p+1)
-           .finished()},
-      {"doosan-m1013",
-       (Vector6d() << -0x1.15c58d84f22e8p-1, -0x1.2cda44192b733p+1, -0x1.b337aff290516p+0,
-        -0x1.8082a0acbf6e6p+2, -0x1.3a56ab33a6a3fp+2, -0x1.5d3d6308145ecp+2)
-           .finished()},
-      {"doosan-m1013",
-       (Vector6d() << -0x1.831d8c4207bb2p+1, 0x1.40bf3916de7ap-3, 0x1.80d1147f4fb1p-2,
-        -0x1.8c2f732e5a711p+2, -0x1.e210d98354694p+0, 0x1.09901c3b05768p+1)
-           .finished()},
-  };
-  for (const Lost& c : cases) {
-    const RobotModel model = load_robot(c.robot);
-    const auto g = analyze_closed_form(model);
-    ASSERT_TRUE(g) << c.robot;
-    const NominalChain chain = make_nominal_chain(model);
-    const Pose<double> target = nominal_flange_pose(chain, c.q);
-    const IkBranchResult r = nominal_ik_branch(*g, target, arm_config(model, c.q), c.q);
-    ASSERT_EQ(r.status, IkStatus::Solved) << c.robot;
-    EXPECT_TRUE(test::ik_round_trip_ok(model, chain, c.q, target, r.solution.joints))
-        << c.robot << ": returned joints " << (r.solution.joints - c.q).cwiseAbs().maxCoeff()
-        << " rad from the drawn ones";
-    bool found = false;
-    for (const IkSolution& s : nominal_ik(*g, target, c.q))
-      found = found || (s.joints - c.q).cwiseAbs().maxCoeff() < 1e-9;
-    EXPECT_TRUE(found) << c.robot;
-  }
-}
-
 // On robots with a closed form the general method returns the same solution set. (Not on the
-// UR family: with three parallel axes the elimination is degenerate and its solution sets
-// differ from the closed form's on most poses; those robots always take the closed form.)
+// UR family: with three parallel axes the elimination is degenerate and the general method
+// refuses it; those robots always take their closed form.)
 TEST(General6rIk, AgreesWithTheClosedForms) {
   auto rng = test::seeded_rng(1505);
   for (const char* name : {"abb-irb120", "kuka-kr16-2", "fanuc-m20ia"}) {

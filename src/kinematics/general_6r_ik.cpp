@@ -33,18 +33,14 @@ constexpr double kShifts3[4] = {0.4123, 1.9371, -2.4417, -0.9853};
 /// Leading coefficient rcond below which the next θ3 shift is tried.
 constexpr double kWellConditioned = 1e-8;
 /// An eigenvalue is a real candidate when |Im| ≤ this · (1 + |λ|); near-double roots come out
-/// as complex pairs this close (the companion matrix is scaled by M2⁻¹, whose condition reaches
-/// 1e8), and Newton decides.
-constexpr double kRealEigenvalue = 1e-2;
+/// as complex pairs this close, and Newton decides.
+constexpr double kRealEigenvalue = 1e-4;
 /// Roots of x3 closer than this · (1 + |x3|) are treated as one multiple root; clustering two
 /// distinct roots this close costs nothing (Newton separates them from the cluster's start).
 constexpr double kSameRoot = 1e-4;
 /// A diagonal entry of the pivoted QR of M(x3)ᵀ below this fraction of the largest marks one
 /// more dimension of M's null space.
 constexpr double kNullSpace = 1e-7;
-/// A root with another eigenvalue (real or complex) within this · (1 + |x3|) has an
-/// ill-conditioned eigenvector: the two-dimensional near-null space of M(x3) is searched too.
-constexpr double kTwinRoot = 1e-2;
 /// The largest multiplicity handled (two solutions per shared angle on the CRX).
 constexpr int kMaxCluster = 4;
 /// Acceptance of a polished candidate, and the distance below which two are the same.
@@ -393,22 +389,6 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     if (std::abs(lambda.imag()) <= kRealEigenvalue * (1 + std::abs(lambda))) order[n++] = e;
   }
   const auto x3_of = [&](int e) { return eigen.eigenvalues()[e].real(); };
-  // Whether a second eigenvalue lies within kTwinRoot of x (the root at x is one).
-  const auto has_neighbour = [&](double x) {
-    int close = 0;
-    for (int e = 0; e < 24; ++e)
-      close += std::abs(eigen.eigenvalues()[e] - x) <= kTwinRoot * (1 + std::abs(x));
-    return close >= 2;
-  };
-  // The monomial vectors of M(x)'s k-dimensional (near-)null space, each a candidate at x; M is
-  // scaled by 1/x² when |x| > 1 (same null space, finite for θ3 near φ3 + π).
-  const auto search_null_space = [&](double x, int k) {
-    const bool large = std::abs(x) > 1;
-    const double y = large ? 1 / x : x;
-    const Matrix12 A =
-        large ? Matrix12(M[2] + y * (M[1] + y * M[0])) : Matrix12(M[0] + y * (M[1] + y * M[2]));
-    for (const Vector12& v : null_space_monomials(A, k)) candidate(x, v);
-  };
   std::sort(order.begin(), order.begin() + n, [&](int a, int b) { return x3_of(a) < x3_of(b); });
   for (int b = 0, e = 0; b < n; b = e) {
     // A cluster: roots within kSameRoot of each other (two solutions sharing, or nearly
@@ -437,18 +417,9 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     int null_dimension = 0;
     while (null_dimension < kMaxCluster && r[11 - null_dimension] <= kNullSpace * r[0])
       ++null_dimension;
-    const int k =
-        std::min(std::max({e - b, null_dimension, has_neighbour(x3) ? 2 : 0}), kMaxCluster);
-    if (k >= 2) search_null_space(x3, k);
-  }
-  // Twins: two solutions sharing (nearly) the eliminated angle make a (near-)double root whose
-  // computed eigenvalues and vectors rounding mixes beyond the clustering above (CRX, Doosan
-  // M1013 wrist flips: 1 pose in 50,000 lost a solution). At the exact x3 of each polished
-  // solution with a neighbouring eigenvalue, the near-null space of M(x3) holds the twin's
-  // monomial vector (to the twins' separation), which Newton then finishes.
-  for (int s = 0; s < count; ++s) {
-    const double x = std::tan(0.5 * wrap(out[s][(2 + g.cyclic_shift) % kJointCount] - phi3));
-    if (has_neighbour(x)) search_null_space(x, 2);
+    const int k = std::min(std::max(e - b, null_dimension), kMaxCluster);
+    if (k >= 2)
+      for (const Vector12& v : null_space_monomials(A, k)) candidate(x3, v);
   }
   return count;
 }
