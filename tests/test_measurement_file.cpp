@@ -65,7 +65,7 @@ TEST(MeasurementFile, ReadsPointsWithCommentsBlankLinesAndDegrees) {
 
 TEST(MeasurementFile, ColumnsInAnyOrderAndExtraColumnsWarn) {
   const std::string text =
-      "Z,y,x,j6,j5,j4,j3,j2,j1,target,temperature,config\n"
+      "Z,y,x,j6,j5,j4,j3,j2,j1,target,humidity,config\n"
       "3,2,1,60,50,40,30,20,10,C,21.5,k7\n";
   const MeasurementFile file = parse_measurements_csv(text, "m.csv", three_target_tool());
   ASSERT_EQ(file.measurements.points.size(), 1u);
@@ -76,7 +76,7 @@ TEST(MeasurementFile, ColumnsInAnyOrderAndExtraColumnsWarn) {
   for (int i = 0; i < 6; ++i) EXPECT_DOUBLE_EQ(m.joints[i], deg2rad(10.0 * (i + 1)));
   ASSERT_EQ(file.warnings.size(), 1u);
   EXPECT_EQ(file.warnings[0],
-            "m.csv:1:11: column 'temperature' is not used by a points file; ignored");
+            "m.csv:1:11: column 'humidity' is not used by a points file; ignored");
 }
 
 TEST(MeasurementFile, ReadsPosesAndNormalisesQuaternions) {

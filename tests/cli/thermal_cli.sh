@@ -38,10 +38,16 @@ d = json.load(open(f"{tmp}/warm.json"))
 names = [g["name"] for g in d.get("groups", [])]
 if names != ["thermal"]: errors.append(f"groups {names}")
 rows = {p["name"]: p for p in d["parameters"]}
-for link in (3, 4, 6):  # the simulator's 23 ppm/K on every link
+for link in (3, 4):  # the simulator's 23 ppm/K on every link
     p = rows[f"link{link}.expansion"]
     if p["status"] != "identified" or p["unit"] != "ppm/K" or abs(p["value"] - 23) > 3 * p["std"]:
         errors.append(f"{p} (expected 23 ppm/K)")
+# Link 6 (d = 72 mm) expands 1.7 µm per 1 K·23 ppm/K: these rows barely see it, so it is held
+# with that reason rather than reported as identified (or, if identified, within 3σ).
+p = rows["link6.expansion"]
+held = p["status"] == "dropped" and "barely see it" in p.get("reason", "")
+if not held and (p["status"] != "identified" or abs(p["value"] - 23) > 3 * p["std"]):
+    errors.append(f"link 6: {p}")
 for link in (2, 5):
     p = rows[f"link{link}.expansion"]
     if p["status"] != "dropped" or "has no length" not in p.get("reason", ""):

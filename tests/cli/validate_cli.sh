@@ -167,10 +167,10 @@ set -e
 grep -q -- "--orientation-weight" "$tmp/err" || fail "message: $(cat "$tmp/err")"
 
 # Unused columns: a warning on stderr, results unchanged.
-sed '1s/$/,temperature/; 2,$s/$/,21.5/' $data/validation.csv >"$tmp/extra.csv"
+sed '1s/$/,humidity/; 2,$s/$/,41/' $data/validation.csv >"$tmp/extra.csv"
 "$robcal" validate --robot abb-irb120 --tool $data/tool.yaml --measurements "$tmp/extra.csv" \
   --fit-base --json 2>"$tmp/err" >"$tmp/extra.json"
-grep -q "column 'temperature' is not used" "$tmp/err" || fail "no warning"
+grep -q "column 'humidity' is not used" "$tmp/err" || fail "no warning"
 python3 - "$tmp/t2.json" "$tmp/extra.json" <<'PY'
 import json, sys
 a, b = (json.load(open(p)) for p in sys.argv[1:3])
