@@ -32,6 +32,7 @@ void run(Options o) {
   request.world_R_tcp = parse_orientation(o.orientation, "--orientation");
   request.config = parse_config(o.config);
   const BallbarPathFiles result = ballbar_path_files(o.request);
+  for (const std::string& note : result.notes) fmt::print(stderr, "note: {}\n", note);
   if (o.json) {
     print_json(ballbar_path_json(result));
     return;

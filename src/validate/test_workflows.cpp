@@ -147,7 +147,7 @@ BallbarPathFiles ballbar_path_files(const BallbarPathFilesRequest& r) {
   if (request.target < 0)
     throw InputError({r.tool, 0, 0, "--target"},
                      fmt::format("no target '{}' in the tool", r.target));
-  BallbarPathFiles out{ballbar_path(request), 0, r.out};
+  BallbarPathFiles out{ballbar_path(request), 0, r.out, {}};
   const BallbarPath& path = out.path;
   if (path.problems() > 0) {
     std::string list;
@@ -163,13 +163,22 @@ BallbarPathFiles ballbar_path_files(const BallbarPathFilesRequest& r) {
   write_file_atomically(r.out, ballbar_path_csv(path, r.target));
   for (const BallbarPathPoint& p : path.points)
     out.largest_offset_mm = std::max(out.largest_offset_mm, std::abs(p.predicted_offset_mm));
+  // The commanding model predicts its own readings exactly: nothing about the real robot's error
+  // (millimetres before calibration) was checked against the bar's range.
+  if (r.reading_model.empty())
+    out.notes.push_back(
+        "no --reading-model: the readings were predicted with the commanding model itself, so "
+        "they equal the bar's length and the range check cannot see the real robot's error "
+        "(millimetres before calibration); give a calibrated or preliminary model with "
+        "--reading-model to check the range");
   return out;
 }
 
 nlohmann::json ballbar_path_json(const BallbarPathFiles& files) {
   return {{"points", files.path.points.size()},
           {"largest_predicted_offset_mm", files.largest_offset_mm},
-          {"out", files.out}};
+          {"out", files.out},
+          {"notes", files.notes}};
 }
 
 }  // namespace robcal

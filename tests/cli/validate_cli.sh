@@ -328,9 +328,13 @@ set -e
 grep -q "axis-bad.csv:3:.* (side): expected below or above, found 'sideways'" "$tmp/err" || fail "message: $(cat "$tmp/err")"
 # Ballbar path: 3 rings of 8 points written; an unreachable centre writes nothing, exit 2.
 "$robcal" ballbar-path --robot abb-irb120 --tool $data/tool.yaml --target 1 --centre 400,0,300 \
-  --length 100 --elevations -30,0,30 --points 8 --out "$tmp/bbpath.csv" >"$tmp/bbpath.txt"
+  --length 100 --elevations -30,0,30 --points 8 --out "$tmp/bbpath.csv" >"$tmp/bbpath.txt" \
+  2>"$tmp/bbpath.err"
 [ "$(wc -l <"$tmp/bbpath.csv")" -eq 25 ] || fail "ballbar path: $(cat "$tmp/bbpath.csv")"
 grep -q "all reachable in front-up-noflip" "$tmp/bbpath.txt" || fail "$(cat "$tmp/bbpath.txt")"
+# Without a reading model the range check is vacuous, and the user is told so.
+grep -q "note: no --reading-model: .* range check cannot see the real robot's error" \
+  "$tmp/bbpath.err" || fail "no vacuous-range note: $(cat "$tmp/bbpath.err")"
 set +e
 "$robcal" ballbar-path --robot abb-irb120 --tool $data/tool.yaml --target 1 --centre 3000,0,300 \
   --length 100 --out "$tmp/bbpath2.csv" >"$tmp/out" 2>"$tmp/err"

@@ -102,13 +102,15 @@ struct BallbarPathFiles {
   BallbarPath path;
   double largest_offset_mm = 0;  ///< largest |predicted reading − length| over the points
   std::string out;
+  /// What the checks could not see (no reading model: the range check is vacuous).
+  std::vector<std::string> notes;
 };
 
 /// The path, checked, written to `out`. \throws InputError (key --centre) listing every point
 /// that fails the checks (nothing written), for a model of another robot, an unknown target.
 BallbarPathFiles ballbar_path_files(const BallbarPathFilesRequest& request);
 
-/// {points, largest_predicted_offset_mm, out}.
+/// {points, largest_predicted_offset_mm, out, notes}.
 nlohmann::json ballbar_path_json(const BallbarPathFiles& files);
 
 }  // namespace robcal
