@@ -43,35 +43,31 @@ experiments: build
 	    > bench/experiments/results/plan-study-$$effects.json || exit 1; \
 	done
 
-# The library and the parsers' fuzzer built with AddressSanitizer and UndefinedBehaviorSanitizer
-# (-O1, build-asan/), the unit tests linked to them; then the unit tests and a longer fuzz run of
-# every parser. A report or a leak fails.
-sanitize: deps
-	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DROBCAL_SANITIZE=ON \
-	  -DROBCAL_BUILD_BENCH=OFF -DROBCAL_BUILD_PYTHON=OFF
-	cmake --build build-asan --target robcal_tests robcal_fuzz -j $(JOBS)
-	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  build-asan/robcal_tests --gtest_brief=1
-	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  build-asan/robcal_fuzz --iterations 2000 tests/fuzz
+# The library and the parsers' fuzzer built again with AddressSanitizer and
+# UndefinedBehaviorSanitizer (-O1), the unit tests' objects of the normal build linked to them;
+# then the unit tests and a longer fuzz run of every parser. A report or a leak fails.
+SANITIZER_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+sanitize: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) --target robcal_tests_asan robcal_fuzz_asan -j $(JOBS)
+	$(SANITIZER_ENV) $(BUILD)/robcal_tests_asan --gtest_brief=1
+	$(SANITIZER_ENV) $(BUILD)/robcal_fuzz_asan --iterations 2000 tests/fuzz
 
 # The long fuzz run (issue 21): FUZZ_MINUTES (default 10) of mutations per parser with the
 # library and the fuzzer built as for `make sanitize`; prints the executions per second of each
 # parser; an input that fails is saved under fuzz-found/<parser>/ (move it to
 # tests/fuzz/crashes/ once fixed). One parser: `make fuzz-long FUZZ_PARSER=rapid`.
 FUZZ_MINUTES ?= 10
-fuzz-long: deps
-	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DROBCAL_SANITIZE=ON \
-	  -DROBCAL_BUILD_BENCH=OFF -DROBCAL_BUILD_PYTHON=OFF
-	cmake --build build-asan --target robcal_fuzz -j $(JOBS)
-	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  build-asan/robcal_fuzz --seconds $$(( $(FUZZ_MINUTES) * 60 )) --out fuzz-found \
-	  $(if $(FUZZ_PARSER),--parser $(FUZZ_PARSER)) tests/fuzz
+fuzz-long: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) --target robcal_fuzz_asan -j $(JOBS)
+	$(SANITIZER_ENV) $(BUILD)/robcal_fuzz_asan --seconds $$(( $(FUZZ_MINUTES) * 60 )) \
+	  --out fuzz-found $(if $(FUZZ_PARSER),--parser $(FUZZ_PARSER)) tests/fuzz
 
-# clang-tidy with the project's checks (.clang-tidy) over the library and the CLI; any finding fails.
+# clang-tidy with the project's checks (.clang-tidy) over the library and the CLI, in batches of a
+# folder's files (scripts/tidy.py says why); any finding fails.
 tidy: build
 	@bash scripts/install-deps.sh clang-tidy
-	run-clang-tidy -p $(BUILD) -j $(JOBS) -quiet '$(CURDIR)/(src|apps/robcal)/'
+	python3 scripts/tidy.py $(BUILD) $(JOBS)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

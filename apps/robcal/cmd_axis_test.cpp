@@ -15,7 +15,7 @@
 namespace robcal::cli {
 namespace {
 
-struct PlanOptions {
+struct AxisTestPlanOptions {
   std::string home, range, out;
   int joint = 1, steps = 12;
   double approach_deg = 5;
@@ -26,7 +26,7 @@ struct AnalyseOptions {
   bool json = false;
 };
 
-void run_plan(const PlanOptions& o) {
+void run_axis_test_plan(const AxisTestPlanOptions& o) {
   AxisTestPlanRequest request;
   request.home = parse_joints_deg(o.home, "--home");
   request.joint = o.joint - 1;
@@ -65,12 +65,12 @@ void run_analyse(const AnalyseOptions& o) {
     fmt::print("  {:<12} {:>10.4f}  {:>10.4f}  {:>8.4f}\n", name, s.mean, s.max, sigma);
 }
 
-const bool registered = register_command(66, [](CLI::App& app) {
+const bool axis_test_registered = register_command(66, [](CLI::App& app) {
   auto* cmd = app.add_subcommand("axis-test",
                                  "Per-joint test: circle, tangential/radial/axial errors and "
                                  "backlash of one joint");
   cmd->require_subcommand(1);
-  auto plan = std::make_shared<PlanOptions>();
+  auto plan = std::make_shared<AxisTestPlanOptions>();
   auto* p = cmd->add_subcommand("plan", "The moves of one joint through a range, from both sides");
   p->add_option("--joint", plan->joint, "Joint 1..6")->required()->check(CLI::Range(1, 6));
   p->add_option("--home", plan->home, "The fixed joints j1..j6 (deg)")->required();
@@ -78,7 +78,7 @@ const bool registered = register_command(66, [](CLI::App& app) {
   p->add_option("--steps", plan->steps, "Positions in the range")->capture_default_str();
   p->add_option("--approach", plan->approach_deg, "Approach distance (deg)")->capture_default_str();
   p->add_option("--out", plan->out, "Moves CSV (degrees)")->required();
-  p->callback([plan] { run_plan(*plan); });
+  p->callback([plan] { run_axis_test_plan(*plan); });
   auto analyse = std::make_shared<AnalyseOptions>();
   auto* a = cmd->add_subcommand("analyse", "Fit the measured positions of one joint's test");
   a->add_option("--measurements", analyse->measurements,

@@ -49,7 +49,7 @@ void run(Options o) {
       request.range_mm, result.out);
 }
 
-const bool registered = register_command(67, [](CLI::App& app) {
+const bool ballbar_path_registered = register_command(67, [](CLI::App& app) {
   auto o = std::make_shared<Options>();
   auto* cmd = app.add_subcommand(
       "ballbar-path",

@@ -168,7 +168,7 @@ void run_calibrate(const CalibrateArgs& args) {
   if (refusal) throw std::runtime_error(*refusal);
 }
 
-const bool registered = register_command(30, [](CLI::App& app) {
+const bool calibrate_registered = register_command(30, [](CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "calibrate",
       "Identify the robot's parameters from measurements and write the calibrated model");

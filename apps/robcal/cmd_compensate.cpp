@@ -154,7 +154,7 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
   cmd->add_flag("--json", o.json, "Machine-readable summary on stdout");
 }
 
-const bool registered = register_command(70, [](CLI::App& app) {
+const bool compensate_registered = register_command(70, [](CLI::App& app) {
   auto* cmd =
       app.add_subcommand("compensate",
                          "Corrected targets: the joints and nominal poses that make the controller "

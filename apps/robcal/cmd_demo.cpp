@@ -69,7 +69,7 @@ void run(const DemoOptions& o) {
       o.request.out, seconds);
 }
 
-const bool registered = register_command(90, [](CLI::App& app) {
+const bool demo_registered = register_command(90, [](CLI::App& app) {
   auto o = std::make_shared<DemoOptions>();
   auto* cmd = app.add_subcommand(
       "demo", "The whole method on a virtual IRB 120 with a simulated laser tracker");

@@ -32,7 +32,7 @@ void run_experiments(const ExperimentOptions& o) {
              published_experiments_markdown(run.experiments), o.out, run.seconds);
 }
 
-const bool registered = register_command(96, [](CLI::App& app) {
+const bool experiments_registered = register_command(96, [](CLI::App& app) {
   auto o = std::make_shared<ExperimentOptions>();
   auto* cmd = app.add_subcommand(
       "experiments",

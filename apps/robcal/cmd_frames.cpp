@@ -78,7 +78,7 @@ void run_world(const FramesOptions& o) {
              o.out);
 }
 
-const bool registered = register_command(76, [](CLI::App& app) {
+const bool frames_registered = register_command(76, [](CLI::App& app) {
   auto* frames = app.add_subcommand(
       "frames", "Set up the base, tool and world frames from joint sweeps and nests, with σ");
   frames->require_subcommand(1);

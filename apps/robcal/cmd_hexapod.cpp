@@ -529,7 +529,7 @@ void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m,
       "61 configs 0.796 / 1.630; pairs 1.062 → 0.400 / 1.666\n");
 }
 
-const bool registered = register_command(60, [](CLI::App& app) {
+const bool hexapod_registered = register_command(60, [](CLI::App& app) {
   auto* hex = app.add_subcommand(
       "hexapod", "The ballbar hexapod: 6D poses from one ballbar (docs/method/07-hexapod.md)");
   hex->require_subcommand(1);

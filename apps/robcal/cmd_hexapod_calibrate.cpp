@@ -211,7 +211,7 @@ void run_simulate_readings(const SimulateReadingsOptions& o) {
              r.readings.size(), r.out_of_range, o.plan, o.out, o.seed);
 }
 
-const bool registered = register_command(61, [](CLI::App& app) {
+const bool hexapod_calibrate_registered = register_command(61, [](CLI::App& app) {
   CLI::App* hex = app.get_subcommand("hexapod");
   {
     auto* cmd = hex->add_subcommand(

@@ -53,7 +53,7 @@ void run_ik(const IkOptions& o) {
   }
 }
 
-const bool registered = register_command(11, [](CLI::App& app) {
+const bool ik_registered = register_command(11, [](CLI::App& app) {
   auto* ik = app.add_subcommand(
       "ik", "Inverse kinematics of the nominal robot: every solution with its configuration");
   auto o = std::make_shared<IkOptions>();

@@ -50,7 +50,7 @@ void run_import(const ImportOptions& o) {
     fmt::print("positions in the world frame of {}\n", result.world_frame);
 }
 
-const bool registered = register_command(75, [](CLI::App& app) {
+const bool import_registered = register_command(75, [](CLI::App& app) {
   auto o = std::make_shared<ImportOptions>();
   auto* cmd = app.add_subcommand(
       "import",

@@ -15,7 +15,7 @@
 namespace robcal::cli {
 namespace {
 
-struct PlanOptions {
+struct Iso9283PlanOptions {
   Iso9283PlanFilesRequest request;
   std::string region, orientation = "0,0,1,0", config = "front-up-noflip";
   bool json = false;
@@ -27,7 +27,7 @@ struct AnalyseOptions {
   bool json = false;
 };
 
-void run_plan(PlanOptions o) {
+void run_iso9283_plan(Iso9283PlanOptions o) {
   Iso9283PlanRequest& request = o.request.test;
   const std::vector<double> box = parse_numbers(o.region, 6, "--region");
   request.region_min_mm = Eigen::Vector3d(box[0], box[1], box[2]);
@@ -110,11 +110,11 @@ void run_analyse(const AnalyseOptions& o) {
   }
 }
 
-const bool registered = register_command(65, [](CLI::App& app) {
+const bool iso9283_registered = register_command(65, [](CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "iso9283", "ISO 9283 pose accuracy and repeatability: plan the test cube, analyse cycles");
   cmd->require_subcommand(1);
-  auto plan = std::make_shared<PlanOptions>();
+  auto plan = std::make_shared<Iso9283PlanOptions>();
   auto* p = cmd->add_subcommand(
       "plan",
       "The test cube in a workspace region, its poses P1-P5 and the joint targets of the "
@@ -151,7 +151,7 @@ const bool registered = register_command(65, [](CLI::App& app) {
   p->add_option("--program-dir", plan->request.program_dir, "Folder for the programs")
       ->capture_default_str();
   p->add_flag("--json", plan->json, "Machine-readable output");
-  p->callback([plan] { run_plan(*plan); });
+  p->callback([plan] { run_iso9283_plan(*plan); });
 
   auto analyse = std::make_shared<AnalyseOptions>();
   auto* a = cmd->add_subcommand("analyse",

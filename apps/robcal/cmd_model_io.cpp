@@ -14,7 +14,7 @@
 namespace robcal::cli {
 namespace {
 
-struct ImportOptions {
+struct ModelImportOptions {
   ModelImportRequest request;
   std::string out;
   bool json = false;
@@ -26,7 +26,7 @@ struct ExportOptions {
   bool json = false;
 };
 
-void run_import(const ImportOptions& o) {
+void run_model_import(const ModelImportOptions& o) {
   const ModelImportResult r = import_model(o.request);
   write_file_atomically(o.out, r.yaml);
   const nlohmann::json report = model_import_json(o.request, r, o.out);
@@ -75,12 +75,12 @@ void run_export(const ExportOptions& o) {
   fmt::print("wrote {}\n", o.out);
 }
 
-const bool registered = register_command(15, [](CLI::App& app) {
+const bool model_io_registered = register_command(15, [](CLI::App& app) {
   auto* model = app.add_subcommand(
       "model", "Robot models in from URDF, out to URDF or an MDH table with σ (CSV)");
   model->require_subcommand(1);
 
-  auto in = std::make_shared<ImportOptions>();
+  auto in = std::make_shared<ModelImportOptions>();
   auto* import = model->add_subcommand(
       "import",
       "Read a 6R serial chain from a URDF as a robot file (a nominal model file when "
@@ -102,7 +102,7 @@ const bool registered = register_command(15, [](CLI::App& app) {
                      "joint 6's child link)");
   import->add_option("--out", in->out, "Output YAML")->required();
   import->add_flag("--json", in->json, "Machine-readable summary");
-  import->callback([in] { run_import(*in);
+  import->callback([in] { run_model_import(*in);
 });
 
 auto ex = std::make_shared<ExportOptions>();

@@ -59,7 +59,7 @@ void run_montecarlo(const McOptions& o) {
   fmt::print("  {:.3f} s on {} thread(s)\n", seconds, mc.threads);
 }
 
-const bool registered = register_command(95, [](CLI::App& app) {
+const bool montecarlo_registered = register_command(95, [](CLI::App& app) {
   auto o = std::make_shared<McOptions>();
   auto* cmd = app.add_subcommand(
       "montecarlo", "Repeated simulated calibrations: accuracy spread against Cramér–Rao");

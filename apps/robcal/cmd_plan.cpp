@@ -179,7 +179,7 @@ void run_plan(const PlanOptions& o) {
   fmt::print("wrote {}\n", o.out);
 }
 
-const bool registered = register_command(60, [](CLI::App& app) {
+const bool plan_registered = register_command(60, [](CLI::App& app) {
   auto o = std::make_shared<PlanOptions>();
   auto* cmd = app.add_subcommand(
       "plan", "Choose calibration configurations (observability) and predict their accuracy");

@@ -146,7 +146,7 @@ void run_study(const StudyOptions& o) {
       "mean\n");
 }
 
-const bool registered = register_command(62, [](CLI::App& app) {
+const bool plan_study_registered = register_command(62, [](CLI::App& app) {
   auto o = std::make_shared<StudyOptions>();
   auto* cmd = app.add_subcommand(
       "plan-study",

@@ -54,7 +54,7 @@ void run_program(const ProgramOptions& o, const MeasurementProgramRequest& progr
   for (const std::string& p : paths) fmt::print("  {}\n", p);
 }
 
-const bool registered = register_command(65, [](CLI::App& app) {
+const bool program_registered = register_command(65, [](CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "program",
       "Measurement program in the controller's language: joint moves to each planned "

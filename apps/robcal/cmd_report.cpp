@@ -34,7 +34,7 @@ void run_report(const ReportOptions& o) {
   fmt::print("wrote {} and {}\n", html_path.string(), json_path.string());
 }
 
-const bool registered = register_command(85, [](CLI::App& app) {
+const bool report_registered = register_command(85, [](CLI::App& app) {
   auto o = std::make_shared<ReportOptions>();
   auto* cmd = app.add_subcommand(
       "report", "Self-contained HTML report (and JSON) of a calibrated model's validation");

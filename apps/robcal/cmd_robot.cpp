@@ -63,7 +63,7 @@ void run_fk(const std::string& robot, const std::string& joints_text, bool json)
              labels[1], tidy(euler[1]), labels[2], tidy(euler[2]));
 }
 
-const bool registered = register_command(10, [](CLI::App& app) {
+const bool robot_registered = register_command(10, [](CLI::App& app) {
   auto* robots = app.add_subcommand("robots", "List the built-in robots");
   auto robots_json = std::make_shared<bool>(false);
   robots->add_flag("--json", *robots_json, "Machine-readable output");

@@ -46,7 +46,7 @@ void run_session(const campaign::PointSessionRequest& request) {
   fmt::print("wrote {}\n", request.out);
 }
 
-const bool registered = register_command(77, [](CLI::App& app) {
+const bool session_registered = register_command(77, [](CLI::App& app) {
   auto o = std::make_shared<campaign::PointSessionRequest>();
   auto* cmd = app.add_subcommand(
       "session",

@@ -32,7 +32,7 @@ void run_simulate(const SimulateRequest& request, bool json) {
              r.files->truth.string());
 }
 
-const bool registered = register_command(80, [](CLI::App& app) {
+const bool simulate_registered = register_command(80, [](CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
   auto* cmd = app.add_subcommand(
       "simulate", "Measure a virtual robot with a virtual instrument (files as a real campaign)");

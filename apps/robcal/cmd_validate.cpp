@@ -163,7 +163,7 @@ void run_validate(ValidateFlags flags) {
     print_validation(result);
 }
 
-const bool registered = register_command(60, [](CLI::App& app) {
+const bool validate_registered = register_command(60, [](CLI::App& app) {
   auto flags = std::make_shared<ValidateFlags>();
   ValidateRequest& r = flags->request;
   auto* cmd = app.add_subcommand(

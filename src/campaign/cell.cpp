@@ -42,10 +42,6 @@ std::vector<Eigen::Vector3d> point_list(const yaml::Node& node) {
   return points;
 }
 
-bool inside(const KeepOutBox& box, const Eigen::Vector3d& p) {
-  return (p.array() >= box.min_mm.array()).all() && (p.array() <= box.max_mm.array()).all();
-}
-
 CellInstrument parse_instrument(const yaml::Node& node) {
   CellInstrument in;
   const std::string kind = node.at("kind").as_string();
@@ -185,7 +181,7 @@ Cell parse_cell(const std::string& yaml_text, const std::string& file) {
       if (!(box.min_mm.array() < box.max_mm.array()).all())
         throw b.error(
             fmt::format("keep-out box '{}': expected min_mm < max_mm on every axis", box.name));
-      if (inside(box, cell.instrument.position_mm))
+      if (box.contains(cell.instrument.position_mm))
         throw b.error(
             fmt::format("the instrument at ({:.1f}, {:.1f}, {:.1f}) mm is inside keep-out "
                         "box '{}': move the instrument or the box",

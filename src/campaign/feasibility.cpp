@@ -19,10 +19,6 @@ double point_box_distance(const Eigen::Vector3d& p, const KeepOutBox& box) {
   return (box.min_mm - p).cwiseMax(p - box.max_mm).cwiseMax(0.0).norm();
 }
 
-bool inside(const KeepOutBox& box, const Eigen::Vector3d& p) {
-  return point_box_distance(p, box) == 0;
-}
-
 /// The reflector axis of target `t` in the flange frame: the cell's, else the tracker model's
 /// default (outward from the flange origin).
 Eigen::Vector3d target_axis(const Cell& cell, const Tool& tool, int t) {
@@ -226,7 +222,7 @@ Feasibility check_configuration(const Cell& cell, const RobotModel& model, const
         return {
             Rejection::Collision, fmt::format("{} enters keep-out box '{}'", c.name, box.name), {}};
     for (int t : targets)
-      if (inside(box, flange * tool.targets[static_cast<size_t>(t)].position_mm))
+      if (box.contains(flange * tool.targets[static_cast<size_t>(t)].position_mm))
         return {Rejection::Collision,
                 fmt::format("target {} is inside keep-out box '{}'",
                             tool.targets[static_cast<size_t>(t)].name, box.name),

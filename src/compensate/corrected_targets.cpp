@@ -177,52 +177,57 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
       // configuration names it: when its turns are the written ones too, no other solution
       // can score better below.
       const IkSolution* best = nullptr;
-      IkBranchResult alone;
-      if (const auto written = written_branch(language, point.config)) {
-        alone = nominal_ik_branch(comp.geometry, base_T_flange, *written, *previous);
-        if (alone.status == IkStatus::Solved &&
-            configuration_data(language, alone.solution.joints, alone.solution.config) ==
-                point.config)
-          best = &alone.solution;
-      }
-      IkResult all;
-      if (!best) all = nominal_ik(comp.geometry, base_T_flange, *previous);
-      // The written configuration: the branch must match, the turns should.
-      int best_score = best ? 2 : -1;
-      for (const IkSolution& s : all) {
-        // The solver labels its solutions: no forward kinematics per candidate.
-        const std::vector<int> cfg = configuration_data(language, s.joints, s.config);
-        int score = 0;
-        if (point.config.empty()) {
-          score = 1;
-        } else {
-          // The branch: RAPID cfx, KRL S, Fanuc's three letters, Yaskawa's first three flags.
-          const auto same = [&](size_t k) { return cfg[k] == point.config[k]; };
-          const bool three =
-              language == ProgramLanguage::FanucLs || language == ProgramLanguage::Jbi;
-          if (language == ProgramLanguage::Rapid ? !same(3)
-              : three                            ? !(same(0) && same(1) && same(2))
-                                                 : !same(0))
-            continue;
-          score = cfg == point.config ? 2 : 1;
+      const std::optional<ArmConfig> written = written_branch(language, point.config);
+      const IkBranchResult alone =
+          written ? nominal_ik_branch(comp.geometry, base_T_flange, *written, *previous)
+                  : IkBranchResult{};
+      if (alone.status == IkStatus::Solved &&
+          configuration_data(language, alone.solution.joints, alone.solution.config) ==
+              point.config)
+        best = &alone.solution;
+      if (best) {
+        near = best->joints;
+        branch = best->config;
+      } else {
+        // Initialised in place: IkResult's unused entries are never copied (they hold no values).
+        const IkResult all = nominal_ik(comp.geometry, base_T_flange, *previous);
+        // The written configuration: the branch must match, the turns should.
+        int best_score = -1;
+        for (const IkSolution& s : all) {
+          // The solver labels its solutions: no forward kinematics per candidate.
+          const std::vector<int> cfg = configuration_data(language, s.joints, s.config);
+          int score = 0;
+          if (point.config.empty()) {
+            score = 1;
+          } else {
+            // The branch: RAPID cfx, KRL S, Fanuc's three letters, Yaskawa's first three flags.
+            const auto same = [&](size_t k) { return cfg[k] == point.config[k]; };
+            const bool three =
+                language == ProgramLanguage::FanucLs || language == ProgramLanguage::Jbi;
+            if (language == ProgramLanguage::Rapid ? !same(3)
+                : three                            ? !(same(0) && same(1) && same(2))
+                                                   : !same(0))
+              continue;
+            score = cfg == point.config ? 2 : 1;
+          }
+          if (score > best_score ||
+              (score == best_score &&
+               (s.joints - *previous).squaredNorm() < (best->joints - *previous).squaredNorm())) {
+            best = &s;
+            best_score = score;
+          }
         }
-        if (score > best_score ||
-            (score == best_score &&
-             (s.joints - *previous).squaredNorm() < (best->joints - *previous).squaredNorm())) {
-          best = &s;
-          best_score = score;
+        if (!best) {
+          out.failure =
+              point.config.empty()
+                  ? fmt::format("unreachable for the nominal robot ({})", to_string(all.status))
+                  : fmt::format("no nominal solution with the written configuration [{}]",
+                                fmt::join(point.config, ","));
+          return out;
         }
+        near = best->joints;
+        branch = best->config;
       }
-      if (!best) {
-        out.failure =
-            point.config.empty()
-                ? fmt::format("unreachable for the nominal robot ({})", to_string(all.status))
-                : fmt::format("no nominal solution with the written configuration [{}]",
-                              fmt::join(point.config, ","));
-        return out;
-      }
-      near = best->joints;
-      branch = best->config;
     }
     // `near` is the nominal solution of `branch`: the seed of the calibrated inverse.
     const CalibratedIkResult r =

@@ -30,10 +30,6 @@ json joints_json(const std::vector<double>& deg) {
   return out;
 }
 
-std::string leg_name(const PhysicalLeg& leg) {
-  return fmt::format("B{}-T{}", leg.base + 1, leg.tool + 1);
-}
-
 /// A value of the plan's cell, `node[key]`, named `key` in errors, which say what was expected.
 template <typename T>
 T cell_value(const json& node, const std::string& key, const std::string& file,
@@ -359,7 +355,7 @@ nlohmann::json hexapod_plan_json(const HexapodPlan& plan) {
   for (size_t i = 0; i < s.configurations.size(); ++i) {
     const SessionConfiguration& c = s.configurations[i];
     json legs = json::array();
-    for (const PhysicalLeg& l : c.legs) legs.push_back(leg_name(l));
+    for (const PhysicalLeg& l : c.legs) legs.push_back(l.name());
     json entry{{"pose", c.pose}, {"labels", c.labels}};
     if (c.mode > 0) entry["mode"] = c.mode;
     if (!c.joints_deg.empty()) entry["joints_deg"] = joints_json(c.joints_deg);

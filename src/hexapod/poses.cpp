@@ -8,6 +8,10 @@
 
 namespace robcal::hexapod {
 
+std::string PhysicalLeg::name() const {
+  return fmt::format("B{}-T{}", base + 1, tool + 1);
+}
+
 std::string HexapodPose::description() const {
   return fmt::format("mode {}, tool {:+}°{}, base B{} B{} B{}", mode, rotation_deg,
                      design.tool_mirrored() ? " mirrored" : "", design.base[0] + 1,

@@ -17,10 +17,6 @@ namespace {
 // Cup pairs of the three sides, cup i to cup i+1.
 constexpr std::array<std::array<int, 2>, 3> kSides{{{1, 2}, {2, 3}, {3, 1}}};
 
-std::string leg_name(const PhysicalLeg& leg) {
-  return fmt::format("B{}-T{}", leg.base + 1, leg.tool + 1);
-}
-
 PhysicalLeg parse_leg(const std::string& text, const SourceLocation& where) {
   int b = 0, t = 0;
   char extra = 0;
@@ -282,7 +278,7 @@ std::optional<SessionStep> Session::next_step() const {
     int leg = 0;
     while (r.legs[leg]) ++leg;
     SessionStep step{StepKind::Leg,
-                     fmt::format("leg/{}/{}", config.id, leg_name(config.legs[leg])),
+                     fmt::format("leg/{}/{}", config.id, config.legs[leg].name()),
                      "",
                      static_cast<int>(c),
                      leg,
@@ -347,7 +343,7 @@ std::string Session::record(const std::optional<double>& reading) {
     return fmt::format(
         "Leg {} is out of the ballbar's ±{} mm range: configuration {} ({}) is "
         "marked 'retry after preliminary calibration'.",
-        leg_name(config.legs[step->item]), plan_.range_mm, config.id, config.pose);
+        config.legs[step->item].name(), plan_.range_mm, config.id, config.pose);
   }
   r.legs[step->item] = reading;
   return {};
@@ -372,7 +368,7 @@ nlohmann::json Session::result_json() const {
     measured += status == "measured";
     retry += r.retry;
     nlohmann::json legs = nlohmann::json::array();
-    for (const auto& leg : config.legs) legs.push_back(leg_name(leg));
+    for (const auto& leg : config.legs) legs.push_back(leg.name());
     out["configurations"].push_back({{"id", config.id},
                                      {"pose", config.pose},
                                      {"labels", config.labels},

@@ -16,7 +16,7 @@
 namespace robcal {
 namespace {
 
-constexpr double kMaxCoordinateMm = 20000;
+constexpr double kMaxPoseCoordinateMm = 20000;
 
 std::optional<ArmConfig> parse_config_cell(const std::string& cell) {
   if (cell.size() == 1 && cell[0] >= '0' && cell[0] <= '7') {
@@ -84,9 +84,9 @@ std::vector<ListedPose> parse_pose_list(const std::string& text, const std::stri
       const std::optional<double> value = parse_number(cell);
       if (!value) throw InputError(where, describe_bad_number(cell));
       // Positions: a robot cell is metres across, not kilometres (a unit slip or a typo).
-      if (k < 3 && std::abs(*value) > kMaxCoordinateMm)
+      if (k < 3 && std::abs(*value) > kMaxPoseCoordinateMm)
         throw InputError(where, fmt::format("{} mm is outside the plausible range [-{}, {}] mm",
-                                            cell, kMaxCoordinateMm, kMaxCoordinateMm));
+                                            cell, kMaxPoseCoordinateMm, kMaxPoseCoordinateMm));
       v[k] = *value;
     }
     try {

@@ -18,7 +18,7 @@ namespace {
 constexpr const char* kDeltaKeys[4] = {"delta_theta", "delta_a", "delta_d", "delta_alpha"};
 /// Metres in the file, mm inside; radians both.
 constexpr double kMetre = 1000.0;
-constexpr double kUnit[4] = {1.0, kMetre, kMetre, 1.0};
+constexpr double kMmPerUrUnit[4] = {1.0, kMetre, kMetre, 1.0};
 
 std::string_view trim(std::string_view s) {
   const size_t b = s.find_first_not_of(" \t\r");
@@ -134,7 +134,7 @@ UrCalibration parse_ur_calibration(const std::string& text, const std::string& p
         throw InputError(where, fmt::format("{} given twice in [mounting]", key));
       seen[static_cast<size_t>(k)] = true;
       std::array<double, kJointCount> v = six_numbers(line.substr(eq + 1), where);
-      for (double& x : v) x *= kUnit[k];
+      for (double& x : v) x *= kMmPerUrUnit[k];
       *rows_of(out)[static_cast<size_t>(k)] = v;
     }
   }
@@ -163,7 +163,7 @@ std::string ur_calibration_text(const UrCalibration& c) {
   for (int k = 0; k < 4; ++k) {
     std::vector<std::string> v;
     for (double x : *rows[static_cast<size_t>(k)])
-      v.push_back(fmt::format("{:.17g}", x / kUnit[k]));
+      v.push_back(fmt::format("{:.17g}", x / kMmPerUrUnit[k]));
     out += fmt::format("{} = [ {}]\n", kDeltaKeys[k], fmt::join(v, ", "));
   }
   return out;

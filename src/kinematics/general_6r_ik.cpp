@@ -23,9 +23,8 @@ using Matrix24 = Eigen::Matrix<double, 24, 24>;
 using Vector12 = Eigen::Matrix<double, 12, 1>;
 using Angles = std::array<double, kJointCount>;
 
-constexpr double kPi = std::numbers::pi;
 /// Interpolation nodes 0, 2π/3, 4π/3: a degree-one trigonometric polynomial is fixed by them.
-constexpr double kNodes[3] = {0.0, 2.0 * kPi / 3.0, 4.0 * kPi / 3.0};
+constexpr double kNodes[3] = {0.0, 2.0 * std::numbers::pi / 3.0, 4.0 * std::numbers::pi / 3.0};
 /// Shifts φ of the half-angle substitutions (θ4, θ5 fixed; θ3 the first of these whose leading
 /// coefficient is well conditioned). Arbitrary values, away from the 0 and ±90° of real robots.
 constexpr double kShift4 = 0.7137, kShift5 = -1.2911;
@@ -105,7 +104,7 @@ Frames forward(const General6rGeometry& g, const Angles& theta) {
 }
 
 double wrap(double angle) {
-  return std::remainder(angle, 2.0 * kPi);
+  return std::remainder(angle, 2.0 * std::numbers::pi);
 }
 
 /// Newton on the exact chain from `theta`; true when it reproduces `target` within the

@@ -23,13 +23,11 @@ namespace {
 #define ROBCAL_VECTOR_CLONES
 #endif
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kInvTwoPi = 0.5 / std::numbers::pi;
 constexpr double kAngleTolerance = kRightAngleTolerance;
 constexpr double kLengthTolerance = kZeroLengthTolerance;
-constexpr double kLimitTolerance = 1e-9;   // rad, as RobotModel::within_limits
-constexpr double kReachTolerance = 1e-10;  // |cos| beyond 1 still taken as a stretched elbow
+constexpr double kLimitTolerance = 1e-9;  // rad, as RobotModel::within_limits
 // Below this |sin θ5| θ6 is solved from the full residual rotation, which keeps the pose exact
 // when θ4 is ill-conditioned (near the wrist singularity).
 constexpr double kWristNearSingularSin = 1e-4;
@@ -132,7 +130,7 @@ class Solver {
       D[b] = w_x[b] * w_x[b] + w_y[b] * w_y[b];
       D_inv[b] = 1.0 / D[b];
       const double k = (D[b] - elbow_sum_sq_) * elbow_inv_product_;
-      reach[b] = std::abs(k) <= 1.0 + kReachTolerance && (mask_ & shoulder_mask(b)) != 0;
+      reach[b] = std::abs(k) <= 1.0 + kStretchedElbowCos && (mask_ & shoulder_mask(b)) != 0;
       kappa[b] = std::clamp(k, -1.0, 1.0);
       sigma[b] = std::sqrt(1.0 - kappa[b] * kappa[b]);
       y[kPhiLane + b] = sigma[b];
@@ -216,15 +214,15 @@ class Solver {
     alignas(32) Columns q;
     for (int a = 0; a < kArms; ++a) {
       const double theta4 = angle[kTheta4Lanes + a], theta6 = angle[kTheta6Lanes + a];
-      q[0][a] = q[0][kArms + a] = back[a] != 0 ? theta1 + kPi : theta1;
+      q[0][a] = q[0][kArms + a] = back[a] != 0 ? theta1 + std::numbers::pi : theta1;
       q[1][a] = q[1][kArms + a] = angle[kTheta2Lanes + a];
       q[2][a] = q[2][kArms + a] = elbow_sign[a] * (back[a] != 0 ? phi_back : phi_front) - g_.psi;
       q[3][a] = theta4;
-      q[3][kArms + a] = theta4 - std::copysign(kPi, theta4);
+      q[3][kArms + a] = theta4 - std::copysign(std::numbers::pi, theta4);
       q[4][a] = angle[kTheta5Lanes + a];
       q[4][kArms + a] = -angle[kTheta5Lanes + a];
       q[5][a] = theta6;
-      q[5][kArms + a] = theta6 - std::copysign(kPi, theta6);
+      q[5][kArms + a] = theta6 - std::copysign(std::numbers::pi, theta6);
     }
     emit(arms, n, q);
   }
@@ -243,11 +241,12 @@ class Solver {
     Y.row(2) = X.row(2);
     Eigen::Matrix3d M;
     for (int c = 0; c < 3; ++c) M.col(c) = rx90_transpose_times(g_.s_alpha4, Y.col(c));
-    const Eigen::Matrix3d W = (Eigen::AngleAxisd(theta4, Eigen::Vector3d::UnitZ()) *
-                               Eigen::AngleAxisd(g_.s_alpha5 * kPi / 2, Eigen::Vector3d::UnitX()) *
-                               Eigen::AngleAxisd(theta5, Eigen::Vector3d::UnitZ()) *
-                               Eigen::AngleAxisd(g_.s_alpha6 * kPi / 2, Eigen::Vector3d::UnitX()))
-                                  .toRotationMatrix();
+    const Eigen::Matrix3d W =
+        (Eigen::AngleAxisd(theta4, Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(g_.s_alpha5 * std::numbers::pi / 2, Eigen::Vector3d::UnitX()) *
+         Eigen::AngleAxisd(theta5, Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(g_.s_alpha6 * std::numbers::pi / 2, Eigen::Vector3d::UnitX()))
+            .toRotationMatrix();
     const Eigen::Matrix3d Rz6 = W.transpose() * M;
     return std::atan2(Rz6(1, 0), Rz6(0, 0));
   }

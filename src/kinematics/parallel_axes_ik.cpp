@@ -10,8 +10,6 @@
 namespace robcal {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-constexpr double kReachTolerance = 1e-10;  // |cos θ3| beyond 1 still taken as a stretched elbow
 // P closer to axis 1 than |δ| by less than this (mm², on r² − δ²) still counts as reached.
 constexpr double kShoulderReachMm2 = 1e-9;
 
@@ -107,7 +105,7 @@ void solve(const ParallelAxesGeometry& g, const Pose<double>& T, const Vector6d&
       y[kTheta234 + slot] = sign * g.s_alpha2 * x4.z();
       x[kTheta234 + slot] = sign * (c1[b] * x4.x() + s1[b] * x4.y());
       const double k = (u * u + v * v - a_sum_sq) * inv_2a3a4;
-      reach[slot] = std::abs(k) <= 1.0 + kReachTolerance;
+      reach[slot] = std::abs(k) <= 1.0 + kStretchedElbowCos;
       const double c3 = std::clamp(k, -1.0, 1.0);
       const double s3_abs = std::sqrt(1.0 - c3 * c3);
       y[kTheta3 + slot] = s3_abs;
@@ -144,7 +142,7 @@ void solve(const ParallelAxesGeometry& g, const Pose<double>& T, const Vector6d&
         const double theta2 = angle[kUv + slot] - sign3 * angle[kElbow + slot];
         const double theta4 = angle[kTheta234 + slot] - theta2 - theta3;
         out.add({theta1, theta2, theta3, theta4, flip == 0 ? theta5 : -theta5,
-                 flip == 0 ? theta6 : theta6 - std::copysign(kPi, theta6)},
+                 flip == 0 ? theta6 : theta6 - std::copysign(std::numbers::pi, theta6)},
                 ArmConfig{back, down, flip == 1}, wrist_singular[b], shoulder_singular);
       }
     }

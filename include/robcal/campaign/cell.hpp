@@ -50,6 +50,10 @@ struct KeepOutBox {
   std::string name;
   Eigen::Vector3d min_mm = Eigen::Vector3d::Zero();
   Eigen::Vector3d max_mm = Eigen::Vector3d::Zero();
+  /// True when p (world frame, mm) is inside the box or on its faces.
+  [[nodiscard]] bool contains(const Eigen::Vector3d& p) const {
+    return (p.array() >= min_mm.array()).all() && (p.array() <= max_mm.array()).all();
+  }
 };
 
 struct CellInstrument {

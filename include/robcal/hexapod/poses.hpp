@@ -26,6 +26,8 @@ struct HexapodGeometry {
 struct PhysicalLeg {
   int base = 0;
   int tool = 0;
+  /// "B1-T2": the cups' labels, as plan files and session prompts write them.
+  [[nodiscard]] std::string name() const;
 };
 
 struct HexapodPose {

@@ -53,6 +53,8 @@ namespace robcal {
 inline constexpr double kWristSingularSin = 1e-8;
 /// Distance (mm) of the wrist centre from axis 1 below which θ1 comes from the seed.
 inline constexpr double kShoulderSingularMm = 1e-9;
+/// |cos θ3| beyond 1 by less than this is still taken as a stretched elbow (rounding).
+inline constexpr double kStretchedElbowCos = 1e-10;
 /// Capacity of an IkResult: 8 branches × the equivalent turns of wide-range joints (2⁶ when
 /// every joint spans ±360°, as on the UR family).
 inline constexpr int kMaxIkSolutions = 512;
