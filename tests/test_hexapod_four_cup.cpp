@@ -435,10 +435,11 @@ TEST(HexapodCupCollision, FacingBaseRelabellingGivesSeventyTwoPosesThatCanBeSetU
     SCOPED_TRACE(p.label + " " + p.description());
     // Modes 2 and 4 keep the rotations; modes 1 and 3 take the mirrored numbering.
     EXPECT_EQ(p.design.tool_mirrored(), p.mode == 1 || p.mode == 3);
-    if (!p.design.tool_mirrored())
+    if (!p.design.tool_mirrored()) {
       EXPECT_LT(max_gap(Points(p.tool_cups.begin(), p.tool_cups.end()),
                         Points(rotations[i].tool_cups.begin(), rotations[i].tool_cups.end())),
                 1e-12);
+    }
     // Still a pose of these fixtures with every leg at 300 mm.
     for (const PhysicalLeg& leg : p.legs)
       EXPECT_NEAR((base[leg.base] - p.tool_cups[leg.tool]).norm(), 300, 1e-9);

@@ -117,8 +117,9 @@ TEST(HexapodPlacementSearch, RanksReachablePlacementsAndPredictsWhatAStraightCom
                           }),
             7);
   for (size_t i = 1; i < r.ranked.size(); ++i)
-    if (r.ranked[i].usable() && r.ranked[i].undetermined == 0)
+    if (r.ranked[i].usable() && r.ranked[i].undetermined == 0) {
       EXPECT_LE(r.ranked[i - 1].predicted_mean_mm, r.ranked[i].predicted_mean_mm);
+    }
   const PlacementScore& best = r.ranked.front();
   ASSERT_TRUE(best.usable());
   ASSERT_EQ(best.undetermined, 0);

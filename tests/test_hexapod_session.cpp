@@ -43,7 +43,9 @@ TEST(HexapodSession, ScriptOrderRetryAndRecheck) {
     // Configuration 2's third leg is out of range: retry, its other legs are skipped.
     const bool out = next->key == "leg/2/B2-T1";
     const std::string message = s.record(out ? std::optional<double>(301.2) : 300.0 + 0.001 * step);
-    if (out) EXPECT_NE(message.find("retry after preliminary calibration"), std::string::npos);
+    if (out) {
+      EXPECT_NE(message.find("retry after preliminary calibration"), std::string::npos);
+    }
     ++step;
   }
   // 3 + 3 sides, 6 + 3 + 6 legs, checks after configurations 1 and 2 (not after the last).

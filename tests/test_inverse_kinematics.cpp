@@ -276,7 +276,9 @@ TEST(InverseKinematics, FastAtan2AgreesWithTheLibrary) {
       }
       EXPECT_NEAR(got, expected, 5e-16) << y << ", " << x;
       EXPECT_EQ(std::signbit(got), std::signbit(expected)) << y << ", " << x;
-      if (expected == 0 || std::isinf(x) || std::isinf(y)) EXPECT_EQ(got, expected);
+      if (expected == 0 || std::isinf(x) || std::isinf(y)) {
+        EXPECT_EQ(got, expected);
+      }
     }
 }
 

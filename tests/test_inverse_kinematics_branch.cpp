@@ -282,7 +282,9 @@ TEST(IkBranch, NanPoseGivesNoNanSolution) {
     for (const IkSolution& s : all) EXPECT_TRUE(s.joints.allFinite()) << "entry " << entry;
     for (int index = 0; index < 8; ++index) {
       const IkBranchResult r = nominal_ik_branch(*geometry, bad, config_of(index), q);
-      if (r.status == IkStatus::Solved) EXPECT_TRUE(r.solution.joints.allFinite());
+      if (r.status == IkStatus::Solved) {
+        EXPECT_TRUE(r.solution.joints.allFinite());
+      }
     }
   }
 }

@@ -149,7 +149,7 @@ TEST(Iso9283Analyse, MatchesTheFormulasWrittenOut) {
   const double dc = (d.commanded[1].p - d.commanded[3].p).norm();
   std::vector<double> D, Da;
   for (int cycle = 1; cycle <= 4; ++cycle) {
-    Eigen::Vector3d p2, p4, a2, a4;
+    Eigen::Vector3d p2 = Eigen::Vector3d::Constant(NAN), p4 = p2, a2 = p2, a4 = p2;
     for (size_t i = 0; i < d.samples.size(); ++i) {
       const Iso9283Sample& s = d.samples[i];
       if (s.cycle != cycle || s.direction != 0) continue;
@@ -387,7 +387,9 @@ TEST(Iso9283Plan, CyclesWrittenThroughTheProgramsLayer) {
     const MeasurementProgramRequest r = iso9283_program_request(plan, base, multidirectional);
     ASSERT_EQ(r.names.size(), multidirectional ? 60u : 10u);
     EXPECT_EQ(r.names[1], multidirectional ? "V01-P1-D1" : "C01-P5");
-    if (multidirectional) EXPECT_EQ(r.names[2], "V01-P5-D1-from");
+    if (multidirectional) {
+      EXPECT_EQ(r.names[2], "V01-P5-D1-from");
+    }
     const std::vector<ProgramFile> files = write_measurement_program(r);
     ASSERT_EQ(files.size(), 1u);
     const std::vector<JointMove> moves =
@@ -403,7 +405,9 @@ TEST(Iso9283Plan, CyclesWrittenThroughTheProgramsLayer) {
       ++hooks;
     EXPECT_EQ(hooks, multidirectional ? 30u : 10u);
     // The unidirectional program visits P1 → P5 → P4 → P3 → P2.
-    if (!multidirectional) EXPECT_LT((r.joints[1] - plan.poses[4].joints).norm(), 1e-15);
+    if (!multidirectional) {
+      EXPECT_LT((r.joints[1] - plan.poses[4].joints).norm(), 1e-15);
+    }
   }
   request.vap_approach_mm = -1;
   EXPECT_REFUSED((void)iso9283_plan(request), InputError,

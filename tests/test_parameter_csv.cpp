@@ -40,7 +40,9 @@ TEST(ParameterCsv, ValuesAndSigmasRoundTrip) {
     for (std::string c; std::getline(ss, c, ',');) cell.push_back(c);
     ASSERT_EQ(cell.size(), 6u) << line;
     ++rows;
-    if (cell[0] == "link1.d") EXPECT_EQ(std::stod(cell[3]), robot.model.mdh[0].d);
+    if (cell[0] == "link1.d") {
+      EXPECT_EQ(std::stod(cell[3]), robot.model.mdh[0].d);
+    }
     const int i = parameter_index(cell[0]);
     if (i < 0) continue;
     ++layout_rows;

@@ -161,7 +161,9 @@ TEST_P(MeasurementProgram, PerConfigurationApproachAndHook) {
     const size_t k = hook_after[h];
     // Fanuc: the move's line is the /MN instruction's, found by the reader in /MN order.
     EXPECT_GT(hook_lines[h], moves[k].line) << h;
-    if (k + 1 < moves.size()) EXPECT_LT(hook_lines[h], moves[k + 1].line) << h;
+    if (k + 1 < moves.size()) {
+      EXPECT_LT(hook_lines[h], moves[k + 1].line) << h;
+    }
   }
   EXPECT_NE(text.find("c002 (not measured)"), std::string::npos);
 }

@@ -64,13 +64,14 @@ TEST(ProgramUses, ProgramInAnotherLanguageIsRefusedNamingIt) {
     for (const auto& [other, description] : looks) {
       const std::string error = error_of(
           [&] { filter_program(text, other, "x", ProgramFilterOptions{}, RecordingCorrector{}); });
-      if (other == language)  // (its tools and frames are not given here: other errors)
+      if (other == language) {  // (its tools and frames are not given here: other errors)
         EXPECT_EQ(error.find("here begins"), std::string::npos) << file << ": " << error;
-      else
+      } else {
         EXPECT_NE(error.find(fmt::format("x:{}:1: '{}' here {}", marker->line, marker->marker,
                                          looks.at(language))),
                   std::string::npos)
             << file << " as " << program_language_name(other) << ": " << error;
+      }
     }
   }
   // The CLI's path: no output file.

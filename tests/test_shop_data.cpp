@@ -96,8 +96,12 @@ void expect_within_3_sigma(const IdentificationResult& r, const ParameterVector&
     }
     EXPECT_LE(error, 4 * u.std_dev) << u.name << " = " << u.value << ", truth " << truth[i] * f;
     const ParamKind kind = parameter_table()[static_cast<size_t>(i)].kind;
-    if (i >= kLinkParamOffset && kind == ParamKind::Angle) EXPECT_LT(error, 0.5) << u.name;
-    if (i >= kLinkParamOffset && kind == ParamKind::Length) EXPECT_LT(error, 2.0) << u.name;
+    if (i >= kLinkParamOffset && kind == ParamKind::Angle) {
+      EXPECT_LT(error, 0.5) << u.name;
+    }
+    if (i >= kLinkParamOffset && kind == ParamKind::Length) {
+      EXPECT_LT(error, 2.0) << u.name;
+    }
   }
   EXPECT_GT(n, 10);
   const double mahalanobis = delta.dot(C.ldlt().solve(delta));
@@ -376,7 +380,9 @@ TEST(ShopData, UnknownTcpFromEulerPoseFilesOfThreeConventionsAndAMovedBase) {
     EXPECT_LT((got.translation() - tcp.translation()).norm(), 0.05);
     EXPECT_LT(rad2deg(rotation_error.angle()), 0.01);
     for (const UnknownEstimate& u : r.unknowns)
-      if (u.name.starts_with("tcp.")) EXPECT_EQ(u.status, ParameterStatus::Identified) << u.name;
+      if (u.name.starts_with("tcp.")) {
+        EXPECT_EQ(u.status, ParameterStatus::Identified) << u.name;
+      }
     expect_within_3_sigma(r, truth);
     expect_compensates(r, model, truth, {tcp.linear(), tcp.translation()}, rng);
   }

@@ -155,7 +155,9 @@ TEST(UrdfFile, EveryBuiltInRobotRoundTrips) {
     const ParameterVector nominal = model.nominal();
     const UrdfExport out = robot_to_urdf(model, nominal);
     const bool coupled = !out.left_out.empty();  // only a coupled joint map is left out
-    if (coupled) EXPECT_NE(out.left_out[0].find("joint_map"), std::string::npos);
+    if (coupled) {
+      EXPECT_NE(out.left_out[0].find("joint_map"), std::string::npos);
+    }
     const UrdfImport back = robot_from_urdf(out.xml, name + ".urdf");
     EXPECT_FALSE(back.has_base_placement());
     EXPECT_FALSE(back.has_tip_offset());

@@ -205,6 +205,31 @@ class RapidScanner {
     return nullptr;
   }
 
+  // The tokens of one statement up to its `;` at bracket depth 0, which is consumed. Each is
+  // consumed, then handed to `visit` with the depth it stands at; a `[` is then read as an
+  // inline literal (the points written in the statement), brackets change the depth.
+  template <typename Visit>
+  void statement_tokens(Visit&& visit) {
+    int depth = 0;
+    for (;;) {
+      const Token t = lexer_.peek();
+      if (t.kind == TokenKind::End) break;
+      if (depth == 0 && t.is(';')) {
+        lexer_.next();
+        break;
+      }
+      lexer_.next();
+      visit(t, depth);
+      if (t.is('[')) {
+        inline_literal(t);
+      } else if (t.is('(') || t.is('{')) {
+        ++depth;
+      } else if (t.is(')') || t.is('}')) {
+        --depth;
+      }
+    }
+  }
+
   // `MoveL ToPoint, Speed, Zone, Tool [\WObj:=wobj];`: the points written inline in it take
   // its tool and work object; the names in its target arguments are recorded for their
   // declarations (assign_usages).
@@ -215,35 +240,20 @@ class RapidScanner {
     std::vector<std::string> leading;             // its first token, upper case
     std::string wobj;
     bool piece_start = true;
-    int depth = 0;
-    for (;;) {
-      const Token t = lexer_.peek();
-      if (t.kind == TokenKind::End) break;
-      if (depth == 0 && t.is(';')) {
-        lexer_.next();
-        break;
-      }
+    statement_tokens([&](const Token& t, int depth) {
       if (piece_start && !t.is('\\') && !t.is(',')) {
         names.emplace_back();
         leading.push_back(t.kind == TokenKind::Identifier ? upper(t.text) : "");
         piece_start = false;
       }
-      if (t.is('[')) {
-        inline_literal(lexer_.next());
-        continue;
-      }
-      lexer_.next();
       if (depth == 0 && t.is(',')) {
         piece_start = true;
       } else if (depth == 0 && t.is('\\')) {
         optional_argument(wobj);
-      } else {
-        if (t.is('(') || t.is('{')) ++depth;
-        if (t.is(')') || t.is('}')) --depth;
-        if (t.kind == TokenKind::Identifier && !names.empty())
-          names.back().push_back(upper(t.text));
+      } else if (t.kind == TokenKind::Identifier && !names.empty()) {
+        names.back().push_back(upper(t.text));
       }
-    }
+    });
     const std::string tool = spec.tool < leading.size() ? leading[spec.tool] : "";
     for (size_t i = first_site; i < sites_.size(); ++i) {
       sites_[i].point.tool = tool;
@@ -287,25 +297,10 @@ class RapidScanner {
   // not corrected: refused, or under keep_going left as written and listed (assign_usages).
   void other_instruction(const Token& instruction) {
     const size_t first_site = sites_.size();
-    int depth = 0;
-    for (;;) {
-      const Token t = lexer_.peek();
-      if (t.kind == TokenKind::End) break;
-      if (depth == 0 && t.is(';')) {
-        lexer_.next();
-        break;
-      }
-      lexer_.next();
-      if (t.is('[')) {
-        inline_literal(t);
-      } else if (t.is('(') || t.is('{')) {
-        ++depth;
-      } else if (t.is(')') || t.is('}')) {
-        --depth;
-      } else if (t.kind == TokenKind::Identifier) {
+    statement_tokens([&](const Token& t, int) {
+      if (t.kind == TokenKind::Identifier)
         unknown_uses_[upper(t.text)].push_back({std::string(instruction.text), instruction.line});
-      }
-    }
+    });
     for (size_t i = first_site; i < sites_.size(); ++i)
       other_user_[i] = fmt::format("{} (line {})", instruction.text, instruction.line);
   }
