@@ -108,11 +108,15 @@ class ISearch {
   /// The admissible (eligible and spaced) candidate with the greatest gain, or −1. The spacing,
   /// a pass over the chosen set, is checked only for a candidate that would lead.
   [[nodiscard]] std::pair<int, double> best_addition() const {
+    return best_addition([&](int i) { return gain(i); });
+  }
+  template <typename Gain>
+  [[nodiscard]] std::pair<int, double> best_addition(Gain&& gain_of) const {
     int best = -1;
     double best_gain = -kInf;
     for (int i = 0; i < n_; ++i) {
       if (!eligible(i)) continue;
-      const double g = gain(i);
+      const double g = gain_of(i);
       if (g > best_gain && spaced(i)) best = i, best_gain = g;
     }
     return {best, best_gain};
@@ -122,7 +126,9 @@ class ISearch {
   [[nodiscard]] double phi() const { return phi_; }
 
   /// One exchange: the chosen configurations in order of their loss, each removed and the best
-  /// admissible candidate added when that lowers Φ; returns whether one was made.
+  /// admissible candidate added when that lowers Φ; returns whether one was made. A removal is
+  /// scored without being made: after it S_k becomes S_k + b_k b_kᵀ and V_k becomes
+  /// V_k + b_k WᵀL (b_k = A_k W, factor()), so a refused exchange costs one sweep, not two.
   bool exchange() {
     std::vector<std::pair<double, int>> order;
     for (int j : chosen_) order.emplace_back(loss(j), j);
@@ -130,47 +136,79 @@ class ISearch {
     for (const auto& [lost, j] : order) {
       if (lost == kInf) break;
       const double before = phi_;
-      remove(j);
-      const auto [k, gained] = best_addition();
-      if (k >= 0 && k != j && phi_ - gained < before * (1 - kMinImprovement)) {
+      leave(j);
+      const Change removal = factor(j, -1.0);
+      cache_.project(removal.W);
+      const Eigen::Matrix<double, R, Eigen::Dynamic> WL = removal.W.transpose() * L_;
+      const Block WLLW = WL * WL.transpose();
+      const auto [k, gained] = best_addition([&](int i) {
+        const auto V = V_.template middleRows<R>(static_cast<Eigen::Index>(i) * R);
+        const Block& b = cache_.projection(i);
+        const Block VWL = V.lazyProduct(WL.transpose());
+        // V'V'ᵀ of V' = V + b WL, and gain = tr((I + S')⁻¹ V'V'ᵀ).
+        const Block VV = V.lazyProduct(V.transpose()) + b * VWL.transpose() + VWL * b.transpose() +
+                         b * WLLW * b.transpose();
+        const Block C = Block::Identity() + cache_.block(i) + b * b.transpose();
+        return Eigen::LLT<Block>(C).solve(VV).trace();
+      });
+      if (k >= 0 && k != j && before + removal.phi_rise - gained < before * (1 - kMinImprovement)) {
+        apply(removal, -1.0, /*projected=*/true);
         insert(k);
         return true;
       }
-      insert(j);
+      enter(j);
     }
     return false;
   }
 
-  // The set changes before P does, so that a refresh inside change() sees the new set.
+  // The set changes before P does, so that a refresh inside apply() sees the new set.
   void insert(int i) {
+    enter(i);
+    apply(factor(i, +1.0), +1.0, /*projected=*/false);
+  }
+  void remove(int i) {
+    leave(i);
+    apply(factor(i, -1.0), -1.0, /*projected=*/false);
+  }
+
+ private:
+  void enter(int i) {
     in_set_[static_cast<size_t>(i)] = 1;
     edge_count_ += edge_[static_cast<size_t>(i)];
     task_count_ += task_[static_cast<size_t>(i)];
     chosen_.push_back(i);
-    change(i, +1.0);
   }
-  void remove(int i) {
+  void leave(int i) {
     in_set_[static_cast<size_t>(i)] = 0;
     edge_count_ -= edge_[static_cast<size_t>(i)];
     task_count_ -= task_[static_cast<size_t>(i)];
     chosen_.erase(std::find(chosen_.begin(), chosen_.end(), i));
-    change(i, -1.0);
   }
 
- private:
   /// M → M + sign·A_iᵀA_i: P → P − sign·W Wᵀ with W = P A_iᵀ C⁻ᵀᐟ², C = I + sign·A_i P A_iᵀ
-  /// (Woodbury); every S_j and V_j follow with b_j = A_j W (the cache's projections: its packed
-  /// rows give them without the copy of every row a general matrix product makes).
-  void change(int i, double sign) {
+  /// (Woodbury), Φ rises by −sign·tr(Wᵀ B W).
+  struct Change {
+    Eigen::Matrix<double, Eigen::Dynamic, R> W;
+    double phi_rise = 0;
+  };
+  [[nodiscard]] Change factor(int i, double sign) const {
     const auto Ai = A_.template middleRows<R>(static_cast<Eigen::Index>(i) * R);
     const Eigen::Matrix<double, Eigen::Dynamic, R> PAt = P_ * Ai.transpose();
     const Block C = Block::Identity() + sign * (Ai * PAt);
     const Eigen::LLT<Block> llt(C);
-    const Eigen::Matrix<double, Eigen::Dynamic, R> W =
-        llt.matrixL().solve(PAt.transpose()).transpose();
-    phi_ -= sign * (W.transpose() * B_ * W).trace();
+    Change out;
+    out.W = llt.matrixL().solve(PAt.transpose()).transpose();
+    out.phi_rise = -sign * (out.W.transpose() * B_ * out.W).trace();
+    return out;
+  }
+  /// Makes a change: every S_j and V_j follow with b_j = A_j W (the cache's projections: its
+  /// packed rows give them without the copy of every row a general matrix product makes);
+  /// `projected`: the cache holds them already.
+  void apply(const Change& u, double sign, bool projected) {
+    const auto& W = u.W;
+    phi_ += u.phi_rise;
     P_.noalias() -= sign * (W * W.transpose());
-    cache_.project(W);
+    if (!projected) cache_.project(W);
     cache_.apply(sign);
     const Eigen::Matrix<double, R, Eigen::Dynamic> WL = sign * (W.transpose() * L_);
     for (int j = 0; j < n_; ++j)
