@@ -466,5 +466,59 @@ TEST(DesignSelection, CountBelowIdentifiableParametersIsAnError) {
                  "--count: asked for 201 configurations but only 200 feasible candidates");
 }
 
+// The multiplicative algorithm as written in the literature, with M⁻¹ formed explicitly and
+// d_i = tr(A_i M⁻¹ A_iᵀ) summed entry by entry: d_optimal_continuous (which forms only the lower
+// triangle of M and takes d_i as |L⁻¹ A_iᵀ|²) must follow the same iterates.
+ContinuousDesign straightforward_continuous(const DesignMatrix& design, double tolerance) {
+  const int n = design.candidates();
+  const double m = design.columns();
+  ContinuousDesign out;
+  out.weights = Eigen::VectorXd::Constant(n, 1.0 / n);
+  for (out.iterations = 0; out.iterations < 20000; ++out.iterations) {
+    Eigen::MatrixXd M = Eigen::MatrixXd::Zero(design.columns(), design.columns());
+    for (int i = 0; i < n; ++i)
+      if (out.weights[i] > 0) M += out.weights[i] * design.block(i).transpose() * design.block(i);
+    const Eigen::MatrixXd M_inverse = M.inverse();
+    out.log_det = std::log(M.determinant());
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
+    double d_max = 0;
+    for (int i = 0; i < n; ++i) {
+      if (out.weights[i] == 0) continue;
+      d[i] = (design.block(i) * M_inverse * design.block(i).transpose()).trace();
+      d_max = std::max(d_max, d[i]);
+    }
+    out.gap = d_max / m - 1;
+    if (out.gap <= tolerance) {
+      out.converged = true;
+      break;
+    }
+    const double eps = out.gap;
+    const double h = 1 + eps / 2 - std::sqrt(eps * (4 + eps - 4 / m)) / 2;
+    double removed = 0;
+    for (int i = 0; i < n; ++i) {
+      if (out.weights[i] == 0) continue;
+      out.weights[i] *= d[i] / m;
+      if (d[i] < m * h) removed += out.weights[i], out.weights[i] = 0;
+    }
+    out.weights /= 1 - removed;
+  }
+  return out;
+}
+
+TEST(DesignSelection, ContinuousOptimumFollowsTheStraightforwardMultiplicativeAlgorithm) {
+  const Irb120Design d(300);
+  for (const double tolerance : {1e-2, 1e-3}) {
+    const ContinuousDesign fast = d_optimal_continuous(d.design, tolerance);
+    const ContinuousDesign plain = straightforward_continuous(d.design, tolerance);
+    ASSERT_TRUE(plain.converged);
+    EXPECT_TRUE(fast.converged);
+    EXPECT_EQ(fast.iterations, plain.iterations);
+    EXPECT_NEAR(fast.log_det, plain.log_det, 1e-9);
+    EXPECT_NEAR(fast.gap, plain.gap, 1e-9);
+    EXPECT_LT((fast.weights - plain.weights).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_EQ((fast.weights.array() > 0).count(), (plain.weights.array() > 0).count());
+  }
+}
+
 }  // namespace
 }  // namespace robcal

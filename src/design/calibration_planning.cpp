@@ -188,14 +188,15 @@ CandidateSet listed_candidates(const PlanRequest& request, const PlanningCell& c
 }
 
 /// Leverage of every row block under the information `M` (scaled): D: tr(A_i M⁻¹ A_iᵀ);
-/// with a task information B: tr(A_i M⁻¹ B M⁻¹ A_iᵀ).
+/// with a task information B: tr(A_i M⁻¹ B M⁻¹ A_iᵀ). Both are a K aᵀ per row a with one m × m
+/// matrix K formed once (M⁻¹, or M⁻¹ B M⁻¹), so the rows pass through a single product.
 Eigen::VectorXd leverage(const Eigen::MatrixXd& rows, int r, const Eigen::MatrixXd& M,
                          const Eigen::MatrixXd* task_information) {
   const Eigen::LLT<Eigen::MatrixXd> llt(M);
-  const Eigen::MatrixXd U = llt.solve(rows.transpose()).transpose();  // A_i M⁻¹
-  const Eigen::VectorXd per_row =
-      task_information ? Eigen::VectorXd(((U * *task_information).cwiseProduct(U)).rowwise().sum())
-                       : Eigen::VectorXd(U.cwiseProduct(rows).rowwise().sum());
+  const Eigen::MatrixXd M_inverse = llt.solve(Eigen::MatrixXd::Identity(M.rows(), M.cols()));
+  const Eigen::MatrixXd K =
+      task_information ? Eigen::MatrixXd(M_inverse * *task_information * M_inverse) : M_inverse;
+  const Eigen::VectorXd per_row = (rows * K).cwiseProduct(rows).rowwise().sum();
   Eigen::VectorXd out(rows.rows() / r);
   for (Eigen::Index i = 0; i < out.size(); ++i) out[i] = per_row.segment(i * r, r).sum();
   return out;

@@ -495,7 +495,7 @@ ContinuousDesign d_optimal_continuous(const DesignMatrix& design, double toleran
   out.weights = Eigen::VectorXd::Constant(n, 1.0 / n);
   std::vector<int> active(static_cast<size_t>(n));
   std::iota(active.begin(), active.end(), 0);
-  Eigen::MatrixXd A, B;
+  Eigen::MatrixXd A, B, M, L_inverse;
   Eigen::VectorXd d;
   for (out.iterations = 0; out.iterations < max_iterations; ++out.iterations) {
     // Rows of the active candidates weighted by √w: M = AᵀA.
@@ -504,12 +504,17 @@ ContinuousDesign d_optimal_continuous(const DesignMatrix& design, double toleran
     for (size_t k = 0; k < active.size(); ++k)
       A.middleRows(static_cast<Eigen::Index>(k) * r, r) =
           std::sqrt(out.weights[active[k]]) * design.block(active[k]);
-    const Eigen::MatrixXd M = A.transpose() * A;
+    // Only M's lower triangle is formed (half the products) and read by the Cholesky.
+    M.setZero(design.columns(), design.columns());
+    M.selfadjointView<Eigen::Lower>().rankUpdate(A.transpose());
     const Eigen::LLT<Eigen::MatrixXd> llt(M);
     out.log_det = 2 * llt.matrixLLT().diagonal().array().log().sum();
-    // Variance function d_i = tr(A_i M⁻¹ A_iᵀ) of the unweighted blocks.
-    B = llt.solve(A.transpose()).transpose();  // (√w A_i) M⁻¹ per row
-    const Eigen::VectorXd row_d = B.cwiseProduct(A).rowwise().sum();
+    // Variance function d_i = tr(A_i M⁻¹ A_iᵀ) of the unweighted blocks: with M = L Lᵀ each
+    // row's a M⁻¹ aᵀ = |L⁻¹ aᵀ|², one product with the triangular L⁻ᵀ per row instead of two
+    // triangular solves and a product.
+    L_inverse = llt.matrixL().solve(Eigen::MatrixXd::Identity(M.rows(), M.cols()));
+    B.noalias() = A * L_inverse.transpose().triangularView<Eigen::Upper>();  // (√w A_i) L⁻ᵀ
+    const Eigen::VectorXd row_d = B.rowwise().squaredNorm();
     d.resize(static_cast<Eigen::Index>(active.size()));
     for (size_t k = 0; k < active.size(); ++k)
       d[static_cast<Eigen::Index>(k)] =

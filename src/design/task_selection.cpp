@@ -9,6 +9,7 @@
 #include <limits>
 #include <numeric>
 
+#include "leverage_cache.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/progress.hpp"
 
@@ -48,6 +49,7 @@ class ISearch {
         joints_(joints),
         guard_(guard),
         edge_limit_(guard_edge_limit(guard, count)),
+        cache_(design, kRidge),
         in_set_(static_cast<size_t>(n_), 0),
         edge_(static_cast<size_t>(n_), 0),
         task_(in_task.empty() ? std::vector<char>(static_cast<size_t>(n_), 0) : in_task),
@@ -62,18 +64,13 @@ class ISearch {
       edge_[static_cast<size_t>(i)] =
           guard.enabled && near_joint_edge(guard, joints[static_cast<size_t>(i)]) ? 1 : 0;
     P_ = Eigen::MatrixXd::Identity(m_, m_) / kRidge;
-    S_ = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n_) * R, R);
-    for (int i = 0; i < n_; ++i)
-      S_.template middleRows<R>(static_cast<Eigen::Index>(i) * R) =
-          A_.template middleRows<R>(static_cast<Eigen::Index>(i) * R) *
-          A_.template middleRows<R>(static_cast<Eigen::Index>(i) * R).transpose() / kRidge;
     V_ = A_ * L_ / kRidge;
     phi_ = (P_ * B_).trace();
   }
 
   /// Lowering of Φ by adding candidate i.
   [[nodiscard]] double gain(int i) const {
-    const Block C = Block::Identity() + S_.template middleRows<R>(static_cast<Eigen::Index>(i) * R);
+    const Block C = Block::Identity() + cache_.block(i);
     const Eigen::LLT<Block> llt(C);
     return llt.matrixL()
         .solve(V_.template middleRows<R>(static_cast<Eigen::Index>(i) * R))
@@ -81,7 +78,7 @@ class ISearch {
   }
   /// Rise of Φ by removing chosen candidate i (+∞ when the rest is singular).
   [[nodiscard]] double loss(int i) const {
-    const Block C = Block::Identity() - S_.template middleRows<R>(static_cast<Eigen::Index>(i) * R);
+    const Block C = Block::Identity() - cache_.block(i);
     const Eigen::LLT<Block> llt(C);
     if (llt.info() != Eigen::Success || !(llt.matrixLLT().diagonal().minCoeff() > 1e-9))
       return kInf;
@@ -90,13 +87,17 @@ class ISearch {
         .squaredNorm();
   }
 
-  /// Whether candidate i may join the chosen set (the guard's cap and spacing).
-  [[nodiscard]] bool admissible(int i) const {
+  /// Whether candidate i may join the chosen set by the guard's cap and task share (cheap).
+  [[nodiscard]] bool eligible(int i) const {
     if (in_set_[static_cast<size_t>(i)]) return false;
     if (!guard_.enabled) return true;
     if (edge_[static_cast<size_t>(i)] && edge_count_ >= edge_limit_) return false;
     const int slots = count_ - static_cast<int>(chosen_.size());
-    if (!task_[static_cast<size_t>(i)] && task_needed_ - task_count_ >= slots) return false;
+    return task_[static_cast<size_t>(i)] || task_needed_ - task_count_ < slots;
+  }
+  /// Whether candidate i keeps the guard's spacing from every chosen configuration.
+  [[nodiscard]] bool spaced(int i) const {
+    if (!guard_.enabled) return true;
     for (int j : chosen_)
       if (joint_spacing(guard_, joints_[static_cast<size_t>(i)], joints_[static_cast<size_t>(j)]) <
           guard_.min_spacing)
@@ -104,14 +105,19 @@ class ISearch {
     return true;
   }
 
-  /// The admissible candidate with the greatest gain, or −1.
+  /// The admissible (eligible and spaced) candidate with the greatest gain, or −1. The spacing,
+  /// a pass over the chosen set, is checked only for a candidate that would lead.
   [[nodiscard]] std::pair<int, double> best_addition() const {
+    return best_addition([&](int i) { return gain(i); });
+  }
+  template <typename Gain>
+  [[nodiscard]] std::pair<int, double> best_addition(Gain&& gain_of) const {
     int best = -1;
     double best_gain = -kInf;
     for (int i = 0; i < n_; ++i) {
-      if (!admissible(i)) continue;
-      const double g = gain(i);
-      if (g > best_gain) best = i, best_gain = g;
+      if (!eligible(i)) continue;
+      const double g = gain_of(i);
+      if (g > best_gain && spaced(i)) best = i, best_gain = g;
     }
     return {best, best_gain};
   }
@@ -120,7 +126,9 @@ class ISearch {
   [[nodiscard]] double phi() const { return phi_; }
 
   /// One exchange: the chosen configurations in order of their loss, each removed and the best
-  /// admissible candidate added when that lowers Φ; returns whether one was made.
+  /// admissible candidate added when that lowers Φ; returns whether one was made. A removal is
+  /// scored without being made: after it S_k becomes S_k + b_k b_kᵀ and V_k becomes
+  /// V_k + b_k WᵀL (b_k = A_k W, factor()), so a refused exchange costs one sweep, not two.
   bool exchange() {
     std::vector<std::pair<double, int>> order;
     for (int j : chosen_) order.emplace_back(loss(j), j);
@@ -128,52 +136,84 @@ class ISearch {
     for (const auto& [lost, j] : order) {
       if (lost == kInf) break;
       const double before = phi_;
-      remove(j);
-      const auto [k, gained] = best_addition();
-      if (k >= 0 && k != j && phi_ - gained < before * (1 - kMinImprovement)) {
+      leave(j);
+      const Change removal = factor(j, -1.0);
+      cache_.project(removal.W);
+      const Eigen::Matrix<double, R, Eigen::Dynamic> WL = removal.W.transpose() * L_;
+      const Block WLLW = WL * WL.transpose();
+      const auto [k, gained] = best_addition([&](int i) {
+        const auto V = V_.template middleRows<R>(static_cast<Eigen::Index>(i) * R);
+        const Block& b = cache_.projection(i);
+        const Block VWL = V.lazyProduct(WL.transpose());
+        // V'V'ᵀ of V' = V + b WL, and gain = tr((I + S')⁻¹ V'V'ᵀ).
+        const Block VV = V.lazyProduct(V.transpose()) + b * VWL.transpose() + VWL * b.transpose() +
+                         b * WLLW * b.transpose();
+        const Block C = Block::Identity() + cache_.block(i) + b * b.transpose();
+        return Eigen::LLT<Block>(C).solve(VV).trace();
+      });
+      if (k >= 0 && k != j && before + removal.phi_rise - gained < before * (1 - kMinImprovement)) {
+        apply(removal, -1.0, /*projected=*/true);
         insert(k);
         return true;
       }
-      insert(j);
+      enter(j);
     }
     return false;
   }
 
-  // The set changes before P does, so that a refresh inside change() sees the new set.
+  // The set changes before P does, so that a refresh inside apply() sees the new set.
   void insert(int i) {
+    enter(i);
+    apply(factor(i, +1.0), +1.0, /*projected=*/false);
+  }
+  void remove(int i) {
+    leave(i);
+    apply(factor(i, -1.0), -1.0, /*projected=*/false);
+  }
+
+ private:
+  void enter(int i) {
     in_set_[static_cast<size_t>(i)] = 1;
     edge_count_ += edge_[static_cast<size_t>(i)];
     task_count_ += task_[static_cast<size_t>(i)];
     chosen_.push_back(i);
-    change(i, +1.0);
   }
-  void remove(int i) {
+  void leave(int i) {
     in_set_[static_cast<size_t>(i)] = 0;
     edge_count_ -= edge_[static_cast<size_t>(i)];
     task_count_ -= task_[static_cast<size_t>(i)];
     chosen_.erase(std::find(chosen_.begin(), chosen_.end(), i));
-    change(i, -1.0);
   }
 
- private:
   /// M → M + sign·A_iᵀA_i: P → P − sign·W Wᵀ with W = P A_iᵀ C⁻ᵀᐟ², C = I + sign·A_i P A_iᵀ
-  /// (Woodbury); every S_j and V_j follow with b_j = A_j W.
-  void change(int i, double sign) {
+  /// (Woodbury), Φ rises by −sign·tr(Wᵀ B W).
+  struct Change {
+    Eigen::Matrix<double, Eigen::Dynamic, R> W;
+    double phi_rise = 0;
+  };
+  [[nodiscard]] Change factor(int i, double sign) const {
     const auto Ai = A_.template middleRows<R>(static_cast<Eigen::Index>(i) * R);
     const Eigen::Matrix<double, Eigen::Dynamic, R> PAt = P_ * Ai.transpose();
     const Block C = Block::Identity() + sign * (Ai * PAt);
     const Eigen::LLT<Block> llt(C);
-    const Eigen::Matrix<double, Eigen::Dynamic, R> W =
-        llt.matrixL().solve(PAt.transpose()).transpose();
-    phi_ -= sign * (W.transpose() * B_ * W).trace();
+    Change out;
+    out.W = llt.matrixL().solve(PAt.transpose()).transpose();
+    out.phi_rise = -sign * (out.W.transpose() * B_ * out.W).trace();
+    return out;
+  }
+  /// Makes a change: every S_j and V_j follow with b_j = A_j W (the cache's projections: its
+  /// packed rows give them without the copy of every row a general matrix product makes);
+  /// `projected`: the cache holds them already.
+  void apply(const Change& u, double sign, bool projected) {
+    const auto& W = u.W;
+    phi_ += u.phi_rise;
     P_.noalias() -= sign * (W * W.transpose());
-    const Eigen::Matrix<double, Eigen::Dynamic, R> AW = A_ * W;
-    for (int j = 0; j < n_; ++j) {
-      const auto b = AW.template middleRows<R>(static_cast<Eigen::Index>(j) * R);
-      S_.template middleRows<R>(static_cast<Eigen::Index>(j) * R).noalias() -=
-          sign * (b * b.transpose());
-    }
-    V_.noalias() -= sign * (AW * (W.transpose() * L_));
+    if (!projected) cache_.project(W);
+    cache_.apply(sign);
+    const Eigen::Matrix<double, R, Eigen::Dynamic> WL = sign * (W.transpose() * L_);
+    for (int j = 0; j < n_; ++j)
+      V_.template middleRows<R>(static_cast<Eigen::Index>(j) * R).noalias() -=
+          cache_.projection(j) * WL;
     if (++updates_ % kRefreshEvery == 0) refresh();
   }
 
@@ -185,12 +225,8 @@ class ISearch {
       M.noalias() += Aj.transpose() * Aj;
     }
     P_ = M.llt().solve(Eigen::MatrixXd::Identity(m_, m_));
-    const Eigen::MatrixXd U = A_ * P_;
-    for (int j = 0; j < n_; ++j)
-      S_.template middleRows<R>(static_cast<Eigen::Index>(j) * R).noalias() =
-          U.template middleRows<R>(static_cast<Eigen::Index>(j) * R) *
-          A_.template middleRows<R>(static_cast<Eigen::Index>(j) * R).transpose();
-    V_.noalias() = U * L_;
+    cache_.recompute(P_);
+    V_.noalias() = A_ * (P_ * L_);
     phi_ = (P_ * B_).trace();
   }
 
@@ -200,11 +236,15 @@ class ISearch {
   const std::vector<Vector6d>& joints_;
   SelectionGuard guard_;
   int edge_limit_;
+  /// S_j = A_j P A_jᵀ for every candidate, kept under the rank-R changes of P.
+  LeverageCache<R> cache_;
   std::vector<char> in_set_, edge_, task_;
   int count_;
   int edge_count_ = 0, task_needed_ = 0, task_count_ = 0;
   std::vector<int> chosen_;
-  Eigen::MatrixXd P_, S_, V_;
+  Eigen::MatrixXd P_;
+  /// V = A P L, row-major so that every candidate's R rows are contiguous.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> V_;
   double phi_ = 0;
   long updates_ = 0;
 };
