@@ -336,8 +336,8 @@ def test_validate_classes_and_fitted_base():
     assert [t["table"] for t in p["classes"]][-1] == "region"
     errors = p["position_errors_mm"]
     assert errors.shape == (1000,)
-    assert p["position_error_mm"]["mean"] == pytest.approx(errors.mean(), rel=1e-13)
-    assert p["position_error_mm"]["max"] == errors.max()
+    assert p["position_error_mm"]["mean_mm"] == pytest.approx(errors.mean(), rel=1e-13)
+    assert p["position_error_mm"]["max_mm"] == errors.max()
 
 
 def test_validate_poses_pose_error(simulated):
@@ -351,7 +351,7 @@ def test_validate_poses_pose_error(simulated):
     # The pose error of each row, recomputed from its two parts (docs/method/09-validation.md).
     expected = np.hypot(p["position_errors_mm"], 50 * np.radians(p["orientation_errors_deg"]))
     np.testing.assert_allclose(p["pose_errors_mm"], expected, rtol=1e-12)
-    assert p["pose_error_mm"]["mean"] == pytest.approx(expected.mean(), rel=1e-12)
+    assert p["pose_error_mm"]["mean_mm"] == pytest.approx(expected.mean(), rel=1e-12)
 
 
 def test_validate_ballbar_file(simulated):
@@ -362,8 +362,8 @@ def test_validate_ballbar_file(simulated):
     assert same_document(c, p)
     assert p["kind"] == "distances" and p["ballbar_centre"] == "identified"
     e = p["length_errors_mm"]
-    assert p["length_error_mm"]["mean"] == pytest.approx(np.abs(e).mean(), rel=1e-12)
-    assert p["length_error_mm"]["signed_mean"] == pytest.approx(e.mean(), abs=1e-12)
+    assert p["length_error_mm"]["mean_mm"] == pytest.approx(np.abs(e).mean(), rel=1e-12)
+    assert p["length_error_mm"]["signed_mean_mm"] == pytest.approx(e.mean(), abs=1e-12)
     # The identified centre, given back, reproduces the same errors.
     given = robcal.validate("abb-irb120", tool, rows, ballbar_centre=p["ballbar_centre_mm"])
     assert given["ballbar_centre"] == "given"
