@@ -100,8 +100,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "solve_four_cup_dkp",
       [](const std::vector<double>& base_mm, const std::vector<double>& tool_mm,
          const std::vector<std::tuple<int, int, double>>& legs) {
-        FourCupDkpRequest request{fixture_distances(base_mm, "base_mm"),
-                                  fixture_distances(tool_mm, "tool_mm"), {}};
+        FourCupDkpRequest request{
+            fixture_distances(base_mm, "base_mm"), fixture_distances(tool_mm, "tool_mm"), {}};
         for (const auto& [b, t, length] : legs) {
           if (b < 1 || b > 4 || t < 1 || t > 4)
             throw InputError({"<arrays>", 0, 0, "legs"},

@@ -47,13 +47,13 @@ TEST(ValidateStatistics, JsonKeysCarryTheUnit) {
   const ErrorStatistics s = error_statistics(std::vector<double>{0.5, 1.5});
   const nlohmann::json mm = error_statistics_json(s, "mm");
   EXPECT_EQ(mm, (nlohmann::json{{"count", 2},
-                                 {"mean_mm", 1.0},
-                                 {"std_mm", 0.5},
-                                 {"mean_plus_3std_mm", 2.5},
-                                 {"min_mm", 0.5},
-                                 {"max_mm", 1.5}}));
-  const nlohmann::json deg = error_statistics_json(error_statistics(std::vector<double>{1.0 / 3}),
-                                                   "deg", 3);
+                                {"mean_mm", 1.0},
+                                {"std_mm", 0.5},
+                                {"mean_plus_3std_mm", 2.5},
+                                {"min_mm", 0.5},
+                                {"max_mm", 1.5}}));
+  const nlohmann::json deg =
+      error_statistics_json(error_statistics(std::vector<double>{1.0 / 3}), "deg", 3);
   EXPECT_EQ(deg["mean_deg"].get<double>(), 0.333);
   EXPECT_EQ(deg["mean_plus_3std_deg"].get<double>(), 0.333);
   EXPECT_FALSE(deg.contains("mean_mm"));

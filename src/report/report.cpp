@@ -475,11 +475,10 @@ std::string orientation_html(const nlohmann::json& models) {
   for (const auto& m : models)
     if (m.contains("orientation_deg")) {
       const auto& o = m["orientation_deg"];
-      rows +=
-          fmt::format("<tr><td>{}</td><td>{}</td>{}{}{}{}</tr>\n",
-                      html_escape(m["label"].get<std::string>()), o["count"].get<uint64_t>(),
-                      cell(o, "mean_deg"), cell(o, "std_deg"), cell(o, "mean_plus_3std_deg"),
-                      cell(o, "max_deg"));
+      rows += fmt::format("<tr><td>{}</td><td>{}</td>{}{}{}{}</tr>\n",
+                          html_escape(m["label"].get<std::string>()), o["count"].get<uint64_t>(),
+                          cell(o, "mean_deg"), cell(o, "std_deg"), cell(o, "mean_plus_3std_deg"),
+                          cell(o, "max_deg"));
     }
   if (rows.empty()) return "";
   return "<h3>Orientation error (deg)</h3>\n<table id=\"orientation\"><thead><tr><th>model</th>"

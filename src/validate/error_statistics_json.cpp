@@ -12,12 +12,9 @@ nlohmann::json error_statistics_json(const ErrorStatistics& s, std::string_view 
   const auto key = [&](std::string_view name) {
     return std::string(name) + "_" + std::string(unit);
   };
-  return {{"count", s.count},
-          {key("mean"), number(s.mean)},
-          {key("std"), number(s.std)},
-          {key("mean_plus_3std"), number(s.mean_plus_3std())},
-          {key("min"), number(s.min)},
-          {key("max"), number(s.max)}};
+  return {{"count", s.count},          {key("mean"), number(s.mean)},
+          {key("std"), number(s.std)}, {key("mean_plus_3std"), number(s.mean_plus_3std())},
+          {key("min"), number(s.min)}, {key("max"), number(s.max)}};
 }
 
 }  // namespace robcal

@@ -81,7 +81,8 @@ nlohmann::json classes_json(const std::vector<ClassTable>& tables, bool poses,
   for (const ClassTable& t : tables) {
     nlohmann::json rows = nlohmann::json::array();
     for (const ClassRow& r : t.rows) {
-      nlohmann::json row = {{"class", r.label}, {error_key, class_statistics_json(r.position_mm, "mm")}};
+      nlohmann::json row = {{"class", r.label},
+                            {error_key, class_statistics_json(r.position_mm, "mm")}};
       if (poses) row["orientation_error_deg"] = class_statistics_json(r.orientation_deg, "deg");
       if (r.pairs) row["distance_error_mm"] = class_pairs_json(*r.pairs);
       rows.push_back(row);
