@@ -489,9 +489,9 @@ def test_hexapod_place_with_cell_and_gauge(tmp_path):
                     "  - {name: shelf, min_mm: [300, -100, 650], max_mm: [600, 100, 900]}\n")
     c = cli_json("hexapod", "place", "--x-mm", "450", "--y-mm", "0,200", "--z-mm", "300",
                  "--validation", "200", "--best", "2", "--gauge-range-mm", "5",
-                 "--gauge-sigma-mm", "0.002", "--leg-mm", "310", "--cell", str(cell))
+                 "--gauge-sigma-mm", "0.002", "--leg-mm", "302", "--cell", str(cell))
     p = robcal.hexapod.place(x_mm=[450], y_mm=[0, 200], z_mm=[300], validation=200, best=2,
-                             gauge_range_mm=5, gauge_sigma_mm=0.002, leg_mm=310, cell=str(cell))
+                             gauge_range_mm=5, gauge_sigma_mm=0.002, leg_mm=302, cell=str(cell))
     assert without_seconds(c) == without_seconds(p)
     # The options reach the search: the default gauge and no cell give other predictions.
     default = robcal.hexapod.place(x_mm=[450], y_mm=[0, 200], z_mm=[300], validation=200, best=2)
