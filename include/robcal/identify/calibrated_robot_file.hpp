@@ -9,7 +9,7 @@
 
 #include "robcal/identify/calibrated_robot.hpp"
 
-namespace YAML {
+namespace YAML {  // NOLINT(readability-identifier-naming): yaml-cpp's namespace
 class Emitter;
 }
 

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-namespace YAML {
+namespace YAML {  // NOLINT(readability-identifier-naming): yaml-cpp's namespace
 class Emitter;
 }
 
