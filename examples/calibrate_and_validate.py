@@ -50,7 +50,7 @@ calibrated = robcal.validate("abb-irb120", tool_path, validation, model=model_pa
 nominal = robcal.validate("abb-irb120", tool_path, validation, fit_base=True)
 for name, report in (("nominal", nominal), ("calibrated", calibrated)):
     e = report["position_error_mm"]
-    print(f"{name:>10}: mean {e['mean']:.4f} mm, max {e['max']:.4f} mm over {report['points']} rows")
+    print(f"{name:>10}: mean {e['mean_mm']:.4f} mm, max {e['max_mm']:.4f} mm over {report['points']} rows")
 
 # %% Plot the two histograms of position errors (only when matplotlib is installed).
 try:

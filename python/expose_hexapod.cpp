@@ -17,6 +17,7 @@
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/end_to_end_report.hpp"
+#include "robcal/hexapod/four_cup_kinematics.hpp"
 #include "robcal/hexapod/geometry_reports.hpp"
 #include "robcal/hexapod/placement_search.hpp"
 #include "robcal/hexapod/plan_file.hpp"
@@ -55,6 +56,14 @@ TriangleSides sides(const std::array<double, 3>& d) {
   return {d[0], d[1], d[2]};
 }
 
+/// d12, d23, d31 of a fixture, followed by d14, d24, d34 when it has a fourth cup.
+FixtureDistances fixture_distances(const std::vector<double>& d, const char* key) {
+  if (d.size() == 3) return {sides({d[0], d[1], d[2]}), std::nullopt};
+  if (d.size() == 6) return {sides({d[0], d[1], d[2]}), std::array<double, 3>{d[3], d[4], d[5]}};
+  throw InputError({"<arrays>", 0, 0, key},
+                   "expected 3 distances (d12, d23, d31) or 6 with a fourth cup (… d14, d24, d34)");
+}
+
 const bool registered = register_bindings(60, [](py::module_& m) {
   auto h = m.def_submodule("hexapod", "The ballbar hexapod of docs/method/07-hexapod.md (mm)");
   h.def(
@@ -87,6 +96,32 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("base_sides_mm"), py::arg("tool_sides_mm"), py::arg("legs_mm"),
       "Tool cups (rows, base fixture frame) by assembly mode 1..4 from b_ij, t_ij and the legs "
       "ρ11, ρ12, ρ21, ρ22, ρ23, ρ31; ValueError for ill-posed distances");
+  h.def(
+      "solve_four_cup_dkp",
+      [](const std::vector<double>& base_mm, const std::vector<double>& tool_mm,
+         const std::vector<std::tuple<int, int, double>>& legs) {
+        FourCupDkpRequest request{
+            fixture_distances(base_mm, "base_mm"), fixture_distances(tool_mm, "tool_mm"), {}};
+        for (const auto& [b, t, length] : legs) {
+          if (b < 1 || b > 4 || t < 1 || t > 4)
+            throw InputError({"<arrays>", 0, 0, "legs"},
+                             "a leg is (base cup, tool cup, length mm) with cups 1..4");
+          request.legs.push_back({b - 1, t - 1, length});
+        }
+        const FourCupDkpResult r = solve_four_cup_dkp(request);
+        if (r.status != FourCupDkpStatus::Ok) {
+          const char* key = r.culprit == FourCupInput::BaseFixture   ? "base_mm"
+                            : r.culprit == FourCupInput::ToolFixture ? "tool_mm"
+                                                                     : "legs";
+          throw InputError({"<arrays>", 0, 0, key}, r.message);
+        }
+        return json_to_python(four_cup_dkp_json(r));
+      },
+      py::arg("base_mm"), py::arg("tool_mm"), py::arg("legs"),
+      "`robcal hexapod dkp` with a fourth cup: the least-squares cup positions (base fixture "
+      "frame, mm) from the fixtures' distances (d12, d23, d31, and d14, d24, d34 for a fourth "
+      "cup) and the legs as (base cup, tool cup, length mm) with cups 1..4; the CLI's JSON as a "
+      "dict (docs/method/07-hexapod.md §7); InputError naming the bad argument");
   h.def(
       "leg_lengths",
       [](const Eigen::MatrixXd& base, const Eigen::MatrixXd& tool) {
@@ -261,9 +296,22 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::string& robot, const std::vector<double>& x_mm, const std::vector<double>& y_mm,
          const std::vector<double>& z_mm, const std::vector<double>& yaw_deg,
          const std::vector<double>& tilt_deg, const std::string& level, int validation,
-         uint64_t seed, int best, const std::vector<std::string>& measured) {
+         uint64_t seed, int best, const std::vector<std::string>& measured,
+         const std::array<double, 3>& base_sides_mm, const std::array<double, 3>& tool_sides_mm,
+         double leg_mm, double tool_offset_mm, double ball_offset_mm, double table_z_mm,
+         double angle_deg, double distance_mm, double gauge_range_mm, double gauge_sigma_mm,
+         double cup_diameter_mm, const std::optional<std::string>& cell) {
         PlacementSearchRequest r;
-        r.plan.robot = robot;
+        r.plan = {.robot = robot,
+                  .geometry = {sides(base_sides_mm), sides(tool_sides_mm), leg_mm},
+                  .tool_offset_mm = tool_offset_mm,
+                  .ball_offset_mm = ball_offset_mm,
+                  .table_z_mm = table_z_mm,
+                  .angle_deg = angle_deg,
+                  .distance_mm = distance_mm,
+                  .gauge = {gauge_range_mm, gauge_sigma_mm},
+                  .cups = {cup_diameter_mm}};
+        if (cell) r.plan.workcell = campaign::load_cell(*cell);
         for (const std::string& plan : measured)
           r.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
         r.x_mm = x_mm;
@@ -289,9 +337,18 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("tilt_deg") = std::vector<double>{0}, py::arg("level") = "kinematic",
       py::arg("validation") = 2000, py::arg("seed") = 1, py::arg("best") = 5,
       py::arg("measured") = std::vector<std::string>{},
+      py::arg("base_sides_mm") = std::array<double, 3>{300, 300, 300},
+      py::arg("tool_sides_mm") = std::array<double, 3>{150, 150, 150}, py::arg("leg_mm") = 300.0,
+      py::arg("tool_offset_mm") = 100.0, py::arg("ball_offset_mm") = 100.0,
+      py::arg("table_z_mm") = 0.0, py::arg("angle_deg") = 30.0, py::arg("distance_mm") = 50.0,
+      py::arg("gauge_range_mm") = LengthGauge{}.range_mm,
+      py::arg("gauge_sigma_mm") = LengthGauge{}.sigma_mm,
+      py::arg("cup_diameter_mm") = CupClearance{}.cup_diameter_mm, py::arg("cell") = py::none(),
       "Placement search (`robcal hexapod place`): the grid's placements ranked by predicted "
       "accuracy, and the best pairs; with `measured` (plan files of the placements already "
-      "measured) the grid's placements ranked as the next one ('next'); the CLI's JSON as a dict");
+      "measured) the grid's placements ranked as the next one ('next'); the fixtures, offsets, "
+      "pruning, gauge (range and σ, mm), cup diameter and cell file as `plan`'s (the CLI's "
+      "flags); the CLI's JSON as a dict");
   h.def(
       "device_validation",
       [](const std::array<double, 3>& base_sides_mm, const std::array<double, 3>& tool_sides_mm,

@@ -116,19 +116,11 @@ const bool registered = register_bindings(10, [](py::module_& m) {
                           Vector6d::Zero(), require_solution};
         if (seed_deg) request.seed = joints_from_deg(*seed_deg, "ik seed");
         const IkReport result = inverse_kinematics(request);
-        py::list solutions;
-        for (const IkSolution& s : result.ik.solutions) {
-          py::dict d;
-          d["joints_deg"] = joints_to_deg(s.joints);
-          d["config"] = s.config.label();
-          d["wrist_singular"] = s.wrist_singular;
-          solutions.append(d);
-        }
-        py::dict out;
-        out["robot"] = result.robot;
-        out["status"] = to_string(result.ik.status);
-        out["method"] = result.ik.method;
-        out["solutions"] = solutions;
+        // ik_json's document (the CLI's), each solution's joints as an unrounded array.
+        py::dict out = json_to_python(ik_json(result));
+        py::list solutions = out["solutions"];
+        for (size_t k = 0; k < result.ik.solutions.size(); ++k)
+          solutions[k]["joints_deg"] = joints_to_deg(result.ik.solutions[k].joints);
         return out;
       },
       py::arg("robot"), py::arg("position_mm"), py::arg("quaternion_wxyz"),

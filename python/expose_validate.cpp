@@ -14,18 +14,13 @@
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
 #include "robcal/validate/class_statistics.hpp"
+#include "robcal/validate/error_statistics_json.hpp"
 #include "robcal/validate/validate_workflow.hpp"
 
 namespace py = pybind11;
 
 namespace robcal::python {
 namespace {
-
-py::dict statistics_dict(const ErrorStatistics& s) {
-  return py::dict(py::arg("count") = s.count, py::arg("mean") = s.mean, py::arg("std") = s.std,
-                  py::arg("mean_plus_3std") = s.mean_plus_3std(), py::arg("min") = s.min,
-                  py::arg("max") = s.max);
-}
 
 py::dict histogram_dict(const Histogram& h) {
   return py::dict(py::arg("lower") = h.lower, py::arg("upper") = h.upper,
@@ -106,9 +101,12 @@ const bool registered = register_bindings(60, [](py::module_& m) {
 
   m.def(
       "error_statistics",
-      [](const std::vector<double>& errors) { return statistics_dict(error_statistics(errors)); },
-      py::arg("errors"),
-      "count, mean, std (population), mean_plus_3std, min and max of absolute errors");
+      [](const std::vector<double>& errors, const std::string& unit) {
+        return json_to_python(error_statistics_json(error_statistics(errors), unit));
+      },
+      py::arg("errors"), py::arg("unit") = "mm",
+      "count, mean, std (population), mean_plus_3std, min and max of absolute errors, keyed "
+      "with their unit (mean_mm, ... or mean_deg, ... for unit='deg'), as validate's JSON");
 
   m.def(
       "pairwise_distance_errors",
@@ -121,14 +119,15 @@ const bool registered = register_bindings(60, [](py::module_& m) {
           py::gil_scoped_release release;
           r = pairwise_distance_errors(m, p, threads, bins);
         }
-        py::dict d = statistics_dict(r.stats);
+        py::dict d = json_to_python(error_statistics_json(r.stats, "mm"));
         d["pairs"] = r.stats.count;
         d["histogram"] = histogram_dict(r.histogram);
         return d;
       },
       py::arg("measured_mm"), py::arg("modelled_mm"), py::arg("threads") = 2, py::arg("bins") = 128,
       "Distance errors | |m_i − m_j| − |p_i − p_j| | over every pair of rows (N×3 arrays, mm): "
-      "count (= pairs), mean, std, min, max, histogram; the same for any thread count");
+      "count (= pairs), mean_mm, std_mm, mean_plus_3std_mm, min_mm, max_mm, histogram; the same "
+      "for any thread count");
 
   m.def(
       "validate",

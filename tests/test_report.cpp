@@ -22,6 +22,7 @@
 #include "robcal/report/report.hpp"
 #include "robcal/report/report_workflow.hpp"
 #include "robcal/validate/base_fit.hpp"
+#include "robcal/validate/error_statistics.hpp"
 #include "robcal/validate/validation.hpp"
 #include "test_support.hpp"
 #include "test_validate_support.hpp"
@@ -306,6 +307,35 @@ TEST(ReportJson, ClassesPairsIsoBallbarAndProvenance) {
   EXPECT_EQ(report["ballbar"][0]["positive_share"], 1.0);
   EXPECT_EQ(report["provenance"]["instrument_sigma_mm"], 0.022);
   EXPECT_EQ(report["provenance"]["files"][0]["sha256"].get<std::string>().size(), 64u);
+}
+
+// The page's tables read the statistics' unit-bearing keys (error_statistics_json): every cell of
+// the orientation and by-class tables shows the number, "no data" only for an empty class.
+TEST(ReportHtml, TablesShowTheStatisticsNumbers) {
+  ReportData data = reference_report();
+  for (ModelErrors& m : data.models)
+    for (size_t r = 0; r < m.errors_mm.size(); ++r)
+      m.orientation_deg.push_back(0.001 * static_cast<double>(r % 7 + 1));
+  const nlohmann::json report = report_json(data);
+  const std::string html = report_html(report, "");
+  const auto table = [&](const std::string& opening) {
+    const size_t at = html.find(opening);
+    EXPECT_NE(at, std::string::npos) << opening;
+    return at == std::string::npos ? "" : html.substr(at, html.find("</table>", at) - at);
+  };
+  const std::string orientation = table("<table id=\"orientation\">");
+  EXPECT_EQ(orientation.find("nodata"), std::string::npos);
+  const ErrorStatistics o = error_statistics(data.models[1].orientation_deg);
+  EXPECT_NE(orientation.find(fmt::format("<td>{:.4f}</td><td>{:.4f}</td><td>{:.4f}</td>", o.mean,
+                                         o.std, o.mean_plus_3std())),
+            std::string::npos);
+  // The front/back class table: "front" has every row, "back" none.
+  const std::string classes = table("<table class=\"classes\">");
+  const ErrorStatistics front = error_statistics(data.models[1].errors_mm);
+  EXPECT_NE(classes.find(fmt::format("<td>{}</td><td>{:.4f}</td><td>{:.4f}</td>", front.count,
+                                     front.mean, front.max)),
+            std::string::npos)
+      << classes;
 }
 
 TEST(ReportJson, ResidualsPerConfigurationAndPairsByClass) {

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "robcal/compensate/calibrated_ik.hpp"
+#include "robcal/identify/calibration_output.hpp"
 #include "robcal/identify/calibration_run.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/kinematics/forward_kinematics.hpp"
@@ -206,7 +207,7 @@ TEST(ShopData, OneTargetOnTheToolAxisPayloadFreeToolInMetres) {
     EXPECT_FALSE(r.robot.reason[i].empty()) << name;
   }
   // The model file records what was done.
-  const std::string yaml = calibrated_robot_to_yaml(r.robot, statistics_yaml(r));
+  const std::string yaml = calibrated_robot_to_yaml(r.robot, statistics_writer(r));
   EXPECT_NE(yaml.find("the gravity torque about axis 4 is below"), std::string::npos);
   EXPECT_NE(yaml.find("link5.theta, link6.a: only their combination"), std::string::npos);
   EXPECT_TRUE(r.noise_test.consistent) << r.noise_test.p_value;

@@ -17,6 +17,7 @@
 #include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/validate/ballbar_error.hpp"
 #include "robcal/validate/base_fit.hpp"
+#include "robcal/validate/error_statistics_json.hpp"
 #include "robcal/validate/validation.hpp"
 #include "test_support.hpp"
 
@@ -39,6 +40,23 @@ TEST(ValidateStatistics, HandComputed) {
   EXPECT_EQ(one.std, 0.0);
   EXPECT_EQ(error_statistics({}).count, 0u);
   EXPECT_EQ(error_statistics({}).mean, 0.0);
+}
+
+// The one JSON form: every key names its unit, and rounding applies only when asked for.
+TEST(ValidateStatistics, JsonKeysCarryTheUnit) {
+  const ErrorStatistics s = error_statistics(std::vector<double>{0.5, 1.5});
+  const nlohmann::json mm = error_statistics_json(s, "mm");
+  EXPECT_EQ(mm, (nlohmann::json{{"count", 2},
+                                {"mean_mm", 1.0},
+                                {"std_mm", 0.5},
+                                {"mean_plus_3std_mm", 2.5},
+                                {"min_mm", 0.5},
+                                {"max_mm", 1.5}}));
+  const nlohmann::json deg =
+      error_statistics_json(error_statistics(std::vector<double>{1.0 / 3}), "deg", 3);
+  EXPECT_EQ(deg["mean_deg"].get<double>(), 0.333);
+  EXPECT_EQ(deg["mean_plus_3std_deg"].get<double>(), 0.333);
+  EXPECT_FALSE(deg.contains("mean_mm"));
 }
 
 TEST(ValidateHistogram, BinsClampAndMerge) {

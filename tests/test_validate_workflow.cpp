@@ -63,10 +63,10 @@ TEST(ValidateWorkflow, FileRequestEqualsTheLoadedCallAndItsPieces) {
                      options.calibration_mm);
   const nlohmann::json j = validate_json(from_files);
   EXPECT_EQ(j["points"], 1000);
-  EXPECT_DOUBLE_EQ(j["position_error_mm"]["mean"], direct.positions.position_mm.mean);
-  EXPECT_DOUBLE_EQ(j["position_error_mm"]["mean_plus_3std"],
+  EXPECT_DOUBLE_EQ(j["position_error_mm"]["mean_mm"], direct.positions.position_mm.mean);
+  EXPECT_DOUBLE_EQ(j["position_error_mm"]["mean_plus_3std_mm"],
                    direct.positions.position_mm.mean + 3 * direct.positions.position_mm.std);
-  EXPECT_DOUBLE_EQ(j["distance_error_mm"]["max"], direct.distances.stats.max);
+  EXPECT_DOUBLE_EQ(j["distance_error_mm"]["max_mm"], direct.distances.stats.max);
   EXPECT_EQ(j["distance_error_mm"]["pairs"], 1000 * 999 / 2);
   EXPECT_EQ(j["classes"].back()["table"], "region");
 }

@@ -492,13 +492,15 @@ def read_measurements(path: str, tool_file: str) -> Dict[str, Any]:
     """Reads a measurement CSV; returns Measurements.to_dict() of it."""
 
 
-def error_statistics(errors: Sequence[float]) -> Dict[str, float]:
-    """count, mean, std (population), mean_plus_3std, min and max of absolute errors."""
+def error_statistics(errors: Sequence[float], unit: str = "mm") -> Dict[str, float]:
+    """count, mean, std (population), mean_plus_3std, min and max of absolute errors, keyed
+    with their unit as in validate's JSON: mean_mm, ... (or mean_deg, ... for unit="deg")."""
 
 
 def pairwise_distance_errors(measured_mm: ArrayLike, modelled_mm: ArrayLike, threads: int = 2,
                              bins: int = 128) -> Dict[str, Any]:
-    """Distance errors over every pair of rows (N×3 arrays, mm), with a histogram."""
+    """Distance errors over every pair of rows (N×3 arrays, mm): count (= pairs), mean_mm,
+    std_mm, mean_plus_3std_mm, min_mm, max_mm and a histogram."""
 
 
 def validate(robot: str, tool_file: str, measurements: str, model: str = "",

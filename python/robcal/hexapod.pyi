@@ -46,6 +46,14 @@ def solve_dkp(base_sides_mm: Sequence[float], tool_sides_mm: Sequence[float],
     ρ11, ρ12, ρ21, ρ22, ρ23, ρ31."""
 
 
+def solve_four_cup_dkp(base_mm: Sequence[float], tool_mm: Sequence[float],
+                       legs: Sequence[Tuple[int, int, float]]) -> Dict[str, Any]:
+    """`robcal hexapod dkp` with a fourth cup: the least-squares cup positions (base fixture
+    frame, mm) from the fixtures' distances (d12, d23, d31, and d14, d24, d34 for a fourth cup)
+    and the legs as (base cup, tool cup, length mm) with cups 1..4; the CLI's JSON as a dict
+    (docs/method/07-hexapod.md §7); InputError naming the bad argument."""
+
+
 def leg_lengths(base_cups: npt.ArrayLike, tool_cups: npt.ArrayLike) -> List[float]:
     """The six legs of design 1^12 2^123 3^1."""
 
@@ -106,10 +114,17 @@ def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, fl
 def place(robot: str = "fanuc-lrmate200ic", x_mm: Sequence[float] = ..., y_mm: Sequence[float] = ...,
           z_mm: Sequence[float] = ..., yaw_deg: Sequence[float] = ...,
           tilt_deg: Sequence[float] = ..., level: str = "kinematic", validation: int = 2000,
-          seed: int = 1, best: int = 5, measured: Sequence[str] = ...) -> Dict[str, Any]:
+          seed: int = 1, best: int = 5, measured: Sequence[str] = ...,
+          base_sides_mm: Sequence[float] = ..., tool_sides_mm: Sequence[float] = ...,
+          leg_mm: float = 300.0, tool_offset_mm: float = 100.0, ball_offset_mm: float = 100.0,
+          table_z_mm: float = 0.0, angle_deg: float = 30.0, distance_mm: float = 50.0,
+          gauge_range_mm: float = ..., gauge_sigma_mm: float = ..., cup_diameter_mm: float = ...,
+          cell: Optional[str] = None) -> Dict[str, Any]:
     """Placement search (`robcal hexapod place`): the grid's placements ranked by predicted
     accuracy, and the best pairs; with `measured` (plan files of the placements already
-    measured) the grid's placements ranked as the next one ('next'); the CLI's JSON as a dict."""
+    measured) the grid's placements ranked as the next one ('next'); the fixtures, offsets,
+    pruning, gauge (range and σ, mm), cup diameter and cell file as plan()'s (the CLI's flags);
+    the CLI's JSON as a dict."""
 
 
 def device_validation(base_sides_mm: Tuple[float, float, float] = ...,

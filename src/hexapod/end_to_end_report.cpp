@@ -3,20 +3,14 @@
 #include <nlohmann/json.hpp>
 
 #include "robcal/core/rounding.hpp"
+#include "robcal/validate/error_statistics_json.hpp"
 
 namespace robcal::hexapod {
 namespace {
 
-nlohmann::json statistics_json(const ErrorStatistics& s) {
-  return {{"count", s.count},
-          {"mean_mm", rounded(s.mean, 6)},
-          {"std_mm", rounded(s.std, 6)},
-          {"mean_plus_3std_mm", rounded(s.mean_plus_3std(), 6)},
-          {"max_mm", rounded(s.max, 6)}};
-}
-
 nlohmann::json figures_json(const ValidationFigures& f) {
-  return {{"absolute", statistics_json(f.absolute)}, {"pairs", statistics_json(f.pairs)}};
+  return {{"absolute", error_statistics_json(f.absolute, "mm", 6)},
+          {"pairs", error_statistics_json(f.pairs, "mm", 6)}};
 }
 
 nlohmann::json stage_json(const CalibrationStage& s) {

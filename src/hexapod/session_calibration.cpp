@@ -8,6 +8,7 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/rounding.hpp"
 #include "robcal/hexapod/measurement.hpp"
+#include "robcal/identify/calibration_output.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 
@@ -55,10 +56,7 @@ void fit_legs(const std::vector<SessionData>& placements, const RobotModel& mode
   stats["leg_fit"]["converged"] = fit.converged;
   stats["leg_fit"]["ballbar_length_offset_mm"] = fit.length_offset_mm;
   for (const std::string& h : fit.held) stats["leg_fit"]["held"].push_back(h);
-  YAML::Emitter emitter;
-  emitter.SetDoublePrecision(9);
-  emitter << stats;
-  out.model_file = calibrated_robot_to_yaml(out.robot, emitter.c_str());
+  out.model_file = calibrated_robot_to_yaml(out.robot, [&stats](YAML::Emitter& e) { e << stats; });
   out.legs = fit;
 }
 
@@ -135,7 +133,7 @@ SessionCalibration calibrate_sessions(const std::vector<SessionData>& placements
   // world even when its base is held (the relative model).
   r.robot.base_fitted = true;
   out.robot = r.robot;
-  out.model_file = calibrated_robot_to_yaml(r.robot, statistics_yaml(r));
+  out.model_file = calibrated_robot_to_yaml(r.robot, statistics_writer(r));
   out.identification = std::move(r);
   return out;
 }

@@ -1,5 +1,4 @@
 #include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <map>
@@ -246,64 +245,6 @@ double chi_square_upper_tail(double x, int dof) {
   const double nu = dof, v = 2.0 / (9.0 * nu);
   const double z = (std::cbrt(x / nu) - (1.0 - v)) / std::sqrt(v);
   return 0.5 * std::erfc(z / std::sqrt(2.0));
-}
-
-std::string statistics_yaml(const IdentificationResult& result) {
-  YAML::Emitter y;
-  y.SetDoublePrecision(9);
-  y << YAML::BeginMap;
-  y << YAML::Key << "converged" << YAML::Value << result.status.converged;
-  y << YAML::Key << "iterations" << YAML::Value << result.status.iterations;
-  y << YAML::Key << "solver_message" << YAML::Value << result.status.message;
-  y << YAML::Key << "residuals" << YAML::Value << result.residual_count;
-  y << YAML::Key << "identified" << YAML::Value << result.identified_count;
-  y << YAML::Key << "sigma_mm" << YAML::Value << result.sigma_mm;
-  y << YAML::Key << "start_rms_mm" << YAML::Value << result.start_rms_mm;
-  y << YAML::Key << "mean_mm" << YAML::Value << result.mean_mm;
-  y << YAML::Key << "rms_mm" << YAML::Value << result.rms_mm;
-  y << YAML::Key << "max_mm" << YAML::Value << result.max_mm;
-  if (result.noise_test.tested)
-    y << YAML::Key << "noise_test" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-      << "instrument_sigma_mm" << YAML::Value << result.noise_test.instrument_sigma_mm << YAML::Key
-      << "chi_square" << YAML::Value << result.noise_test.chi_square << YAML::Key << "dof"
-      << YAML::Value << result.noise_test.dof << YAML::Key << "p_value" << YAML::Value
-      << result.noise_test.p_value << YAML::EndMap;
-  if (!result.warnings.empty()) {
-    y << YAML::Key << "warnings" << YAML::Value << YAML::BeginSeq;
-    for (const std::string& w : result.warnings) y << w;
-    y << YAML::EndSeq;
-  }
-  y << YAML::Key << "condition_number" << YAML::Value << result.condition_number;
-  if (result.huber_scale_mm > 0)
-    y << YAML::Key << "huber_scale_mm" << YAML::Value << result.huber_scale_mm;
-  y << YAML::Key << "by_target" << YAML::Value << YAML::BeginSeq;
-  for (const auto& t : result.by_target)
-    y << YAML::Flow << YAML::BeginMap << YAML::Key << "target" << YAML::Value << t.target
-      << YAML::Key << "rows" << YAML::Value << t.rows << YAML::Key << "rms_mm" << YAML::Value
-      << t.rms_mm << YAML::Key << "max_mm" << YAML::Value << t.max_mm << YAML::EndMap;
-  y << YAML::EndSeq;
-  y << YAML::Key << "correlations" << YAML::Value << YAML::BeginSeq;
-  for (const auto& c : result.correlations)
-    y << YAML::Flow << YAML::BeginSeq << c.first << c.second << c.rho << YAML::EndSeq;
-  y << YAML::EndSeq;
-  y << YAML::Key << "suspected_outliers" << YAML::Value << YAML::BeginSeq;
-  for (const auto& o : result.outliers)
-    y << YAML::Flow << YAML::BeginMap << YAML::Key << "config" << YAML::Value << o.config
-      << YAML::Key << "line" << YAML::Value << o.line << YAML::Key << "residual_mm" << YAML::Value
-      << o.residual_mm << YAML::EndMap;
-  y << YAML::EndSeq;
-  const PredictedAccuracy& p = result.predicted;
-  y << YAML::Key << "predicted_position_error_mm" << YAML::Value << YAML::BeginMap;
-  y << YAML::Key << "configurations" << YAML::Value << p.configurations;
-  y << YAML::Key << "against_truth" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-    << "mean" << YAML::Value << p.mean_mm << YAML::Key << "rms" << YAML::Value << p.rms_mm
-    << YAML::Key << "max" << YAML::Value << p.max_mm << YAML::EndMap;
-  y << YAML::Key << "against_new_measurements" << YAML::Value << YAML::Flow << YAML::BeginMap
-    << YAML::Key << "mean" << YAML::Value << p.mean_vs_measurements_mm << YAML::Key << "rms"
-    << YAML::Value << p.rms_vs_measurements_mm << YAML::EndMap;
-  y << YAML::EndMap;
-  y << YAML::EndMap;
-  return y.c_str();
 }
 
 }  // namespace robcal

@@ -120,11 +120,18 @@ CalibratedRobot calibrated_robot_from(const yaml::Node& root) {
 
 std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
                                      const std::string& statistics_yaml) {
+  if (statistics_yaml.empty()) return calibrated_robot_to_yaml(robot, YamlWriter{});
+  return calibrated_robot_to_yaml(robot,
+                                  [&](YAML::Emitter& out) { out << YAML::Load(statistics_yaml); });
+}
+
+std::string calibrated_robot_to_yaml(const CalibratedRobot& robot, const YamlWriter& statistics,
+                                     const YamlWriter& new_record) {
   const auto& table = parameter_table();
   const ParameterVector nominal = robot.model.nominal();
   const bool has_covariance = robot.covariance.rows() == kParameterCount;
   YAML::Emitter out;
-  out.SetDoublePrecision(17);
+  out.SetDoublePrecision(kExactDigits);
   out << YAML::Comment(
       "robcal calibrated model: the robot, its tool and every parameter (mm, deg, rad/N·mm)");
   out << YAML::BeginMap;
@@ -188,12 +195,17 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
     }
     out << YAML::EndSeq;
   }
-  const std::string& statistics = statistics_yaml.empty() ? robot.statistics : statistics_yaml;
-  if (!statistics.empty())
-    out << YAML::Key << "statistics" << YAML::Value << YAML::Load(statistics);
-  if (!robot.reidentified.empty()) {
+  // The robot's statistics and records as read from its file are kept as they were written.
+  if (statistics) {
+    out << YAML::Key << "statistics" << YAML::Value;
+    statistics(out);
+  } else if (!robot.statistics.empty()) {
+    out << YAML::Key << "statistics" << YAML::Value << YAML::Load(robot.statistics);
+  }
+  if (!robot.reidentified.empty() || new_record) {
     out << YAML::Key << "reidentified" << YAML::Value << YAML::BeginSeq;
     for (const std::string& record : robot.reidentified) out << YAML::Load(record);
+    if (new_record) new_record(out);
     out << YAML::EndSeq;
   }
   out << YAML::EndMap;

@@ -3,49 +3,120 @@
 #include <yaml-cpp/yaml.h>
 
 #include "robcal/core/rounding.hpp"
+#include "robcal/identify/calibrated_robot_file.hpp"
 
 namespace robcal {
+
+void emit_statistics_entries(YAML::Emitter& y, const IdentificationResult& result) {
+  y.SetDoublePrecision(kStatisticsDigits);
+  y << YAML::Key << "converged" << YAML::Value << result.status.converged;
+  y << YAML::Key << "iterations" << YAML::Value << result.status.iterations;
+  y << YAML::Key << "solver_message" << YAML::Value << result.status.message;
+  y << YAML::Key << "residuals" << YAML::Value << result.residual_count;
+  y << YAML::Key << "identified" << YAML::Value << result.identified_count;
+  y << YAML::Key << "sigma_mm" << YAML::Value << result.sigma_mm;
+  y << YAML::Key << "start_rms_mm" << YAML::Value << result.start_rms_mm;
+  y << YAML::Key << "mean_mm" << YAML::Value << result.mean_mm;
+  y << YAML::Key << "rms_mm" << YAML::Value << result.rms_mm;
+  y << YAML::Key << "max_mm" << YAML::Value << result.max_mm;
+  if (result.noise_test.tested)
+    y << YAML::Key << "noise_test" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+      << "instrument_sigma_mm" << YAML::Value << result.noise_test.instrument_sigma_mm << YAML::Key
+      << "chi_square" << YAML::Value << result.noise_test.chi_square << YAML::Key << "dof"
+      << YAML::Value << result.noise_test.dof << YAML::Key << "p_value" << YAML::Value
+      << result.noise_test.p_value << YAML::EndMap;
+  if (!result.warnings.empty()) {
+    y << YAML::Key << "warnings" << YAML::Value << YAML::BeginSeq;
+    for (const std::string& w : result.warnings) y << w;
+    y << YAML::EndSeq;
+  }
+  y << YAML::Key << "condition_number" << YAML::Value << result.condition_number;
+  if (result.huber_scale_mm > 0)
+    y << YAML::Key << "huber_scale_mm" << YAML::Value << result.huber_scale_mm;
+  y << YAML::Key << "by_target" << YAML::Value << YAML::BeginSeq;
+  for (const auto& t : result.by_target)
+    y << YAML::Flow << YAML::BeginMap << YAML::Key << "target" << YAML::Value << t.target
+      << YAML::Key << "rows" << YAML::Value << t.rows << YAML::Key << "rms_mm" << YAML::Value
+      << t.rms_mm << YAML::Key << "max_mm" << YAML::Value << t.max_mm << YAML::EndMap;
+  y << YAML::EndSeq;
+  y << YAML::Key << "correlations" << YAML::Value << YAML::BeginSeq;
+  for (const auto& c : result.correlations)
+    y << YAML::Flow << YAML::BeginSeq << c.first << c.second << c.rho << YAML::EndSeq;
+  y << YAML::EndSeq;
+  y << YAML::Key << "suspected_outliers" << YAML::Value << YAML::BeginSeq;
+  for (const auto& o : result.outliers)
+    y << YAML::Flow << YAML::BeginMap << YAML::Key << "config" << YAML::Value << o.config
+      << YAML::Key << "line" << YAML::Value << o.line << YAML::Key << "residual_mm" << YAML::Value
+      << o.residual_mm << YAML::EndMap;
+  y << YAML::EndSeq;
+  const PredictedAccuracy& p = result.predicted;
+  y << YAML::Key << "predicted_position_error_mm" << YAML::Value << YAML::BeginMap;
+  y << YAML::Key << "configurations" << YAML::Value << p.configurations;
+  y << YAML::Key << "against_truth" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+    << "mean" << YAML::Value << p.mean_mm << YAML::Key << "rms" << YAML::Value << p.rms_mm
+    << YAML::Key << "max" << YAML::Value << p.max_mm << YAML::EndMap;
+  y << YAML::Key << "against_new_measurements" << YAML::Value << YAML::Flow << YAML::BeginMap
+    << YAML::Key << "mean" << YAML::Value << p.mean_vs_measurements_mm << YAML::Key << "rms"
+    << YAML::Value << p.rms_vs_measurements_mm << YAML::EndMap;
+  y << YAML::EndMap;
+  y.SetDoublePrecision(kExactDigits);
+}
+
+YamlWriter statistics_writer(const IdentificationResult& result) {
+  return [&result](YAML::Emitter& out) {
+    out << YAML::BeginMap;
+    emit_statistics_entries(out, result);
+    out << YAML::EndMap;
+  };
+}
+
 namespace {
 
-/// The statistics map: the fit's, then the cross-validation, the problems and the provenance.
-std::string statistics_of(const IdentificationResult& result, const CrossValidation* cv,
-                          const std::vector<std::string>& problems, const Provenance* provenance) {
-  YAML::Node statistics = YAML::Load(statistics_yaml(result));
-  if (cv) {
-    YAML::Node node = statistics["cross_validation"];
-    node["folds"] = cv->folds;
-    node["seed"] = cv->seed;
-    node["mean_mm"] = cv->mean_mm;
-    node["std_mm"] = cv->std_mm;
-    node["max_mm"] = cv->max_mm;
+/// Re-identified values' digits in the record (12: their σ is far above the last one).
+constexpr int kReidentifiedDigits = 12;
+
+/// The statistics map: the fit's, then the cross-validation, the provenance and the problems.
+void emit_statistics(YAML::Emitter& out, const IdentificationResult& result,
+                     const CrossValidation* cv, const std::vector<std::string>& problems,
+                     const Provenance* provenance) {
+  out << YAML::BeginMap;
+  emit_statistics_entries(out, result);
+  out.SetDoublePrecision(kExactDigits);
+  if (cv)
+    out << YAML::Key << "cross_validation" << YAML::Value << YAML::BeginMap << YAML::Key << "folds"
+        << YAML::Value << cv->folds << YAML::Key << "seed" << YAML::Value << cv->seed << YAML::Key
+        << "mean_mm" << YAML::Value << cv->mean_mm << YAML::Key << "std_mm" << YAML::Value
+        << cv->std_mm << YAML::Key << "max_mm" << YAML::Value << cv->max_mm << YAML::EndMap;
+  if (provenance) {
+    out << YAML::Key << "provenance" << YAML::Value;
+    emit_provenance(out, *provenance);
   }
-  if (provenance) statistics["provenance"] = YAML::Load(provenance_yaml(*provenance));
-  if (!problems.empty()) statistics["problems"] = problems;
-  YAML::Emitter emitter;
-  emitter.SetDoublePrecision(9);
-  emitter << statistics;
-  return emitter.c_str();
+  if (!problems.empty()) out << YAML::Key << "problems" << YAML::Value << problems;
+  out << YAML::EndMap;
 }
 
 std::string model_file(const IdentificationResult& result, const CrossValidation* cv,
                        const std::vector<std::string>& problems, const Provenance* provenance) {
-  const std::string statistics = statistics_of(result, cv, problems, provenance);
+  const YamlWriter statistics = [&](YAML::Emitter& out) {
+    emit_statistics(out, result, cv, problems, provenance);
+  };
   if (!result.reidentification) return calibrated_robot_to_yaml(result.robot, statistics);
-  const Reidentification& what = *result.reidentification;
-  YAML::Emitter record;
-  record.SetDoublePrecision(12);
-  record << YAML::BeginMap << YAML::Key << "what" << YAML::Value << what.what;
-  record << YAML::Key << "values" << YAML::Value << YAML::BeginSeq;
-  for (const ReidentifiedValue& v : what.values)
-    record << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << v.name
-           << YAML::Key << "unit" << YAML::Value << v.unit << YAML::Key << "before" << YAML::Value
-           << v.before << YAML::Key << "value" << YAML::Value << v.value << YAML::Key << "std"
-           << YAML::Value << v.std_dev << YAML::EndMap;
-  record << YAML::EndSeq;
-  record << YAML::Key << "statistics" << YAML::Value << YAML::Load(statistics) << YAML::EndMap;
-  CalibratedRobot robot = result.robot;
-  robot.reidentified.emplace_back(record.c_str());
-  return calibrated_robot_to_yaml(robot);
+  // A re-identification keeps the model's statistics and records this fit in a new record.
+  const YamlWriter record = [&](YAML::Emitter& out) {
+    const Reidentification& what = *result.reidentification;
+    out.SetDoublePrecision(kReidentifiedDigits);
+    out << YAML::BeginMap << YAML::Key << "what" << YAML::Value << what.what;
+    out << YAML::Key << "values" << YAML::Value << YAML::BeginSeq;
+    for (const ReidentifiedValue& v : what.values)
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << v.name
+          << YAML::Key << "unit" << YAML::Value << v.unit << YAML::Key << "before" << YAML::Value
+          << v.before << YAML::Key << "value" << YAML::Value << v.value << YAML::Key << "std"
+          << YAML::Value << v.std_dev << YAML::EndMap;
+    out << YAML::EndSeq << YAML::Key << "statistics" << YAML::Value;
+    statistics(out);
+    out << YAML::EndMap;
+  };
+  return calibrated_robot_to_yaml(result.robot, {}, record);
 }
 
 }  // namespace

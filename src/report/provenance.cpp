@@ -134,12 +134,11 @@ nlohmann::json provenance_json(const Provenance& p) {
   return out;
 }
 
-std::string provenance_yaml(const Provenance& p) {
-  YAML::Emitter out;
+void emit_provenance(YAML::Emitter& out, const Provenance& p) {
   out << YAML::BeginMap;
   out << YAML::Key << "robcal_version" << YAML::Value << p.robcal_version;
   out << YAML::Key << "date_utc" << YAML::Value << p.date_utc;
-  out << YAML::Key << "command_line" << YAML::Value << YAML::DoubleQuoted << p.command_line;
+  out << YAML::Key << "command_line" << YAML::Value << p.command_line;
   out << YAML::Key << "robot" << YAML::Value << p.robot;
   out << YAML::Key << "level" << YAML::Value << p.level;
   if (!p.instrument.empty()) out << YAML::Key << "instrument" << YAML::Value << p.instrument;
@@ -149,10 +148,9 @@ std::string provenance_yaml(const Provenance& p) {
   out << YAML::Key << "files" << YAML::Value << YAML::BeginSeq;
   for (const ProvenanceFile& f : p.files)
     out << YAML::BeginMap << YAML::Key << "role" << YAML::Value << f.role << YAML::Key << "path"
-        << YAML::Value << YAML::DoubleQuoted << f.path << YAML::Key << "sha256" << YAML::Value
-        << f.sha256 << YAML::EndMap;
+        << YAML::Value << f.path << YAML::Key << "sha256" << YAML::Value << f.sha256
+        << YAML::EndMap;
   out << YAML::EndSeq << YAML::EndMap;
-  return out.c_str();
 }
 
 }  // namespace robcal

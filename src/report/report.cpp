@@ -16,6 +16,7 @@
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/kinematics/inverse_kinematics.hpp"
 #include "robcal/validate/error_statistics.hpp"
+#include "robcal/validate/error_statistics_json.hpp"
 #include "robcal/validate/histogram.hpp"
 #include "robcal/validate/position_error.hpp"
 #include "robcal/validate/validation.hpp"
@@ -28,12 +29,7 @@ constexpr int kHistogramBins = 20;
 constexpr size_t kResidualRowsShown = 20;  ///< rows of the residual table on the page
 
 nlohmann::json summary_json(std::span<const double> errors) {
-  const ErrorStatistics s = error_statistics(errors);
-  return {{"count", s.count},
-          {"mean_mm", s.mean},
-          {"std_mm", s.std},
-          {"mean_plus_3std_mm", s.mean_plus_3std()},
-          {"max_mm", s.max}};
+  return error_statistics_json(error_statistics(errors), "mm");
 }
 
 /// The rows of several points or poses sets as one set (InputError when the kinds differ).
@@ -52,22 +48,19 @@ MeasurementSet joined(const std::vector<MeasurementSet>& sets) {
   return out;
 }
 
-/// Summary of a class: "no data" for an empty one.
-nlohmann::json class_summary_json(const ErrorStatistics& s) {
+/// Summary of a class in `unit`: "no data" for an empty one.
+nlohmann::json class_summary_json(const ErrorStatistics& s, std::string_view unit) {
   if (s.count == 0) return {{"count", 0}, {"status", "no data"}};
-  return {{"count", s.count},
-          {"mean", s.mean},
-          {"std", s.std},
-          {"mean_plus_3std", s.mean_plus_3std()},
-          {"max", s.max}};
+  return error_statistics_json(s, unit);
 }
 
 /// Pair distance errors (absolute and signed); fewer than two rows: {count 0, "no data"}.
 nlohmann::json pairs_json(const PairwiseDistanceErrors& pairs) {
   if (pairs.stats.count == 0) return {{"count", 0}, {"status", "no data"}};
-  return {{"count", pairs.stats.count},          {"mean_mm", pairs.stats.mean},
-          {"std_mm", pairs.stats.std},           {"max_mm", pairs.stats.max},
-          {"signed_mean_mm", pairs.signed_mean}, {"positive_share", pairs.positive_share()}};
+  nlohmann::json out = error_statistics_json(pairs.stats, "mm");
+  out["signed_mean_mm"] = pairs.signed_mean;
+  out["positive_share"] = pairs.positive_share();
+  return out;
 }
 
 /// Every validation row with its name, target, class and each model's errors.
@@ -104,7 +97,7 @@ nlohmann::json ballbar_classes_json(const std::vector<ClassTable>& tables) {
   for (const ClassTable& t : tables) {
     nlohmann::json rows = nlohmann::json::array();
     for (const ClassRow& r : t.rows)
-      rows.push_back({{"class", r.label}, {"length_mm", class_summary_json(r.position_mm)}});
+      rows.push_back({{"class", r.label}, {"length_mm", class_summary_json(r.position_mm, "mm")}});
     out.push_back({{"table", t.name}, {"rows", rows}});
   }
   return out;
@@ -482,10 +475,10 @@ std::string orientation_html(const nlohmann::json& models) {
   for (const auto& m : models)
     if (m.contains("orientation_deg")) {
       const auto& o = m["orientation_deg"];
-      rows +=
-          fmt::format("<tr><td>{}</td><td>{}</td>{}{}{}{}</tr>\n",
-                      html_escape(m["label"].get<std::string>()), o["count"].get<uint64_t>(),
-                      cell(o, "mean"), cell(o, "std"), cell(o, "mean_plus_3std"), cell(o, "max"));
+      rows += fmt::format("<tr><td>{}</td><td>{}</td>{}{}{}{}</tr>\n",
+                          html_escape(m["label"].get<std::string>()), o["count"].get<uint64_t>(),
+                          cell(o, "mean_deg"), cell(o, "std_deg"), cell(o, "mean_plus_3std_deg"),
+                          cell(o, "max_deg"));
     }
   if (rows.empty()) return "";
   return "<h3>Orientation error (deg)</h3>\n<table id=\"orientation\"><thead><tr><th>model</th>"
@@ -526,12 +519,12 @@ std::string by_class_html(const nlohmann::json& groups, const std::vector<std::s
   return out;
 }
 
-/// Rows, mean and max of a class summary (`key` of the row).
+/// Rows, mean and max (mm) of a class summary (`key` of the row).
 std::function<std::string(const nlohmann::json&)> count_mean_max(const char* key) {
   return [key](const nlohmann::json& row) {
     const auto& s = row[key];
-    return fmt::format("<td>{}</td>{}{}", s["count"].get<uint64_t>(), cell(s, "mean"),
-                       cell(s, "max"));
+    return fmt::format("<td>{}</td>{}{}", s["count"].get<uint64_t>(), cell(s, "mean_mm"),
+                       cell(s, "max_mm"));
   };
 }
 
@@ -804,21 +797,16 @@ nlohmann::json report_json(const ReportData& data) {
     model["histogram"] = {{"lower_mm", h.lower}, {"upper_mm", h.upper}, {"counts", h.counts}};
     model["errors_mm"] = m.errors_mm;
     if (!m.orientation_deg.empty()) {
-      const ErrorStatistics o = error_statistics(m.orientation_deg);
-      model["orientation_deg"] = {{"count", o.count},
-                                  {"mean", o.mean},
-                                  {"std", o.std},
-                                  {"mean_plus_3std", o.mean_plus_3std()},
-                                  {"max", o.max}};
+      model["orientation_deg"] = error_statistics_json(error_statistics(m.orientation_deg), "deg");
     }
     model["classes"] = nlohmann::json::array();
     for (const ClassTable& t : m.classes) {
       nlohmann::json rows = nlohmann::json::array();
       for (const ClassRow& r : t.rows) {
         nlohmann::json row = {{"class", r.label},
-                              {"position_mm", class_summary_json(r.position_mm)}};
+                              {"position_mm", class_summary_json(r.position_mm, "mm")}};
         if (!m.orientation_deg.empty())
-          row["orientation_deg"] = class_summary_json(r.orientation_deg);
+          row["orientation_deg"] = class_summary_json(r.orientation_deg, "deg");
         if (r.pairs) row["pairs"] = pairs_json(*r.pairs);
         rows.push_back(row);
       }
@@ -856,17 +844,16 @@ nlohmann::json report_json(const ReportData& data) {
   out["provenance"] = provenance_json(data.provenance);
   out["iso9283"] = data.iso9283 ? iso9283_json(*data.iso9283) : nlohmann::json(nullptr);
   out["ballbar"] = nlohmann::json::array();
-  for (const auto& [label, b] : data.ballbar)
-    out["ballbar"].push_back({{"label", label},
-                              {"count", b.absolute_mm.count},
-                              {"mean_mm", b.absolute_mm.mean},
-                              {"std_mm", b.absolute_mm.std},
-                              {"max_mm", b.absolute_mm.max},
-                              {"signed_mean_mm", b.signed_mean_mm},
-                              {"positive_share", b.positive_share},
-                              {"centre_mm", {b.centre_mm.x(), b.centre_mm.y(), b.centre_mm.z()}},
-                              {"centre", b.centre_fitted ? "identified" : "given"},
-                              {"classes", ballbar_classes_json(b.classes)}});
+  for (const auto& [label, b] : data.ballbar) {
+    nlohmann::json entry = error_statistics_json(b.absolute_mm, "mm");
+    entry.update({{"label", label},
+                  {"signed_mean_mm", b.signed_mean_mm},
+                  {"positive_share", b.positive_share},
+                  {"centre_mm", {b.centre_mm.x(), b.centre_mm.y(), b.centre_mm.z()}},
+                  {"centre", b.centre_fitted ? "identified" : "given"},
+                  {"classes", ballbar_classes_json(b.classes)}});
+    out["ballbar"].push_back(entry);
+  }
   if (!data.ballbar.empty())
     out["ballbar_range"] = {
         {"nominal_length_mm", data.ballbar_range.nominal_length_mm},

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "robcal/identify/calibration_output.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/report/report_workflow.hpp"
@@ -38,7 +39,7 @@ void write_demo_files(const DemoResult& result, const Tool& tool, const TrueRobo
                         calibrated_robot_to_yaml(campaign.nominal));
   for (const LevelOutcome& level : campaign.levels)
     write_file_atomically(out / "models" / (std::string(level_name(level.level)) + ".yaml"),
-                          calibrated_robot_to_yaml(level.fit.robot, statistics_yaml(level.fit)));
+                          calibrated_robot_to_yaml(level.fit.robot, statistics_writer(level.fit)));
   // The report from the files just written, as `robcal report` builds it: provenance (every
   // input's SHA-256, instrument, seed) and the classes by region of the calibration set.
   ReportRequest report;

@@ -11,6 +11,7 @@
 #include "robcal/io/robot_file.hpp"
 #include "robcal/measure/tcp_warning.hpp"
 #include "robcal/validate/base_fit.hpp"
+#include "robcal/validate/error_statistics_json.hpp"
 
 namespace robcal {
 namespace {
@@ -41,18 +42,10 @@ CalibratedRobot load_model(const ValidateRequest& request, std::vector<std::stri
   return robot;
 }
 
-nlohmann::json statistics_json(const ErrorStatistics& s) {
-  return {{"mean", s.mean},
-          {"std", s.std},
-          {"mean_plus_3std", s.mean_plus_3std()},
-          {"min", s.min},
-          {"max", s.max}};
-}
-
 nlohmann::json per_target_json(const std::vector<TargetErrorStatistics>& targets) {
   nlohmann::json out = nlohmann::json::array();
   for (const TargetErrorStatistics& t : targets) {
-    nlohmann::json entry = statistics_json(t.position_mm);
+    nlohmann::json entry = error_statistics_json(t.position_mm, "mm");
     entry["target"] = t.target;
     entry["rows"] = t.position_mm.count;
     out.push_back(entry);
@@ -64,10 +57,10 @@ nlohmann::json histogram_json(const Histogram& h) {
   return {{"lower", h.lower}, {"upper", h.upper}, {"counts", h.counts}};
 }
 
-/// A class's statistics; a class without rows is {"rows": 0, "status": "no data"}.
-nlohmann::json class_statistics_json(const ErrorStatistics& s) {
+/// A class's statistics in `unit`; a class without rows is {"rows": 0, "status": "no data"}.
+nlohmann::json class_statistics_json(const ErrorStatistics& s, std::string_view unit) {
   if (s.count == 0) return {{"rows", 0}, {"status", "no data"}};
-  nlohmann::json out = statistics_json(s);
+  nlohmann::json out = error_statistics_json(s, unit);
   out["rows"] = s.count;
   return out;
 }
@@ -75,9 +68,9 @@ nlohmann::json class_statistics_json(const ErrorStatistics& s) {
 /// Pair distance errors inside a class; fewer than two rows: {"pairs": 0, "status": "no data"}.
 nlohmann::json class_pairs_json(const PairwiseDistanceErrors& pairs) {
   if (pairs.stats.count == 0) return {{"pairs", 0}, {"status", "no data"}};
-  nlohmann::json out = statistics_json(pairs.stats);
+  nlohmann::json out = error_statistics_json(pairs.stats, "mm");
   out["pairs"] = pairs.stats.count;
-  out["signed_mean"] = pairs.signed_mean;
+  out["signed_mean_mm"] = pairs.signed_mean;
   out["positive_share"] = pairs.positive_share();
   return out;
 }
@@ -88,8 +81,9 @@ nlohmann::json classes_json(const std::vector<ClassTable>& tables, bool poses,
   for (const ClassTable& t : tables) {
     nlohmann::json rows = nlohmann::json::array();
     for (const ClassRow& r : t.rows) {
-      nlohmann::json row = {{"class", r.label}, {error_key, class_statistics_json(r.position_mm)}};
-      if (poses) row["orientation_error_deg"] = class_statistics_json(r.orientation_deg);
+      nlohmann::json row = {{"class", r.label},
+                            {error_key, class_statistics_json(r.position_mm, "mm")}};
+      if (poses) row["orientation_error_deg"] = class_statistics_json(r.orientation_deg, "deg");
       if (r.pairs) row["distance_error_mm"] = class_pairs_json(*r.pairs);
       rows.push_back(row);
     }
@@ -103,9 +97,9 @@ nlohmann::json ballbar_json(const ValidateResult& result) {
   nlohmann::json out;
   out["rows"] = result.rows;
   out["kind"] = measurement_kind_name(result.kind);
-  out["length_error_mm"] = statistics_json(errors.absolute_mm);
-  out["length_error_mm"]["signed_mean"] = errors.signed_mean_mm;
-  out["length_error_mm"]["signed_std"] = errors.signed_std_mm;
+  out["length_error_mm"] = error_statistics_json(errors.absolute_mm, "mm");
+  out["length_error_mm"]["signed_mean_mm"] = errors.signed_mean_mm;
+  out["length_error_mm"]["signed_std_mm"] = errors.signed_std_mm;
   out["length_error_mm"]["positive_share"] = errors.positive_share;
   out["length_error_histogram_mm"] = histogram_json(result.ballbar_histogram);
   out["ballbar_centre_mm"] = {errors.centre_mm.x(), errors.centre_mm.y(), errors.centre_mm.z()};
@@ -223,18 +217,18 @@ nlohmann::json validate_json(const ValidateResult& result) {
   const bool poses = result.kind == MeasurementKind::Poses;
   nlohmann::json out;
   out["points"] = result.rows;
-  out["position_error_mm"] = statistics_json(positions.position_mm);
-  out["distance_error_mm"] = statistics_json(distances.stats);
+  out["position_error_mm"] = error_statistics_json(positions.position_mm, "mm");
+  out["distance_error_mm"] = error_statistics_json(distances.stats, "mm");
   out["distance_error_mm"]["pairs"] = distances.stats.count;
   out["distance_error_mm"]["histogram"] = histogram_json(distances.histogram);
   out["position_histogram_mm"] = histogram_json(report.position_histogram);
-  out["distance_error_mm"]["signed_mean"] = distances.signed_mean;
+  out["distance_error_mm"]["signed_mean_mm"] = distances.signed_mean;
   out["distance_error_mm"]["positive_share"] = distances.positive_share();
   out["per_target"] = per_target_json(positions.per_target);
   out["classes"] = classes_json(report.classes, poses);
   if (poses) {
-    out["orientation_error_deg"] = statistics_json(positions.orientation_deg);
-    out["pose_error_mm"] = statistics_json(positions.pose_mm);
+    out["orientation_error_deg"] = error_statistics_json(positions.orientation_deg, "deg");
+    out["pose_error_mm"] = error_statistics_json(positions.pose_mm, "mm");
     out["orientation_weight_mm_per_rad"] = positions.orientation_weight_mm;
   }
   out.update({{"kind", measurement_kind_name(result.kind)},

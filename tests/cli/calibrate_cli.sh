@@ -136,7 +136,7 @@ awk -F, 'NR==1 {print; next} {printf "%s,%s,%s,%s,%s,%s,%s,%s,%.6f,%s,%s\n", $1,
 /usr/bin/python3 -c "
 import json, sys
 d = json.load(open('$TMP/moved.json'))
-assert d['position_error_mm']['mean'] < 0.1, d['position_error_mm']" || fail "base not re-registered"
+assert d['position_error_mm']['mean_mm'] < 0.1, d['position_error_mm']" || fail "base not re-registered"
 sed 's/"1": \[0.0, 0.0, 125.0\]/"1": [0.0, 0.0, 200.0]/' $REF/tool.yaml >"$TMP/other_tool.yaml"
 expect_error "another tool" "target '1' is at (0, 0, 200) mm here" validate --robot abb-irb120 \
   --tool "$TMP/other_tool.yaml" --model "$TMP/metres.yaml" --measurements $REF/validation.csv

@@ -69,11 +69,11 @@ PY
 for m in prelim final legs; do
   "$ROBCAL" validate --robot fanuc-lrmate200ic --tool "$tmp/tool.yaml" --model "$tmp/$m.yaml" \
     --measurements "$tmp/val.csv" --json > "$tmp/val_$m.json"
-  [ "$(json "$tmp/val_$m.json" "d['position_error_mm']['mean'] < 1.2 * 0.0351 and d['position_error_mm']['max'] < 0.15")" = True ]
+  [ "$(json "$tmp/val_$m.json" "d['position_error_mm']['mean_mm'] < 1.2 * 0.0351 and d['position_error_mm']['max_mm'] < 0.15")" = True ]
 done
 "$ROBCAL" validate --robot fanuc-lrmate200ic --tool "$tmp/tool.yaml" --fit-base \
   --measurements "$tmp/val.csv" --json > "$tmp/val_nominal.json"
-[ "$(json "$tmp/val_nominal.json" "d['position_error_mm']['mean'] > 0.5")" = True ]
+[ "$(json "$tmp/val_nominal.json" "d['position_error_mm']['mean_mm'] > 0.5")" = True ]
 
 # Errors exit with code 2 and name what is wrong; no output file is left behind.
 set +e
@@ -122,5 +122,5 @@ import json, sys
 t = sys.argv[1]
 for m in ("prelim", "final", "legs", "nominal"):
     d = json.load(open(f"{t}/val_{m}.json"))["position_error_mm"]
-    print(f"hexapod calibrate: {m} model, validation mean {d['mean']:.4f} max {d['max']:.4f} mm")
+    print(f"hexapod calibrate: {m} model, validation mean {d['mean_mm']:.4f} max {d['max_mm']:.4f} mm")
 PY

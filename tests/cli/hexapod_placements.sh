@@ -66,7 +66,7 @@ for m in both one; do
   "$ROBCAL" validate --robot fanuc-lrmate200ic --tool "$tmp/tool.yaml" --model "$tmp/$m.yaml" \
     --measurements "$tmp/val.csv" --json > "$tmp/val_$m.json"
   # At the tracker-noise floor (mean of |N(0, 0.022² I)| = 0.0351 mm).
-  [ "$(json "$tmp/val_$m.json" "d['position_error_mm']['mean'] < 1.2 * 0.0351")" = True ] ||
+  [ "$(json "$tmp/val_$m.json" "d['position_error_mm']['mean_mm'] < 1.2 * 0.0351")" = True ] ||
     fail "validation of $m: $(cat "$tmp/val_$m.json")"
 done
 
@@ -101,4 +101,4 @@ expect_refusal "$tmp/c (setting_ball): placement 2 overlaps placement 1 ($tmp/a)
 [ ! -e "$tmp/x.yaml" ]
 expect_refusal "(--measured): this placement overlaps the one of $tmp/a/plan.json" \
   "$ROBCAL" hexapod place --measured "$tmp/a/plan.json" --measured "$tmp/a/plan.json"
-echo "hexapod placements: two placements (one session killed and resumed) calibrate together; fit rms $(json "$tmp/both.json" "d['rms_mm']") mm, validation mean $(json "$tmp/val_both.json" "d['position_error_mm']['mean']") mm (one placement $(json "$tmp/val_one.json" "d['position_error_mm']['mean']"))"
+echo "hexapod placements: two placements (one session killed and resumed) calibrate together; fit rms $(json "$tmp/both.json" "d['rms_mm']") mm, validation mean $(json "$tmp/val_both.json" "d['position_error_mm']['mean_mm']") mm (one placement $(json "$tmp/val_one.json" "d['position_error_mm']['mean_mm']"))"

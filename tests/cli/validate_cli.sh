@@ -29,14 +29,14 @@ import json, sys
 one, two = (json.load(open(p)) for p in sys.argv[1:3])
 assert one["points"] == 1000, one["points"]
 pe = one["position_error_mm"]
-for key in ("mean", "std", "mean_plus_3std", "max"):
+for key in ("count", "mean_mm", "std_mm", "mean_plus_3std_mm", "min_mm", "max_mm"):
     assert key in pe, key
-assert abs(pe["mean_plus_3std"] - (pe["mean"] + 3 * pe["std"])) < 1e-12
+assert abs(pe["mean_plus_3std_mm"] - (pe["mean_mm"] + 3 * pe["std_mm"])) < 1e-12
 # Nominal IRB 120 placed by a rigid fit: millimetres off (docs/method/11-published-results.md: 1-5 mm).
-assert 0.8 < pe["mean"] < 3.5, pe
+assert 0.8 < pe["mean_mm"] < 3.5, pe
 de = one["distance_error_mm"]
 assert de["pairs"] == 1000 * 999 // 2, de["pairs"]
-for key in ("mean", "std", "max"):
+for key in ("mean_mm", "std_mm", "max_mm"):
     assert key in de, key
 assert sum(de["histogram"]["counts"]) == de["pairs"]
 assert len(de["histogram"]["counts"]) == 128
@@ -78,14 +78,14 @@ rows = sum(1 for line in open(sys.argv[3]) if line[0].isalnum()) - 1
 assert fitted["kind"] == "distances" and fitted["rows"] == rows, (fitted["rows"], rows)
 assert fitted["ballbar_centre"] == "identified" and given["ballbar_centre"] == "given"
 le = fitted["length_error_mm"]
-for key in ("mean", "std", "mean_plus_3std", "max", "signed_mean", "signed_std"):
+for key in ("mean_mm", "std_mm", "mean_plus_3std_mm", "max_mm", "signed_mean_mm", "signed_std_mm"):
     assert key in le, key
 # The nominal robot against the published truth: tenths of a millimetre, the least-squares centre
 # leaves no mean length error.
-assert 0.02 < le["mean"] < 1.0, le
-assert abs(le["signed_mean"]) < 0.1 * le["std"] + 1e-6, le
+assert 0.02 < le["mean_mm"] < 1.0, le
+assert abs(le["signed_mean_mm"]) < 0.1 * le["std_mm"] + 1e-6, le
 assert sum(le_count for le_count in fitted["length_error_histogram_mm"]["counts"]) == rows
-for key in ("mean", "std", "max", "signed_mean"):
+for key in ("mean_mm", "std_mm", "max_mm", "signed_mean_mm"):
     assert abs(given["length_error_mm"][key] - le[key]) < 1e-9, key
 # Every reading was checked against the bar: the median reading ± 1 mm by default.
 assert fitted["ballbar_range_mm"] == 1 and fitted["ballbar_length"] == "median of the readings"
@@ -151,9 +151,9 @@ assert a["position_error_mm"] == b["position_error_mm"]
 assert a["orientation_error_deg"] == b["orientation_error_deg"]
 # Each row's pose error lies between its position error and the hypotenuse with the largest
 # orientation error; a heavier weight gives a larger pose error.
-assert a["pose_error_mm"]["mean"] > b["pose_error_mm"]["mean"] > b["position_error_mm"]["mean"]
-bound = math.hypot(a["position_error_mm"]["max"], 100 * math.radians(a["orientation_error_deg"]["max"]))
-assert a["pose_error_mm"]["max"] <= bound + 1e-12
+assert a["pose_error_mm"]["mean_mm"] > b["pose_error_mm"]["mean_mm"] > b["position_error_mm"]["mean_mm"]
+bound = math.hypot(a["position_error_mm"]["max_mm"], 100 * math.radians(a["orientation_error_deg"]["max_deg"]))
+assert a["pose_error_mm"]["max_mm"] <= bound + 1e-12
 PY
 "$robcal" validate --robot abb-irb120 --tool "$tmp/cmm/tool.yaml" \
   --measurements "$tmp/cmm/measurements.csv" --fit-base --orientation-weight 50 >"$tmp/cmm.txt"
@@ -187,9 +187,9 @@ done
 python3 - "$tmp/base.json" "$tmp/full.json" <<'PY'
 import json, sys
 base, full = (json.load(open(p)) for p in sys.argv[1:3])
-assert 1.2 < base["position_error_mm"]["mean"] < 1.6, base["position_error_mm"]
-assert 0.028 < full["position_error_mm"]["mean"] < 0.045, full["position_error_mm"]
-assert full["position_error_mm"]["max"] < 0.15, full["position_error_mm"]
+assert 1.2 < base["position_error_mm"]["mean_mm"] < 1.6, base["position_error_mm"]
+assert 0.028 < full["position_error_mm"]["mean_mm"] < 0.045, full["position_error_mm"]
+assert full["position_error_mm"]["max_mm"] < 0.15, full["position_error_mm"]
 assert full["level"] == "full" and not full["base_fitted_to_measurements"]
 PY
 # The model file records where it came from: version, command, inputs with their SHA-256.
@@ -213,7 +213,7 @@ for name, rows in tables.items():
 back = tables["front/back"][1]
 assert back["class"] == "back" and back["position_error_mm"] == {"rows": 0, "status": "no data"}, back
 de = c["distance_error_mm"]
-assert 0 < de["positive_share"] < 1 and abs(de["signed_mean"]) <= de["mean"], de
+assert 0 < de["positive_share"] < 1 and abs(de["signed_mean_mm"]) <= de["mean_mm"], de
 # Pair distances by configuration class: the pairs with both rows in the class.
 for name in ("front/back", "up/down", "flip/no-flip"):
     for r in tables[name]:

@@ -336,8 +336,8 @@ def test_validate_classes_and_fitted_base():
     assert [t["table"] for t in p["classes"]][-1] == "region"
     errors = p["position_errors_mm"]
     assert errors.shape == (1000,)
-    assert p["position_error_mm"]["mean"] == pytest.approx(errors.mean(), rel=1e-13)
-    assert p["position_error_mm"]["max"] == errors.max()
+    assert p["position_error_mm"]["mean_mm"] == pytest.approx(errors.mean(), rel=1e-13)
+    assert p["position_error_mm"]["max_mm"] == errors.max()
 
 
 def test_validate_poses_pose_error(simulated):
@@ -351,7 +351,7 @@ def test_validate_poses_pose_error(simulated):
     # The pose error of each row, recomputed from its two parts (docs/method/09-validation.md).
     expected = np.hypot(p["position_errors_mm"], 50 * np.radians(p["orientation_errors_deg"]))
     np.testing.assert_allclose(p["pose_errors_mm"], expected, rtol=1e-12)
-    assert p["pose_error_mm"]["mean"] == pytest.approx(expected.mean(), rel=1e-12)
+    assert p["pose_error_mm"]["mean_mm"] == pytest.approx(expected.mean(), rel=1e-12)
 
 
 def test_validate_ballbar_file(simulated):
@@ -362,8 +362,8 @@ def test_validate_ballbar_file(simulated):
     assert same_document(c, p)
     assert p["kind"] == "distances" and p["ballbar_centre"] == "identified"
     e = p["length_errors_mm"]
-    assert p["length_error_mm"]["mean"] == pytest.approx(np.abs(e).mean(), rel=1e-12)
-    assert p["length_error_mm"]["signed_mean"] == pytest.approx(e.mean(), abs=1e-12)
+    assert p["length_error_mm"]["mean_mm"] == pytest.approx(np.abs(e).mean(), rel=1e-12)
+    assert p["length_error_mm"]["signed_mean_mm"] == pytest.approx(e.mean(), abs=1e-12)
     # The identified centre, given back, reproduces the same errors.
     given = robcal.validate("abb-irb120", tool, rows, ballbar_centre=p["ballbar_centre_mm"])
     assert given["ballbar_centre"] == "given"
@@ -454,3 +454,46 @@ def test_calibrate_guards_and_options(tmp_path):
     with pytest.raises(robcal.InputError, match="not written"):
         run.save(kuka)
     assert not os.path.exists(kuka)
+
+
+FOUR_CUP_BASE = [300, 299.999999969, 299.999999969, 183.303027808, 183.303027808, 183.303027744]
+FOUR_CUP_LEGS = [(1, 1, 300), (1, 2, 300), (2, 1, 300), (2, 2, 300), (2, 3, 300),
+                 (3, 1, 299.99999998), (4, 2, 243.541821319), (4, 3, 276.389661692)]
+
+
+def test_hexapod_four_cup_dkp():
+    # A fourth base cup 60 mm over the centroid, its two legs at the lengths of the three-cup
+    # configuration with every leg at 300 mm (tests/cli/hexapod_options.sh).
+    legs = ",".join(f"B{b}-T{t}={length}" for b, t, length in FOUR_CUP_LEGS)
+    c = cli_json("hexapod", "dkp", "--base-mm", ",".join(map(str, FOUR_CUP_BASE)), "--tool-mm",
+                 "150", "--legs", legs)
+    p = robcal.hexapod.solve_four_cup_dkp(FOUR_CUP_BASE, [150, 150, 150], FOUR_CUP_LEGS)
+    assert c == p
+    # Independently: the closed-form three-cup cascade on the same configuration.
+    three = robcal.hexapod.solve_dkp([300, 300, 300], [150, 150, 150], [300] * 6)[1]
+    first = p["solutions"][0]
+    assert first["rms_residual_mm"] < 1e-6
+    np.testing.assert_allclose(first["tool_cups_mm"], three, rtol=0, atol=1e-6)
+    with pytest.raises(robcal.InputError, match="legs"):
+        robcal.hexapod.solve_four_cup_dkp(FOUR_CUP_BASE, [150, 150, 150], [(5, 1, 300)])
+    with pytest.raises(robcal.InputError, match="base_mm"):
+        robcal.hexapod.solve_four_cup_dkp([300, 300], [150, 150, 150], FOUR_CUP_LEGS)
+
+
+def test_hexapod_place_with_cell_and_gauge(tmp_path):
+    cell = tmp_path / "cell.yaml"
+    cell.write_text("format: robcal-cell\nname: shelf above the fixture\n"
+                    "robot_base: {position_mm: [0, 0, 0], rotation_xyz_deg: [0, 0, 0]}\n"
+                    "instrument: {kind: laser-tracker, position_mm: [-2000, 0, 500]}\n"
+                    "floor_z_mm: -10\nlink_radius_mm: 40\nkeep_out:\n"
+                    "  - {name: shelf, min_mm: [300, -100, 650], max_mm: [600, 100, 900]}\n")
+    c = cli_json("hexapod", "place", "--x-mm", "450", "--y-mm", "0,200", "--z-mm", "300",
+                 "--validation", "200", "--best", "2", "--gauge-range-mm", "5",
+                 "--gauge-sigma-mm", "0.002", "--leg-mm", "302", "--cell", str(cell))
+    p = robcal.hexapod.place(x_mm=[450], y_mm=[0, 200], z_mm=[300], validation=200, best=2,
+                             gauge_range_mm=5, gauge_sigma_mm=0.002, leg_mm=302, cell=str(cell))
+    assert without_seconds(c) == without_seconds(p)
+    # The options reach the search: the default gauge and no cell give other predictions.
+    default = robcal.hexapod.place(x_mm=[450], y_mm=[0, 200], z_mm=[300], validation=200, best=2)
+    assert [r["predicted_mean_mm"] for r in default["ranked"]] != \
+        [r["predicted_mean_mm"] for r in p["ranked"]]

@@ -14,9 +14,9 @@ def test_example_calibrates_validates_and_plots(tmp_path, monkeypatch, capsys):
     g = runpy.run_path(os.path.join(ROOT, "examples", "calibrate_and_validate.py"))
     calibrated = g["calibrated"]["position_error_mm"]
     nominal = g["nominal"]["position_error_mm"]
-    assert calibrated["mean"] == pytest.approx(0.0343, abs=0.0005)
-    assert calibrated["max"] == pytest.approx(0.0812, abs=0.0005)
-    assert nominal["mean"] > 10 * calibrated["mean"]
+    assert calibrated["mean_mm"] == pytest.approx(0.0343, abs=0.0005)
+    assert calibrated["max_mm"] == pytest.approx(0.0812, abs=0.0005)
+    assert nominal["mean_mm"] > 10 * calibrated["mean_mm"]
     assert os.path.exists(tmp_path / "model.yaml")
     try:
         import matplotlib  # noqa: F401

@@ -36,10 +36,13 @@ def test_bad_file_raises_value_error_with_line_and_column(tmp_path):
 def test_error_statistics_by_hand():
     s = rc.error_statistics([1.0, 2.0, 3.0, 4.0])
     assert s["count"] == 4
-    assert s["mean"] == 2.5
-    assert s["std"] == pytest.approx(math.sqrt(1.25), abs=1e-15)
-    assert s["mean_plus_3std"] == pytest.approx(2.5 + 3 * math.sqrt(1.25), abs=1e-15)
-    assert (s["min"], s["max"]) == (1.0, 4.0)
+    assert s["mean_mm"] == 2.5
+    assert s["std_mm"] == pytest.approx(math.sqrt(1.25), abs=1e-15)
+    assert s["mean_plus_3std_mm"] == pytest.approx(2.5 + 3 * math.sqrt(1.25), abs=1e-15)
+    assert (s["min_mm"], s["max_mm"]) == (1.0, 4.0)
+    assert rc.error_statistics([0.5, 1.5], unit="deg") == {
+        "count": 2, "mean_deg": 1.0, "std_deg": 0.5, "mean_plus_3std_deg": 2.5,
+        "min_deg": 0.5, "max_deg": 1.5}
 
 
 def test_pairwise_matches_naive_loop_and_is_thread_independent():
@@ -55,9 +58,9 @@ def test_pairwise_matches_naive_loop_and_is_thread_independent():
     assert one == two
     assert one["pairs"] == len(naive) == 200 * 199 // 2
     # Each pair error is good to a relative 3e-7 (single-precision denominator).
-    assert one["mean"] == pytest.approx(np.mean(naive), rel=3e-7)
-    assert one["std"] == pytest.approx(np.std(naive), abs=6e-7 * np.mean(naive))
-    assert one["max"] == pytest.approx(max(naive), rel=3e-7)
+    assert one["mean_mm"] == pytest.approx(np.mean(naive), rel=3e-7)
+    assert one["std_mm"] == pytest.approx(np.std(naive), abs=6e-7 * np.mean(naive))
+    assert one["max_mm"] == pytest.approx(max(naive), rel=3e-7)
     assert sum(one["histogram"]["counts"]) == one["pairs"]
     assert one["histogram"]["upper"] >= max(naive)
     with pytest.raises(ValueError):
@@ -70,9 +73,9 @@ def test_validate_nominal_robot_with_fitted_base():
     r = rc.validate("abb-irb120", TOOL, str(DATA / "validation.csv"), fit_base=True)
     assert r["points"] == 1000
     errors = np.array(r["position_errors_mm"])
-    assert r["position_error_mm"]["mean"] == pytest.approx(errors.mean(), abs=1e-12)
-    assert r["position_error_mm"]["std"] == pytest.approx(errors.std(), abs=1e-12)
-    assert 0.8 < r["position_error_mm"]["mean"] < 3.5  # docs/method/11-published-results.md: 1–5 mm before calibration
+    assert r["position_error_mm"]["mean_mm"] == pytest.approx(errors.mean(), abs=1e-12)
+    assert r["position_error_mm"]["std_mm"] == pytest.approx(errors.std(), abs=1e-12)
+    assert 0.8 < r["position_error_mm"]["mean_mm"] < 3.5  # docs/method/11-published-results.md: 1–5 mm before calibration
     assert [t["target"] for t in r["per_target"]] == ["1", "2", "3"]
     assert r["distance_error_mm"]["pairs"] == 499500
 
@@ -87,7 +90,7 @@ def test_validate_takes_units_and_euler_like_calibrate(tmp_path):
     path = tmp_path / "validation_m.csv"
     path.write_text("\n".join(metres) + "\n")
     m = rc.validate("abb-irb120", TOOL, str(path), fit_base=True, units="m")
-    assert m["position_error_mm"]["mean"] == pytest.approx(mm["position_error_mm"]["mean"],
+    assert m["position_error_mm"]["mean_mm"] == pytest.approx(mm["position_error_mm"]["mean_mm"],
                                                            abs=1e-9)
     with pytest.raises(rc.InputError, match="--euler: 'ZZY' is not a rotation order"):
         rc.validate("abb-irb120", TOOL, str(path), fit_base=True, units="m", euler="ZZY")

@@ -7,10 +7,19 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "robcal/identify/calibrated_robot_file.hpp"
 #include "robcal/identify/calibration_run.hpp"
 #include "robcal/report/provenance.hpp"
 
 namespace robcal {
+
+/// Writes the fit statistics' entries into the map `out` has open (kStatisticsDigits), so that
+/// a caller can add its own entries to the same map.
+void emit_statistics_entries(YAML::Emitter& out, const IdentificationResult& result);
+
+/// The fit statistics as a map (calibrated_robot_to_yaml's `statistics`); `result` must
+/// outlive the writer.
+YamlWriter statistics_writer(const IdentificationResult& result);
 
 /// The model file. A fresh calibration writes its statistics (+ cross-validation, problems and
 /// `provenance` when given) under `statistics`; a re-identification (reidentify()) keeps the

@@ -201,7 +201,4 @@ struct IdentificationResult {
 IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
                                const MeasurementSet& data, const IdentifyOptions& options);
 
-/// The fit statistics as a YAML map (for calibrated_robot_to_yaml).
-std::string statistics_yaml(const IdentificationResult& result);
-
 }  // namespace robcal

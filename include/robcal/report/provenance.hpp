@@ -10,6 +10,10 @@
 #include <string_view>
 #include <vector>
 
+namespace YAML {  // NOLINT(readability-identifier-naming): yaml-cpp's namespace
+class Emitter;
+}
+
 namespace robcal {
 
 struct ProvenanceFile {
@@ -50,8 +54,8 @@ Provenance start_provenance_of_process();
 
 nlohmann::json provenance_json(const Provenance& provenance);
 
-/// The same as a YAML block map (what `robcal calibrate` writes under statistics.provenance
-/// of the model file).
-std::string provenance_yaml(const Provenance& provenance);
+/// The same as a YAML block map into `out` (what `robcal calibrate` writes under
+/// statistics.provenance of the model file).
+void emit_provenance(YAML::Emitter& out, const Provenance& provenance);
 
 }  // namespace robcal
