@@ -21,7 +21,7 @@ namespace {
 
 TEST(HexapodTripod, HandCaseAtOriginAndShifted) {
   // x = (1, 2, ±2) is 3, √17 and 3 from (0,0,0), (4,0,0), (0,4,0); k = +z.
-  for (const Eigen::Vector3d shift : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(10, -5, 3)}) {
+  for (const Eigen::Vector3d& shift : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(10, -5, 3)}) {
     const Eigen::Vector3d v1 = shift, v2 = Eigen::Vector3d(4, 0, 0) + shift,
                           v3 = Eigen::Vector3d(0, 4, 0) + shift;
     const auto up = tripod(v1, v2, v3, 3.0, std::sqrt(17.0), 3.0, +1);
@@ -239,7 +239,9 @@ TEST(HexapodPoses, PruningKeepsOnlyPosesFarFromEachOther) {
     }
     std::printf("72 poses, %zu kept after pruning at %.0f deg / %.0f mm (published set: 54)\n",
                 kept.size(), angle_deg, distance);
-    if (angle_deg > 55) EXPECT_LT(kept.size(), 72u);
+    if (angle_deg > 55) {
+      EXPECT_LT(kept.size(), 72u);
+    }
   }
   double closest = 4;
   for (size_t i = 0; i < poses.size(); ++i)
@@ -291,7 +293,9 @@ TEST(HexapodPoses, RotationOnlyNumberingNeedsAnOrientationRuleAbove30DegreesForF
   // The next-closest orientations are ≥ 38° apart: the rule keeps 54 for any angle in between.
   for (size_t i = 0; i < poses.size(); ++i)
     for (size_t j = i + 1; j < poses.size(); ++j)
-      if (angle(i, j) > closest + 1e-6) EXPECT_GT(angle(i, j), 37.5);
+      if (angle(i, j) > closest + 1e-6) {
+        EXPECT_GT(angle(i, j), 37.5);
+      }
   EXPECT_EQ(prune_redundant(poses, deg2rad(30), 50).size(), 72u);
   EXPECT_EQ(prune_redundant(poses, deg2rad(31), 150).size(), 54u);
   EXPECT_EQ(prune_redundant(poses, deg2rad(37), 1e6).size(), 54u);
