@@ -348,7 +348,7 @@ TEST(CampaignImport, MismatchedRowsAreRefusedNamingTheRows) {
                  "one of: delimiter, decimal, header, columns, roles, unit, angles)");
   EXPECT_REFUSED((void)parse_export_format("angles: {unit: deg, ordre: fixed-xyz}\n", "map.yaml"),
                  InputError,
-                 "map.yaml:1:22 (angles.ordre): unknown key 'ordre': did you mean 'order'?");
+                 "map.yaml:1:21 (angles.ordre): unknown key 'ordre': did you mean 'order'?");
 }
 
 TEST(CampaignImport, AGrowingExportGivesItsCompleteLinesOnly) {

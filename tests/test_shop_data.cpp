@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "refusal.hpp"
 #include "robcal/compensate/calibrated_ik.hpp"
 #include "robcal/identify/calibration_run.hpp"
 #include "robcal/io/measurement_file.hpp"
