@@ -341,14 +341,14 @@ TEST(CampaignImport, MismatchedRowsAreRefusedNamingTheRows) {
   e = error_of(request);
   EXPECT_NE(e.find("log.csv:2:"), std::string::npos) << e;
 
-  // An unknown key in the mapping file is located.
-  try {
-    parse_export_format("delimiter: tab\ncolumnz: [x, y, z]\n", "map.yaml");
-    FAIL();
-  } catch (const InputError& err) {
-    EXPECT_NE(std::string(err.what()).find("map.yaml:2:"), std::string::npos) << err.what();
-    EXPECT_NE(std::string(err.what()).find("unknown key 'columnz'"), std::string::npos);
-  }
+  // An unknown key in the mapping file is located, with the key it is a typo of.
+  EXPECT_REFUSED((void)parse_export_format("delimiter: tab\ncolumnz: [x, y, z]\n", "map.yaml"),
+                 InputError,
+                 "map.yaml:2:1 (columnz): unknown key 'columnz': did you mean 'columns'? (expected "
+                 "one of: delimiter, decimal, header, columns, roles, unit, angles)");
+  EXPECT_REFUSED((void)parse_export_format("angles: {unit: deg, ordre: fixed-xyz}\n", "map.yaml"),
+                 InputError,
+                 "map.yaml:1:21 (angles.ordre): unknown key 'ordre': did you mean 'order'?");
 }
 
 TEST(CampaignImport, AGrowingExportGivesItsCompleteLinesOnly) {

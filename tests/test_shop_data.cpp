@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "refusal.hpp"
 #include "robcal/compensate/calibrated_ik.hpp"
 #include "robcal/identify/calibration_output.hpp"
 #include "robcal/identify/calibration_run.hpp"
@@ -592,6 +593,23 @@ TEST(ShopData, JointsOutsideTheLimitsAreWarnedWithTheirLines) {
                                          "  lim.csv:9: j2 = {:.3f}° outside [-110, 110]°",
                                          rad2deg(configs[7][1]))));
   expect_compensates(r, model, truth, {}, rng);
+}
+
+TEST(ShopData, AJointFarOutsideItsLimitsIsRefusedWithItsLine) {
+  const RobotModel model = load_robot("abb-irb120");
+  auto rng = test::seeded_rng(1307);
+  const Tool tool = published_tool();
+  MeasurementSet data;
+  data.kind = MeasurementKind::Points;
+  data.file = "far.csv";
+  const auto configs = configurations(model, 12, rng);
+  for (size_t k = 0; k < configs.size(); ++k)
+    data.points.push_back({std::to_string(k), static_cast<int>(k % 2), configs[k],
+                           Eigen::Vector3d(400, 0, 500), static_cast<int>(k) + 2});
+  data.points[3].joints[0] = deg2rad(500);  // j1 of an IRB 120 turns ±165°
+  EXPECT_REFUSED((void)calibrate(model, tool, data, {}), InputError,
+                 "far.csv:5 (j1): 500.000° is more than 20° outside the joint's limits [-165, "
+                 "165]° of ABB IRB 120");
 }
 
 }  // namespace

@@ -129,6 +129,10 @@ TEST(ValidateAxisTest, RefusesTooLittleData) {
   plan.to_rad = 1;
   EXPECT_REFUSED((void)axis_test_moves(plan), InputError,
                  "--steps: expected at least 3 positions, found 2");
+  plan.steps = 3;
+  plan.approach_rad = deg2rad(-5);  // would swap 'below' and 'above': the backlash's sign
+  EXPECT_REFUSED((void)axis_test_moves(plan), InputError,
+                 "--approach: expected an approach distance > 0 deg, found -5 deg");
 }
 
 }  // namespace

@@ -98,6 +98,11 @@ TEST(ValidateBallbarPath, UnreachableAndBadRequests) {
   EXPECT_REFUSED((void)ballbar_path(request), InputError,
                  "--length: expected a positive length in mm, found 0");
   request = irb120_request();
+  request.range_mm = request.length_mm;  // the bar would read down to 0 mm
+  EXPECT_REFUSED((void)ballbar_path(request), InputError,
+                 "--range: the bar reads --length ± --range: a range of 100 mm must be below the "
+                 "length, 100 mm");
+  request = irb120_request();
   request.elevations_deg = {90};
   EXPECT_REFUSED((void)ballbar_path(request), InputError,
                  "--elevations: elevations must lie strictly within ±90°, found 90°");

@@ -106,6 +106,23 @@ void refuse_outputs_over_inputs(const CLI::App& app) {
       return reserve_stdout_for_data();
   }
 }
+/// The message of `error`, preceded by the flag that named its file when the error is about the
+/// whole file (it cannot be opened, is empty or a directory: no line to point at), so that the
+/// user reads which of the command's files it is.
+std::string naming_the_flag(const CLI::App& app, const robcal::InputError& error) {
+  const robcal::SourceLocation& where = error.where();
+  if (where.file.empty() || where.line > 0 || !where.key.empty()) return error.what();
+  for (const CLI::App* command = &app; command != nullptr;) {
+    for (const CLI::Option* option : command->get_options()) {
+      const auto& values = option->results();
+      if (std::find(values.begin(), values.end(), where.file) != values.end())
+        return fmt::format("{}: {}", option->get_name(), error.what());
+    }
+    const auto chosen = command->get_subcommands();
+    command = chosen.empty() ? nullptr : chosen.front();
+  }
+  return error.what();
+}
 }  // namespace
 
 void setup_commands(CLI::App& app) {
@@ -150,6 +167,9 @@ int main(int argc, char** argv) {
       // for bad files (CLI11's own codes, 104 for a non-numeric value, would surprise scripts).
       const int code = app.exit(e);
       return code == 0 ? 0 : 2;
+    } catch (const robcal::InputError& e) {
+      std::cerr << "error: " << robcal::cli::naming_the_flag(app, e) << "\n";
+      return 2;
     }
   } catch (const robcal::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -12,6 +12,7 @@
 #include "robcal/campaign/frames_world.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/measurement_file.hpp"
+#include "robcal/io/yaml_checks.hpp"
 #include "robcal/io/yaml_support.hpp"
 
 namespace robcal::campaign {
@@ -549,6 +550,7 @@ ExportFormat parse_export_format(const std::string& yaml_text, const std::string
   const yaml::Node root = yaml::parse(yaml_text, file);
   ExportFormat format;
   if (!root.node.IsMap()) throw root.error("expected a map of export settings");
+  yaml::expect_keys(root, {"delimiter", "decimal", "header", "columns", "roles", "unit", "angles"});
   for (const std::string& key : root.keys()) {
     const yaml::Node node = root.at(key);
     const auto error = [&node](const std::string& what) { return node.error(what); };
@@ -573,24 +575,19 @@ ExportFormat parse_export_format(const std::string& yaml_text, const std::string
     } else if (key == "unit") {
       format.unit = choose(node.as_string(), kUnits, error);
     } else if (key == "angles") {
+      yaml::expect_keys(node, {"unit", "order"});
       for (const std::string& sub : node.keys()) {
         const yaml::Node value = node.at(sub);
         const auto sub_error = [&value](const std::string& what) { return value.error(what); };
         if (sub == "unit")
           format.angles_in_degrees =
               choose<bool>(value.as_string(), {{"deg", true}, {"rad", false}}, sub_error);
-        else if (sub == "order")
+        else  // order (expect_keys allows no other)
           format.angle_order = choose<AngleOrder>(
               value.as_string(),
               {{"fixed-xyz", AngleOrder::FixedXyz}, {"mobile-xyz", AngleOrder::MobileXyz}},
               sub_error);
-        else
-          throw value.error(fmt::format("unknown key '{}': expected unit or order", sub));
       }
-    } else {
-      throw node.error(fmt::format(
-          "unknown key '{}': expected delimiter, decimal, header, columns, roles, unit, angles",
-          key));
     }
   }
   if (!format.has_header && format.columns.empty())

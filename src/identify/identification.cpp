@@ -159,9 +159,12 @@ int target_of(const MeasurementSet& data, size_t row) {
 }
 
 /// Rows whose joints lie outside the robot's limits: warned with their lines (a typo, a
-/// different controller convention or the wrong robot file), at most 10 listed.
-void warn_joint_limits(const RobotModel& model, const MeasurementSet& data,
-                       std::vector<std::string>& warnings) {
+/// different controller convention or the wrong robot file), at most 10 listed. A joint more than
+/// kJointLimitSlack beyond a limit is no overtravel or extended-range option but a wrong value
+/// (500° on a ±165° joint): refused with its line, before a fit it would ruin.
+void check_joint_limits(const RobotModel& model, const MeasurementSet& data,
+                        std::vector<std::string>& warnings) {
+  const double kJointLimitSlack = deg2rad(20);
   std::vector<std::string> rows;
   for (size_t row = 0; row < data.size(); ++row) {
     const Vector6d& q = row_joints(data, row);
@@ -171,6 +174,13 @@ void warn_joint_limits(const RobotModel& model, const MeasurementSet& data,
       const int line = data.kind == MeasurementKind::Points  ? data.points[row].line
                        : data.kind == MeasurementKind::Poses ? data.poses[row].line
                                                              : data.distances[row].line;
+      if (q[j] < l.lower - kJointLimitSlack || q[j] > l.upper + kJointLimitSlack)
+        throw InputError({data.file, line, 0, fmt::format("j{}", j + 1)},
+                         fmt::format("{:.3f}° is more than {:g}° outside the joint's limits [{:g}, "
+                                     "{:g}]° of {}: fix the row, or check the robot file and "
+                                     "the joint columns' units ('# units:' header)",
+                                     rad2deg(q[j]), rad2deg(kJointLimitSlack), rad2deg(l.lower),
+                                     rad2deg(l.upper), model.name));
       rows.push_back(fmt::format("{}:{}: j{} = {:.3f}° outside [{:g}, {:g}]°", data.file, line,
                                  j + 1, rad2deg(q[j]), rad2deg(l.lower), rad2deg(l.upper)));
       break;
@@ -549,7 +559,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   Eigen::VectorXd u0 = setup.start;
   initial_guess(context, setup.fit_base, u0);
 
-  warn_joint_limits(model, data, setup.warnings);
+  check_joint_limits(model, data, setup.warnings);
   if (const auto warning = poses_without_tcp_warning(tool, data))
     setup.warnings.push_back(*warning);
   std::vector<bool> candidates = setup.requested;

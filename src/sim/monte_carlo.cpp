@@ -6,6 +6,7 @@
 #include <limits>
 #include <numeric>
 #include <thread>
+#include <utility>
 
 #include "robcal/core/error.hpp"
 #include "robcal/core/progress.hpp"
@@ -51,9 +52,12 @@ MonteCarloSetup prepare_monte_carlo(const TrueRobot& truth, const VirtualInstrum
   if (s.x() != s.y() || s.y() != s.z() || !(s.x() > 0))
     throw InputError({"", 0, 0, "--noise-mm"},
                      "the Monte Carlo needs one positive σ for every axis");
-  if (options.runs < 1 || options.poses < 1 || options.validation < 1 || options.threads < 1)
-    throw InputError({"", 0, 0, "--runs"},
-                     "runs, poses, validation configurations and threads must be positive");
+  for (const auto& [flag, count] : {std::pair{"--runs", options.runs},
+                                    {"--poses", options.poses},
+                                    {"--validation", options.validation},
+                                    {"--threads", options.threads}})
+    if (count < 1)
+      throw InputError({"", 0, 0, flag}, fmt::format("expected at least 1, found {}", count));
   MonteCarloSetup setup;
   setup.truth = truth;
   setup.instrument = instrument;

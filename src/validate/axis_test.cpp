@@ -63,6 +63,10 @@ std::vector<AxisTestMove> axis_test_moves(const AxisTestPlanRequest& request) {
                      fmt::format("expected at least 3 positions, found {}", request.steps));
   if (!(request.to_rad > request.from_rad))
     throw InputError({"", 0, 0, "--range"}, "expected a range from < to");
+  if (!(request.approach_rad > 0))
+    throw InputError({"", 0, 0, "--approach"},
+                     fmt::format("expected an approach distance > 0 deg, found {:g} deg",
+                                 rad2deg(request.approach_rad)));
   std::vector<AxisTestMove> moves;
   for (int k = 0; k < request.steps; ++k) {
     Vector6d q = request.home;

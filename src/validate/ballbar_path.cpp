@@ -34,6 +34,11 @@ BallbarPath ballbar_path(const BallbarPathRequest& request) {
   if (!(request.range_mm > 0))
     throw InputError({"", 0, 0, "--range"},
                      fmt::format("expected a positive range in mm, found {}", request.range_mm));
+  if (request.range_mm >= request.length_mm)
+    throw InputError({"", 0, 0, "--range"},
+                     fmt::format("the bar reads --length ± --range: a range of {:g} mm must be "
+                                 "below the length, {:g} mm",
+                                 request.range_mm, request.length_mm));
   if (request.points_per_ring < 3)
     throw InputError({"", 0, 0, "--points"}, "at least 3 points per ring");
   if (!(request.axis.norm() > 0) || !request.axis.allFinite())

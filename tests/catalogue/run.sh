@@ -10,7 +10,8 @@
 # valid file edited by a sed expression (SOURCE a fixture name below or a path in the
 # repository, e.g. @model:s/^level: .*/level: 7/ or @tests/data/urdf/skew6r.urdf:/mimic/d).
 # In the arguments {in} is the input file, {out} an output path in the case's folder, {dir}
-# that folder, {link} a symbolic link in it to the input, and {tool} {cal} {val} {truth}
+# that folder ({dir} in the message fragment too: a message naming a file of the case's folder),
+# {link} a symbolic link in it to the input, and {tool} {cal} {val} {truth}
 # {model} {plan} {poses} {journal} are valid fixtures.
 # MIN_CASES (default 150) is the least number of cases the file must hold: lower it to run a
 # subset (grep some lines into a file of their own).
@@ -52,6 +53,7 @@ while IFS=$'\t' read -r id code fragment name content args; do
     printf '%b' "$content" > "$input"
   fi
   [[ "$args" == *"{link}"* ]] && ln -s "$input" "$dir/link"
+  fragment=${fragment//\{dir\}/$dir}
   expanded=${args//\{in\}/$input}
   expanded=${expanded//\{out\}/$dir/out}
   expanded=${expanded//\{dir\}/$dir}

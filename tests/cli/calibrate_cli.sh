@@ -117,13 +117,18 @@ expect_error "bad --units" "--units: unknown unit 'inch'" calibrate --robot abb-
 grep -q "calibrated:               mean 0.0320  rms 0.0338  max 0.0564 mm" "$TMP/metres.txt" ||
   fail "metres file gives other residuals: $(grep -A2 'residual per row' "$TMP/metres.txt")"
 grep -q "the residuals are the instrument's noise" "$TMP/metres.txt" || fail "noise test missing"
-"$ROBCAL" calibrate --robot kuka-kr6-r900-sixx --tool $REF/tool.yaml \
+# Another robot whose joint limits hold the data (a KUKA's do not: its rows are refused by line).
+expect_error "joints far outside another robot's limits" \
+  "calibration.csv:3 (j2): 66.147° is more than 20° outside the joint's limits [-190, 45]°" \
+  calibrate --robot kuka-kr6-r900-sixx --tool $REF/tool.yaml --measurements $REF/calibration.csv \
+  --out "$TMP/kuka.yaml"
+"$ROBCAL" calibrate --robot abb-irb1600-6-12 --tool $REF/tool.yaml \
   --measurements $REF/calibration.csv --out "$TMP/kuka.yaml" >"$TMP/kuka.txt" 2>"$TMP/kuka.err"
 [[ $? -eq 1 ]] || fail "another robot's model: exit code not 1"
 [[ ! -e "$TMP/kuka.yaml" ]] || fail "another robot's model was written"
 grep -q "not written: the fit is not trustworthy" "$TMP/kuka.err" || fail "no refusal message"
 grep -q "PROBLEM: .*check the robot (--robot" "$TMP/kuka.txt" || fail "no advice what to check"
-"$ROBCAL" calibrate --robot kuka-kr6-r900-sixx --tool $REF/tool.yaml \
+"$ROBCAL" calibrate --robot abb-irb1600-6-12 --tool $REF/tool.yaml \
   --measurements $REF/calibration.csv --force --out "$TMP/kuka.yaml" >/dev/null 2>&1
 [[ -s "$TMP/kuka.yaml" ]] || fail "--force did not write the model"
 

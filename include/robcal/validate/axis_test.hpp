@@ -44,7 +44,8 @@ struct AxisTestPlanRequest {
 };
 
 /// The moves: positions from → to, each from below then from above.
-/// \throws InputError for fewer than 3 steps, an empty range or a joint outside 0..5
+/// \throws InputError for fewer than 3 steps, an empty range, an approach distance <= 0 or a
+/// joint outside 0..5
 std::vector<AxisTestMove> axis_test_moves(const AxisTestPlanRequest& request);
 
 struct AxisTestSample {
