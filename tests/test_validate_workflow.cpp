@@ -62,13 +62,15 @@ TEST(ValidateWorkflow, FileRequestEqualsTheLoadedCallAndItsPieces) {
       validate_model(fit_base(ref.nominal, ref.rows), ref.rows, 2, kDefaultOrientationWeightMm,
                      options.calibration_mm);
   const nlohmann::json j = validate_json(from_files);
-  EXPECT_EQ(j["points"], 1000);
-  EXPECT_DOUBLE_EQ(j["position_error_mm"]["mean_mm"], direct.positions.position_mm.mean);
-  EXPECT_DOUBLE_EQ(j["position_error_mm"]["mean_plus_3std_mm"],
+  EXPECT_EQ(j.at("points"), 1000);
+  EXPECT_DOUBLE_EQ(j.at("position_error_mm").at("mean_mm").get<double>(),
+                   direct.positions.position_mm.mean);
+  EXPECT_DOUBLE_EQ(j.at("position_error_mm").at("mean_plus_3std_mm").get<double>(),
                    direct.positions.position_mm.mean + 3 * direct.positions.position_mm.std);
-  EXPECT_DOUBLE_EQ(j["distance_error_mm"]["max_mm"], direct.distances.stats.max);
-  EXPECT_EQ(j["distance_error_mm"]["pairs"], 1000 * 999 / 2);
-  EXPECT_EQ(j["classes"].back()["table"], "region");
+  EXPECT_DOUBLE_EQ(j.at("distance_error_mm").at("max_mm").get<double>(),
+                   direct.distances.stats.max);
+  EXPECT_EQ(j.at("distance_error_mm").at("pairs"), 1000 * 999 / 2);
+  EXPECT_EQ(j.at("classes").back().at("table"), "region");
 }
 
 TEST(ValidateWorkflow, RefusalsNameTheirKey) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <memory>
 
 #include "robcal/core/error.hpp"
 
@@ -83,9 +84,22 @@ CandidateSet instrument_candidates(const TrueRobot& cell, const VirtualInstrumen
   options.instrument_frame_params = cell.robot.params;
   options.kind = measurement_kind(instrument.kind);
   if (instrument.kind == InstrumentKind::LaserTracker) {
-    options.visible = [&](const Pose<double>& world_T_flange, int target) {
-      const std::vector<int> visible = visible_targets(seen.tracker, world_T_flange, tool);
-      return std::find(visible.begin(), visible.end(), target) != visible.end();
+    // Asked once per target of the same flange pose (generate_candidates draws sequentially):
+    // the visible set is computed once per pose.
+    struct SeenFrom {
+      Pose<double> world_T_flange;
+      std::vector<int> targets;
+      bool valid = false;
+    };
+    auto last = std::make_shared<SeenFrom>();
+    options.visible = [&seen, &tool, last](const Pose<double>& world_T_flange, int target) {
+      if (!last->valid || last->world_T_flange.p != world_T_flange.p ||
+          last->world_T_flange.R != world_T_flange.R) {
+        last->targets = visible_targets(seen.tracker, world_T_flange, tool);
+        last->world_T_flange = world_T_flange;
+        last->valid = true;
+      }
+      return std::find(last->targets.begin(), last->targets.end(), target) != last->targets.end();
     };
   } else {
     options.visible = [&](const Pose<double>& world_T_flange, int) {

@@ -444,12 +444,12 @@ def test_calibrate_guards_and_options(tmp_path):
     assert c["output"] == out
     # Another robot's model: refused alike, nothing written by either.
     kuka = str(tmp_path / "kuka.yaml")
-    cli = subprocess.run([CLI, "calibrate", "--robot", "kuka-kr6-r900-sixx", "--tool", TOOL,
+    cli = subprocess.run([CLI, "calibrate", "--robot", "abb-irb1600-6-12", "--tool", TOOL,
                           "--measurements", data, "--out", kuka, "--json"],
                          capture_output=True, text=True)
     assert cli.returncode == 1 and "not written" in cli.stderr
     document = json.loads(cli.stdout)
-    run = robcal.calibrate("kuka-kr6-r900-sixx", TOOL, data)
+    run = robcal.calibrate("abb-irb1600-6-12", TOOL, data)
     assert document["problems"] == run.problems and document["output"] is None
     with pytest.raises(robcal.InputError, match="not written"):
         run.save(kuka)
