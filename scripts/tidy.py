@@ -68,8 +68,11 @@ def main():
     jobs = int(sys.argv[2]) if len(sys.argv) > 2 else os.cpu_count()
     database = json.load(open(os.path.join(build, "compile_commands.json")))
     by_folder = {}
+    seen = set()
     for e in database:
-        if CHECKED.search(e["file"]):
+        # Each file once: the sanitized copy of the library (robcal_asan) compiles it again.
+        if CHECKED.search(e["file"]) and "-fsanitize" not in e["command"] and e["file"] not in seen:
+            seen.add(e["file"])
             by_folder.setdefault((os.path.dirname(e["file"]), e["command"].split()[0]), []).append(e)
     tidy_dir = os.path.join(build, "tidy")
     shutil.rmtree(tidy_dir, ignore_errors=True)
