@@ -164,7 +164,7 @@ int target_of(const MeasurementSet& data, size_t row) {
 /// (500° on a ±165° joint): refused with its line, before a fit it would ruin.
 void check_joint_limits(const RobotModel& model, const MeasurementSet& data,
                         std::vector<std::string>& warnings) {
-  const double kJointLimitSlack = deg2rad(20);
+  constexpr double kJointLimitSlack = deg2rad(20);
   std::vector<std::string> rows;
   for (size_t row = 0; row < data.size(); ++row) {
     const Vector6d& q = row_joints(data, row);
