@@ -56,6 +56,27 @@ TriangleSides sides(const std::array<double, 3>& d) {
   return {d[0], d[1], d[2]};
 }
 
+/// The plan settings `hexapod.plan` and `hexapod.place` share (placement and tilt are theirs).
+HexapodPlanRequest plan_request(const std::string& robot,
+                                const std::array<double, 3>& base_sides_mm,
+                                const std::array<double, 3>& tool_sides_mm, double leg_mm,
+                                double tool_offset_mm, double ball_offset_mm, double table_z_mm,
+                                double angle_deg, double distance_mm, double gauge_range_mm,
+                                double gauge_sigma_mm, double cup_diameter_mm,
+                                const std::optional<std::string>& cell) {
+  HexapodPlanRequest r{.robot = robot,
+                       .geometry = {sides(base_sides_mm), sides(tool_sides_mm), leg_mm},
+                       .tool_offset_mm = tool_offset_mm,
+                       .ball_offset_mm = ball_offset_mm,
+                       .table_z_mm = table_z_mm,
+                       .angle_deg = angle_deg,
+                       .distance_mm = distance_mm,
+                       .gauge = {gauge_range_mm, gauge_sigma_mm},
+                       .cups = {cup_diameter_mm}};
+  if (cell) r.workcell = campaign::load_cell(*cell);
+  return r;
+}
+
 /// d12, d23, d31 of a fixture, followed by d14, d24, d34 when it has a fourth cup.
 FixtureDistances fixture_distances(const std::vector<double>& d, const char* key) {
   if (d.size() == 3) return {sides({d[0], d[1], d[2]}), std::nullopt};
@@ -264,18 +285,11 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
          double gauge_range_mm, double gauge_sigma_mm, double cup_diameter_mm,
          const std::optional<std::string>& cell) {
-        HexapodPlanRequest r{.robot = robot,
-                             .geometry = {sides(base_sides_mm), sides(tool_sides_mm), leg_mm},
-                             .placement = placement,
-                             .tilt_deg = tilt_deg,
-                             .tool_offset_mm = tool_offset_mm,
-                             .ball_offset_mm = ball_offset_mm,
-                             .table_z_mm = table_z_mm,
-                             .angle_deg = angle_deg,
-                             .distance_mm = distance_mm,
-                             .gauge = {gauge_range_mm, gauge_sigma_mm},
-                             .cups = {cup_diameter_mm}};
-        if (cell) r.workcell = campaign::load_cell(*cell);
+        HexapodPlanRequest r = plan_request(
+            robot, base_sides_mm, tool_sides_mm, leg_mm, tool_offset_mm, ball_offset_mm, table_z_mm,
+            angle_deg, distance_mm, gauge_range_mm, gauge_sigma_mm, cup_diameter_mm, cell);
+        r.placement = placement;
+        r.tilt_deg = tilt_deg;
         return plan_hexapod(load_robot(robot), r);
       },
       py::arg("robot") = "fanuc-lrmate200ic",
@@ -302,16 +316,9 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          double angle_deg, double distance_mm, double gauge_range_mm, double gauge_sigma_mm,
          double cup_diameter_mm, const std::optional<std::string>& cell) {
         PlacementSearchRequest r;
-        r.plan = {.robot = robot,
-                  .geometry = {sides(base_sides_mm), sides(tool_sides_mm), leg_mm},
-                  .tool_offset_mm = tool_offset_mm,
-                  .ball_offset_mm = ball_offset_mm,
-                  .table_z_mm = table_z_mm,
-                  .angle_deg = angle_deg,
-                  .distance_mm = distance_mm,
-                  .gauge = {gauge_range_mm, gauge_sigma_mm},
-                  .cups = {cup_diameter_mm}};
-        if (cell) r.plan.workcell = campaign::load_cell(*cell);
+        r.plan = plan_request(robot, base_sides_mm, tool_sides_mm, leg_mm, tool_offset_mm,
+                              ball_offset_mm, table_z_mm, angle_deg, distance_mm, gauge_range_mm,
+                              gauge_sigma_mm, cup_diameter_mm, cell);
         for (const std::string& plan : measured)
           r.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
         r.x_mm = x_mm;
