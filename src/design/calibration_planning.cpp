@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <numeric>
 
@@ -384,10 +385,23 @@ PlanResult plan_calibration(const PlanRequest& request) {
   const bool task_aware = result.criterion == SelectionCriterion::IOptimal;
   Progress progress("drawing and scoring candidate batches",
                     (static_cast<std::int64_t>(wanted) + request.pool - 1) / request.pool);
+  // The next batch is drawn on a second thread while this one is scored. One thread draws every
+  // batch, in order, and stops after a short batch as this loop does, so the draws (and the
+  // generator's state afterwards) are those of drawing one batch after the other.
+  const auto draw_from = [&](int done) {
+    return std::async(std::launch::async,
+                      [&next_batch, done, asked = std::min(request.pool, wanted - done)] {
+                        return next_batch(done, asked);
+                      });
+  };
+  std::future<CandidateSet> drawing = draw_from(0);
   int seen = 0;
   while (seen < wanted) {
     const int asked = std::min(request.pool, wanted - seen);
-    CandidateSet batch = next_batch(seen, asked);
+    CandidateSet batch = drawing.get();
+    const int drawn = seen + static_cast<int>(batch.candidates.size());
+    if (static_cast<int>(batch.candidates.size()) == asked && drawn < wanted)
+      drawing = draw_from(drawn);
     result.draws += batch.draws;
     result.below_floor += batch.below_floor;
     result.not_visible += batch.not_visible;

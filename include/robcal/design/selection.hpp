@@ -96,8 +96,9 @@ Selection select_d_optimal(const DesignMatrix& design, int count,
                            const DOptimalOptions& options = {});
 
 /// The D-optimal continuous design (weights on candidates) by the multiplicative algorithm
-/// (Titterington 1976; Silvey, Titterington & Torsney 1978) with the Harman–Pronzato (2007)
-/// rule that discards candidates which cannot support the optimum.
+/// (Titterington 1976; Silvey, Titterington & Torsney 1978), accelerated (exponent 2, safeguarded
+/// by the classical step), with the Harman–Pronzato (2007) rule that discards candidates which
+/// cannot support the optimum.
 struct ContinuousDesign {
   Eigen::VectorXd weights;  ///< per candidate, sum 1
   double log_det = 0;       ///< log det Σ w_i A_iᵀA_i
@@ -105,11 +106,14 @@ struct ContinuousDesign {
   /// at most log_det + m·gap.
   double gap = 0;
   int iterations = 0;
+  int retreats = 0;  ///< accelerated steps that lowered log det, taken again classically
   bool converged = false;
 };
 
+/// \param step_power  exponent λ of the step w_i ← w_i (d_i/m)^λ; λ = 1 is the classical,
+/// monotone step, a step with λ > 1 that lowers log det is taken again with λ = 1.
 ContinuousDesign d_optimal_continuous(const DesignMatrix& design, double tolerance = 1e-3,
-                                      int max_iterations = 20000);
+                                      int max_iterations = 20000, double step_power = 2);
 
 /// Certified D-efficiency of an exact design against the continuous optimum:
 /// (det(M_S/n) / det M*)^(1/m) with det M* bounded above through the equivalence theorem,
