@@ -460,6 +460,10 @@ PlanResult plan_calibration(const PlanRequest& request) {
   const DesignMatrix random_design = with_rows(layout, sample_rows);
   result.parameters = design.parameters;
   result.dropped = design.dropped;
+  // The continuous optimum the efficiencies are certified against does not depend on the
+  // selection: computed on a second thread meanwhile.
+  std::future<ContinuousDesign> continuous_optimum = std::async(
+      std::launch::async, [&design] { return d_optimal_continuous(design, kContinuousTolerance); });
 
   std::vector<int> chosen;
   std::vector<Vector6d> pool_joints;
@@ -493,7 +497,7 @@ PlanResult plan_calibration(const PlanRequest& request) {
   std::iota(all_random.begin(), all_random.end(), 0);
   result.selected = observability_indices(design, chosen);
   result.random = observability_indices(random_design, all_random);
-  const ContinuousDesign optimum = d_optimal_continuous(design, kContinuousTolerance);
+  const ContinuousDesign optimum = continuous_optimum.get();
   result.d_efficiency_selected = d_efficiency(design, chosen, optimum);
   result.d_efficiency_random = d_efficiency(random_design, all_random, optimum);
   result.edge_limit = result.criterion == SelectionCriterion::IOptimal
