@@ -277,6 +277,14 @@ TEST(UrdfFile, RefusesWhatIsNotASixRevoluteChain) {
   EXPECT_REFUSED(robot_from_urdf(orphan, "orphan.urdf"), InputError,
                  "orphan.urdf: not a valid URDF");
   EXPECT_REFUSED(robot_from_urdf(orphan, "orphan.urdf"), InputError, "nowhere");
+  // A joint back to a link already reached (urdfdom accepts one to its own parent link): refused,
+  // not walked for ever.
+  std::string loop = chain_urdf(6);
+  loop.insert(loop.find("</robot>"),
+              "<joint name=\"back\" type=\"fixed\"><parent link=\"link_6\"/><child "
+              "link=\"link_6\"/></joint>\n");
+  EXPECT_REFUSED(robot_from_urdf(loop, "loop.urdf"), InputError,
+                 "loop.urdf: joint 'back' leads back to link 'link_6'");
   EXPECT_REFUSED(robot_from_urdf(chain_urdf(6), "ok.urdf", {"link_4"}), InputError,
                  "tip link 'link_4' does not follow joint 'joint_6'");
 }

@@ -122,6 +122,12 @@ void walk(const urdf::ModelInterface& urdf, const urdf::LinkConstSharedPtr& root
     const auto [joint, moved_by] = pending.back();
     pending.pop_back();
     const std::string where = fmt::format("joint '{}'", joint->name);
+    // urdfdom accepts a joint back to a link already reached (its own parent, say): walking on
+    // would never end.
+    if (w.moved_by.contains(joint->child_link_name))
+      refuse(path, fmt::format("{} leads back to link '{}', which it already reaches: the joints "
+                               "form a loop, a robot's links form a tree",
+                               where, joint->child_link_name));
     if (joint->mimic)
       refuse(path, where + " is a mimic joint: robcal needs six independent joints");
     const urdf::Vector3& origin = joint->parent_to_joint_origin_transform.position;
