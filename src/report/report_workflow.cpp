@@ -191,7 +191,10 @@ void write_report(const nlohmann::json& report, const std::filesystem::path& htm
   const std::string html = report_html(report, load_chartjs());
   std::filesystem::path json_path = html_path;
   json_path.replace_extension(".json");
-  write_file_atomically(json_path, report.dump(1));
+  // The sources and the command line hold file names, which need not be UTF-8: U+FFFD for
+  // their stray bytes (as in report_html).
+  write_file_atomically(json_path,
+                        report.dump(1, ' ', false, nlohmann::json::error_handler_t::replace));
   write_file_atomically(html_path, html);
 }
 
