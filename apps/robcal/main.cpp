@@ -108,6 +108,7 @@ void refuse_outputs_over_inputs(const CLI::App& app) {
       return reserve_stdout_for_data();
   }
 }
+
 /// The deepest command of the command line (`robcal hexapod plan` → plan) and its words.
 std::pair<const CLI::App*, std::string> chosen_command(const CLI::App& app) {
   const CLI::App* command = &app;

@@ -72,7 +72,7 @@ void check_title(std::string_view title) {
   const auto refuse = [](const std::string& why) {
     throw InputError({"", 0, 0, "--title"}, why + ": expected one line of printable UTF-8 text");
   };
-  if (title.find_first_not_of(" ") == std::string_view::npos) refuse("the title is empty");
+  if (title.find_first_not_of(' ') == std::string_view::npos) refuse("the title is empty");
   if (title.size() > kMaxTitle)
     refuse(fmt::format("the title has {} bytes, more than {}", title.size(), kMaxTitle));
   for (size_t at = 0; at < title.size();) {
