@@ -11,6 +11,7 @@
 #include <sstream>
 #include <thread>
 
+#include "refusal.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
 
@@ -110,6 +111,32 @@ TEST(AtomicFile, RefusesOutputThatIsAnInputByAnyName) {
   EXPECT_NO_THROW(refuse_overwriting_inputs(dir.path / "new.csv", inputs));
   EXPECT_NO_THROW(refuse_overwriting_inputs("-", inputs));
   EXPECT_NO_THROW(refuse_overwriting_inputs(dir.path / "x.csv", {dir.path / "y.csv"}));
+}
+
+TEST(AtomicFile, RefusesTwoOutputsOnOnePathButSharesDevices) {
+  ScratchDir dir("shared");
+  const fs::path model = dir.path / "m.yaml";
+  EXPECT_EQ(test::refusal_message([&] {
+              refuse_shared_outputs({{"--out", model},
+                                     {"--legs-out", "x.csv"},
+                                     {"--tool-out", dir.path / "s" / ".." / "m.yaml"}});
+            }),
+            "--tool-out: '" + (dir.path / "s" / ".." / "m.yaml").string() +
+                "' is also the file of --out: each output needs a path of its own");
+  EXPECT_NO_THROW(refuse_shared_outputs({{"--out", "-"}, {"--tool-out", "-"}}));
+  EXPECT_NO_THROW(refuse_shared_outputs({{"--out", "/dev/null"}, {"--tool-out", "/dev/null"}}));
+  EXPECT_NO_THROW(refuse_shared_outputs({{"--out", model}, {"--tool-out", dir.path / "t.yaml"}}));
+}
+
+TEST(AtomicFile, RefusesAFileWhereAFolderIsWritten) {
+  ScratchDir dir("folder_out");
+  write_file_atomically(dir.path / "file", "x");
+  EXPECT_EQ(test::refusal_message([&] { refuse_non_folder(dir.path / "file", "--out"); }),
+            (dir.path / "file").string() +
+                " (--out): exists and is not a folder: expected a folder to write into, or a new "
+                "path");
+  EXPECT_NO_THROW(refuse_non_folder(dir.path));
+  EXPECT_NO_THROW(refuse_non_folder(dir.path / "new"));
 }
 
 }  // namespace

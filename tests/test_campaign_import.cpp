@@ -280,6 +280,28 @@ std::string error_of(const ImportRequest& request) {
   return "no error";
 }
 
+TEST(CampaignImport, TargetOptionOnlyWhenNoFileNamesTheTarget) {
+  ImportRequest request;
+  request.export_file = {"export.csv", "x,y,z\n400,0,500\n"};
+  request.joint_log = {"log.csv", "config,j1,j2,j3,j4,j5,j6\nc1,0,10,20,0,30,0\n"};
+  request.default_target = "T1";
+  EXPECT_EQ(import_measurements(request).targets.targets.front().name, "T1");
+  for (const char* bad : {"a,b", "a;b", "a\"b", "a\nb", " a", "a "}) {
+    request.default_target = bad;
+    EXPECT_EQ(error_of(request),
+              fmt::format("--target: target name '{}': expected a name without blanks at its ends, "
+                          "commas, semicolons, quotes or control characters (it is written into "
+                          "the target column of the CSV)",
+                          bad));
+  }
+  // The export names its targets: --target would be ignored, so it is refused.
+  request.export_file = {"export.csv", "target,x,y,z\n1,400,0,500\n"};
+  request.default_target = "T1";
+  EXPECT_EQ(error_of(request),
+            "--target: 'T1' would not be used: export.csv names the target of every reading (its "
+            "target column); give --target only when neither file names it");
+}
+
 TEST(CampaignImport, MismatchedRowsAreRefusedNamingTheRows) {
   const MeasurementSet set = simulated(InstrumentKind::LaserTracker, 6, 15);
   std::string text = "target,x,y,z\n";

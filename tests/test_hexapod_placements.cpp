@@ -183,7 +183,8 @@ TEST(HexapodPlacements, AGridWithNothingToMeasureIsRefused) {
   PlacementSearchRequest request;
   request.x_mm = {1500, 2000};  // beyond the LR Mate's reach
   EXPECT_REFUSED(search_placements(model, request), InputError,
-                 "placement grid: none of the 2 placements has a configuration to measure");
+                 "--x-mm, --y-mm, --z-mm, --yaw-deg, --tilt-deg: none of the 2 placements has a "
+                 "configuration to measure");
 }
 
 }  // namespace

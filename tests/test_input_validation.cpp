@@ -258,7 +258,9 @@ TEST(SimulationFiles, TheFolderAppearsWholeOrNotAtAll) {
               (void)write_simulation(dir / "blocked", "m", result, tool, tracker, truth,
                                      "abb-irb120", "test");
             }),
-            (dir / "blocked").string() + " (--out): exists and is not a folder");
+            (dir / "blocked").string() +
+                " (--out): exists and is not a folder: expected a folder to write into, or a new "
+                "path");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 2);
 }
 

@@ -274,6 +274,34 @@ TEST(MeasurementProgramFormat, RefusesWhatTheControllerCannotTake) {
   EXPECT_EQ(refusal(r), "--hook: no log instruction is written for krl; use wait or pulse");
 }
 
+TEST(MeasurementProgramFormat, RapidSignalIsARapidIdentifier) {
+  MeasurementProgramRequest r = request_for(ProgramLanguage::Rapid);
+  r.hook = MeasurementHook::WaitInput;
+  r.rapid_signal = "diMeasured_2";
+  EXPECT_NE(write_measurement_program(r).front().text.find("WaitDI diMeasured_2, 1;"),
+            std::string::npos);
+  for (const char* bad : {"a;b", "1di", "di-1", "di measured", "d\u00e9"}) {
+    r.rapid_signal = bad;
+    EXPECT_EQ(refusal(r), fmt::format("--rapid-signal: signal name '{}': expected a RAPID "
+                                      "identifier, a letter then letters, digits or '_', at most "
+                                      "32 characters",
+                                      bad));
+  }
+  r.rapid_signal = std::string(33, 'd');
+  EXPECT_NE(refusal(r).find("expected a RAPID identifier"), std::string::npos);
+  r.hook = MeasurementHook::PulseOutput;
+  r.language = ProgramLanguage::Krl;
+  r.rapid_signal = "diMeasured";
+  EXPECT_EQ(refusal(r),
+            "--rapid-signal: a RAPID signal name, but the program is krl: give its input or "
+            "output number with --signal");
+  r = request_for(ProgramLanguage::Rapid);
+  r.rapid_signal = "diMeasured";
+  r.hook = MeasurementHook::LogLine;
+  EXPECT_NE(refusal(r).find("--rapid-signal: the log hook writes a message, no signal"),
+            std::string::npos);
+}
+
 TEST(MeasurementProgramFormat, PulsesPerDegreeFromTheRobotFile) {
   // A built-in robot without the key: zeros (unknown); a robot file with it: its six values.
   EXPECT_EQ(robot_pulses_per_degree("abb-irb120"), (std::array<double, kJointCount>{}));

@@ -384,6 +384,31 @@ TEST(ReportJson, ResidualsPerConfigurationAndPairsByClass) {
             std::string::npos);
 }
 
+TEST(ReportWorkflow, TitleIsOneLineOfPrintableUtf8) {
+  const auto refusal = [](const std::string& title) {
+    ReportRequest request;
+    request.title = title;
+    return test::refusal_message([&] { (void)build_report(request); });
+  };
+  const std::string expected = ": expected one line of printable UTF-8 text";
+  EXPECT_EQ(refusal(""), "--title: the title is empty" + expected);
+  EXPECT_EQ(refusal("   "), "--title: the title is empty" + expected);
+  EXPECT_EQ(refusal("one\ntwo"), "--title: control character 0x0A at byte 4" + expected);
+  EXPECT_EQ(refusal("a\x7f"), "--title: control character 0x7F at byte 2" + expected);
+  EXPECT_EQ(refusal("Report\xff"), "--title: byte 0xFF at byte 7 is not UTF-8" + expected);
+  EXPECT_EQ(refusal("\xc0\xaf"),
+            "--title: byte 0xC0 at byte 1 is not UTF-8" + expected);  // overlong
+  EXPECT_EQ(refusal("\xed\xa0\x80"),
+            "--title: byte 0xED at byte 1 is not UTF-8" + expected);  // surrogate
+  EXPECT_EQ(refusal("ab\xe2\x82"),
+            "--title: byte 0xE2 at byte 3 is not UTF-8" + expected);  // truncated
+  EXPECT_EQ(refusal(std::string(201, 'a')),
+            "--title: the title has 201 bytes, more than 200" + expected);
+  // Accepted: UTF-8 beyond ASCII, and markup (escaped in the page, see ReportHtml).
+  EXPECT_EQ(refusal("Kalibrierung ± 0,02 mm — Zelle 3 <b>"),
+            "--measurements: expected at least one validation file");
+}
+
 TEST(ReportWorkflow, NominalRowIsFittedOnTheCalibrationData) {
   const CalibratedRobot truth = test::reference_true_robot();
   const fs::path dir = fs::path(::testing::TempDir()) / "report_nominal";

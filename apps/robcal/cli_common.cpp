@@ -107,8 +107,10 @@ void reserve_stdout_for_data() {
 }
 
 void print_json(const nlohmann::json& value) {
-  // Through C stdio, as every other printout: with --out - it then goes to standard error.
-  fmt::print("{}\n", value.dump(2));
+  // Through C stdio, as every other printout: with --out - it then goes to standard error. A
+  // path that is not UTF-8 (any bytes are a Linux file name) is printed with U+FFFD in place of
+  // its stray bytes, not refused by the JSON writer.
+  fmt::print("{}\n", value.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
 }
 
 bool stdout_is_terminal() {

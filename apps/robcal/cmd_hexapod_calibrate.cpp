@@ -100,9 +100,10 @@ void run_calibrate(const CalibrateOptions& o) {
   request.seed = o.seed;
   const RobotModel model = load_robot(o.robot);
   request.exports = {o.poses_out, o.legs_out, o.tool_out};
+  // The small files first: a bad --tool is named before the sessions are read.
+  const PointMass payload = o.session.payload();
   const std::vector<SessionData> placements = load_placements(o.session.sessions, o.session.plan);
   const SessionData& data = placements.front();
-  const PointMass payload = o.session.payload();
   if (request.fit == SessionFit::Poses && !o.json && stdout_is_terminal())
     fmt::print("calibrating ({} poses)…\n", data.readings.size());
   const SessionCalibration c = calibrate_sessions(placements, model, payload, request);
@@ -153,8 +154,9 @@ void run_calibrate(const CalibrateOptions& o) {
 // ---- export-poses ----------------------------------------------------------------------------
 
 void run_export(const SessionOptions& s, const SessionExportPaths& paths, bool json) {
+  const PointMass payload = s.payload();  // a bad --tool named before the session is read
   const SessionData data = s.load();
-  const SessionExport exported = export_session(data, s.payload(), paths);
+  const SessionExport exported = export_session(data, payload, paths);
   OutputFiles files;
   files.add(exported.files);
   files.write();
@@ -171,7 +173,8 @@ void run_export(const SessionOptions& s, const SessionExportPaths& paths, bool j
 
 void run_replan(const SessionOptions& s, const std::string& model_path, const std::string& out,
                 bool json) {
-  const Replan r = replan_retries(s.load(), load_calibrated_robot(model_path), model_path);
+  const CalibratedRobot model = load_calibrated_robot(model_path);  // named before the session
+  const Replan r = replan_retries(s.load(), model, model_path);
   write_hexapod_plan(out, r.plan);
   if (json) {
     print_json(replan_json(r, out));

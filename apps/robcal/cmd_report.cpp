@@ -54,8 +54,7 @@ const bool report_registered = register_command(85, [](CLI::App& app) {
                   "(e.g. the lower levels), each labelled by its level");
   cmd->add_option("--instrument", o->request.instrument,
                   "Instrument file (instrument.yaml: name and sigma_mm) for the provenance");
-  cmd->add_option("--seed", o->request.seed, "Seed of the plan or simulation, for the provenance")
-      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--seed", o->request.seed, "Seed of the plan or simulation, for the provenance");
   cmd->add_option("--iso9283-poses", o->request.iso9283_poses,
                   "ISO 9283 commanded poses (from `robcal iso9283 plan`)");
   cmd->add_option("--iso9283-measurements", o->request.iso9283_measurements,

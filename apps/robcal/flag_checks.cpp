@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -42,6 +44,15 @@ std::string check_count(const std::string& text) {
   return {};
 }
 
+/// "" when `text` is a whole number that fits an int (at least `min`), else what is wrong:
+/// CLI11's own "Could not convert: --best = abc" names neither the value nor what was expected.
+std::string check_whole_number(const std::string& text, int64_t min) {
+  const std::optional<int64_t> v = parse_integer(text);
+  if (v && *v >= min && *v <= std::numeric_limits<int>::max()) return {};
+  if (min == 0) return fmt::format("'{}': expected a whole number >= 0", text);
+  return fmt::format("'{}': expected a whole number", text);
+}
+
 /// "" when `text` is a number >= 0, else what is wrong (CLI11 prints it with the flag).
 std::string check_non_negative(const std::string& text) {
   const std::optional<double> v = parse_number(text);
@@ -65,8 +76,17 @@ void check_flags_of(CLI::App& app) {
       option->check(CLI::Validator(check_seed, "SEED"));
     else if (is(kCountFlags) && option->get_type_name().rfind("INT", 0) == 0)
       option->check(CLI::Validator(check_count, "COUNT"));
-    else if ((is(kNonNegativeFlags) && option->get_expected_max() == 1) || name == "--candidates")
+    else if (name == "--candidates")
+      option->check(CLI::Validator([](const std::string& t) { return check_whole_number(t, 0); },
+                                   "NON-NEGATIVE"));
+    else if (is(kNonNegativeFlags) && option->get_expected_max() == 1)
       option->check(CLI::Validator(check_non_negative, "NON-NEGATIVE"));
+    else if (option->get_type_name().rfind("INT", 0) == 0)
+      option->check(CLI::Validator(
+          [](const std::string& t) {
+            return check_whole_number(t, std::numeric_limits<int>::min());
+          },
+          ""));
     else if (option->get_type_name().rfind("FLOAT", 0) == 0)
       option->check(CLI::Validator(check_finite, ""));
   }

@@ -2,6 +2,7 @@
 /// itself; this file only runs CLI11 and turns errors into messages and exit codes.
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -81,7 +82,7 @@ size_t stage_of_setup(const CommandSetup& setup) {
 /// The outputs (--out, --*-out) of the command line never overwrite its inputs: every other
 /// option value or argument naming an existing file is an input.
 void refuse_outputs_over_inputs(const CLI::App& app) {
-  std::vector<std::pair<std::string, std::string>> outputs;  // flag, path
+  std::vector<std::pair<std::string, std::filesystem::path>> outputs;  // flag, path
   std::vector<std::filesystem::path> inputs;
   for (const CLI::App* command = &app; command != nullptr;) {
     for (const CLI::Option* option : command->get_options()) {
@@ -100,12 +101,56 @@ void refuse_outputs_over_inputs(const CLI::App& app) {
     command = chosen.empty() ? nullptr : chosen.front();
   }
   for (const auto& [flag, path] : outputs) robcal::refuse_overwriting_inputs(path, inputs, flag);
+  robcal::refuse_shared_outputs(outputs);
   for (const auto& output : outputs) {
     std::error_code ec;
     if (output.second == "-" || std::filesystem::equivalent(output.second, "/dev/stdout", ec))
       return reserve_stdout_for_data();
   }
 }
+
+/// The deepest command of the command line (`robcal hexapod plan` → plan) and its words.
+std::pair<const CLI::App*, std::string> chosen_command(const CLI::App& app) {
+  const CLI::App* command = &app;
+  std::string words = "robcal";
+  for (auto chosen = app.get_subcommands(); !chosen.empty(); chosen = command->get_subcommands()) {
+    command = chosen.front();
+    words += " " + command->get_name();
+  }
+  return {command, words};
+}
+
+/// CLI11's messages about the command line's words, located: the unknown command or flag is
+/// named first and what was expected follows ("A subcommand is required" and "The following
+/// arguments were not expected: red --colour" name neither). Empty for the other errors,
+/// which CLI11 words well enough ("--out is required", "--seed: seed '-1': expected ...").
+std::string located_parse_error(const CLI::App& app, const CLI::ParseError& error) {
+  const auto [command, words] = chosen_command(app);
+  const std::vector<std::string> extra = app.remaining(true);
+  if (dynamic_cast<const CLI::RequiredError*>(&error) != nullptr &&
+      std::string(error.what()).rfind("A subcommand", 0) == 0) {
+    std::vector<std::string> names;
+    for (const CLI::App* sub : command->get_subcommands({})) names.push_back(sub->get_name());
+    const std::string expected =
+        fmt::format("{} (`{} --help` describes them)", fmt::join(names, ", "), words);
+    if (extra.empty()) return fmt::format("{}: expected a command: {}", words, expected);
+    if (extra.front().rfind('-', 0) == 0)
+      return fmt::format("{}: expected a command before the flags: {}", extra.front(), expected);
+    return fmt::format("'{}': unknown command of `{}`: expected {}", extra.front(), words,
+                       expected);
+  }
+  if (dynamic_cast<const CLI::ExtrasError*>(&error) != nullptr && !extra.empty()) {
+    const auto flag = std::find_if(extra.begin(), extra.end(),
+                                   [](const std::string& word) { return word.rfind('-', 0) == 0; });
+    if (flag != extra.end())
+      return fmt::format("{}: unknown flag of `{}` (`{} --help` lists its flags)", *flag, words,
+                         words);
+    return fmt::format("'{}': unexpected argument: `{}` takes its values after flags (`{} --help`)",
+                       extra.front(), words, words);
+  }
+  return {};
+}
+
 /// The message of `error`, preceded by the flag that named its file when the error is about the
 /// whole file (it cannot be opened, is empty or a directory: no line to point at), so that the
 /// user reads which of the command's files it is.
@@ -163,6 +208,10 @@ int main(int argc, char** argv) {
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
+      if (const std::string located = robcal::cli::located_parse_error(app, e); !located.empty()) {
+        std::cerr << "error: " << located << "\n";
+        return 2;
+      }
       // --help prints and succeeds; every malformed command line is bad input: exit code 2, as
       // for bad files (CLI11's own codes, 104 for a non-numeric value, would surprise scripts).
       const int code = app.exit(e);

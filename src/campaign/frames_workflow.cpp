@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <utility>
+
 #include "robcal/campaign/cell.hpp"
 #include "robcal/campaign/frames_file.hpp"
 #include "robcal/core/error.hpp"
@@ -22,17 +24,15 @@ MeasurementSet read_target_rows(const std::string& path, const std::string& targ
   return read_measurements_csv(path, tool, {MeasurementKind::Points}).measurements;
 }
 
-JointSweep read_sweep(const std::string& path, const std::string& target, int joint,
-                      const RobotModel& model) {
-  return sweep_from_measurements(read_target_rows(path, target), joint, model);
+/// The tool file to update (request.tool's, or a new tool), read with the other inputs before
+/// any fit: a bad file is named first.
+Tool tool_to_update(const TargetFrameRequest& request) {
+  return request.tool.empty() ? Tool{} : load_tool(request.tool);
 }
 
-/// The tool (request.tool's, or a new one) with the target at `point`, as a file with the
-/// estimate and `source` in a comment.
+/// `tool` with the target at `point`, as a file with the estimate and `source` in a comment.
 TargetFrameResult target_result(const TargetFrameRequest& request, const RobotModel& model,
-                                const PointEstimate& point, const std::string& source) {
-  Tool tool;
-  if (!request.tool.empty()) tool = load_tool(request.tool);
+                                Tool tool, const PointEstimate& point, const std::string& source) {
   int index = tool.target_index(request.target);
   if (index < 0) {
     tool.targets.push_back({request.target, Eigen::Vector3d::Zero(), true});
@@ -63,8 +63,12 @@ void check_sigma_mm(double sigma_mm) {
 BaseFrameResult frames_base(const BaseFrameRequest& request) {
   check_sigma_mm(request.sigma_mm);
   const RobotModel model = load_robot(request.robot);
-  const JointSweep s1 = read_sweep(request.joint1, request.target, 1, model);
-  const JointSweep s2 = read_sweep(request.joint2, request.target, 2, model);
+  // Every file read before the fits: a bad one is named before the fits can fail.
+  const MeasurementSet rows1 = read_target_rows(request.joint1, request.target);
+  const MeasurementSet rows2 = read_target_rows(request.joint2, request.target);
+  const std::string cell = request.cell.empty() ? "" : read_text_file(request.cell);
+  const JointSweep s1 = sweep_from_measurements(rows1, 1, model);
+  const JointSweep s2 = sweep_from_measurements(rows2, 2, model);
   BaseFrameResult result{model.name, base_from_sweeps(model, s1, s2, request.sigma_mm), ""};
   const std::string comment = fmt::format(
       "robot base of {} from circle fits of the joint-1 sweep {} ({} readings) and the joint-2 "
@@ -72,17 +76,20 @@ BaseFrameResult frames_base(const BaseFrameRequest& request) {
       model.name, request.joint1, s1.points_mm.size(), request.joint2, s2.points_mm.size(),
       request.target);
   result.text = request.cell.empty() ? "# " + comment + "\n" + robot_base_block(result.base)
-                                     : cell_with_base(read_text_file(request.cell), request.cell,
-                                                      result.base, comment);
+                                     : cell_with_base(cell, request.cell, result.base, comment);
   return result;
 }
 
 TargetFrameResult frames_tool(const TargetFrameRequest& request) {
   check_sigma_mm(request.sigma_mm);
   const RobotModel model = load_robot(request.robot);
-  const JointSweep s5 = read_sweep(request.first, request.target, 5, model);
-  const JointSweep s6 = read_sweep(request.second, request.target, 6, model);
-  return target_result(request, model, tool_from_sweeps(model, s5, s6, request.sigma_mm),
+  const MeasurementSet rows5 = read_target_rows(request.first, request.target);
+  const MeasurementSet rows6 = read_target_rows(request.second, request.target);
+  Tool tool = tool_to_update(request);
+  const JointSweep s5 = sweep_from_measurements(rows5, 5, model);
+  const JointSweep s6 = sweep_from_measurements(rows6, 6, model);
+  return target_result(request, model, std::move(tool),
+                       tool_from_sweeps(model, s5, s6, request.sigma_mm),
                        fmt::format("circle fits of the joint-5 sweep {} and the joint-6 sweep {} "
                                    "(robcal frames tool)",
                                    request.first, request.second));
@@ -92,9 +99,10 @@ TargetFrameResult frames_point(const TargetFrameRequest& request) {
   check_sigma_mm(request.sigma_mm);
   const RobotModel model = load_robot(request.robot);
   const Cell cell = load_cell(request.cell);
+  Tool tool = tool_to_update(request);
   const MeasurementSet set = read_target_rows(request.first, request.target);
   return target_result(
-      request, model,
+      request, model, std::move(tool),
       tool_point_from_measurements(model, cell.robot_params(model), set, request.sigma_mm),
       fmt::format("{} rows of {} with the nominal robot at the base of {} (robcal frames point)",
                   set.points.size(), request.first, request.cell));

@@ -599,6 +599,26 @@ ExportFormat parse_export_format(const std::string& yaml_text, const std::string
   return format;
 }
 
+namespace {
+
+/// --target goes into the target column of the CSV written: a plain name, no cell separator,
+/// quote or line break.
+void check_target_name(const std::string& name) {
+  const bool plain = name.find_first_not_of(' ') != std::string::npos && name.front() != ' ' &&
+                     name.back() != ' ' &&
+                     std::none_of(name.begin(), name.end(), [](unsigned char c) {
+                       return c < 0x20 || c == 0x7F || c == ',' || c == ';' || c == '"';
+                     });
+  if (!plain)
+    throw InputError({"", 0, 0, "--target"},
+                     fmt::format("target name '{}': expected a name without blanks at its ends, "
+                                 "commas, semicolons, quotes or control characters (it is "
+                                 "written into the target column of the CSV)",
+                                 name));
+}
+
+}  // namespace
+
 ImportResult import_measurements(const ImportRequest& request) {
   if (!(request.time_tolerance_s > 0))
     throw InputError(
@@ -620,6 +640,16 @@ ImportResult import_measurements(const ImportRequest& request) {
   const bool export_has_target = any(readings, &Reading::target);
   const bool log_has_target = any(log, &LogRow::target);
   // Names are never empty (the readers refuse empty names), so "any name" means "a column".
+  if (!request.default_target.empty()) {
+    check_target_name(request.default_target);
+    if (export_has_target || log_has_target)
+      throw InputError(
+          {"", 0, 0, "--target"},
+          fmt::format("'{}' would not be used: {} names the target of every reading (its target "
+                      "column); give --target only when neither file names it",
+                      request.default_target,
+                      export_has_target ? request.export_file.name : request.joint_log.name));
+  }
   const auto pairs = join(request, readings, log, export_has_config, export_has_time, log_has_time,
                           log_has_target, export_has_target, result.warnings);
 

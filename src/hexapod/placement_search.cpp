@@ -169,6 +169,9 @@ void check_axis(const std::vector<double>& axis, const char* name) {
     if (!std::isfinite(v)) throw InputError({"", 0, 0, name}, "expected finite values");
 }
 
+/// The flags that span the placement grid: the key of a message about the grid as a whole.
+constexpr const char* kGridFlags = "--x-mm, --y-mm, --z-mm, --yaw-deg, --tilt-deg";
+
 }  // namespace
 
 MeasuredPlacement measured_placement(const HexapodPlan& plan, const std::string& source) {
@@ -204,7 +207,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   const size_t grid = request.x_mm.size() * request.y_mm.size() * request.z_mm.size() *
                       request.yaw_deg.size() * request.tilt_deg.size();
   if (grid > 2000)
-    throw InputError({"", 0, 0, "placement grid"},
+    throw InputError({"", 0, 0, kGridFlags},
                      fmt::format("{} placements: expected at most 2000", grid));
   if (request.best < 1) throw InputError({"", 0, 0, "--best"}, "expected at least 1");
   if (!(request.pose_sigma_multiple > 0) || request.validation_configurations < 2)
@@ -297,7 +300,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   if (std::none_of(scores.begin(), scores.end(),
                    [](const PlacementScore& s) { return s.usable(); }))
     throw InputError(
-        {"", 0, 0, "placement grid"},
+        {"", 0, 0, kGridFlags},
         fmt::format("none of the {} placements has a configuration to measure (every pose "
                     "unreachable, colliding, or its cups out of the gauge's ±{} mm about "
                     "{} mm){}: move the grid or change the fixtures",

@@ -118,4 +118,33 @@ void refuse_overwriting_inputs(const fs::path& out, const std::vector<fs::path>&
   }
 }
 
+void refuse_non_folder(const fs::path& dir, std::string_view flag) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw InputError(SourceLocation{dir.string(), 0, 0, std::string(flag)},
+                     "exists and is not a folder: expected a folder to write into, or a new path");
+}
+
+void refuse_shared_outputs(
+    const std::vector<std::pair<std::string, std::filesystem::path>>& outputs) {
+  const auto shareable = [](const fs::path& path) {
+    std::error_code ec;
+    return path == "-" || (fs::exists(path, ec) && !fs::is_regular_file(path, ec));
+  };
+  const auto resolved = [](const fs::path& path) {
+    std::error_code ec;
+    return fs::weakly_canonical(fs::absolute(path, ec), ec);
+  };
+  for (size_t second = 1; second < outputs.size(); ++second) {
+    const auto& [flag, path] = outputs[second];
+    if (shareable(path)) continue;
+    for (size_t first = 0; first < second; ++first)
+      if (resolved(outputs[first].second) == resolved(path))
+        throw InputError(
+            SourceLocation{"", 0, 0, flag},
+            fmt::format("'{}' is also the file of {}: each output needs a path of its own",
+                        path.string(), outputs[first].first));
+  }
+}
+
 }  // namespace robcal

@@ -51,6 +51,31 @@ void check_program_name(const std::string& name) {
                                  name));
 }
 
+/// --rapid-signal names a signal of the controller's I/O configuration in a RAPID statement
+/// (WaitDI / PulseDO): a RAPID identifier, a letter then letters, digits or '_', at most 32
+/// characters; other languages and the log hook use no signal name.
+void check_rapid_signal(const MeasurementProgramRequest& r) {
+  const std::string& name = r.rapid_signal;
+  if (name.empty()) return;
+  if (r.language != ProgramLanguage::Rapid)
+    throw InputError(SourceLocation{"", 0, 0, "--rapid-signal"},
+                     fmt::format("a RAPID signal name, but the program is {}: give its input or "
+                                 "output number with --signal",
+                                 program_language_name(r.language)));
+  if (r.hook == MeasurementHook::LogLine)
+    throw InputError(SourceLocation{"", 0, 0, "--rapid-signal"},
+                     "the log hook writes a message, no signal: drop --rapid-signal or choose "
+                     "--hook wait or pulse");
+  const bool identifier = name.size() <= 32 && std::isalpha(static_cast<unsigned char>(name[0])) &&
+                          std::all_of(name.begin(), name.end(),
+                                      [](unsigned char c) { return std::isalnum(c) || c == '_'; });
+  if (!identifier)
+    throw InputError(SourceLocation{"", 0, 0, "--rapid-signal"},
+                     fmt::format("signal name '{}': expected a RAPID identifier, a letter then "
+                                 "letters, digits or '_', at most 32 characters",
+                                 name));
+}
+
 /// q and its approach inside the limits (the approach moves every joint by −approach_deg).
 void check_limits(const MeasurementProgramRequest& r, const std::string& name,
                   const Vector6d& target_rad, const Vector6d& approach_rad) {
@@ -86,6 +111,7 @@ int program_size_limit(ProgramLanguage language) {
 
 std::vector<ProgramFile> write_measurement_program(const MeasurementProgramRequest& r) {
   check_program_name(r.name);
+  check_rapid_signal(r);
   if (r.names.size() != r.joints.size() || (!r.visits.empty() && r.visits.size() != r.names.size()))
     throw std::invalid_argument(
         "write_measurement_program: names, joints and visits differ in size");

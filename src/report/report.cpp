@@ -904,7 +904,8 @@ std::string report_html(const nlohmann::json& report, std::string_view chartjs) 
   replace_all(page, "@DIAGNOSTICS@", diagnostics);
   replace_all(page, "@NOTES@", notes);
   const size_t data_at = page.find("@DATA@");
-  page.replace(data_at, 6, script_safe(report.dump()));
+  page.replace(data_at, 6,
+               script_safe(report.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)));
   const size_t chart_at = page.find("@CHARTJS@", data_at);
   page.replace(chart_at, 9, chartjs);
   return page;

@@ -2,7 +2,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <fmt/format.h>
+
+#include <cstdint>
 #include <numeric>
+#include <string_view>
 
 #include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
@@ -44,9 +48,47 @@ void read_instrument(const std::string& path, Provenance& provenance) {
   }
 }
 
+/// Length in bytes of the UTF-8 sequence at `at` of `text`; 0 when it is not one (a stray
+/// continuation byte, a truncated or overlong sequence, a surrogate, beyond U+10FFFF).
+size_t utf8_sequence_length(std::string_view text, size_t at) {
+  const auto byte = [&](size_t i) { return static_cast<unsigned char>(text[i]); };
+  const unsigned char lead = byte(at);
+  if (lead < 0x80) return 1;
+  const size_t length = lead >= 0xF0 ? 4 : lead >= 0xE0 ? 3 : lead >= 0xC0 ? 2 : 0;
+  if (length == 0 || at + length > text.size() || lead > 0xF4) return 0;
+  uint32_t code = lead & (0x7F >> length);
+  for (size_t i = 1; i < length; ++i) {
+    if ((byte(at + i) & 0xC0) != 0x80) return 0;
+    code = (code << 6) | (byte(at + i) & 0x3F);
+  }
+  constexpr uint32_t kShortest[] = {0, 0, 0x80, 0x800, 0x10000};
+  if (code < kShortest[length] || code > 0x10FFFF || (code >= 0xD800 && code <= 0xDFFF)) return 0;
+  return length;
+}
+
+/// --title heads the page and names it in a browser's tab: one line of printable UTF-8 text.
+void check_title(std::string_view title) {
+  constexpr size_t kMaxTitle = 200;
+  const auto refuse = [](const std::string& why) {
+    throw InputError({"", 0, 0, "--title"}, why + ": expected one line of printable UTF-8 text");
+  };
+  if (title.find_first_not_of(' ') == std::string_view::npos) refuse("the title is empty");
+  if (title.size() > kMaxTitle)
+    refuse(fmt::format("the title has {} bytes, more than {}", title.size(), kMaxTitle));
+  for (size_t at = 0; at < title.size();) {
+    const auto c = static_cast<unsigned char>(title[at]);
+    if (c < 0x20 || c == 0x7F)
+      refuse(fmt::format("control character 0x{:02X} at byte {}", c, at + 1));
+    const size_t length = utf8_sequence_length(title, at);
+    if (length == 0) refuse(fmt::format("byte 0x{:02X} at byte {} is not UTF-8", c, at + 1));
+    at += length;
+  }
+}
+
 }  // namespace
 
 ReportBuild build_report(const ReportRequest& o) {
+  check_title(o.title);
   if (o.measurements.empty())
     throw InputError({"", 0, 0, "--measurements"}, "expected at least one validation file");
   if (o.iso9283_poses.empty() != o.iso9283_measurements.empty())
@@ -149,7 +191,10 @@ void write_report(const nlohmann::json& report, const std::filesystem::path& htm
   const std::string html = report_html(report, load_chartjs());
   std::filesystem::path json_path = html_path;
   json_path.replace_extension(".json");
-  write_file_atomically(json_path, report.dump(1));
+  // The sources and the command line hold file names, which need not be UTF-8: U+FFFD for
+  // their stray bytes (as in report_html).
+  write_file_atomically(json_path,
+                        report.dump(1, ' ', false, nlohmann::json::error_handler_t::replace));
   write_file_atomically(html_path, html);
 }
 

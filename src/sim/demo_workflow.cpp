@@ -74,7 +74,10 @@ DemoResult run_demo(const DemoRequest& request) {
   const TrueRobot truth = published_irb120_truth(model, tool);
   const VirtualInstrument tracker = standard_instrument(InstrumentKind::LaserTracker, truth);
   // Fail before any work when the report cannot be written.
-  if (!request.out.empty()) (void)load_chartjs();
+  if (!request.out.empty()) {
+    refuse_non_folder(request.out);
+    (void)load_chartjs();
+  }
   CampaignOptions options;
   options.seed = request.seed;
   options.calibration_count = request.count;

@@ -208,6 +208,7 @@ std::string published_experiments_markdown(const PublishedExperiments& e) {
 PublishedExperimentsRun run_published_experiments_files(
     uint64_t seed, const std::filesystem::path& out,
     const std::function<void(const std::string&)>& progress) {
+  refuse_non_folder(out);
   const auto started = std::chrono::steady_clock::now();
   PublishedExperimentsRun run{run_published_experiments(seed, progress), 0};
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();

@@ -72,9 +72,8 @@ SimulationFiles write_simulation(const std::filesystem::path& dir, const std::st
   // it first, so a full disk or a crash leaves the target as it was.
   fs::path target = fs::absolute(dir).lexically_normal();
   if (!target.has_filename()) target = target.parent_path();
+  refuse_non_folder(dir);
   std::error_code ec;
-  if (fs::exists(target, ec) && !fs::is_directory(target, ec))
-    throw InputError({dir.string(), 0, 0, "--out"}, "exists and is not a folder");
   const fs::path staging =
       target.parent_path() /
       fmt::format(".{}.partial-{}", target.filename().string(), static_cast<long>(::getpid()));

@@ -7,7 +7,7 @@
 # Usage: coverage.sh ROBCAL CASES [--list]
 #   prints one line per uncovered flag (every flag with --list: command, flag, value|switch,
 #   covered|UNCOVERED) and a summary; exits 1 when more flags that take a value are uncovered
-#   than MAX_UNCOVERED (default 0: a ratchet while the catalogue catches up; it may only fall).
+#   than MAX_UNCOVERED (default 0: every such flag has a row).
 set -uo pipefail
 ROBCAL="$1"
 CASES="$2"

@@ -13,14 +13,17 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -192,53 +195,53 @@ std::map<std::string, Target> targets(const fs::path& root) {
 /// Tokens that broke parsers before or that parsers must refuse: numbers beyond range or
 /// half-written, non-numbers, structure characters, a BOM, a NUL, long digit runs.
 const std::vector<std::string>& hostile_tokens() {
-  static const std::vector<std::string> tokens{"1e999",
-                                               "-1e999",
-                                               "1e-999",
-                                               "nan",
-                                               "NaN",
-                                               "inf",
-                                               "-inf",
-                                               ".inf",
-                                               "364.35.4",
-                                               "0x1F",
-                                               "1e308",
-                                               "99999999999999999999",
-                                               "-1",
-                                               "-0",
-                                               "+",
-                                               "e",
-                                               "[",
-                                               "]",
-                                               "{",
-                                               "}",
-                                               ",",
-                                               ":",
-                                               "\n",
-                                               "\r\n",
-                                               "\"",
-                                               "'",
-                                               "~",
-                                               "&a ",
-                                               "*a",
-                                               "- ",
-                                               "# ",
-                                               "\xEF\xBB\xBF",
-                                               std::string(1, '\0'),
-                                               "\t",
-                                               "name",
-                                               "B9-T9",
-                                               "END",
-                                               "ENDMODULE",
-                                               ";",
-                                               "=",
-                                               "\\WObj:=wobj1",
-                                               "{X 1e999}",
-                                               "E6POS",
-                                               "robtarget",
-                                               "18446744073709551616",
-                                               "2147483648"};
-  return tokens;
+  static const std::vector<std::string> kTokens{"1e999",
+                                                "-1e999",
+                                                "1e-999",
+                                                "nan",
+                                                "NaN",
+                                                "inf",
+                                                "-inf",
+                                                ".inf",
+                                                "364.35.4",
+                                                "0x1F",
+                                                "1e308",
+                                                "99999999999999999999",
+                                                "-1",
+                                                "-0",
+                                                "+",
+                                                "e",
+                                                "[",
+                                                "]",
+                                                "{",
+                                                "}",
+                                                ",",
+                                                ":",
+                                                "\n",
+                                                "\r\n",
+                                                "\"",
+                                                "'",
+                                                "~",
+                                                "&a ",
+                                                "*a",
+                                                "- ",
+                                                "# ",
+                                                "\xEF\xBB\xBF",
+                                                std::string(1, '\0'),
+                                                "\t",
+                                                "name",
+                                                "B9-T9",
+                                                "END",
+                                                "ENDMODULE",
+                                                ";",
+                                                "=",
+                                                "\\WObj:=wobj1",
+                                                "{X 1e999}",
+                                                "E6POS",
+                                                "robtarget",
+                                                "18446744073709551616",
+                                                "2147483648"};
+  return kTokens;
 }
 
 std::string mutate(std::string text, std::mt19937_64& rng) {
@@ -320,33 +323,79 @@ bool run_one(const Target& target, const std::string& text, const fs::path& scra
   return false;
 }
 
-}  // namespace
+constexpr const char* kUsage =
+    "usage: robcal_fuzz [--iterations N] [--seconds S] [--seed K] [--parser NAME] [--out DIR] "
+    "ROOT\n"
+    "  ROOT         tests/fuzz: its corpus/<parser>/ seeds are mutated, its crashes/<parser>/\n"
+    "               inputs replayed\n"
+    "  --iterations mutations per parser (default 300; the smoke run of `make test`)\n"
+    "  --seconds    run this long per parser instead (the long runs)\n"
+    "  --seed       seed of the mutations (default 1)\n"
+    "  --parser     only this parser (a folder name of corpus/)\n"
+    "  --out        folder for the reproducers of failing inputs (default ROOT/crashes)\n";
 
-int main(int argc, char** argv) {
+/// A command line the runner cannot use: the message, then the usage, exit code 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// `text` as a whole number >= 0 (or a number >= 0 when `fraction`), for `flag`.
+double non_negative(const std::string& flag, const std::string& text, bool fraction) {
+  size_t used = 0;
+  double v = -1;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !(v >= 0 && v <= 1e15) || (!fraction && v != std::floor(v)))
+    throw UsageError(flag + ": expected " + (fraction ? "a number" : "a whole number") +
+                     " >= 0, found '" + text + "'");
+  return v;
+}
+
+/// The options of the command line; nullopt for --help.
+std::optional<Options> parse_options(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") return std::nullopt;
     const auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::runtime_error(arg + " needs a value");
+      if (i + 1 >= argc) throw UsageError(arg + ": expected a value");
       return argv[++i];
     };
     if (arg == "--iterations")
-      o.iterations = std::stol(value());
+      o.iterations = static_cast<long>(non_negative(arg, value(), false));
     else if (arg == "--seconds")
-      o.seconds = std::stod(value());
+      o.seconds = non_negative(arg, value(), true);
     else if (arg == "--seed")
-      o.seed = std::stoull(value());
+      o.seed = static_cast<uint64_t>(non_negative(arg, value(), false));
     else if (arg == "--parser")
       o.parser = value();
     else if (arg == "--out")
       o.out = value();
+    else if (arg.rfind('-', 0) == 0)
+      throw UsageError(arg + ": unknown option");
+    else if (!o.root.empty())
+      throw UsageError("'" + arg + "': one ROOT only (already '" + o.root.string() + "')");
     else
       o.root = arg;
   }
-  if (o.root.empty()) {
-    std::cerr << "usage: robcal_fuzz [--iterations N] [--seconds S] [--seed K] [--parser NAME] "
-                 "[--out DIR] tests/fuzz\n";
-    return 2;
+  if (o.root.empty()) throw UsageError("expected ROOT, the tests/fuzz folder");
+  std::error_code ec;
+  if (!fs::is_directory(o.root / "corpus", ec))
+    throw UsageError("'" + o.root.string() +
+                     "' has no corpus/ folder: expected ROOT to be tests/fuzz");
+  return o;
+}
+
+/// Fuzzes every parser (or --parser's); returns the number of failing inputs.
+int run(const Options& o) {
+  const std::map<std::string, Target> all = targets(o.root);
+  if (!o.parser.empty() && all.count(o.parser) == 0) {
+    std::string known;
+    for (const auto& entry : all) known += (known.empty() ? "" : ", ") + entry.first;
+    throw UsageError("--parser: unknown parser '" + o.parser + "': expected one of " + known);
   }
   const fs::path scratch_dir =
       fs::temp_directory_path() / ("robcal-fuzz-" + std::to_string(::getpid()));
@@ -354,13 +403,15 @@ int main(int argc, char** argv) {
   // A crash ends the process before the input can be saved: it is left here.
   std::cerr << "inputs are written to " << scratch_dir << " before each run\n";
   int failures = 0;
-  for (const auto& [parser, target] : targets(o.root)) {
+  for (const auto& [parser, target] : all) {
     if (!o.parser.empty() && o.parser != parser) continue;
     const fs::path scratch = scratch_dir / ("input-" + parser);
     std::vector<std::string> seeds;
     for (const auto& entry : fs::directory_iterator(o.root / "corpus" / parser))
       seeds.push_back(read_all(entry.path()));
     std::sort(seeds.begin(), seeds.end());  // directory order is not deterministic
+    if (seeds.empty())
+      throw UsageError("'" + (o.root / "corpus" / parser).string() + "' holds no seed file");
     long runs = 0, accepted = 0, seeds_accepted = 0;
     for (const std::string& seed : seeds)
       failures += !run_one(target, seed, scratch, parser, o, seeds_accepted);
@@ -386,6 +437,30 @@ int main(int argc, char** argv) {
                 runs, elapsed(), runs / std::max(elapsed(), 1e-9), accepted, seeds.size());
   }
   fs::remove_all(scratch_dir);
-  if (failures > 0) std::printf("%d failing inputs\n", failures);
-  return failures > 0 ? 1 : 0;
+  return failures;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const std::optional<Options> o = parse_options(argc, argv);
+    if (!o) {
+      std::cout << kUsage;
+      return 0;
+    }
+    const int failures = run(*o);
+    if (failures > 0) std::printf("%d failing inputs\n", failures);
+    return failures > 0 ? 1 : 0;
+  } catch (const UsageError& e) {
+    std::cerr << "robcal_fuzz: " << e.what() << "\n" << kUsage;
+    return 2;
+  } catch (const InputError& e) {
+    // A corpus file the targets are built from (tool.yaml, plan.json...) is missing or broken.
+    std::cerr << "robcal_fuzz: corpus: " << e.what() << "\n";
+    return 2;
+  } catch (const fs::filesystem_error& e) {
+    std::cerr << "robcal_fuzz: corpus: " << e.what() << "\n";
+    return 2;
+  }
 }

@@ -7,7 +7,9 @@
 /// replaced. "-" is standard output for writing and standard input for reading.
 
 #include <filesystem>
+#include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace robcal {
@@ -26,5 +28,15 @@ std::string read_text_file(const std::filesystem::path& path);
 void refuse_overwriting_inputs(const std::filesystem::path& out,
                                const std::vector<std::filesystem::path>& inputs,
                                std::string_view flag = "--out");
+
+/// Throws InputError naming `flag` when the output folder `dir` exists as something other than
+/// a folder (a file given where a folder is written): checked before the work that fills it.
+void refuse_non_folder(const std::filesystem::path& dir, std::string_view flag = "--out");
+
+/// Throws InputError naming the second flag when two outputs of one command line (flag, path)
+/// name the same file: the second would silently replace the first. "-" and devices
+/// (/dev/null, /dev/stdout) may be shared.
+void refuse_shared_outputs(
+    const std::vector<std::pair<std::string, std::filesystem::path>>& outputs);
 
 }  // namespace robcal
