@@ -14,17 +14,20 @@
 
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "robcal/campaign/cell.hpp"
@@ -296,26 +299,90 @@ struct Options {
   std::string parser;
   fs::path out;
   fs::path root;
+  double input_seconds = 60;  ///< longer on one input is a hang (the slowest take ~0.3 s)
+};
+
+/// Ends the run when one input takes longer than the limit: a parser that loops for ever would
+/// otherwise stall the fuzz run without a word. The input (in the scratch file) is saved first.
+class Watchdog {
+ public:
+  explicit Watchdog(double limit_seconds) : limit_(limit_seconds) {
+    if (limit_ > 0) thread_ = std::thread([this] { watch(); });
+  }
+  ~Watchdog() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+    if (thread_.joinable()) thread_.join();
+  }
+  Watchdog(const Watchdog&) = delete;
+  Watchdog& operator=(const Watchdog&) = delete;
+
+  void begin(const std::string& parser, const fs::path& scratch, const fs::path& save_dir) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    parser_ = parser;
+    scratch_ = scratch;
+    save_dir_ = save_dir;
+    started_ = std::chrono::steady_clock::now();
+    running_ = true;
+  }
+  void end() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    running_ = false;
+  }
+
+ private:
+  void watch() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stop_) {
+      wake_.wait_for(lock, std::chrono::milliseconds(500));
+      if (!running_ ||
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count() <
+              limit_)
+        continue;
+      fs::create_directories(save_dir_);
+      const fs::path saved = save_dir_ / "found-hang";
+      fs::copy_file(scratch_, saved, fs::copy_options::overwrite_existing);
+      std::cerr << "FAIL " << parser_ << ": one input has run for more than " << limit_
+                << " s (a hang?)\n  input saved as " << saved << "\n";
+      std::_Exit(1);
+    }
+  }
+
+  double limit_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false, running_ = false;
+  std::string parser_;
+  fs::path scratch_, save_dir_;
+  std::chrono::steady_clock::time_point started_;
+  std::thread thread_;  // last: started once the members it uses exist
 };
 
 /// Runs one input; returns false (and saves the input) when the parser failed other than by
 /// an InputError. Counts the inputs accepted (a corpus whose mutants are all refused at the
 /// first byte would test little).
 bool run_one(const Target& target, const std::string& text, const fs::path& scratch,
-             const std::string& parser, const Options& o, long& accepted) {
+             const std::string& parser, const Options& o, Watchdog& watchdog, long& accepted) {
   write_all(scratch, text);
+  const fs::path dir = (o.out.empty() ? o.root / "crashes" : o.out) / parser;
+  watchdog.begin(parser, scratch, dir);
   try {
     target(text, scratch);
+    watchdog.end();
     ++accepted;
     return true;
   } catch (const InputError&) {
+    watchdog.end();
     return true;
   } catch (const std::exception& e) {
     std::cerr << "FAIL " << parser << ": " << typeid(e).name() << ": " << e.what() << "\n";
   } catch (...) {
     std::cerr << "FAIL " << parser << ": unknown exception\n";
   }
-  const fs::path dir = (o.out.empty() ? o.root / "crashes" : o.out) / parser;
+  watchdog.end();
   fs::create_directories(dir);
   const fs::path saved = dir / ("found-" + std::to_string(std::hash<std::string>{}(text)));
   write_all(saved, text);
@@ -332,7 +399,8 @@ constexpr const char* kUsage =
     "  --seconds    run this long per parser instead (the long runs)\n"
     "  --seed       seed of the mutations (default 1)\n"
     "  --parser     only this parser (a folder name of corpus/)\n"
-    "  --out        folder for the reproducers of failing inputs (default ROOT/crashes)\n";
+    "  --out        folder for the reproducers of failing inputs (default ROOT/crashes)\n"
+    "  --input-seconds  one input running longer is a failure, a hang (default 60; 0: no limit)\n";
 
 /// A command line the runner cannot use: the message, then the usage, exit code 2.
 struct UsageError : std::runtime_error {
@@ -374,6 +442,8 @@ std::optional<Options> parse_options(int argc, char** argv) {
       o.parser = value();
     else if (arg == "--out")
       o.out = value();
+    else if (arg == "--input-seconds")
+      o.input_seconds = non_negative(arg, value(), true);
     else if (arg.rfind('-', 0) == 0)
       throw UsageError(arg + ": unknown option");
     else if (!o.root.empty())
@@ -403,6 +473,7 @@ int run(const Options& o) {
   // A crash ends the process before the input can be saved: it is left here.
   std::cerr << "inputs are written to " << scratch_dir << " before each run\n";
   int failures = 0;
+  Watchdog watchdog(o.input_seconds);
   for (const auto& [parser, target] : all) {
     if (!o.parser.empty() && o.parser != parser) continue;
     const fs::path scratch = scratch_dir / ("input-" + parser);
@@ -414,14 +485,15 @@ int run(const Options& o) {
       throw UsageError("'" + (o.root / "corpus" / parser).string() + "' holds no seed file");
     long runs = 0, accepted = 0, seeds_accepted = 0;
     for (const std::string& seed : seeds)
-      failures += !run_one(target, seed, scratch, parser, o, seeds_accepted);
+      failures += !run_one(target, seed, scratch, parser, o, watchdog, seeds_accepted);
     if (seeds_accepted != static_cast<long>(seeds.size())) {
       std::cerr << "FAIL " << parser << ": a seed of the corpus is refused\n";
       ++failures;
     }
     if (fs::is_directory(o.root / "crashes" / parser))
       for (const auto& entry : fs::directory_iterator(o.root / "crashes" / parser))
-        failures += !run_one(target, read_all(entry.path()), scratch, parser, o, accepted);
+        failures +=
+            !run_one(target, read_all(entry.path()), scratch, parser, o, watchdog, accepted);
     std::mt19937_64 rng(o.seed ^ std::hash<std::string>{}(parser));
     const auto start = std::chrono::steady_clock::now();
     const auto elapsed = [&] {
@@ -430,7 +502,7 @@ int run(const Options& o) {
     while (o.seconds > 0 ? elapsed() < o.seconds : runs < o.iterations) {
       const std::string& seed =
           seeds[std::uniform_int_distribution<size_t>(0, seeds.size() - 1)(rng)];
-      failures += !run_one(target, mutate(seed, rng), scratch, parser, o, accepted);
+      failures += !run_one(target, mutate(seed, rng), scratch, parser, o, watchdog, accepted);
       ++runs;
     }
     std::printf("%-13s %7ld inputs in %6.2f s (%.0f/s), %ld accepted, %zu seeds\n", parser.c_str(),
