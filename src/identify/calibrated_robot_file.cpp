@@ -141,7 +141,9 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot, const YamlWri
   out << YAML::Key << "robot" << YAML::Value << YAML::BeginMap;
   emit_robot_fields(out, robot.model);
   out << YAML::EndMap;
-  out << YAML::Key << "tool" << YAML::Value << YAML::Load(tool_to_yaml(robot.tool));
+  out << YAML::Key << "tool" << YAML::Value;
+  emit_tool(out, robot.tool);
+  out.SetDoublePrecision(kExactDigits);
   // Opt-in groups (docs/method/03-error-model.md §5) appear only when enabled: a file without
   // them reads back as the same robot (absent parameters are nominal and fixed).
   const std::vector<GroupSignificance> groups = group_significance(robot);
