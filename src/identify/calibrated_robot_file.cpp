@@ -118,11 +118,8 @@ CalibratedRobot calibrated_robot_from(const yaml::Node& root) {
 
 }  // namespace
 
-std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
-                                     const std::string& statistics_yaml) {
-  if (statistics_yaml.empty()) return calibrated_robot_to_yaml(robot, YamlWriter{});
-  return calibrated_robot_to_yaml(robot,
-                                  [&](YAML::Emitter& out) { out << YAML::Load(statistics_yaml); });
+std::string calibrated_robot_to_yaml(const CalibratedRobot& robot) {
+  return calibrated_robot_to_yaml(robot, YamlWriter{});
 }
 
 std::string calibrated_robot_to_yaml(const CalibratedRobot& robot, const YamlWriter& statistics,
