@@ -21,6 +21,7 @@
 #include "robcal/sim/plan_study.hpp"
 #include "robcal/sim/simulator.hpp"
 #include "robcal/sim/true_robot.hpp"
+#include "test_support.hpp"
 
 namespace robcal {
 namespace {
@@ -190,6 +191,19 @@ TEST(MisfitAllowance, UnreadableStatisticsAreRefusedByKey) {
   EXPECT_NEAR(m.misfit_mm, std::sqrt(0.04 * 0.04 + 0.03 * 0.03 - 3 * 0.01 * 0.01), 1e-12);
   EXPECT_NE(m.source.find("m.yaml: 5-fold cross-validated error rms 0.0500 mm"), std::string::npos)
       << m.source;
+}
+
+TEST(MisfitAllowance, ReadsThePredictionUnderItsOldAndNewKey) {
+  // predicted_position_error_mm.against_truth.rms_mm, and `rms` in files written before the
+  // keys carried their unit: p = 0.0123456789 · (σ 0.02 / σ̂ 0.0213456789) · √(5/4) from both.
+  const double expected = 0.0123456789 * (0.02 / 0.0213456789) * std::sqrt(5.0 / 4.0);
+  for (const std::string file :
+       {"golden/calibrated_model.yaml", "legacy/calibrated_model_unitless_keys.yaml"}) {
+    const std::string path = test::data_path(file);
+    EXPECT_NEAR(misfit_from_prior_model(load_calibrated_robot(path), path, 0.02).parameter_noise_mm,
+                expected, 1e-12)
+        << file;
+  }
 }
 
 TEST(PlanStudy, TaskAwarePlanBeatsRandomWithJ6PeriodicError) {

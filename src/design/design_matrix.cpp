@@ -83,7 +83,7 @@ DesignMatrix build_design_matrix(const RobotModel& model, const Tool& tool,
 
   // Identifiability over the whole candidate set (identify's rank analysis, columns examined
   // in layout order): with axes 2 and 3 parallel link3.d goes and link2.d stays
-  // (docs/method/03-error-model.md).
+  // (docs/method/03-error-model.md §2).
   std::vector<int> order(static_cast<size_t>(m));
   std::iota(order.begin(), order.end(), 0);
   const RankAnalysis rank = analyse_rank(raw, order);

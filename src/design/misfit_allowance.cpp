@@ -46,9 +46,14 @@ MisfitAllowance misfit_from_prior_model(const CalibratedRobot& prior, const std:
     if (const YAML::Node test = statistics["noise_test"]; test && test["instrument_sigma_mm"])
       p.instrument_sigma_mm = test["instrument_sigma_mm"].as<double>();
     if (statistics["sigma_mm"]) p.sigma_posterior_mm = statistics["sigma_mm"].as<double>();
+    // `rms` without its unit: model files written before the keys carried it.
     if (const YAML::Node predicted = statistics["predicted_position_error_mm"];
-        predicted && predicted["against_truth"] && predicted["against_truth"]["rms"])
-      p.predicted_rms_mm = predicted["against_truth"]["rms"].as<double>();
+        predicted && predicted["against_truth"])
+      for (const char* key : {"rms_mm", "rms"})
+        if (const YAML::Node rms = predicted["against_truth"][key]) {
+          p.predicted_rms_mm = rms.as<double>();
+          break;
+        }
     // Distances (a ballbar) leave one residual per row, points three, poses six: the held-out
     // error is then a length error (d = 1), else a 3D position error (d = 3).
     if (const YAML::Node targets = statistics["by_target"]; targets && statistics["residuals"]) {

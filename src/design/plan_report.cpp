@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "robcal/core/rounding.hpp"
+#include "robcal/identify/fit_error_json.hpp"
 
 namespace robcal {
 namespace {
@@ -16,9 +17,7 @@ nlohmann::json indices_json(const ObservabilityIndices& o) {
 }
 
 nlohmann::json accuracy_json(const PredictedAccuracy& a) {
-  return {{"mean", rounded(a.mean_mm, 6)},
-          {"rms", rounded(a.rms_mm, 6)},
-          {"max", rounded(a.max_mm, 6)}};
+  return mean_rms_max_json(a.mean_mm, a.rms_mm, a.max_mm, 6);
 }
 
 }  // namespace
@@ -56,13 +55,13 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r,
                                {"random", accuracy_json(r.predicted_random)}};
   if (r.misfit)
     out["predicted_error_with_misfit_mm"] = {
-        {"misfit_rms", rounded(r.misfit->misfit_mm, 6)},
+        {"misfit_rms_mm", rounded(r.misfit->misfit_mm, 6)},
         {"source", r.misfit->source},
-        {"held_out_rms", rounded(r.misfit->held_out_rms_mm, 6)},
-        {"held_out_noise", rounded(r.misfit->noise_mm, 6)},
-        {"held_out_parameter_noise", rounded(r.misfit->parameter_noise_mm, 6)},
-        {"selected", {{"rms", rounded(r.predicted_rms_with_misfit_selected, 6)}}},
-        {"random", {{"rms", rounded(r.predicted_rms_with_misfit_random, 6)}}}};
+        {"held_out_rms_mm", rounded(r.misfit->held_out_rms_mm, 6)},
+        {"held_out_noise_mm", rounded(r.misfit->noise_mm, 6)},
+        {"held_out_parameter_noise_mm", rounded(r.misfit->parameter_noise_mm, 6)},
+        {"selected", {{"rms_mm", rounded(r.predicted_rms_with_misfit_selected, 6)}}},
+        {"random", {{"rms_mm", rounded(r.predicted_rms_with_misfit_random, 6)}}}};
   out["out"] = written_to;
   return out;
 }

@@ -49,7 +49,7 @@ nlohmann::json end_to_end_json(const EndToEndReport& r, const EndToEndOptions& o
     out["leg_fit"] = stage_json(r.leg_fit);
     out["leg_fit"]["length_offset_mm"] = rounded(r.leg_fit_offset_mm, 6);
   }
-  // The published run on a real LR Mate 200iC (docs/method/07-hexapod.md), for comparison.
+  // The published run on a real LR Mate 200iC (docs/method/08-world-frame.md §3), for comparison.
   out["published"] = {{"poses", 46},
                       {"configurations", 124},
                       {"nominal_mean_mm", 1.355},

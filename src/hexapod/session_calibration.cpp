@@ -9,6 +9,7 @@
 #include "robcal/core/rounding.hpp"
 #include "robcal/hexapod/measurement.hpp"
 #include "robcal/identify/calibration_output.hpp"
+#include "robcal/identify/fit_error_json.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 
@@ -197,11 +198,7 @@ nlohmann::json session_calibration_json(const std::vector<SessionData>& placemen
     out["identified"] = r.identified_count;
     // One definition (the per-row 3D TCP error), at the solution and at the start, as
     // `robcal calibrate` reports it.
-    out["residual_per_row_mm"] = {
-        {"mean", rounded(r.mean_mm)}, {"rms", rounded(r.rms_mm)}, {"max", rounded(r.max_mm)}};
-    out["start_residual_per_row_mm"] = {{"mean", rounded(r.start_mean_mm)},
-                                        {"rms", rounded(r.start_rms_mm)},
-                                        {"max", rounded(r.start_max_mm)}};
+    out.update(residual_per_row_json(r, 9));
     out["rms_mm"] = rounded(r.rms_mm);
     out["max_mm"] = rounded(r.max_mm);
     out["sigma_mm"] = rounded(r.sigma_mm);

@@ -118,11 +118,8 @@ CalibratedRobot calibrated_robot_from(const yaml::Node& root) {
 
 }  // namespace
 
-std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
-                                     const std::string& statistics_yaml) {
-  if (statistics_yaml.empty()) return calibrated_robot_to_yaml(robot, YamlWriter{});
-  return calibrated_robot_to_yaml(robot,
-                                  [&](YAML::Emitter& out) { out << YAML::Load(statistics_yaml); });
+std::string calibrated_robot_to_yaml(const CalibratedRobot& robot) {
+  return calibrated_robot_to_yaml(robot, YamlWriter{});
 }
 
 std::string calibrated_robot_to_yaml(const CalibratedRobot& robot, const YamlWriter& statistics,
@@ -141,7 +138,9 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot, const YamlWri
   out << YAML::Key << "robot" << YAML::Value << YAML::BeginMap;
   emit_robot_fields(out, robot.model);
   out << YAML::EndMap;
-  out << YAML::Key << "tool" << YAML::Value << YAML::Load(tool_to_yaml(robot.tool));
+  out << YAML::Key << "tool" << YAML::Value;
+  emit_tool(out, robot.tool);
+  out.SetDoublePrecision(kExactDigits);
   // Opt-in groups (docs/method/03-error-model.md §5) appear only when enabled: a file without
   // them reads back as the same robot (absent parameters are nominal and fixed).
   const std::vector<GroupSignificance> groups = group_significance(robot);

@@ -4,6 +4,8 @@
 
 #include "robcal/core/rounding.hpp"
 #include "robcal/identify/calibrated_robot_file.hpp"
+#include "robcal/identify/fit_error_json.hpp"
+#include "robcal/io/json_yaml.hpp"
 
 namespace robcal {
 
@@ -49,16 +51,8 @@ void emit_statistics_entries(YAML::Emitter& y, const IdentificationResult& resul
       << YAML::Key << "line" << YAML::Value << o.line << YAML::Key << "residual_mm" << YAML::Value
       << o.residual_mm << YAML::EndMap;
   y << YAML::EndSeq;
-  const PredictedAccuracy& p = result.predicted;
-  y << YAML::Key << "predicted_position_error_mm" << YAML::Value << YAML::BeginMap;
-  y << YAML::Key << "configurations" << YAML::Value << p.configurations;
-  y << YAML::Key << "against_truth" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
-    << "mean" << YAML::Value << p.mean_mm << YAML::Key << "rms" << YAML::Value << p.rms_mm
-    << YAML::Key << "max" << YAML::Value << p.max_mm << YAML::EndMap;
-  y << YAML::Key << "against_new_measurements" << YAML::Value << YAML::Flow << YAML::BeginMap
-    << YAML::Key << "mean" << YAML::Value << p.mean_vs_measurements_mm << YAML::Key << "rms"
-    << YAML::Value << p.rms_vs_measurements_mm << YAML::EndMap;
-  y << YAML::EndMap;
+  y << YAML::Key << "predicted_position_error_mm" << YAML::Value;
+  emit_json(y, predicted_accuracy_json(result.predicted), YAML::EmitterStyle::Block);
   y.SetDoublePrecision(kExactDigits);
 }
 
@@ -156,11 +150,7 @@ nlohmann::json calibration_run_json(const CalibrationRun& run, const std::string
   if (run.kind == MeasurementKind::Poses)
     out["orientation_weight_mm_per_rad"] = run.options.orientation_weight_mm;
   out["warnings"] = run.warnings;
-  out["residual_per_row_mm"] = {
-      {"mean", rounded(r.mean_mm)}, {"rms", rounded(r.rms_mm)}, {"max", rounded(r.max_mm)}};
-  out["start_residual_per_row_mm"] = {{"mean", rounded(r.start_mean_mm)},
-                                      {"rms", rounded(r.start_rms_mm)},
-                                      {"max", rounded(r.start_max_mm)}};
+  out.update(residual_per_row_json(r, 9));
   out["rms_mm"] = rounded(r.rms_mm);
   out["max_mm"] = rounded(r.max_mm);
   if (r.noise_test.tested)
@@ -205,32 +195,19 @@ nlohmann::json calibration_run_json(const CalibrationRun& run, const std::string
   for (const auto& o : r.outliers)
     out["suspected_outliers"].push_back(
         {{"config", o.config}, {"line", o.line}, {"residual_mm", rounded(o.residual_mm)}});
-  const PredictedAccuracy& p = r.predicted;
-  out["predicted_position_error_mm"] = {
-      {"configurations", p.configurations},
-      {"seed", run.options.seed},
-      {"against_truth",
-       {{"mean", rounded(p.mean_mm)}, {"rms", rounded(p.rms_mm)}, {"max", rounded(p.max_mm)}}},
-      {"against_new_measurements",
-       {{"mean", rounded(p.mean_vs_measurements_mm)}, {"rms", rounded(p.rms_vs_measurements_mm)}}}};
+  out["predicted_position_error_mm"] = predicted_accuracy_json(r.predicted, 9);
+  out["predicted_position_error_mm"]["seed"] = run.options.seed;
   if (cv) {
     nlohmann::json per_fold = nlohmann::json::array();
     for (const FoldErrors& f : cv->per_fold)
-      per_fold.push_back({{"rows", f.rows},
-                          {"mean", rounded(f.mean_mm)},
-                          {"std", rounded(f.std_mm)},
-                          {"max", rounded(f.max_mm)}});
+      per_fold.push_back(nlohmann::json(fold_errors_json(f, 9)));
     out["cross_validation"] = {{"folds", cv->folds},
                                {"run_because_of_misfit", run.cross_validation_for_misfit},
                                {"user_folds", cv->user_folds},
                                {"per_fold", per_fold},
                                {"seed", cv->seed},
                                {"rows", cv->errors_mm.size()},
-                               {"error_mm",
-                                {{"mean", rounded(cv->mean_mm)},
-                                 {"std", rounded(cv->std_mm)},
-                                 {"mean_plus_3std", rounded(cv->mean_plus_3std_mm())},
-                                 {"max", rounded(cv->max_mm)}}}};
+                               {"error_mm", held_out_error_json(*cv, 9)}};
   }
   out["problems"] = run.problems;
   out["output"] = written_to.empty() ? nlohmann::json(nullptr) : nlohmann::json(written_to);

@@ -116,7 +116,8 @@ ModelExportResult export_model(const ModelExportRequest& request) {
         "unknown format '" + request.format + "' (expected urdf, ur-calibration or mdh-csv)");
   }
   // The cost of the rigid, unscaled export: what compliance, scales and periodic errors move the
-  // tool centre point by (docs/method/03-error-model.md), on configurations within the limits.
+  // tool centre point by (docs/method/03-error-model.md §1, §3, §5), on configurations within the
+  // limits.
   ParameterVector rigid = robot.params;
   rigid.segment<kScaleOffset - kComplianceOffset>(kComplianceOffset).setZero();
   rigid.segment<kJointCount>(kScaleOffset).setOnes();

@@ -132,6 +132,9 @@ constexpr yaml::Range kTemperatureC{-50, 150, "°C"};  // workshop to foundry
 constexpr yaml::Range kJointMap{-100, 100, ""};
 constexpr yaml::Range kUnit{-1.000001, 1.000001, ""};
 
+/// Tool files' digits: 12 significant digits keep a calibrated target to well below a nanometre.
+constexpr int kToolDigits = 12;
+
 EulerConvention parse_euler(const yaml::Node& node) {
   const std::string text = node.as_string();
   if (text == "ZYX" || text == "zyx" || text == "ABC") return EulerConvention::ZyxABC;
@@ -382,9 +385,8 @@ Tool load_tool(const std::string& path) {
   return parse_tool(root);
 }
 
-std::string tool_to_yaml(const Tool& tool) {
-  YAML::Emitter out;
-  out.SetDoublePrecision(12);
+void emit_tool(YAML::Emitter& out, const Tool& tool) {
+  out.SetDoublePrecision(kToolDigits);
   out << YAML::BeginMap;
   out << YAML::Key << "payload" << YAML::Value;
   emit_payload(out, tool.payload);
@@ -423,6 +425,11 @@ std::string tool_to_yaml(const Tool& tool) {
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
+}
+
+std::string tool_to_yaml(const Tool& tool) {
+  YAML::Emitter out;
+  emit_tool(out, tool);
   return std::string(out.c_str()) + "\n";
 }
 

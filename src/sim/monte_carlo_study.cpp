@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "robcal/core/error.hpp"
+#include "robcal/identify/fit_error_json.hpp"
 #include "robcal/io/robot_file.hpp"
 
 namespace robcal {
@@ -71,9 +72,7 @@ nlohmann::json monte_carlo_study_json(const MonteCarloStudy& s) {
                    {"run_mean_p05_mm", s.run_mean_p05_mm},
                    {"run_mean_p95_mm", s.run_mean_p95_mm},
                    {"run_max_p95_mm", s.run_max_p95_mm}};
-  j["predicted"] = {{"rms_mm", s.predicted.rms_mm},
-                    {"mean_mm", s.predicted.mean_mm},
-                    {"max_mm", s.predicted.max_mm}};
+  j["predicted"] = mean_rms_max_json(s.predicted.mean_mm, s.predicted.rms_mm, s.predicted.max_mm);
   j["ratio"] = s.result.ratio;
   return j;
 }

@@ -8,7 +8,7 @@ namespace robcal {
 
 nlohmann::json error_statistics_json(const ErrorStatistics& s, std::string_view unit,
                                      std::optional<int> decimals) {
-  const auto number = [&](double v) { return decimals ? rounded(v, *decimals) : v; };
+  const auto number = [&](double v) { return rounded_if(v, decimals); };
   const auto key = [&](std::string_view name) {
     return std::string(name) + "_" + std::string(unit);
   };

@@ -116,7 +116,7 @@ AxisTestResult axis_test_analyse_file(const std::string& path) {
 
 nlohmann::json axis_test_json(const AxisTestResult& r) {
   const auto stats = [](const ErrorStatistics& s, double sigma) {
-    return nlohmann::json{{"mean_abs", s.mean}, {"max_abs", s.max}, {"sigma", sigma}};
+    return nlohmann::json{{"mean_abs_mm", s.mean}, {"max_abs_mm", s.max}, {"sigma_mm", sigma}};
   };
   return {{"samples", r.samples},
           {"axis_direction", vector_json(r.axis_direction)},

@@ -24,9 +24,9 @@ dropped = [p for p in d["parameters"] if p["status"] == "dropped"]
 if [p["name"] for p in dropped] != ["link3.d"] or "link2.d" not in dropped[0]["reason"]:
     errors.append(f"dropped {dropped}")
 cv = d["cross_validation"]["error_mm"]
-if not 0.02 < cv["mean"] < 0.06: errors.append(f"cross-validation mean {cv['mean']}")
+if not 0.02 < cv["mean_mm"] < 0.06: errors.append(f"cross-validation mean {cv['mean_mm']}")
 pred = d["predicted_position_error_mm"]
-if not pred["against_truth"]["mean"] < pred["against_new_measurements"]["mean"]:
+if not pred["against_truth"]["mean_mm"] < pred["against_new_measurements"]["mean_mm"]:
     errors.append("prediction against truth should be below that against measurements")
 text = open(sys.argv[2]).read()
 for key in ("format: robcal-calibrated-model", "level: full", "covariance:", "statistics:", "cross_validation:"):
@@ -156,10 +156,10 @@ cv = json.load(open(sys.argv[1]))["cross_validation"]
 folds = cv["per_fold"]
 assert cv["folds"] == 4 and cv["user_folds"] and len(folds) == 4, cv
 assert [f["rows"] for f in folds] == [15, 15, 15, 15], folds
-pooled = sum(f["rows"] * f["mean"] for f in folds) / 60
-assert abs(pooled - cv["error_mm"]["mean"]) < 1e-6, (pooled, cv["error_mm"])
-assert max(f["max"] for f in folds) == cv["error_mm"]["max"], cv
-assert 0.02 < cv["error_mm"]["mean"] < 0.06, cv
+pooled = sum(f["rows"] * f["mean_mm"] for f in folds) / 60
+assert abs(pooled - cv["error_mm"]["mean_mm"]) < 1e-6, (pooled, cv["error_mm"])
+assert max(f["max_mm"] for f in folds) == cv["error_mm"]["max_mm"], cv
+assert 0.02 < cv["error_mm"]["mean_mm"] < 0.06, cv
 PY
 { echo "config,fold"; echo "1,1"; echo "2,x"; } >"$TMP/badfolds.csv"
 expect_error "bad fold" "badfolds.csv:3:3 (fold): '2,x': expected config,fold with fold an integer" \

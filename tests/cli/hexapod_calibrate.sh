@@ -37,11 +37,11 @@ a, b = (json.load(open(p)) for p in sys.argv[1:])
 assert abs(a["rms_mm"] - b["rms_mm"]) < 1e-6, (a["rms_mm"], b["rms_mm"])
 # One definition of the residual (per-pose 3D TCP error) at the solution and at the start.
 for key in ("residual_per_row_mm", "start_residual_per_row_mm"):
-    for stat in ("mean", "rms", "max"):
+    for stat in ("mean_mm", "rms_mm", "max_mm"):
         assert abs(a[key][stat] - b[key][stat]) < 1e-6, (key, stat, a[key], b[key])
     s = a[key]
-    assert 0 < s["mean"] <= s["rms"] <= s["max"], (key, s)
-assert a["start_residual_per_row_mm"]["rms"] > 10 * a["residual_per_row_mm"]["rms"]
+    assert 0 < s["mean_mm"] <= s["rms_mm"] <= s["max_mm"], (key, s)
+assert a["start_residual_per_row_mm"]["rms_mm"] > 10 * a["residual_per_row_mm"]["rms_mm"]
 assert "initial_rms_mm" not in a
 PY
 

@@ -14,7 +14,7 @@ expect_region() {
   /usr/bin/python3 - "$@" <<'PY' || FAILED=1
 import json, sys
 p = json.load(open(sys.argv[1]))["predicted_error_mm"]
-ok = p["task_configurations"] == int(sys.argv[2]) and sys.argv[3] in p["task_region"] and 0 < p["selected"]["mean"] <= p["selected"]["max"]
+ok = p["task_configurations"] == int(sys.argv[2]) and sys.argv[3] in p["task_region"] and 0 < p["selected"]["mean_mm"] <= p["selected"]["max_mm"]
 if not ok: print("FAIL: task region prediction", sys.argv[1], p)
 sys.exit(0 if ok else 1)
 PY
@@ -37,7 +37,7 @@ for k in ["O1", "O3", "O5"]:
 if not d["d_efficiency"] > d["d_efficiency_random"]: errors.append("D-efficiency")
 if d["parameters"] != 30 or d["dropped"] != ["link3.d"]: errors.append(f"parameters {d['parameters']} {d['dropped']}")
 p = d["predicted_error_mm"]
-if not 0 < p["selected"]["mean"] <= p["selected"]["max"]: errors.append(f"prediction {p}")
+if not 0 < p["selected"]["mean_mm"] <= p["selected"]["max_mm"]: errors.append(f"prediction {p}")
 for r in rows:
     j = [float(r[f"j{i}"]) for i in range(1, 7)]
     # published constraints
@@ -202,8 +202,8 @@ grep -qF "note: a real robot adds the misfit" "$TMP/m.txt" || fail "no note on t
 import json, math, sys
 d = json.load(open(sys.argv[1]))
 noise, m = d["predicted_error_mm"], d["predicted_error_with_misfit_mm"]
-want = math.hypot(noise["selected"]["rms"], 0.04)
-ok = noise["basis"] == "instrument noise only" and m["misfit_rms"] == 0.04 and abs(m["selected"]["rms"] - want) < 1e-5
+want = math.hypot(noise["selected"]["rms_mm"], 0.04)
+ok = noise["basis"] == "instrument noise only" and m["misfit_rms_mm"] == 0.04 and abs(m["selected"]["rms_mm"] - want) < 1e-5
 if not ok: print("FAIL: plan --misfit-mm", noise, m)
 sys.exit(0 if ok else 1)
 PY

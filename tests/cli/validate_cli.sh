@@ -317,7 +317,7 @@ python3 - "$tmp/axis.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
 assert abs(r["backlash_deg"] - 0.05) < 1e-9 and abs(r["radius_mm"] - 300) < 1e-9, r
-assert abs(abs(r["axis_direction"][2]) - 1) < 1e-12 and r["axial_mm"]["max_abs"] < 1e-9, r
+assert abs(abs(r["axis_direction"][2]) - 1) < 1e-12 and r["axial_mm"]["max_abs_mm"] < 1e-9, r
 PY
 sed '3s/,above,/,sideways,/' "$tmp/axis.csv" >"$tmp/axis-bad.csv"
 set +e

@@ -219,8 +219,8 @@ def test_plan_misfit(tmp_path):
     np.testing.assert_allclose(joints, csv, rtol=0, atol=1e-6)
     assert len(targets) == 12
     w = p["predicted_error_with_misfit_mm"]
-    assert w["selected"]["rms"] == pytest.approx(
-        np.hypot(p["predicted_error_mm"]["selected"]["rms"], 0.04), abs=2e-6)
+    assert w["selected"]["rms_mm"] == pytest.approx(
+        np.hypot(p["predicted_error_mm"]["selected"]["rms_mm"], 0.04), abs=2e-6)
     assert "predicted_error_with_misfit_mm" not in robcal.plan(count=12, candidates=300,
                                                                task_count=40)
 
@@ -430,14 +430,14 @@ def test_calibrate_guards_and_options(tmp_path):
     c = cli_json("calibrate", "--robot", "abb-irb120", "--tool", TOOL, "--measurements", data,
                  "--sigma", "0.005", "--kfold", "4", "--seed", "7", "--out", out)
     p = robcal.calibrate("abb-irb120", TOOL, data, sigma=0.005, kfold=4, seed=7)
-    for key, value in (("mean", p.mean_mm), ("rms", p.rms_mm), ("max", p.max_mm)):
+    for key, value in (("mean_mm", p.mean_mm), ("rms_mm", p.rms_mm), ("max_mm", p.max_mm)):
         assert c["residual_per_row_mm"][key] == pytest.approx(value, rel=0, abs=5.1e-10)
     assert c["noise_test"]["dof"] == p.noise_test.dof
     assert c["noise_test"]["consistent"] == p.noise_test.consistent is False  # 0.005 mm: misfit
     assert c["noise_test"]["p_value"] == pytest.approx(p.noise_test.p_value, rel=1e-12)
     cv = p.cross_validation
     assert c["cross_validation"]["folds"] == cv["folds"] == 4
-    assert c["cross_validation"]["error_mm"]["mean"] == pytest.approx(cv["mean_mm"], abs=5.1e-10)
+    assert c["cross_validation"]["error_mm"]["mean_mm"] == pytest.approx(cv["mean_mm"], abs=5.1e-10)
     assert [f["rows"] for f in c["cross_validation"]["per_fold"]] == [
         f["rows"] for f in cv["per_fold"]]
     assert c["warnings"] == p.warnings and c["problems"] == p.problems == []

@@ -54,7 +54,7 @@ def test_plan_returns_joint_arrays_and_selects_among_given_ones():
     assert r["criterion"] == "I-optimal"
     assert r["near_edge"]["selected"] <= r["near_edge"]["limit"] == 2
     e = r["predicted_error_mm"]
-    assert 0 < e["selected"]["mean"] < e["random"]["mean"]
+    assert 0 < e["selected"]["mean_mm"] < e["random"]["mean_mm"]
     # Among the user's configurations: every chosen row is one of them.
     given = robcal.plan(count=30, candidates=300, criterion="d", task_count=40)["joints_deg"]
     chosen = robcal.plan(count=12, candidate_joints_deg=given, criterion="d", task_count=40)

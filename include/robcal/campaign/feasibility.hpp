@@ -8,8 +8,8 @@
 /// The robot's links are capsules (a segment and a radius: cell.link_radius_mm) along its
 /// nominal MDH geometry at the cell's base: a base column from the base origin to frame 1, then
 /// for each link i = 1..5 the segments O_i → O_i + a_{i+1}·x_i → O_{i+1} (both fixed in link i,
-/// docs/method/02-frames.md). The tool itself is not modelled (the flange link ends at the flange
-/// origin).
+/// docs/method/02-frames.md §3). The tool itself is not modelled (the flange link ends at the
+/// flange origin).
 
 #include <array>
 #include <random>

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
 /// The calibrated robot prepared for inverse kinematics: constants of the error model
-/// (docs/method/02-frames.md, 03-error-model.md) precomputed once in an immutable CalibratedChain;
-/// a solve evaluates the TCP pose into a per-call ChainState and, only when it needs a step, the
-/// exact joint Jacobian from what that evaluation left there.
+/// (docs/method/02-frames.md §5, 03-error-model.md §1) precomputed once in an immutable
+/// CalibratedChain; a solve evaluates the TCP pose into a per-call ChainState and, only when it
+/// needs a step, the exact joint Jacobian from what that evaluation left there.
 ///
 /// Jacobian (world frame, rows v then ω, columns = controller joints, mm/rad and rad/rad):
 ///   with θu the undeflected link angles (θu = scale·q + offset + δθ(q), δθ the periodic joint

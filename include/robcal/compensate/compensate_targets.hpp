@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The `robcal compensate` workflow (docs/method/10-compensation.md): wanted world poses in,
+/// The `robcal compensate` workflow (docs/method/10-compensation.md §1–§5): wanted world poses in,
 /// corrected targets for the controller out (corrected_targets.hpp), with the summary the user
 /// checks (worst residual on the model, iterations, confidence radius) and, in simulation, the
 /// closed-loop check on the true robot (closed_loop.hpp). Its JSON is written here.

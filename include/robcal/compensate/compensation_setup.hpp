@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// The calibrated robot as it is used now (docs/method/10-compensation.md): the calibrated model,
-/// the tool mounted on it and the payload it carries, checked and turned into the compensator
-/// every compensation workflow (targets, programs) starts from.
+/// The calibrated robot as it is used now (docs/method/10-compensation.md §1): the calibrated
+/// model, the tool mounted on it and the payload it carries, checked and turned into the
+/// compensator every compensation workflow (targets, programs) starts from.
 
 #include <array>
 #include <optional>

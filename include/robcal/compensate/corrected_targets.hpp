@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// Corrected targets (docs/method/10-compensation.md): for each wanted TCP pose in the world, the
-/// joints that reach it on the calibrated model and the nominal-model Cartesian target (controller
-/// base frame) that makes the controller command those joints, with a 95 % confidence radius of the
-/// position from the model's parameter covariance; and the same as a corrector of robot programs
-/// (RAPID / KRL configuration data mapped to arm branches and turns).
+/// Corrected targets (docs/method/10-compensation.md §1–§5): for each wanted TCP pose in the world,
+/// the joints that reach it on the calibrated model and the nominal-model Cartesian target
+/// (controller base frame) that makes the controller command those joints, with a 95 % confidence
+/// radius of the position from the model's parameter covariance; and the same as a corrector of
+/// robot programs (RAPID / KRL configuration data mapped to arm branches and turns).
 
 #include <optional>
 #include <string>

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Units: millimetres and degrees outside, millimetres and radians inside
-/// (docs/method/02-frames.md).
+/// (docs/method/02-frames.md §1).
 
 #include <numbers>
 

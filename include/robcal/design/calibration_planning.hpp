@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// The `plan` workflow (docs/method/05-observability.md): choose the configurations to measure in a
-/// cell and predict the accuracy they give before measuring. Candidates are drawn in the cell
-/// (the simulator's standard cell, or a cell file), or read from the user's list; they are
+/// The `plan` workflow (docs/method/05-observability.md §2–§5): choose the configurations to
+/// measure in a cell and predict the accuracy they give before measuring. Candidates are drawn in
+/// the cell (the simulator's standard cell, or a cell file), or read from the user's list; they are
 /// generated and scored in streaming batches so that memory stays bounded whatever their number;
 /// the choice is I-optimal over the task region with a robustness guard when a task region is
 /// given, else D-optimal; a random choice of the same count is scored beside it.
@@ -37,7 +37,7 @@ SelectionCriterion parse_selection_criterion(const std::string& text,
 const char* criterion_name(SelectionCriterion criterion);
 
 /// The joint constraints `plan` applies by default: the published ones for the robot they were
-/// published for (the ABB IRB 120, docs/method/05-observability.md), the robot file's own joint
+/// published for (the ABB IRB 120, docs/method/05-observability.md §2), the robot file's own joint
 /// limits for every other robot.
 JointConstraints default_joint_constraints(const RobotModel& model);
 

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
 /// The column-scaled identification Jacobian of every candidate measurement
-/// (docs/method/04-identification.md, 05-observability.md), the matrix every observability index
-/// and selection algorithm works on.
+/// (docs/method/04-identification.md §1, 05-observability.md §1), the matrix every observability
+/// index and selection algorithm works on.
 ///
 /// Rows per candidate: 3 for points (target position, mm), 6 for poses (TCP position, mm, and
 /// orientation as a small rotation vector times `orientation_lever_mm`, so its rows are mm

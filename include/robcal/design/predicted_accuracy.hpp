@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// Predicted accuracy of a design before measuring (docs/method/04-identification.md,
-/// 05-observability.md): the covariance of the parameters identified from the chosen
+/// Predicted accuracy of a design before measuring (docs/method/04-identification.md §5,
+/// 05-observability.md §4): the covariance of the parameters identified from the chosen
 /// configurations, C = σ²·(JᵀJ)⁻¹ (Cramér–Rao bound of an unbiased estimator with independent noise
 /// σ per scalar measurement), to be turned into the position error over a task region by identify's
 /// predict_position_error (identify/accuracy_prediction.hpp).

@@ -3,7 +3,7 @@
 /// The workflows of the hexapod's geometry commands (`robcal hexapod dkp | poses | uncertainty |
 /// world-frame`) and their JSON: the direct kinematics' solutions, the pruned poses with the
 /// closest pair in orientation, and the tool-cup uncertainty per assembly mode with its Monte
-/// Carlo check (docs/method/07-hexapod.md).
+/// Carlo check (docs/method/07-hexapod.md §2–§4).
 
 #include <cstdint>
 #include <vector>

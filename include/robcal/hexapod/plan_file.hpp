@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// The hexapod plan (docs/method/07-hexapod.md) and its file: the planning workflow behind `robcal
-/// hexapod plan` and `setup`, and the one reader/writer pair of the plan file (JSON) that
+/// The hexapod plan (docs/method/07-hexapod.md §3, §5) and its file: the planning workflow behind
+/// `robcal hexapod plan` and `setup`, and the one reader/writer pair of the plan file (JSON) that
 /// `session`, `simulate-readings`, `calibrate` and `replan` read and `plan` and `replan` write.
 ///
 /// A plan file holds the session's script (SessionPlan: ballbar set-up, configurations, setting

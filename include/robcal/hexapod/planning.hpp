@@ -1,13 +1,13 @@
 #pragma once
 /// \file
-/// Planning a hexapod measurement (docs/method/07-hexapod.md): for a base-fixture placement and the
-/// tool fixture on the flange, the robot configurations that put the tool fixture in each pose —
-/// every nominal inverse-kinematics solution within the joint limits that passes simple clearance
+/// Planning a hexapod measurement (docs/method/07-hexapod.md §3): for a base-fixture placement and
+/// the tool fixture on the flange, the robot configurations that put the tool fixture in each pose
+/// — every nominal inverse-kinematics solution within the joint limits that passes simple clearance
 /// checks against the table and the base fixture — labelled front/back, up/down, flip/no-flip.
 ///
 /// Frames: the robot frame is the nominal model's world (base at the origin, z up, the table
 /// plane z = table_z_mm); the base fixture frame is the world frame of the hexapod
-/// (docs/method/07-hexapod.md).
+/// (docs/method/08-world-frame.md §1).
 
 #include <optional>
 #include <string>

@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// A simulated hexapod cell (docs/method/07-hexapod.md, published procedure): a true robot
-/// (sim/true_robot.hpp) places the base cups with a setting ball where its nominal model says, the
-/// ballbar (measure/instrument.hpp: σ and ±range) measures the fixture sides and the legs.
-/// Everything the operator would not know — the true cup positions, the true fixture sides — stays
-/// in the cell for the simulation to use and the pipeline never sees.
+/// A simulated hexapod cell (docs/method/08-world-frame.md §1–§3, published procedure): a true
+/// robot (sim/true_robot.hpp) places the base cups with a setting ball where its nominal model
+/// says, the ballbar (measure/instrument.hpp: σ and ±range) measures the fixture sides and the
+/// legs. Everything the operator would not know — the true cup positions, the true fixture sides —
+/// stays in the cell for the simulation to use and the pipeline never sees.
 ///
 /// Frames: the simulation world is the truth's world (the laser tracker's); the robot frame is
 /// the nominal model's; the hexapod world is the base fixture frame fitted from the cups.

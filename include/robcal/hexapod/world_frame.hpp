@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The world frame from the three base cups, and the set-up that places them
-/// (docs/method/07-hexapod.md).
+/// (docs/method/08-world-frame.md §1–§2).
 ///
 /// The robot puts a setting ball (its TCP) at three points 300 mm apart according to its own
 /// model, p1..p3 (robot frame); the cups snap on and are locked; the ballbar then measures the

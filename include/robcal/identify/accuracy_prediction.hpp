@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Predicted accuracy of a calibrated robot from the parameter covariance (Cramér–Rao,
-/// docs/method/04-identification.md, 05-observability.md): at a configuration v the expected
+/// docs/method/04-identification.md §5, 05-observability.md §4): at a configuration v the expected
 /// squared position error of the model against the true robot is tr(J_v·C·J_vᵀ), C = σ²·(JᵀJ)⁻¹ the
 /// covariance of the identified parameters. It needs only configurations, so it predicts a design's
 /// accuracy before measuring.

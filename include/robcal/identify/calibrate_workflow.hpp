@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The workflow behind `robcal calibrate` and Python's `calibrate`
-/// (docs/method/04-identification.md): the files of a calibration read as the CLI names them,
+/// (docs/method/04-identification.md §2–§6): the files of a calibration read as the CLI names them,
 /// run_calibration or reidentify with every check (warnings, noise test, cross-validation,
 /// problems), and the model file written only when the fit is trustworthy or the user forces it.
 /// The CLI and Python call only these, so neither can skip a guard.

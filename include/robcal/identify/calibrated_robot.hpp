@@ -76,11 +76,9 @@ inline constexpr double kGroupSignificanceLevel = 1e-3;
 std::vector<GroupSignificance> group_significance(const CalibratedRobot& robot);
 
 /// Writes the calibrated model as YAML (robot fields + a parameter table with nominal,
-/// identified value, standard deviation, unit, status and reason, + fit statistics given as
-/// an already-built YAML map in `statistics_yaml`; when empty, the robot's own `statistics`)
-/// and its `reidentified` records.
-std::string calibrated_robot_to_yaml(const CalibratedRobot& robot,
-                                     const std::string& statistics_yaml = "");
+/// identified value, standard deviation, unit, status and reason, + the robot's own fit
+/// `statistics`) and its `reidentified` records.
+std::string calibrated_robot_to_yaml(const CalibratedRobot& robot);
 
 /// A tool file given beside a calibrated model (`validate --tool`) is used or refused, never
 /// silently ignored: its targets must be the model's, within 5 mm (the model's refined ones are

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// K-fold cross-validation of a calibration (docs/method/09-validation.md when no separate
-/// validation set exists): the configurations are shuffled (seeded) into K folds; each fold is
-/// predicted by a model calibrated on the other K − 1, so every row's error comes from a model that
-/// never saw it.
+/// K-fold cross-validation of a calibration (docs/method/04-identification.md §6; 09-validation.md
+/// when no separate validation set exists): the configurations are shuffled (seeded) into K folds;
+/// each fold is predicted by a model calibrated on the other K − 1, so every row's error comes from
+/// a model that never saw it.
 
 #include <cstdint>
 #include <map>

@@ -15,7 +15,7 @@
 
 namespace robcal {
 
-/// The four calibration levels (docs/method/01-overview.md, 03-error-model.md).
+/// The four calibration levels (docs/method/01-overview.md §3, 03-error-model.md §1).
 enum class CalibrationLevel {
   Base,       ///< the 6 base parameters: the nominal robot placed in the world
   Joints,     ///< + joint offsets link2..6.theta

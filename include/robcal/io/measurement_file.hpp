@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// Measurement files: CSV with a header row (docs/method/04-identification.md, 06-instruments.md).
-/// Lines starting with `#` are comments, blank lines are skipped, columns are found by name in any
-/// order. The kind is told by the columns:
+/// Measurement files: CSV with a header row (docs/method/04-identification.md §1, 06-instruments.md
+/// §1). Lines starting with `#` are comments, blank lines are skipped, columns are found by name in
+/// any order. The kind is told by the columns:
 ///
 /// | kind      | columns                                   | units                         |
 /// |-----------|-------------------------------------------|-------------------------------|

@@ -47,6 +47,14 @@ void emit_gravity(YAML::Emitter& out, const RobotModel& model);
 /// Tool file: payload, targets (a target written `~` is to be identified), optional tcp.
 Tool load_tool(const std::string& path);
 Tool parse_tool(const yaml::Node& root);
+
+/// Writes the tool as a map at the emitter's position: the one writer of tool files and of
+/// calibrated models' `tool:`. It leaves the emitter at the tool's 12 significant digits (yaml-cpp
+/// neither tells a caller's precision nor keeps a local one across nested maps): a caller
+/// writing on at another precision sets it again.
+void emit_tool(YAML::Emitter& out, const Tool& tool);
+
+/// The tool file's text (emit_tool; round-trips through parse_tool).
 std::string tool_to_yaml(const Tool& tool);
 
 }  // namespace robcal

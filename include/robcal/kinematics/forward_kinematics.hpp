@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// Forward kinematics of the error model (docs/method/02-frames.md, 03-error-model.md), templated
-/// on the scalar type so that `ceres::Jet` gives exact derivatives with respect to joints and
-/// parameters.
+/// Forward kinematics of the error model (docs/method/02-frames.md §3–§6, 03-error-model.md §3–§8),
+/// templated on the scalar type so that `ceres::Jet` gives exact derivatives with respect to joints
+/// and parameters.
 ///
 /// Frame naming: `world_T_flange` maps flange coordinates to world coordinates. Joint values
 /// passed in are the controller's (rad); the model's joint map turns them into model angles.
@@ -51,7 +51,7 @@ Pose<T> mdh_transform(const T& alpha, const T& a, const T& theta, const T& d) {
 }
 
 /// world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1)
-/// (docs/method/02-frames.md).
+/// (docs/method/02-frames.md §4).
 template <typename T>
 Pose<T> base_transform(const T* params, const T& d1, const T& theta1) {
   using std::cos;
@@ -175,7 +175,7 @@ T backlash_shift(const T* params, double side, int joint) {
 /// − s_i·b_i/2 (+ c_i·τ_i when the model has compliance, joint 1's included), δθ_i the
 /// periodic error, b_i the
 /// backlash and s_i the approach of joint i (`approach`, see backlash_shift),
-/// docs/method/02-frames.md, 03-error-model.md. `q` are model joint angles.
+/// docs/method/02-frames.md §5, 03-error-model.md §3, §6. `q` are model joint angles.
 template <typename T>
 std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass& payload,
                                        const T* params, const std::array<T, kJointCount>& q,

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
 /// Derivatives of measured quantities with respect to the robot's parameter vector (the
-/// identification Jacobian's blocks, docs/method/04-identification.md), in internal units (mm per
-/// mm, mm per rad).
+/// identification Jacobian's blocks, docs/method/04-identification.md §1–§2), in internal units (mm
+/// per mm, mm per rad).
 ///
 /// Two implementations of the same derivative: the analytic kinematic regressor (fast, used by
 /// the identification) and automatic differentiation through the templated FK (the reference

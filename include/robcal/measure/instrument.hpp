@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The measuring instruments of docs/method/06-instruments.md as plain descriptions with free
+/// The measuring instruments of docs/method/06-instruments.md §1–§2 as plain descriptions with free
 /// functions: what each one can see (visibility predicates, used by the planner's candidate filter)
 /// and what it reads (noisy measurements, used by the simulator).
 ///
@@ -22,7 +22,7 @@ namespace robcal {
 
 /// Laser tracker (FARO ION class): the 3D position of one SMR. The SMR reflects the beam only
 /// while the tracker lies inside its acceptance cone (±30° about the SMR's axis,
-/// docs/method/05-observability.md).
+/// docs/method/06-instruments.md §2).
 struct LaserTracker {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  ///< tracker head
   /// Standard deviation of the reading along each axis of the common frame, mm
@@ -88,7 +88,7 @@ Pose<double> read_pose(const OpticalCmm& cmm, const Pose<double>& frame_T_tcp,
 
 /// Telescoping ballbar (Renishaw QC20-W class) between a target of the tool and a fixed centre
 /// cup: one length, readable only within ±range of its nominal length
-/// (docs/method/06-instruments.md).
+/// (docs/method/06-instruments.md §1).
 struct Ballbar {
   Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();  ///< the fixed cup
   double nominal_length_mm = 100;                       ///< 100, 150 or 300 mm set-ups

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// What instruments deliver, in memory: one record per CSV row (docs/method/04-identification.md,
-/// 06-instruments.md). Joints are the controller's values in rad (files hold degrees); positions in
-/// mm in the instrument's (world) frame.
+/// What instruments deliver, in memory: one record per CSV row (docs/method/04-identification.md
+/// §1, 06-instruments.md §1). Joints are the controller's values in rad (files hold degrees);
+/// positions in mm in the instrument's (world) frame.
 
 #include <Eigen/Core>
 #include <optional>

@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// The immutable description of a six-revolute serial robot (docs/method/02-frames.md,
-/// 03-error-model.md): nominal Modified-DH table, joint limits, controller joint map, link masses
-/// and gravity. Algorithms never modify a model; per-call state lives in their own workspaces.
+/// The immutable description of a six-revolute serial robot (docs/method/02-frames.md §3–§7,
+/// 03-error-model.md §3): nominal Modified-DH table, joint limits, controller joint map, link
+/// masses and gravity. Algorithms never modify a model; per-call state lives in their own
+/// workspaces.
 
 #include <Eigen/Core>
 #include <array>

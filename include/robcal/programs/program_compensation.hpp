@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// The `robcal compensate-program` workflow (docs/method/10-compensation.md): a robot program and
-/// a calibrated robot in, the program with every target corrected for the tool and frame active
+/// The `robcal compensate-program` workflow (docs/method/10-compensation.md §5): a robot program
+/// and a calibrated robot in, the program with every target corrected for the tool and frame active
 /// at it out (program_filter.hpp, corrected_targets.hpp make_program_corrector). On a text (for
 /// Python and tests) or between files (the original never overwritten). Its JSON is written here.
 

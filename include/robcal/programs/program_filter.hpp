@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Robot program filtering (docs/method/10-compensation.md): find every point of an ABB RAPID
+/// Robot program filtering (docs/method/10-compensation.md §5): find every point of an ABB RAPID
 /// module, a KUKA KRL .src/.dat file, a Fanuc LS program or a URScript program, hand it to a
 /// corrector in the robot's base frame with the tool active at it, and write the corrected values
 /// back into the text in text order, leaving every other byte (comments, spacing, line endings,

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// The calibration report (docs/method/09-validation.md): one self-contained HTML page that works
-/// offline and prints to PDF without a heading left alone at a page's foot (print CSS: sections are
-/// kept whole, headings stay with what follows), and the same content as JSON. It shows the
-/// provenance, the before/after errors on shared axes (cumulative distributions on one
+/// The calibration report (docs/method/09-validation.md §1–§3): one self-contained HTML page that
+/// works offline and prints to PDF without a heading left alone at a page's foot (print CSS:
+/// sections are kept whole, headings stay with what follows), and the same content as JSON. It
+/// shows the provenance, the before/after errors on shared axes (cumulative distributions on one
 /// logarithmic axis; histograms on bins of a round width), errors by configuration class, the
 /// pair-distance histogram, orientation errors (poses), ISO 9283 and ballbar results when
 /// given, and the parameters with σ and drop reasons. The page embeds its data and the

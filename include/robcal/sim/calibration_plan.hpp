@@ -1,10 +1,10 @@
 #pragma once
 /// \file
-/// Planning a calibration for one instrument of a simulated cell (docs/method/05-observability.md):
-/// feasible candidates the instrument will see, their design matrix and the D-optimal choice.
-/// Shared by `robcal plan`, the simulated campaigns (`robcal demo`, `robcal experiments`, Monte
-/// Carlo) and the plan study, so every planned configuration passes the simulator's own visibility
-/// test (measure/instrument.hpp) on the real robot.
+/// Planning a calibration for one instrument of a simulated cell (docs/method/05-observability.md
+/// §2–§3): feasible candidates the instrument will see, their design matrix and the D-optimal
+/// choice. Shared by `robcal plan`, the simulated campaigns (`robcal demo`, `robcal experiments`,
+/// Monte Carlo) and the plan study, so every planned configuration passes the simulator's own
+/// visibility test (measure/instrument.hpp) on the real robot.
 
 #include <random>
 #include <vector>

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// A whole simulated calibration campaign (docs/method/01-overview.md): plan the calibration
+/// A whole simulated calibration campaign (docs/method/01-overview.md §2): plan the calibration
 /// configurations, measure them on the true robot, calibrate at each level, and validate every
 /// model on other configurations, both against new (noisy) measurements, as the published tables
 /// do, and against the truth itself. Shared by `robcal demo` and `robcal experiments`.

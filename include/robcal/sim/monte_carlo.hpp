@@ -1,8 +1,8 @@
 #pragma once
 /// \file
 /// Monte Carlo of the calibration's accuracy against its Cramér–Rao prediction
-/// (docs/method/04-identification.md): the same calibration configurations are measured again and
-/// again with new noise, each set is calibrated with identify's fast path, and each calibrated
+/// (docs/method/04-identification.md §5): the same calibration configurations are measured again
+/// and again with new noise, each set is calibrated with identify's fast path, and each calibrated
 /// model is compared with the truth at the validation configurations. An efficient estimator's RMS
 /// error equals the prediction √(mean_v tr(J_v C J_vᵀ)), C = σ²(JᵀJ)⁻¹: the ratio is 1.00 up to
 /// sampling error.

@@ -2,7 +2,7 @@
 /// \file
 /// The "true" robot of a simulation: a CalibratedRobot whose parameters are the real arm's
 /// (docs/method/11-published-results.md §3's identified IRB 120, or random errors within bounds),
-/// plus effects the error model of docs/method/03-error-model.md does not contain, so that
+/// plus effects the error model of docs/method/03-error-model.md §1 does not contain, so that
 /// simulated results are honest about model error:
 ///
 /// - backlash: a joint approached from above stops `backlash_deg` away from where a joint
@@ -81,7 +81,7 @@ Pose<double> true_flange_pose(const TrueRobot& truth, const Vector6d& joints,
 
 /// The base placement of the reference data set (tests/data/irb120-published/truth.yaml): a
 /// laser tracker 1.7 m in front of the robot at the origin of the world,
-/// docs/method/11-published-results.md's robot. Values x, y, z (mm), alpha, beta, gamma (deg).
+/// docs/method/11-published-results.md §3's robot. Values x, y, z (mm), alpha, beta, gamma (deg).
 std::array<double, 6> default_base_placement();
 
 /// The default tool for simulations: the reference data set's tool (payload 2.6 kg at

@@ -40,7 +40,7 @@ struct AxisTestPlanRequest {
   double from_rad = 0, to_rad = 0;   ///< its range
   int steps = 12;                    ///< positions (≥ 3), each reached from both sides
   double approach_rad =
-      0.0873;  ///< 5°, as docs/method/05-observability.md approaches configurations
+      0.0873;  ///< 5°, as docs/method/05-observability.md §4 approaches configurations
 };
 
 /// The moves: positions from → to, each from below then from above.

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// Ballbar validation (docs/method/09-validation.md): the length error of each row of a distances
-/// file, e_i = measured length − |p_i − c|, with p_i the model's target position at the row's
-/// joints and c the ballbar's fixed centre, either given (in the model's frame) or identified from
-/// these rows by least squares (3 unknowns absorbed by the fit, which the report says).
+/// Ballbar validation (docs/method/09-validation.md §3): the length error of each row of a
+/// distances file, e_i = measured length − |p_i − c|, with p_i the model's target position at the
+/// row's joints and c the ballbar's fixed centre, either given (in the model's frame) or identified
+/// from these rows by least squares (3 unknowns absorbed by the fit, which the report says).
 
 #include <Eigen/Core>
 #include <optional>
@@ -17,7 +17,7 @@
 
 namespace robcal {
 
-/// A QC20-W class bar reads its nominal length ± 1 mm (docs/method/06-instruments.md).
+/// A QC20-W class bar reads its nominal length ± 1 mm (docs/method/06-instruments.md §1).
 inline constexpr double kDefaultBallbarRangeMm = 1.0;
 
 /// The bar's set-up the readings were checked against: it reads only nominal length ± range.

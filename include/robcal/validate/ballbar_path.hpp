@@ -1,8 +1,8 @@
 #pragma once
 /// \file
-/// Ballbar test path for a real set-up (docs/method/09-validation.md): TCP positions (the ball) on
-/// a circle or on rings of a sphere of the bar's length around a taught centre, all with one tool
-/// orientation; joint targets through the compensation IK of the commanding model (compensate/
+/// Ballbar test path for a real set-up (docs/method/09-validation.md §3): TCP positions (the ball)
+/// on a circle or on rings of a sphere of the bar's length around a taught centre, all with one
+/// tool orientation; joint targets through the compensation IK of the commanding model (compensate/
 /// calibrated_ik.hpp). Before anything moves, every point is checked: reachable in the asked
 /// configuration, and the reading predicted by a second model (the best knowledge of the real
 /// robot, e.g. a calibrated model while the nominal one commands) inside the bar's measuring

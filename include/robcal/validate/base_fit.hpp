@@ -3,7 +3,7 @@
 /// Placing a robot in the measurement (world) frame by a rigid best fit: the world frame of a
 /// tracker is arbitrary, so a model whose base was never fitted has no world frame. The rigid
 /// transform minimising Σ|m_i − (R p_i + t)|² (Horn / Kabsch, through Eigen::umeyama) is folded
-/// into the six base parameters of docs/method/02-frames.md.
+/// into the six base parameters of docs/method/02-frames.md §4.
 
 #include "robcal/identify/calibrated_robot.hpp"
 #include "robcal/measure/measurements.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Summary statistics of absolute errors as the published validation tables give them
-/// (docs/method/09-validation.md): mean, standard deviation, mean + 3·std, minimum and maximum.
+/// (docs/method/09-validation.md §1): mean, standard deviation, mean + 3·std, minimum and maximum.
 
 #include <cstdint>
 #include <span>

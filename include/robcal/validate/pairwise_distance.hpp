@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Distance errors over every pair of validation rows (docs/method/09-validation.md):
+/// Distance errors over every pair of validation rows (docs/method/09-validation.md §2):
 /// e_ij = | |m_i − m_j| − |p_i − p_j| | for i < j, m measured and p modelled positions.
 /// Distances do not depend on the world frame, so this also rates a model whose base was never
 /// fitted. 10,000 rows give 50 million pairs; the work is spread over threads in fixed blocks of

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
 /// Absolute position (and orientation) errors of a model against measurements
-/// (docs/method/09-validation.md): for every row, |measured − predicted|, where the prediction is
-/// the model's target point (points files) or tool centre point (poses files) at the row's joints,
-/// in the world frame.
+/// (docs/method/09-validation.md §1): for every row, |measured − predicted|, where the prediction
+/// is the model's target point (points files) or tool centre point (poses files) at the row's
+/// joints, in the world frame.
 
 #include <Eigen/Core>
 #include <string>

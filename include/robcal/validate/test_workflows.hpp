@@ -76,8 +76,8 @@ std::vector<AxisTestMove> axis_test_plan_file(const AxisTestPlanRequest& request
 AxisTestResult axis_test_analyse_file(const std::string& path);
 
 /// {samples, axis_direction, axis_point_mm, radius_mm, scale, backlash_deg,
-/// backlash_sigma_deg, axis_sigma_deg, tangential_mm|radial_mm|axial_mm: {mean_abs, max_abs,
-/// sigma}}.
+/// backlash_sigma_deg, axis_sigma_deg, tangential_mm|radial_mm|axial_mm: {mean_abs_mm, max_abs_mm,
+/// sigma_mm}}.
 nlohmann::json axis_test_json(const AxisTestResult& result);
 
 // ---- Ballbar path -----------------------------------------------------------------------------

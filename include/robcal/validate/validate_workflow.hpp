@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// The workflow behind `robcal validate` and Python's `validate` (docs/method/09-validation.md):
-/// a calibrated model (or the nominal robot) against a points, poses or distances (ballbar) set,
-/// with the checks that the model belongs to the robot and tool, the optional base fit, and the
-/// result's one JSON serializer.
+/// The workflow behind `robcal validate` and Python's `validate` (docs/method/09-validation.md
+/// §1–§3): a calibrated model (or the nominal robot) against a points, poses or distances (ballbar)
+/// set, with the checks that the model belongs to the robot and tool, the optional base fit, and
+/// the result's one JSON serializer.
 
 #include <Eigen/Core>
 #include <nlohmann/json_fwd.hpp>

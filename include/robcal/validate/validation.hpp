@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// The whole validation of docs/method/09-validation.md for one model and one measurement set:
-/// absolute position errors (per row, overall, per target, histogram), the same by class
+/// The whole validation of docs/method/09-validation.md §1–§2 for one model and one measurement
+/// set: absolute position errors (per row, overall, per target, histogram), the same by class
 /// (configuration, target, region) and distance errors over every pair of rows (absolute and
 /// signed).
 
