@@ -14,6 +14,7 @@
 #include "robcal/identify/calibrated_robot_file.hpp"
 #include "robcal/identify/calibration_output.hpp"
 #include "robcal/identify/cross_validation.hpp"
+#include "robcal/identify/fit_error_json.hpp"
 #include "robcal/identify/model_exchange.hpp"
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
@@ -44,25 +45,16 @@ CalibrationRequest make_request(const std::string& level, const std::vector<std:
   return request;
 }
 
-/// A cross-validation's held-out errors (mm) and their statistics, pooled and per fold.
+/// A cross-validation's held-out errors (mm) and their statistics, pooled and per fold: the
+/// library's serializers (fit_error_json.hpp) at full precision, with the errors themselves.
 py::dict cross_validation_dict(const CrossValidation& cv) {
-  py::dict out;
+  auto out = json_to_python(held_out_error_json(cv)).cast<py::dict>();
   out["folds"] = cv.folds;
   out["seed"] = cv.seed;
   out["user_folds"] = cv.user_folds;
   out["errors_mm"] = cv.errors_mm;
-  out["mean_mm"] = cv.mean_mm;
-  out["std_mm"] = cv.std_mm;
-  out["max_mm"] = cv.max_mm;
   py::list per_fold;
-  for (const FoldErrors& f : cv.per_fold) {
-    py::dict fold;
-    fold["rows"] = f.rows;
-    fold["mean_mm"] = f.mean_mm;
-    fold["std_mm"] = f.std_mm;
-    fold["max_mm"] = f.max_mm;
-    per_fold.append(fold);
-  }
+  for (const FoldErrors& f : cv.per_fold) per_fold.append(json_to_python(fold_errors_json(f)));
   out["per_fold"] = per_fold;
   return out;
 }

@@ -67,9 +67,7 @@ struct GeometryOptions {
   }
   [[nodiscard]] HexapodGeometry geometry() const {
     HexapodGeometry g{parse_sides(base, "--base-mm"), parse_sides(tool, "--tool-mm"), leg_mm};
-    fixture_cups(g.base, "--base-mm");
-    fixture_cups(g.tool, "--tool-mm");
-    if (!(leg_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
+    check_geometry(g);
     return g;
   }
 };

@@ -303,7 +303,8 @@ class Calibration:
     """Why the model must not be trusted (each says what to check); empty when plausible."""
     cross_validation: Optional[Dict[str, Any]]
     """K-fold held-out errors (kfold/folds, or run because the noise test failed): folds, seed,
-    errors_mm, mean_mm, std_mm, max_mm, per_fold, run_because_of_misfit; None when not run."""
+    errors_mm, mean_mm, std_mm, mean_plus_3std_mm, max_mm, per_fold (rows, mean_mm, std_mm, max_mm
+    of each fold), run_because_of_misfit; None when not run."""
 
     def save(self, path: str, force: bool = False) -> None:
         """Writes the calibrated model file (YAML), whole or not at all; InputError when the run

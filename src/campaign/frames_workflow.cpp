@@ -17,11 +17,20 @@
 namespace robcal::campaign {
 namespace {
 
-/// The rows of a points file of the one target `target`.
+/// The rows of a points file of the one target `target`. A row of another target names the flag
+/// that chose `target`: the only "tool" here is that flag's value.
 MeasurementSet read_target_rows(const std::string& path, const std::string& target) {
   Tool tool;
   tool.targets.push_back({target, Eigen::Vector3d::Zero(), false});
-  return read_measurements_csv(path, tool, {MeasurementKind::Points}).measurements;
+  try {
+    return read_measurements_csv(path, tool, {MeasurementKind::Points}).measurements;
+  } catch (const InputError& e) {
+    if (e.where().key != "target") throw;
+    throw InputError(
+        fmt::format("{} (from --target {}: set --target to the target this file "
+                    "measured)",
+                    e.what(), target));
+  }
 }
 
 /// The tool file to update (request.tool's, or a new tool), read with the other inputs before

@@ -213,8 +213,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   if (!(request.pose_sigma_multiple > 0) || request.validation_configurations < 2)
     throw InputError({"", 0, 0, "placement search"},
                      "expected a positive σ multiple and at least 2 validation configurations");
-  fixture_cups(base.geometry.base, "--base-mm");
-  fixture_cups(base.geometry.tool, "--tool-mm");
+  check_geometry(base.geometry);
   check_gauge(base.gauge, "--gauge-range-mm", "--gauge-sigma-mm");
   check_fixture_range(base.geometry, base.gauge);  // out of range at every placement
   std::string why_not;

@@ -240,9 +240,8 @@ nlohmann::json setup_json(const std::string& robot, double side_mm,
 
 HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& request) {
   const HexapodGeometry& g = request.geometry;
+  check_geometry(g);
   const Cups<double> base_cups = fixture_cups(g.base, "--base-mm");
-  fixture_cups(g.tool, "--tool-mm");
-  if (!(g.leg_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
   check_gauge(request.gauge, "--gauge-range-mm", "--gauge-sigma-mm");
   check_fixture_range(g, request.gauge);
   const std::vector<HexapodPose> all = enumerate_poses(g);

@@ -3,7 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
+#include "robcal/core/error.hpp"
+#include "robcal/hexapod/fixture.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::hexapod {
@@ -112,6 +115,13 @@ std::vector<HexapodPose> prune_redundant(const std::vector<HexapodPose>& poses,
     if (!redundant) kept.push_back(pose);
   }
   return kept;
+}
+
+void check_geometry(const HexapodGeometry& geometry) {
+  fixture_cups(geometry.base, "--base-mm");
+  fixture_cups(geometry.tool, "--tool-mm");
+  if (!(geometry.leg_mm > 0) || !std::isfinite(geometry.leg_mm))
+    throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length in mm");
 }
 
 }  // namespace robcal::hexapod

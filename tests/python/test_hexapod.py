@@ -116,3 +116,17 @@ def test_device_validation_scatter_matches_gum():
     for m in modes:
         assert abs(m["centroid_vs_truth_mm"] / m["centroid_gum_mm"] - 1) < 0.05
         assert abs(m["centroid_vs_reference_mm"] / m["centroid_predicted_mm"] - 1) < 0.05
+
+
+@pytest.mark.parametrize("kwargs, fragment", [
+    (dict(leg_mm=-300.0), "--leg-mm: expected a positive length"),
+    (dict(leg_mm=float("nan")), "--leg-mm: expected a positive length"),
+    (dict(base_sides_mm=(300, 100, 100)), "--base-mm: sides d12 = 300"),
+    (dict(tool_sides_mm=(10, 10, 30)), "--tool-mm: sides d12 = 10"),
+])
+def test_plan_and_place_check_the_geometry_as_the_cli_does(kwargs, fragment):
+    # The library's check_geometry, which `robcal hexapod plan/place` call too.
+    with pytest.raises(robcal.InputError, match=fragment):
+        hexapod.plan("fanuc-lrmate200ic", **kwargs)
+    with pytest.raises(robcal.InputError, match=fragment):
+        hexapod.place(x_mm=[450], y_mm=[0], z_mm=[300], validation=200, **kwargs)

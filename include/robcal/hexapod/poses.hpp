@@ -22,6 +22,11 @@ struct HexapodGeometry {
   double leg_mm = 300;                ///< every leg at this length in a planned pose
 };
 
+/// Throws InputError naming the setting (`--base-mm`, `--tool-mm`, `--leg-mm`) when a fixture's
+/// sides make no triangle or the ballbar length is not positive: every workflow that plans with
+/// a geometry checks it here first.
+void check_geometry(const HexapodGeometry& geometry);
+
 /// One leg between physical cups (0-based: base cup B(base+1), tool cup T(tool+1)).
 struct PhysicalLeg {
   int base = 0;
