@@ -47,8 +47,8 @@ struct Compensation {
 
 /// The compensators of a run for targets reached under conditions of their own
 /// (docs/method/10-compensation.md §6): each distinct condition's made once, on first use (a
-/// compensator is a closed-form analysis and a chain, far more than a target's solve); the run's
-/// own is `run.comp`. `run` must outlive the object, and the references it hands out live as
+/// closed-form analysis and a chain, not to be repeated per target); the run's own is
+/// `run.comp`. `run` must outlive the object, and the references it hands out live as
 /// long as it does.
 class CompensatorsByCondition {
  public:
