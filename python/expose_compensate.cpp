@@ -201,14 +201,24 @@ const bool registered = register_bindings(70, [](py::module_& m) {
             py::dict d = json_to_python(nlohmann::json(r));
             Eigen::MatrixXd joints(static_cast<Eigen::Index>(r.rows.size()), kJointCount);
             Eigen::MatrixXd nominal(static_cast<Eigen::Index>(r.rows.size()), 3);
-            std::vector<std::string> names;
+            Eigen::MatrixXd approach(static_cast<Eigen::Index>(r.rows.size()), kJointCount);
+            Eigen::VectorXd temperature(static_cast<Eigen::Index>(r.rows.size()));
+            std::vector<std::string> names, payloads;
             for (size_t i = 0; i < r.rows.size(); ++i) {
               const auto row = static_cast<Eigen::Index>(i);
+              const ReachCondition& condition = r.rows[i].condition;
               joints.row(row) = (r.rows[i].ik.joints * kRadToDeg).transpose();
               nominal.row(row) = r.rows[i].base_T_tcp_nominal.p.transpose();
               names.push_back(r.rows[i].name);
+              approach.row(row) = condition.approach.transpose();
+              temperature[row] =
+                  c.c.robot.model.reference_temperature_c + condition.temperature_rise_k;
+              payloads.push_back(condition.payload_name);
             }
             d["names"] = names;
+            d["approach"] = approach;
+            d["temperature_c"] = temperature;
+            d["payloads"] = payloads;
             d["joints_deg"] = joints;
             d["nominal_position_mm"] = nominal;
             d["csv"] = r.csv;
@@ -216,8 +226,12 @@ const bool registered = register_bindings(70, [](py::module_& m) {
           },
           py::arg("targets"), py::arg("method") = "newton", py::arg("check_truth") = py::none(),
           py::arg("out") = py::none(),
-          "Corrected targets for a pose-list file of wanted world poses, as `robcal compensate`: "
-          "its JSON summary plus names, joints_deg N×6, nominal_position_mm N×3 and the CSV text");
+          "Corrected targets for a pose-list file of wanted world poses, each under its row's "
+          "approach, temperature and payload (the compensator's where a row gives none), as "
+          "`robcal compensate`: its JSON summary (conditions: how many distinct) plus names, "
+          "joints_deg N×6, nominal_position_mm N×3, each row's condition (approach N×6 of +1 "
+          "below, -1 above, 0 unknown; temperature_c N; payloads N names, '' for the tool's own "
+          "or one given by mass) and the CSV text");
 });
 
 }  // namespace

@@ -114,7 +114,7 @@ TEST(CompensateClosedLoop, ConfidenceRadiusMatchesMonteCarlo) {
   const Compensator comp = make_compensator(c.calibrated);
   const Vector6d joints = (Vector6d() << 0.3, 0.6, -0.2, 0.4, 0.9, -0.5).finished();
   const auto radius =
-      position_confidence95_mm(c.calibrated, comp.payload, comp.flange_T_tcp, joints);
+      position_confidence95_mm(c.calibrated, comp.condition.payload, comp.flange_T_tcp, joints);
   ASSERT_TRUE(radius);
   // Sample with the eigen-decomposition (robust to the zero rows of fixed parameters).
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(c.calibrated.covariance);
@@ -123,7 +123,7 @@ TEST(CompensateClosedLoop, ConfidenceRadiusMatchesMonteCarlo) {
   std::mt19937_64 rng(34);
   std::normal_distribution<double> n01;
   const Eigen::Vector3d p0 =
-      flange_pose(c.calibrated.model, comp.payload, c.calibrated.params, joints) *
+      flange_pose(c.calibrated.model, comp.condition.payload, c.calibrated.params, joints) *
       comp.flange_T_tcp.p;
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   constexpr int kDraws = 4000;
@@ -132,7 +132,9 @@ TEST(CompensateClosedLoop, ConfidenceRadiusMatchesMonteCarlo) {
     for (int i = 0; i < kParameterCount; ++i) z[i] = n01(rng);
     const ParameterVector params = c.calibrated.params + A * z;
     const Eigen::Vector3d d =
-        flange_pose(c.calibrated.model, comp.payload, params, joints) * comp.flange_T_tcp.p - p0;
+        flange_pose(c.calibrated.model, comp.condition.payload, params, joints) *
+            comp.flange_T_tcp.p -
+        p0;
     scatter += d * d.transpose();
   }
   scatter /= kDraws;

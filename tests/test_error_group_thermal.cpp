@@ -174,7 +174,7 @@ TEST(Thermal, CalibratedChainIkAndSetupTakeTheTemperature) {
       robot.params[expansion_param(link)] = 20e-6 + 1e-6 * link;
     for (const double rise : {0.0, 15.0, -10.0}) {
       const Compensator comp = make_compensator(robot, std::nullopt, {nullptr, rise});
-      EXPECT_EQ(comp.temperature_rise_k, rise);
+      EXPECT_EQ(comp.condition.temperature_rise_k, rise);
       for (int k = 0; k < 10; ++k) {
         const Vector6d q = test::random_joints(robot.model, rng);
         const Pose<double> got = calibrated_tcp_pose(comp.chain, q);
@@ -193,7 +193,7 @@ TEST(Thermal, CalibratedChainIkAndSetupTakeTheTemperature) {
   setup.robot = test::random_calibrated("abb-irb120", rng);
   setup.robot.model.reference_temperature_c = 22;
   setup.temperature_c = 31.5;
-  EXPECT_EQ(prepare_compensation(setup).comp.temperature_rise_k, 9.5);
+  EXPECT_EQ(prepare_compensation(setup).comp.condition.temperature_rise_k, 9.5);
   setup.temperature_c = 300;  // °F or K for °C
   EXPECT_REFUSED(prepare_compensation(setup), InputError, "--temperature-c");
 }

@@ -126,14 +126,15 @@ void expect_compensates(const IdentificationResult& r, const RobotModel& real,
   for (const Vector6d& q : configurations(real, 30, rng)) {
     if (test::near_singular(real, q, 10)) continue;
     ++solved;
-    const PointMass& payload = as_calibrated.payload;
+    const PointMass& payload = as_calibrated.condition.payload;
     const Pose<double> wanted = flange_pose(real, payload, truth, q) * true_tcp;
     const CalibratedIkResult ik = calibrated_ik(as_calibrated, wanted, arm_config(real, q), q);
     ASSERT_TRUE(ik.ok()) << to_string(ik.status);
     const Pose<double> reached = flange_pose(real, payload, truth, ik.joints) * true_tcp;
     // A floor of 1 µm for noise-free data: the inverse's own tolerance is 5e-7 mm.
     EXPECT_LT((reached.p - wanted.p).norm(), std::max(4 * r.predicted.max_mm, 1e-3));
-    const Pose<double> wanted_heavy = flange_pose(real, heavy.payload, truth, q) * true_tcp;
+    const Pose<double> wanted_heavy =
+        flange_pose(real, heavy.condition.payload, truth, q) * true_tcp;
     const CalibratedIkResult ik_heavy = calibrated_ik(heavy, wanted_heavy, arm_config(real, q), q);
     EXPECT_TRUE(ik_heavy.ok()) << to_string(ik_heavy.status);
   }

@@ -365,9 +365,14 @@ class Compensator:
     def compensate_targets(self, targets: str, method: str = "newton",
                            check_truth: Optional[str] = None,
                            out: Optional[str] = None) -> Dict[str, Any]:
-        """Corrected targets for a pose-list file of wanted world poses, as `robcal compensate`:
-        its JSON summary (robot, targets, method, max_residual_mm, closed_loop ...) plus names,
-        joints_deg N×6, nominal_position_mm N×3 and the CSV text."""
+        """Corrected targets for a pose-list file of wanted world poses, as `robcal compensate`,
+        each under its row's approach, temperature and payload (the optional `approach`,
+        `temperature`, `payload` columns; the compensator's where a row gives none): its JSON
+        summary (robot, targets, method, conditions: how many distinct, max_residual_mm,
+        closed_loop ...) plus names, joints_deg N×6, nominal_position_mm N×3, each row's
+        condition: approach N×6 (+1 from below, -1 from above, 0 unknown), temperature_c N (°C),
+        payloads N (the tool's payload names, '' for its own or one given by mass), and the CSV
+        text."""
 
 
 class LaserTracker:

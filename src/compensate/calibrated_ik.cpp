@@ -237,6 +237,14 @@ const char* to_string(CalibratedIkStatus status) {
 
 Compensator make_compensator(const CalibratedRobot& robot, const std::optional<PointMass>& payload,
                              const RowConditions& row) {
+  ReachCondition condition;
+  condition.payload = payload.value_or(robot.tool.payload);
+  if (row.approach) condition.approach = *row.approach;
+  condition.temperature_rise_k = row.temperature_rise_k;
+  return make_compensator(robot, condition);
+}
+
+Compensator make_compensator(const CalibratedRobot& robot, const ReachCondition& condition) {
   Compensator comp;
   comp.model = robot.model;
   std::string why_not;
@@ -258,11 +266,10 @@ Compensator make_compensator(const CalibratedRobot& robot, const std::optional<P
                        "parameter is not a finite number");
   comp.flange_T_tcp.R = robot.tool.flange_T_tcp.linear();
   comp.flange_T_tcp.p = robot.tool.flange_T_tcp.translation();
-  comp.payload = payload.value_or(robot.tool.payload);
-  if (row.approach) comp.approach = *row.approach;
-  comp.temperature_rise_k = row.temperature_rise_k;
-  comp.chain = make_calibrated_chain(robot.model, robot.params, comp.payload, comp.flange_T_tcp,
-                                     {&comp.approach, comp.temperature_rise_k});
+  comp.condition = condition;
+  comp.chain =
+      make_calibrated_chain(robot.model, robot.params, condition.payload, comp.flange_T_tcp,
+                            {&comp.condition.approach, condition.temperature_rise_k});
   // world_T_base = world_A_1(q1 = 0) · (nominal base_A_1(q1 = 0))⁻¹ = (R_xy·Rz(γ), p_b − d1·R_xy·ẑ)
   const CalibratedChain& c = comp.chain;
   const double cg = std::cos(c.base_gamma), sg = std::sin(c.base_gamma);

@@ -30,23 +30,28 @@ void finish(ToolErrorStats& s) {
 
 }  // namespace
 
-ClosedLoopReport closed_loop_check(const Compensator& comp, const TrueRobot& truth,
-                                   const std::vector<WantedTarget>& wanted,
+ClosedLoopReport closed_loop_check(const std::vector<const Compensator*>& comps,
+                                   const TrueRobot& truth, const std::vector<WantedTarget>& wanted,
                                    const std::vector<CorrectedTarget>& corrected) {
   ClosedLoopReport report;
   for (size_t i = 0; i < wanted.size() && i < corrected.size(); ++i) {
+    const Compensator& comp = *comps.at(i);
+    const ReachCondition& condition = comp.condition;
     const Pose<double>& want = wanted[i].world_T_tcp;
     const Vector6d& joints = corrected[i].ik.joints;
-    // Each joint arrives from the compensator's side, as the program will move it.
+    // The true robot in the target's condition: each joint arrives from the compensator's side,
+    // as the program will move it, the arm at its temperature, carrying the named payload.
     MotionState motion;
     motion.from_below = false;
-    motion.previous_joints = joints - deg2rad(5.0) * comp.approach;
+    motion.temperature_rise_k = condition.temperature_rise_k;
+    motion.payload = truth.robot.tool.payload_index(condition.payload_name);
+    motion.previous_joints = joints - deg2rad(5.0) * condition.approach;
     add(report.compensated, report.compensated_mm, want,
         true_flange_pose(truth, joints, motion) * comp.flange_T_tcp);
     const auto plain =
         nominal_solution(comp, comp.world_T_base.inverse() * want, corrected[i].config, joints);
     if (plain) {
-      motion.previous_joints = *plain - deg2rad(5.0) * comp.approach;
+      motion.previous_joints = *plain - deg2rad(5.0) * condition.approach;
       add(report.uncompensated, report.uncompensated_mm, want,
           true_flange_pose(truth, *plain, motion) * comp.flange_T_tcp);
     }
@@ -54,6 +59,13 @@ ClosedLoopReport closed_loop_check(const Compensator& comp, const TrueRobot& tru
   finish(report.compensated);
   finish(report.uncompensated);
   return report;
+}
+
+ClosedLoopReport closed_loop_check(const Compensator& comp, const TrueRobot& truth,
+                                   const std::vector<WantedTarget>& wanted,
+                                   const std::vector<CorrectedTarget>& corrected) {
+  return closed_loop_check(std::vector<const Compensator*>(wanted.size(), &comp), truth, wanted,
+                           corrected);
 }
 
 }  // namespace robcal

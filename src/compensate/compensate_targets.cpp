@@ -2,23 +2,59 @@
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "robcal/core/rounding.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/io/measurement_file.hpp"
 
 namespace robcal {
 
+namespace {
+
+/// The condition `target` is reached under: its own approach, temperature and payload where the
+/// targets file gives them (docs/method/10-compensation.md §6), the run's otherwise.
+ReachCondition condition_of(const Compensation& c, const WantedTarget& target,
+                            const std::string& file) {
+  ReachCondition condition = c.comp.condition;
+  if (target.approach) condition.approach = *target.approach;
+  if (target.temperature_c)
+    condition.temperature_rise_k = *target.temperature_c - c.robot.model.reference_temperature_c;
+  if (!target.payload.empty()) {
+    const int index =
+        payload_index_of(target.payload, c.robot.tool,
+                         {file, target.line, target.payload_column, "payload"}, "the run's");
+    condition.payload = c.robot.tool.payload_of(index);
+    condition.payload_name = target.payload;
+  }
+  return condition;
+}
+
+bool has_own_condition(const WantedTarget& target) {
+  return target.approach || target.temperature_c || !target.payload.empty();
+}
+
+}  // namespace
+
 CompensateTargetsResult compensate_targets(const CompensateTargetsRequest& request) {
   const Compensation c = prepare_compensation(request.setup);
+  CompensatorsByCondition compensators(c);
+  std::vector<const Compensator*> comps;
+  for (const WantedTarget& target : request.targets)
+    comps.push_back(&compensators.at(condition_of(c, target, request.targets_file)));
   CompensateTargetsResult result;
   result.robot = c.robot.model.name;
   result.method = request.method;
-  result.payload_kg = c.comp.payload.mass_kg;
+  result.payload_kg = c.comp.condition.payload.mass_kg;
+  result.conditions =
+      static_cast<int>(std::set<const Compensator*>(comps.begin(), comps.end()).size());
   result.rows =
-      correct_targets(c.comp, c.robot, request.targets, request.targets_file, request.method);
+      correct_targets(comps, c.robot, request.targets, request.targets_file, request.method);
   if (request.truth)
-    result.closed_loop = closed_loop_check(c.comp, *request.truth, request.targets, result.rows);
-  result.csv = corrected_targets_csv(result.rows, c.robot.model);
+    result.closed_loop = closed_loop_check(comps, *request.truth, request.targets, result.rows);
+  result.csv = corrected_targets_csv(
+      result.rows, c.robot.model,
+      std::any_of(request.targets.begin(), request.targets.end(), has_own_condition));
   for (const CorrectedTarget& r : result.rows) {
     result.max_iterations = std::max(result.max_iterations, r.ik.iterations);
     result.max_residual_mm = std::max(result.max_residual_mm, r.ik.position_error_mm);
@@ -53,6 +89,7 @@ void to_json(nlohmann::json& j, const CompensateTargetsResult& result) {
   j["out"] = result.out;
   j["method"] = ik_method_name(result.method);
   j["payload_kg"] = result.payload_kg;
+  j["conditions"] = result.conditions;
   j["max_iterations"] = result.max_iterations;
   j["max_residual_mm"] = result.max_residual_mm;
   j["max_confidence95_mm"] = result.max_confidence95_mm

@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include "robcal/core/error.hpp"
+#include "robcal/io/measurement_file.hpp"
 
 namespace robcal {
 
@@ -41,6 +42,7 @@ Compensation prepare_compensation(const CompensationSetup& setup) {
   if (setup.tool) {
     robot.tool.flange_T_tcp = setup.tool->flange_T_tcp;
     robot.tool.payload = setup.tool->payload;
+    robot.tool.payloads = setup.tool->payloads;  // the names targets may give (§7)
   }
   if (setup.payload) {
     // A payload beyond any industrial arm's rating is a unit mistake (g for kg), not a load.
@@ -50,16 +52,28 @@ Compensation prepare_compensation(const CompensationSetup& setup) {
       throw InputError({"", 0, 0, "--payload-cog-mm"},
                        "expected a finite centre of gravity x,y,z in mm");
   }
-  std::optional<PointMass> payload = setup.payload;
-  if (!setup.payload_name.empty()) payload = named_payload(setup, robot.tool);
-  // Workshop to foundry; outside is a unit slip (°F, K).
-  if (setup.temperature_c && !(*setup.temperature_c >= -50 && *setup.temperature_c <= 150))
+  ReachCondition run;
+  run.payload = setup.payload.value_or(robot.tool.payload);
+  if (!setup.payload_name.empty()) {
+    run.payload = named_payload(setup, robot.tool);
+    run.payload_name = setup.payload_name;
+  }
+  if (setup.temperature_c && !plausible_temperature_c(*setup.temperature_c))
     throw InputError({"", 0, 0, "--temperature-c"}, "expected a temperature in °C in [-50, 150]");
-  const double rise =
+  run.temperature_rise_k =
       setup.temperature_c ? *setup.temperature_c - robot.model.reference_temperature_c : 0.0;
-  Compensation out{robot, make_compensator(robot, payload, {&setup.approach, rise}),
-                   setup.pulses_per_degree};
+  run.approach = setup.approach;
+  Compensation out{robot, make_compensator(robot, run), setup.pulses_per_degree};
   return out;
+}
+
+CompensatorsByCondition::CompensatorsByCondition(const Compensation& run) : run_(run) {}
+
+const Compensator& CompensatorsByCondition::at(const ReachCondition& condition) {
+  if (condition == run_.comp.condition) return run_.comp;
+  for (const Compensator& made : made_)
+    if (made.condition == condition) return made;
+  return made_.emplace_back(make_compensator(run_.robot, condition));
 }
 
 IkMethod ik_method_from_name(const std::string& name, const std::string& key) {

@@ -38,10 +38,19 @@ std::optional<double> position_confidence95_mm(const CalibratedRobot& robot,
 std::vector<CorrectedTarget> correct_targets(const Compensator& comp, const CalibratedRobot& robot,
                                              const std::vector<WantedTarget>& wanted,
                                              const std::string& file, IkMethod method) {
+  return correct_targets(std::vector<const Compensator*>(wanted.size(), &comp), robot, wanted, file,
+                         method);
+}
+
+std::vector<CorrectedTarget> correct_targets(const std::vector<const Compensator*>& comps,
+                                             const CalibratedRobot& robot,
+                                             const std::vector<WantedTarget>& wanted,
+                                             const std::string& file, IkMethod method) {
   std::vector<CorrectedTarget> out;
   Vector6d previous = Vector6d::Zero();  // home
-  const PointMass payload = comp.payload;
-  for (const WantedTarget& w : wanted) {
+  for (size_t i = 0; i < wanted.size(); ++i) {
+    const WantedTarget& w = wanted[i];
+    const Compensator& comp = *comps.at(i);
     const SourceLocation where{file, w.line, 0, w.name};
     // Without a configuration: the branch of the nominal solution nearest the previous joints.
     ArmConfig config;
@@ -60,6 +69,7 @@ std::vector<CorrectedTarget> correct_targets(const Compensator& comp, const Cali
     CorrectedTarget t;
     t.name = w.name;
     t.config = config;
+    t.condition = comp.condition;
     t.ik = calibrated_ik(comp, w.world_T_tcp, config, previous, method);
     if (!t.ik.ok())
       throw InputError(where,
@@ -68,20 +78,30 @@ std::vector<CorrectedTarget> correct_targets(const Compensator& comp, const Cali
                                    config.label(), to_string(t.ik.status), t.ik.iterations,
                                    t.ik.position_error_mm, rad2deg(t.ik.orientation_error_rad)));
     t.base_T_tcp_nominal = nominal_tcp_pose(comp, t.ik.joints);
-    t.confidence95_mm = position_confidence95_mm(robot, payload, comp.flange_T_tcp, t.ik.joints);
+    t.confidence95_mm =
+        position_confidence95_mm(robot, comp.condition.payload, comp.flange_T_tcp, t.ik.joints);
     previous = t.ik.joints;
     out.push_back(std::move(t));
   }
   return out;
 }
 
-std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows,
-                                  const RobotModel& model) {
+std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows, const RobotModel& model,
+                                  bool with_conditions) {
   const auto labels = euler_labels(model.euler);
   std::string out = fmt::format(
       "name,config,j1,j2,j3,j4,j5,j6,x,y,z,qw,qx,qy,qz,{},{},{},iterations,residual_mm,"
-      "confidence95_mm\n",
-      labels[0], labels[1], labels[2]);
+      "confidence95_mm{}\n",
+      labels[0], labels[1], labels[2], with_conditions ? ",approach,temperature,payload" : "");
+  // The condition in the targets file's own notation (io/pose_list_file.hpp).
+  const auto condition = [&](const ReachCondition& c) {
+    if (!with_conditions) return std::string();
+    std::string sides;
+    for (int j = 0; j < kJointCount; ++j)
+      sides += c.approach[j] > 0 ? '+' : c.approach[j] < 0 ? '-' : '0';
+    return fmt::format(",{},{:.6g},{}", sides, model.reference_temperature_c + c.temperature_rise_k,
+                       c.payload_name);
+  };
   for (const CorrectedTarget& r : rows) {
     const Eigen::Quaterniond q = to_quaternion(r.base_T_tcp_nominal.R);
     const Eigen::Vector3d euler = euler_angles_deg(r.base_T_tcp_nominal.R, model.euler);
@@ -89,10 +109,10 @@ std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows,
     const Eigen::Vector3d& p = r.base_T_tcp_nominal.p;
     out += fmt::format(
         "{},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},"
-        "{:.10f},{:.10f},{:.10f},{:.10f},{:.6f},{:.6f},{:.6f},{},{:.3g},{}\n",
+        "{:.10f},{:.10f},{:.10f},{:.10f},{:.6f},{:.6f},{:.6f},{},{:.3g},{}{}\n",
         r.name, r.config.label(), j[0], j[1], j[2], j[3], j[4], j[5], p.x(), p.y(), p.z(), q.w(),
         q.x(), q.y(), q.z(), euler[0], euler[1], euler[2], r.ik.iterations, r.ik.position_error_mm,
-        r.confidence95_mm ? fmt::format("{:.4f}", *r.confidence95_mm) : "");
+        r.confidence95_mm ? fmt::format("{:.4f}", *r.confidence95_mm) : "", condition(r.condition));
   }
   return out;
 }
@@ -242,7 +262,7 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
     out.base_T_tcp = nominal_tcp_pose(comp, r.joints) * tool_shift.inverse();
     if (robot)
       out.confidence95_mm = position_confidence95_mm(
-          *robot, comp.payload, point.flange_T_tcp.value_or(comp.flange_T_tcp), r.joints);
+          *robot, comp.condition.payload, point.flange_T_tcp.value_or(comp.flange_T_tcp), r.joints);
     if (!point.is_joint_target && !point.config.empty())
       out.config = configuration_data(language, r.joints, branch);
     return out;

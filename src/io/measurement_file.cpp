@@ -52,6 +52,23 @@ std::string join(const std::vector<std::string>& items, std::string_view separat
 constexpr double kMaxCoordinateMm = 100000;
 constexpr double kMaxAngleDeg = 720;
 
+/// A finite number in `value`; `unit` (with a leading blank) is said in the messages.
+double parse_finite_number(std::string_view value, const SourceLocation& where,
+                           std::string_view unit) {
+  const std::string expected = fmt::format("expected a finite number{}", unit);
+  if (value.empty()) throw InputError(where, "empty field: " + expected);
+  std::string_view digits = value;
+  if (digits.front() == '+') digits.remove_prefix(1);
+  double parsed = 0;
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), parsed);
+  if (end != digits.data() + digits.size() ||
+      (ec != std::errc() && ec != std::errc::result_out_of_range))
+    throw InputError(where, fmt::format("'{}' is not a number: {}", value, expected));
+  if (ec == std::errc::result_out_of_range || !std::isfinite(parsed))
+    throw InputError(where, fmt::format("'{}' is not finite: {}", value, expected));
+  return parsed;
+}
+
 /// One data line of the file: its 1-based number and its trimmed fields.
 struct Row {
   int line = 0;
@@ -84,19 +101,8 @@ class RowReader {
   /// A number of the column `name`; `unit` (with a leading blank) is said in the messages.
   [[nodiscard]] double number(const Row& row, const std::string& name,
                               std::string_view unit) const {
-    std::string_view value = row.fields[static_cast<size_t>(columns_.at(name))];
-    const std::string expected = fmt::format("expected a finite number{}", unit);
-    if (value.empty()) throw InputError(where(row, name), "empty field: " + expected);
-    std::string_view digits = value;
-    if (digits.front() == '+') digits.remove_prefix(1);
-    double parsed = 0;
-    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), parsed);
-    if (end != digits.data() + digits.size() ||
-        (ec != std::errc() && ec != std::errc::result_out_of_range))
-      throw InputError(where(row, name), fmt::format("'{}' is not a number: {}", value, expected));
-    if (ec == std::errc::result_out_of_range || !std::isfinite(parsed))
-      throw InputError(where(row, name), fmt::format("'{}' is not finite: {}", value, expected));
-    return parsed;
+    return parse_finite_number(row.fields[static_cast<size_t>(columns_.at(name))], where(row, name),
+                               unit);
   }
 
   /// A number within [lowest, highest] (in the file's unit `unit`), else refused with the range.
@@ -154,13 +160,8 @@ class RowReader {
   /// The optional `temperature` column (°C, the thermal group, docs/method/03-error-model.md
   /// §8): empty for a row without a reading.
   [[nodiscard]] std::optional<double> temperature_c(const Row& row) const {
-    if (row.fields[static_cast<size_t>(columns_.at("temperature"))].empty()) return std::nullopt;
-    const double t = number(row, "temperature", " (°C)");
-    if (t < -50 || t > 150)  // workshop to foundry; outside is a unit slip (°F, K)
-      throw InputError(
-          where(row, "temperature"),
-          fmt::format("temperature {} °C is implausible: expected °C in [-50, 150]", t));
-    return t;
+    return parse_temperature_c(row.fields[static_cast<size_t>(columns_.at("temperature"))],
+                               where(row, "temperature"));
   }
 
   [[nodiscard]] int target(const Row& row, const Tool& tool) const {
@@ -181,17 +182,7 @@ class RowReader {
   [[nodiscard]] int payload(const Row& row, const Tool& tool) const {
     const std::string_view name = row.fields[static_cast<size_t>(columns_.at("payload"))];
     if (name.empty()) return -1;
-    const int index = tool.payload_index(name);
-    if (index < 0) {
-      std::vector<std::string> known;
-      for (const NamedPayload& p : tool.payloads) known.push_back("'" + p.name + "'");
-      throw InputError(
-          where(row, "payload"),
-          fmt::format("unknown payload '{}': expected a name under 'payloads:' in the tool file "
-                      "({}), or empty for its 'payload'",
-                      name, known.empty() ? std::string("it lists none") : join(known, ", ")));
-    }
-    return index;
+    return payload_index_of(name, tool, where(row, "payload"), "its 'payload'");
   }
 
  private:
@@ -400,6 +391,32 @@ Eigen::Matrix3d rotation_from_axis_angles(const Eigen::Vector3d& angles, const E
     R = R * Eigen::AngleAxisd(angles[axis], Eigen::Vector3d::Unit(axis)).toRotationMatrix();
   }
   return R;
+}
+
+bool plausible_temperature_c(double celsius) {
+  return celsius >= -50 && celsius <= 150;  // workshop to foundry; outside: a unit slip (°F, K)
+}
+
+std::optional<double> parse_temperature_c(std::string_view text, const SourceLocation& where) {
+  if (text.empty()) return std::nullopt;
+  const double t = parse_finite_number(text, where, " (°C)");
+  if (!plausible_temperature_c(t))
+    throw InputError(where,
+                     fmt::format("temperature {} °C is implausible: expected °C in [-50, 150]", t));
+  return t;
+}
+
+int payload_index_of(std::string_view name, const Tool& tool, const SourceLocation& where,
+                     std::string_view when_empty) {
+  const int index = tool.payload_index(name);
+  if (index >= 0) return index;
+  std::vector<std::string> known;
+  for (const NamedPayload& p : tool.payloads) known.push_back("'" + p.name + "'");
+  throw InputError(
+      where, fmt::format("unknown payload '{}': expected a name under 'payloads:' in the tool "
+                         "file ({}), or empty for {}",
+                         name, known.empty() ? std::string("it lists none") : join(known, ", "),
+                         when_empty));
 }
 
 Vector6d parse_approach(std::string_view text, const SourceLocation& where) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include "csv_fields.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/io/measurement_file.hpp"
 #include "robcal/io/number_text.hpp"
 #include "robcal/kinematics/orientation.hpp"
 
@@ -34,12 +36,13 @@ std::vector<ListedPose> read_pose_list(const std::string& path) {
 
 std::vector<ListedPose> parse_pose_list(const std::string& text, const std::string& file) {
   static const char* const kColumns[] = {"name", "x", "y", "z", "qw", "qx", "qy", "qz"};
+  static const char* const kOptional[] = {"config", "approach", "temperature", "payload"};
   std::vector<ListedPose> out;
   std::istringstream in{std::string(csv::without_bom(text))};
   std::string line;
   int number = 0;
   bool header = false;
-  bool has_config = false;
+  std::vector<std::string> optional;      // the header's optional columns, in its order
   std::map<std::string, int> first_line;  // pose name → its line
   while (std::getline(in, line)) {
     ++number;
@@ -57,15 +60,25 @@ std::vector<ListedPose> parse_pose_list(const std::string& text, const std::stri
               fmt::format("expected the header name,x,y,z,qw,qx,qy,qz[,config]; column "
                           "{} should be '{}'",
                           k + 1, kColumns[k]));
-      has_config = cells.size() > 8 && cells[8].first == "config";
-      if (cells.size() > (has_config ? 9u : 8u))
-        throw InputError(SourceLocation{file, number, cells[has_config ? 9 : 8].second, ""},
-                         "unexpected column after the header's last (config)");
+      for (size_t k = 8; k < cells.size(); ++k) {
+        const std::string& name = cells[k].first;
+        if (std::find(std::begin(kOptional), std::end(kOptional), name) == std::end(kOptional))
+          throw InputError(SourceLocation{file, number, cells[k].second, ""},
+                           fmt::format("unexpected column after the header's pose columns: "
+                                       "expected config, approach, temperature or payload, "
+                                       "found '{}'",
+                                       name));
+        if (std::find(optional.begin(), optional.end(), name) != optional.end())
+          throw InputError(SourceLocation{file, number, cells[k].second, name},
+                           fmt::format("column '{}' appears twice in the header", name));
+        optional.push_back(name);
+      }
       header = true;
       continue;
     }
-    const size_t expected = has_config ? 9 : 8;
-    if (cells.size() != expected && !(has_config && cells.size() == 8))
+    // Trailing optional cells may be left out: the run's defaults.
+    const size_t expected = 8 + optional.size();
+    if (cells.size() < 8 || cells.size() > expected)
       throw InputError(SourceLocation{file, number, 0, ""},
                        fmt::format("expected {} cells, found {}", expected, cells.size()));
     ListedPose t;
@@ -95,13 +108,25 @@ std::vector<ListedPose> parse_pose_list(const std::string& text, const std::stri
     } catch (const InputError& e) {
       throw InputError(SourceLocation{file, number, cells[4].second, "qw..qz"}, e.what());
     }
-    if (cells.size() == 9 && !cells[8].first.empty()) {
-      t.config = parse_config_cell(cells[8].first);
-      if (!t.config)
-        throw InputError(SourceLocation{file, number, cells[8].second, "config"},
-                         fmt::format("expected a configuration such as front-up-noflip or its "
-                                     "index 0..7, found '{}'",
-                                     cells[8].first));
+    for (size_t k = 8; k < cells.size(); ++k) {
+      const auto& [cell, column] = cells[k];
+      const std::string& key = optional[k - 8];
+      const SourceLocation where{file, number, column, key};
+      if (cell.empty()) continue;
+      if (key == "config") {
+        t.config = parse_config_cell(cell);
+        if (!t.config)
+          throw InputError(where, fmt::format("expected a configuration such as "
+                                              "front-up-noflip or its index 0..7, found '{}'",
+                                              cell));
+      } else if (key == "approach") {
+        t.approach = parse_approach(cell, where);
+      } else if (key == "temperature") {
+        t.temperature_c = parse_temperature_c(cell, where);
+      } else {
+        t.payload = cell;
+        t.payload_column = column;
+      }
     }
     out.push_back(std::move(t));
   }

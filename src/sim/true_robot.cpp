@@ -44,7 +44,8 @@ EffectiveState effective_state(const TrueRobot& truth, const Vector6d& joints,
     state.joints[5] += deg2rad(fx.j6_amplitude_deg) *
                        std::sin(fx.j6_harmonic * joints[5] + deg2rad(fx.j6_phase_deg));
   if (fx.thermal) {
-    const double growth = 1.0 + fx.expansion_per_kelvin * temperature_rise(fx, motion.time_s);
+    const double growth = 1.0 + fx.expansion_per_kelvin * motion.temperature_rise_k.value_or(
+                                                              temperature_rise(fx, motion.time_s));
     for (int link = 2; link <= kJointCount; ++link) {
       state.params[link_param(link, 1)] *= growth;
       state.params[link_param(link, 3)] *= growth;

@@ -76,6 +76,21 @@ printf 'payloads:\n  gripper: {mass_kg: 3, cog_mm: [0, 0, 80]}\n' >> "$out/named
 "$robcal" compensate --model "$out/model.yaml" --tool "$out/named.yaml" \
   --targets "$out/wanted.csv" --out "$out/named.csv" --payload gripper > /dev/null
 cmp "$out/heavy.csv" "$out/named.csv"
+# A row's own payload (the targets' `payload` column) corrects that row as --payload does; rows
+# without one keep the run's. The output records each row's condition.
+{ sed -n '1s/$/,payload/p' "$out/wanted.csv"; sed -n '2s/$/,gripper/p' "$out/wanted.csv"
+  sed -n '3,$p' "$out/wanted.csv"; } > "$out/rowwise.csv"
+"$robcal" compensate --model "$out/model.yaml" --tool "$out/named.yaml" \
+  --targets "$out/rowwise.csv" --out "$out/rowwise_out.csv" --json > "$out/rowwise.json"
+$py - "$out/rowwise.json" "$out/rowwise_out.csv" "$out/named.csv" "$out/corrected.csv" <<'PY'
+import csv, json, sys
+assert json.load(open(sys.argv[1]))["conditions"] == 2
+rows, named, plain = (list(csv.DictReader(open(f))) for f in sys.argv[2:])
+for got, want in zip(rows, named[:1] + plain[1:]):
+    assert all(abs(float(got[j]) - float(want[j])) < 1e-5 for j in ("j1", "j2", "j3", "j4", "j5", "j6")), (got, want)
+assert [(r["approach"], r["temperature"], r["payload"]) for r in rows] == \
+    [("++++++", "20", "gripper")] + [("++++++", "20", "")] * 3, rows
+PY
 
 # Program filtering: only the robtarget lines change, the original stays.
 cp tests/data/programs/pick_place.mod "$out/in.mod"
@@ -107,6 +122,9 @@ expect_error "--payload-cog-mm" compensate --model "$out/model.yaml" --targets "
 expect_error "--payload: the tool has no payload 'vise': expected one of its 'payloads:' ('gripper')" \
   compensate --model "$out/model.yaml" --tool "$out/named.yaml" --targets "$out/wanted.csv" \
   --out "$out/bad.csv" --payload vise
+printf 'name,x,y,z,qw,qx,qy,qz,approach\np1,100,200,300,1,0,0,0,+-+\n' > "$out/badside.csv"
+expect_error "badside.csv:2:24 (approach): '+-+' is not an approach" compensate \
+  --model "$out/model.yaml" --targets "$out/badside.csv" --out "$out/bad.csv"
 expect_error "give the payload either by name (--payload) or by --payload-mass-kg" compensate \
   --model "$out/model.yaml" --tool "$out/named.yaml" --targets "$out/wanted.csv" \
   --out "$out/bad.csv" --payload gripper --payload-mass-kg 3 --payload-cog-mm 0,0,80

@@ -130,11 +130,13 @@ def test_cli_and_python_compensate_identically(tmp_path):
     truth = str(REF / "truth.yaml")
     # Wanted poses the robot can reach: the true robot's TCP at three joint sets.
     true_robot = robcal.Compensator.from_truth(truth, tool=str(REF / "tool.yaml"))
-    rows = ["name,x,y,z,qw,qx,qy,qz"]
+    # The first row gives its own approach and temperature (the others: the run's).
+    rows = ["name,x,y,z,qw,qx,qy,qz,approach,temperature"]
     for i, q in enumerate([[10, 20, 10, 30, 40, 50], [-20, 35, -5, -40, 60, 10], [5, 0, 25, 0, 45, 0]]):
         pose = true_robot.tcp_pose(np.array(q, dtype=float))
         rows.append(f"p{i + 1}," + ",".join(f"{v:.6f}" for v in [*pose["position_mm"],
-                                                                  *pose["quaternion_wxyz"]]))
+                                                                  *pose["quaternion_wxyz"]])
+                    + (",+-++++,25" if i == 0 else ""))
     targets = tmp_path / "targets.csv"
     targets.write_text("\n".join(rows) + "\n")
     cli_out, py_out = tmp_path / "cli.csv", tmp_path / "py.csv"
@@ -145,10 +147,13 @@ def test_cli_and_python_compensate_identically(tmp_path):
     comp = robcal.Compensator.from_model(str(model), tool=str(REF / "tool.yaml"))
     p = comp.compensate_targets(str(targets), check_truth=truth, out=str(py_out))
     assert cli_out.read_bytes() == py_out.read_bytes() == p["csv"].encode()
-    for key in ("robot", "targets", "method", "payload_kg", "max_iterations", "max_residual_mm",
-                "max_confidence95_mm", "closed_loop"):
+    for key in ("robot", "targets", "method", "payload_kg", "conditions", "max_iterations",
+                "max_residual_mm", "max_confidence95_mm", "closed_loop"):
         assert c[key] == p[key], key
     assert p["joints_deg"].shape == (3, 6) and p["names"] == ["p1", "p2", "p3"]
+    assert p["conditions"] == 2 and list(p["temperature_c"]) == [25, 20, 20]
+    assert list(p["approach"][0]) == [1, -1, 1, 1, 1, 1] and p["payloads"] == ["", "", ""]
+    assert ",+-++++,25,\n" in p["csv"]
     assert c["closed_loop"]["compensated"]["max_mm"] < 0.1 < c["closed_loop"]["uncompensated"]["mean_mm"]
 
     cli_prog, py_prog = tmp_path / "cli.mod", tmp_path / "py.mod"

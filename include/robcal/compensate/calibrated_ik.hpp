@@ -70,7 +70,26 @@ struct CalibratedIkResult {
 /// can have its answer inside; the verdict is taken on the calibrated joints.
 inline constexpr double kSeedLimitMarginRad = 0.175;  // 10°
 
-/// Everything the calibrated inverse needs for one robot, payload and tool. Immutable.
+/// How targets are reached, as far as the opt-in groups care (docs/method/03-error-model.md
+/// §6–§8): the compensator of each distinct condition is made once.
+struct ReachCondition {
+  /// The side each joint reaches the targets from (+1 below, −1 above, 0 unknown): the backlash
+  /// group's sign (§6).
+  Vector6d approach = Vector6d::Ones();
+  /// The targets' temperature minus the robot's reference (K): the thermal group's ΔT (§8).
+  double temperature_rise_k = 0;
+  PointMass payload;  ///< the payload the compliance is computed for (§3, §7)
+  /// Its name among the tool's `payloads`; empty: the tool's `payload` or one given by mass.
+  std::string payload_name;
+
+  [[nodiscard]] bool operator==(const ReachCondition& other) const {
+    return approach == other.approach && temperature_rise_k == other.temperature_rise_k &&
+           payload.mass_kg == other.payload.mass_kg && payload.cog_mm == other.payload.cog_mm &&
+           payload_name == other.payload_name;
+  }
+};
+
+/// Everything the calibrated inverse needs for one robot, tool and reach condition. Immutable.
 struct Compensator {
   RobotModel model;
   CalibratedChain chain;
@@ -85,12 +104,7 @@ struct Compensator {
   Pose<double> base_T_world;  ///< its inverse
   Pose<double> flange_T_tcp;
   Pose<double> tcp_T_flange;  ///< its inverse
-  PointMass payload;          ///< the payload the compliance is computed for
-  /// The side each joint reaches the targets from (+1 below, −1 above, 0 unknown): the backlash
-  /// group's sign (docs/method/03-error-model.md §6).
-  Vector6d approach = Vector6d::Ones();
-  /// The targets' temperature minus the robot's reference (K): the thermal group's ΔT (§8).
-  double temperature_rise_k = 0;
+  ReachCondition condition;   ///< the chain is built for it
 };
 
 /// Builds the compensator of a calibrated robot; `payload` overrides the tool's (the
@@ -102,6 +116,8 @@ struct Compensator {
 Compensator make_compensator(const CalibratedRobot& robot,
                              const std::optional<PointMass>& payload = std::nullopt,
                              const RowConditions& row = {});
+/// The same for targets reached under `condition` (its payload replaces the tool's).
+Compensator make_compensator(const CalibratedRobot& robot, const ReachCondition& condition);
 
 /// The nominal solution (controller joints, rad) of `base_T_tcp` in configuration `config`
 /// inside the limits, of the turn nearest to `near` (wide-range joints), or nullopt.

@@ -26,8 +26,14 @@ struct ClosedLoopReport {
   std::vector<double> uncompensated_mm;  ///< per target (NaN-free: unreachable targets skipped)
 };
 
-/// Commands `corrected[i].ik.joints` on `truth` and compares with `wanted[i]`; the
-/// uncompensated joints are the nominal solution of the wanted pose in the same configuration.
+/// Commands `corrected[i].ik.joints` on `truth` in the condition of `comps[i]` (each joint
+/// arriving from its approach side, the arm at its temperature rise, carrying the truth's
+/// payload of the same name or its own) and compares with `wanted[i]`; the uncompensated joints
+/// are the nominal solution of the wanted pose in the same configuration, in the same condition.
+ClosedLoopReport closed_loop_check(const std::vector<const Compensator*>& comps,
+                                   const TrueRobot& truth, const std::vector<WantedTarget>& wanted,
+                                   const std::vector<CorrectedTarget>& corrected);
+/// The same with one compensator for every target.
 ClosedLoopReport closed_loop_check(const Compensator& comp, const TrueRobot& truth,
                                    const std::vector<WantedTarget>& wanted,
                                    const std::vector<CorrectedTarget>& corrected);

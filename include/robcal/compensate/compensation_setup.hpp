@@ -5,6 +5,7 @@
 /// compensator every compensation workflow (targets, programs) starts from.
 
 #include <array>
+#include <deque>
 #include <optional>
 #include <string>
 
@@ -35,13 +36,30 @@ struct CompensationSetup {
   std::optional<double> temperature_c;
 };
 
-/// The calibrated robot with the tool and payload applied, and its compensator. The
-/// compensator and the program correctors made from it refer to `robot`: keep the object where
-/// it was made.
+/// The calibrated robot with the tool and payload applied, and its compensator for the run's
+/// reach condition (approach, temperature and payload of the setup). The compensator and the
+/// program correctors made from it refer to `robot`: keep the object where it was made.
 struct Compensation {
   CalibratedRobot robot;
   Compensator comp;
   std::array<double, kJointCount> pulses_per_degree{};  ///< the setup's
+};
+
+/// The compensators of a run for targets reached under conditions of their own
+/// (docs/method/10-compensation.md §6): each distinct condition's made once, on first use (a
+/// closed-form analysis and a chain, not to be repeated per target); the run's own is
+/// `run.comp`. `run` must outlive the object, and the references it hands out live as
+/// long as it does.
+class CompensatorsByCondition {
+ public:
+  explicit CompensatorsByCondition(const Compensation& run);
+  const Compensator& at(const ReachCondition& condition);
+  /// Compensators made beyond the run's.
+  [[nodiscard]] size_t made() const { return made_.size(); }
+
+ private:
+  const Compensation& run_;
+  std::deque<Compensator> made_;  // a deque keeps the references handed out valid
 };
 
 /// Applies the tool and payload and builds the compensator. InputError: the model is not the

@@ -29,18 +29,27 @@ struct CorrectedTarget {
   /// J the parameter Jacobian of the TCP position, Σ the model's covariance; nullopt when
   /// the model has none.
   std::optional<double> confidence95_mm;
+  ReachCondition condition;  ///< the approach, temperature and payload it was corrected for
 };
 
-/// Corrects every wanted target. Throws InputError naming the file and line of the first row
-/// that cannot be corrected (with the reason), so no partial result exists.
+/// Corrects every wanted target, target i with `comps[i]` (the compensator of the condition it is
+/// reached under, docs/method/10-compensation.md §6). Throws InputError naming the file and line
+/// of the first row that cannot be corrected (with the reason), so no partial result exists.
+std::vector<CorrectedTarget> correct_targets(const std::vector<const Compensator*>& comps,
+                                             const CalibratedRobot& robot,
+                                             const std::vector<WantedTarget>& wanted,
+                                             const std::string& file, IkMethod method);
+/// The same with one compensator for every target.
 std::vector<CorrectedTarget> correct_targets(const Compensator& comp, const CalibratedRobot& robot,
                                              const std::vector<WantedTarget>& wanted,
                                              const std::string& file, IkMethod method);
 
 /// `name,config,j1..j6,x,y,z,qw,qx,qy,qz,<euler labels>,iterations,residual_mm,confidence95_mm`
-/// (degrees and mm; the Euler angles in the maker's convention of `model`).
-std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows,
-                                  const RobotModel& model);
+/// (degrees and mm; the Euler angles in the maker's convention of `model`); `with_conditions`
+/// adds `approach,temperature,payload`, each row's condition in the targets file's notation
+/// (°C; the payload's name, empty for the tool's own or one given by mass).
+std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows, const RobotModel& model,
+                                  bool with_conditions = false);
 
 /// 95 % confidence radius of the TCP position at `joints` (nullopt without covariance).
 std::optional<double> position_confidence95_mm(const CalibratedRobot& robot,

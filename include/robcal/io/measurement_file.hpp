@@ -92,6 +92,21 @@ struct MeasurementFormat {
 /// below, −1 from above, 0 unknown; InputError at `where` for anything but six of '+', '-', '0'.
 Vector6d parse_approach(std::string_view text, const SourceLocation& where);
 
+/// True for a temperature (°C) from a workshop to a foundry, [−50, 150]; outside is a unit slip
+/// (°F, K).
+bool plausible_temperature_c(double celsius);
+
+/// Parses a temperature cell (the `temperature` column, °C, docs/method/03-error-model.md §8):
+/// empty is no reading (nullopt); InputError at `where` for anything but a finite, plausible
+/// temperature.
+std::optional<double> parse_temperature_c(std::string_view text, const SourceLocation& where);
+
+/// The index of the payload `name` among the tool's `payloads` (the `payload` column,
+/// docs/method/03-error-model.md §7); InputError at `where` listing them, `when_empty` saying what
+/// an empty cell means instead.
+int payload_index_of(std::string_view name, const Tool& tool, const SourceLocation& where,
+                     std::string_view when_empty);
+
 /// Parses "m, rad" / "mm" / "rad" (`--units`, `# units:`) into `format`; InputError at `where`.
 void parse_units(std::string_view text, const SourceLocation& where, MeasurementFormat& format);
 /// Parses "intrinsic ZYX" / "extrinsic xyz" (`--euler`, `# euler:`); InputError at `where`.

@@ -17,6 +17,7 @@
 /// frame every simulated reading is expressed in.
 
 #include <array>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -59,7 +60,10 @@ struct MotionState {
   bool from_below = true;      ///< every joint approached from below (the published practice)
   Vector6d previous_joints{};  ///< controller joints before the move (when !from_below), rad
   double time_s = 0;           ///< time since the robot started moving (thermal drift)
-  int payload = -1;            ///< carried payload: index into the tool's payloads, -1 its own
+  /// The arm's temperature rise when it is set (a target reached warm, K); none: the warm-up's
+  /// at `time_s`.
+  std::optional<double> temperature_rise_k;
+  int payload = -1;  ///< carried payload: index into the tool's payloads, -1 its own
 };
 
 /// Temperature rise (K) of the thermal drift after `time_s` of operation: first-order warm-up
