@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """clang-tidy with the project's checks (.clang-tidy) over src/ and apps/robcal/; a finding fails.
 
-Usage: scripts/tidy.py BUILD_DIR [JOBS]
+Usage: scripts/tidy.py BUILD_DIR [JOBS [FILE ...]]
+(with FILEs, only those of them that are checked at all: e.g. the files a change touched,
+`scripts/tidy.py build 2 $(git diff --name-only main~5 -- src apps)`)
 
 Each file is checked inside a batch of up to BATCH files of its folder (one translation unit
 that #includes them): clang-tidy then parses and walks Eigen, Ceres and CLI11 once per batch
@@ -66,12 +68,14 @@ def main():
     build = os.path.abspath(sys.argv[1])
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     jobs = int(sys.argv[2]) if len(sys.argv) > 2 else os.cpu_count()
+    only = {os.path.abspath(f) for f in sys.argv[3:]}
     database = json.load(open(os.path.join(build, "compile_commands.json")))
     by_folder = {}
     seen = set()
     for e in database:
         # Each file once: the sanitized copy of the library (robcal_asan) compiles it again.
-        if CHECKED.search(e["file"]) and "-fsanitize" not in e["command"] and e["file"] not in seen:
+        if (CHECKED.search(e["file"]) and "-fsanitize" not in e["command"] and e["file"] not in seen
+                and (not only or os.path.abspath(e["file"]) in only)):
             seen.add(e["file"])
             by_folder.setdefault((os.path.dirname(e["file"]), e["command"].split()[0]), []).append(e)
     tidy_dir = os.path.join(build, "tidy")
