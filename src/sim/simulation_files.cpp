@@ -11,15 +11,9 @@
 #include "robcal/io/atomic_file.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "yaml_list.hpp"
 
 namespace robcal {
-namespace {
-
-std::vector<double> as_list(const Eigen::Vector3d& v) {
-  return {v.x(), v.y(), v.z()};
-}
-
-}  // namespace
 
 std::string instrument_to_yaml(const VirtualInstrument& instrument) {
   YAML::Emitter out;

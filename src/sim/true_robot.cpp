@@ -8,6 +8,7 @@
 #include "robcal/core/units.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/io/yaml_checks.hpp"
+#include "yaml_list.hpp"
 
 namespace robcal {
 namespace {
@@ -157,10 +158,6 @@ void enable_effects(TrueRobot& truth, const std::vector<std::string>& names, std
 }
 
 namespace {
-
-std::vector<double> as_list(const Eigen::Vector3d& v) {
-  return {v.x(), v.y(), v.z()};
-}
 
 void emit_mass(YAML::Emitter& out, const PointMass& mass) {
   out << YAML::Flow << YAML::BeginSeq << mass.mass_kg << YAML::Flow << as_list(mass.cog_mm)
