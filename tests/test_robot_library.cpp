@@ -237,9 +237,10 @@ TEST(RobotLibrary, EveryRobotsIkRoundTripsEveryBranch) {
     for (int c : count) counts += " " + std::to_string(c);
     std::printf("[ %s, %s ] %d draws, per branch:%s, %d failures\n", name.c_str(),
                 closed_form_name(*g), draws, counts.c_str(), failures);
-    // Open (issue 15, docs/method/02-frames.md §7): the general 6R inverse still loses a twin
-    // solution in about 50,000 configurations (here the Stäubli TX2-60, 1 of 16,000); the closed
-    // forms lose none.
+    // Open (issue 15, docs/method/02-frames.md §7): the general 6R inverse still loses a
+    // near-singular twin on the CRX-10iA/L (|sin θ5| = 2e-3) in about 60,000 configurations
+    // (none in these draws; the TX2-60 lost 1 of 16,000 here before session 8); the closed forms
+    // lose none.
     const bool general = std::holds_alternative<General6rGeometry>(*g);
     EXPECT_LE(failures, general ? 1 : 0) << name;
     // A branch the joint limits exclude entirely gets no configurations (none is drawn).

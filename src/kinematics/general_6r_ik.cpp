@@ -5,6 +5,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -42,6 +43,11 @@ constexpr double kSameRoot = 1e-4;
 constexpr double kNullSpace = 1e-7;
 /// The largest multiplicity handled (two solutions per shared angle on the CRX).
 constexpr int kMaxCluster = 4;
+/// A root with another eigenvalue within this · (1 + |x3|) may be part of a multiple root that
+/// rounding split wider than kSameRoot: on robots whose solutions pair up (spherical-wrist-like
+/// twins sharing x3) the double root is defective and its eigenvalues spread as ε^(1/4), up to
+/// 1e-2 (Stäubli TX2-60, Doosan M1013, CRX near θ5 = 0).
+constexpr double kCrowded = 3e-2;
 /// Acceptance of a polished candidate, and the distance below which two are the same.
 constexpr double kAcceptPositionMm = 1e-9;
 constexpr double kAcceptOrientationRad = 1e-11;
@@ -182,15 +188,14 @@ Eigen::MatrixXd mixing(int k) {
   return m;
 }
 
-/// The monomial vectors v = (x4^i·x5^j) in the `k`-dimensional null space of A = M(x3): the span N
-/// of M's last k right singular vectors holds them; a shift of the monomials (i → i+1 is a
-/// product with x4, j → j+1 with x5) maps N·c to μ·N·c with μ = x4 + κ·x5 on the rows where
-/// both shifts exist, a k×k eigenproblem (least squares) whose eigenvectors c give each v.
-std::vector<Vector12> null_space_monomials(const Matrix12& A, int k) {
-  const Eigen::JacobiSVD<Matrix12> svd(A, Eigen::ComputeFullV);
-  const Eigen::MatrixXd N = svd.matrixV().rightCols(k);
+/// The monomial vectors v = (x4^i·x5^j) in the span of the orthonormal columns N of a null
+/// space of M(x3): a shift of the monomials (i → i+1 is a product with x4, j → j+1 with x5) maps
+/// N·c to μ·N·c with μ = x4 + κ·x5 on the rows where both shifts exist, a k×k eigenproblem
+/// (least squares) whose eigenvectors c give each v, passed to `use`.
+template <int K, typename Use>
+void null_space_monomials(const Eigen::Matrix<double, 12, K>& N, Use&& use) {
   constexpr double kKappa = 0.6180339887;  // any value that keeps the μ of distinct (x4, x5) apart
-  Eigen::MatrixXd from(6, k), to(6, k);
+  Eigen::Matrix<double, 6, K> from, to;
   int r = 0;
   for (int i = 0; i <= 2; ++i)
     for (int j = 0; j <= 1; ++j, ++r) {
@@ -198,12 +203,10 @@ std::vector<Vector12> null_space_monomials(const Matrix12& A, int k) {
       from.row(r) = N.row(m);
       to.row(r) = N.row(m + 3) + kKappa * N.row(m + 1);
     }
-  const Eigen::MatrixXd shift = from.colPivHouseholderQr().solve(to);
-  const Eigen::EigenSolver<Eigen::MatrixXd> eigen(shift, true);
-  std::vector<Vector12> out;
-  if (eigen.info() != Eigen::Success) return out;
-  for (int c = 0; c < k; ++c) out.push_back(N * eigen.eigenvectors().col(c).real());
-  return out;
+  const Eigen::Matrix<double, K, K> shift = from.colPivHouseholderQr().solve(to);
+  const Eigen::EigenSolver<Eigen::Matrix<double, K, K>> eigen(shift, true);
+  if (eigen.info() != Eigen::Success) return;
+  for (int c = 0; c < K; ++c) use(Vector12(N * eigen.eigenvectors().col(c).real()));
 }
 
 ArmConfig label(const Frames& f, double theta5) {
@@ -353,12 +356,13 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   C.block<12, 12>(0, 12).setIdentity();
   C.block<12, 12>(12, 0) = -lead.solve(M[0]);
   C.block<12, 12>(12, 12) = -lead.solve(M[1]);
-  const Eigen::EigenSolver<Matrix24> eigen(C, true);
+  const Eigen::EigenSolver<Matrix24> eigen(C, false);
   if (eigen.info() != Eigen::Success) return 0;
   int count = 0;
   // One candidate (x3, v): θ4, θ5 from v's monomial ratios, θ1, θ2, θ6 from the pose, polished.
-  auto candidate = [&](double x3, const Vector12& v) {
-    if (count == kMaxGeneral6rSolutions) return;
+  // Returns the solution reached (new or already found), or -1.
+  auto candidate = [&](double x3, const Vector12& v) -> int {
+    if (count == kMaxGeneral6rSolutions) return -1;
     int m4 = 0, m5 = 0;
     for (int m = 0; m < 9; ++m)  // x4 from v[m + 3]/v[m], i ≤ 2
       if (std::abs(v[m]) > std::abs(v[m4])) m4 = m;
@@ -371,14 +375,35 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     solve_first_and_last(K, Tp, phi);
     Angles theta;
     for (int i = 0; i < kJointCount; ++i) theta[(i + g.cyclic_shift) % kJointCount] = phi[i];
-    if (!polish(g, world_T_flange, theta)) return;
+    if (!polish(g, world_T_flange, theta)) return -1;
     for (double& t : theta) t = wrap(t);
     for (int s = 0; s < count; ++s) {
       double d = 0;
       for (int i = 0; i < kJointCount; ++i) d = std::max(d, std::abs(wrap(out[s][i] - theta[i])));
-      if (d < kSameSolutionRad) return;
+      if (d < kSameSolutionRad) return s;
     }
-    out[count++] = theta;
+    out[count] = theta;
+    return count++;
+  };
+  // Solutions reached from the current cluster (bit s: out[s]), and those whose twins were sought.
+  unsigned reached = 0, twins_sought = 0;
+  // Candidates from the null space of M(x3), at least `dimension` wide (more when the pivoted QR
+  // of M(x3)ᵀ shows it; its last columns of Q are orthogonal to M's rows); returns the width.
+  auto null_space_candidates = [&](double x3, int dimension) {
+    const Matrix12 A = M[0] + x3 * (M[1] + x3 * M[2]);
+    const Eigen::ColPivHouseholderQR<Matrix12> qr(A.transpose());
+    const Vector12 r = qr.matrixR().diagonal().cwiseAbs();
+    while (dimension < kMaxCluster && r[11 - dimension] <= kNullSpace * r[0]) ++dimension;
+    dimension = std::min(dimension, kMaxCluster);
+    const Matrix12 Q = qr.householderQ();
+    const auto use = [&](const Vector12& v) {
+      if (const int s = candidate(x3, v); s >= 0) reached |= 1u << s;
+    };
+    if (dimension == 1) use(Q.col(11));
+    if (dimension == 2) null_space_monomials<2>(Q.rightCols<2>(), use);
+    if (dimension == 3) null_space_monomials<3>(Q.rightCols<3>(), use);
+    if (dimension == 4) null_space_monomials<4>(Q.rightCols<4>(), use);
+    return dimension;
   };
   // Real candidates (both members of a near-real conjugate pair), by real part.
   std::array<int, 24> order{};
@@ -390,35 +415,44 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   const auto x3_of = [&](int e) { return eigen.eigenvalues()[e].real(); };
   std::sort(order.begin(), order.begin() + n, [&](int a, int b) { return x3_of(a) < x3_of(b); });
   for (int b = 0, e = 0; b < n; b = e) {
+    reached = 0;
     // A cluster: roots within kSameRoot of each other (two solutions sharing, or nearly
     // sharing, the eliminated angle: a double root split by rounding, or a conjugate pair).
     for (e = b + 1; e < n && x3_of(order[e]) - x3_of(order[e - 1]) <=
                                  kSameRoot * (1 + std::abs(x3_of(order[e])));
          ++e) {
     }
+    // Each root's own null vector (a conjugate pair's at their common real part), then, for a
+    // cluster, the null space at its mean: the eigenvectors of a multiple root are any mix of
+    // its solutions' vectors, and rounding moves the split roots off each solution's own x3.
+    // A null space as wide as the cluster found at one root holds all of them.
     double x3 = 0;
+    int found = 0;
     for (int k = b; k < e; ++k) {
-      // Each root's own eigenvector (one of a conjugate pair: the other is its conjugate).
       const std::complex<double> lambda = eigen.eigenvalues()[order[k]];
       x3 += lambda.real() / (e - b);
-      if (lambda.imag() < 0) continue;
-      Eigen::Matrix<std::complex<double>, 12, 1> vc = eigen.eigenvectors().col(order[k]).head<12>();
-      int top = 0;
-      vc.cwiseAbs().maxCoeff(&top);
-      vc *= std::conj(vc[top]) / std::abs(vc[top]);
-      candidate(lambda.real(), vc.real());
+      if (lambda.imag() >= 0 && found < e - b)
+        found = std::max(found, null_space_candidates(lambda.real(), 1));
     }
-    // The eigenvectors of a multiple root are any mix of its solutions' vectors: the null space
-    // of M(x3) holds each of them (also when a single root's M has a second null direction).
-    const Matrix12 A = M[0] + x3 * (M[1] + x3 * M[2]);
-    const Eigen::ColPivHouseholderQR<Matrix12> qr(A.transpose());
-    const Eigen::Matrix<double, 12, 1> r = qr.matrixR().diagonal().cwiseAbs();
-    int null_dimension = 0;
-    while (null_dimension < kMaxCluster && r[11 - null_dimension] <= kNullSpace * r[0])
-      ++null_dimension;
-    const int k = std::min(std::max(e - b, null_dimension), kMaxCluster);
-    if (k >= 2)
-      for (const Vector12& v : null_space_monomials(A, k)) candidate(x3, v);
+    if (found < e - b) null_space_candidates(x3, e - b);
+    // Fewer solutions than roots from a crowded cluster: a twin may share a solution's exact x3
+    // (a multiple root split beyond the cluster); M(x3) there has it in its null space.
+    bool crowded = false;
+    for (int k = b; k < e && !crowded; ++k)
+      for (int o = 0; o < 24 && !crowded; ++o) {
+        const std::complex<double> lambda = eigen.eigenvalues()[order[k]];
+        const bool inside = std::find(order.begin() + b, order.begin() + e, o) != order.begin() + e;
+        crowded = !inside &&
+                  std::abs(eigen.eigenvalues()[o] - lambda) <= kCrowded * (1 + std::abs(lambda));
+      }
+    if (crowded && std::popcount(reached) < std::max(2, e - b)) {
+      const unsigned seek = reached & ~twins_sought;
+      twins_sought |= seek;
+      for (int s = 0; s < count; ++s)
+        if (seek & (1u << s))
+          null_space_candidates(
+              std::tan(wrap(out[s][(2 + g.cyclic_shift) % kJointCount] - phi3) / 2), 2);
+    }
   }
   return count;
 }

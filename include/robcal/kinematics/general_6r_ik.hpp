@@ -34,7 +34,10 @@
 /// 1e-4 of each other are taken as one cluster, and beside each root's own eigenvector the
 /// null space of M(x3) (dimension: the cluster's size, or more when a pivoted QR shows it) is
 /// searched for its monomial vectors (a small shift eigenproblem); every candidate is polished,
-/// so the extra ones cost time, never a wrong answer. Near a singularity (a
+/// so the extra ones cost time, never a wrong answer. On spherical-wrist-like robots (TX2-60,
+/// M1013) the double root is defective and rounding spreads it as ε^(1/4), beyond the cluster:
+/// a crowded cluster that reaches fewer solutions than roots also searches the null space at each
+/// reached solution's exact x3 for its twin. Near a singularity (a
 /// continuum of solutions) the solutions returned are the ones Newton reaches; they are exact,
 /// the continuum is not enumerated.
 ///
