@@ -106,6 +106,11 @@ TEST(HexapodPlanFile, BadCellNamesFileAndKey) {
   expect_error([](nlohmann::json& p) { p.erase("ball_offset_mm"); }, "ball_offset_mm");
   expect_error([](nlohmann::json& p) { p["setting_ball"][1]["configurations"][0]["labels"] = "x"; },
                "setting_ball[1].configurations.labels");
+  // A missing key read through a const json: freed memory before (the fuzz run's
+  // crashes/hexapod_plan/configuration-without-joints.json).
+  expect_error(
+      [](nlohmann::json& p) { p["setting_ball"][0]["configurations"][0].erase("joints_deg"); },
+      "setting_ball[0].configurations.joints_deg");
 }
 
 TEST(HexapodPlanFile, PlacementText) {

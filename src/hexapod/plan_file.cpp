@@ -51,6 +51,15 @@ TriangleSides cell_sides(const json& geometry, const std::string& key, const std
   return {v[0], v[1], v[2]};
 }
 
+/// The member `key` of `node`, null when `node` is no object or lacks it: nlohmann's const
+/// operator[] reads freed memory for a missing key (found by the 10-minute fuzz run).
+const json& member(const json& node, const std::string& key) {
+  static const json kNull;
+  if (!node.is_object()) return kNull;
+  const auto it = node.find(key);
+  return it == node.end() ? kNull : *it;
+}
+
 std::vector<double> joint_list(const json& node, const SourceLocation& where) {
   if (!node.is_array() || node.size() != kJointCount)
     throw InputError(where, "expected six joint values (deg)");
@@ -126,7 +135,7 @@ void parse_setting_configurations(const json& root, const std::string& file, Hex
   if (!plan.session.setting_points) return;
   for (int i = 0; i < 3; ++i) {
     plan.setting[i].ball_position_mm = (*plan.session.setting_points)[i];
-    const json& entry = root["setting_ball"][i];
+    const json& entry = root["setting_ball"][i];  // three objects: parse_session_plan checked
     if (!entry.contains("configurations")) continue;
     const std::string key = fmt::format("setting_ball[{}].configurations", i);
     if (!entry["configurations"].is_array()) throw InputError({file, 0, 0, key}, "expected a list");
@@ -137,7 +146,7 @@ void parse_setting_configurations(const json& root, const std::string& file, Hex
         throw InputError({file, 0, 0, key + ".labels"},
                          fmt::format("'{}': expected a label like front/up/no-flip", labels));
       const std::vector<double> deg =
-          joint_list(c["joints_deg"], {file, 0, 0, key + ".joints_deg"});
+          joint_list(member(c, "joints_deg"), {file, 0, 0, key + ".joints_deg"});
       PoseConfiguration pc;
       pc.config = *config;
       for (int j = 0; j < kJointCount; ++j) pc.joints[j] = deg2rad(deg[j]);
@@ -155,7 +164,7 @@ Replanned parse_replanned(const json& root, const std::string& file) {
     const json& c = root["configurations"][i];
     r.planned_joints_deg.push_back(
         c.contains("planned_joints_deg")
-            ? joint_list(c["planned_joints_deg"],
+            ? joint_list(member(c, "planned_joints_deg"),
                          {file, 0, 0, fmt::format("configurations[{}].planned_joints_deg", i)})
             : std::vector<double>{});
   }
