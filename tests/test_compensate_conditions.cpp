@@ -26,17 +26,9 @@
 namespace robcal {
 namespace {
 
-/// The simulation tool with two further payloads: none (0 kg) and a 6 kg gripper.
-Tool tool_with_payloads() {
-  Tool tool = default_simulation_tool();
-  tool.payloads = {{"empty", {0.0, Eigen::Vector3d::Zero()}},
-                   {"gripper", {6.0, Eigen::Vector3d(60, 20, 150)}}};
-  return tool;
-}
-
 /// The published IRB 120 with the simulator's backlash and a 10 K warm-up (23 ppm/K).
 TrueRobot worn_warm_truth() {
-  TrueRobot truth = published_irb120_truth(load_robot("abb-irb120"), tool_with_payloads());
+  TrueRobot truth = published_irb120_truth(load_robot("abb-irb120"), test::tool_with_payloads());
   truth.effects.backlash = true;
   truth.effects.thermal = true;
   truth.effects.temperature_rise_k = 10;
@@ -63,7 +55,8 @@ const Calibrated& calibrated() {
     IdentifyOptions options;
     options.level = CalibrationLevel::Full;
     options.identify = {"*.backlash", "*.expansion"};
-    out.robot = calibrate(load_robot("abb-irb120"), tool_with_payloads(), data, options).robot;
+    out.robot =
+        calibrate(load_robot("abb-irb120"), test::tool_with_payloads(), data, options).robot;
     return out;
   }();
   return c;
@@ -274,7 +267,7 @@ TEST(CompensateConditions, TargetsFileColumns) {
   std::mt19937_64 rng(2103);
   CompensateTargetsRequest request;
   request.setup.robot = test::random_calibrated("abb-irb120", rng);
-  request.setup.robot.tool.payloads = tool_with_payloads().payloads;
+  request.setup.robot.tool.payloads = test::tool_with_payloads().payloads;
   request.setup.temperature_c = 22;
   // Two poses the calibrated robot reaches, as a targets file writes them.
   const Compensator comp = make_compensator(request.setup.robot);

@@ -23,6 +23,14 @@
 
 namespace robcal::test {
 
+/// The simulation tool with two further payloads: none (0 kg) and a 6 kg gripper.
+inline Tool tool_with_payloads() {
+  Tool tool = default_simulation_tool();
+  tool.payloads = {{"empty", {0.0, Eigen::Vector3d::Zero()}},
+                   {"gripper", {6.0, Eigen::Vector3d(60, 20, 150)}}};
+  return tool;
+}
+
 /// The calibrated chain of `robot` against the templated forward model at 30 random joint sets:
 /// the TCP pose, and the position rows of its joint Jacobian against autodiff.
 inline void expect_chain_matches_forward_model(const CalibratedRobot& robot, std::mt19937_64& rng,

@@ -21,16 +21,8 @@
 namespace robcal {
 namespace {
 
-/// The simulation tool with two further payloads: none (0 kg) and a 6 kg gripper.
-Tool tool_with_payloads() {
-  Tool tool = default_simulation_tool();
-  tool.payloads = {{"empty", {0.0, Eigen::Vector3d::Zero()}},
-                   {"gripper", {6.0, Eigen::Vector3d(60, 20, 150)}}};
-  return tool;
-}
-
 TEST(SeveralPayloads, ToolFileAndMeasurementColumnRoundTrip) {
-  const Tool tool = tool_with_payloads();
+  const Tool tool = test::tool_with_payloads();
   // Through a file: the tool reader accepts the 'payloads' key.
   const std::string path = testing::TempDir() + "several-payloads-tool.yaml";
   std::ofstream(path) << tool_to_yaml(tool);
@@ -75,7 +67,8 @@ TEST(SeveralPayloads, ToolFileAndMeasurementColumnRoundTrip) {
 /// 100 calibration and 60 validation positions on the published IRB 120; `several`: each row
 /// carries a payload drawn (seeded) from the tool's three.
 test::GroupCampaign simulate(bool several, uint64_t seed) {
-  const TrueRobot truth = published_irb120_truth(load_robot("abb-irb120"), tool_with_payloads());
+  const TrueRobot truth =
+      published_irb120_truth(load_robot("abb-irb120"), test::tool_with_payloads());
   SimulationOptions sim;
   sim.random_payloads = several;
   return test::simulate_campaign(truth, 0.01, seed, published_joint_box(truth.robot.model), sim);
@@ -84,7 +77,7 @@ test::GroupCampaign simulate(bool several, uint64_t seed) {
 IdentificationResult fit(const MeasurementSet& data) {
   IdentifyOptions options;
   options.level = CalibrationLevel::Full;
-  return calibrate(load_robot("abb-irb120"), tool_with_payloads(), data, options);
+  return calibrate(load_robot("abb-irb120"), test::tool_with_payloads(), data, options);
 }
 
 /// The largest |correlation| between a compliance and a geometric parameter.
