@@ -159,34 +159,31 @@ void expect_nothing_missed(const char* what, const SearchCount& n) {
   EXPECT_GE(n.returned, n.numeric) << what;
 }
 
+/// The multi-start search on `poses` poses of each of `arms` random geometries.
+SearchCount search_random_arms(uint64_t seed, int arms, int poses) {
+  auto rng = test::seeded_rng(seed);
+  SearchCount n;
+  for (int robot = 0; robot < arms; ++robot) {
+    const RobotModel model = random_6r(rng);
+    const auto g = analyze_general_6r(model);
+    EXPECT_TRUE(g);
+    if (g) search_poses(model, *g, poses, rng, n);
+  }
+  return n;
+}
+
 // Exhaustive numeric search: 200 random starts per pose on 8 random geometries × 4 poses find
 // nothing the solver missed (and, over all poses, as many distinct solutions as it returns).
 TEST(General6rIk, MultiStartNumericSearchFindsNothingMore) {
-  auto rng = test::seeded_rng(1503);
-  SearchCount n;
-  for (int robot = 0; robot < 8; ++robot) {
-    const RobotModel model = random_6r(rng);
-    const auto g = analyze_general_6r(model);
-    ASSERT_TRUE(g);
-    search_poses(model, *g, 4, rng, n);
-  }
-  expect_nothing_missed("random 6R, 32 poses", n);
+  expect_nothing_missed("random 6R, 32 poses", search_random_arms(1503, 8, 4));
 }
 
 // The full check (10,000 poses: 100 random geometries × 100 poses, 200 starts each);
 // minutes, so disabled: run with --gtest_also_run_disabled_tests
-// --gtest_filter=General6rIk.DISABLED_MultiStartNumericSearch10000Poses. Session 8: the solver
+// --gtest_filter=General6rIk.DISABLED_MultiStartNumericSearch10000Poses. Session 10: the solver
 // returned 34,424 solutions, the search found 34,424, none missed (462 s on a loaded machine).
 TEST(General6rIk, DISABLED_MultiStartNumericSearch10000Poses) {
-  auto rng = test::seeded_rng(1507);
-  SearchCount n;
-  for (int robot = 0; robot < 100; ++robot) {
-    const RobotModel model = random_6r(rng);
-    const auto g = analyze_general_6r(model);
-    ASSERT_TRUE(g);
-    search_poses(model, *g, 100, rng, n);
-  }
-  expect_nothing_missed("random 6R, 10,000 poses", n);
+  expect_nothing_missed("random 6R, 10,000 poses", search_random_arms(1507, 100, 100));
 }
 
 // The Fanuc CRX-10iA/L (offset wrist, up to 16 solutions): round trip with limits and turns,
