@@ -69,11 +69,22 @@ Compensation prepare_compensation(const CompensationSetup& setup) {
 
 CompensatorsByCondition::CompensatorsByCondition(const Compensation& run) : run_(run) {}
 
+CompensatorsByCondition::Key CompensatorsByCondition::key_of(const ReachCondition& c) {
+  const Vector6d& a = c.approach;
+  const Eigen::Vector3d& g = c.payload.cog_mm;
+  return {{a[0], a[1], a[2], a[3], a[4], a[5]},
+          c.temperature_rise_k,
+          c.payload.mass_kg,
+          {g.x(), g.y(), g.z()},
+          c.payload_name};
+}
+
 const Compensator& CompensatorsByCondition::at(const ReachCondition& condition) {
   if (condition == run_.comp.condition) return run_.comp;
-  for (const Compensator& made : made_)
-    if (made.condition == condition) return made;
-  return made_.emplace_back(make_compensator(run_.robot, condition));
+  const Key key = key_of(condition);
+  auto it = made_.find(key);
+  if (it == made_.end()) it = made_.emplace(key, make_compensator(run_.robot, condition)).first;
+  return it->second;
 }
 
 IkMethod ik_method_from_name(const std::string& name, const std::string& key) {

@@ -5,9 +5,10 @@
 /// compensator every compensation workflow (targets, programs) starts from.
 
 #include <array>
-#include <deque>
+#include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 
 #include "robcal/compensate/calibrated_ik.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -58,8 +59,13 @@ class CompensatorsByCondition {
   [[nodiscard]] size_t made() const { return made_.size(); }
 
  private:
+  /// A condition's exact values, ordered: one lookup in log time, as many rows as a target file
+  /// has (a temperature column can make every row a condition of its own).
+  using Key = std::tuple<std::array<double, 6>, double, double, std::array<double, 3>, std::string>;
+  static Key key_of(const ReachCondition& condition);
+
   const Compensation& run_;
-  std::deque<Compensator> made_;  // a deque keeps the references handed out valid
+  std::map<Key, Compensator> made_;  // map nodes keep the references handed out valid
 };
 
 /// Applies the tool and payload and builds the compensator. InputError: the model is not the
