@@ -18,7 +18,8 @@ namespace robcal {
 namespace {
 
 constexpr const char* kUr10e = "universal-robots-ur10e";
-constexpr const char* kCrx = "fanuc-crx10ia-l";
+constexpr const char* kCrx = "fanuc-crx10ia";
+constexpr const char* kCrxLong = "fanuc-crx10ia-l";
 
 TEST(CompensateAny6r, Ur10eChainMatchesTemplatedForwardKinematics) {
   auto rng = test::seeded_rng(151);
@@ -70,9 +71,14 @@ TEST(CompensateAny6r, Ur10eRoundTripEveryConfigurationBothIterationsAgree) {
   round_trip_every_configuration(kUr10e, 152);
 }
 
-// The Fanuc CRX: nominal seeds from the general 6R inverse (general_6r_ik.hpp).
+// The Fanuc CRX-10iA and CRX-10iA/L: nominal seeds from the general 6R inverse
+// (general_6r_ik.hpp).
 TEST(CompensateAny6r, FanucCrxRoundTripEveryConfigurationBothIterationsAgree) {
-  round_trip_every_configuration(kCrx, 155);
+  round_trip_every_configuration(kCrx, 157);
+}
+
+TEST(CompensateAny6r, FanucCrxLongRoundTripEveryConfigurationBothIterationsAgree) {
+  round_trip_every_configuration(kCrxLong, 155);
 }
 
 // At the wrist singularity (θ5 = 0) Newton's Jacobian loses rank: a status, never joints
@@ -153,7 +159,11 @@ TEST(CompensateAny6r, Ur10eClosedLoopCompensatedErrorAtTheNoiseFloor) {
 }
 
 TEST(CompensateAny6r, FanucCrxClosedLoopCompensatedErrorAtTheNoiseFloor) {
-  closed_loop_at_the_noise_floor(kCrx, 156);
+  closed_loop_at_the_noise_floor(kCrx, 158);
+}
+
+TEST(CompensateAny6r, FanucCrxLongClosedLoopCompensatedErrorAtTheNoiseFloor) {
+  closed_loop_at_the_noise_floor(kCrxLong, 156);
 }
 
 }  // namespace

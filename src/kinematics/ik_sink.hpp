@@ -15,6 +15,10 @@
 namespace robcal {
 
 inline constexpr double kIkTwoPi = 2.0 * std::numbers::pi;
+/// Turns are counted by multiplying with 1/(2π) rather than dividing by 2π (a division per joint
+/// and limit was most of a solution's cost): a count off by one at an exact multiple moves the
+/// joint by rounding only, which the limit tolerance absorbs.
+inline constexpr double kIkInvTwoPi = 0.5 / std::numbers::pi;
 inline constexpr double kIkLimitTolerance = 1e-9;  // rad, as RobotModel::within_limits
 
 /// Where the candidates go: every turn inside the limits into an array, or per branch only the
@@ -38,11 +42,11 @@ class IkSink {
     for (int i = 0; i < kJointCount; ++i) {
       const double lower = joints_.limits[i].lower - kIkLimitTolerance;
       const double upper = joints_.limits[i].upper + kIkLimitTolerance;
-      j[i] -= kIkTwoPi * std::floor((j[i] - lower) / kIkTwoPi);
+      j[i] -= kIkTwoPi * std::floor((j[i] - lower) * kIkInvTwoPi);
       if (!(j[i] <= upper)) return;  // NaN is outside
-      turns[i] = 1 + static_cast<int>(std::floor((upper - j[i]) / kIkTwoPi));
+      turns[i] = 1 + static_cast<int>(std::floor((upper - j[i]) * kIkInvTwoPi));
       if (nearest_turn_only_) {
-        const double k = std::round((seed_[i] - j[i]) / kIkTwoPi);
+        const double k = std::floor((seed_[i] - j[i]) * kIkInvTwoPi + 0.5);
         j[i] += kIkTwoPi * std::clamp(k, 0.0, static_cast<double>(turns[i] - 1));
         turns[i] = 1;
       }

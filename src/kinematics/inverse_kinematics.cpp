@@ -13,16 +13,6 @@
 namespace robcal {
 namespace {
 
-// The solver is compiled twice, for AVX2 (4 lanes) and for any x86-64 (SSE2, 2 lanes), and
-// the copy the processor runs is picked at load time; flatten keeps every helper inside the
-// copy (a helper left in the SSE2 encoding measured twice as slow, called from the AVX2 one).
-// (GCC only: clang refuses flatten on a multiversioned function.)
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define ROBCAL_VECTOR_CLONES __attribute__((target_clones("avx2", "default"), flatten))
-#else
-#define ROBCAL_VECTOR_CLONES
-#endif
-
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kInvTwoPi = 0.5 / std::numbers::pi;
 constexpr double kAngleTolerance = kRightAngleTolerance;

@@ -42,7 +42,8 @@
 /// the continuum is not enumerated.
 ///
 /// Labels: arm_config's definitions (inverse_kinematics.hpp); on a general arm up to two
-/// solutions share a label. Joint limits and turns as for the closed forms.
+/// solutions share a label, and nominal_ik_branch picks the one nearest its seed (why no twin
+/// index: docs/method/02-frames.md §7). Joint limits and turns as for the closed forms.
 
 #include <Eigen/Core>
 #include <optional>
