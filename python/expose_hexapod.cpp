@@ -357,6 +357,31 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "pruning, gauge (range and σ, mm), cup diameter and cell file as `plan`'s (the CLI's "
       "flags); the CLI's JSON as a dict");
   h.def(
+      "design",
+      [](const std::vector<std::string>& plans, int count, const std::string& level, int validation,
+         uint64_t seed, const std::vector<std::string>& out) {
+        PlacementsDesignRequest r;
+        r.plan_files = plans;
+        r.count = count;
+        r.level = parse_calibration_level(level);
+        r.validation_configurations = validation;
+        r.seed = seed;
+        r.out_files = out;
+        PlacementsDesignResult result;
+        {
+          py::gil_scoped_release release;
+          result = design_placements(r);
+        }
+        return json_to_python(placements_design_json(r, result));
+      },
+      py::arg("plans"), py::arg("count") = 0, py::arg("level") = "kinematic",
+      py::arg("validation") = 2000, py::arg("seed") = 1,
+      py::arg("out") = std::vector<std::string>{},
+      "Which configurations to measure at each of several planned placements (`robcal hexapod "
+      "design`): plans = plan files written by `plan`, count = configurations in all (0: as many "
+      "as the first plan offers); `out` = one reduced plan file per plan (none written for a "
+      "placement with nothing chosen); the CLI's JSON as a dict");
+  h.def(
       "device_validation",
       [](const std::array<double, 3>& base_sides_mm, const std::array<double, 3>& tool_sides_mm,
          double leg_mm, double gauge_range_mm, double gauge_sigma_mm, double reference_sigma_mm,

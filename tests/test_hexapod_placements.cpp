@@ -11,7 +11,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <numeric>
+
+#include <fmt/format.h>
 
 #include "refusal.hpp"
 #include "robcal/hexapod/placement_search.hpp"
@@ -208,6 +211,104 @@ TEST(HexapodPlacements, AGridWithNothingToMeasureIsRefused) {
   EXPECT_REFUSED(search_placements(model, request), InputError,
                  "--x-mm, --y-mm, --z-mm, --yaw-deg, --tilt-deg: none of the 2 placements has a "
                  "configuration to measure");
+}
+
+// `robcal hexapod design` (PlacementsDesignRequest): every configuration chosen with the count
+// of both plans, the prediction then equals the one the placement search makes of the same two
+// placements as measured (another code path: the `measured` figure of search_placements); the
+// default count is the first plan's, and the reduced plans hold exactly the chosen
+// configurations, numbered from 1, through a file round trip.
+TEST(HexapodPlacements, DesignWorkflowKeepsEachPlansChosenConfigurations) {
+  const RobotModel model = load_robot("fanuc-lrmate200ic");
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / "robcal_placements_design_test";
+  std::filesystem::create_directories(dir);
+  HexapodPlanRequest plan_request;
+  plan_request.gauge.range_mm = 5;
+  plan_request.placement = {500, 300, 150, 0};
+  const HexapodPlan a = plan_hexapod(model, plan_request);
+  plan_request.placement = {350, 0, 300, 0};
+  const HexapodPlan b = plan_hexapod(model, plan_request);
+  const std::string a_file = (dir / "a.json").string(), b_file = (dir / "b.json").string();
+  write_hexapod_plan(a_file, a);
+  write_hexapod_plan(b_file, b);
+  const int na = static_cast<int>(a.session.configurations.size());
+  const int nb = static_cast<int>(b.session.configurations.size());
+  ASSERT_GT(na, 50);
+  ASSERT_GT(nb, 50);
+
+  PlacementsDesignRequest request;
+  request.plan_files = {a_file, b_file};
+  request.validation_configurations = 300;
+  request.seed = 3;
+  request.count = na + nb;
+  const PlacementsDesignResult all = design_placements(request);
+  EXPECT_EQ(all.design.chosen[0].size(), static_cast<size_t>(na));
+  EXPECT_EQ(all.design.chosen[1].size(), static_cast<size_t>(nb));
+  PlacementSearchRequest search;
+  search.plan = plan_request;
+  search.validation_configurations = 300;
+  search.seed = 3;
+  // The plans as the workflow reads them (joints rounded to 1e-6° in the file).
+  const HexapodPlan a_read = read_hexapod_plan(a_file), b_read = read_hexapod_plan(b_file);
+  search.measured = {measured_placement(a_read, "a"), measured_placement(b_read, "b")};
+  const PlacementSearchResult measured = search_placements(model, search);
+  ASSERT_EQ(measured.measured_undetermined, 0);
+  EXPECT_NEAR(all.design.predicted_mean_mm, measured.measured_mean_mm,
+              1e-9 * measured.measured_mean_mm);
+  EXPECT_NEAR(all.design.predicted_max_mm, measured.measured_max_mm,
+              1e-9 * measured.measured_max_mm);
+  // The first plan alone, every configuration: the search's figure of `a` measured alone.
+  search.measured = {measured_placement(a_read, "a")};
+  const PlacementSearchResult a_alone = search_placements(model, search);
+  EXPECT_EQ(all.first_alone.chosen.front().size(), static_cast<size_t>(na));
+  EXPECT_NEAR(all.first_alone.predicted_mean_mm, a_alone.measured_mean_mm,
+              1e-9 * a_alone.measured_mean_mm);
+
+  request.count = 0;  // as many as the first plan offers
+  const PlacementsDesignResult split = design_placements(request);
+  EXPECT_EQ(split.count, na);
+  EXPECT_EQ(split.design.chosen[0].size() + split.design.chosen[1].size(), static_cast<size_t>(na));
+  const std::array<const HexapodPlan*, 2> originals{&a, &b};
+  for (size_t p = 0; p < 2; ++p) {
+    const std::string reduced_file = (dir / "reduced.json").string();
+    write_hexapod_plan(reduced_file, split.plans[p]);
+    const HexapodPlan reread = read_hexapod_plan(reduced_file);
+    ASSERT_EQ(reread.session.configurations.size(), split.design.chosen[p].size());
+    for (size_t k = 0; k < split.design.chosen[p].size(); ++k) {
+      const SessionConfiguration& got = reread.session.configurations[k];
+      const SessionConfiguration& want =
+          originals[p]->session.configurations[static_cast<size_t>(split.design.chosen[p][k])];
+      EXPECT_EQ(got.id, static_cast<int>(k) + 1);
+      EXPECT_EQ(got.pose, want.pose);
+      ASSERT_EQ(got.joints_deg.size(), want.joints_deg.size());
+      for (size_t j = 0; j < want.joints_deg.size(); ++j)
+        EXPECT_NEAR(got.joints_deg[j], want.joints_deg[j], 1e-6);
+    }
+  }
+  std::printf(
+      "design over two LR Mate placements, %d configurations: %zu + %zu, predicted %.6f "
+      "mm; first alone %.6f mm\n",
+      split.count, split.design.chosen[0].size(), split.design.chosen[1].size(),
+      split.design.predicted_mean_mm, split.first_alone.predicted_mean_mm);
+
+  // Refusals: another robot's plan, more configurations than offered, a placement twice.
+  HexapodPlanRequest irb;
+  irb.robot = "abb-irb120";
+  irb.placement = {400, 0, 200, 0};
+  const std::string irb_file = (dir / "irb.json").string();
+  write_hexapod_plan(irb_file, plan_hexapod(load_robot("abb-irb120"), irb));
+  request.plan_files = {a_file, irb_file};
+  EXPECT_REFUSED(design_placements(request), InputError,
+                 "irb.json (robot): this plan is for abb-irb120");
+  request.plan_files = {a_file, b_file};
+  request.count = na + nb + 1;
+  EXPECT_REFUSED(design_placements(request), InputError,
+                 fmt::format("--count: expected at most {} configurations", na + nb));
+  request.count = 0;
+  request.plan_files = {a_file, a_file};
+  EXPECT_REFUSED(design_placements(request), InputError, "this placement overlaps the one of");
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

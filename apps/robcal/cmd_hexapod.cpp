@@ -452,6 +452,39 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
       "first has its own world frame (six unknowns).\n");
 }
 
+void run_design(const PlacementsDesignRequest& request, bool json) {
+  const PlacementsDesignResult r = design_placements(request);
+  if (json) {
+    print_json(placements_design_json(request, r));
+    return;
+  }
+  fmt::print(
+      "{}: {} configurations chosen among {} placements ({} level; predicted errors over {} "
+      "random configurations in the joint limits, seed {})\n",
+      r.robot, r.count, r.plans.size(), level_name(request.level),
+      request.validation_configurations, request.seed);
+  for (size_t p = 0; p < r.plans.size(); ++p)
+    fmt::print("  {:<32} placement {} tilt {:g}: {} of {} configurations{}\n",
+               request.plan_files[p], placement_text(r.plans[p].cell->placement),
+               r.plans[p].cell->tilt_deg, r.design.chosen[p].size(), r.offered[p],
+               p >= r.written.size() ? ""
+               : r.written[p]        ? " → " + request.out_files[p]
+                                     : " (nothing to measure there: no plan written)");
+  const auto line = [](const char* what, const PlacementsDesign& d, size_t n) {
+    fmt::print(
+        "{}: {} configurations, {} of the level's {} parameters identifiable{}, predicted mean "
+        "{:.6f} mm, max {:.6f} mm (of those parameters only)\n",
+        what, n, d.identifiable, d.parameters,
+        d.undetermined > 0 ? fmt::format(" ({} unknowns undetermined)", d.undetermined) : "",
+        d.predicted_mean_mm, d.predicted_max_mm);
+  };
+  line("design", r.design, static_cast<size_t>(r.count));
+  line("first placement alone", r.first_alone, r.first_alone.chosen.front().size());
+  fmt::print(
+      "Predictions assume gauge noise only (no unmodelled errors); every placement after the "
+      "first has its own world frame (six unknowns).\n");
+}
+
 // ---- session ---------------------------------------------------------------------------------
 
 void run_session(const HexapodSessionRequest& request, bool json) {
@@ -693,6 +726,35 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     cmd->callback([=] {
       run_place(*geometry, *cell, *measuring, *cell_file, *grid, *level, *validation, *seed, *best,
                 *measured, *json);
+    });
+  }
+  {
+    auto* cmd = hex->add_subcommand(
+        "design",
+        "Which configurations to measure at each of several planned placements (I-optimal over "
+        "placements × poses × configurations), each plan written again with only those");
+    auto request = std::make_shared<PlacementsDesignRequest>();
+    auto level = std::make_shared<std::string>("kinematic");
+    auto json = std::make_shared<bool>(false);
+    cmd->add_option("--plan", request->plan_files,
+                    "Plan of a placement, written by `hexapod plan --out` (repeat)")
+        ->required();
+    cmd->add_option("--count", request->count,
+                    "Configurations in all (default: as many as the first plan offers)");
+    cmd->add_option("--level", *level, "Parameters to identify: base, joints, kinematic")
+        ->capture_default_str();
+    cmd->add_option("--validation", request->validation_configurations,
+                    "Random configurations the error is predicted on")
+        ->capture_default_str();
+    cmd->add_option("--seed", request->seed, "Seed of the validation configurations")
+        ->capture_default_str();
+    cmd->add_option("--out", request->out_files,
+                    "Reduced plan file per --plan, in the same order (repeat; written whole or "
+                    "not at all)");
+    cmd->add_flag("--json", *json, "Machine-readable output");
+    cmd->callback([=] {
+      request->level = parse_calibration_level(*level);
+      run_design(*request, *json);
     });
   }
   {

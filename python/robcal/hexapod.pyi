@@ -127,6 +127,14 @@ def place(robot: str = "fanuc-lrmate200ic", x_mm: Sequence[float] = ..., y_mm: S
     the CLI's JSON as a dict."""
 
 
+def design(plans: Sequence[str], count: int = 0, level: str = "kinematic", validation: int = 2000,
+           seed: int = 1, out: Sequence[str] = ...) -> Dict[str, Any]:
+    """Which configurations to measure at each of several planned placements (`robcal hexapod
+    design`): plans = plan files written by plan(), count = configurations in all (0: as many as
+    the first plan offers); `out` = one reduced plan file per plan (none written for a placement
+    with nothing chosen); the CLI's JSON as a dict."""
+
+
 def device_validation(base_sides_mm: Tuple[float, float, float] = ...,
                       tool_sides_mm: Tuple[float, float, float] = ..., leg_mm: float = 300.0,
                       gauge_range_mm: float = 1.0, gauge_sigma_mm: float = 0.00051,

@@ -18,6 +18,7 @@
 #include "robcal/design/predicted_accuracy.hpp"
 #include "robcal/design/task_selection.hpp"
 #include "robcal/identify/accuracy_prediction.hpp"
+#include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
 
 namespace robcal::hexapod {
@@ -172,6 +173,23 @@ void check_axis(const std::vector<double>& axis, const char* name) {
 /// The flags that span the placement grid: the key of a message about the grid as a whole.
 constexpr const char* kGridFlags = "--x-mm, --y-mm, --z-mm, --yaw-deg, --tilt-deg";
 
+/// Each placement once and apart: no base cup within `clearance` of another placement's.
+void check_apart(const std::vector<MeasuredPlacement>& placements, double clearance,
+                 const char* key) {
+  for (size_t i = 0; i < placements.size(); ++i)
+    for (size_t j = 0; j < i; ++j) {
+      int a = 0, b = 0;
+      const double gap =
+          closest_cups(placements[i].setting_points, placements[j].setting_points, &a, &b);
+      if (gap < clearance)
+        throw InputError({placements[i].source, 0, 0, key},
+                         fmt::format("this placement overlaps the one of {}: its base cup B{} is "
+                                     "{:.1f} mm from their B{} (cups stand at least {} mm apart); "
+                                     "give each placement once",
+                                     placements[j].source, a + 1, gap, b + 1, clearance));
+    }
+}
+
 }  // namespace
 
 MeasuredPlacement measured_placement(const HexapodPlan& plan, const std::string& source) {
@@ -225,18 +243,8 @@ PlacementSearchResult search_placements(const RobotModel& model,
   const double clearance = base.cups.cup_diameter_mm;
   std::vector<Candidate> candidates;
   std::vector<std::vector<int>> measured_members;
-  for (size_t i = 0; i < request.measured.size(); ++i) {
-    const MeasuredPlacement& m = request.measured[i];
-    for (size_t j = 0; j < i; ++j) {
-      int a = 0, b = 0;
-      const double gap = closest_cups(m.setting_points, request.measured[j].setting_points, &a, &b);
-      if (gap < clearance)
-        throw InputError({m.source, 0, 0, "--measured"},
-                         fmt::format("this placement overlaps the one of {}: its base cup B{} is "
-                                     "{:.1f} mm from their B{} (cups stand at least {} mm apart); "
-                                     "give each measured placement once",
-                                     request.measured[j].source, a + 1, gap, b + 1, clearance));
-    }
+  check_apart(request.measured, clearance, "--measured");
+  for (const MeasuredPlacement& m : request.measured) {
     std::vector<int> mine;
     for (const Vector6d& q : m.joints) {
       mine.push_back(static_cast<int>(candidates.size()));
@@ -444,6 +452,8 @@ PlacementsDesign design_placements(const RobotModel& model, const std::vector<He
   const TaskSelection selection =
       select_i_optimal(design, task_information(design, task), count, joints, guard);
   PlacementsDesign out;
+  out.parameters = static_cast<int>(level_parameters(request.level).size());
+  out.identifiable = c.asked;
   out.chosen.resize(plans.size());
   std::vector<std::vector<int>> chosen(plans.size());
   for (int k : selection.chosen)
@@ -457,6 +467,119 @@ PlacementsDesign design_placements(const RobotModel& model, const std::vector<He
   out.undetermined = prediction.undetermined;
   out.predicted_mean_mm = prediction.mean_mm;
   out.predicted_max_mm = prediction.max_mm;
+  return out;
+}
+
+HexapodPlan plan_with_configurations(const HexapodPlan& plan, const std::vector<int>& chosen) {
+  HexapodPlan out = plan;
+  out.session.configurations.clear();
+  if (out.replanned) out.replanned->planned_joints_deg.clear();
+  for (const int c : chosen) {
+    out.session.configurations.push_back(plan.session.configurations.at(static_cast<size_t>(c)));
+    out.session.configurations.back().id = static_cast<int>(out.session.configurations.size());
+    if (plan.replanned) {
+      const auto& planned = plan.replanned->planned_joints_deg;
+      out.replanned->planned_joints_deg.push_back(static_cast<size_t>(c) < planned.size()
+                                                      ? planned[static_cast<size_t>(c)]
+                                                      : std::vector<double>{});
+    }
+  }
+  return out;
+}
+
+PlacementsDesignResult design_placements(const PlacementsDesignRequest& request) {
+  if (request.plan_files.empty())
+    throw InputError({"", 0, 0, "--plan"}, "expected at least one plan file");
+  if (!request.out_files.empty() && request.out_files.size() != request.plan_files.size())
+    throw InputError({"", 0, 0, "--out"},
+                     fmt::format("expected one --out per --plan ({}), got {}",
+                                 request.plan_files.size(), request.out_files.size()));
+  if (request.validation_configurations < 2)
+    throw InputError({"", 0, 0, "--validation"},
+                     fmt::format("expected at least 2 validation configurations, got {}",
+                                 request.validation_configurations));
+  if (request.count < 0)
+    throw InputError({"", 0, 0, "--count"},
+                     fmt::format("expected a positive count (0: as many as the first plan "
+                                 "offers), got {}",
+                                 request.count));
+  PlacementsDesignResult result;
+  std::vector<HexapodPlan> plans;
+  std::vector<MeasuredPlacement> placements;
+  for (const std::string& file : request.plan_files) {
+    plans.push_back(read_hexapod_plan(file));
+    placements.push_back(measured_placement(plans.back(), file));
+    const HexapodPlan& first = plans.front();
+    const HexapodPlan& plan = plans.back();
+    if (plan.cell->robot != first.cell->robot)
+      throw InputError(
+          {file, 0, 0, "robot"},
+          fmt::format("this plan is for {}, the first ({}) for {}: plans of one "
+                      "robot only",
+                      plan.cell->robot, request.plan_files.front(), first.cell->robot));
+    if (!plan.session.flange_T_tool || !first.session.flange_T_tool ||
+        !plan.session.flange_T_tool->p.isApprox(first.session.flange_T_tool->p, 1e-9) ||
+        !plan.session.flange_T_tool->R.isApprox(first.session.flange_T_tool->R, 1e-12))
+      throw InputError({file, 0, 0, "tool"},
+                       fmt::format("this plan's tool fixture is not the one of {}: one tool "
+                                   "fixture for every placement",
+                                   request.plan_files.front()));
+    result.offered.push_back(static_cast<int>(plan.session.configurations.size()));
+  }
+  check_apart(placements, plans.front().cell->cups.cup_diameter_mm, "--plan");
+  const int offered = std::accumulate(result.offered.begin(), result.offered.end(), 0);
+  if (request.count > offered)
+    throw InputError({"", 0, 0, "--count"},
+                     fmt::format("expected at most {} configurations (what the plans offer), "
+                                 "got {}",
+                                 offered, request.count));
+  const RobotModel model = load_robot(plans.front().cell->robot);
+  PlacementSearchRequest search;
+  search.plan = *plans.front().cell;
+  search.level = request.level;
+  search.validation_configurations = request.validation_configurations;
+  search.seed = request.seed;
+  result.robot = model.name;
+  result.count = request.count > 0 ? request.count : result.offered.front();
+  result.design = design_placements(model, plans, result.count, search);
+  result.first_alone = design_placements(model, {plans.front()},
+                                         std::min(result.count, result.offered.front()), search);
+  for (size_t p = 0; p < plans.size(); ++p)
+    result.plans.push_back(plan_with_configurations(plans[p], result.design.chosen[p]));
+  for (size_t p = 0; p < request.out_files.size(); ++p) {
+    result.written.push_back(!result.design.chosen[p].empty());
+    if (result.written.back()) write_hexapod_plan(request.out_files[p], result.plans[p]);
+  }
+  return result;
+}
+
+nlohmann::json placements_design_json(const PlacementsDesignRequest& request,
+                                      const PlacementsDesignResult& r) {
+  using nlohmann::json;
+  const auto prediction = [](const PlacementsDesign& d) {
+    return json{{"parameters", d.parameters},
+                {"identifiable", d.identifiable},
+                {"undetermined", d.undetermined},
+                {"predicted_mean_mm", rounded(d.predicted_mean_mm, 6)},
+                {"predicted_max_mm", rounded(d.predicted_max_mm, 6)}};
+  };
+  json out{{"robot", r.robot},
+           {"count", r.count},
+           {"level", level_name(request.level)},
+           {"validation_configurations", request.validation_configurations},
+           {"seed", request.seed},
+           {"design", prediction(r.design)},
+           {"first_alone", prediction(r.first_alone)}};
+  out["first_alone"]["configurations"] = r.first_alone.chosen.front().size();
+  out["placements"] = json::array();
+  for (size_t p = 0; p < r.plans.size(); ++p)
+    out["placements"].push_back({{"plan", request.plan_files[p]},
+                                 {"placement", placement_text(r.plans[p].cell->placement)},
+                                 {"tilt_deg", r.plans[p].cell->tilt_deg},
+                                 {"offered", r.offered[p]},
+                                 {"chosen", r.design.chosen[p].size()}});
+  for (size_t p = 0; p < r.written.size(); ++p)
+    out["placements"][p]["written"] = r.written[p] ? json(request.out_files[p]) : json(nullptr);
   return out;
 }
 

@@ -81,6 +81,20 @@ assert d["next"][0]["placement"] != "500,300,150,0"
 assert d["next"][0]["predicted_mean_mm"] < d["measured"]["predicted_mean_mm"]
 PY
 
+# Which configurations to measure at each of the two placements: every plan written again with
+# only its chosen ones (a placement with none chosen gets no plan).
+"$ROBCAL" hexapod design --plan "$tmp/a/plan.json" --plan "$tmp/b/plan.json" --count 60 \
+  --validation 300 --out "$tmp/a/design.json" --out "$tmp/b/design.json" --json > "$tmp/design.json"
+python3 - "$tmp/design.json" "$tmp/a/design.json" "$tmp/b/design.json" <<'PY' || fail "design: $(cat "$tmp/design.json")"
+import json, os, sys
+d = json.load(open(sys.argv[1]))
+chosen = [p["chosen"] for p in d["placements"]]
+assert sum(chosen) == d["count"] == 60, d
+for n, path in zip(chosen, sys.argv[2:]):
+    assert (len(json.load(open(path))["configurations"]) == n) if n else not os.path.exists(path), path
+assert d["design"]["undetermined"] == 0 and d["design"]["predicted_mean_mm"] > 0, d
+PY
+
 # Bad input: exit 2, the place named, no output.
 expect_refusal() {  # fragment, command...
   local fragment="$1"; shift

@@ -46,6 +46,7 @@ PYTHON = {
     "hexapod setup": "hexapod.setup",
     "hexapod plan": "hexapod.plan",
     "hexapod place": "hexapod.place",
+    "hexapod design": "hexapod.design",
     "hexapod simulate": "hexapod.simulate",
     "hexapod calibrate": "hexapod.calibrate",
     "hexapod replan": "hexapod.replan",

@@ -83,6 +83,27 @@ def test_device_validation_world_frame_and_place():
         hexapod.place(x_mm=[400], y_mm=[0], z_mm=[300], best=0)
 
 
+def test_design_over_two_placements(tmp_path):
+    plans = []
+    for name, placement in (("a", (500, 300, 150, 0)), ("b", (350, 0, 300, 0))):
+        plans.append(str(tmp_path / f"{name}.json"))
+        hexapod.plan("fanuc-lrmate200ic", placement=placement, gauge_range_mm=5).save(plans[-1])
+    outs = [str(tmp_path / "cli_a.json"), str(tmp_path / "cli_b.json")]
+    c = cli_json("hexapod", "design", "--plan", plans[0], "--plan", plans[1], "--count", "40",
+                 "--validation", "200", "--out", outs[0], "--out", outs[1])
+    py_outs = [str(tmp_path / "py_a.json"), str(tmp_path / "py_b.json")]
+    p = hexapod.design(plans, count=40, validation=200, out=py_outs)
+    for placement in c["placements"] + p["placements"]:
+        placement["written"] = placement["written"] and pathlib.Path(placement["written"]).name[-6:]
+    assert c == p and sum(x["chosen"] for x in p["placements"]) == 40
+    for cli_out, py_out in zip(outs, py_outs):
+        assert os.path.exists(cli_out) == os.path.exists(py_out)
+        if os.path.exists(cli_out):
+            assert pathlib.Path(cli_out).read_text() == pathlib.Path(py_out).read_text()
+    with pytest.raises(robcal.InputError, match="--out"):
+        hexapod.design(plans, out=[outs[0]])
+
+
 def test_session_and_export_poses(tmp_path):
     plan = hexapod.plan("fanuc-lrmate200ic", placement=(450, 0, 300, 0))
     for name in ("cli", "py"):

@@ -119,11 +119,52 @@ PlacementSearchResult search_placements(const RobotModel& model,
 /// Level, σ multiple, gauge σ, validation and seed come from `request`.
 struct PlacementsDesign {
   std::vector<std::vector<int>> chosen;  ///< per plan, indices into its configurations
+  /// The level's parameters, and those the candidates can determine (the design's columns;
+  /// the prediction is of these only).
+  int parameters = 0, identifiable = 0;
   int undetermined = 0;
   double predicted_mean_mm = 0, predicted_max_mm = 0;
 };
 PlacementsDesign design_placements(const RobotModel& model, const std::vector<HexapodPlan>& plans,
                                    int count, const PlacementSearchRequest& request);
+
+/// `plan` reduced to its configurations `chosen` (indices, ascending), numbered again from 1:
+/// what the operator measures at that placement. The planning outcome (what the placement
+/// offered) is kept.
+HexapodPlan plan_with_configurations(const HexapodPlan& plan, const std::vector<int>& chosen);
+
+/// `robcal hexapod design`: which configurations to measure at each of several planned
+/// placements (design_placements), each plan written again with only those.
+struct PlacementsDesignRequest {
+  std::vector<std::string> plan_files;  ///< written by `robcal hexapod plan --out`, ≥ 1
+  /// Configurations in all; 0: as many as the first plan offers (the fair comparison with
+  /// measuring that placement alone).
+  int count = 0;
+  CalibrationLevel level = CalibrationLevel::Kinematic;
+  int validation_configurations = 2000;
+  uint64_t seed = 1;
+  /// Where to write each reduced plan (none, or one per plan file, in order; each written whole
+  /// or not at all). A placement with nothing chosen is not worth setting up: no plan for it.
+  std::vector<std::string> out_files;
+};
+struct PlacementsDesignResult {
+  std::string robot;
+  int count = 0;
+  PlacementsDesign design;
+  std::vector<HexapodPlan> plans;  ///< per plan file, reduced to its chosen configurations
+  std::vector<int> offered;        ///< per plan file, the configurations it offered
+  /// The first plan alone with the same count (its I-optimal choice): what measuring one
+  /// placement predicts, for comparison.
+  PlacementsDesign first_alone;
+  std::vector<bool> written;  ///< per out file
+};
+/// Throws InputError naming the plan file: a plan without its cell, plans of different robots or
+/// tool fixtures, overlapping placements, a count beyond the configurations offered, out files
+/// not one per plan.
+PlacementsDesignResult design_placements(const PlacementsDesignRequest& request);
+/// The result as `robcal hexapod design --json` prints it (without the plans themselves).
+nlohmann::json placements_design_json(const PlacementsDesignRequest& request,
+                                      const PlacementsDesignResult& result);
 
 /// The result as `robcal hexapod place --json` prints it (the `best` first placements and pairs).
 nlohmann::json placement_search_json(const PlacementSearchResult& result);
