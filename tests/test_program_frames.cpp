@@ -251,11 +251,38 @@ TEST(ProgramFrames, KrlModuleRefusesWhatItCannotCorrectWithBothLocations) {
   EXPECT_EQ(module_error("DEF M( )\nEND\n",
                          "DEFDAT M\nDECL FRAME TGRIP={X 0,Y 0,Z 120,A 0,B 0}\nENDDAT\n"),
             "m.dat:2:18: FRAME 'TGRIP' has no C: expected {X, Y, Z, A, B, C} (mm, deg)");
+  // A tool or base made active by a name nobody defines, or whose value is known only at run
+  // time: refused at the point, saying which and why.
+  EXPECT_EQ(
+      module_error("DEF M( )\n  $TOOL=TGRIP\n  $BASE = XTABLE   ; nowhere\n  LIN XP1\nEND\n", dat),
+      "m.dat:2:16 (XP1): unknown base 'XTABLE': the program does not define it with "
+      "literal values; give it in a frames file");
+  EXPECT_EQ(module_error("DEF M( )\n  $TOOL=TGRIP\n  $TOOL.Z=$TOOL.Z+5\n  LIN XP1\nEND\n", dat),
+            "m.dat:2:16 (XP1): unknown tool '$TOOL (changed at line 3)': $TOOL.Z is assigned at "
+            "m.src:3: its value is known only at run time");
+  EXPECT_EQ(module_error("DEF M( )\n  TGRIP.X = 2.5\n  $TOOL=TGRIP\n  LIN XP1\nEND\n", dat),
+            "m.dat:2:16 (XP1): unknown tool 'TGRIP': its component X is assigned at m.src:2: its "
+            "value is known only at run time");
+  EXPECT_EQ(
+      module_error("DEF M( )\n  TOOL_DATA[1]={X 0,Y 0,Z 99,A 0,B 0,C 0}\n  "
+                   "TOOL_DATA[1]={X 0,Y 0,Z 98,A 0,B 0,C 0}\n  BAS(#TOOL,1)\n  LIN XP1\nEND\n",
+                   dat),
+      "m.dat:2:16 (XP1): unknown tool 'TOOL_DATA[1]': it is given one value at m.src:2 and "
+      "another at m.src:3: which one is active at a point depends on the run");
+  EXPECT_EQ(module_error("DEF M( )\n  $TOOL = TOOL_DATA[I]\n  LIN XP1\nEND\n", dat),
+            "m.dat:2:16 (XP1): unknown tool '$TOOL (set at line 2)': $TOOL is assigned an "
+            "expression at m.src:2 (a FRAME name, TOOL_DATA[n], BASE_DATA[n] or a literal frame "
+            "is read; anything else is known only at run time)");
+  // Reading a component (a comparison, the right side of another assignment) changes nothing.
+  EXPECT_EQ(module_error("DEF M( )\n  $TOOL=TGRIP\n  IF $TOOL.Z == 120 THEN\n    LIN XP1\n  "
+                         "ENDIF\n  XP1.Z = TGRIP.Z\nEND\n",
+                         dat),
+            "");
   // An inline form whose FDAT the module does not declare: its tool is unknown.
   EXPECT_EQ(module_error("DEF M( )\n  FDAT_ACT=FP7\n  BAS(#CP_PARAMS,0.2)\n  LIN XP1\nEND\n", dat),
             "m.dat:2:16 (XP1): unknown base 'FDAT_ACT=FP7 (line 2, no DECL FDAT FP7 in the "
-            "module)': the program does not define it with literal values; give it in a frames "
-            "file");
+            "module)': the inline form's FDAT_ACT=FP7 at m.src:2 names no DECL FDAT of the "
+            "module, so its tool and base numbers are unknown");
 }
 
 /// One target written in `language` for the tool and frame of the closed-loop programs

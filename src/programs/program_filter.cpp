@@ -263,9 +263,14 @@ const Naming& naming(ProgramLanguage language) {
 }
 
 /// The pose of a named tool or frame; empty and `identity_name` (tool0, wobj0) are identity.
-Pose<double> resolve(const std::map<std::string, Pose<double>>& known, const std::string& name,
+/// A name the program makes active without a value the scan can know (`unknown`) is refused
+/// with the scan's reason, before any frames-file value of that name.
+Pose<double> resolve(const std::map<std::string, Pose<double>>& known,
+                     const std::map<std::string, std::string>& unknown, const std::string& name,
                      const char* identity_name, const char* what, const SourceLocation& where) {
   if (name.empty() || name == identity_name) return Pose<double>{};
+  if (const auto why = unknown.find(name); why != unknown.end())
+    throw InputError(where, fmt::format("unknown {} '{}': {}", what, name, why->second));
   const auto it = known.find(name);
   if (it == known.end())
     throw InputError(where, fmt::format("unknown {} '{}': the program does not define it with "
@@ -312,10 +317,11 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
     // The corrector works in the base frame with the active tool.
     ProgramPoint point = site.point;
     const Naming& names = naming(language);
-    const Pose<double> base_T_frame =
-        resolve(frames, point.frame, names.base_frame, names.frame_kind, where);
+    const Pose<double> base_T_frame = resolve(frames, scanned.unknown_frames, point.frame,
+                                              names.base_frame, names.frame_kind, where);
     if (!point.tool.empty())
-      point.flange_T_tcp = resolve(tools, point.tool, names.flange, "tool", where);
+      point.flange_T_tcp =
+          resolve(tools, scanned.unknown_frames, point.tool, names.flange, "tool", where);
     point.base_T_tcp = base_T_frame * point.base_T_tcp;
     CorrectedPoint corrected = corrector(point);
     if (corrected.failure.empty() &&

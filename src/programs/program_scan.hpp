@@ -76,6 +76,10 @@ struct ProgramScan {
   /// Under keep_going: uses of points the scan cannot resolve (KRL: a name declared in neither
   /// file of the module), listed with the uncorrected points.
   std::vector<UncorrectedPoint> unresolved;
+  /// Tool and frame names the program makes active but whose value the scan cannot know, by
+  /// upper-case name, with why (KRL: `$TOOL` set to an expression, a FRAME given two values or
+  /// changed component-wise): a point under one is refused with this reason.
+  std::map<std::string, std::string> unknown_frames;
 };
 
 /// A KUKA module: its .src and its .dat, each with the tools and frames of both.

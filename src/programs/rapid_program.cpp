@@ -56,7 +56,7 @@ class RapidScanner {
       previous = t;
     }
     assign_usages();
-    ProgramScan out{std::move(sites_), std::move(tools_), std::move(frames_), {}};
+    ProgramScan out{std::move(sites_), std::move(tools_), std::move(frames_), {}, {}};
     out.unresolved = std::move(unresolved_);
     return out;
   }
