@@ -333,6 +333,17 @@ TEST(ProgramFilter, YaskawaRefusals) {
   EXPECT_EQ(jbi("///NPOS 1,0,0,0,1,0\n" + one + "EX0001=100\n"),
             "t.jbi:4:9 (///NPOS): ///NPOS declares 1 BP positions (count 5 of c,bc,ec,p,bp,ex), "
             "the job defines 0");
+  EXPECT_EQ(jbi("///NPOS 1,2,0,0,0,0\n" + one + "///PULSE\nBC00000=100\n"),
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 2 BC positions (count 2 of c,bc,ec,p,bp,ex), "
+            "the job defines 1");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n" + one + "///PULSE\nEC00000=100\n"),
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 0 EC positions (count 3 of c,bc,ec,p,bp,ex), "
+            "the job defines 1");
+  // A name defined twice: the counts agree, but one position would hold two values.
+  EXPECT_EQ(jbi("///NPOS 2,0,0,0,0,0\n" + one + "C00000=1,2,3,4,5,7\n"),
+            "t.jbi:9:1: C00000 is defined twice (first at line 8)");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,2,0,0\n" + one + "P0001=1,2,3,4,5,6\nP0001=1,2,3,4,5,6\n"),
+            "t.jbi:10:1: P0001 is defined twice (first at line 9)");
   EXPECT_EQ(jbi("///NPOS 1,0,0,1,1,1\n" + one + "P0001=1,2,3,4,5,6\nBP001=5\nEX0001=100\n"), "");
   EXPECT_EQ(jbi(one),
             "t.jbi (///NPOS): the job defines positions but has no ///NPOS line in //POS");
