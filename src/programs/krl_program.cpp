@@ -205,7 +205,7 @@ class KrlScanner {
   // (world_T_base) named `name`. A name given two different literal values is left undefined
   // (which one is active at a point depends on the run).
   void define_frame(const std::string& name, const Token& open) {
-    const std::vector<Entry> entries = aggregate(open);
+    const std::vector<Entry>& entries = aggregate(open);
     double v[6];
     static const char* const kKeys[] = {"X", "Y", "Z", "A", "B", "C"};
     for (int k = 0; k < 6; ++k) {
@@ -459,7 +459,7 @@ class KrlScanner {
 
   void point(std::optional<PointKind> kind, const std::string& name, bool inline_motion) {
     const Token open = lexer_.next();
-    const std::vector<Entry> entries = aggregate(open);
+    const std::vector<Entry>& entries = aggregate(open);
     const auto find = [&](const char* key) -> const Entry* {
       for (const Entry& e : entries)
         if (e.key == key) return &e;
@@ -478,6 +478,7 @@ class KrlScanner {
     const bool axis = *kind == PointKind::Axis;
     if (axis && !options_.joints) return;
     PointSite site;
+    site.fields.reserve(8);  // X Y Z A B C S T or A1..A6
     site.point.is_joint_target = axis;
     site.point.name = name;
     site.point.line = open.line;
@@ -516,9 +517,11 @@ class KrlScanner {
     sites_.push_back(std::move(site));
   }
 
-  // Reads `{[TYPE:] KEY value, ...}` after its `{`.
-  std::vector<Entry> aggregate(const Token& open) {
-    std::vector<Entry> out;
+  // Reads `{[TYPE:] KEY value, ...}` after its `{`. The entries are valid until the next call
+  // (their storage is reused: no allocation per point).
+  const std::vector<Entry>& aggregate(const Token& open) {
+    std::vector<Entry>& out = entries_;
+    out.clear();
     if (lexer_.peek().kind == TokenKind::Identifier && lexer_.peek(1).is(':')) {
       lexer_.next();
       lexer_.next();
@@ -603,6 +606,7 @@ class KrlScanner {
   const KrlScanner* dat_ = nullptr;       ///< the module's .dat, when this is its .src
   /// Uses by upper-case name with its index.
   std::unordered_map<std::string, std::vector<Usage>> usages_;
+  std::vector<Entry> entries_;                     ///< the last aggregate read (aggregate())
   std::set<std::string> varying_;                  ///< FRAME names with no one value (make_varying)
   std::map<std::string, std::string> defined_at_;  ///< FRAME name: file:line of its value
   bool statement_start_ = false;                   ///< the identifier being handled begins its line
