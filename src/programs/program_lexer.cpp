@@ -1,7 +1,6 @@
 #include <fmt/format.h>
 
 #include <charconv>
-#include <stdexcept>
 
 #include "measurement_writers.hpp"
 #include "program_scan.hpp"
@@ -74,20 +73,6 @@ NumberField read_number_field(std::string_view text, size_t& at, const std::stri
 
 ProgramLexer::ProgramLexer(std::string_view text, ProgramLanguage language, const std::string& file)
     : text_(text), language_(language), file_(file) {}
-
-const Token& ProgramLexer::peek(size_t ahead) {
-  if (ahead >= kMaxLookAhead) throw std::logic_error("program lexer: look-ahead too far");
-  for (; count_ <= ahead; ++count_) ahead_[(first_ + count_) % kMaxLookAhead] = lex_one();
-  return ahead_[(first_ + ahead) % kMaxLookAhead];
-}
-
-Token ProgramLexer::next() {
-  if (count_ == 0) return lex_one();
-  const Token& t = ahead_[first_];
-  first_ = (first_ + 1) % kMaxLookAhead;
-  --count_;
-  return t;
-}
 
 Token ProgramLexer::lex_one() {
   const auto at_end = [&] { return pos_ >= text_.size(); };

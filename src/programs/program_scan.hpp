@@ -4,6 +4,7 @@
 
 #include <array>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,9 +37,20 @@ class ProgramLexer {
   static constexpr size_t kMaxLookAhead = 16;
   ProgramLexer(std::string_view text, ProgramLanguage language, const std::string& file);
   /// The token `ahead` after the next one; the reference stays valid until that token has been
-  /// consumed by next() and kMaxLookAhead more have been read.
-  const Token& peek(size_t ahead = 0);
-  Token next();
+  /// consumed by next() and kMaxLookAhead more have been read. Inline, as next(): the scanners
+  /// call them several times per token.
+  const Token& peek(size_t ahead = 0) {
+    if (ahead >= kMaxLookAhead) throw std::logic_error("program lexer: look-ahead too far");
+    for (; count_ <= ahead; ++count_) ahead_[(first_ + count_) % kMaxLookAhead] = lex_one();
+    return ahead_[(first_ + ahead) % kMaxLookAhead];
+  }
+  Token next() {
+    if (count_ == 0) return lex_one();
+    const Token& t = ahead_[first_];
+    first_ = (first_ + 1) % kMaxLookAhead;
+    --count_;
+    return t;
+  }
   [[nodiscard]] const std::string& file() const { return file_; }
 
  private:

@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <unordered_map>
 
 #include "measurement_writers.hpp"
 #include "program_scan.hpp"
@@ -237,33 +238,34 @@ class RapidScanner {
   void move_instruction(const MoveSpec& spec) {
     const size_t first_site = sites_.size();
     const int line = lexer_.peek().line;
-    std::vector<std::vector<std::string>> names;  // identifiers of each positional argument
-    std::vector<std::string> leading;             // its first token, upper case
-    std::string wobj;
+    int argument = -1;  // the positional argument being read
     bool piece_start = true;
+    std::string tool, wobj;
+    target_names_.clear();  // identifiers in the target arguments
+    const auto is_target = [&] {
+      return argument == spec.targets[0] || argument == spec.targets[1];
+    };
     statement_tokens([&](const Token& t, int depth) {
       if (piece_start && !t.is('\\') && !t.is(',')) {
-        names.emplace_back();
-        leading.push_back(t.kind == TokenKind::Identifier ? upper(t.text) : "");
+        ++argument;
+        if (static_cast<size_t>(argument) == spec.tool && t.kind == TokenKind::Identifier)
+          tool = upper(t.text);
         piece_start = false;
       }
       if (depth == 0 && t.is(',')) {
         piece_start = true;
       } else if (depth == 0 && t.is('\\')) {
         optional_argument(wobj);
-      } else if (t.kind == TokenKind::Identifier && !names.empty()) {
-        names.back().push_back(upper(t.text));
+      } else if (t.kind == TokenKind::Identifier && argument >= 0 && is_target()) {
+        target_names_.push_back(upper(t.text));
       }
     });
-    const std::string tool = spec.tool < leading.size() ? leading[spec.tool] : "";
+    const std::string frame = upper(wobj);
     for (size_t i = first_site; i < sites_.size(); ++i) {
       sites_[i].point.tool = tool;
-      sites_[i].point.frame = upper(wobj);
+      sites_[i].point.frame = frame;
     }
-    for (int k : spec.targets)
-      if (k >= 0 && static_cast<size_t>(k) < names.size())
-        for (const std::string& name : names[static_cast<size_t>(k)])
-          usages_[name].push_back({tool, upper(wobj), line});
+    for (const std::string& name : target_names_) usages_[name].push_back({tool, frame, line});
   }
 
   static bool keyword(std::string_view word) {
@@ -563,7 +565,8 @@ class RapidScanner {
   std::vector<size_t> open_lists_;  ///< aggregate()'s stack of open lists
   std::vector<PointSite> sites_;
   std::map<std::string, Pose<double>> tools_, frames_;
-  std::map<std::string, std::vector<Usage>> usages_;  ///< by upper-case target name
+  std::unordered_map<std::string, std::vector<Usage>> usages_;  ///< by upper-case target name
+  std::vector<std::string> target_names_;                       ///< move_instruction's scratch
   struct OtherUse {
     std::string instruction;
     int line = 0;
