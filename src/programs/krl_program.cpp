@@ -63,7 +63,9 @@ class KrlScanner {
       statement_start_ = t.line != previous_line;
       previous_line = t.line;
       if (t.kind != TokenKind::Identifier) continue;
-      const std::string word = upper(t.text);
+      const std::string upper_word = upper(t.text);
+      // Compared as a view: lengths first, no strlen per keyword (every identifier passes here).
+      const std::string_view word = upper_word;
       if (word == "DECL" || word == "GLOBAL") continue;  // (not a name: no table look-up)
       if (const auto kind = point_type(word); kind && lexer_.peek().kind == TokenKind::Identifier)
         declaration(*kind);
@@ -78,8 +80,8 @@ class KrlScanner {
       else if (word == "BAS")
         bas_call();
       else if (word == "$TOOL" || word == "$BASE")
-        frame_assignment(word);
-      else if (const auto kind = declared(word))
+        frame_assignment(upper_word);
+      else if (const auto kind = declared(upper_word))
         assignment(t, *kind);
     }
     assign_frame_data();
@@ -287,7 +289,7 @@ class KrlScanner {
     }
   }
 
-  static std::optional<PointKind> point_type(const std::string& word) {
+  static std::optional<PointKind> point_type(std::string_view word) {
     if (word == "E6POS" || word == "POS") return PointKind::Position;
     if (word == "E6AXIS" || word == "AXIS") return PointKind::Axis;
     if (word == "FRAME") return PointKind::Frame;
@@ -460,7 +462,7 @@ class KrlScanner {
   void point(std::optional<PointKind> kind, const std::string& name, bool inline_motion) {
     const Token open = lexer_.next();
     const std::vector<Entry>& entries = aggregate(open);
-    const auto find = [&](const char* key) -> const Entry* {
+    const auto find = [&](std::string_view key) -> const Entry* {
       for (const Entry& e : entries)
         if (e.key == key) return &e;
       return nullptr;
@@ -473,8 +475,8 @@ class KrlScanner {
       else
         return;  // not a point (e.g. an empty aggregate)
     }
-    static const char* const kPositionKeys[] = {"X", "Y", "Z", "A", "B", "C"};
-    static const char* const kAxisKeys[] = {"A1", "A2", "A3", "A4", "A5", "A6"};
+    static constexpr std::string_view kPositionKeys[] = {"X", "Y", "Z", "A", "B", "C"};
+    static constexpr std::string_view kAxisKeys[] = {"A1", "A2", "A3", "A4", "A5", "A6"};
     const bool axis = *kind == PointKind::Axis;
     if (axis && !options_.joints) return;
     PointSite site;
@@ -483,7 +485,7 @@ class KrlScanner {
     site.point.name = name;
     site.point.line = open.line;
     site.point.column = open.column;
-    for (const char* key : axis ? kAxisKeys : kPositionKeys) {
+    for (const std::string_view key : axis ? kAxisKeys : kPositionKeys) {
       const Entry* e = find(key);
       if (!e)
         refuse(lexer_.file(), open,
@@ -537,14 +539,13 @@ class KrlScanner {
                key.kind == TokenKind::End
                    ? "aggregate '{' never closed"
                    : fmt::format("expected a component name, found '{}'", key.text));
-      Entry entry;
+      Entry& entry = out.emplace_back();
       entry.key = upper(key.text);
-      for (const Entry& e : out)
-        if (e.key == entry.key)
+      for (size_t i = 0; i + 1 < out.size(); ++i)
+        if (out[i].key == entry.key)
           refuse(lexer_.file(), key, fmt::format("component {} given twice", entry.key));
       entry.at = lexer_.peek();
       value(entry);
-      out.push_back(std::move(entry));
       const Token t = lexer_.next();
       if (t.is('}')) return out;
       if (!t.is(','))

@@ -37,14 +37,14 @@ class ProgramLexer {
   static constexpr size_t kMaxLookAhead = 16;
   ProgramLexer(std::string_view text, ProgramLanguage language, const std::string& file);
   /// The token `ahead` after the next one; the reference stays valid until that token has been
-  /// consumed by next() and kMaxLookAhead more have been read. Inline, as next(): the scanners
-  /// call them several times per token.
-  const Token& peek(size_t ahead = 0) {
+  /// consumed by next() and kMaxLookAhead more have been read. Forced inline, as next(): the
+  /// scanners call them several times per token (GCC keeps them out of line otherwise).
+  [[gnu::always_inline]] const Token& peek(size_t ahead = 0) {
     if (ahead >= kMaxLookAhead) throw std::logic_error("program lexer: look-ahead too far");
     for (; count_ <= ahead; ++count_) ahead_[(first_ + count_) % kMaxLookAhead] = lex_one();
     return ahead_[(first_ + ahead) % kMaxLookAhead];
   }
-  Token next() {
+  [[gnu::always_inline]] Token next() {
     if (count_ == 0) return lex_one();
     const Token& t = ahead_[first_];
     first_ = (first_ + 1) % kMaxLookAhead;
