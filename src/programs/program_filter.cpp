@@ -1,5 +1,6 @@
 #include "robcal/programs/program_filter.hpp"
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -94,8 +95,10 @@ class Rewriter {
   }
 
   std::string apply() {
-    std::sort(edits_.begin(), edits_.end(),
-              [](const Edit& a, const Edit& b) { return a.begin < b.begin; });
+    // Usually in text order already (points are scanned in text order): no sort then.
+    const auto by_begin = [](const Edit& a, const Edit& b) { return a.begin < b.begin; };
+    if (!std::is_sorted(edits_.begin(), edits_.end(), by_begin))
+      std::sort(edits_.begin(), edits_.end(), by_begin);
     std::string out;
     out.reserve(text_.size() + edits_.size() * 4);
     size_t at = 0;
@@ -374,9 +377,11 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
     expected.push_back(rewrite(out, site, corrected, language, options));
     ++(site.point.is_joint_target ? result.joint_points : result.cartesian_points);
     auto row = std::back_inserter(result.confidence_csv);
-    fmt::format_to(row, "{}{},{},{},", row_prefix, site.point.line, site.point.column,
+    // Compiled formats: one row per point, parsed once at build time.
+    fmt::format_to(row, FMT_COMPILE("{}{},{},{},"), row_prefix, site.point.line, site.point.column,
                    site.point.name);
-    if (corrected.confidence95_mm) fmt::format_to(row, "{:.4f}", *corrected.confidence95_mm);
+    if (corrected.confidence95_mm)
+      fmt::format_to(row, FMT_COMPILE("{:.4f}"), *corrected.confidence95_mm);
     result.confidence_csv += '\n';
   }
   result.text = out.apply();
