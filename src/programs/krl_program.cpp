@@ -508,6 +508,7 @@ class KrlScanner {
       if ((s == nullptr) != (t == nullptr))
         refuse(lexer_.file(), open, "a point with only one of S and T");
       if (s) {
+        site.point.config.reserve(2);
         for (const Entry* e : {s, t}) {
           if (!e->number.present || e->number.value != std::round(e->number.value))
             refuse(lexer_.file(), e->at, fmt::format("{} must be an integer", e->key));
