@@ -268,17 +268,25 @@ const Naming& naming(ProgramLanguage language) {
 /// The pose of a named tool or frame; empty and `identity_name` (tool0, wobj0) are identity.
 /// A name the program makes active without a value the scan can know (`unknown`) is refused
 /// with the scan's reason, before any frames-file value of that name.
+/// Where a point is (built when needed: it copies the file name).
+SourceLocation location(const std::string& file, const ProgramPoint& point) {
+  return {file, point.line, point.column, point.name};
+}
+
 Pose<double> resolve(const std::map<std::string, Pose<double>>& known,
                      const std::map<std::string, std::string>& unknown, const std::string& name,
-                     const char* identity_name, const char* what, const SourceLocation& where) {
+                     const char* identity_name, const char* what, const std::string& file,
+                     const ProgramPoint& at) {
   if (name.empty() || name == identity_name) return Pose<double>{};
   if (const auto why = unknown.find(name); why != unknown.end())
-    throw InputError(where, fmt::format("unknown {} '{}': {}", what, name, why->second));
+    throw InputError(location(file, at),
+                     fmt::format("unknown {} '{}': {}", what, name, why->second));
   const auto it = known.find(name);
   if (it == known.end())
-    throw InputError(where, fmt::format("unknown {} '{}': the program does not define it with "
-                                        "literal values; give it in a frames file",
-                                        what, name));
+    throw InputError(location(file, at),
+                     fmt::format("unknown {} '{}': the program does not define it with "
+                                 "literal values; give it in a frames file",
+                                 what, name));
   return it->second;
 }
 
@@ -316,15 +324,14 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
   result.uncorrected = scanned.unresolved;
   expected.reserve(scanned.sites.size());
   for (const PointSite& site : scanned.sites) {
-    const SourceLocation where{file, site.point.line, site.point.column, site.point.name};
     // The corrector works in the base frame with the active tool.
     ProgramPoint point = site.point;
     const Naming& names = naming(language);
     const Pose<double> base_T_frame = resolve(frames, scanned.unknown_frames, point.frame,
-                                              names.base_frame, names.frame_kind, where);
+                                              names.base_frame, names.frame_kind, file, site.point);
     if (!point.tool.empty())
-      point.flange_T_tcp =
-          resolve(tools, scanned.unknown_frames, point.tool, names.flange, "tool", where);
+      point.flange_T_tcp = resolve(tools, scanned.unknown_frames, point.tool, names.flange, "tool",
+                                   file, site.point);
     point.base_T_tcp = base_T_frame * point.base_T_tcp;
     CorrectedPoint corrected = corrector(point);
     if (corrected.failure.empty() &&
@@ -352,20 +359,20 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
          !corrected.joints_deg.allFinite()))
       corrected.failure = "the corrected point is not finite (NaN or infinite)";
     if (!corrected.failure.empty()) {
-      if (!options.keep_going) throw InputError(where, corrected.failure);
-      result.uncorrected.push_back({where.describe(), corrected.failure});
+      if (!options.keep_going) throw InputError(location(file, site.point), corrected.failure);
+      result.uncorrected.push_back({location(file, site.point).describe(), corrected.failure});
       std::vector<double> unchanged;
       for (const NumberField& f : site.fields) unchanged.push_back(f.value);
       expected.push_back(std::move(unchanged));
       continue;
     }
     if (!site.assumption.empty()) {
-      result.assumed.push_back({where.describe(), site.assumption});
+      result.assumed.push_back({location(file, site.point).describe(), site.assumption});
     } else if (point.tool.empty() && !point.is_joint_target &&
                (language == ProgramLanguage::Rapid || language == ProgramLanguage::Krl ||
                 language == ProgramLanguage::Jbi))
       result.assumed.push_back(
-          {where.describe(),
+          {location(file, site.point).describe(),
            language == ProgramLanguage::Rapid
                ? "no Move instruction of this module uses it: corrected for the default tool "
                  "in wobj0"
