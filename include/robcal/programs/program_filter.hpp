@@ -173,8 +173,10 @@ inline std::vector<ProgramPoint> parse_program(std::string_view text, ProgramLan
 /// with the uncorrected points); the home positions XHOME, XHOME1..5 of $config.dat and `$`
 /// system positions are not the module's and are skipped. Literal FRAMEs (`DECL FRAME F={X ..,
 /// Y .., Z .., A .., B .., C ..}`, `TOOL_DATA[n]={...}`, `BASE_DATA[n]={...}`, `$TOOL={...}`)
-/// define tools and bases by their name; one given two different values is left undefined.
-/// The points are the .src's then the .dat's, each in file order.
+/// define tools and bases by their name; one given two different values, or whose component
+/// is assigned (`XTOOL.Z = ...`), is left undefined, and a point under it is refused saying
+/// where (which value is active depends on the run). The points are the .src's then the
+/// .dat's, each in file order.
 std::vector<ProgramPoint> read_krl_module_points(std::string_view src, std::string_view dat,
                                                  const std::string& src_file,
                                                  const std::string& dat_file,
