@@ -151,7 +151,9 @@ TEST(ProgramFilter, KrlDatPointsChangeFramesStay) {
 
 // A KUKA module (glue_cell.src with glue_cell.dat): the .dat's points corrected with the tool
 // and base active at the .src motions that use them (inline forms' FDAT_ACT + BAS, $TOOL = a
-// FRAME of the .dat, $BASE = BASE_DATA[n]); only their numbers change, in both files.
+// FRAME of the .dat or of the .src, $BASE = BASE_DATA[n] or a FRAME of the .dat, TOOL_DATA[n]
+// set in the .src then BAS(#TOOL, n), BAS(#BASE, n) of the frames file); only their numbers
+// change, in both files.
 TEST(ProgramFilter, KrlModuleDatPointsTakeTheSrcToolAndBase) {
   const std::string src_path = test::data_path("programs/glue_cell.src");
   const std::string dat_path = test::data_path("programs/glue_cell.dat");
@@ -171,11 +173,12 @@ TEST(ProgramFilter, KrlModuleDatPointsTakeTheSrcToolAndBase) {
   const ProgramFilterResult result =
       filter_krl_module(src, dat, src_path, dat_path, options, record);
   ASSERT_TRUE(result.dat_text.has_value());
-  EXPECT_EQ(result.cartesian_points, 8);
+  EXPECT_EQ(result.cartesian_points, 11);
   EXPECT_EQ(result.joint_points, 1);
   // Read off the two files by hand: (line, tool, base) of each point, the .src's first.
   const std::vector<std::tuple<int, std::string, std::string>> want = {
-      {53, "TNOZZLE", "BASE_DATA[2]"},       // inline, after $TOOL = TNOZZLE
+      {54, "TNOZZLE", "BASE_DATA[2]"},       // inline, after $TOOL = TNOZZLE
+      {63, "TOOL_DATA[3]", "XFIXTURE"},      // inline, after TOOL_DATA[3]={..}, BAS(#TOOL, 3)
       {16, "TOOL_DATA[1]", "BASE_DATA[1]"},  // XPRE: FDAT_ACT = FPRE, BAS(#PTP_PARAMS)
       {19, "TOOL_DATA[1]", "BASE_DATA[1]"},  // XP1: FP1, BAS(#CP_PARAMS)
       {22, "TOOL_DATA[1]", "BASE_DATA[1]"},  // XP2
@@ -183,7 +186,9 @@ TEST(ProgramFilter, KrlModuleDatPointsTakeTheSrcToolAndBase) {
       {29, "TNOZZLE", "BASE_DATA[2]"},       // XSEAM[2]
       {30, "TNOZZLE", "BASE_DATA[2]"},       // XSEAM[3], the CIRC target
       {31, "TNOZZLE", "BASE_DATA[2]"},       // XAUX, the CIRC auxiliary point
-      {32, "", ""}};                         // XSPARE: no motion uses it
+      {32, "", ""},                          // XSPARE: no motion uses it
+      {35, "TOOL_DATA[3]", "XFIXTURE"},      // XFIX1: $BASE = XFIXTURE
+      {36, "TCLAMP", "BASE_DATA[1]"}};       // XFIX2: $TOOL = TCLAMP (the .src's), BAS(#BASE,1)
   ASSERT_EQ(seen.size(), want.size());
   for (size_t i = 0; i < want.size(); ++i) {
     EXPECT_EQ(seen[i].line, std::get<0>(want[i])) << i;
@@ -197,18 +202,38 @@ TEST(ProgramFilter, KrlModuleDatPointsTakeTheSrcToolAndBase) {
              Eigen::AngleAxisd(deg2rad(-15), Eigen::Vector3d::UnitY()).toRotationMatrix())
                 .norm(),
             1e-12);
+  // The tool set in the .src, TOOL_DATA[3] = {X -2.5, Y 0, Z 215}; the .src's own TCLAMP
+  // {X 0, Y -12, Z 150, B 10}; XFIX1 {X 40, Y 25, Z 110} in XFIXTURE {X 900, Y -250, Z 12.5,
+  // A -30} handed over in the base frame.
+  ASSERT_TRUE(seen[1].flange_T_tcp && seen[11].flange_T_tcp);
+  EXPECT_LT((seen[1].flange_T_tcp->p - Eigen::Vector3d(-2.5, 0, 215)).norm(), 1e-12);
+  EXPECT_TRUE(seen[1].flange_T_tcp->R.isIdentity(1e-12));
+  const Pose<double>& clamp = *seen[11].flange_T_tcp;
+  EXPECT_LT((clamp.p - Eigen::Vector3d(0, -12, 150)).norm(), 1e-12);
+  EXPECT_LT((clamp.R - Eigen::AngleAxisd(deg2rad(10), Eigen::Vector3d::UnitY()).toRotationMatrix())
+                .norm(),
+            1e-12);
+  Pose<double> fixture;
+  fixture.p = Eigen::Vector3d(900, -250, 12.5);
+  fixture.R = Eigen::AngleAxisd(deg2rad(-30), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_LT((seen[10].base_T_tcp.p - fixture * Eigen::Vector3d(40, 25, 110)).norm(), 1e-9);
   ASSERT_EQ(result.assumed.size(), 1u);
   EXPECT_EQ(result.assumed[0].where, dat_path + ":32:19 (XSPARE)");
-  expect_only_numbers_change(src, result.text, {53}, "glue_cell.src");
-  expect_only_numbers_change(dat, *result.dat_text, {16, 19, 22, 28, 29, 30, 31, 32},
+  expect_only_numbers_change(src, result.text, {54, 63}, "glue_cell.src");
+  expect_only_numbers_change(dat, *result.dat_text, {16, 19, 22, 28, 29, 30, 31, 32, 35, 36},
                              "glue_cell.dat");
-  // The rewritten points read back as the known correction of the originals.
+  // The rewritten points read back as the known correction of the originals, made in the
+  // base frame (the frames file's bases are identity here; the fixture is not).
   const auto old_points = read_krl_module_points(src, dat, src_path, dat_path, options);
   const auto new_points =
       read_krl_module_points(result.text, *result.dat_text, src_path, dat_path, options);
   ASSERT_EQ(new_points.size(), old_points.size());
   for (size_t i = 0; i < old_points.size(); ++i) {
-    const CorrectedPoint c = known_correction(old_points[i]);
+    const Pose<double> frame = old_points[i].frame == "XFIXTURE" ? fixture : Pose<double>{};
+    ProgramPoint in_base = old_points[i];
+    in_base.base_T_tcp = frame * in_base.base_T_tcp;
+    CorrectedPoint c = known_correction(in_base);
+    c.base_T_tcp = frame.inverse() * c.base_T_tcp;
     if (old_points[i].is_joint_target) {
       EXPECT_LT((new_points[i].joints_deg - c.joints_deg).norm(), 1e-9);
       continue;
@@ -308,6 +333,17 @@ TEST(ProgramFilter, YaskawaRefusals) {
   EXPECT_EQ(jbi("///NPOS 1,0,0,0,1,0\n" + one + "EX0001=100\n"),
             "t.jbi:4:9 (///NPOS): ///NPOS declares 1 BP positions (count 5 of c,bc,ec,p,bp,ex), "
             "the job defines 0");
+  EXPECT_EQ(jbi("///NPOS 1,2,0,0,0,0\n" + one + "///PULSE\nBC00000=100\n"),
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 2 BC positions (count 2 of c,bc,ec,p,bp,ex), "
+            "the job defines 1");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,0,0,0\n" + one + "///PULSE\nEC00000=100\n"),
+            "t.jbi:4:9 (///NPOS): ///NPOS declares 0 EC positions (count 3 of c,bc,ec,p,bp,ex), "
+            "the job defines 1");
+  // A name defined twice: the counts agree, but one position would hold two values.
+  EXPECT_EQ(jbi("///NPOS 2,0,0,0,0,0\n" + one + "C00000=1,2,3,4,5,7\n"),
+            "t.jbi:9:1: C00000 is defined twice (first at line 8)");
+  EXPECT_EQ(jbi("///NPOS 1,0,0,2,0,0\n" + one + "P0001=1,2,3,4,5,6\nP0001=1,2,3,4,5,6\n"),
+            "t.jbi:10:1: P0001 is defined twice (first at line 9)");
   EXPECT_EQ(jbi("///NPOS 1,0,0,1,1,1\n" + one + "P0001=1,2,3,4,5,6\nBP001=5\nEX0001=100\n"), "");
   EXPECT_EQ(jbi(one),
             "t.jbi (///NPOS): the job defines positions but has no ///NPOS line in //POS");

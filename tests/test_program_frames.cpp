@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 
 #include "robcal/compensate/corrected_targets.hpp"
 #include "robcal/core/error.hpp"
@@ -251,11 +252,38 @@ TEST(ProgramFrames, KrlModuleRefusesWhatItCannotCorrectWithBothLocations) {
   EXPECT_EQ(module_error("DEF M( )\nEND\n",
                          "DEFDAT M\nDECL FRAME TGRIP={X 0,Y 0,Z 120,A 0,B 0}\nENDDAT\n"),
             "m.dat:2:18: FRAME 'TGRIP' has no C: expected {X, Y, Z, A, B, C} (mm, deg)");
+  // A tool or base made active by a name nobody defines, or whose value is known only at run
+  // time: refused at the point, saying which and why.
+  EXPECT_EQ(
+      module_error("DEF M( )\n  $TOOL=TGRIP\n  $BASE = XTABLE   ; nowhere\n  LIN XP1\nEND\n", dat),
+      "m.dat:2:16 (XP1): unknown base 'XTABLE': the program does not define it with "
+      "literal values; give it in a frames file");
+  EXPECT_EQ(module_error("DEF M( )\n  $TOOL=TGRIP\n  $TOOL.Z=$TOOL.Z+5\n  LIN XP1\nEND\n", dat),
+            "m.dat:2:16 (XP1): unknown tool '$TOOL (changed at line 3)': $TOOL.Z is assigned at "
+            "m.src:3: its value is known only at run time");
+  EXPECT_EQ(module_error("DEF M( )\n  TGRIP.X = 2.5\n  $TOOL=TGRIP\n  LIN XP1\nEND\n", dat),
+            "m.dat:2:16 (XP1): unknown tool 'TGRIP': its component X is assigned at m.src:2: its "
+            "value is known only at run time");
+  EXPECT_EQ(
+      module_error("DEF M( )\n  TOOL_DATA[1]={X 0,Y 0,Z 99,A 0,B 0,C 0}\n  "
+                   "TOOL_DATA[1]={X 0,Y 0,Z 98,A 0,B 0,C 0}\n  BAS(#TOOL,1)\n  LIN XP1\nEND\n",
+                   dat),
+      "m.dat:2:16 (XP1): unknown tool 'TOOL_DATA[1]': it is given one value at m.src:2 and "
+      "another at m.src:3: which one is active at a point depends on the run");
+  EXPECT_EQ(module_error("DEF M( )\n  $TOOL = TOOL_DATA[I]\n  LIN XP1\nEND\n", dat),
+            "m.dat:2:16 (XP1): unknown tool '$TOOL (set at line 2)': $TOOL is assigned an "
+            "expression at m.src:2 (a FRAME name, TOOL_DATA[n], BASE_DATA[n] or a literal frame "
+            "is read; anything else is known only at run time)");
+  // Reading a component (a comparison, the right side of another assignment) changes nothing.
+  EXPECT_EQ(module_error("DEF M( )\n  $TOOL=TGRIP\n  IF $TOOL.Z == 120 THEN\n    LIN XP1\n  "
+                         "ENDIF\n  XP1.Z = TGRIP.Z\nEND\n",
+                         dat),
+            "");
   // An inline form whose FDAT the module does not declare: its tool is unknown.
   EXPECT_EQ(module_error("DEF M( )\n  FDAT_ACT=FP7\n  BAS(#CP_PARAMS,0.2)\n  LIN XP1\nEND\n", dat),
             "m.dat:2:16 (XP1): unknown base 'FDAT_ACT=FP7 (line 2, no DECL FDAT FP7 in the "
-            "module)': the program does not define it with literal values; give it in a frames "
-            "file");
+            "module)': the inline form's FDAT_ACT=FP7 at m.src:2 names no DECL FDAT of the "
+            "module, so its tool and base numbers are unknown");
 }
 
 /// One target written in `language` for the tool and frame of the closed-loop programs
@@ -397,31 +425,41 @@ TEST_P(ProgramClosedLoop, FilteredProgramPutsTheToolWhereTheOriginalMeantIt) {
 }
 
 // The closed loop over a KUKA module: the points declared in the .dat, used in the .src under
-// a FRAME of the .dat ($TOOL = TGUN) in base 1 (BAS), and under an inline form's FDAT (tool 2
-// of the frames file, base 0); the filtered pair, executed on the true robot with each
-// point's tool and base, puts the tool where the original meant it.
+// a FRAME of the .dat ($TOOL = TGUN) in base 1 (BAS), under an inline form's FDAT (tool 2
+// of the frames file, base 0), and under tool 3 set in the .src (TOOL_DATA[3] = {..},
+// BAS(#TOOL, 3)) in a FRAME base of the .dat ($BASE = XFIX); the filtered pair, executed on
+// the true robot with each point's tool and base, puts the tool where the original meant it.
 TEST(ProgramClosedLoopKrl, ModuleDatPointsCorrectedWithTheSrcToolAndBase) {
   std::mt19937_64 rng(11);
   const CalibratedRobot robot = test::random_calibrated("kuka-kr6-r900-sixx", rng);
   const Compensator comp = make_compensator(robot);
   const Pose<double> F = frame_pose(), T = tool_pose();  // TGUN: A 0, B 30, C 0
-  Pose<double> T2;
+  Pose<double> T2, T3, X;
   T2.p = Eigen::Vector3d(-5, 0, 210);
+  T3.p = Eigen::Vector3d(4, -6, 180);  // TOOL_DATA[3]: C 20 turns about x
+  T3.R = Eigen::AngleAxisd(deg2rad(20), Eigen::Vector3d::UnitX()).toRotationMatrix();
+  X.p = Eigen::Vector3d(350, -120, 40);  // XFIX: A 15 turns about z
+  X.R = Eigen::AngleAxisd(deg2rad(15), Eigen::Vector3d::UnitZ()).toRotationMatrix();
   ProgramFilterOptions options;
   options.tools["TOOL_DATA[2]"] = T2;
   options.frames["BASE_DATA[1]"] = F;
   std::string dat =
       "DEFDAT LOOP\nDECL FRAME TGUN={X 10.0,Y 20.0,Z 150.0,A 0.0,B 30.0,C 0.0}\n"
-      "DECL FDAT FQ={TOOL_NO 2,BASE_NO 0,IPO_FRAME #BASE}\n";
-  std::string gun = "DEF loop( )\n  $TOOL=TGUN\n  BAS(#BASE,1)\n", inline_form;
+      "DECL FDAT FQ={TOOL_NO 2,BASE_NO 0,IPO_FRAME #BASE}\n"
+      "DECL FRAME XFIX={X 350.0,Y -120.0,Z 40.0,A 15.0,B 0.0,C 0.0}\n";
+  std::string gun = "DEF loop( )\n  $TOOL=TGUN\n  BAS(#BASE,1)\n", inline_form,
+              fixture =
+                  "  TOOL_DATA[3]={X 4.0,Y -6.0,Z 180.0,A 0.0,B 0.0,C 20.0}\n"
+                  "  BAS(#TOOL,3)\n  $BASE=XFIX\n";
+  const std::array<Pose<double>, 3> group_tool = {T, T2, T3}, group_frame = {F, Pose<double>{}, X};
   std::vector<Pose<double>> wanted_base;
-  while (wanted_base.size() < 12) {
+  while (wanted_base.size() < 18) {
     const Vector6d q = test::random_joints(comp.model, rng);
     if (test::near_singular(comp.model, q, 10)) continue;
     const size_t i = wanted_base.size();
-    const bool first_half = i < 6;
-    const Pose<double>& tool = first_half ? T : T2;
-    const Pose<double> frame = first_half ? F : Pose<double>{};
+    const size_t group = i / 6;
+    const Pose<double>& tool = group_tool[group];
+    const Pose<double>& frame = group_frame[group];
     const Pose<double> base_T_tcp = nominal_tcp_pose(comp, q) * comp.tcp_T_flange * tool;
     const Pose<double> written = frame.inverse() * base_T_tcp;
     const Eigen::Vector3d abc = euler_angles_deg(written.R, EulerConvention::ZyxABC);
@@ -429,27 +467,30 @@ TEST(ProgramClosedLoopKrl, ModuleDatPointsCorrectedWithTheSrcToolAndBase) {
     dat += fmt::format(
         "DECL E6POS XP{}={{X {:.6f},Y {:.6f},Z {:.6f},A {:.6f},B {:.6f},C {:.6f},S {},T {}}}\n", i,
         written.p.x(), written.p.y(), written.p.z(), abc[0], abc[1], abc[2], st[0], st[1]);
-    (first_half ? gun : inline_form) += fmt::format("  LIN XP{}\n", i);
+    (group == 0 ? gun : group == 1 ? inline_form : fixture) += fmt::format("  LIN XP{}\n", i);
     wanted_base.push_back(base_T_tcp);
   }
   dat += "ENDDAT\n";
-  const std::string src = gun + "  FDAT_ACT=FQ\n  BAS(#CP_PARAMS,0.2)\n" + inline_form + "END\n";
+  const std::string src =
+      gun + "  FDAT_ACT=FQ\n  BAS(#CP_PARAMS,0.2)\n" + inline_form + fixture + "END\n";
   const auto corrector = make_program_corrector(comp, ProgramLanguage::Krl, &robot);
   const ProgramFilterResult result =
       filter_krl_module(src, dat, "loop.src", "loop.dat", options, corrector);
-  ASSERT_EQ(result.cartesian_points, 12);
+  ASSERT_EQ(result.cartesian_points, 18);
   EXPECT_EQ(result.text, src);  // the .src has no literal point: unchanged
   const Compensator nominal = make_compensator(CalibratedRobot::nominal(comp.model, robot.tool));
   EXPECT_EQ(*filter_krl_module(src, dat, "loop.src", "loop.dat", options,
                                make_program_corrector(nominal, ProgramLanguage::Krl))
                  .dat_text,
             dat);
-  const std::map<std::string, Pose<double>> tools = {{"TGUN", T}, {"TOOL_DATA[2]", T2}};
-  const std::map<std::string, Pose<double>> frames = {{"BASE_DATA[1]", F}, {"", Pose<double>{}}};
+  const std::map<std::string, Pose<double>> tools = {
+      {"TGUN", T}, {"TOOL_DATA[2]", T2}, {"TOOL_DATA[3]", T3}};
+  const std::map<std::string, Pose<double>> frames = {
+      {"BASE_DATA[1]", F}, {"", Pose<double>{}}, {"XFIX", X}};
   const auto before = read_krl_module_points(src, dat, "loop.src", "loop.dat", options);
   const auto after =
       read_krl_module_points(result.text, *result.dat_text, "loop.src", "loop.dat", options);
-  ASSERT_EQ(after.size(), 12u);
+  ASSERT_EQ(after.size(), 18u);
   double worst = 0, uncompensated = 0;
   for (size_t i = 0; i < after.size(); ++i) {
     // The controller: nominal inverse with the point's tool in its base, in the written S/T.

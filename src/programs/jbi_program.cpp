@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -134,8 +135,11 @@ std::vector<JointMove> read_jbi_joint_moves(const std::string& text, const std::
 // JBI filtering. The //POS section is a list of pseudo-instructions, each setting a state for the
 // positions after it, and positions (NX100/DX100 "Job Data Format"):
 // - `///NPOS c,bc,ec,p,bp,ex`: the counts of robot (C), base-axis (BC) and station-axis (EC)
-//   teaching positions, then position variables; the loader refuses a job whose counts differ
-//   from the positions defined (checked here for C, BC and EC);
+//   teaching positions, then of robot (P), base-axis (BP) and station-axis (EX) position
+//   variables; the loader refuses a job whose counts differ from the positions defined
+//   (checked here for all six, the message naming the count; a name defined twice is refused,
+//   so equal counts mean as many distinct names). The filter changes numbers only, never a
+//   name or a line, so the counts it writes are the ones it read;
 // - `///USER n` (user frame 0..63), `///TOOL n` (tool 0..63);
 // - `///POSTYPE PULSE|BASE|ROBOT|USER|TOOL|MTOOL` and `///PULSE` or `///RECTAN`: the positions
 //   after are encoder pulses or Cartesian;
@@ -270,16 +274,13 @@ class JbiScanner {
     } else if (line.starts_with("///")) {
       // Other header pseudo-instructions (///COMM, ///ATTR ...) carry no position state.
     } else if (line.starts_with("BC") || line.starts_with("EC")) {
-      ++defined_[line[0] == 'B' ? 1 : 2];
-      position_name(line, 2, 5);  // checked, kept as written
+      position_name(line, line[0] == 'B' ? 1 : 2, 2);  // checked, kept as written
     } else if (line.starts_with("BP") || line.starts_with("EX")) {
-      ++defined_[line[0] == 'B' ? 4 : 5];
-      position_name(line, 2, 4);  // variables: their stored values, kept as written
+      // Variables: their stored values, kept as written.
+      position_name(line, line[0] == 'B' ? 4 : 5, 2);
     } else if (line.starts_with("P")) {
-      ++defined_[3];
-      position_name(line, 1, 4);
+      position_name(line, 3, 1);
     } else if (line.starts_with("C")) {
-      ++defined_[0];
       position(line);
     } else {
       fail(0,
@@ -288,9 +289,12 @@ class JbiScanner {
     }
   }
 
-  // `Cnnnnn=` / `BCnnnnn=` (five digits), `Pnnnn=` / `BPnnnn=` / `EXnnnn=` (variables, up to
-  // four): the name, checked; the values start after it.
-  std::string position_name(std::string_view line, size_t digits_at, size_t digits) const {
+  // `Cnnnnn=` / `BCnnnnn=` / `ECnnnnn=` (five digits), `Pnnnn=` / `BPnnnn=` / `EXnnnn=`
+  // (variables, up to four) of kind `kind` (kKinds): the name, checked and counted for
+  // ///NPOS; the values start after it. A name defined twice is refused: the job would hold
+  // two values for one position (and the counts could still agree).
+  std::string position_name(std::string_view line, size_t kind, size_t digits_at) {
+    const size_t digits = kind < 3 ? 5 : 4;
     size_t k = digits_at;
     while (k < line.size() && std::isdigit(static_cast<unsigned char>(line[k]))) ++k;
     const bool ok = digits == 5 ? k - digits_at == 5 : (k > digits_at && k - digits_at <= digits);
@@ -298,11 +302,21 @@ class JbiScanner {
       fail(digits_at, digits == 5 ? "expected a position name with five digits and '=' (C00000=...)"
                                   : "expected a position variable name with up to four digits "
                                     "and '=' (P0001=...)");
-    return std::string(line.substr(0, k));
+    int index = 0;
+    std::from_chars(line.data() + digits_at, line.data() + k, index);
+    std::vector<int>& first_line = defined_at_[kind];
+    if (first_line.empty()) first_line.assign(digits == 5 ? 100000 : 10000, 0);
+    const std::string name(line.substr(0, k));
+    if (first_line[static_cast<size_t>(index)] > 0)
+      fail(0, fmt::format("{} is defined twice (first at line {})", name,
+                          first_line[static_cast<size_t>(index)]));
+    first_line[static_cast<size_t>(index)] = line_;
+    ++defined_[kind];
+    return name;
   }
 
   void position(std::string_view line) {
-    const std::string name = position_name(line, 1, 5);
+    const std::string name = position_name(line, 0, 1);
     const size_t values_at = name.size() + 1;
     const std::vector<NumberField> f = numbers(line, values_at);
     // A 7-axis arm (SIA, SDA) has seven robot values; its positions cannot be corrected with a
@@ -355,6 +369,8 @@ class JbiScanner {
   size_t line_start_ = 0;
   int npos_line_ = 0;
   std::array<int, 6> declared_{}, defined_{};
+  /// By kind (kKinds) and position number: the line defining it (0: none yet).
+  std::array<std::vector<int>, 6> defined_at_;
   std::optional<int> user_, tool_, base_frame_line_;
   std::string postype_;
   bool rectan_ = false;

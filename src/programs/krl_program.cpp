@@ -49,15 +49,23 @@ class KrlScanner {
     frame_data_ = dat->frame_data_;
     out_.tools = dat->out_.tools;
     out_.frames = dat->out_.frames;
+    out_.unknown_frames = dat->out_.unknown_frames;
     varying_ = dat->varying_;
+    defined_at_ = dat->defined_at_;
   }
 
   void scan() {
+    int previous_line = 0;
     for (;;) {
       const Token t = lexer_.next();
       if (t.kind == TokenKind::End) break;
+      // KRL writes one statement per line: the first token of a line starts one.
+      statement_start_ = t.line != previous_line;
+      previous_line = t.line;
       if (t.kind != TokenKind::Identifier) continue;
-      const std::string word = upper(t.text);
+      const std::string upper_word = upper(t.text);
+      // Compared as a view: lengths first, no strlen per keyword (every identifier passes here).
+      const std::string_view word = upper_word;
       if (word == "DECL" || word == "GLOBAL") continue;  // (not a name: no table look-up)
       if (const auto kind = point_type(word); kind && lexer_.peek().kind == TokenKind::Identifier)
         declaration(*kind);
@@ -72,8 +80,8 @@ class KrlScanner {
       else if (word == "BAS")
         bas_call();
       else if (word == "$TOOL" || word == "$BASE")
-        frame_assignment(word);
-      else if (const auto kind = declared(word))
+        frame_assignment(upper_word);
+      else if (const auto kind = declared(upper_word))
         assignment(t, *kind);
     }
     assign_frame_data();
@@ -111,7 +119,25 @@ class KrlScanner {
     if (value.kind == TokenKind::Number && lexer_.peek(4).is(')'))
       active = indexed(what == "#TOOL" ? "TOOL_DATA" : "BASE_DATA", value);
     else
-      active = fmt::format("BAS({}, ...) at line {}", what, value.line);
+      active = unknown_frame(fmt::format("BAS({}, ...) at line {}", what, value.line),
+                             fmt::format("BAS({}, ...) at {}:{} takes the number from an "
+                                         "expression, known only at run time",
+                                         what, lexer_.file(), value.line));
+  }
+
+  // A tool or base whose value the scan cannot know: `key` names it at the points after it,
+  // `why` is the reason a point under it gives when refused.
+  std::string unknown_frame(const std::string& key, std::string why) {
+    out_.unknown_frames.insert_or_assign(key, std::move(why));
+    return key;
+  }
+
+  // `.X = value` after a FRAME-valued name at the start of a statement (`$TOOL.X = 5`,
+  // `XTOOL.Z = XTOOL.Z + 10`): one component changes at run time (`==` is a comparison).
+  bool component_assignment() {
+    return statement_start_ && lexer_.peek().is('.') &&
+           lexer_.peek(1).kind == TokenKind::Identifier && lexer_.peek(2).is('=') &&
+           !lexer_.peek(3).is('=');
   }
 
   // An inline form's `FDAT_ACT = Fname` then `BAS(#PTP_PARAMS|#CP_PARAMS|#FRAMES, ...)`: BAS.SRC
@@ -123,19 +149,32 @@ class KrlScanner {
       tool_ = found->second.first;
       base_ = found->second.second;
     } else {
-      tool_ = base_ = fmt::format("FDAT_ACT={} (line {}, no DECL FDAT {} in the module)",
-                                  fdat_act_.first, fdat_act_.second, fdat_act_.first);
+      tool_ = base_ = unknown_frame(
+          fmt::format("FDAT_ACT={} (line {}, no DECL FDAT {} in the module)", fdat_act_.first,
+                      fdat_act_.second, fdat_act_.first),
+          fmt::format("the inline form's FDAT_ACT={} at {}:{} names no DECL FDAT of the module, "
+                      "so its tool and base numbers are unknown",
+                      fdat_act_.first, lexer_.file(), fdat_act_.second));
     }
     fdat_act_.first.clear();
   }
 
   // `$TOOL = TOOL_DATA[n]`, `$BASE = BASE_DATA[n]`, `$TOOL = name` (a FRAME of the module or
   // of $config.dat), `$TOOL = {X ...}` (a literal frame, which defines it); any other value
-  // (an expression) makes the active tool or base unknown until the next assignment.
+  // (an expression) or a changed component (`$TOOL.X = ...`) makes the active tool or base
+  // unknown until the next assignment.
   void frame_assignment(const std::string& word) {
-    if (!lexer_.peek().is('=')) return;
     const bool tool = word == "$TOOL";
     std::string& active = tool ? tool_ : base_;
+    if (component_assignment()) {
+      const int line = lexer_.peek().line;
+      active = unknown_frame(
+          fmt::format("{} (changed at line {})", word, line),
+          fmt::format("{}.{} is assigned at {}:{}: its value is known only at run time", word,
+                      upper(lexer_.peek(1).text), lexer_.file(), line));
+      return;
+    }
+    if (!lexer_.peek().is('=') || lexer_.peek(1).is('=')) return;
     const Token value = lexer_.peek(1);
     if (value.is('{')) {
       lexer_.next();
@@ -156,14 +195,19 @@ class KrlScanner {
         (next.kind == TokenKind::End || next.line > value.line))
       active = name;
     else
-      active = fmt::format("{} (set at line {})", word, lexer_.peek().line);
+      active = unknown_frame(
+          fmt::format("{} (set at line {})", word, value.line),
+          fmt::format("{} is assigned an expression at {}:{} (a FRAME name, TOOL_DATA[n], "
+                      "BASE_DATA[n] or a literal frame is read; anything else is known only at "
+                      "run time)",
+                      word, lexer_.file(), value.line));
   }
 
   // A literal FRAME `{X, Y, Z, A, B, C}` after its `{`: the tool (flange_T_tcp) or base
   // (world_T_base) named `name`. A name given two different literal values is left undefined
   // (which one is active at a point depends on the run).
   void define_frame(const std::string& name, const Token& open) {
-    const std::vector<Entry> entries = aggregate(open);
+    const std::vector<Entry>& entries = aggregate(open);
     double v[6];
     static const char* const kKeys[] = {"X", "Y", "Z", "A", "B", "C"};
     for (int k = 0; k < 6; ++k) {
@@ -187,15 +231,24 @@ class KrlScanner {
     pose.p << v[0], v[1], v[2];
     pose.R = rotation_from_euler_deg(Eigen::Vector3d(v[3], v[4], v[5]), EulerConvention::ZyxABC);
     if (varying_.count(name)) return;
+    const std::string here = fmt::format("{}:{}", lexer_.file(), open.line);
     for (auto* table : {&out_.tools, &out_.frames}) {
       const auto [it, added] = table->emplace(name, pose);
-      if (!added && ((it->second.p - pose.p).norm() > 0 || (it->second.R - pose.R).norm() > 0)) {
-        out_.tools.erase(name);
-        out_.frames.erase(name);
-        varying_.insert(name);
-        return;
-      }
+      if (!added && ((it->second.p - pose.p).norm() > 0 || (it->second.R - pose.R).norm() > 0))
+        return make_varying(name, fmt::format("it is given one value at {} and another at {}: "
+                                              "which one is active at a point depends on the run",
+                                              defined_at_[name], here));
     }
+    defined_at_.emplace(name, here);
+  }
+
+  // A FRAME name with no one value (two literal values, a component assigned): no point may be
+  // corrected under it.
+  void make_varying(const std::string& name, std::string why) {
+    out_.tools.erase(name);
+    out_.frames.erase(name);
+    varying_.insert(name);
+    out_.unknown_frames.insert_or_assign(name, std::move(why));
   }
 
   std::string indexed(const char* table, const Token& number) const {
@@ -236,7 +289,7 @@ class KrlScanner {
     }
   }
 
-  static std::optional<PointKind> point_type(const std::string& word) {
+  static std::optional<PointKind> point_type(std::string_view word) {
     if (word == "E6POS" || word == "POS") return PointKind::Position;
     if (word == "E6AXIS" || word == "AXIS") return PointKind::Axis;
     if (word == "FRAME") return PointKind::Frame;
@@ -261,9 +314,18 @@ class KrlScanner {
     }
   }
 
-  // `name[i] = {...}` or `name = {...}` for a name declared as a point.
+  // `name[i] = {...}` or `name = {...}` for a name declared as a point or FRAME; `name.X = ...`
+  // changes a FRAME (TOOL_DATA[n] included) at run time.
   void assignment(const Token& name, PointKind kind) {
     const std::string index = array_index();
+    if (kind == PointKind::Frame && component_assignment()) {
+      const std::string frame = upper(std::string(name.text) + index);
+      if (!varying_.count(frame))
+        make_varying(frame, fmt::format("its component {} is assigned at {}:{}: its value is "
+                                        "known only at run time",
+                                        upper(lexer_.peek(1).text), lexer_.file(), name.line));
+      return;
+    }
     if (lexer_.peek().is('=') && lexer_.peek(1).is('{')) {
       lexer_.next();
       if (kind == PointKind::Frame)
@@ -399,8 +461,8 @@ class KrlScanner {
 
   void point(std::optional<PointKind> kind, const std::string& name, bool inline_motion) {
     const Token open = lexer_.next();
-    const std::vector<Entry> entries = aggregate(open);
-    const auto find = [&](const char* key) -> const Entry* {
+    const std::vector<Entry>& entries = aggregate(open);
+    const auto find = [&](std::string_view key) -> const Entry* {
       for (const Entry& e : entries)
         if (e.key == key) return &e;
       return nullptr;
@@ -413,16 +475,17 @@ class KrlScanner {
       else
         return;  // not a point (e.g. an empty aggregate)
     }
-    static const char* const kPositionKeys[] = {"X", "Y", "Z", "A", "B", "C"};
-    static const char* const kAxisKeys[] = {"A1", "A2", "A3", "A4", "A5", "A6"};
+    static constexpr std::string_view kPositionKeys[] = {"X", "Y", "Z", "A", "B", "C"};
+    static constexpr std::string_view kAxisKeys[] = {"A1", "A2", "A3", "A4", "A5", "A6"};
     const bool axis = *kind == PointKind::Axis;
     if (axis && !options_.joints) return;
     PointSite site;
+    site.fields.reserve(8);  // X Y Z A B C S T or A1..A6
     site.point.is_joint_target = axis;
     site.point.name = name;
     site.point.line = open.line;
     site.point.column = open.column;
-    for (const char* key : axis ? kAxisKeys : kPositionKeys) {
+    for (const std::string_view key : axis ? kAxisKeys : kPositionKeys) {
       const Entry* e = find(key);
       if (!e)
         refuse(lexer_.file(), open,
@@ -445,6 +508,7 @@ class KrlScanner {
       if ((s == nullptr) != (t == nullptr))
         refuse(lexer_.file(), open, "a point with only one of S and T");
       if (s) {
+        site.point.config.reserve(2);
         for (const Entry* e : {s, t}) {
           if (!e->number.present || e->number.value != std::round(e->number.value))
             refuse(lexer_.file(), e->at, fmt::format("{} must be an integer", e->key));
@@ -456,9 +520,11 @@ class KrlScanner {
     sites_.push_back(std::move(site));
   }
 
-  // Reads `{[TYPE:] KEY value, ...}` after its `{`.
-  std::vector<Entry> aggregate(const Token& open) {
-    std::vector<Entry> out;
+  // Reads `{[TYPE:] KEY value, ...}` after its `{`. The entries are valid until the next call
+  // (their storage is reused: no allocation per point).
+  const std::vector<Entry>& aggregate(const Token& open) {
+    std::vector<Entry>& out = entries_;
+    out.clear();
     if (lexer_.peek().kind == TokenKind::Identifier && lexer_.peek(1).is(':')) {
       lexer_.next();
       lexer_.next();
@@ -474,14 +540,13 @@ class KrlScanner {
                key.kind == TokenKind::End
                    ? "aggregate '{' never closed"
                    : fmt::format("expected a component name, found '{}'", key.text));
-      Entry entry;
+      Entry& entry = out.emplace_back();
       entry.key = upper(key.text);
-      for (const Entry& e : out)
-        if (e.key == entry.key)
+      for (size_t i = 0; i + 1 < out.size(); ++i)
+        if (out[i].key == entry.key)
           refuse(lexer_.file(), key, fmt::format("component {} given twice", entry.key));
       entry.at = lexer_.peek();
       value(entry);
-      out.push_back(std::move(entry));
       const Token t = lexer_.next();
       if (t.is('}')) return out;
       if (!t.is(','))
@@ -543,7 +608,10 @@ class KrlScanner {
   const KrlScanner* dat_ = nullptr;       ///< the module's .dat, when this is its .src
   /// Uses by upper-case name with its index.
   std::unordered_map<std::string, std::vector<Usage>> usages_;
-  std::set<std::string> varying_;  ///< FRAME names given two different literal values
+  std::vector<Entry> entries_;                     ///< the last aggregate read (aggregate())
+  std::set<std::string> varying_;                  ///< FRAME names with no one value (make_varying)
+  std::map<std::string, std::string> defined_at_;  ///< FRAME name: file:line of its value
+  bool statement_start_ = false;                   ///< the identifier being handled begins its line
   ProgramScan out_;
 };
 
@@ -571,6 +639,7 @@ KrlModuleScan scan_krl_module(std::string_view src, std::string_view dat,
   // The .src's tables started from the .dat's: they hold the module's definitions.
   out.dat.tools = out.src.tools;
   out.dat.frames = out.src.frames;
+  out.dat.unknown_frames = out.src.unknown_frames;
   return out;
 }
 

@@ -294,18 +294,23 @@ double read_number(std::string_view text, size_t& at, const std::string& file, i
     else
       break;
   }
-  const SourceLocation where{file, line, static_cast<int>(begin - line_start) + 1, ""};
   std::string_view literal = text.substr(begin, end - begin);
   if (!literal.empty() && literal[0] == '+') literal.remove_prefix(1);
   double value = 0;
   const auto [ptr, ec] = std::from_chars(literal.data(), literal.data() + literal.size(), value);
+  // Built for an error only: a copy of the file name per number would cost an allocation each
+  // (six numbers per position) for a path longer than the short-string buffer.
+  const auto where = [&] {
+    return SourceLocation{file, line, static_cast<int>(begin - line_start) + 1, ""};
+  };
   if (literal.empty() || ec == std::errc::invalid_argument)
-    throw InputError(where, fmt::format("expected a number, found '{}'",
-                                        text.substr(begin, std::min<size_t>(end - begin + 1, 20))));
+    throw InputError(where(),
+                     fmt::format("expected a number, found '{}'",
+                                 text.substr(begin, std::min<size_t>(end - begin + 1, 20))));
   if (ec == std::errc::result_out_of_range)
-    throw InputError(where, fmt::format("number '{}' is out of range", literal));
+    throw InputError(where(), fmt::format("number '{}' is out of range", literal));
   if (ptr != literal.data() + literal.size() || !std::isfinite(value))
-    throw InputError(where, fmt::format("malformed number '{}'", literal));
+    throw InputError(where(), fmt::format("malformed number '{}'", literal));
   at = end;
   return value;
 }

@@ -1,5 +1,6 @@
 #include "robcal/programs/program_filter.hpp"
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
@@ -94,8 +95,10 @@ class Rewriter {
   }
 
   std::string apply() {
-    std::sort(edits_.begin(), edits_.end(),
-              [](const Edit& a, const Edit& b) { return a.begin < b.begin; });
+    // Usually in text order already (points are scanned in text order): no sort then.
+    const auto by_begin = [](const Edit& a, const Edit& b) { return a.begin < b.begin; };
+    if (!std::is_sorted(edits_.begin(), edits_.end(), by_begin))
+      std::sort(edits_.begin(), edits_.end(), by_begin);
     std::string out;
     out.reserve(text_.size() + edits_.size() * 4);
     size_t at = 0;
@@ -263,14 +266,27 @@ const Naming& naming(ProgramLanguage language) {
 }
 
 /// The pose of a named tool or frame; empty and `identity_name` (tool0, wobj0) are identity.
-Pose<double> resolve(const std::map<std::string, Pose<double>>& known, const std::string& name,
-                     const char* identity_name, const char* what, const SourceLocation& where) {
+/// A name the program makes active without a value the scan can know (`unknown`) is refused
+/// with the scan's reason, before any frames-file value of that name.
+/// Where a point is (built when needed: it copies the file name).
+SourceLocation location(const std::string& file, const ProgramPoint& point) {
+  return {file, point.line, point.column, point.name};
+}
+
+Pose<double> resolve(const std::map<std::string, Pose<double>>& known,
+                     const std::map<std::string, std::string>& unknown, const std::string& name,
+                     const char* identity_name, const char* what, const std::string& file,
+                     const ProgramPoint& at) {
   if (name.empty() || name == identity_name) return Pose<double>{};
+  if (const auto why = unknown.find(name); why != unknown.end())
+    throw InputError(location(file, at),
+                     fmt::format("unknown {} '{}': {}", what, name, why->second));
   const auto it = known.find(name);
   if (it == known.end())
-    throw InputError(where, fmt::format("unknown {} '{}': the program does not define it with "
-                                        "literal values; give it in a frames file",
-                                        what, name));
+    throw InputError(location(file, at),
+                     fmt::format("unknown {} '{}': the program does not define it with "
+                                 "literal values; give it in a frames file",
+                                 what, name));
   return it->second;
 }
 
@@ -308,14 +324,14 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
   result.uncorrected = scanned.unresolved;
   expected.reserve(scanned.sites.size());
   for (const PointSite& site : scanned.sites) {
-    const SourceLocation where{file, site.point.line, site.point.column, site.point.name};
     // The corrector works in the base frame with the active tool.
     ProgramPoint point = site.point;
     const Naming& names = naming(language);
-    const Pose<double> base_T_frame =
-        resolve(frames, point.frame, names.base_frame, names.frame_kind, where);
+    const Pose<double> base_T_frame = resolve(frames, scanned.unknown_frames, point.frame,
+                                              names.base_frame, names.frame_kind, file, site.point);
     if (!point.tool.empty())
-      point.flange_T_tcp = resolve(tools, point.tool, names.flange, "tool", where);
+      point.flange_T_tcp = resolve(tools, scanned.unknown_frames, point.tool, names.flange, "tool",
+                                   file, site.point);
     point.base_T_tcp = base_T_frame * point.base_T_tcp;
     CorrectedPoint corrected = corrector(point);
     if (corrected.failure.empty() &&
@@ -343,20 +359,20 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
          !corrected.joints_deg.allFinite()))
       corrected.failure = "the corrected point is not finite (NaN or infinite)";
     if (!corrected.failure.empty()) {
-      if (!options.keep_going) throw InputError(where, corrected.failure);
-      result.uncorrected.push_back({where.describe(), corrected.failure});
+      if (!options.keep_going) throw InputError(location(file, site.point), corrected.failure);
+      result.uncorrected.push_back({location(file, site.point).describe(), corrected.failure});
       std::vector<double> unchanged;
       for (const NumberField& f : site.fields) unchanged.push_back(f.value);
       expected.push_back(std::move(unchanged));
       continue;
     }
     if (!site.assumption.empty()) {
-      result.assumed.push_back({where.describe(), site.assumption});
+      result.assumed.push_back({location(file, site.point).describe(), site.assumption});
     } else if (point.tool.empty() && !point.is_joint_target &&
                (language == ProgramLanguage::Rapid || language == ProgramLanguage::Krl ||
                 language == ProgramLanguage::Jbi))
       result.assumed.push_back(
-          {where.describe(),
+          {location(file, site.point).describe(),
            language == ProgramLanguage::Rapid
                ? "no Move instruction of this module uses it: corrected for the default tool "
                  "in wobj0"
@@ -368,9 +384,11 @@ Correction correct_sites(std::string_view text, const detail::ProgramScan& scann
     expected.push_back(rewrite(out, site, corrected, language, options));
     ++(site.point.is_joint_target ? result.joint_points : result.cartesian_points);
     auto row = std::back_inserter(result.confidence_csv);
-    fmt::format_to(row, "{}{},{},{},", row_prefix, site.point.line, site.point.column,
+    // Compiled formats: one row per point, parsed once at build time.
+    fmt::format_to(row, FMT_COMPILE("{}{},{},{},"), row_prefix, site.point.line, site.point.column,
                    site.point.name);
-    if (corrected.confidence95_mm) fmt::format_to(row, "{:.4f}", *corrected.confidence95_mm);
+    if (corrected.confidence95_mm)
+      fmt::format_to(row, FMT_COMPILE("{:.4f}"), *corrected.confidence95_mm);
     result.confidence_csv += '\n';
   }
   result.text = out.apply();
@@ -420,13 +438,17 @@ ProgramFilterResult filter_krl_module(std::string_view src, std::string_view dat
   Correction s = correct(src, scanned.src, src_file);
   Correction d = correct(dat, scanned.dat, dat_file);
   // The .dat's points do not depend on the .src (scanned first, alone); the .src's depend on
-  // the .dat's declarations, so a changed .src is read back with its .dat.
-  check_reparse(detail::scan_krl(d.result.text, dat_file, options).sites, scanned.dat.sites,
-                d.expected, dat_file);
-  if (s.result.text != src)
-    check_reparse(detail::scan_krl_module(s.result.text, d.result.text, src_file, dat_file, options)
-                      .src.sites,
-                  scanned.src.sites, s.expected, src_file);
+  // the .dat's declarations, so a changed .src is read back with its .dat (one module scan
+  // checks both files).
+  if (s.result.text == src) {
+    check_reparse(detail::scan_krl(d.result.text, dat_file, options).sites, scanned.dat.sites,
+                  d.expected, dat_file);
+  } else {
+    const detail::KrlModuleScan again =
+        detail::scan_krl_module(s.result.text, d.result.text, src_file, dat_file, options);
+    check_reparse(again.dat.sites, scanned.dat.sites, d.expected, dat_file);
+    check_reparse(again.src.sites, scanned.src.sites, s.expected, src_file);
+  }
   ProgramFilterResult result = std::move(s.result);
   result.dat_text = std::move(d.result.text);
   result.cartesian_points += d.result.cartesian_points;

@@ -1,6 +1,5 @@
 #include <fmt/format.h>
 
-#include <cctype>
 #include <charconv>
 
 #include "measurement_writers.hpp"
@@ -8,19 +7,38 @@
 #include "robcal/core/error.hpp"
 
 namespace robcal::detail {
+namespace {
+
+// ASCII classes (what <cctype> gives in the "C" locale, without a call per byte: the lexer
+// reads every byte of a 20 MB program twice).
+constexpr bool is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
+constexpr bool is_alpha(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z');
+}
+constexpr bool is_alnum(char c) {
+  return is_digit(c) || is_alpha(c);
+}
+constexpr char ascii_upper(char c) {
+  return c >= 'a' && c <= 'z' ? static_cast<char>(c - 32) : c;
+}
+constexpr bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+}
+
+}  // namespace
 
 bool iequals(std::string_view a, std::string_view b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(a[i])) !=
-        std::tolower(static_cast<unsigned char>(b[i])))
-      return false;
+    if (ascii_upper(a[i]) != ascii_upper(b[i])) return false;
   return true;
 }
 
 std::string upper(std::string_view text) {
   std::string out(text);
-  for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  for (char& c : out) c = ascii_upper(c);
   return out;
 }
 
@@ -56,18 +74,6 @@ NumberField read_number_field(std::string_view text, size_t& at, const std::stri
 ProgramLexer::ProgramLexer(std::string_view text, ProgramLanguage language, const std::string& file)
     : text_(text), language_(language), file_(file) {}
 
-const Token& ProgramLexer::peek(size_t ahead) {
-  while (ahead_.size() <= ahead) ahead_.push_back(lex_one());
-  return ahead_[ahead];
-}
-
-Token ProgramLexer::next() {
-  if (ahead_.empty()) return lex_one();
-  Token t = ahead_.front();
-  ahead_.pop_front();
-  return t;
-}
-
 Token ProgramLexer::lex_one() {
   const auto at_end = [&] { return pos_ >= text_.size(); };
   const auto ch = [&](size_t k = 0) { return pos_ + k < text_.size() ? text_[pos_ + k] : '\0'; };
@@ -79,7 +85,7 @@ Token ProgramLexer::lex_one() {
       ++pos_;
       ++line_;
       line_start_ = pos_;
-    } else if (std::isspace(static_cast<unsigned char>(c))) {
+    } else if (is_space(c)) {
       ++pos_;
     } else if (c == comment ||
                (language_ == ProgramLanguage::Krl && c == '&' && pos_ == line_start_)) {
@@ -98,16 +104,13 @@ Token ProgramLexer::lex_one() {
   }
   const char c = ch();
   const auto ident_char = [&](char x) {
-    return std::isalnum(static_cast<unsigned char>(x)) || x == '_' ||
-           (language_ == ProgramLanguage::Krl && x == '$');
+    return is_alnum(x) || x == '_' || (language_ == ProgramLanguage::Krl && x == '$');
   };
-  if (std::isalpha(static_cast<unsigned char>(c)) || c == '_' ||
-      (language_ == ProgramLanguage::Krl && (c == '$' || c == '#'))) {
+  if (is_alpha(c) || c == '_' || (language_ == ProgramLanguage::Krl && (c == '$' || c == '#'))) {
     ++pos_;
     while (!at_end() && ident_char(ch())) ++pos_;
     t.kind = TokenKind::Identifier;
-  } else if (std::isdigit(static_cast<unsigned char>(c)) ||
-             (c == '.' && std::isdigit(static_cast<unsigned char>(ch(1))))) {
+  } else if (is_digit(c) || (c == '.' && is_digit(ch(1)))) {
     // The whole run of characters a number could be made of (`364.35.4`, `1e5x` included),
     // so that number_value() sees a malformed literal whole instead of a valid prefix of it.
     while (!at_end()) {
@@ -115,7 +118,7 @@ Token ProgramLexer::lex_one() {
       // The character before `d` inside this token (the token's first character is a digit or
       // a point, never a sign: nothing before it counts).
       const char before = pos_ > t.offset ? text_[pos_ - 1] : '\0';
-      if (std::isalnum(static_cast<unsigned char>(d)) || d == '.' || d == '_' ||
+      if (is_alnum(d) || d == '.' || d == '_' ||
           ((d == '+' || d == '-') && (before == 'e' || before == 'E')))
         ++pos_;
       else

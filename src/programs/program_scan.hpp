@@ -2,8 +2,9 @@
 // Private to program filtering: a streaming lexer for RAPID and KRL text and the record of
 // where each point's numbers sit in the text, so that only those bytes are rewritten.
 
-#include <deque>
+#include <array>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,9 +33,24 @@ bool iequals(std::string_view a, std::string_view b);
 /// white space are skipped. Memory stays small for programs with 100,000 points.
 class ProgramLexer {
  public:
+  /// The most tokens peek() looks ahead (the scanners look at most six ahead).
+  static constexpr size_t kMaxLookAhead = 16;
   ProgramLexer(std::string_view text, ProgramLanguage language, const std::string& file);
-  const Token& peek(size_t ahead = 0);
-  Token next();
+  /// The token `ahead` after the next one; the reference stays valid until that token has been
+  /// consumed by next() and kMaxLookAhead more have been read. Forced inline, as next(): the
+  /// scanners call them several times per token (GCC keeps them out of line otherwise).
+  [[gnu::always_inline]] const Token& peek(size_t ahead = 0) {
+    if (ahead >= kMaxLookAhead) throw std::logic_error("program lexer: look-ahead too far");
+    for (; count_ <= ahead; ++count_) ahead_[(first_ + count_) % kMaxLookAhead] = lex_one();
+    return ahead_[(first_ + ahead) % kMaxLookAhead];
+  }
+  [[gnu::always_inline]] Token next() {
+    if (count_ == 0) return lex_one();
+    const Token& t = ahead_[first_];
+    first_ = (first_ + 1) % kMaxLookAhead;
+    --count_;
+    return t;
+  }
   [[nodiscard]] const std::string& file() const { return file_; }
 
  private:
@@ -45,7 +61,10 @@ class ProgramLexer {
   size_t pos_ = 0;
   int line_ = 1;
   size_t line_start_ = 0;
-  std::deque<Token> ahead_;
+  // Look-ahead ring: tokens [first_, first_ + count_) modulo its size; no allocation per token
+  // (a deque allocates and frees a block every few tokens: 2 % of a 100,000-target filter).
+  std::array<Token, kMaxLookAhead> ahead_{};
+  size_t first_ = 0, count_ = 0;
 };
 
 /// A number in the text: its byte range, value, and how it is written.
@@ -76,6 +95,10 @@ struct ProgramScan {
   /// Under keep_going: uses of points the scan cannot resolve (KRL: a name declared in neither
   /// file of the module), listed with the uncorrected points.
   std::vector<UncorrectedPoint> unresolved;
+  /// Tool and frame names the program makes active but whose value the scan cannot know, by
+  /// upper-case name, with why (KRL: `$TOOL` set to an expression, a FRAME given two values or
+  /// changed component-wise): a point under one is refused with this reason.
+  std::map<std::string, std::string> unknown_frames;
 };
 
 /// A KUKA module: its .src and its .dat, each with the tools and frames of both.

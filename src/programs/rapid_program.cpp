@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <unordered_map>
 
 #include "measurement_writers.hpp"
 #include "program_scan.hpp"
@@ -56,7 +57,7 @@ class RapidScanner {
       previous = t;
     }
     assign_usages();
-    ProgramScan out{std::move(sites_), std::move(tools_), std::move(frames_), {}};
+    ProgramScan out{std::move(sites_), std::move(tools_), std::move(frames_), {}, {}};
     out.unresolved = std::move(unresolved_);
     return out;
   }
@@ -84,13 +85,13 @@ class RapidScanner {
     const bool robtarget = iequals(type.text, "robtarget");
     const bool jointtarget = options_.joints && iequals(type.text, "jointtarget");
     if ((robtarget || jointtarget) && lexer_.peek().is('[')) {
-      const Aggregate value = aggregate(lexer_.next());
+      const Aggregate& value = aggregate(lexer_.next());
       declared_value(value, 0, dims, std::string(name.text), jointtarget);
       return;
     }
     const bool tooldata = iequals(type.text, "tooldata");
     if ((tooldata || iequals(type.text, "wobjdata")) && dims == 0 && lexer_.peek().is('[')) {
-      const Aggregate value = aggregate(lexer_.next());
+      const Aggregate& value = aggregate(lexer_.next());
       if (tooldata)
         tool_value(value, name);
       else
@@ -129,7 +130,7 @@ class RapidScanner {
 
   // A robtarget or jointtarget written in an instruction (MoveL [[...]], ...; MoveAbsJ).
   void inline_literal(const Token& open) {
-    const Aggregate value = aggregate(open);
+    const Aggregate& value = aggregate(open);
     if (looks_like(value, 0, {3, 4, 4, 6})) {
       if (!add_robtarget(value, 0, "")) not_literal(value, "robtarget");
     } else if (options_.joints && looks_like(value, 0, {6, 6})) {
@@ -173,9 +174,10 @@ class RapidScanner {
   // [[x,y,z],[q1,q2,q3,q4]] (pose data); nullopt when not a literal.
   std::optional<Pose<double>> literal_pose(const Aggregate& tree, size_t node) {
     if (!looks_like(tree, node, {3, 4})) return std::nullopt;
-    const std::vector<NumberField> p = numbers(tree, tree[node].items[0]);
-    const std::vector<NumberField> q = numbers(tree, tree[node].items[1]);
-    if (p.empty() || q.empty()) return std::nullopt;
+    std::vector<NumberField> p, q;
+    if (!append_numbers(tree, tree[node].items[0], p) ||
+        !append_numbers(tree, tree[node].items[1], q))
+      return std::nullopt;
     const Eigen::Quaterniond quat(q[0].value, q[1].value, q[2].value, q[3].value);
     if (std::abs(quat.norm() - 1.0) > 1e-3)
       refuse(lexer_.file(), tree[tree[node].items[1]].first,
@@ -236,33 +238,34 @@ class RapidScanner {
   void move_instruction(const MoveSpec& spec) {
     const size_t first_site = sites_.size();
     const int line = lexer_.peek().line;
-    std::vector<std::vector<std::string>> names;  // identifiers of each positional argument
-    std::vector<std::string> leading;             // its first token, upper case
-    std::string wobj;
+    int argument = -1;  // the positional argument being read
     bool piece_start = true;
+    std::string tool, wobj;
+    target_names_.clear();  // identifiers in the target arguments
+    const auto is_target = [&] {
+      return argument == spec.targets[0] || argument == spec.targets[1];
+    };
     statement_tokens([&](const Token& t, int depth) {
       if (piece_start && !t.is('\\') && !t.is(',')) {
-        names.emplace_back();
-        leading.push_back(t.kind == TokenKind::Identifier ? upper(t.text) : "");
+        ++argument;
+        if (static_cast<size_t>(argument) == spec.tool && t.kind == TokenKind::Identifier)
+          tool = upper(t.text);
         piece_start = false;
       }
       if (depth == 0 && t.is(',')) {
         piece_start = true;
       } else if (depth == 0 && t.is('\\')) {
         optional_argument(wobj);
-      } else if (t.kind == TokenKind::Identifier && !names.empty()) {
-        names.back().push_back(upper(t.text));
+      } else if (t.kind == TokenKind::Identifier && argument >= 0 && is_target()) {
+        target_names_.push_back(upper(t.text));
       }
     });
-    const std::string tool = spec.tool < leading.size() ? leading[spec.tool] : "";
+    const std::string frame = upper(wobj);
     for (size_t i = first_site; i < sites_.size(); ++i) {
       sites_[i].point.tool = tool;
-      sites_[i].point.frame = upper(wobj);
+      sites_[i].point.frame = frame;
     }
-    for (int k : spec.targets)
-      if (k >= 0 && static_cast<size_t>(k) < names.size())
-        for (const std::string& name : names[static_cast<size_t>(k)])
-          usages_[name].push_back({tool, upper(wobj), line});
+    for (const std::string& name : target_names_) usages_[name].push_back({tool, frame, line});
   }
 
   static bool keyword(std::string_view word) {
@@ -420,25 +423,22 @@ class RapidScanner {
     return true;
   }
 
-  // The numbers of list `node`'s items, or an empty vector when one is not a number literal.
-  static std::vector<NumberField> numbers(const Aggregate& tree, size_t node) {
-    std::vector<NumberField> out;
-    for (size_t item : tree[node].items) {
-      if (tree[item].is_list || !tree[item].number.present) return {};
-      out.push_back(tree[item].number);
-    }
-    return out;
+  // Appends the numbers of list `node`'s items to `out`; false (out unchanged) when one is not
+  // a number literal.
+  static bool append_numbers(const Aggregate& tree, size_t node, std::vector<NumberField>& out) {
+    for (size_t item : tree[node].items)
+      if (tree[item].is_list || !tree[item].number.present) return false;
+    for (size_t item : tree[node].items) out.push_back(tree[item].number);
+    return true;
   }
 
   bool add_robtarget(const Aggregate& tree, size_t node, const std::string& name) {
     if (!looks_like(tree, node, {3, 4, 4, 6})) return false;
     const auto& it = tree[node].items;
     PointSite site;
-    for (int part = 0; part < 3; ++part) {
-      const std::vector<NumberField> values = numbers(tree, it[part]);
-      if (values.empty()) return false;
-      site.fields.insert(site.fields.end(), values.begin(), values.end());
-    }
+    site.fields.reserve(11);  // x y z, q1..q4, cf1 cf4 cf6 cfx
+    for (int part = 0; part < 3; ++part)
+      if (!append_numbers(tree, it[part], site.fields)) return false;
     site.point.name = name;
     site.point.line = tree[node].first.line;
     site.point.column = tree[node].first.column;
@@ -465,8 +465,7 @@ class RapidScanner {
   bool add_jointtarget(const Aggregate& tree, size_t node, const std::string& name) {
     if (!looks_like(tree, node, {6, 6})) return false;
     PointSite site;
-    site.fields = numbers(tree, tree[node].items[0]);
-    if (site.fields.empty()) return false;
+    if (!append_numbers(tree, tree[node].items[0], site.fields)) return false;
     site.point.is_joint_target = true;
     site.point.name = name;
     site.point.line = tree[node].first.line;
@@ -476,26 +475,38 @@ class RapidScanner {
     return true;
   }
 
+  // A node of the aggregate being read, reusing the storage of the previous ones (no
+  // allocation per node once a few targets have been read).
+  size_t new_node(const Token& first, bool is_list) {
+    if (used_nodes_ == nodes_.size()) nodes_.emplace_back();
+    AggregateNode& node = nodes_[used_nodes_];
+    node.first = first;
+    node.is_list = is_list;
+    node.items.clear();
+    node.number = {};
+    return used_nodes_++;
+  }
+
   // Reads `[ item, item, ... ]` after its `[`; items are aggregates or token runs. Iterative:
   // the stack of open lists is a vector, so 30,000 nested `[` cost memory, not the call stack.
-  Aggregate aggregate(const Token& open) {
-    Aggregate tree;
-    tree.reserve(24);  // a robtarget: 5 lists and 17 elements
-    tree.push_back({open, true, {}, {}});
-    std::vector<size_t> open_lists{0};
+  // The tree is valid until the next call (its nodes are reused).
+  const Aggregate& aggregate(const Token& open) {
+    used_nodes_ = 0;
+    new_node(open, true);
+    std::vector<size_t>& open_lists = open_lists_;
+    open_lists.assign(1, 0);
     bool just_opened = true;
     while (!open_lists.empty()) {
       if (!(just_opened && lexer_.peek().is(']'))) {
-        const size_t item = tree.size();
         if (lexer_.peek().is('[')) {
-          tree.push_back({lexer_.next(), true, {}, {}});
-          tree[open_lists.back()].items.push_back(item);
+          const size_t item = new_node(lexer_.next(), true);
+          nodes_[open_lists.back()].items.push_back(item);
           open_lists.push_back(item);
           just_opened = true;
           continue;
         }
-        tree.push_back(element());
-        tree[open_lists.back()].items.push_back(item);
+        const size_t item = element();
+        nodes_[open_lists.back()].items.push_back(item);
       }
       // After an item: `,` starts the next one, `]` closes this list (and maybe the parents).
       just_opened = false;
@@ -503,38 +514,39 @@ class RapidScanner {
         const Token t = lexer_.next();
         if (t.is(',')) break;
         if (!t.is(']'))
-          refuse(lexer_.file(), t.kind == TokenKind::End ? tree[open_lists.back()].first : t,
+          refuse(lexer_.file(), t.kind == TokenKind::End ? nodes_[open_lists.back()].first : t,
                  t.kind == TokenKind::End ? "aggregate '[' never closed"
                                           : fmt::format("expected ',' or ']', found '{}'", t.text));
         open_lists.pop_back();
         if (open_lists.empty()) break;
       }
     }
-    return tree;
+    return nodes_;  // nodes past used_nodes_ are stale; only indices from node 0 are followed
   }
 
-  AggregateNode element() {
+  // An element that is not a list: its node.
+  size_t element() {
     const Token first = lexer_.peek();
-    AggregateNode out;
-    out.first = first;
+    const size_t node = new_node(first, false);
+    NumberField& number_field = nodes_[node].number;
     // A number literal, possibly signed; anything else is an expression kept as written.
     size_t k = 0;
     if (first.is('-') || first.is('+')) k = 1;
     const Token& number = lexer_.peek(k);
     const Token& after = lexer_.peek(k + 1);
     if (number.kind == TokenKind::Number && (after.is(',') || after.is(']'))) {
-      out.number.present = true;
-      out.number.begin = first.offset;
-      out.number.end = number.offset + number.text.size();
-      out.number.value = (first.is('-') ? -1.0 : 1.0) * number_value(lexer_.file(), number);
+      number_field.present = true;
+      number_field.begin = first.offset;
+      number_field.end = number.offset + number.text.size();
+      number_field.value = (first.is('-') ? -1.0 : 1.0) * number_value(lexer_.file(), number);
       for (size_t i = 0; i <= k; ++i) lexer_.next();
-      return out;
+      return node;
     }
     int depth = 0;
     for (;;) {
       const Token& t = lexer_.peek();
       if (t.kind == TokenKind::End) refuse(lexer_.file(), first, "aggregate never closed");
-      if (depth == 0 && (t.is(',') || t.is(']') || t.is(';'))) return out;
+      if (depth == 0 && (t.is(',') || t.is(']') || t.is(';'))) return node;
       if (t.is('(') || t.is('[') || t.is('{')) ++depth;
       if (t.is(')') || t.is(']') || t.is('}')) --depth;
       lexer_.next();
@@ -548,9 +560,13 @@ class RapidScanner {
 
   ProgramLexer lexer_;
   const ProgramFilterOptions& options_;
+  Aggregate nodes_;  ///< the last aggregate read (aggregate()), and spare nodes after it
+  size_t used_nodes_ = 0;
+  std::vector<size_t> open_lists_;  ///< aggregate()'s stack of open lists
   std::vector<PointSite> sites_;
   std::map<std::string, Pose<double>> tools_, frames_;
-  std::map<std::string, std::vector<Usage>> usages_;  ///< by upper-case target name
+  std::unordered_map<std::string, std::vector<Usage>> usages_;  ///< by upper-case target name
+  std::vector<std::string> target_names_;                       ///< move_instruction's scratch
   struct OtherUse {
     std::string instruction;
     int line = 0;

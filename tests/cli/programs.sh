@@ -93,7 +93,7 @@ printf 'kind,name,x,y,z,qw,qx,qy,qz\ntool,TOOL_DATA[1],0,0,100,1,0,0,0\nframe,BA
   fail "KRL module"
 [[ -f "$TMP/glue_out/glue_cell.src" && -f "$TMP/glue_out/glue_cell.dat" ]] || fail "module: both files"
 grep -q '"out_companion": ".*out/glue_cell.dat"' "$TMP/glue.json" || fail "module json: $(cat "$TMP/glue.json")"
-[[ $(grep -c "no nominal solution" "$TMP/glue.json") -eq 8 ]] || fail "module: the 8 unreachable points listed"
+[[ $(grep -c "no nominal solution" "$TMP/glue.json") -eq 11 ]] || fail "module: the 11 unreachable points listed"
 # A point used under two tools: refused naming both motions, neither file written.
 mkdir -p "$TMP/two"
 sed 's/^  LIN XSEAM\[1\]          ;/  $TOOL=TOOL_DATA[1]\n  LIN XSEAM[1] ;/' "$TMP/glue_cell.src" > "$TMP/two/glue_cell.src"

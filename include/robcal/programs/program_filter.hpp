@@ -28,7 +28,11 @@
 ///   refused (their missing components come from the robot's state at run time). Tool and
 ///   base: TOOL_DATA[n] / BASE_DATA[n] of the last `BAS(#TOOL|#BASE, n)` or `$TOOL|$BASE =`
 ///   before an inline point, FDAT `F<name>` for a declared `X<name>` (inline forms); their
-///   values from ProgramFilterOptions (a frames file: they live in $config.dat).
+///   values from ProgramFilterOptions (a frames file: they live in $config.dat) or from the
+///   program's literal FRAMEs (`DECL FRAME XTOOL={X ..}`, `TOOL_DATA[n]={X ..}`). A tool or
+///   base whose value is known only at run time (`$TOOL` set to an expression or changed
+///   component-wise, a FRAME given two values or assigned a component) refuses the points
+///   under it, saying where.
 /// - Fanuc LS: the /POS positions of group 1: X..R with CONFIG (Cartesian; W, P, R the
 ///   rotations about x, y, z) or J1..J6 (joint, with `joints`); tool UT[n] and user frame
 ///   UF[n] of the position itself. CONFIG is kept: a correction that needs another is refused.
@@ -169,8 +173,10 @@ inline std::vector<ProgramPoint> parse_program(std::string_view text, ProgramLan
 /// with the uncorrected points); the home positions XHOME, XHOME1..5 of $config.dat and `$`
 /// system positions are not the module's and are skipped. Literal FRAMEs (`DECL FRAME F={X ..,
 /// Y .., Z .., A .., B .., C ..}`, `TOOL_DATA[n]={...}`, `BASE_DATA[n]={...}`, `$TOOL={...}`)
-/// define tools and bases by their name; one given two different values is left undefined.
-/// The points are the .src's then the .dat's, each in file order.
+/// define tools and bases by their name; one given two different values, or whose component
+/// is assigned (`XTOOL.Z = ...`), is left undefined, and a point under it is refused saying
+/// where (which value is active depends on the run). The points are the .src's then the
+/// .dat's, each in file order.
 std::vector<ProgramPoint> read_krl_module_points(std::string_view src, std::string_view dat,
                                                  const std::string& src_file,
                                                  const std::string& dat_file,
