@@ -3,7 +3,10 @@
 #include <fmt/format.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <initializer_list>
 #include <optional>
 
 #include "robcal/core/error.hpp"
@@ -119,10 +122,30 @@ std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows, cons
 
 namespace {
 
+/// Configuration data of one target, at most six integers, held without allocating (it is
+/// computed for every candidate solution of every target of a program).
+class ConfigurationData {
+ public:
+  ConfigurationData(std::initializer_list<int> values) : size_(values.size()) {
+    std::copy(values.begin(), values.end(), values_.begin());
+  }
+  int operator[](size_t k) const { return values_[k]; }
+  bool operator==(const std::vector<int>& other) const {
+    return other.size() == size_ && std::equal(other.begin(), other.end(), values_.begin());
+  }
+  [[nodiscard]] std::vector<int> vector() const {
+    return {values_.begin(), values_.begin() + static_cast<std::ptrdiff_t>(size_)};
+  }
+
+ private:
+  std::array<int, 6> values_{};
+  size_t size_;
+};
+
 /// maker_configuration of joints whose arm configuration is known (a labelled IK solution):
 /// no forward kinematics.
-std::vector<int> configuration_data(ProgramLanguage language, const Vector6d& joints,
-                                    const ArmConfig& config) {
+ConfigurationData configuration_data(ProgramLanguage language, const Vector6d& joints,
+                                     const ArmConfig& config) {
   if (language == ProgramLanguage::Rapid) {
     // Quadrant of a joint; the tolerance keeps an exact 0° (or 90°...) that the closed form
     // returns as −1e-14 in the quadrant above, as it was written.
@@ -170,7 +193,7 @@ std::optional<ArmConfig> written_branch(ProgramLanguage language, const std::vec
 
 std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage language,
                                      const Vector6d& joints) {
-  return configuration_data(language, joints, arm_config(comp.model, joints));
+  return configuration_data(language, joints, arm_config(comp.model, joints)).vector();
 }
 
 PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language,
@@ -215,7 +238,7 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
         int best_score = -1;
         for (const IkSolution& s : all) {
           // The solver labels its solutions: no forward kinematics per candidate.
-          const std::vector<int> cfg = configuration_data(language, s.joints, s.config);
+          const ConfigurationData cfg = configuration_data(language, s.joints, s.config);
           int score = 0;
           if (point.config.empty()) {
             score = 1;
@@ -264,7 +287,7 @@ PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage l
       out.confidence95_mm = position_confidence95_mm(
           *robot, comp.condition.payload, point.flange_T_tcp.value_or(comp.flange_T_tcp), r.joints);
     if (!point.is_joint_target && !point.config.empty())
-      out.config = configuration_data(language, r.joints, branch);
+      out.config = configuration_data(language, r.joints, branch).vector();
     return out;
   };
 }
