@@ -306,7 +306,7 @@ class JbiScanner {
     std::from_chars(line.data() + digits_at, line.data() + k, index);
     std::vector<int>& first_line = defined_at_[kind];
     if (first_line.empty()) first_line.assign(digits == 5 ? 100000 : 10000, 0);
-    const std::string name(line.substr(0, k));
+    std::string name(line.substr(0, k));
     if (first_line[static_cast<size_t>(index)] > 0)
       fail(0, fmt::format("{} is defined twice (first at line {})", name,
                           first_line[static_cast<size_t>(index)]));
