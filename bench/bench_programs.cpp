@@ -26,13 +26,24 @@ constexpr int kTargets = 100000;
 /// poses of random joints ≥ 5° from singularities, configuration data written), each used in
 /// one motion, seed kSeed: the flange pose with tool0 (RAPID), tool 0 (KRL), UT 0 (Fanuc), TOOL 0
 /// (Yaskawa, given as the flange); the TCP pose without set_tcp (URScript: the installation's TCP,
-/// the compensator's tool).
-std::string big_program(ProgramLanguage language, const Compensator& comp, int targets) {
+/// the compensator's tool). With `path_step_deg` > 0 the targets follow a path instead: each
+/// joint moves by at most that from the previous target.
+std::string big_program(ProgramLanguage language, const Compensator& comp, int targets,
+                        double path_step_deg = 0) {
   std::mt19937_64 rng(kSeed);
+  std::uniform_real_distribution<double> step(-deg2rad(path_step_deg), deg2rad(path_step_deg));
   std::string decl, moves;
   int n = 0;
+  Vector6d q = test::random_joints(comp.model, rng);
   while (n < targets) {
-    const Vector6d q = test::random_joints(comp.model, rng);
+    if (path_step_deg > 0 && n > 0) {
+      Vector6d next = q;
+      for (int i = 0; i < kJointCount; ++i) next[i] += step(rng);
+      if (!comp.model.within_limits(next)) continue;
+      q = next;
+    } else {
+      q = test::random_joints(comp.model, rng);
+    }
     if (test::near_singular(comp.model, q)) continue;
     const Pose<double> tcp = nominal_tcp_pose(comp, q);
     const Pose<double> pose = tcp * comp.tcp_T_flange;
@@ -162,26 +173,29 @@ BENCHMARK(BM_FilterProgram100k)
 
 /// The cobots, where the nominal solves cost most: URScript on a UR10e (three parallel axes,
 /// offset wrist: no configuration data, every solution solved for the nearest) and Fanuc LS
-/// on a CRX-10iA (general 6R: the written branch solved alone), calibrated IK per target.
+/// on a CRX-10iA (general 6R: the written branch solved alone), calibrated IK per target;
+/// the CRX also with its targets on a path (1° steps: the calibrated inverse continues from the
+/// previous target's joints).
 struct CobotFixture {
   CalibratedRobot robot;
   Compensator comp;
   std::string program;
-  CobotFixture(const char* name, ProgramLanguage language)
+  CobotFixture(const char* name, ProgramLanguage language, double path_step_deg = 0)
       : robot([name] {
           std::mt19937_64 rng(kSeed);
           return test::random_calibrated(name, rng);
         }()),
         comp(make_compensator(robot)),
-        program(big_program(language, comp, kTargets)) {}
+        program(big_program(language, comp, kTargets, path_step_deg)) {}
 };
 
 void BM_FilterCobotProgram100k(benchmark::State& state) {
-  const bool crx = state.range(0) != 0;
+  const bool crx = state.range(0) != 0, path = state.range(0) == 2;
   const ProgramLanguage language = crx ? ProgramLanguage::FanucLs : ProgramLanguage::UrScript;
   static const CobotFixture ur("universal-robots-ur10e", ProgramLanguage::UrScript);
   static const CobotFixture fanuc("fanuc-crx10ia", ProgramLanguage::FanucLs);
-  const CobotFixture& f = crx ? fanuc : ur;
+  static const CobotFixture fanuc_path("fanuc-crx10ia", ProgramLanguage::FanucLs, 1.0);
+  const CobotFixture& f = path ? fanuc_path : crx ? fanuc : ur;
   for (auto _ : state) {
     ProgramFilterOptions options;
     options.keep_going = true;
@@ -192,9 +206,16 @@ void BM_FilterCobotProgram100k(benchmark::State& state) {
     state.counters["uncorrected"] = static_cast<double>(result.uncorrected.size());
     benchmark::DoNotOptimize(result.text.data());
   }
-  state.SetLabel(crx ? "ls fanuc-crx10ia calibrated IK" : "urscript ur10e calibrated IK");
+  state.SetLabel(path  ? "ls fanuc-crx10ia calibrated IK, path"
+                 : crx ? "ls fanuc-crx10ia calibrated IK"
+                       : "urscript ur10e calibrated IK");
 }
-BENCHMARK(BM_FilterCobotProgram100k)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FilterCobotProgram100k)
+    ->Arg(0)
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 /// The KRL program's targets as a module (issue 17 item 3): each inline point of big_program
 /// declared in the .dat as XP<n> and used by `LIN XP<n>` in the .src, under BAS(#TOOL,0).

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <numbers>
 
 #include "robcal/compensate/corrected_targets.hpp"
 #include "robcal/core/error.hpp"
@@ -513,6 +514,52 @@ TEST(ProgramClosedLoopKrl, ModuleDatPointsCorrectedWithTheSrcToolAndBase) {
   EXPECT_LT(worst, 2e-4) << "uncompensated " << uncompensated;
   EXPECT_GT(uncompensated, 0.1);
   RecordProperty("worst_mm", fmt::format("{:.3g}", worst));
+}
+
+// On a general 6R arm (Fanuc CRX-10iA) the corrector starts the calibrated inverse from the
+// previous target's joints when that target was near (a path): each corrected target must be the
+// library's calibrated inverse of its written configuration seeded from the nominal solution
+// nearest the previous joints (calibrated_ik), as for a target far from the previous one.
+TEST(ProgramCorrector, PathOnAGeneralArmMatchesTheCalibratedInverse) {
+  std::mt19937_64 rng(11);
+  const CalibratedRobot robot = test::random_calibrated("fanuc-crx10ia", rng);
+  const Compensator comp = make_compensator(robot);
+  const auto corrector = make_program_corrector(comp, ProgramLanguage::FanucLs);
+  std::uniform_real_distribution<double> step(-deg2rad(2), deg2rad(2));
+  Vector6d q;
+  do q = test::random_joints(comp.model, rng);
+  while (test::near_singular(comp.model, q, 10));
+  Vector6d previous = Vector6d::Zero();
+  int points = 0, far = 0;
+  for (int k = 0; k < 120; ++k) {
+    Vector6d next = q;
+    for (int i = 0; i < kJointCount; ++i) next[i] += step(rng);
+    if (k % 40 == 39) next = test::random_joints(comp.model, rng);  // a jump: the full solve
+    // Away from ±180°, where the written turn of a joint changes, and from the limits, beyond
+    // which the calibrated answer may lie (then another turn is written).
+    bool turn_edge = ((next.cwiseAbs().array() - std::numbers::pi).abs() < deg2rad(2)).any();
+    for (int i = 0; i < kJointCount; ++i)
+      turn_edge |= std::min(next[i] - comp.model.limits[i].lower,
+                            comp.model.limits[i].upper - next[i]) < deg2rad(2);
+    if (!comp.model.within_limits(next) || test::near_singular(comp.model, next, 10) || turn_edge)
+      continue;
+    far += k % 40 == 39;
+    q = next;
+    ProgramPoint point;
+    point.base_T_tcp = nominal_tcp_pose(comp, q);
+    point.config = maker_configuration(comp, ProgramLanguage::FanucLs, q);
+    const CorrectedPoint got = corrector(point);
+    ASSERT_TRUE(got.failure.empty()) << got.failure;
+    const CalibratedIkResult want = calibrated_ik(comp, comp.world_T_base * point.base_T_tcp,
+                                                  arm_config(comp.model, q), previous);
+    ASSERT_TRUE(want.ok());
+    EXPECT_LT((got.joints_deg - want.joints * kRadToDeg).cwiseAbs().maxCoeff(), 1e-6) << k;
+    EXPECT_EQ(got.config, point.config) << k;
+    previous = want.joints;
+    ++points;
+  }
+  EXPECT_GT(points, 100);
+  EXPECT_GE(far, 1);
 }
 
 INSTANTIATE_TEST_SUITE_P(
