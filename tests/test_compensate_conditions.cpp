@@ -15,6 +15,8 @@
 
 #include "refusal.hpp"
 #include "robcal/compensate/compensate_targets.hpp"
+#include "robcal/compensate/compensation_setup.hpp"
+#include "robcal/compensate/corrected_targets.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/identify/identification.hpp"
 #include "robcal/io/measurement_file.hpp"
@@ -229,6 +231,86 @@ TEST(CompensateConditions, EachTargetUnderItsOwnCondition) {
 // The targets file's condition columns in the measurement file's notation (any order, trailing
 // cells optional, empty: the run's), the corrected CSV recording each row's condition, and bad
 // cells refused at file:line:column (key) with the measurement reader's own messages.
+// A program's points are reached from the previous point: each joint from the side of its
+// move (make_program_corrector's `by_approach`, `compensate-program --approach motion`). A path
+// of 80 RAPID targets with reversals on every joint, executed on the true robot (backlash by the
+// actual commanded moves, at the reference temperature, with the tool's own payload): corrected
+// under each move's side the true error is at the noise floor, under the run's one side
+// (every joint from below) the backlash stays.
+TEST(CompensateConditions, ProgramPointsUnderTheSideOfTheirMove) {
+  const Calibrated& c = calibrated();
+  const Compensation run{c.robot, make_compensator(c.robot), {}};
+  const Compensator& comp = run.comp;
+  Pose<double> flange_T_tcp;
+  flange_T_tcp.R = c.truth.robot.tool.flange_T_tcp.linear();
+  flange_T_tcp.p = c.truth.robot.tool.flange_T_tcp.translation();
+  const auto box = published_joint_box(c.truth.robot.model);
+  // The truth reaching q from `from`, each joint from the side of its move.
+  const auto reached = [&](const Vector6d& q, const std::optional<Vector6d>& from) {
+    MotionState motion;
+    motion.temperature_rise_k = 0;
+    if (from) {
+      motion.from_below = false;
+      motion.previous_joints = *from;
+    }
+    return Pose<double>(true_flange_pose(c.truth, q, motion) * flange_T_tcp);
+  };
+  std::mt19937_64 rng(2103);
+  std::uniform_real_distribution<double> step(-deg2rad(4), deg2rad(4));
+  std::vector<ProgramPoint> points;
+  std::vector<Pose<double>> wanted;
+  Vector6d q = Vector6d::Zero();
+  q[1] = deg2rad(10);
+  q[4] = deg2rad(40);
+  std::optional<Vector6d> from;
+  while (points.size() < 80) {
+    Vector6d next = q;
+    for (int i = 0; i < kJointCount; ++i) next[i] += step(rng);
+    bool inside = true;
+    for (int i = 0; i < kJointCount; ++i)
+      inside &= next[i] > box[i].lower + deg2rad(3) && next[i] < box[i].upper - deg2rad(3);
+    if (!inside || test::near_singular(c.truth.robot.model, next, 10)) continue;
+    q = next;
+    wanted.push_back(reached(q, from));
+    from = q;
+    ProgramPoint point;
+    point.base_T_tcp = comp.base_T_world * wanted.back();
+    point.config = maker_configuration(comp, ProgramLanguage::Rapid, q);
+    points.push_back(point);
+  }
+  CompensatorsByCondition by_condition(run);
+  const ApproachCompensators by_approach = [&](const Vector6d& approach) -> const Compensator& {
+    ReachCondition condition = comp.condition;
+    condition.approach = approach;
+    return by_condition.at(condition);
+  };
+  // The corrected joints executed in order on the truth; mean and largest error (mm).
+  const auto execute = [&](const PointCorrector& corrector) {
+    double sum = 0, worst = 0;
+    std::optional<Vector6d> previous;
+    for (size_t k = 0; k < points.size(); ++k) {
+      const CorrectedPoint p = corrector(points[k]);
+      EXPECT_TRUE(p.failure.empty()) << p.failure;
+      const Vector6d joints = p.joints_deg * kDegToRad;
+      const double e = (reached(joints, previous).p - wanted[k].p).norm();
+      sum += e;
+      worst = std::max(worst, e);
+      previous = joints;
+    }
+    return std::pair{sum / static_cast<double>(points.size()), worst};
+  };
+  const auto [motion_mean, motion_max] =
+      execute(make_program_corrector(comp, ProgramLanguage::Rapid, nullptr, by_approach));
+  const auto [run_mean, run_max] = execute(make_program_corrector(comp, ProgramLanguage::Rapid));
+  std::printf(
+      "program path, 80 points on the true robot: each move's side %.4f / %.4f mm, the "
+      "run's side %.4f / %.4f mm (mean / max); %zu compensators\n",
+      motion_mean, motion_max, run_mean, run_max, by_condition.made());
+  EXPECT_LT(motion_mean, 0.02);
+  EXPECT_GT(run_mean, 3 * motion_mean);
+  EXPECT_GT(by_condition.made(), 10u);
+}
+
 TEST(CompensateConditions, TargetsFileColumns) {
   const std::vector<ListedPose> poses = parse_pose_list(
       "name,x,y,z,qw,qx,qy,qz,payload,temperature,approach,config\n"

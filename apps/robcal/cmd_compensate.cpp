@@ -97,8 +97,11 @@ struct ProgramFilterFlags {
   bool keep_going = false;
 };
 
-void run_compensate_program(const ModelOptions& o, const ProgramFilterFlags& f) {
+void run_compensate_program(const ModelOptions& options, const ProgramFilterFlags& f) {
   ProgramCompensationRequest request;
+  ModelOptions o = options;
+  request.approach_from_motion = o.approach == "motion";
+  if (request.approach_from_motion) o.approach = ModelOptions{}.approach;
   request.setup = parse_setup(o);
   request.in = f.in;
   request.out = f.out;
@@ -146,7 +149,9 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
                   "Its centre of gravity x,y,z in the flange frame");
   cmd->add_option("--approach", o.approach,
                   "Side each joint reaches the targets from, one of + (below, as the measurement "
-                  "programs do), - (above), 0 (unknown) per joint: the backlash group's sign")
+                  "programs do), - (above), 0 (unknown) per joint: the backlash group's sign; "
+                  "compensate-program also 'motion': each point from its move from the previous "
+                  "one (the first from below)")
       ->capture_default_str();
   cmd->add_option("--payload", o.payload_name,
                   "Payload carried now by name, one of the tool's 'payloads:' (the compliance "

@@ -124,6 +124,9 @@ std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows, cons
 
 namespace {
 
+/// A joint that moves less than this between two points stays on the side it was (rad).
+constexpr double kStillRad = 1e-9;
+
 /// How near the previous corrected target a target must be for the calibrated inverse to start
 /// from the previous joints on a general 6R arm (make_program_corrector).
 constexpr double kContinuationMm = 50.0;
@@ -204,127 +207,164 @@ std::vector<int> maker_configuration(const Compensator& comp, ProgramLanguage la
 }
 
 PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language,
-                                      const CalibratedRobot* robot) {
+                                      const CalibratedRobot* robot,
+                                      ApproachCompensators by_approach) {
   // The previous point's joints: the branch of KRL points without S/T; and its target, when it
-  // was corrected (the continuation below).
+  // was corrected (the continuation below); the side each joint reached it from.
   auto previous = std::make_shared<Vector6d>(Vector6d::Zero());
   auto previous_target = std::make_shared<std::optional<Pose<double>>>();
+  auto previous_side = std::make_shared<std::optional<Vector6d>>();
   const bool general_arm = std::holds_alternative<General6rGeometry>(comp.geometry);
-  return
-      [&comp, language, robot, previous, previous_target, general_arm](const ProgramPoint& point) {
-        CorrectedPoint out;
-        Pose<double> base_T_tcp;
-        Vector6d near;
-        ArmConfig branch{};
-        // A point for another tool Tk is the flange pose X·Tk⁻¹: solved as the compensator's TCP
-        // T0 at X·Tk⁻¹·T0, and written back as the nominal flange pose times Tk.
-        const Pose<double> tool_shift =
-            point.flange_T_tcp ? point.flange_T_tcp->inverse() * comp.flange_T_tcp : Pose<double>{};
-        // The calibrated answer `r` of the target `base_T_tcp` in `branch`, written back.
-        const auto finish = [&](const CalibratedIkResult& r, const ArmConfig& branch,
-                                const Pose<double>& target) {
-          if (!r.ok()) {
-            previous_target->reset();
-            out.failure = fmt::format("cannot correct: {} ({:.3g} mm from the pose)",
-                                      to_string(r.status), r.position_error_mm);
-            return out;
-          }
-          *previous = r.joints;
-          *previous_target = target;
-          out.joints_deg = r.joints * kRadToDeg;
-          out.base_T_tcp = nominal_tcp_pose(comp, r.joints) * tool_shift.inverse();
-          if (robot)
-            out.confidence95_mm =
-                position_confidence95_mm(*robot, comp.condition.payload,
-                                         point.flange_T_tcp.value_or(comp.flange_T_tcp), r.joints);
-          if (!point.is_joint_target && !point.config.empty())
-            out.config = configuration_data(language, r.joints, branch).vector();
-          return out;
-        };
-        if (point.is_joint_target) {
-          near = point.joints_deg * kDegToRad;
-          base_T_tcp = nominal_tcp_pose(comp, near);
-          branch = arm_config(comp.model, near);
-        } else {
-          base_T_tcp = point.base_T_tcp * tool_shift;
-          const Pose<double> base_T_flange = base_T_tcp * comp.flange_T_tcp.inverse();
-          // The written branch solved alone (its turn nearest the previous joints) when the
-          // configuration names it: when its turns are the written ones too, no other solution
-          // can score better below.
-          const IkSolution* best = nullptr;
-          const std::optional<ArmConfig> written = written_branch(language, point.config);
-          // On a general 6R arm the nominal inverse (every real solution, ≈ 150 µs) is most of a
-          // target's cost, and a program's targets usually follow each other: Newton on the
-          // calibrated model from the previous target's joints, kept only when that target was
-          // near (a small move cannot jump to another solution of the same written configuration)
-          // and the answer has the written configuration, branch and turns.
-          if (general_arm && written && previous_target->has_value() &&
-              (base_T_tcp.p - (*previous_target)->p).norm() < kContinuationMm &&
-              Eigen::AngleAxisd((*previous_target)->R.transpose() * base_T_tcp.R).angle() <
-                  kContinuationRad) {
-            const CalibratedIkResult r =
-                calibrated_ik_newton(comp, comp.world_T_base * base_T_tcp, *previous);
-            if (r.ok() && arm_config(comp.model, r.joints) == *written &&
-                configuration_data(language, r.joints, *written) == point.config)
-              return finish(r, *written, base_T_tcp);
-          }
-          const IkBranchResult alone =
-              written ? nominal_ik_branch(comp.geometry, base_T_flange, *written, *previous)
-                      : IkBranchResult{};
-          if (alone.status == IkStatus::Solved &&
-              configuration_data(language, alone.solution.joints, alone.solution.config) ==
-                  point.config)
-            best = &alone.solution;
-          if (best) {
-            near = best->joints;
-            branch = best->config;
+  return [&comp, language, robot, previous, previous_target, previous_side, general_arm,
+          by_approach = std::move(by_approach)](const ProgramPoint& point) {
+    CorrectedPoint out;
+    // The side each joint reaches the point from (docs/method/10-compensation.md §6): the
+    // sign of its move from the previous point; a joint that does not move stays on its
+    // side; the first point, the run's.
+    const auto side_of = [&](const Vector6d& joints) {
+      if (!previous_side->has_value()) return Vector6d(comp.condition.approach);
+      Vector6d side = **previous_side;
+      for (int i = 0; i < kJointCount; ++i) {
+        const double move = joints[i] - (*previous)[i];
+        if (std::abs(move) > kStillRad) side[i] = move > 0 ? 1.0 : -1.0;
+      }
+      return side;
+    };
+    Vector6d side = comp.condition.approach;
+    // The calibrated inverse `iterate` under the run's condition, or with `by_approach`
+    // under the side of the move: guessed from the seed, checked on the answer (the two
+    // differ for a joint that moves less than the calibration changes it).
+    const auto calibrated = [&](const auto& iterate, const Vector6d& seed) {
+      if (!by_approach) return iterate(comp);
+      side = side_of(seed);
+      CalibratedIkResult r = iterate(by_approach(side));
+      if (r.ok() && side_of(r.joints) != side) {
+        side = side_of(r.joints);
+        r = iterate(by_approach(side));
+      }
+      return r;
+    };
+    Pose<double> base_T_tcp;
+    Vector6d near;
+    ArmConfig branch{};
+    // A point for another tool Tk is the flange pose X·Tk⁻¹: solved as the compensator's TCP
+    // T0 at X·Tk⁻¹·T0, and written back as the nominal flange pose times Tk.
+    const Pose<double> tool_shift =
+        point.flange_T_tcp ? point.flange_T_tcp->inverse() * comp.flange_T_tcp : Pose<double>{};
+    // The calibrated answer `r` of the target `base_T_tcp` in `branch`, written back.
+    const auto finish = [&](const CalibratedIkResult& r, const ArmConfig& branch,
+                            const Pose<double>& target) {
+      if (!r.ok()) {
+        previous_target->reset();
+        out.failure = fmt::format("cannot correct: {} ({:.3g} mm from the pose)",
+                                  to_string(r.status), r.position_error_mm);
+        return out;
+      }
+      *previous = r.joints;
+      *previous_target = target;
+      *previous_side = side;
+      out.joints_deg = r.joints * kRadToDeg;
+      out.base_T_tcp = nominal_tcp_pose(comp, r.joints) * tool_shift.inverse();
+      if (robot)
+        out.confidence95_mm =
+            position_confidence95_mm(*robot, comp.condition.payload,
+                                     point.flange_T_tcp.value_or(comp.flange_T_tcp), r.joints);
+      if (!point.is_joint_target && !point.config.empty())
+        out.config = configuration_data(language, r.joints, branch).vector();
+      return out;
+    };
+    if (point.is_joint_target) {
+      near = point.joints_deg * kDegToRad;
+      base_T_tcp = nominal_tcp_pose(comp, near);
+      branch = arm_config(comp.model, near);
+    } else {
+      base_T_tcp = point.base_T_tcp * tool_shift;
+      const Pose<double> base_T_flange = base_T_tcp * comp.flange_T_tcp.inverse();
+      // The written branch solved alone (its turn nearest the previous joints) when the
+      // configuration names it: when its turns are the written ones too, no other solution
+      // can score better below.
+      const IkSolution* best = nullptr;
+      const std::optional<ArmConfig> written = written_branch(language, point.config);
+      // On a general 6R arm the nominal inverse (every real solution, ≈ 150 µs) is most of a
+      // target's cost, and a program's targets usually follow each other: Newton on the
+      // calibrated model from the previous target's joints, kept only when that target was
+      // near (a small move cannot jump to another solution of the same written configuration)
+      // and the answer has the written configuration, branch and turns.
+      if (general_arm && written && previous_target->has_value() &&
+          (base_T_tcp.p - (*previous_target)->p).norm() < kContinuationMm &&
+          Eigen::AngleAxisd((*previous_target)->R.transpose() * base_T_tcp.R).angle() <
+              kContinuationRad) {
+        const CalibratedIkResult r = calibrated(
+            [&](const Compensator& c) {
+              return calibrated_ik_newton(c, c.world_T_base * base_T_tcp, *previous);
+            },
+            *previous);
+        if (r.ok() && arm_config(comp.model, r.joints) == *written &&
+            configuration_data(language, r.joints, *written) == point.config)
+          return finish(r, *written, base_T_tcp);
+      }
+      const IkBranchResult alone =
+          written ? nominal_ik_branch(comp.geometry, base_T_flange, *written, *previous)
+                  : IkBranchResult{};
+      if (alone.status == IkStatus::Solved &&
+          configuration_data(language, alone.solution.joints, alone.solution.config) ==
+              point.config)
+        best = &alone.solution;
+      if (best) {
+        near = best->joints;
+        branch = best->config;
+      } else {
+        // Initialised in place: IkResult's unused entries are never copied (they hold no
+        // values).
+        const IkResult all = nominal_ik(comp.geometry, base_T_flange, *previous);
+        // The written configuration: the branch must match, the turns should.
+        int best_score = -1;
+        for (const IkSolution& s : all) {
+          // The solver labels its solutions: no forward kinematics per candidate.
+          const ConfigurationData cfg = configuration_data(language, s.joints, s.config);
+          int score = 0;
+          if (point.config.empty()) {
+            score = 1;
           } else {
-            // Initialised in place: IkResult's unused entries are never copied (they hold no
-            // values).
-            const IkResult all = nominal_ik(comp.geometry, base_T_flange, *previous);
-            // The written configuration: the branch must match, the turns should.
-            int best_score = -1;
-            for (const IkSolution& s : all) {
-              // The solver labels its solutions: no forward kinematics per candidate.
-              const ConfigurationData cfg = configuration_data(language, s.joints, s.config);
-              int score = 0;
-              if (point.config.empty()) {
-                score = 1;
-              } else {
-                // The branch: RAPID cfx, KRL S, Fanuc's three letters, Yaskawa's first three flags.
-                const auto same = [&](size_t k) { return cfg[k] == point.config[k]; };
-                const bool three =
-                    language == ProgramLanguage::FanucLs || language == ProgramLanguage::Jbi;
-                if (language == ProgramLanguage::Rapid ? !same(3)
-                    : three                            ? !(same(0) && same(1) && same(2))
-                                                       : !same(0))
-                  continue;
-                score = cfg == point.config ? 2 : 1;
-              }
-              if (score > best_score ||
-                  (score == best_score && (s.joints - *previous).squaredNorm() <
-                                              (best->joints - *previous).squaredNorm())) {
-                best = &s;
-                best_score = score;
-              }
-            }
-            if (!best) {
-              out.failure =
-                  point.config.empty()
-                      ? fmt::format("unreachable for the nominal robot ({})", to_string(all.status))
-                      : fmt::format("no nominal solution with the written configuration [{}]",
-                                    fmt::join(point.config, ","));
-              previous_target->reset();
-              return out;
-            }
-            near = best->joints;
-            branch = best->config;
+            // The branch: RAPID cfx, KRL S, Fanuc's three letters, Yaskawa's first three flags.
+            const auto same = [&](size_t k) { return cfg[k] == point.config[k]; };
+            const bool three =
+                language == ProgramLanguage::FanucLs || language == ProgramLanguage::Jbi;
+            if (language == ProgramLanguage::Rapid ? !same(3)
+                : three                            ? !(same(0) && same(1) && same(2))
+                                                   : !same(0))
+              continue;
+            score = cfg == point.config ? 2 : 1;
+          }
+          if (score > best_score ||
+              (score == best_score &&
+               (s.joints - *previous).squaredNorm() < (best->joints - *previous).squaredNorm())) {
+            best = &s;
+            best_score = score;
           }
         }
-        // `near` is the nominal solution of `branch`: the seed of the calibrated inverse.
-        return finish(calibrated_ik_from_seed(comp, comp.world_T_base * base_T_tcp, branch, near),
-                      branch, base_T_tcp);
-      };
+        if (!best) {
+          out.failure =
+              point.config.empty()
+                  ? fmt::format("unreachable for the nominal robot ({})", to_string(all.status))
+                  : fmt::format("no nominal solution with the written configuration [{}]",
+                                fmt::join(point.config, ","));
+          previous_target->reset();
+          return out;
+        }
+        near = best->joints;
+        branch = best->config;
+      }
+    }
+    // `near` is the nominal solution of `branch`: the seed of the calibrated inverse.
+    return finish(calibrated(
+                      [&](const Compensator& c) {
+                        return calibrated_ik_from_seed(c, c.world_T_base * base_T_tcp, branch,
+                                                       near);
+                      },
+                      near),
+                  branch, base_T_tcp);
+  };
 }
 
 }  // namespace robcal

@@ -57,10 +57,18 @@ ProgramCompensationResult compensate_program(const ProgramCompensationRequest& r
   result.in = request.in;
   result.out = request.out;
   result.language = language;
-  result.filter =
-      filter_program_file(request.in, request.out, options,
-                          make_program_corrector(compensation.comp, language, &compensation.robot),
-                          request.confidence_out);
+  CompensatorsByCondition by_condition(compensation);
+  ApproachCompensators by_approach;
+  if (request.approach_from_motion)
+    by_approach = [&](const Vector6d& approach) -> const Compensator& {
+      ReachCondition condition = compensation.comp.condition;
+      condition.approach = approach;
+      return by_condition.at(condition);
+    };
+  result.filter = filter_program_file(
+      request.in, request.out, options,
+      make_program_corrector(compensation.comp, language, &compensation.robot, by_approach),
+      request.confidence_out);
   if (result.filter.dat_text) result.out_companion = krl_companion_path(request.out);
   return result;
 }

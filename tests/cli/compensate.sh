@@ -100,6 +100,10 @@ cmp "$out/in.mod" tests/data/programs/pick_place.mod
 changed=$(diff <(cat "$out/in.mod") <(cat "$out/out.mod") | grep -c '^<' || true)
 test "$changed" -eq 6 || { echo "expected 6 changed lines, got $changed"; exit 1; }
 grep -q '"cartesian_points": 6' "$out/prog.json"
+# Each point under the side of its move: the model has no backlash group, so the same program.
+"$robcal" compensate-program --model "$out/model.yaml" --tool "$out/sim/tool.yaml" \
+  --in "$out/in.mod" --out "$out/motion.mod" --approach motion > /dev/null
+cmp "$out/out.mod" "$out/motion.mod"
 
 # Bad input: exit 2, the place named, no output.
 expect_error() {  # expect_error WORD args...
@@ -129,6 +133,8 @@ expect_error "give the payload either by name (--payload) or by --payload-mass-k
   --model "$out/model.yaml" --tool "$out/named.yaml" --targets "$out/wanted.csv" \
   --out "$out/bad.csv" --payload gripper --payload-mass-kg 3 --payload-cog-mm 0,0,80
 printf 'MODULE m\n  CONST robtarget p10:=[[400,0,500],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n  PROC main()\n    MoveL p10, v100, fine, tool0\\WObj:=wobjTable;\n  ENDPROC\nENDMODULE\n' > "$out/wobj.mod"
+expect_error "--approach: " compensate --model "$out/model.yaml" --targets "$out/targets.csv" \
+  --out "$out/bad.csv" --approach motion
 expect_error "wobj.mod:2:24 (p10): unknown work object 'WOBJTABLE'" compensate-program \
   --model "$out/model.yaml" --in "$out/wobj.mod" --out "$out/bad.mod"
 expect_error "not a KUKA" compensate --robot kuka-kr6-r900-sixx --model "$out/model.yaml" \

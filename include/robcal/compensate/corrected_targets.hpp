@@ -6,6 +6,7 @@
 /// radius of the position from the model's parameter covariance; and the same as a corrector of
 /// robot programs (RAPID / KRL configuration data mapped to arm branches and turns).
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -68,8 +69,14 @@ std::optional<double> position_confidence95_mm(const CalibratedRobot& robot,
 /// A point with its own tool (ProgramPoint::flange_T_tcp) is corrected for that tool (the
 /// payload stays the compensator's). With `robot`, each corrected point carries its 95 %
 /// confidence radius. `comp` and `robot` must outlive the corrector.
+/// With `by_approach`, each point is corrected under the side each joint reaches it from, the
+/// sign of its move from the previous point (a joint that does not move stays on its side; the
+/// first point takes the run's approach): the compensator it returns for that side (the backlash
+/// group, docs/method/03-error-model.md §6); the references it returns must outlive the corrector.
+using ApproachCompensators = std::function<const Compensator&(const Vector6d& approach)>;
 PointCorrector make_program_corrector(const Compensator& comp, ProgramLanguage language,
-                                      const CalibratedRobot* robot = nullptr);
+                                      const CalibratedRobot* robot = nullptr,
+                                      ApproachCompensators by_approach = {});
 
 /// Configuration data as the maker writes it for controller joints (rad): RAPID (cf1, cf4,
 /// cf6, cfx) with cfx = ArmConfig index; KRL (S, T) with S bit 0 = back, bit 1 = up,

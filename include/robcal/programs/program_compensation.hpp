@@ -23,6 +23,9 @@ struct ProgramCompensationRequest {
   /// its entries join `options.tools` / `options.frames`.
   std::string frames_file;
   ProgramFilterOptions options;
+  /// Each point under the side each joint reaches it from, the sign of its move from the
+  /// previous point (make_program_corrector's `by_approach`), instead of `setup.approach`.
+  bool approach_from_motion = false;
 };
 
 struct ProgramCompensationResult {
