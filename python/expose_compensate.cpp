@@ -167,9 +167,10 @@ const bool registered = register_bindings(70, [](py::module_& m) {
           [](const PyCompensator& c, const std::string& in, const std::string& out, bool joints,
              bool keep_going, const std::optional<std::string>& frames,
              const std::optional<std::string>& confidence_out,
-             const std::optional<Vector6d>& pulses_per_degree) {
+             const std::optional<Vector6d>& pulses_per_degree, bool approach_from_motion) {
             ProgramCompensationRequest request;
             request.setup = c.setup;
+            request.approach_from_motion = approach_from_motion;
             request.in = in;
             request.out = out;
             request.frames_file = frames.value_or("");
@@ -184,8 +185,10 @@ const bool registered = register_bindings(70, [](py::module_& m) {
           py::arg("in_path"), py::arg("out_path"), py::arg("joints") = false,
           py::arg("keep_going") = false, py::arg("frames") = py::none(),
           py::arg("confidence_out") = py::none(), py::arg("pulses_per_degree") = py::none(),
+          py::arg("approach_from_motion") = false,
           "Writes a corrected copy of a robot program (only the points change), as `robcal "
-          "compensate-program`; returns its JSON summary")
+          "compensate-program` (approach_from_motion: `--approach motion`); returns its JSON "
+          "summary")
       .def(
           "compensate_targets",
           [](const PyCompensator& c, const std::string& targets, const std::string& method,

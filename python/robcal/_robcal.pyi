@@ -356,11 +356,13 @@ class Compensator:
     def compensate_program(self, in_path: str, out_path: str, joints: bool = False,
                            keep_going: bool = False, frames: Optional[str] = None,
                            confidence_out: Optional[str] = None,
-                           pulses_per_degree: Optional[ArrayLike] = None) -> Dict[str, Any]:
+                           pulses_per_degree: Optional[ArrayLike] = None,
+                           approach_from_motion: bool = False) -> Dict[str, Any]:
         """Writes a corrected copy of a robot program (only the points change), as `robcal
         compensate-program`; returns its JSON summary: in, out, language, cartesian_points,
         joint_points, uncorrected and assumed ([{where, reason}]). pulses_per_degree: the
-        robot's encoder pulses per degree, for Yaskawa pulse positions."""
+        robot's encoder pulses per degree, for Yaskawa pulse positions. approach_from_motion:
+        each point under the side each joint reaches it from (`--approach motion`)."""
 
     def compensate_targets(self, targets: str, method: str = "newton",
                            check_truth: Optional[str] = None,
