@@ -195,7 +195,7 @@ const bool calibrate_registered = register_command(30, [](CLI::App& app) {
   cmd->add_option("--identify", args->identify,
                   "Also identify the parameters matching this glob (repeatable), e.g. "
                   "'joint*.scale', or an opt-in group by name: periodic, backlash, mounting, "
-                  "thermal, groups (all of them)");
+                  "thermal, motor_periodic (joints with a gear_ratio), groups (all of them)");
   cmd->add_option("--fix", args->fix,
                   "Hold the parameters matching this glob at nominal (repeatable), e.g. 'link6.*'");
   cmd->add_option("--loss", args->loss, "none (least squares) or huber (robust; lists outliers)");

@@ -156,6 +156,29 @@ std::array<T, kPeriodicPerJoint> periodic_basis(const T& q) {
   return {c, s, c * c - s * s, T(2) * s * c};
 }
 
+/// The motor-angle periodic error's basis of model joint `joint` (1..6) at model angle q (rad):
+/// periodic_basis of the motor angle r·q, r the joint's gear ratio, in the layout's order of
+/// jointI.motor_periodicH.cos|sin (docs/method/03-error-model.md §9); zeros without a ratio.
+template <typename T>
+std::array<T, kPeriodicPerJoint> motor_periodic_basis(const RobotModel& model, int joint,
+                                                      const T& q) {
+  const double ratio = model.gear_ratio[static_cast<size_t>(joint - 1)];
+  if (ratio == 0.0) return {T(0), T(0), T(0), T(0)};
+  return periodic_basis(T(ratio) * q);
+}
+
+/// The periodic error term Σ_k e_k·b_k of one joint: `e` its four coefficients (periodic or
+/// motor-periodic), `basis` the matching basis; the coefficients all zero (and, for a Jet,
+/// underived) leave `theta` as it is without evaluating the basis.
+template <typename T, typename Basis>
+void add_periodic_error(const T* e, const Basis& basis, T& theta) {
+  bool periodic = false;
+  for (int k = 0; k < kPeriodicPerJoint; ++k) periodic = periodic || detail::is_nonzero(e[k]);
+  if (!periodic) return;
+  const std::array<T, kPeriodicPerJoint> b = basis();
+  for (int k = 0; k < kPeriodicPerJoint; ++k) theta += e[k] * b[k];
+}
+
 /// The side model joint `joint` (1..6) is approached from: +1 from below, −1 from above, 0
 /// unknown (the middle of the dead band), the controller joint's `approach` (null: every joint
 /// from below, the measurement programs' practice), reversed where the joint map reverses the
@@ -172,10 +195,10 @@ T backlash_shift(const T* params, double side, int joint) {
 }
 
 /// Joint angles θ_1..θ_6 (rad) used in the links: θ_i = scale_i·q_i + offset_i + δθ_i(q_i)
-/// − s_i·b_i/2 (+ c_i·τ_i when the model has compliance, joint 1's included), δθ_i the
-/// periodic error, b_i the
-/// backlash and s_i the approach of joint i (`approach`, see backlash_shift),
-/// docs/method/02-frames.md §5, 03-error-model.md §3, §6. `q` are model joint angles.
+/// + δμ_i(r_i·q_i) − s_i·b_i/2 (+ c_i·τ_i when the model has compliance, joint 1's included),
+/// δθ_i the periodic error, δμ_i the motor's (r_i the gear ratio), b_i the backlash and s_i the
+/// approach of joint i (`approach`, see backlash_shift), docs/method/02-frames.md §5,
+/// 03-error-model.md §3, §5, §6, §9. `q` are model joint angles.
 template <typename T>
 std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass& payload,
                                        const T* params, const std::array<T, kJointCount>& q,
@@ -185,12 +208,14 @@ std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass&
   for (int link = 2; link <= kJointCount; ++link)
     theta[link - 1] = params[scale_param(link)] * q[link - 1] + params[link_param(link, 2)];
   for (int joint = 1; joint <= kJointCount; ++joint) {
-    const T* e = params + periodic_param(joint, 1, false);
-    bool periodic = false;
-    for (int k = 0; k < kPeriodicPerJoint; ++k) periodic = periodic || detail::is_nonzero(e[k]);
-    if (!periodic) continue;
-    const std::array<T, kPeriodicPerJoint> b = periodic_basis(q[joint - 1]);
-    for (int k = 0; k < kPeriodicPerJoint; ++k) theta[joint - 1] += e[k] * b[k];
+    const T& qj = q[joint - 1];
+    add_periodic_error(
+        params + periodic_param(joint, 1, false), [&] { return periodic_basis(qj); },
+        theta[joint - 1]);
+    if (model.gear_ratio[static_cast<size_t>(joint - 1)] != 0.0)
+      add_periodic_error(
+          params + motor_periodic_param(joint, 1, false),
+          [&] { return motor_periodic_basis(model, joint, qj); }, theta[joint - 1]);
   }
   for (int joint = 1; joint <= kJointCount; ++joint)
     if (detail::is_nonzero(params[backlash_param(joint)]))

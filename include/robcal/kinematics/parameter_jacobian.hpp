@@ -29,8 +29,8 @@ using TwistJacobian = Eigen::Matrix<double, 6, kParameterCount>;
 /// - each geometric parameter is an elementary motion along the chain: a base translation, a
 ///   rotation about a base axis, a link's Rot_x(α_i) about x_{i-1} through o_{i-1}, Trans_x(a_i)
 ///   along x_{i-1}, Trans_z(d_i) along z_i;
-/// - joint offsets, scales, periodic errors, backlash and compliances act through the joint angles
-/// θ_i,
+/// - joint offsets, scales, periodic errors (of the joints and of their motors), backlash and
+///   compliances act through the joint angles θ_i,
 ///   whose column is the joint twist (o_i × z_i; z_i) of the deflected chain;
 /// - with compliance, θ_i = θu_i + c_i·τ_i(θu, params) (docs/method/03-error-model.md §3), so every
 /// parameter also
@@ -62,6 +62,7 @@ using PeriodicBasis = std::array<std::array<double, kPeriodicPerJoint>, kJointCo
 struct PreparedConfiguration {
   Vector6d q = Vector6d::Zero();  ///< model joint values (joint map applied)
   PeriodicBasis basis{};          ///< periodic_basis of each q (the periodic errors' factors)
+  PeriodicBasis motor_basis{};    ///< motor_periodic_basis of each q (the motors' factors)
   /// Each model joint's side (model_approach: +1 below, −1 above, 0 unknown), the backlash's
   /// factor.
   Vector6d approach = Vector6d::Ones();
@@ -91,7 +92,7 @@ class FlangeRegressor {
 
  private:
   Vector6d q_, c_;  ///< model joint values; compliances (c_[0]: joint 1's, §7)
-  PeriodicBasis basis_;
+  PeriodicBasis basis_, motor_basis_;
   Vector6d approach_;
   /// ΔT, and per link (index link − 1) the cold a_i, d_i and their growth 1 + e_i·ΔT.
   double temperature_rise_k_ = 0;

@@ -78,6 +78,9 @@ struct RobotModel {
   /// default 20 °C, ISO 1's reference for dimensional specifications): the thermal group scales
   /// a_i, d_i by (1 + e_i·(T − this)) (docs/method/03-error-model.md §8).
   double reference_temperature_c = 20;
+  /// Motor turns per turn of each model joint (robot file `gear_ratio`, ~ or absent: unknown, 0):
+  /// the motor-angle periodic group of a joint needs it (docs/method/03-error-model.md §9).
+  std::array<double, kJointCount> gear_ratio{};
 
   /// Nominal parameter vector (docs/method/03-error-model.md §1 layout, internal units).
   [[nodiscard]] ParameterVector nominal() const;
