@@ -43,11 +43,11 @@ const GroupSignificance& group_named(const std::vector<GroupSignificance>& group
 }
 
 TEST(MotorPeriodicErrors, NamesUnitsAndGroups) {
-  EXPECT_EQ(kParameterCount, 97);
+  EXPECT_EQ(kWarmupOffset, 97);
   EXPECT_EQ(parameter_table()[motor_periodic_param(1, 1, false)].name,
             "joint1.motor_periodic1.cos");
   EXPECT_EQ(parameter_table()[motor_periodic_param(6, 2, true)].name, "joint6.motor_periodic2.sin");
-  EXPECT_EQ(motor_periodic_param(6, 2, true), kParameterCount - 1);
+  EXPECT_EQ(motor_periodic_param(6, 2, true), kWarmupOffset - 1);
   EXPECT_EQ(parameter_table()[motor_periodic_param(3, 1, true)].unit, "deg");
   EXPECT_EQ(match_parameters("joint6.motor_periodic*").size(), 4u);
   // The joint-angle patterns do not catch the motor's terms.
@@ -58,7 +58,7 @@ TEST(MotorPeriodicErrors, NamesUnitsAndGroups) {
   EXPECT_EQ(opt_in_group_parameters("joint6.motor_periodic").size(), 4u);
   EXPECT_EQ(opt_in_group_parameters("groups").size(),
             static_cast<size_t>(kParameterCount - kPeriodicOffset));
-  ASSERT_EQ(opt_in_groups().size(), 20u);
+  ASSERT_EQ(opt_in_groups().size(), 21u);
   EXPECT_EQ(opt_in_groups()[19].name, "joint6.motor_periodic");
   EXPECT_TRUE(is_opt_in(motor_periodic_param(1, 1, false)));
   for (int i : level_parameters(CalibrationLevel::Full)) EXPECT_FALSE(is_opt_in(i));
@@ -120,7 +120,7 @@ CalibratedRobot calibrated_with_motor_errors(const char* name, std::mt19937_64& 
   robot.model.gear_ratio = {121, 121, 81, 50, 51.5, 101};
   std::uniform_real_distribution<double> u(-1, 1);
   for (int i = kPeriodicOffset; i < kBacklashOffset; ++i) robot.params[i] = deg2rad(0.03 * u(rng));
-  for (int i = kMotorPeriodicOffset; i < kParameterCount; ++i)
+  for (int i = kMotorPeriodicOffset; i < kWarmupOffset; ++i)
     robot.params[i] = deg2rad(0.005 * u(rng));
   return robot;
 }
@@ -302,7 +302,7 @@ TEST(MotorPeriodicErrors, TruthFileRoundTrip) {
   EXPECT_NE(text.find("motor_periodic_deg:\n  6: ["), std::string::npos) << text;
   const TrueRobot back = parse_truth(yaml::parse(text, "truth.yaml"));
   EXPECT_EQ(back.robot.model.gear_ratio[5], kJoint6Ratio);
-  for (int i = kMotorPeriodicOffset; i < kParameterCount; ++i)
+  for (int i = kMotorPeriodicOffset; i < kWarmupOffset; ++i)
     EXPECT_NEAR(back.robot.params[i], truth.robot.params[i], 1e-15) << parameter_table()[i].name;
   std::string bad = text;
   const size_t at = bad.find("motor_periodic_deg:\n  6:");

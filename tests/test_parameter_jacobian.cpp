@@ -35,7 +35,7 @@ ParameterVector perturbed(const RobotModel& model, std::mt19937_64& rng, bool co
   for (int j = 1; j <= 6; ++j) x[compliance_param(j)] = compliance ? 5e-7 * (1 + n(rng)) : 0.0;
   for (int j = 1; j <= 6; ++j) x[scale_param(j)] = 1.0 + 0.01 * n(rng);
   for (int i = kPeriodicOffset; i < kMountingOffset; ++i) x[i] = deg2rad(0.05 * n(rng));
-  for (int i = kMotorPeriodicOffset; i < kParameterCount; ++i) x[i] = deg2rad(0.005 * n(rng));
+  for (int i = kMotorPeriodicOffset; i < kWarmupOffset; ++i) x[i] = deg2rad(0.005 * n(rng));
   return x;
 }
 

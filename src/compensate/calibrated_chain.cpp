@@ -95,10 +95,10 @@ void chain_frames(const CalibratedChain& c, const std::array<double, kJointCount
 CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& cold_params,
                                       const PointMass& payload, const Pose<double>& flange_T_tcp,
                                       const RowConditions& row) {
-  // At the target's temperature the links have their warm lengths (§8).
+  // At the target's temperature and warm-up the links have their warm lengths (§8, §10).
   const ParameterVector params =
       thermal_active(cold_params.data(), row)
-          ? ParameterVector(warm_parameters(cold_params.data(), row.temperature_rise_k).data())
+          ? ParameterVector(warm_parameters(model, cold_params.data(), row).data())
           : cold_params;
   const double* approach = row.approach ? row.approach->data() : nullptr;
   CalibratedChain c;

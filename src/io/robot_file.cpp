@@ -200,7 +200,7 @@ RobotModel parse_robot(const yaml::Node& root) {
   yaml::expect_keys(
       root, {"name", "manufacturer", "source", "euler", "mdh", "joint_limits_deg", "masses",
              "gravity_m_s2", "joint_map", "reach_mm", "pulses_per_degree", "gravity_base_m_s2",
-             "mounting_deg", "reference_temperature_c", "gear_ratio"});
+             "mounting_deg", "reference_temperature_c", "gear_ratio", "warmup_time_constant_s"});
   RobotModel model;
   model.name = root.at("name").as_string();
   if (root.has("manufacturer")) model.manufacturer = root.at("manufacturer").as_string();
@@ -254,6 +254,9 @@ RobotModel parse_robot(const yaml::Node& root) {
         yaml::number_in(root.at("reference_temperature_c"), kTemperatureC);
 
   if (root.has("gear_ratio")) model.gear_ratio = parse_gear_ratios(root.at("gear_ratio"));
+  if (root.has("warmup_time_constant_s"))  // a minute to a working week
+    model.warmup_time_constant_s =
+        yaml::number_in(root.at("warmup_time_constant_s"), {1, 1e6, "s"});
 
   if (root.has("joint_map")) {
     const yaml::Node map = root.at("joint_map");
@@ -308,6 +311,8 @@ void emit_robot_fields(YAML::Emitter& out, const RobotModel& model) {
   emit_gravity(out, model);
   if (model.reference_temperature_c != RobotModel{}.reference_temperature_c)
     out << YAML::Key << "reference_temperature_c" << YAML::Value << model.reference_temperature_c;
+  if (model.warmup_time_constant_s != RobotModel{}.warmup_time_constant_s)
+    out << YAML::Key << "warmup_time_constant_s" << YAML::Value << model.warmup_time_constant_s;
   if (model.gear_ratio != RobotModel{}.gear_ratio) {
     out << YAML::Key << "gear_ratio" << YAML::Value << YAML::Flow << YAML::BeginSeq;
     for (const double r : model.gear_ratio) {

@@ -88,6 +88,7 @@ PreparedConfiguration prepare_configuration(const RobotModel& model,
                                             const Vector6d& joints, const RowConditions& row) {
   PreparedConfiguration out;
   out.temperature_rise_k = row.temperature_rise_k;
+  out.warmup_fraction = row.warmup_fraction;
   out.q = model.joint_map.matrix * joints + model.joint_map.offset;
   for (int k = 0; k < kJointCount; ++k) {
     out.basis[k] = periodic_basis(out.q[k]);
@@ -115,13 +116,16 @@ FlangeRegressor::FlangeRegressor(const RobotModel& model, const PointMass& paylo
   // The chain at the row's temperature (§8): the warm lengths; jacobian() applies the chain rule.
   std::array<double, kParameterCount> warm;
   const double* x = params.data();
+  const RowConditions row{nullptr, temperature_rise_k_, configuration.warmup_fraction};
   for (int link = 2; link <= kJointCount; ++link) {
     cold_a_[link - 1] = x[link_param(link, 1)];
     cold_d_[link - 1] = x[link_param(link, 3)];
-    growth_[link - 1] = 1 + x[expansion_param(link)] * temperature_rise_k_;
+    warmup_per_length_[link - 1] = row.warmup_fraction * inverse_link_length(model, link);
+    growth_[link - 1] = 1 + x[expansion_param(link)] * temperature_rise_k_ +
+                        x[warmup_param(link)] * warmup_per_length_[link - 1];
   }
-  if (thermal_active(x, {nullptr, temperature_rise_k_})) {
-    warm = warm_parameters(x, temperature_rise_k_);
+  if (thermal_active(x, row)) {
+    warm = warm_parameters(model, x, row);
     x = warm.data();
   }
   const std::array<double, kJointCount> theta_u =
@@ -244,12 +248,14 @@ void FlangeRegressor::jacobian(const Eigen::Matrix<double, K, 6>& P,
     }
     J.col(backlash_param(joint)) = (-0.5 * approach_[joint - 1]) * joint_column;
   }
-  // Thermal group: the columns above are those of the warm lengths a'_i = a_i·g_i, d'_i = d_i·g_i
-  // (g_i = 1 + e_i·ΔT); da'/da = g_i, da'/de_i = a_i·ΔT (likewise d).
+  // Thermal and warm-up groups: the columns above are those of the warm lengths a'_i = a_i·g_i,
+  // d'_i = d_i·g_i (g_i = 1 + e_i·ΔT + φ·w_i/L_i); da'/da = g_i, da'/de_i = a_i·ΔT, da'/dw_i =
+  // a_i·φ/L_i (likewise d).
   for (int link = 2; link <= kJointCount; ++link) {
     const int i_a = link_param(link, 1), id = link_param(link, 3);
-    J.col(expansion_param(link)) =
-        temperature_rise_k_ * (cold_a_[link - 1] * J.col(i_a) + cold_d_[link - 1] * J.col(id));
+    const Rows cold_column = cold_a_[link - 1] * J.col(i_a) + cold_d_[link - 1] * J.col(id);
+    J.col(expansion_param(link)) = temperature_rise_k_ * cold_column;
+    J.col(warmup_param(link)) = warmup_per_length_[link - 1] * cold_column;
     J.col(i_a) *= growth_[link - 1];
     J.col(id) *= growth_[link - 1];
   }

@@ -57,6 +57,8 @@ const std::array<ParameterInfo, kParameterCount>& parameter_table() {
           t[motor_periodic_param(joint, h, sine)] = {
               fmt::format("joint{}.motor_periodic{}.{}", joint, h, sine ? "sin" : "cos"),
               ParamKind::Angle, "deg"};
+    for (int link = 2; link <= kJointCount; ++link)
+      t[warmup_param(link)] = {fmt::format("link{}.warmup_growth", link), ParamKind::Length, "mm"};
     return t;
   }();
   return kTable;
@@ -83,6 +85,9 @@ const std::vector<ParameterGroup>& opt_in_groups() {
         group.params.push_back(motor_periodic_param(joint, 1, false) + k);
       g.push_back(group);
     }
+    ParameterGroup warmup{"warmup", {}};
+    for (int link = 2; link <= kJointCount; ++link) warmup.params.push_back(warmup_param(link));
+    g.push_back(warmup);
     return g;
   }();
   return kGroups;

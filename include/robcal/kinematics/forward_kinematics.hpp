@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 
 #include "robcal/model/parameters.hpp"
 #include "robcal/model/robot_model.hpp"
@@ -238,26 +239,47 @@ struct RowConditions {
   const Vector6d* approach = nullptr;
   /// Temperature minus the robot's reference temperature (K), the thermal group's factor (§8).
   double temperature_rise_k = 0;
+  /// How far the arm has warmed up, φ = 1 − exp(−t/τ) of the row's time (warmup_fraction), 1
+  /// warm, 0 cold or no time: the warm-up group's factor (§10).
+  double warmup_fraction = 0;
 };
 
-/// True when the thermal group moves the links at `row` (or, for a ceres::Jet, is differentiated
-/// there): a temperature rise and an expansion coefficient.
+/// The warm-up's progress φ(t) = 1 − exp(−t/τ) after `time_s` of work, τ the model's
+/// warmup_time_constant_s (docs/method/03-error-model.md §10).
+inline double warmup_fraction(const RobotModel& model, double time_s) {
+  return 1.0 - std::exp(-time_s / model.warmup_time_constant_s);
+}
+
+/// 1/L_i of link i (2..6), L_i = √(a_i² + d_i²) its nominal length, 0 for a link without
+/// length: the warm-up growth w_i (mm) is a fraction w_i/L_i of the link (§10).
+inline double inverse_link_length(const RobotModel& model, int link) {
+  const double length = std::hypot(model.mdh[link - 1].a, model.mdh[link - 1].d);
+  return length > 0 ? 1.0 / length : 0.0;
+}
+
+/// True when the thermal or the warm-up group moves the links at `row` (or, for a ceres::Jet, is
+/// differentiated there): a temperature rise and an expansion coefficient, or a warm-up and a
+/// growth.
 template <typename T>
 bool thermal_active(const T* params, const RowConditions& row) {
-  if (row.temperature_rise_k == 0) return false;
   for (int link = 2; link <= kJointCount; ++link)
-    if (detail::is_nonzero(params[expansion_param(link)])) return true;
+    if ((row.temperature_rise_k != 0 && detail::is_nonzero(params[expansion_param(link)])) ||
+        (row.warmup_fraction != 0 && detail::is_nonzero(params[warmup_param(link)])))
+      return true;
   return false;
 }
 
-/// The parameters at the row's temperature: a_i and d_i of links 2..6 scaled by (1 + e_i·ΔT)
-/// (docs/method/03-error-model.md §8), every other value as given.
+/// The parameters at the row's temperature and warm-up: a_i and d_i of links 2..6 scaled by
+/// (1 + e_i·ΔT + φ·w_i/L_i) (docs/method/03-error-model.md §8, §10), every other value as given.
 template <typename T>
-std::array<T, kParameterCount> warm_parameters(const T* params, double temperature_rise_k) {
+std::array<T, kParameterCount> warm_parameters(const RobotModel& model, const T* params,
+                                               const RowConditions& row) {
   std::array<T, kParameterCount> warm;
   for (int i = 0; i < kParameterCount; ++i) warm[i] = params[i];
   for (int link = 2; link <= kJointCount; ++link) {
-    const T growth = T(1) + params[expansion_param(link)] * temperature_rise_k;
+    const T growth =
+        T(1) + params[expansion_param(link)] * row.temperature_rise_k +
+        params[warmup_param(link)] * (row.warmup_fraction * inverse_link_length(model, link));
     warm[link_param(link, 1)] = params[link_param(link, 1)] * growth;
     warm[link_param(link, 3)] = params[link_param(link, 3)] * growth;
   }
@@ -267,14 +289,15 @@ std::array<T, kParameterCount> warm_parameters(const T* params, double temperatu
 /// World poses of the link frames Φ1..Φ6 (frames[5] is the flange, Φ6).
 /// \param params  parameter vector (docs/method/03-error-model.md §1 layout, internal units),
 /// kParameterCount values \param joints  controller joint values, rad \param row  the row's
-/// approach and temperature (RowConditions; default: from below, at the reference temperature)
+/// approach, temperature and warm-up (RowConditions; default: from below, at the reference
+/// temperature, cold)
 template <typename T>
 std::array<Pose<T>, kJointCount> link_frames(const RobotModel& model, const PointMass& payload,
                                              const T* params, const T* joints,
                                              const RowConditions& row = {}) {
   if (thermal_active(params, row)) {
-    const std::array<T, kParameterCount> warm = warm_parameters(params, row.temperature_rise_k);
-    return link_frames(model, payload, warm.data(), joints, {row.approach, 0});
+    const std::array<T, kParameterCount> warm = warm_parameters(model, params, row);
+    return link_frames(model, payload, warm.data(), joints, {row.approach, 0, 0});
   }
   const double* approach = row.approach ? row.approach->data() : nullptr;
   const std::array<T, kJointCount> q = model_joint_angles(model, joints);

@@ -36,8 +36,9 @@ using TwistJacobian = Eigen::Matrix<double, 6, kParameterCount>;
 /// parameter also
 ///   moves θ_i through the gravity torque τ_i; its derivative follows from the same elementary
 ///   motions applied to τ_i = z_i · ((Σ_{j≥i} m_j (c_j − o_i)) × g) in the undeflected chain.
-/// - the thermal group scales a_i, d_i by (1 + e_i·ΔT): the chain is evaluated with the warm
-///   lengths, whose columns the chain rule turns into those of a_i, d_i and e_i (§8).
+/// - the thermal and warm-up groups scale a_i, d_i by (1 + e_i·ΔT + φ·w_i/L_i): the chain is
+///   evaluated with the warm lengths, whose columns the chain rule turns into those of a_i, d_i,
+///   e_i and w_i (§8, §10).
 /// Cost: two chain evaluations plus O(parameters × joints) dot products, ≈1 µs.
 /// `row`: the row's approach and temperature (forward_kinematics.hpp RowConditions).
 void flange_twist_jacobian(const RobotModel& model, const PointMass& payload,
@@ -67,6 +68,7 @@ struct PreparedConfiguration {
   /// factor.
   Vector6d approach = Vector6d::Ones();
   double temperature_rise_k = 0;  ///< the thermal group's ΔT (K)
+  double warmup_fraction = 0;     ///< the warm-up group's φ (RowConditions)
   std::array<double, kJointCount> theta{}, s{}, c{};
 };
 PreparedConfiguration prepare_configuration(const RobotModel& model,
@@ -94,9 +96,10 @@ class FlangeRegressor {
   Vector6d q_, c_;  ///< model joint values; compliances (c_[0]: joint 1's, §7)
   PeriodicBasis basis_, motor_basis_;
   Vector6d approach_;
-  /// ΔT, and per link (index link − 1) the cold a_i, d_i and their growth 1 + e_i·ΔT.
+  /// ΔT, and per link (index link − 1) the cold a_i, d_i, their growth 1 + e_i·ΔT + φ·w_i/L_i and
+  /// the warm-up's factor φ/L_i.
   double temperature_rise_k_ = 0;
-  std::array<double, kJointCount> cold_a_{}, cold_d_{}, growth_{};
+  std::array<double, kJointCount> cold_a_{}, cold_d_{}, growth_{}, warmup_per_length_{};
   bool compliant_ = false;
   bool gravity_turns_with_base_ = false;  ///< RobotModel::gravity_in_base
   Eigen::Matrix3d R_base_xy_;

@@ -3,7 +3,7 @@
 /// The robot's parameter vector: every quantity the error model of docs/method/03-error-model.md §1
 /// may identify, stored as absolute values in internal units (mm, rad, rad/(N·mm), unitless scale).
 ///
-/// Layout (kParameterCount = 97):
+/// Layout (kParameterCount = 102):
 ///   [0, 6)   base.x base.y base.z (mm), base.alpha base.beta base.gamma (rad):
 ///            world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1)
 ///   [6, 26)  linkI.alpha (rad), linkI.a (mm), linkI.theta (rad, the joint zero offset),
@@ -26,6 +26,11 @@
 ///            the periodic error of joint I's motor, δθ_I = Σ_H (cos_H·cos(H·r_I·q_I) +
 ///            sin_H·sin(H·r_I·q_I)), r_I the robot file's gear ratio of joint I; an opt-in group
 ///            for joints with a gear ratio (docs/method/03-error-model.md §9).
+///   [97, 102) linkI.warmup_growth (mm) for I = 2..6: thermal drift without a temperature, the
+///            growth of link I's length L_I = √(a_I² + d_I²) (nominal) at full warm-up, i.e. its
+///            expansion coefficient times the warm-up's ΔT∞ times L_I; a_I, d_I scaled by
+///            (1 + w_I·φ(t)/L_I), φ(t) = 1 − exp(−t/τ) of the row's time; an opt-in group
+///            (docs/method/03-error-model.md §10).
 /// The 31 of the published full model are the first 31; scales are fixed unless asked for.
 
 #include <array>
@@ -53,7 +58,9 @@ inline constexpr int kThermalOffset = kMountingOffset + kMountingParamCount;
 inline constexpr int kThermalParamCount = kJointCount - 1;  ///< links 2..6
 /// The motor-angle periodic group (docs/method/03-error-model.md §9) follows the thermal group.
 inline constexpr int kMotorPeriodicOffset = kThermalOffset + kThermalParamCount;
-inline constexpr int kParameterCount = kMotorPeriodicOffset + kJointCount * kPeriodicPerJoint;
+/// The warm-up group (docs/method/03-error-model.md §10) follows the motor-angle periodic group.
+inline constexpr int kWarmupOffset = kMotorPeriodicOffset + kJointCount * kPeriodicPerJoint;
+inline constexpr int kParameterCount = kWarmupOffset + kThermalParamCount;
 
 /// Index of MDH quantity k (0 alpha, 1 a, 2 theta, 3 d) of link i (2..6).
 constexpr int link_param(int link, int k) {
@@ -91,6 +98,11 @@ constexpr int expansion_param(int link) {
   return kThermalOffset + (link - 2);
 }
 
+/// Index of the warm-up growth of link i (2..6): its length's growth (mm) at full warm-up.
+constexpr int warmup_param(int link) {
+  return kWarmupOffset + (link - 2);
+}
+
 enum class ParamKind { Length, Angle, Compliance, Scale, Expansion };
 
 /// Name, kind and external unit of one parameter of the layout.
@@ -117,7 +129,7 @@ struct ParameterGroup {
 /// then one backlash group per joint ("joint1.backlash" .. "joint6.backlash"), then
 /// "joint1.compliance" (docs/method/03-error-model.md §7), then "thermal" (the five
 /// linkI.expansion, §8), then one motor-angle periodic group per joint ("joint1.motor_periodic" ..
-/// "joint6.motor_periodic", §9).
+/// "joint6.motor_periodic", §9), then "warmup" (the five linkI.warmup_growth, §10).
 const std::vector<ParameterGroup>& opt_in_groups();
 
 /// The parameters of the opt-in groups a name selects (`--identify thermal`): one group's name
