@@ -278,6 +278,28 @@ TEST(Warmup, MonteCarloRecoveryWithin3Sigma) {
   EXPECT_LT(z.rms(), 1.8);
 }
 
+// An independent statement of the same fit: the campaign measured with a thermometer and
+// identified with the thermal group (§8) gives e_i, and w_i = e_i·ΔT∞·L_i since ΔT = ΔT∞·φ(t)
+// with the truth's ΔT∞ and τ: the two fits are one reparameterised, estimates and σ alike.
+TEST(Warmup, SameFitAsTheThermalGroupWithAThermometer) {
+  const TrueRobot truth = published_truth(true);
+  const Campaign timed = simulate(truth, 2118);
+  const Campaign measured =
+      test::simulate_campaign(truth, 0.01, 2118, published_joint_box(truth.robot.model));
+  const IdentificationResult warmup = test::fit_full(timed.calibration, kWarmup);
+  const IdentificationResult thermal = test::fit_full(measured.calibration, {"thermal"});
+  for (const int link : {3, 4, 6}) {
+    const MdhRow& row = truth.robot.model.mdh[static_cast<size_t>(link - 1)];
+    const double per_expansion = truth.effects.temperature_rise_k * std::hypot(row.a, row.d);
+    const int w = warmup_param(link), e = expansion_param(link);
+    EXPECT_NEAR(warmup.robot.params[w], thermal.robot.params[e] * per_expansion, 1e-6)
+        << "link " << link;
+    EXPECT_NEAR(std::sqrt(warmup.robot.covariance(w, w)),
+                std::sqrt(thermal.robot.covariance(e, e)) * per_expansion, 1e-6)
+        << "link " << link;
+  }
+}
+
 // Model-selection guard: on rows with times of an arm that does not expand, enabling the group
 // worsens the cross-validated error by less than 2 % and the group is reported not significant.
 TEST(Warmup, GroupOnDataWithoutTheEffectIsHarmlessAndNotSignificant) {
