@@ -52,8 +52,9 @@ struct Fixture {
   /// `positions` rows; with `all_groups` the truth has periodic joint errors (0.01°, both
   /// harmonics, every joint), backlash (up to 0.01°, every joint, each row approaching each
   /// joint from a random side), stands on a wall with a compliant joint 1 (1e-7 rad/N·mm), its
-  /// links expand by 23 ppm/K while the rows warm up from 20 to 30 °C, and the fit frees every
-  /// opt-in group besides level full (issue 19).
+  /// links expand by 23 ppm/K while the rows warm up from 20 to 30 °C, joint 6 (gear ratio 101)
+  /// has motor-angle periodic errors (0.005°), and the fit frees every opt-in group besides level
+  /// full (issue 19).
   explicit Fixture(int positions = 50, bool all_groups = false) {
     tool.payload = {2.6, Eigen::Vector3d(-23, 0, 100)};
     tool.targets = {
@@ -67,6 +68,10 @@ struct Fixture {
         truth[backlash_param(joint)] = std::abs(truth[backlash_param(joint)]);
       truth[kJoint1Compliance] = 1e-7;
       for (int link = 2; link <= kJointCount; ++link) truth[expansion_param(link)] = 23e-6;
+      model.gear_ratio[5] = 101;  // joint 6's motor errors (the only joint with a ratio)
+      for (int k = 0; k < kPeriodicPerJoint; ++k)
+        truth[motor_periodic_param(6, 1, false) + k] =
+            0.005 * kDegToRad * std::uniform_real_distribution<double>(-1, 1)(rng);
       model.gravity_m_s2 = Eigen::Vector3d(0, -9.81, 0);  // mounting_deg [90, 0]
       model.gravity_in_base = true;
     }
@@ -203,8 +208,8 @@ void BM_IdentifyFull31From50_CeresAutodiff(benchmark::State& state) {
 }
 
 /// Issue 19: level full plus every opt-in group (periodic errors, backlash, joint-1 compliance on
-/// a wall, thermal expansion: 67 parameters asked for, the counter `parameters` says how many the
-/// rank test keeps) from 100 positions, ≤ 1 ms.
+/// a wall, thermal expansion, joint 6's motor-angle periodic errors: 71 parameters asked for, the
+/// counter `parameters` says how many the rank test keeps) from 100 positions, ≤ 1 ms.
 void BM_IdentifyAllGroupsFrom100_Analytic(benchmark::State& state) {
   static const Fixture f(100, true);
   for (auto _ : state) {

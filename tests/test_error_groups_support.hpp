@@ -87,13 +87,15 @@ inline GroupCampaign simulate_campaign(const TrueRobot& truth, double noise_mm, 
   return c;
 }
 
-/// Level full on the IRB 120 with the default simulation tool, the groups `identify` enabled.
+/// Level full on `model` (default the IRB 120) with the default simulation tool, the groups
+/// `identify` enabled.
 inline IdentificationResult fit_full(const MeasurementSet& data,
-                                     const std::vector<std::string>& identify) {
+                                     const std::vector<std::string>& identify,
+                                     const RobotModel& model = load_robot("abb-irb120")) {
   IdentifyOptions options;
   options.level = CalibrationLevel::Full;
   options.identify = identify;
-  return calibrate(load_robot("abb-irb120"), default_simulation_tool(), data, options);
+  return calibrate(model, default_simulation_tool(), data, options);
 }
 
 inline double validation_mean_mm(const IdentificationResult& r, const MeasurementSet& validation) {
@@ -107,11 +109,12 @@ struct GroupEffect {
   IdentificationResult with;
 };
 inline GroupEffect group_effect(const GroupCampaign& clean, const GroupCampaign& effect,
-                                const std::vector<std::string>& identify) {
+                                const std::vector<std::string>& identify,
+                                const RobotModel& model = load_robot("abb-irb120")) {
   GroupEffect g;
-  g.free_of_effect = validation_mean_mm(fit_full(clean.calibration, {}), clean.validation);
-  g.without_group = validation_mean_mm(fit_full(effect.calibration, {}), effect.validation);
-  g.with = fit_full(effect.calibration, identify);
+  g.free_of_effect = validation_mean_mm(fit_full(clean.calibration, {}, model), clean.validation);
+  g.without_group = validation_mean_mm(fit_full(effect.calibration, {}, model), effect.validation);
+  g.with = fit_full(effect.calibration, identify, model);
   g.with_group = validation_mean_mm(g.with, effect.validation);
   std::printf(
       "validation mean: effect-free %.4f mm, effect %.4f mm without the group, %.4f mm "
@@ -138,10 +141,11 @@ struct NormalisedErrors {
   [[nodiscard]] double rms() const { return std::sqrt(sum_sq / count); }
 };
 
-/// Cross-validated mean error (5 folds, seed 7) without and with the groups `identify`.
-inline std::pair<double, double> cross_validated_cost(const MeasurementSet& data,
-                                                      const std::vector<std::string>& identify) {
-  const RobotModel model = load_robot("abb-irb120");
+/// Cross-validated mean error (5 folds, seed 7) on `model` without and with the groups
+/// `identify`.
+inline std::pair<double, double> cross_validated_cost(
+    const MeasurementSet& data, const std::vector<std::string>& identify,
+    const RobotModel& model = load_robot("abb-irb120")) {
   IdentifyOptions plain;
   IdentifyOptions with = plain;
   with.identify = identify;

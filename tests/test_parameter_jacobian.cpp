@@ -1,7 +1,7 @@
 // The analytic identification Jacobian (kinematic regressor) against Ceres automatic
 // differentiation through the templated FK and against central finite differences, every
-// column (periodic joint errors included), with and without compliance, on the IRB 120 and on
-// the Fanuc (coupled joint map).
+// column (periodic joint and motor errors included), with and without compliance, on the IRB 120
+// and on the Fanuc (coupled joint map).
 
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
@@ -23,8 +23,8 @@ Vector6d random_joints(const RobotModel& model, std::mt19937_64& rng) {
   return q;
 }
 
-/// Parameters with every error of the model perturbed: base, links, compliance, scales and the
-/// periodic joint errors (opt-in group, docs/method/03-error-model.md §5).
+/// Parameters with every error of the model perturbed: base, links, compliance, scales, the
+/// periodic joint errors and the motors' (opt-in groups, docs/method/03-error-model.md §5, §9).
 ParameterVector perturbed(const RobotModel& model, std::mt19937_64& rng, bool compliance) {
   ParameterVector x = model.nominal();
   std::normal_distribution<double> n(0.0, 1.0);
@@ -35,6 +35,7 @@ ParameterVector perturbed(const RobotModel& model, std::mt19937_64& rng, bool co
   for (int j = 1; j <= 6; ++j) x[compliance_param(j)] = compliance ? 5e-7 * (1 + n(rng)) : 0.0;
   for (int j = 1; j <= 6; ++j) x[scale_param(j)] = 1.0 + 0.01 * n(rng);
   for (int i = kPeriodicOffset; i < kMountingOffset; ++i) x[i] = deg2rad(0.05 * n(rng));
+  for (int i = kMotorPeriodicOffset; i < kWarmupOffset; ++i) x[i] = deg2rad(0.005 * n(rng));
   return x;
 }
 
@@ -66,6 +67,7 @@ void check_robot(const std::string& robot, uint64_t seed,
                  const Eigen::Vector3d* gravity_base = nullptr) {
   SCOPED_TRACE("robot " + robot + ", seed " + std::to_string(seed));
   RobotModel model = load_robot(robot);
+  model.gear_ratio = {121, 121, 81, 50, 51.5, 101};  // motor-angle periodic errors on every joint
   if (gravity_base) {
     model.gravity_m_s2 = *gravity_base;
     model.gravity_in_base = true;

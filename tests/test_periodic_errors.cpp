@@ -27,14 +27,14 @@ namespace robcal {
 namespace {
 
 TEST(PeriodicErrors, NamesUnitsAndGroups) {
-  EXPECT_EQ(kParameterCount, 73);
+  EXPECT_EQ(kParameterCount, 102);
   EXPECT_EQ(parameter_table()[periodic_param(6, 2, true)].name, "joint6.periodic2.sin");
   EXPECT_EQ(parameter_table()[periodic_param(1, 1, false)].name, "joint1.periodic1.cos");
   EXPECT_EQ(parameter_table()[periodic_param(3, 1, true)].unit, "deg");
   EXPECT_EQ(parameter_index("joint4.periodic2.cos"), periodic_param(4, 2, false));
   EXPECT_EQ(match_parameters("joint6.periodic*").size(), 4u);
   EXPECT_EQ(match_parameters("*.periodic1.*").size(), 12u);
-  ASSERT_EQ(opt_in_groups().size(), 14u);
+  ASSERT_EQ(opt_in_groups().size(), 21u);
   EXPECT_EQ(opt_in_groups()[5].name, "joint6.periodic");
   EXPECT_FALSE(is_opt_in(scale_param(6)));
   EXPECT_TRUE(is_opt_in(periodic_param(1, 1, false)));

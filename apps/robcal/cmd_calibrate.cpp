@@ -16,7 +16,8 @@ namespace robcal::cli {
 namespace {
 
 struct CalibrateArgs {
-  std::string robot, tool, model, measurements, level, loss = "none", out, units, euler, folds;
+  std::string robot, tool, model, measurements, level, loss = "none", out, units, euler, folds,
+                                                       warmup_tau;
   std::vector<std::string> identify, fix;
   double huber_scale = 0;
   double orientation_weight = kDefaultOrientationWeightMm;
@@ -153,6 +154,8 @@ void run_calibrate(const CalibrateArgs& args) {
   options.seed = args.seed;
   options.instrument_sigma_mm = args.sigma;
   options.resolve_near_dependencies = !args.keep_near_dependent;
+  if (!args.warmup_tau.empty())
+    options.warmup_time_constant_s = parse_numbers(args.warmup_tau, 1, "--warmup-tau-s")[0];
   request.request.kfold = args.kfold;
   if (!args.json && stdout_is_terminal()) fmt::print("calibrating…\n");
   const CalibrationRun run = calibrate_files(request);
@@ -192,10 +195,14 @@ const bool calibrate_registered = register_command(30, [](CLI::App& app) {
   cmd->add_option("--level", args->level,
                   "base, joints, kinematic or full (default full); with --model also tool (a new "
                   "tool's points or TCP frame) and no default (say what to re-identify)");
-  cmd->add_option("--identify", args->identify,
-                  "Also identify the parameters matching this glob (repeatable), e.g. "
-                  "'joint*.scale', or an opt-in group by name: periodic, backlash, mounting, "
-                  "thermal, groups (all of them)");
+  cmd->add_option(
+      "--identify", args->identify,
+      "Also identify the parameters matching this glob (repeatable), e.g. "
+      "'joint*.scale', or an opt-in group by name: periodic, backlash, mounting, "
+      "thermal, warmup, motor_periodic (joints with a gear_ratio), groups (all of them)");
+  cmd->add_option("--warmup-tau-s", args->warmup_tau,
+                  "Time constant (s) of the warm-up 1 - exp(-t/tau) for the warmup group, rows "
+                  "with a time_s column (default: the robot file's warmup_time_constant_s, 1800)");
   cmd->add_option("--fix", args->fix,
                   "Hold the parameters matching this glob at nominal (repeatable), e.g. 'link6.*'");
   cmd->add_option("--loss", args->loss, "none (least squares) or huber (robust; lists outliers)");

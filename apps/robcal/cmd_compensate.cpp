@@ -29,6 +29,8 @@ struct ModelOptions {
   std::string method = "newton";
   std::string approach = "++++++";
   std::string temperature;
+  std::string warmup_time;
+  bool warm = false;
   bool json = false;
 };
 
@@ -53,6 +55,9 @@ CompensationSetup parse_setup(const ModelOptions& o) {
   setup.payload_name = o.payload_name;
   if (!o.temperature.empty())
     setup.temperature_c = parse_numbers(o.temperature, 1, "--temperature-c")[0];
+  if (!o.warmup_time.empty())
+    setup.warmup_time_s = parse_numbers(o.warmup_time, 1, "--warmup-time-s")[0];
+  setup.warm = o.warm;
   return setup;
 }
 
@@ -159,6 +164,10 @@ void add_model_options(CLI::App* cmd, ModelOptions& o) {
   cmd->add_option("--temperature-c", o.temperature,
                   "The arm's temperature (°C) at the targets, for the thermal group (default: "
                   "the robot's reference temperature, 20 °C)");
+  cmd->add_option("--warmup-time-s", o.warmup_time,
+                  "How long the arm has worked (s) at the targets, for the warm-up group "
+                  "(default: cold)");
+  cmd->add_flag("--warm", o.warm, "The arm is fully warm at the targets (warm-up group)");
   cmd->add_flag("--json", o.json, "Machine-readable summary on stdout");
 }
 

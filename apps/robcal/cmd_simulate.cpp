@@ -65,6 +65,9 @@ const bool simulate_registered = register_command(80, [](CLI::App& app) {
                   "sequence: straight from the previous one; random: each joint from below or "
                   "above at random (seeded), recorded in the 'approach' column (backlash group)")
       ->capture_default_str();
+  cmd->add_flag("--clock", o->request.clock,
+                "With thermal drift: record each row's time (time_s column, warmup group) "
+                "instead of the arm's temperature");
   cmd->add_option("--error-length-mm", o->request.error_length_mm,
                   "Random truth: ± bound of a_i, d_i")
       ->capture_default_str();

@@ -50,6 +50,17 @@ void table_sin_cos(double theta, double* s, double* c) {
 
 namespace {
 
+/// A periodic error Σ_h (e_cos,h·cos(h·r·q) + e_sin,h·sin(h·r·q)) added to `theta` and its
+/// slope in q to `rate` (r = 1: the joint's own, §5; r the gear ratio: its motor's, §9).
+void add_periodic_error(const std::array<double, kPeriodicPerJoint>& e, double q, double ratio,
+                        double& theta, double& rate) {
+  double s1, c1;
+  table_sin_cos(ratio * q, &s1, &c1);
+  const double c2 = c1 * c1 - s1 * s1, s2 = 2 * s1 * c1;
+  theta += e[0] * c1 + e[1] * s1 + e[2] * c2 + e[3] * s2;
+  rate += ratio * (-e[0] * s1 + e[1] * c1 + 2 * (-e[2] * s2 + e[3] * c2));
+}
+
 /// Φ_i = Φ_{i-1} · Rot_x(α)·Trans_x(a)·Rot_z(θ)·Trans_z(d) written on the columns r0, r1, r2 of
 /// Φ_{i-1}'s rotation: u = cα·r1 + sα·r2, z = cα·r2 − sα·r1, x = cθ·r0 + sθ·u, y = cθ·u − sθ·r0,
 /// p = p_{i-1} + a·r0 + d·z (the MDH product with its zeros left out).
@@ -84,10 +95,10 @@ void chain_frames(const CalibratedChain& c, const std::array<double, kJointCount
 CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVector& cold_params,
                                       const PointMass& payload, const Pose<double>& flange_T_tcp,
                                       const RowConditions& row) {
-  // At the target's temperature the links have their warm lengths (§8).
+  // At the target's temperature and warm-up the links have their warm lengths (§8, §10).
   const ParameterVector params =
       thermal_active(cold_params.data(), row)
-          ? ParameterVector(warm_parameters(cold_params.data(), row.temperature_rise_k).data())
+          ? ParameterVector(warm_parameters(model, cold_params.data(), row).data())
           : cold_params;
   const double* approach = row.approach ? row.approach->data() : nullptr;
   CalibratedChain c;
@@ -114,6 +125,12 @@ CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVe
     for (int k = 0; k < kPeriodicPerJoint; ++k) {
       c.periodic[i][k] = params[periodic_param(i + 1, 1, false) + k];
       c.has_periodic[i] = c.has_periodic[i] || c.periodic[i][k] != 0.0;
+    }
+    c.gear_ratio[i] = model.gear_ratio[i];
+    for (int k = 0; k < kPeriodicPerJoint; ++k) {
+      c.motor_periodic[i][k] =
+          c.gear_ratio[i] != 0.0 ? params[motor_periodic_param(i + 1, 1, false) + k] : 0.0;
+      c.has_motor_periodic[i] = c.has_motor_periodic[i] || c.motor_periodic[i][k] != 0.0;
     }
     c.mass[i] = model.link_masses[i].mass_kg;
     c.moment[i] = model.link_masses[i].mass_kg * model.link_masses[i].cog_mm;
@@ -143,15 +160,11 @@ Pose<double> calibrated_tcp_pose(const CalibratedChain& c, const Vector6d& joint
   for (int i = 0; i < kJointCount; ++i) {
     double theta = c.scale[i] * q[i] + c.theta_offset[i] + (i == 0 ? c.base_gamma : 0.0);
     state.rate[i] = c.scale[i];
-    if (c.has_periodic[i]) {
-      // δθ = Σ_h (cos_h·cos hq + sin_h·sin hq), docs/method/03-error-model.md §5, and its slope.
-      double s1, c1;
-      table_sin_cos(q[i], &s1, &c1);
-      const double c2 = c1 * c1 - s1 * s1, s2 = 2 * s1 * c1;
-      const auto& e = c.periodic[i];
-      theta += e[0] * c1 + e[1] * s1 + e[2] * c2 + e[3] * s2;
-      state.rate[i] += -e[0] * s1 + e[1] * c1 + 2 * (-e[2] * s2 + e[3] * c2);
-    }
+    // δθ = Σ_h (cos_h·cos hq + sin_h·sin hq), docs/method/03-error-model.md §5, and the motor's
+    // δμ at r·q, §9.
+    if (c.has_periodic[i]) add_periodic_error(c.periodic[i], q[i], 1.0, theta, state.rate[i]);
+    if (c.has_motor_periodic[i])
+      add_periodic_error(c.motor_periodic[i], q[i], c.gear_ratio[i], theta, state.rate[i]);
     const double step = theta - state.theta[i];
     if (state.has_angles && std::abs(step) < kSeriesShiftLimitRad) {
       sin_cos_shifted(state.sin_theta[i], state.cos_theta[i], step, &state.sin_theta[i],

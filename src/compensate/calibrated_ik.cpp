@@ -241,6 +241,7 @@ Compensator make_compensator(const CalibratedRobot& robot, const std::optional<P
   condition.payload = payload.value_or(robot.tool.payload);
   if (row.approach) condition.approach = *row.approach;
   condition.temperature_rise_k = row.temperature_rise_k;
+  condition.warmup_fraction = row.warmup_fraction;
   return make_compensator(robot, condition);
 }
 
@@ -267,9 +268,9 @@ Compensator make_compensator(const CalibratedRobot& robot, const ReachCondition&
   comp.flange_T_tcp.R = robot.tool.flange_T_tcp.linear();
   comp.flange_T_tcp.p = robot.tool.flange_T_tcp.translation();
   comp.condition = condition;
-  comp.chain =
-      make_calibrated_chain(robot.model, robot.params, condition.payload, comp.flange_T_tcp,
-                            {&comp.condition.approach, condition.temperature_rise_k});
+  comp.chain = make_calibrated_chain(
+      robot.model, robot.params, condition.payload, comp.flange_T_tcp,
+      {&comp.condition.approach, condition.temperature_rise_k, condition.warmup_fraction});
   // world_T_base = world_A_1(q1 = 0) · (nominal base_A_1(q1 = 0))⁻¹ = (R_xy·Rz(γ), p_b − d1·R_xy·ẑ)
   const CalibratedChain& c = comp.chain;
   const double cg = std::cos(c.base_gamma), sg = std::sin(c.base_gamma);

@@ -62,6 +62,14 @@ Compensation prepare_compensation(const CompensationSetup& setup) {
     throw InputError({"", 0, 0, "--temperature-c"}, "expected a temperature in °C in [-50, 150]");
   run.temperature_rise_k =
       setup.temperature_c ? *setup.temperature_c - robot.model.reference_temperature_c : 0.0;
+  if (setup.warmup_time_s &&
+      (!(*setup.warmup_time_s >= 0 && *setup.warmup_time_s <= 1e7) || setup.warm))
+    throw InputError({"", 0, 0, "--warmup-time-s"},
+                     setup.warm ? "give either the warm-up time or --warm, not both"
+                                : "expected seconds in [0, 1e7] since the arm started working");
+  run.warmup_fraction = setup.warm            ? 1.0
+                        : setup.warmup_time_s ? warmup_fraction(robot.model, *setup.warmup_time_s)
+                                              : 0.0;
   run.approach = setup.approach;
   Compensation out{robot, make_compensator(robot, run), setup.pulses_per_degree};
   return out;
@@ -74,6 +82,7 @@ CompensatorsByCondition::Key CompensatorsByCondition::key_of(const ReachConditio
   const Eigen::Vector3d& g = c.payload.cog_mm;
   return {{a[0], a[1], a[2], a[3], a[4], a[5]},
           c.temperature_rise_k,
+          c.warmup_fraction,
           c.payload.mass_kg,
           {g.x(), g.y(), g.z()},
           c.payload_name};

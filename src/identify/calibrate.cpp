@@ -135,7 +135,7 @@ IdentificationResult calibrate(const RobotModel& model, const Tool& tool,
 
   // The calibrated robot.
   CalibratedRobot& robot = out.robot;
-  robot.model = model;
+  robot.model = setup.model;  // with the warm-up's time constant the fit used (§10)
   robot.params = fit.unknowns.head<kParameterCount>();
   robot.tool = tool;
   robot.level = level_name(options.level);

@@ -228,8 +228,11 @@ MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& d
   // (one-sided data are refused by name in drop_one_sided_backlash).
   // Temperatures 0–10 K over the reference: the expansion is then no combination of the lengths
   // (isothermal data are refused by name in drop_isothermal_expansion).
-  std::mt19937_64 sides(20140602), heat(20140603);
-  std::uniform_real_distribution<double> warming(0.0, 10.0);
+  // Times over three warm-up time constants: the warm-up growth is then no combination of the
+  // lengths (data without times are refused by name in drop_isothermal_expansion).
+  std::mt19937_64 sides(20140602), heat(20140603), clock(20140604);
+  std::uniform_real_distribution<double> warming(0.0, 10.0),
+      working(0.0, 3 * model.warmup_time_constant_s);
   for (const Vector6d& q : sample_configurations(lower, upper, 60, rng)) {
     for (int t : targets) {
       Vector6d s;
@@ -240,6 +243,7 @@ MeasurementSet synthetic_design(const RobotModel& model, const MeasurementSet& d
         synthetic.distances.push_back({"", t, q, 0, 0, s});
       synthetic.set_temperature_c(synthetic.size() - 1,
                                   model.reference_temperature_c + warming(heat));
+      synthetic.set_time_s(synthetic.size() - 1, working(clock));
     }
   }
   return synthetic;
@@ -279,48 +283,95 @@ void drop_one_sided_backlash(const MeasurementSet& data, std::vector<bool>& cand
   }
 }
 
-/// Requested expansion coefficients (docs/method/03-error-model.md §8) the rows cannot determine
-/// are taken out of `candidates` and dropped with their real reason: a link without length
-/// (a_i = d_i = 0 nominally: nothing expands), or rows that do not record at least two
-/// different temperatures (at one temperature the expansion only rescales a_i, d_i, so only the
-/// warm lengths are determined).
-void drop_isothermal_expansion(const RobotModel& model, const MeasurementSet& data,
-                               std::vector<bool>& candidates, IdentificationSetup& setup) {
+/// The lowest and highest value of an optional per-row reading, and how many rows have one.
+struct ReadingSpan {
   size_t recorded = 0;
   double lowest = 0, highest = 0;
+};
+template <typename Reading>
+ReadingSpan reading_span(const MeasurementSet& data, Reading reading) {
+  ReadingSpan span;
   for (size_t row = 0; row < data.size(); ++row) {
-    const std::optional<double>& t = data.temperature_c(row);
+    const std::optional<double>& t = reading(row);
     if (!t) continue;
-    lowest = recorded == 0 ? *t : std::min(lowest, *t);
-    highest = recorded == 0 ? *t : std::max(highest, *t);
-    ++recorded;
+    span.lowest = span.recorded == 0 ? *t : std::min(span.lowest, *t);
+    span.highest = span.recorded == 0 ? *t : std::max(span.highest, *t);
+    ++span.recorded;
   }
-  for (int link = 2; link <= kJointCount; ++link) {
-    const int i = expansion_param(link);
-    if (!candidates[static_cast<size_t>(i)]) continue;
-    std::string reason;
-    if (model.mdh[link - 1].a == 0 && model.mdh[link - 1].d == 0)
-      reason =
-          fmt::format("link {} has no length (a = d = 0 in the robot file): nothing expands", link);
-    else if (recorded == 0)
-      reason =
-          "no row records a temperature: add a 'temperature' column (°C, the arm's temperature "
-          "at each row; simulate writes it for a truth with thermal drift)";
-    else if (highest == lowest)
-      reason = fmt::format(
-          "every row was measured at {} °C{}, so the expansion only rescales the lengths and "
-          "cannot be told from them: measure at several temperatures (during the warm-up)",
-          highest,
-          recorded < data.size()
-              ? fmt::format(" ({} rows without a temperature)", data.size() - recorded)
-              : std::string());
-    if (reason.empty()) continue;
-    candidates[static_cast<size_t>(i)] = false;
-    Dependency dep{i, {}, 1.0, {}};
-    dep.reason = reason;
-    setup.dropped.push_back(dep);
-    setup.warnings.push_back(fmt::format("{} not identified: {}",
-                                         setup.layout.names[static_cast<size_t>(i)], dep.reason));
+  return span;
+}
+
+/// Requested expansion coefficients (docs/method/03-error-model.md §8) and warm-up growths (§10)
+/// the rows cannot determine are taken out of `candidates` and dropped with their real reason: a
+/// link without length (a_i = d_i = 0 nominally: nothing expands), or rows that do not record at
+/// least two different temperatures (expansion) or times (warm-up): at one temperature or time
+/// the link only has other lengths, so only the warm lengths are determined.
+void drop_isothermal_expansion(const RobotModel& model, const MeasurementSet& data,
+                               std::vector<bool>& candidates, IdentificationSetup& setup) {
+  const ReadingSpan temperatures = reading_span(
+      data, [&](size_t row) -> const auto& { return data.temperature_c(row); });
+  const ReadingSpan times = reading_span(
+      data, [&](size_t row) -> const auto& { return data.time_s(row); });
+  for (int link = 2; link <= kJointCount; ++link)
+    for (const bool warmup : {false, true}) {
+      const int i = warmup ? warmup_param(link) : expansion_param(link);
+      if (!candidates[static_cast<size_t>(i)]) continue;
+      const ReadingSpan& span = warmup ? times : temperatures;
+      std::string reason;
+      if (model.mdh[link - 1].a == 0 && model.mdh[link - 1].d == 0)
+        reason = fmt::format("link {} has no length (a = d = 0 in the robot file): nothing expands",
+                             link);
+      else if (span.recorded == 0)
+        reason = warmup ? "no row records a time: add a 'time_s' column (s since the arm started "
+                          "working; simulate --clock writes it for a truth with thermal drift)"
+                        : "no row records a temperature: add a 'temperature' column (°C, the arm's "
+                          "temperature at each row; simulate writes it for a truth with thermal "
+                          "drift)";
+      else if (span.highest == span.lowest)
+        reason = fmt::format(
+            "every row was measured at {} {}{}, so the {} only rescales the lengths and "
+            "cannot be told from them: measure at several {} (during the warm-up)",
+            span.highest, warmup ? "s" : "°C",
+            span.recorded < data.size()
+                ? fmt::format(" ({} rows without a {})", data.size() - span.recorded,
+                              warmup ? "time" : "temperature")
+                : std::string(),
+            warmup ? "warm-up" : "expansion", warmup ? "times" : "temperatures");
+      if (reason.empty()) continue;
+      candidates[static_cast<size_t>(i)] = false;
+      Dependency dep{i, {}, 1.0, {}};
+      dep.reason = reason;
+      setup.dropped.push_back(dep);
+      setup.warnings.push_back(fmt::format("{} not identified: {}",
+                                           setup.layout.names[static_cast<size_t>(i)], dep.reason));
+    }
+}
+
+/// Motor-angle periodic terms (docs/method/03-error-model.md §9) of joints whose gear ratio the
+/// robot file does not give: a pattern that names them ('joint6.motor_periodic*') is refused
+/// naming the joint; a family ('motor_periodic', 'groups') or a pattern without 'motor'
+/// ('joint6.*') leaves them out.
+void refuse_gearless_motor_terms(const RobotModel& model, const IdentifyOptions& options,
+                                 std::vector<bool>& requested) {
+  for (int joint = 1; joint <= kJointCount; ++joint) {
+    if (model.gear_ratio[static_cast<size_t>(joint - 1)] != 0.0) continue;
+    for (int k = 0; k < kPeriodicPerJoint; ++k) {
+      const int i = motor_periodic_param(joint, 1, false) + k;
+      if (!requested[static_cast<size_t>(i)]) continue;
+      for (const std::string& pattern : options.identify) {
+        if (selects_by_family(pattern) || pattern.find("motor") == std::string::npos) continue;
+        const std::vector<int> group = opt_in_group_parameters(pattern);
+        if (glob_match(pattern, parameter_table()[static_cast<size_t>(i)].name) ||
+            std::find(group.begin(), group.end(), i) != group.end())
+          throw InputError(
+              {"", 0, 0, "--identify"},
+              fmt::format("'{}' asks for the motor-angle periodic error of joint {}, whose gear "
+                          "ratio the robot file does not give: add 'gear_ratio' (motor turns per "
+                          "joint turn, ~ for the joints without one) or leave joint {} out",
+                          pattern, joint, joint));
+      }
+      requested[static_cast<size_t>(i)] = false;
+    }
   }
 }
 
@@ -539,11 +590,20 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   check_orientation_weight(options.orientation_weight_mm);
   IdentificationSetup setup;
   setup.model = model;
+  if (options.warmup_time_constant_s) {
+    if (!(*options.warmup_time_constant_s >= 1 && *options.warmup_time_constant_s <= 1e6))
+      throw InputError({"", 0, 0, "--warmup-tau-s"},
+                       fmt::format("warm-up time constant {} s: expected seconds in [1, 1e6] (a "
+                                   "minute to a working week)",
+                                   *options.warmup_time_constant_s));
+    setup.model.warmup_time_constant_s = *options.warmup_time_constant_s;
+  }
   setup.tool = tool;
   setup.kind = data.kind;
   setup.layout = make_unknown_layout(tool, data.kind);
   setup.options = options;
   setup.requested = select_unknowns(setup.layout, options.level, options.identify, options.fix);
+  refuse_gearless_motor_terms(model, options, setup.requested);
   setup.start = Eigen::VectorXd::Zero(setup.layout.size());
   if (options.start_parameters.size() != 0 && options.start_parameters.size() != kParameterCount)
     throw std::invalid_argument("IdentifyOptions::start_parameters: expected every parameter");
@@ -569,7 +629,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
 
   // The model's own dependencies, on a rich synthetic design.
   const std::vector<int> order = preference_order(setup.layout, candidates);
-  const MeasurementSet synthetic = synthetic_design(model, data);
+  const MeasurementSet synthetic = synthetic_design(setup.model, data);
   ResidualContext synthetic_context = context;
   synthetic_context.data = &synthetic;
   Eigen::MatrixXd J;

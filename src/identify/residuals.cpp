@@ -71,7 +71,9 @@ const Vector6d& row_approach(const MeasurementSet& data, size_t row) {
 
 RowConditions row_conditions(const RobotModel& model, const MeasurementSet& data, size_t row) {
   const std::optional<double>& t = data.temperature_c(row);
-  return {&row_approach(data, row), t ? *t - model.reference_temperature_c : 0.0};
+  const std::optional<double>& time = data.time_s(row);
+  return {&row_approach(data, row), t ? *t - model.reference_temperature_c : 0.0,
+          time ? warmup_fraction(model, *time) : 0.0};
 }
 
 void row_residuals(const ResidualContext& context, const Eigen::VectorXd& unknowns, size_t row,

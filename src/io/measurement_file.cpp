@@ -164,6 +164,20 @@ class RowReader {
                                where(row, "temperature"));
   }
 
+  /// The optional `time_s` column (s since the arm started working, the warm-up group,
+  /// docs/method/03-error-model.md §10): empty for a row without a time.
+  [[nodiscard]] std::optional<double> time_s(const Row& row) const {
+    const std::string_view text = row.fields[static_cast<size_t>(columns_.at("time_s"))];
+    if (text.empty()) return std::nullopt;
+    const double t = parse_finite_number(text, where(row, "time_s"), " (s)");
+    if (t < 0 || t > 1e7)  // beyond 16 weeks: a unit slip (ms) or a clock's epoch
+      throw InputError(where(row, "time_s"),
+                       fmt::format("time {} s is implausible: expected seconds in [0, 1e7] since "
+                                   "the arm started working",
+                                   t));
+    return t;
+  }
+
   [[nodiscard]] int target(const Row& row, const Tool& tool) const {
     const std::string_view name = text(row, "target");
     const int index = tool.target_index(name);
@@ -575,7 +589,7 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
       return columns.count(name) > 0 && columns.at(name) == static_cast<int>(i);
     };
     if (used == required.end() && !optional("approach") && !optional("payload") &&
-        !optional("temperature"))
+        !optional("temperature") && !optional("time_s"))
       result.warnings.push_back(
           fmt::format("{}:{}:{}: column '{}' is not used by a {} file; ignored", source_name,
                       header_line, i + 1, header[i], kind_name));
@@ -664,6 +678,7 @@ MeasurementFile parse_measurements_csv(std::string_view text, const std::string&
     if (columns.count("payload")) set.set_payload(set.size() - 1, reader.payload(row, tool));
     if (columns.count("temperature"))
       set.set_temperature_c(set.size() - 1, reader.temperature_c(row));
+    if (columns.count("time_s")) set.set_time_s(set.size() - 1, reader.time_s(row));
   }
   check_units(set, format, header_line, columns);
   return result;
@@ -701,10 +716,16 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
   const auto temperature = [&](const std::optional<double>& t) {
     return !temperatures ? std::string() : t ? fmt::format(",{}", *t) : std::string(",");
   };
+  bool times = false;  // likewise the time
+  for (size_t row = 0; row < set.size(); ++row) times = times || set.time_s(row).has_value();
+  const auto time = [&](const std::optional<double>& t) {
+    return !times ? std::string() : t ? fmt::format(",{}", *t) : std::string(",");
+  };
   bool payloads = false;  // an optional last column, written when a row names one
   for (size_t row = 0; row < set.size(); ++row) payloads = payloads || set.payload(row) >= 0;
   out += join(columns_of(set.kind), ",") + (approach ? ",approach" : "") +
-         (temperatures ? ",temperature" : "") + (payloads ? ",payload\n" : "\n");
+         (temperatures ? ",temperature" : "") + (times ? ",time_s" : "") +
+         (payloads ? ",payload\n" : "\n");
   const auto payload = [&](int index) -> std::string {
     if (!payloads) return "\n";
     if (index >= static_cast<int>(tool.payloads.size()))
@@ -741,7 +762,7 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
         out += fmt::format("{},{},{},{},{},{}{}", config(m.config), target(m.target),
                            joints(m.joints), m.position_mm.x(), m.position_mm.y(),
                            m.position_mm.z(), sides(m.approach)) +
-               temperature(m.temperature_c) + payload(m.payload);
+               temperature(m.temperature_c) + time(m.time_s) + payload(m.payload);
       break;
     case MeasurementKind::Poses:
       for (const PoseMeasurement& m : set.poses) {
@@ -750,14 +771,14 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
         out += fmt::format("{},{},{},{},{},{},{},{},{}{}", config(m.config), joints(m.joints),
                            m.world_T_tcp.p.x(), m.world_T_tcp.p.y(), m.world_T_tcp.p.z(), q.w(),
                            q.x(), q.y(), q.z(), sides(m.approach)) +
-               temperature(m.temperature_c) + payload(m.payload);
+               temperature(m.temperature_c) + time(m.time_s) + payload(m.payload);
       }
       break;
     case MeasurementKind::Distances:
       for (const DistanceMeasurement& m : set.distances)
         out += fmt::format("{},{},{},{}{}", config(m.config), target(m.target), joints(m.joints),
                            m.length_mm, sides(m.approach)) +
-               temperature(m.temperature_c) + payload(m.payload);
+               temperature(m.temperature_c) + time(m.time_s) + payload(m.payload);
       break;
   }
   return out;

@@ -176,6 +176,19 @@ void parse_gravity(const yaml::Node& root, RobotModel& model) {
   }
 }
 
+/// `gear_ratio`: six entries, each a ratio (motor turns per joint turn, 1 to 10,000) or ~ for a
+/// joint whose ratio is unknown (0 in the model).
+std::array<double, kJointCount> parse_gear_ratios(const yaml::Node& node) {
+  constexpr yaml::Range kGearRatio{1, 10000, "motor turns per joint turn"};
+  if (!node.node.IsSequence() || node.size() != kJointCount)
+    throw node.error("expected 6 entries, each a gear ratio or ~ (unknown)");
+  std::array<double, kJointCount> ratios{};
+  for (int i = 0; i < kJointCount; ++i)
+    if (node.at(i).defined())
+      ratios[static_cast<size_t>(i)] = yaml::number_in(node.at(i), kGearRatio);
+  return ratios;
+}
+
 void emit_gravity(YAML::Emitter& out, const RobotModel& model) {
   out << YAML::Key << (model.gravity_in_base ? "gravity_base_m_s2" : "gravity_m_s2") << YAML::Value
       << YAML::Flow
@@ -184,9 +197,10 @@ void emit_gravity(YAML::Emitter& out, const RobotModel& model) {
 }
 
 RobotModel parse_robot(const yaml::Node& root) {
-  yaml::expect_keys(root, {"name", "manufacturer", "source", "euler", "mdh", "joint_limits_deg",
-                           "masses", "gravity_m_s2", "joint_map", "reach_mm", "pulses_per_degree",
-                           "gravity_base_m_s2", "mounting_deg", "reference_temperature_c"});
+  yaml::expect_keys(
+      root, {"name", "manufacturer", "source", "euler", "mdh", "joint_limits_deg", "masses",
+             "gravity_m_s2", "joint_map", "reach_mm", "pulses_per_degree", "gravity_base_m_s2",
+             "mounting_deg", "reference_temperature_c", "gear_ratio", "warmup_time_constant_s"});
   RobotModel model;
   model.name = root.at("name").as_string();
   if (root.has("manufacturer")) model.manufacturer = root.at("manufacturer").as_string();
@@ -238,6 +252,11 @@ RobotModel parse_robot(const yaml::Node& root) {
   if (root.has("reference_temperature_c"))
     model.reference_temperature_c =
         yaml::number_in(root.at("reference_temperature_c"), kTemperatureC);
+
+  if (root.has("gear_ratio")) model.gear_ratio = parse_gear_ratios(root.at("gear_ratio"));
+  if (root.has("warmup_time_constant_s"))  // a minute to a working week
+    model.warmup_time_constant_s =
+        yaml::number_in(root.at("warmup_time_constant_s"), {1, 1e6, "s"});
 
   if (root.has("joint_map")) {
     const yaml::Node map = root.at("joint_map");
@@ -292,6 +311,18 @@ void emit_robot_fields(YAML::Emitter& out, const RobotModel& model) {
   emit_gravity(out, model);
   if (model.reference_temperature_c != RobotModel{}.reference_temperature_c)
     out << YAML::Key << "reference_temperature_c" << YAML::Value << model.reference_temperature_c;
+  if (model.warmup_time_constant_s != RobotModel{}.warmup_time_constant_s)
+    out << YAML::Key << "warmup_time_constant_s" << YAML::Value << model.warmup_time_constant_s;
+  if (model.gear_ratio != RobotModel{}.gear_ratio) {
+    out << YAML::Key << "gear_ratio" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+    for (const double r : model.gear_ratio) {
+      if (r > 0)
+        out << r;
+      else
+        out << YAML::Null;
+    }
+    out << YAML::EndSeq;
+  }
   if (!model.joint_map.is_identity()) {
     out << YAML::Key << "joint_map" << YAML::Value << YAML::BeginMap << YAML::Key << "matrix"
         << YAML::Value << YAML::BeginSeq;

@@ -41,10 +41,11 @@ std::array<Pose<double>, kJointCount> chain(const RobotModel& model, const doubl
 }
 
 /// Undeflected link angles θu_1..θu_6 (θ_1 with the base γ) of model joint values q, the
-/// periodic errors (`basis`: periodic_basis of each q) and the backlash (`approach`: the model
-/// joints' sides) included.
+/// periodic errors (`basis`: periodic_basis of each q; `motor_basis`: motor_periodic_basis) and
+/// the backlash (`approach`: the model joints' sides) included.
 std::array<double, kJointCount> undeflected_angles(const RobotModel& model, const double* x,
                                                    const Vector6d& q, const PeriodicBasis& basis,
+                                                   const PeriodicBasis& motor_basis,
                                                    const Vector6d& approach) {
   std::array<double, kJointCount> theta;
   theta[0] = x[scale_param(1)] * q[0] + model.mdh[0].theta_offset + x[5];
@@ -52,7 +53,8 @@ std::array<double, kJointCount> undeflected_angles(const RobotModel& model, cons
     theta[link - 1] = x[scale_param(link)] * q[link - 1] + x[link_param(link, 2)];
   for (int joint = 1; joint <= kJointCount; ++joint)
     for (int k = 0; k < kPeriodicPerJoint; ++k)
-      theta[joint - 1] += x[periodic_param(joint, 1, false) + k] * basis[joint - 1][k];
+      theta[joint - 1] += x[periodic_param(joint, 1, false) + k] * basis[joint - 1][k] +
+                          x[motor_periodic_param(joint, 1, false) + k] * motor_basis[joint - 1][k];
   for (int joint = 1; joint <= kJointCount; ++joint)
     theta[joint - 1] += backlash_shift(x, approach[joint - 1], joint);
   return theta;
@@ -86,12 +88,17 @@ PreparedConfiguration prepare_configuration(const RobotModel& model,
                                             const Vector6d& joints, const RowConditions& row) {
   PreparedConfiguration out;
   out.temperature_rise_k = row.temperature_rise_k;
+  out.warmup_fraction = row.warmup_fraction;
   out.q = model.joint_map.matrix * joints + model.joint_map.offset;
-  for (int k = 0; k < kJointCount; ++k) out.basis[k] = periodic_basis(out.q[k]);
+  for (int k = 0; k < kJointCount; ++k) {
+    out.basis[k] = periodic_basis(out.q[k]);
+    out.motor_basis[k] = motor_periodic_basis(model, k + 1, out.q[k]);
+  }
   for (int joint = 1; joint <= kJointCount; ++joint)
     out.approach[joint - 1] =
         model_approach(model, row.approach ? row.approach->data() : nullptr, joint);
-  out.theta = undeflected_angles(model, reference.data(), out.q, out.basis, out.approach);
+  out.theta =
+      undeflected_angles(model, reference.data(), out.q, out.basis, out.motor_basis, out.approach);
   for (int k = 0; k < kJointCount; ++k) sin_cos(out.theta[k], &out.s[k], &out.c[k]);
   return out;
 }
@@ -102,23 +109,27 @@ FlangeRegressor::FlangeRegressor(const RobotModel& model, const PointMass& paylo
     : q_(configuration.q),
       c_(Vector6d::Zero()),
       basis_(configuration.basis),
+      motor_basis_(configuration.motor_basis),
       approach_(configuration.approach),
       temperature_rise_k_(configuration.temperature_rise_k),
       R_base_xy_(trig.R_base_xy) {
   // The chain at the row's temperature (§8): the warm lengths; jacobian() applies the chain rule.
   std::array<double, kParameterCount> warm;
   const double* x = params.data();
+  const RowConditions row{nullptr, temperature_rise_k_, configuration.warmup_fraction};
   for (int link = 2; link <= kJointCount; ++link) {
     cold_a_[link - 1] = x[link_param(link, 1)];
     cold_d_[link - 1] = x[link_param(link, 3)];
-    growth_[link - 1] = 1 + x[expansion_param(link)] * temperature_rise_k_;
+    warmup_per_length_[link - 1] = row.warmup_fraction * inverse_link_length(model, link);
+    growth_[link - 1] = 1 + x[expansion_param(link)] * temperature_rise_k_ +
+                        x[warmup_param(link)] * warmup_per_length_[link - 1];
   }
-  if (thermal_active(x, {nullptr, temperature_rise_k_})) {
-    warm = warm_parameters(x, temperature_rise_k_);
+  if (thermal_active(x, row)) {
+    warm = warm_parameters(model, x, row);
     x = warm.data();
   }
   const std::array<double, kJointCount> theta_u =
-      undeflected_angles(model, x, q_, basis_, approach_);
+      undeflected_angles(model, x, q_, basis_, motor_basis_, approach_);
   std::array<double, kJointCount> s_u, c_u;
   for (int k = 0; k < kJointCount; ++k)
     sin_cos_shifted(configuration.s[k], configuration.c[k], theta_u[k] - configuration.theta[k],
@@ -224,22 +235,27 @@ void FlangeRegressor::jacobian(const Eigen::Matrix<double, K, 6>& P,
       J.col(it).noalias() += PZ * dtheta.col(f);
     }
   }
-  // Scales, periodic errors and backlash move θu_j by q_j, by the periodic basis at q_j and by
-  // −s_j/2: the column of θu_j (joint twist, plus the deflections it causes) times that factor.
+  // Scales, periodic errors (of the joint and of its motor) and backlash move θu_j by q_j, by the
+  // periodic basis at q_j or r_j·q_j and by −s_j/2: the column of θu_j (joint twist, plus the
+  // deflections it causes) times that factor.
   for (int joint = 1; joint <= kJointCount; ++joint) {
     Rows joint_column = PZ.col(joint - 1);
     if (compliant_) joint_column.noalias() += PZ * dtheta.col(joint - 1);
     J.col(scale_param(joint)) = q_[joint - 1] * joint_column;
-    for (int k = 0; k < kPeriodicPerJoint; ++k)
+    for (int k = 0; k < kPeriodicPerJoint; ++k) {
       J.col(periodic_param(joint, 1, false) + k) = basis_[joint - 1][k] * joint_column;
+      J.col(motor_periodic_param(joint, 1, false) + k) = motor_basis_[joint - 1][k] * joint_column;
+    }
     J.col(backlash_param(joint)) = (-0.5 * approach_[joint - 1]) * joint_column;
   }
-  // Thermal group: the columns above are those of the warm lengths a'_i = a_i·g_i, d'_i = d_i·g_i
-  // (g_i = 1 + e_i·ΔT); da'/da = g_i, da'/de_i = a_i·ΔT (likewise d).
+  // Thermal and warm-up groups: the columns above are those of the warm lengths a'_i = a_i·g_i,
+  // d'_i = d_i·g_i (g_i = 1 + e_i·ΔT + φ·w_i/L_i); da'/da = g_i, da'/de_i = a_i·ΔT, da'/dw_i =
+  // a_i·φ/L_i (likewise d).
   for (int link = 2; link <= kJointCount; ++link) {
     const int i_a = link_param(link, 1), id = link_param(link, 3);
-    J.col(expansion_param(link)) =
-        temperature_rise_k_ * (cold_a_[link - 1] * J.col(i_a) + cold_d_[link - 1] * J.col(id));
+    const Rows cold_column = cold_a_[link - 1] * J.col(i_a) + cold_d_[link - 1] * J.col(id);
+    J.col(expansion_param(link)) = temperature_rise_k_ * cold_column;
+    J.col(warmup_param(link)) = warmup_per_length_[link - 1] * cold_column;
     J.col(i_a) *= growth_[link - 1];
     J.col(id) *= growth_[link - 1];
   }

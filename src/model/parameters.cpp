@@ -51,6 +51,14 @@ const std::array<ParameterInfo, kParameterCount>& parameter_table() {
     for (int link = 2; link <= kJointCount; ++link)
       t[expansion_param(link)] = {fmt::format("link{}.expansion", link), ParamKind::Expansion,
                                   "ppm/K"};
+    for (int joint = 1; joint <= kJointCount; ++joint)
+      for (int h = 1; h <= kPeriodicHarmonics; ++h)
+        for (const bool sine : {false, true})
+          t[motor_periodic_param(joint, h, sine)] = {
+              fmt::format("joint{}.motor_periodic{}.{}", joint, h, sine ? "sin" : "cos"),
+              ParamKind::Angle, "deg"};
+    for (int link = 2; link <= kJointCount; ++link)
+      t[warmup_param(link)] = {fmt::format("link{}.warmup_growth", link), ParamKind::Length, "mm"};
     return t;
   }();
   return kTable;
@@ -71,6 +79,15 @@ const std::vector<ParameterGroup>& opt_in_groups() {
     ParameterGroup thermal{"thermal", {}};
     for (int link = 2; link <= kJointCount; ++link) thermal.params.push_back(expansion_param(link));
     g.push_back(thermal);
+    for (int joint = 1; joint <= kJointCount; ++joint) {
+      ParameterGroup group{fmt::format("joint{}.motor_periodic", joint), {}};
+      for (int k = 0; k < kPeriodicPerJoint; ++k)
+        group.params.push_back(motor_periodic_param(joint, 1, false) + k);
+      g.push_back(group);
+    }
+    ParameterGroup warmup{"warmup", {}};
+    for (int link = 2; link <= kJointCount; ++link) warmup.params.push_back(warmup_param(link));
+    g.push_back(warmup);
     return g;
   }();
   return kGroups;
@@ -78,7 +95,8 @@ const std::vector<ParameterGroup>& opt_in_groups() {
 
 std::vector<int> opt_in_group_parameters(std::string_view name) {
   std::vector<int> out;
-  const bool family = name == "periodic" || name == "backlash";  // one group per joint
+  const bool family =  // one group per joint
+      name == "periodic" || name == "backlash" || name == "motor_periodic";
   for (const ParameterGroup& group : opt_in_groups()) {
     if (name == "groups" || name == group.name ||
         (family && group.name.ends_with(fmt::format(".{}", name))) ||
@@ -86,6 +104,10 @@ std::vector<int> opt_in_group_parameters(std::string_view name) {
       out.insert(out.end(), group.params.begin(), group.params.end());
   }
   return out;
+}
+
+bool selects_by_family(std::string_view name) {
+  return name == "groups" || name == "motor_periodic";
 }
 
 bool is_opt_in(int index) {

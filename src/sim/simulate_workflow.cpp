@@ -106,6 +106,7 @@ SimulateResult run_simulation(const SimulateRequest& r) {
   sim.approach_from_below = r.approach == "below";
   sim.approach_random = r.approach == "random";  // sides drawn from seed + 3
   sim.approach_seed = r.seed + 3;
+  sim.record_time = r.clock;
   result.simulation = simulate_measurements(truth, instrument, configs, noise_rng, sim);
   if (result.simulation.measurements.size() == 0)
     throw InputError({"", 0, 0, r.configs.empty() ? "--random" : "--configs"},

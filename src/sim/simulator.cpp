@@ -261,7 +261,9 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
       }
     }
     set.set_payload(set.size() - 1, motion.payload);
-    if (truth.effects.thermal)  // a thermometer on the arm (the thermal group's input, §8)
+    if (truth.effects.thermal && options.record_time)  // the warm-up group's input (§10)
+      set.set_time_s(set.size() - 1, motion.time_s);
+    else if (truth.effects.thermal)  // a thermometer on the arm (the thermal group's input, §8)
       set.set_temperature_c(set.size() - 1, truth.robot.model.reference_temperature_c +
                                                 temperature_rise(truth.effects, motion.time_s));
   }

@@ -170,6 +170,45 @@ PointMass parse_mass(const yaml::Node& node) {
   return mass;
 }
 
+/// `key`: joint → [cos 1, sin 1, cos 2, sin 2] (deg) of the periodic terms at `offset` (the
+/// joints' own or their motors'), the joints that have one.
+void emit_periodic(YAML::Emitter& out, const char* key, const ParameterVector& x, int offset) {
+  const auto row_of = [&](int joint) {
+    std::vector<double> row;
+    for (int k = 0; k < kPeriodicPerJoint; ++k)
+      row.push_back(rad2deg(x[offset + kPeriodicPerJoint * (joint - 1) + k]));
+    return row;
+  };
+  const std::vector<double> zero(kPeriodicPerJoint, 0.0);
+  bool any = false;
+  for (int joint = 1; joint <= kJointCount; ++joint) any = any || row_of(joint) != zero;
+  if (!any) return;
+  out << YAML::Key << key << YAML::Value << YAML::BeginMap;
+  for (int joint = 1; joint <= kJointCount; ++joint)
+    if (row_of(joint) != zero)
+      out << YAML::Key << joint << YAML::Value << YAML::Flow << row_of(joint);
+  out << YAML::EndMap;
+}
+
+/// Reads what emit_periodic writes; a motor's term needs the joint's gear ratio in the robot
+/// file (docs/method/03-error-model.md §9).
+void parse_periodic(const yaml::Node& root, const char* key, const RobotModel& model, int offset,
+                    ParameterVector& x) {
+  if (!root.has(key)) return;
+  const yaml::Node periodic = root.at(key);
+  for (const std::string& name : periodic.keys()) {
+    const int joint = name.size() == 1 ? name[0] - '0' : 0;
+    if (joint < 1 || joint > kJointCount)
+      throw periodic.at(name).error("expected a joint number 1..6");
+    if (offset == kMotorPeriodicOffset && model.gear_ratio[static_cast<size_t>(joint - 1)] == 0.0)
+      throw periodic.at(name).error(fmt::format(
+          "joint {} has no gear_ratio in the robot file: its motor angle is unknown", joint));
+    const std::vector<double> row = periodic.at(name).as_doubles(kPeriodicPerJoint);
+    for (int k = 0; k < kPeriodicPerJoint; ++k)
+      x[offset + kPeriodicPerJoint * (joint - 1) + k] = deg2rad(row[static_cast<size_t>(k)]);
+  }
+}
+
 }  // namespace
 
 std::string truth_to_yaml(const TrueRobot& truth, const std::string& robot_name) {
@@ -197,21 +236,9 @@ std::string truth_to_yaml(const TrueRobot& truth, const std::string& robot_name)
   out << YAML::EndMap;
   out << YAML::Key << "scales" << YAML::Value << YAML::Flow
       << std::vector<double>(x.data() + kScaleOffset, x.data() + kScaleOffset + kJointCount);
-  // Periodic joint errors (opt-in group, docs/method/03-error-model.md §5), joints that have one.
-  bool periodic = false;
-  for (int i = kPeriodicOffset; i < kBacklashOffset; ++i) periodic = periodic || x[i] != 0.0;
-  if (periodic) {
-    out << YAML::Key << "periodic_deg" << YAML::Value << YAML::BeginMap;
-    for (int joint = 1; joint <= kJointCount; ++joint) {
-      std::vector<double> row;
-      row.reserve(kPeriodicPerJoint);
-      for (int k = 0; k < kPeriodicPerJoint; ++k)
-        row.push_back(rad2deg(x[periodic_param(joint, 1, false) + k]));
-      if (row != std::vector<double>(kPeriodicPerJoint, 0.0))
-        out << YAML::Key << joint << YAML::Value << YAML::Flow << row;
-    }
-    out << YAML::EndMap;
-  }
+  // Periodic joint and motor errors (opt-in groups, docs/method/03-error-model.md §5, §9).
+  emit_periodic(out, "periodic_deg", x, kPeriodicOffset);
+  emit_periodic(out, "motor_periodic_deg", x, kMotorPeriodicOffset);
   out << YAML::Key << "masses" << YAML::Value << YAML::BeginMap;
   for (int link = 1; link <= kJointCount; ++link) {
     const PointMass& mass = truth.robot.model.link_masses[static_cast<size_t>(link - 1)];
@@ -252,9 +279,10 @@ std::string truth_to_yaml(const TrueRobot& truth, const std::string& robot_name)
 
 TrueRobot parse_truth(const yaml::Node& root, const std::string& robot, const Tool& tool) {
   // A typo ('efects:', 'scale:') would silently simulate another robot than the one meant.
-  yaml::expect_keys(root, {"robot", "origin", "base", "links", "scales", "masses", "payload",
-                           "gravity_m_s2", "targets", "effects", "periodic_deg",
-                           "gravity_base_m_s2", "mounting_deg", "joint1_compliance"});
+  yaml::expect_keys(
+      root, {"robot", "origin", "base", "links", "scales", "masses", "payload", "gravity_m_s2",
+             "targets", "effects", "periodic_deg", "motor_periodic_deg", "gravity_base_m_s2",
+             "mounting_deg", "joint1_compliance"});
   const std::string robot_name = root.has("robot") ? root.at("robot").as_string() : robot;
   RobotModel model = load_robot(robot_name);
   TrueRobot truth =
@@ -281,17 +309,8 @@ TrueRobot parse_truth(const yaml::Node& root, const std::string& robot, const To
     const std::vector<double> scales = root.at("scales").as_doubles(kJointCount);
     for (int i = 0; i < kJointCount; ++i) x[kScaleOffset + i] = scales[static_cast<size_t>(i)];
   }
-  if (root.has("periodic_deg")) {  // joint: [cos 1, sin 1, cos 2, sin 2] (deg)
-    const yaml::Node periodic = root.at("periodic_deg");
-    for (const std::string& key : periodic.keys()) {
-      const int joint = key.size() == 1 ? key[0] - '0' : 0;
-      if (joint < 1 || joint > kJointCount)
-        throw periodic.at(key).error("expected a joint number 1..6");
-      const std::vector<double> row = periodic.at(key).as_doubles(kPeriodicPerJoint);
-      for (int k = 0; k < kPeriodicPerJoint; ++k)
-        x[periodic_param(joint, 1, false) + k] = deg2rad(row[static_cast<size_t>(k)]);
-    }
-  }
+  parse_periodic(root, "periodic_deg", model, kPeriodicOffset, x);
+  parse_periodic(root, "motor_periodic_deg", model, kMotorPeriodicOffset, x);
   // The masses listed are all the arm has: links not listed carry none.
   RobotModel& true_model = truth.robot.model;
   const yaml::Node masses = root.at("masses");

@@ -6,10 +6,10 @@
 /// needs a step, the exact joint Jacobian from what that evaluation left there.
 ///
 /// Jacobian (world frame, rows v then ω, columns = controller joints, mm/rad and rad/rad):
-///   with θu the undeflected link angles (θu = scale·q + offset + δθ(q), δθ the periodic joint
-///   errors), θ = θu + c·τ(θu) the deflected ones and q = M·j + offset the model angles from
-///   controller joints j,
-///   J = J_θ · (I + diag(c)·∂τ/∂θu) · diag(scale + δθ'(q)) · M,
+///   with θu the undeflected link angles (θu = scale·q + offset + δθ(q) + δμ(r·q), δθ the
+///   periodic joint errors, δμ the motors'), θ = θu + c·τ(θu) the deflected ones and q = M·j +
+///   offset the model angles from controller joints j,
+///   J = J_θ · (I + diag(c)·∂τ/∂θu) · diag(scale + δθ'(q) + r·δμ'(r·q)) · M,
 /// J_θ the geometric Jacobian of the deflected chain (column k: [z_k × (p_tcp − o_k); z_k]).
 /// The gravity torque τ_i = z_i · (V_i × g), with M_i, C_i the mass and first moment of links
 /// i..6 and the payload (world frame) and V_i = C_i − M_i·o_i, has the derivatives
@@ -41,6 +41,11 @@ struct CalibratedChain {
   /// Periodic error coefficients of each joint (jointI.periodicH.cos|sin, rad).
   std::array<std::array<double, kPeriodicPerJoint>, kJointCount> periodic{};
   std::array<bool, kJointCount> has_periodic{};
+  /// Motor-angle periodic error coefficients of each joint (jointI.motor_periodicH.cos|sin, rad)
+  /// and the gear ratio r whose motor angle r·q they follow (docs/method/03-error-model.md §9).
+  std::array<std::array<double, kPeriodicPerJoint>, kJointCount> motor_periodic{};
+  std::array<bool, kJointCount> has_motor_periodic{};
+  std::array<double, kJointCount> gear_ratio{};
   std::array<double, kJointCount> compliance{};  ///< [0]: joint 1's (opt-in, §7)
   bool compliant = false;
   std::array<double, kJointCount> mass{};             ///< link 6 includes the payload
@@ -62,7 +67,7 @@ struct ChainState {
   Eigen::Vector3d tcp_p;
   bool has_angles = false;
   std::array<double, kJointCount> theta{}, cos_theta{}, sin_theta{};  ///< θu (θ1 with γ_base)
-  std::array<double, kJointCount> rate{};  ///< dθu/dq: scale + the periodic error's slope
+  std::array<double, kJointCount> rate{};  ///< dθu/dq: scale + the periodic errors' slopes
 };
 
 /// sin θ and cos θ from a table at the multiples of 2π/256 and the angle-addition series for
@@ -96,7 +101,8 @@ void calibrated_jacobian(const CalibratedChain& chain, const ChainState& state, 
 /// (o_k − o_{k−1}), the axes turn at ż_k = ω_{k−1} × z_k and, ṗ being the TCP's velocity,
 ///   d(J·v)/dt = Σ_k ν_k·(ż_k × (p − o_k) + z_k × (ṗ − ȯ_k), ż_k).
 /// The compliance's own change (the deflection varying along the motion, up to ~3 % of the
-/// whole) and the periodic errors' curvature (below 1e-3 of the rate) are left out: this serves
+/// whole) and the periodic errors' curvature (below 1e-3 of the rate for the joints' own; a
+/// motor's, (H·r)² times its amplitude, can be comparable to the rate) are left out: this serves
 /// Newton steps, whose answers the forward model verifies.
 Vector6d calibrated_jacobian_derivative(const CalibratedChain& chain, const ChainState& state,
                                         const Vector6d& along, const Vector6d& v);

@@ -78,14 +78,17 @@ struct ReachCondition {
   Vector6d approach = Vector6d::Ones();
   /// The targets' temperature minus the robot's reference (K): the thermal group's ΔT (§8).
   double temperature_rise_k = 0;
+  /// How far the arm has warmed up, φ = 1 − exp(−t/τ) (1 warm, 0 cold): the warm-up group's
+  /// factor (§10).
+  double warmup_fraction = 0;
   PointMass payload;  ///< the payload the compliance is computed for (§3, §7)
   /// Its name among the tool's `payloads`; empty: the tool's `payload` or one given by mass.
   std::string payload_name;
 
   [[nodiscard]] bool operator==(const ReachCondition& other) const {
     return approach == other.approach && temperature_rise_k == other.temperature_rise_k &&
-           payload.mass_kg == other.payload.mass_kg && payload.cog_mm == other.payload.cog_mm &&
-           payload_name == other.payload_name;
+           warmup_fraction == other.warmup_fraction && payload.mass_kg == other.payload.mass_kg &&
+           payload.cog_mm == other.payload.cog_mm && payload_name == other.payload_name;
   }
 };
 
@@ -112,7 +115,8 @@ struct Compensator {
 /// inverse (neither ortho-parallel nor of the UR family) or a parameter is not finite.
 /// `row`: the side each joint reaches its targets from (+1 below, −1 above; null: from below,
 /// the measurement programs' practice), for the backlash group (docs/method/03-error-model.md
-/// §6), and their temperature rise over the robot's reference, for the thermal group (§8).
+/// §6), their temperature rise over the robot's reference, for the thermal group (§8), and the
+/// arm's warm-up, for the warm-up group (§10).
 Compensator make_compensator(const CalibratedRobot& robot,
                              const std::optional<PointMass>& payload = std::nullopt,
                              const RowConditions& row = {});

@@ -35,6 +35,11 @@ struct CompensationSetup {
   /// The arm's temperature (°C) when it reaches the targets, for the thermal group
   /// (docs/method/03-error-model.md §8, `--temperature-c`); none: the robot's reference.
   std::optional<double> temperature_c;
+  /// How long the arm has worked when it reaches the targets (s), for the warm-up group
+  /// (docs/method/03-error-model.md §10, `--warmup-time-s`); `warm` (`--warm`): fully warm;
+  /// neither: cold.
+  std::optional<double> warmup_time_s;
+  bool warm = false;
 };
 
 /// The calibrated robot with the tool and payload applied, and its compensator for the run's
@@ -61,7 +66,8 @@ class CompensatorsByCondition {
  private:
   /// A condition's exact values, ordered: one lookup in log time, as many rows as a target file
   /// has (a temperature column can make every row a condition of its own).
-  using Key = std::tuple<std::array<double, 6>, double, double, std::array<double, 3>, std::string>;
+  using Key =
+      std::tuple<std::array<double, 6>, double, double, double, std::array<double, 3>, std::string>;
   static Key key_of(const ReachCondition& condition);
 
   const Compensation& run_;
@@ -72,7 +78,8 @@ class CompensatorsByCondition {
 /// expected robot (key "--robot"), the payload mass is outside [0, 10000) kg or not finite
 /// (key "--payload-mass-kg"), its centre of gravity not finite (key "--payload-cog-mm"), a
 /// payload name the tool does not list or given with a mass (key "--payload"), a temperature
-/// outside [−50, 150] °C (key "--temperature-c").
+/// outside [−50, 150] °C (key "--temperature-c"), a negative or not finite warm-up time or one
+/// given with `warm` (key "--warmup-time-s").
 Compensation prepare_compensation(const CompensationSetup& setup);
 
 /// "newton" or "pose-shift"; InputError (key `key`) otherwise.

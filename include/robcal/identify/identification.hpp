@@ -54,6 +54,9 @@ struct IdentifyOptions {
   /// Where the model parameters start and are held when not freed (internal units,
   /// kParameterCount values): a calibrated robot's (reidentify()); empty: the nominal ones.
   Eigen::VectorXd start_parameters;
+  /// Time constant τ (s) of the warm-up group's φ(t) = 1 − exp(−t/τ) (docs/method/03-error-model.md
+  /// §10; `--warmup-tau-s`); none: the robot's warmup_time_constant_s (default 1800 s).
+  std::optional<double> warmup_time_constant_s;
 };
 
 /// Gravity torque below which a joint's compliance cannot show in the measurements (N·mm): a

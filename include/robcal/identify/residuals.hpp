@@ -60,8 +60,9 @@ const Vector6d& row_joints(const MeasurementSet& data, size_t row);
 /// Each joint's approach in a row of any kind (+1 from below, −1 from above, 0 unknown).
 const Vector6d& row_approach(const MeasurementSet& data, size_t row);
 
-/// A row's approach and its temperature rise over `model`'s reference temperature (0 when the
-/// row records none), what the opt-in groups need beyond the joints.
+/// A row's approach, its temperature rise over `model`'s reference temperature (0 when the row
+/// records none) and its warm-up φ at its time (0 without one), what the opt-in groups need
+/// beyond the joints.
 RowConditions row_conditions(const RobotModel& model, const MeasurementSet& data, size_t row);
 
 /// All residuals stacked row by row, and the Jacobian restricted to the `columns` unknowns

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 
 #include "robcal/model/parameters.hpp"
 #include "robcal/model/robot_model.hpp"
@@ -156,6 +157,29 @@ std::array<T, kPeriodicPerJoint> periodic_basis(const T& q) {
   return {c, s, c * c - s * s, T(2) * s * c};
 }
 
+/// The motor-angle periodic error's basis of model joint `joint` (1..6) at model angle q (rad):
+/// periodic_basis of the motor angle r·q, r the joint's gear ratio, in the layout's order of
+/// jointI.motor_periodicH.cos|sin (docs/method/03-error-model.md §9); zeros without a ratio.
+template <typename T>
+std::array<T, kPeriodicPerJoint> motor_periodic_basis(const RobotModel& model, int joint,
+                                                      const T& q) {
+  const double ratio = model.gear_ratio[static_cast<size_t>(joint - 1)];
+  if (ratio == 0.0) return {T(0), T(0), T(0), T(0)};
+  return periodic_basis(T(ratio) * q);
+}
+
+/// The periodic error term Σ_k e_k·b_k of one joint: `e` its four coefficients (periodic or
+/// motor-periodic), `basis` the matching basis; the coefficients all zero (and, for a Jet,
+/// underived) leave `theta` as it is without evaluating the basis.
+template <typename T, typename Basis>
+void add_periodic_error(const T* e, const Basis& basis, T& theta) {
+  bool periodic = false;
+  for (int k = 0; k < kPeriodicPerJoint; ++k) periodic = periodic || detail::is_nonzero(e[k]);
+  if (!periodic) return;
+  const std::array<T, kPeriodicPerJoint> b = basis();
+  for (int k = 0; k < kPeriodicPerJoint; ++k) theta += e[k] * b[k];
+}
+
 /// The side model joint `joint` (1..6) is approached from: +1 from below, −1 from above, 0
 /// unknown (the middle of the dead band), the controller joint's `approach` (null: every joint
 /// from below, the measurement programs' practice), reversed where the joint map reverses the
@@ -172,10 +196,10 @@ T backlash_shift(const T* params, double side, int joint) {
 }
 
 /// Joint angles θ_1..θ_6 (rad) used in the links: θ_i = scale_i·q_i + offset_i + δθ_i(q_i)
-/// − s_i·b_i/2 (+ c_i·τ_i when the model has compliance, joint 1's included), δθ_i the
-/// periodic error, b_i the
-/// backlash and s_i the approach of joint i (`approach`, see backlash_shift),
-/// docs/method/02-frames.md §5, 03-error-model.md §3, §6. `q` are model joint angles.
+/// + δμ_i(r_i·q_i) − s_i·b_i/2 (+ c_i·τ_i when the model has compliance, joint 1's included),
+/// δθ_i the periodic error, δμ_i the motor's (r_i the gear ratio), b_i the backlash and s_i the
+/// approach of joint i (`approach`, see backlash_shift), docs/method/02-frames.md §5,
+/// 03-error-model.md §3, §5, §6, §9. `q` are model joint angles.
 template <typename T>
 std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass& payload,
                                        const T* params, const std::array<T, kJointCount>& q,
@@ -185,12 +209,14 @@ std::array<T, kJointCount> link_angles(const RobotModel& model, const PointMass&
   for (int link = 2; link <= kJointCount; ++link)
     theta[link - 1] = params[scale_param(link)] * q[link - 1] + params[link_param(link, 2)];
   for (int joint = 1; joint <= kJointCount; ++joint) {
-    const T* e = params + periodic_param(joint, 1, false);
-    bool periodic = false;
-    for (int k = 0; k < kPeriodicPerJoint; ++k) periodic = periodic || detail::is_nonzero(e[k]);
-    if (!periodic) continue;
-    const std::array<T, kPeriodicPerJoint> b = periodic_basis(q[joint - 1]);
-    for (int k = 0; k < kPeriodicPerJoint; ++k) theta[joint - 1] += e[k] * b[k];
+    const T& qj = q[joint - 1];
+    add_periodic_error(
+        params + periodic_param(joint, 1, false), [&] { return periodic_basis(qj); },
+        theta[joint - 1]);
+    if (model.gear_ratio[static_cast<size_t>(joint - 1)] != 0.0)
+      add_periodic_error(
+          params + motor_periodic_param(joint, 1, false),
+          [&] { return motor_periodic_basis(model, joint, qj); }, theta[joint - 1]);
   }
   for (int joint = 1; joint <= kJointCount; ++joint)
     if (detail::is_nonzero(params[backlash_param(joint)]))
@@ -213,26 +239,47 @@ struct RowConditions {
   const Vector6d* approach = nullptr;
   /// Temperature minus the robot's reference temperature (K), the thermal group's factor (§8).
   double temperature_rise_k = 0;
+  /// How far the arm has warmed up, φ = 1 − exp(−t/τ) of the row's time (warmup_fraction), 1
+  /// warm, 0 cold or no time: the warm-up group's factor (§10).
+  double warmup_fraction = 0;
 };
 
-/// True when the thermal group moves the links at `row` (or, for a ceres::Jet, is differentiated
-/// there): a temperature rise and an expansion coefficient.
+/// The warm-up's progress φ(t) = 1 − exp(−t/τ) after `time_s` of work, τ the model's
+/// warmup_time_constant_s (docs/method/03-error-model.md §10).
+inline double warmup_fraction(const RobotModel& model, double time_s) {
+  return 1.0 - std::exp(-time_s / model.warmup_time_constant_s);
+}
+
+/// 1/L_i of link i (2..6), L_i = √(a_i² + d_i²) its nominal length, 0 for a link without
+/// length: the warm-up growth w_i (mm) is a fraction w_i/L_i of the link (§10).
+inline double inverse_link_length(const RobotModel& model, int link) {
+  const double length = std::hypot(model.mdh[link - 1].a, model.mdh[link - 1].d);
+  return length > 0 ? 1.0 / length : 0.0;
+}
+
+/// True when the thermal or the warm-up group moves the links at `row` (or, for a ceres::Jet, is
+/// differentiated there): a temperature rise and an expansion coefficient, or a warm-up and a
+/// growth.
 template <typename T>
 bool thermal_active(const T* params, const RowConditions& row) {
-  if (row.temperature_rise_k == 0) return false;
   for (int link = 2; link <= kJointCount; ++link)
-    if (detail::is_nonzero(params[expansion_param(link)])) return true;
+    if ((row.temperature_rise_k != 0 && detail::is_nonzero(params[expansion_param(link)])) ||
+        (row.warmup_fraction != 0 && detail::is_nonzero(params[warmup_param(link)])))
+      return true;
   return false;
 }
 
-/// The parameters at the row's temperature: a_i and d_i of links 2..6 scaled by (1 + e_i·ΔT)
-/// (docs/method/03-error-model.md §8), every other value as given.
+/// The parameters at the row's temperature and warm-up: a_i and d_i of links 2..6 scaled by
+/// (1 + e_i·ΔT + φ·w_i/L_i) (docs/method/03-error-model.md §8, §10), every other value as given.
 template <typename T>
-std::array<T, kParameterCount> warm_parameters(const T* params, double temperature_rise_k) {
+std::array<T, kParameterCount> warm_parameters(const RobotModel& model, const T* params,
+                                               const RowConditions& row) {
   std::array<T, kParameterCount> warm;
   for (int i = 0; i < kParameterCount; ++i) warm[i] = params[i];
   for (int link = 2; link <= kJointCount; ++link) {
-    const T growth = T(1) + params[expansion_param(link)] * temperature_rise_k;
+    const T growth =
+        T(1) + params[expansion_param(link)] * row.temperature_rise_k +
+        params[warmup_param(link)] * (row.warmup_fraction * inverse_link_length(model, link));
     warm[link_param(link, 1)] = params[link_param(link, 1)] * growth;
     warm[link_param(link, 3)] = params[link_param(link, 3)] * growth;
   }
@@ -242,14 +289,15 @@ std::array<T, kParameterCount> warm_parameters(const T* params, double temperatu
 /// World poses of the link frames Φ1..Φ6 (frames[5] is the flange, Φ6).
 /// \param params  parameter vector (docs/method/03-error-model.md §1 layout, internal units),
 /// kParameterCount values \param joints  controller joint values, rad \param row  the row's
-/// approach and temperature (RowConditions; default: from below, at the reference temperature)
+/// approach, temperature and warm-up (RowConditions; default: from below, at the reference
+/// temperature, cold)
 template <typename T>
 std::array<Pose<T>, kJointCount> link_frames(const RobotModel& model, const PointMass& payload,
                                              const T* params, const T* joints,
                                              const RowConditions& row = {}) {
   if (thermal_active(params, row)) {
-    const std::array<T, kParameterCount> warm = warm_parameters(params, row.temperature_rise_k);
-    return link_frames(model, payload, warm.data(), joints, {row.approach, 0});
+    const std::array<T, kParameterCount> warm = warm_parameters(model, params, row);
+    return link_frames(model, payload, warm.data(), joints, {row.approach, 0, 0});
   }
   const double* approach = row.approach ? row.approach->data() : nullptr;
   const std::array<T, kJointCount> q = model_joint_angles(model, joints);

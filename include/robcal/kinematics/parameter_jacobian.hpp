@@ -29,15 +29,16 @@ using TwistJacobian = Eigen::Matrix<double, 6, kParameterCount>;
 /// - each geometric parameter is an elementary motion along the chain: a base translation, a
 ///   rotation about a base axis, a link's Rot_x(α_i) about x_{i-1} through o_{i-1}, Trans_x(a_i)
 ///   along x_{i-1}, Trans_z(d_i) along z_i;
-/// - joint offsets, scales, periodic errors, backlash and compliances act through the joint angles
-/// θ_i,
+/// - joint offsets, scales, periodic errors (of the joints and of their motors), backlash and
+///   compliances act through the joint angles θ_i,
 ///   whose column is the joint twist (o_i × z_i; z_i) of the deflected chain;
 /// - with compliance, θ_i = θu_i + c_i·τ_i(θu, params) (docs/method/03-error-model.md §3), so every
 /// parameter also
 ///   moves θ_i through the gravity torque τ_i; its derivative follows from the same elementary
 ///   motions applied to τ_i = z_i · ((Σ_{j≥i} m_j (c_j − o_i)) × g) in the undeflected chain.
-/// - the thermal group scales a_i, d_i by (1 + e_i·ΔT): the chain is evaluated with the warm
-///   lengths, whose columns the chain rule turns into those of a_i, d_i and e_i (§8).
+/// - the thermal and warm-up groups scale a_i, d_i by (1 + e_i·ΔT + φ·w_i/L_i): the chain is
+///   evaluated with the warm lengths, whose columns the chain rule turns into those of a_i, d_i,
+///   e_i and w_i (§8, §10).
 /// Cost: two chain evaluations plus O(parameters × joints) dot products, ≈1 µs.
 /// `row`: the row's approach and temperature (forward_kinematics.hpp RowConditions).
 void flange_twist_jacobian(const RobotModel& model, const PointMass& payload,
@@ -62,10 +63,12 @@ using PeriodicBasis = std::array<std::array<double, kPeriodicPerJoint>, kJointCo
 struct PreparedConfiguration {
   Vector6d q = Vector6d::Zero();  ///< model joint values (joint map applied)
   PeriodicBasis basis{};          ///< periodic_basis of each q (the periodic errors' factors)
+  PeriodicBasis motor_basis{};    ///< motor_periodic_basis of each q (the motors' factors)
   /// Each model joint's side (model_approach: +1 below, −1 above, 0 unknown), the backlash's
   /// factor.
   Vector6d approach = Vector6d::Ones();
   double temperature_rise_k = 0;  ///< the thermal group's ΔT (K)
+  double warmup_fraction = 0;     ///< the warm-up group's φ (RowConditions)
   std::array<double, kJointCount> theta{}, s{}, c{};
 };
 PreparedConfiguration prepare_configuration(const RobotModel& model,
@@ -91,11 +94,12 @@ class FlangeRegressor {
 
  private:
   Vector6d q_, c_;  ///< model joint values; compliances (c_[0]: joint 1's, §7)
-  PeriodicBasis basis_;
+  PeriodicBasis basis_, motor_basis_;
   Vector6d approach_;
-  /// ΔT, and per link (index link − 1) the cold a_i, d_i and their growth 1 + e_i·ΔT.
+  /// ΔT, and per link (index link − 1) the cold a_i, d_i, their growth 1 + e_i·ΔT + φ·w_i/L_i and
+  /// the warm-up's factor φ/L_i.
   double temperature_rise_k_ = 0;
-  std::array<double, kJointCount> cold_a_{}, cold_d_{}, growth_{};
+  std::array<double, kJointCount> cold_a_{}, cold_d_{}, growth_{}, warmup_per_length_{};
   bool compliant_ = false;
   bool gravity_turns_with_base_ = false;  ///< RobotModel::gravity_in_base
   Eigen::Matrix3d R_base_xy_;

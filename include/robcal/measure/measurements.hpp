@@ -34,6 +34,10 @@ struct PointMeasurement {
   /// The arm's temperature (°C, `temperature` column), the thermal group's input
   /// (docs/method/03-error-model.md §8); none: at the robot's reference temperature.
   std::optional<double> temperature_c{};
+  /// When the row was measured (s since the arm started working, `time_s` column), the warm-up
+  /// group's input when no temperature is recorded (docs/method/03-error-model.md §10); none:
+  /// cold.
+  std::optional<double> time_s{};
 };
 
 /// `config,j1..j6,x,y,z,qw,qx,qy,qz`: world_T_tcp.
@@ -45,6 +49,7 @@ struct PoseMeasurement {
   Vector6d approach = Vector6d::Ones();   ///< as PointMeasurement::approach
   int payload = -1;                       ///< as PointMeasurement::payload
   std::optional<double> temperature_c{};  ///< as PointMeasurement::temperature_c
+  std::optional<double> time_s{};         ///< as PointMeasurement::time_s
 };
 
 /// `config,target,j1..j6,length`: |p_target − centre| in mm.
@@ -57,6 +62,7 @@ struct DistanceMeasurement {
   Vector6d approach = Vector6d::Ones();   ///< as PointMeasurement::approach
   int payload = -1;                       ///< as PointMeasurement::payload
   std::optional<double> temperature_c{};  ///< as PointMeasurement::temperature_c
+  std::optional<double> time_s{};         ///< as PointMeasurement::time_s
 };
 
 /// The rows of one measurement file; exactly one of the three vectors is filled.
@@ -125,6 +131,31 @@ struct MeasurementSet {
         return;
       case MeasurementKind::Distances:
         distances[row].temperature_c = temperature_c;
+        return;
+    }
+  }
+  /// The time row `row` recorded (any kind), s; none when the file has no such column.
+  [[nodiscard]] const std::optional<double>& time_s(size_t row) const {
+    switch (kind) {
+      case MeasurementKind::Poses:
+        return poses[row].time_s;
+      case MeasurementKind::Distances:
+        return distances[row].time_s;
+      case MeasurementKind::Points:
+        break;
+    }
+    return points[row].time_s;
+  }
+  void set_time_s(size_t row, std::optional<double> time_s) {
+    switch (kind) {
+      case MeasurementKind::Points:
+        points[row].time_s = time_s;
+        return;
+      case MeasurementKind::Poses:
+        poses[row].time_s = time_s;
+        return;
+      case MeasurementKind::Distances:
+        distances[row].time_s = time_s;
         return;
     }
   }

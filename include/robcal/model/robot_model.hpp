@@ -78,6 +78,14 @@ struct RobotModel {
   /// default 20 °C, ISO 1's reference for dimensional specifications): the thermal group scales
   /// a_i, d_i by (1 + e_i·(T − this)) (docs/method/03-error-model.md §8).
   double reference_temperature_c = 20;
+  /// Motor turns per turn of each model joint (robot file `gear_ratio`, ~ or absent: unknown, 0):
+  /// the motor-angle periodic group of a joint needs it (docs/method/03-error-model.md §9).
+  std::array<double, kJointCount> gear_ratio{};
+  /// Time constant τ (s) of the arm's first-order warm-up ΔT(t) = ΔT∞·(1 − exp(−t/τ)), for the
+  /// warm-up group of rows that record a time but no temperature (robot file
+  /// `warmup_time_constant_s`, IdentifyOptions::warmup_time_constant_s; default 30 min,
+  /// docs/method/03-error-model.md §10).
+  double warmup_time_constant_s = 1800;
 
   /// Nominal parameter vector (docs/method/03-error-model.md §1 layout, internal units).
   [[nodiscard]] ParameterVector nominal() const;

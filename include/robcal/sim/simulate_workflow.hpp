@@ -29,6 +29,9 @@ struct SimulateRequest {
   bool exact = false;      ///< noise-free readings
   std::vector<std::string> effects;  ///< unmodelled effects of the true robot (enable_effects)
   std::string approach = "below";    ///< below (q − 5° on every joint), sequence or random
+  /// With thermal drift, the rows record their time (`time_s`) instead of the arm's temperature:
+  /// data for the warm-up group (docs/method/03-error-model.md §10).
+  bool clock = false;
   double error_length_mm = ErrorBounds{}.length_mm;  ///< random truth's error bounds
   double error_angle_deg = ErrorBounds{}.angle_deg;
   std::string out;  ///< folder to write (measurements.csv, tool, instrument, truth/); "": none

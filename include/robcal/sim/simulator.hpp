@@ -58,6 +58,9 @@ struct SimulationOptions {
   /// from one configuration to the next.
   bool approach_from_below = true;
   double seconds_per_measurement = 20;  ///< clock for thermal drift
+  /// With thermal drift, the rows record their time (`time_s`, the warm-up group's input,
+  /// docs/method/03-error-model.md §10) instead of the arm's temperature (§8).
+  bool record_time = false;
   /// Each joint of each configuration approached from below or above at random (from q ∓ 5°),
   /// drawn from `approach_seed` (overrides approach_from_below): data for the backlash group,
   /// docs/method/03-error-model.md §6. The rows record the side of every joint either way.
