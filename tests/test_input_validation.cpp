@@ -87,11 +87,12 @@ TEST(YamlValidation, RobotFileRefusesTyposDuplicatesAndAbsurdNumbers) {
        "r.yaml:10:1 (masess): unknown key 'masess': did you mean 'masses'? (expected one of: "
        "name, manufacturer, source, euler, mdh, joint_limits_deg, masses, gravity_m_s2, "
        "joint_map, reach_mm, pulses_per_degree, gravity_base_m_s2, mounting_deg, "
-       "reference_temperature_c)"},
+       "reference_temperature_c, gear_ratio, warmup_time_constant_s)"},
       {"masses:", "colour: red\nmasses:",
        "r.yaml:10:1 (colour): unknown key 'colour' (expected one of: name, manufacturer, source, "
        "euler, mdh, joint_limits_deg, masses, gravity_m_s2, joint_map, reach_mm, "
-       "pulses_per_degree, gravity_base_m_s2, mounting_deg, reference_temperature_c)"},
+       "pulses_per_degree, gravity_base_m_s2, mounting_deg, reference_temperature_c, gear_ratio, "
+       "warmup_time_constant_s)"},
       {"masses:", "name: s\nmasses:",
        "r.yaml:10:1 (name): key 'name' given twice in this map (first on line 1)"},
       {"[0, 270, 0, 0]", "[0, 270.5.1, 0, 0]",
