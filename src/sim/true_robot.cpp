@@ -174,9 +174,9 @@ PointMass parse_mass(const yaml::Node& node) {
 /// joints' own or their motors'), the joints that have one.
 void emit_periodic(YAML::Emitter& out, const char* key, const ParameterVector& x, int offset) {
   const auto row_of = [&](int joint) {
-    std::vector<double> row;
+    std::vector<double> row(kPeriodicPerJoint);
     for (int k = 0; k < kPeriodicPerJoint; ++k)
-      row.push_back(rad2deg(x[offset + kPeriodicPerJoint * (joint - 1) + k]));
+      row[static_cast<size_t>(k)] = rad2deg(x[offset + kPeriodicPerJoint * (joint - 1) + k]);
     return row;
   };
   const std::vector<double> zero(kPeriodicPerJoint, 0.0);
