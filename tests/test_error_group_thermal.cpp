@@ -202,32 +202,8 @@ TEST(Thermal, CalibratedChainIkAndSetupTakeTheTemperature) {
 // a reading, written only when a row has one, round trip; bad values refused with file, line
 // and column.
 TEST(Thermal, MeasurementFileTemperatureColumn) {
-  const Tool tool = default_simulation_tool();
-  const std::string text =
-      "config,target,j1,j2,j3,j4,j5,j6,x,y,z,temperature\n"
-      "c1,1,0,10,20,30,40,50,100,200,300,21.25\n"
-      "c2,1,5,10,20,30,40,50,100,200,301,\n";
-  const MeasurementFile file = parse_measurements_csv(text, "m.csv", tool);
-  EXPECT_TRUE(file.warnings.empty());
-  const MeasurementSet& set = file.measurements;
-  ASSERT_EQ(set.points.size(), 2u);
-  EXPECT_EQ(set.points[0].temperature_c, 21.25);
-  EXPECT_FALSE(set.points[1].temperature_c.has_value());
-  const std::string written = write_measurements_csv(set, tool);
-  EXPECT_NE(written.find(",temperature\n"), std::string::npos) << written;
-  const MeasurementSet back = parse_measurements_csv(written, "w.csv", tool).measurements;
-  EXPECT_EQ(back.points[0].temperature_c, 21.25);
-  EXPECT_FALSE(back.points[1].temperature_c.has_value());
-  MeasurementSet none = set;
-  none.points[0].temperature_c.reset();
-  EXPECT_EQ(write_measurements_csv(none, tool).find("temperature"), std::string::npos);
-  for (const char* bad : {"warm", "nan", "293.15"})
-    EXPECT_REFUSED(
-        parse_measurements_csv(fmt::format("config,target,j1,j2,j3,j4,j5,j6,x,y,z,temperature\n"
-                                           "c1,1,0,10,20,30,40,50,100,200,300,{}\n",
-                                           bad),
-                               "m.csv", tool),
-        InputError, "m.csv:2:12 (temperature): ");
+  test::expect_optional_measurement_column("temperature", &PointMeasurement::temperature_c, "21.25",
+                                           21.25, {"warm", "nan", "293.15"});
 }
 
 // The robot file's reference temperature: read, range-checked, written only when not 20 °C.

@@ -176,32 +176,8 @@ TEST(Warmup, CalibratedChainAndSetupTakeTheWarmUp) {
 // The `time_s` column: read in seconds (no "not used" warning), an empty field is a row without a
 // time, written only when a row has one, round trip; bad values refused with file, line, column.
 TEST(Warmup, MeasurementFileTimeColumn) {
-  const Tool tool = default_simulation_tool();
-  const std::string text =
-      "config,target,j1,j2,j3,j4,j5,j6,x,y,z,time_s\n"
-      "c1,1,0,10,20,30,40,50,100,200,300,125.5\n"
-      "c2,1,5,10,20,30,40,50,100,200,301,\n";
-  const MeasurementFile file = parse_measurements_csv(text, "m.csv", tool);
-  EXPECT_TRUE(file.warnings.empty());
-  const MeasurementSet& set = file.measurements;
-  ASSERT_EQ(set.points.size(), 2u);
-  EXPECT_EQ(set.points[0].time_s, 125.5);
-  EXPECT_FALSE(set.points[1].time_s.has_value());
-  const std::string written = write_measurements_csv(set, tool);
-  EXPECT_NE(written.find(",time_s\n"), std::string::npos) << written;
-  const MeasurementSet back = parse_measurements_csv(written, "w.csv", tool).measurements;
-  EXPECT_EQ(back.points[0].time_s, 125.5);
-  EXPECT_FALSE(back.points[1].time_s.has_value());
-  MeasurementSet none = set;
-  none.points[0].time_s.reset();
-  EXPECT_EQ(write_measurements_csv(none, tool).find("time_s"), std::string::npos);
-  for (const char* bad : {"soon", "-3", "2e8"})
-    EXPECT_REFUSED(
-        parse_measurements_csv(fmt::format("config,target,j1,j2,j3,j4,j5,j6,x,y,z,time_s\n"
-                                           "c1,1,0,10,20,30,40,50,100,200,300,{}\n",
-                                           bad),
-                               "m.csv", tool),
-        InputError, "m.csv:2:12 (time_s): ");
+  test::expect_optional_measurement_column("time_s", &PointMeasurement::time_s, "125.5", 125.5,
+                                           {"soon", "-3", "2e8"});
 }
 
 // --- Simulated true robots -------------------------------------------------------------------

@@ -135,13 +135,7 @@ TEST(MotorPeriodicErrors, CalibratedIkRoundTrip) {
   auto rng = test::seeded_rng(1932);
   for (const char* name : test::kRobots) {
     SCOPED_TRACE(name);
-    const CalibratedRobot robot = calibrated_with_motor_errors(name, rng);
-    const Compensator comp = make_compensator(robot);
-    const test::RoundTripStats st = test::round_trip(robot, comp, 20, 400'000, rng);
-    for (int i = 0; i < 8; ++i) EXPECT_EQ(st.failures[i], 0);
-    EXPECT_TRUE(st.first_failure.empty()) << st.first_failure;
-    EXPECT_LT(st.worst_mm, 1e-6);
-    EXPECT_LT(st.worst_recovery_rad, 1e-7);
+    test::expect_calibrated_ik_round_trips(calibrated_with_motor_errors(name, rng), rng);
   }
 }
 

@@ -140,11 +140,7 @@ TEST(MountingCompliance, CalibratedIkRoundTrip) {
     robot.model.gravity_m_s2 = Eigen::Vector3d(0, 0, 9.81);  // ceiling
     robot.model.gravity_in_base = true;
     robot.params[kJoint1Compliance] = 1e-7;
-    const Compensator comp = make_compensator(robot);
-    const test::RoundTripStats st = test::round_trip(robot, comp, 20, 400'000, rng);
-    for (int i = 0; i < 8; ++i) EXPECT_EQ(st.failures[i], 0);
-    EXPECT_TRUE(st.first_failure.empty()) << st.first_failure;
-    EXPECT_LT(st.worst_mm, 1e-6);
+    test::expect_calibrated_ik_round_trips(robot, rng);
   }
 }
 
