@@ -122,8 +122,11 @@ const bool registered = register_bindings(71, [](py::module_& m) {
         if (robot) r.limits = load_robot(*robot).limits;
         r.date = date;
         if (approach || measure)
-          for (size_t i = 0; i < names.size(); ++i)
-            r.visits.push_back({approach ? (*approach)[i] : true, measure ? (*measure)[i] : true});
+          for (size_t i = 0; i < names.size(); ++i) {
+            ConfigurationVisit& visit = r.visits.emplace_back();
+            visit.approach = approach ? (*approach)[i] : true;
+            visit.measure = measure ? (*measure)[i] : true;
+          }
         py::list out;
         for (const ProgramFile& f : write_measurement_program(r)) {
           py::dict d;

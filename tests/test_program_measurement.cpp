@@ -119,8 +119,18 @@ TEST_P(MeasurementProgram, PerConfigurationApproachAndHook) {
   r.max_configs_per_file = 0;
   r.hook = MeasurementHook::PulseOutput;
   r.signal = 7;
-  r.visits = {{true, true}, {false, false}, {false, true}, {true, false},
-              {true, true}, {false, true},  {true, true}};
+  for (const auto& [approach, measure] :
+       std::initializer_list<std::pair<bool, bool>>{{true, true},
+                                                    {false, false},
+                                                    {false, true},
+                                                    {true, false},
+                                                    {true, true},
+                                                    {false, true},
+                                                    {true, true}}) {
+    ConfigurationVisit& visit = r.visits.emplace_back();
+    visit.approach = approach;
+    visit.measure = measure;
+  }
   const auto files = write_measurement_program(r);
   ASSERT_EQ(files.size(), 1u);
   const std::string& text = files[0].text;

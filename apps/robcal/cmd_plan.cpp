@@ -28,6 +28,9 @@ struct PlanOptions {
   std::string instrument = "laser-tracker";
   std::string cell;
   std::string level = "full";
+  std::vector<std::string> identify;
+  std::string approach = "auto";
+  std::string payloads = "auto";
   int count = 40;
   int candidates = 5000;
   std::string candidates_file;
@@ -69,6 +72,9 @@ PlanRequest plan_request(const PlanOptions& o) {
   request.instrument = parse_instrument_kind(o.instrument, "--instrument");
   if (!o.cell.empty()) request.cell = campaign::load_cell(o.cell);
   request.level = parse_calibration_level(o.level);
+  request.identify = o.identify;
+  request.approach = parse_condition_variety(o.approach, "below", "--approach");
+  request.payloads = parse_condition_variety(o.payloads, "own", "--payloads");
   request.count = o.count;
   request.candidates = o.candidates;
   request.seed = o.seed;
@@ -124,8 +130,10 @@ void run_plan(const PlanOptions& o) {
         "{} with no target the instrument sees)\n",
         r.draws - r.candidates, r.draws, r.outside_limits, r.not_visible);
   fmt::print(
-      "plan for {} with a {} in the {}, level {} ({} identifiable parameters{}), seed {}\n",
-      request.model.name, r.instrument, r.cell, level, r.parameters.size(),
+      "plan for {} with a {} in the {}, level {}{} ({} identifiable parameters{}), seed {}\n",
+      request.model.name, r.instrument, r.cell, level,
+      request.identify.empty() ? "" : fmt::format(" + {}", fmt::join(request.identify, " + ")),
+      r.parameters.size(),
       dropped.empty() ? "" : fmt::format("; dropped as dependent: {}", fmt::join(dropped, ", ")),
       request.seed);
   fmt::print(
@@ -188,6 +196,17 @@ const bool plan_registered = register_command(60, [](CLI::App& app) {
   cmd->add_option("--instrument", o->instrument, "laser-tracker, optical-cmm or ballbar")
       ->capture_default_str();
   cmd->add_option("--level", o->level, "base, joints, kinematic or full")->capture_default_str();
+  cmd->add_option("--identify", o->identify,
+                  "Also plan for the parameters matching this glob or opt-in group (repeatable), "
+                  "as calibrate --identify takes them, e.g. backlash, periodic, groups");
+  cmd->add_option("--approach", o->approach,
+                  "auto (varied when backlash is planned for), below (every joint from q - 5 "
+                  "deg) or varied (each joint's side drawn per candidate): the approach column")
+      ->capture_default_str();
+  cmd->add_option("--payloads", o->payloads,
+                  "auto (varied when the tool file lists payloads and compliance is planned "
+                  "for), own (the tool's payload) or varied: the payload column")
+      ->capture_default_str();
   cmd->add_option("--count", o->count, "Configurations to choose")->capture_default_str();
   auto* candidates_option =
       cmd->add_option("--candidates", o->candidates,
@@ -256,7 +275,8 @@ const bool plan_registered = register_command(60, [](CLI::App& app) {
                   "The model misfit (RMS systematic TCP error a calibration leaves, mm) added to "
                   "the prediction, when known from elsewhere")
       ->excludes(prior_option);
-  cmd->add_option("--out", o->out, "Output CSV: config,target,j1..j6 (deg)")->required();
+  cmd->add_option("--out", o->out, "Output CSV: config,target,j1..j6 (deg)[,approach][,payload]")
+      ->required();
   cmd->add_flag("--json", o->json, "Machine-readable output");
   cmd->callback([o] { run_plan(*o); });
 });

@@ -48,9 +48,15 @@ void run_program(const ProgramOptions& o, const MeasurementProgramRequest& progr
                 {"files", paths}});
     return;
   }
-  fmt::print("{} configurations, each approached from q - {:g} deg, in {} {} program{}:\n",
-             r.program.joints.size(), r.program.approach_deg, paths.size(),
-             program_language_name(r.program.language), paths.size() == 1 ? "" : "s");
+  const auto above =
+      std::count_if(r.program.visits.begin(), r.program.visits.end(),
+                    [](const ConfigurationVisit& v) { return (v.side.array() < 0).any(); });
+  fmt::print("{} configurations, each approached from q - {:g} deg{}, in {} {} program{}:\n",
+             r.program.joints.size(), r.program.approach_deg,
+             above == 0 ? ""
+                        : fmt::format(" (q + {:g} deg on some joints of {}, as planned)",
+                                      r.program.approach_deg, above),
+             paths.size(), program_language_name(r.program.language), paths.size() == 1 ? "" : "s");
   for (const std::string& p : paths) fmt::print("  {}\n", p);
 }
 

@@ -61,10 +61,29 @@ std::vector<SessionStep> session_steps(const SessionSettings& s) {
     std::string joints;
     for (int j = 0; j < kJointCount; ++j)
       joints += fmt::format("{}{:.3f}", j ? ", " : "", rad2deg(config.joints[j]));
-    steps.push_back({fmt::format("{}/{}", config.name, target_name(static_cast<int>(c))),
-                     fmt::format("move to {} (joints {} deg) and measure target {}", config.name,
-                                 joints, target_name(static_cast<int>(c))),
-                     static_cast<int>(c), false});
+    // The plan's conditions for the backlash and several-payload groups
+    // (docs/method/03-error-model.md §6–§7): the rows record them.
+    std::string from_above;
+    for (int j = 0; j < kJointCount; ++j)
+      if (config.approach[j] < 0)
+        from_above += (from_above.empty() ? "" : ",") + std::to_string(j + 1);
+    const bool payload_changes =
+        c == 0 ? config.payload >= 0 : config.payload != s.configs[c - 1].payload;
+    steps.push_back(
+        {fmt::format("{}/{}", config.name, target_name(static_cast<int>(c))),
+         fmt::format(
+             "{}move to {} (joints {} deg{}) and measure target {}",
+             !payload_changes ? ""
+             : config.payload < 0
+                 ? "mount the tool's own payload, then "
+                 : fmt::format("mount the payload '{}', then ",
+                               s.tool.payloads[static_cast<size_t>(config.payload)].name),
+             config.name, joints,
+             from_above.empty()
+                 ? ""
+                 : fmt::format("; joints {} approached from above, from q + 5 deg", from_above),
+             target_name(static_cast<int>(c))),
+         static_cast<int>(c), false});
   }
   if (s.every > 0) reference();
   return steps;
@@ -172,6 +191,9 @@ SessionResult session_result(const SessionSettings& settings, const std::vector<
     m.config = config.name;
     m.target = config.target;
     m.joints = config.joints;
+    m.approach = config.approach;
+    m.payload = config.payload;
+    m.temperature_c = r.temperature_c;  // the thermal group's input (§8)
     m.position_mm = *r.position_mm;
     m.line = static_cast<int>(i) + 1;
     result.measurements.points.push_back(m);

@@ -13,6 +13,7 @@
 
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/io/measurement_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
 
@@ -101,10 +102,7 @@ std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows, cons
   // The condition in the targets file's own notation (io/pose_list_file.hpp).
   const auto condition = [&](const ReachCondition& c) {
     if (!with_conditions) return std::string();
-    std::string sides;
-    for (int j = 0; j < kJointCount; ++j)
-      sides += c.approach[j] > 0 ? '+' : c.approach[j] < 0 ? '-' : '0';
-    return fmt::format(",{},{:.6g},{}", sides, model.reference_temperature_c + c.temperature_rise_k,
+    return fmt::format(",{},{:.6g},{}", approach_text(c.approach), model.reference_temperature_c + c.temperature_rise_k,
                        c.payload_name);
   };
   for (const CorrectedTarget& r : rows) {

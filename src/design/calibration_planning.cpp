@@ -15,8 +15,18 @@
 #include "robcal/core/progress.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/design/predicted_accuracy.hpp"
+#include "robcal/identify/unknowns.hpp"
 
 namespace robcal {
+
+ConditionVariety parse_condition_variety(const std::string& text, const std::string& fixed_name,
+                                         const std::string& flag) {
+  if (text == "auto") return ConditionVariety::Auto;
+  if (text == fixed_name) return ConditionVariety::Fixed;
+  if (text == "varied") return ConditionVariety::Varied;
+  throw InputError({"", 0, 0, flag},
+                   fmt::format("'{}': expected auto, {} or varied", text, fixed_name));
+}
 
 SelectionCriterion parse_selection_criterion(const std::string& text, const std::string& flag) {
   if (text == "default") return SelectionCriterion::Default;
@@ -156,7 +166,7 @@ CandidateSet listed_candidates(const PlanRequest& request, const PlanningCell& c
       ++outside_limits;
       continue;
     }
-    Candidate candidate{c.joints, c.target};
+    Candidate candidate{c.joints, c.target, c.approach, c.payload};
     if (kind == MeasurementKind::Poses) {
       candidate.target = -1;
     } else if (c.target < 0) {
@@ -243,6 +253,100 @@ DesignMatrix with_rows(const DesignMatrix& layout, Eigen::MatrixXd rows) {
   out.column_scale = layout.column_scale;
   out.rows = std::move(rows);
   return out;
+}
+
+/// The model parameters the design is made for: the level's and those of `identify` (as the
+/// calibration resolves them, motor-angle terms of gearless joints left out).
+std::vector<int> planned_parameters(const PlanRequest& request, MeasurementKind kind) {
+  std::vector<bool> requested =
+      select_unknowns(make_unknown_layout(request.tool, kind), request.level, request.identify, {});
+  requested.resize(kParameterCount);
+  refuse_gearless_motor_terms(request.model, request.identify, requested);
+  std::vector<int> out;
+  for (int i = 0; i < kParameterCount; ++i)
+    if (requested[static_cast<size_t>(i)]) out.push_back(i);
+  return out;
+}
+
+bool plans_any(const std::vector<int>& parameters, const std::vector<int>& group) {
+  return std::any_of(parameters.begin(), parameters.end(), [&](int i) {
+    return std::find(group.begin(), group.end(), i) != group.end();
+  });
+}
+
+/// Which conditions the drawn candidates vary: the approach sides when a backlash parameter is
+/// planned for (its column is the joint's column times the side, docs/method/03-error-model.md
+/// §6: one side alone makes it the joint offset's), the payloads when a compliance is planned
+/// for and the tool lists payloads (§7: several payloads separate compliance from geometry).
+struct CandidateConditions {
+  bool approach_varied = false;
+  bool payloads_varied = false;
+};
+
+CandidateConditions candidate_conditions(const PlanRequest& request,
+                                         const std::vector<int>& parameters) {
+  std::vector<int> compliances;
+  for (int i : parameters)
+    if (parameter_table()[static_cast<size_t>(i)].name.ends_with(".compliance"))
+      compliances.push_back(i);
+  if (request.payloads == ConditionVariety::Varied && request.tool.payloads.empty())
+    throw InputError({"", 0, 0, "--payloads"},
+                     "the tool file lists no payloads to vary: add them under 'payloads:' "
+                     "(docs/method/03-error-model.md §7) or leave --payloads at auto");
+  CandidateConditions out;
+  out.approach_varied = request.approach == ConditionVariety::Varied ||
+                        (request.approach == ConditionVariety::Auto &&
+                         plans_any(parameters, opt_in_group_parameters("backlash")));
+  out.payloads_varied = request.payloads == ConditionVariety::Varied ||
+                        (request.payloads == ConditionVariety::Auto &&
+                         !request.tool.payloads.empty() && !compliances.empty());
+  return out;
+}
+
+/// Draws each candidate's sides (each joint from below or above, even odds, but only a side whose
+/// approach move, 5° away, stays inside the joint's limits) and payload (the tool's own or one
+/// of its `payloads`, even odds) as `conditions` asks.
+void draw_conditions(const CandidateConditions& conditions, const RobotModel& model,
+                     const Tool& tool, std::mt19937_64& rng, std::vector<Candidate>& candidates) {
+  const double approach_rad = deg2rad(5.0);  // the measurement programs' default approach
+  std::uniform_int_distribution<int> payload(-1, static_cast<int>(tool.payloads.size()) - 1);
+  for (Candidate& c : candidates) {
+    if (conditions.approach_varied)
+      for (int j = 0; j < kJointCount; ++j) {
+        const JointLimit& l = model.limits[static_cast<size_t>(j)];
+        const bool below = c.joints[j] - approach_rad >= l.lower;
+        const bool above = c.joints[j] + approach_rad <= l.upper;
+        const bool drawn_below = (rng() & 1U) != 0;
+        c.approach[j] = below && (drawn_below || !above) ? 1.0 : above ? -1.0 : 1.0;
+      }
+    if (conditions.payloads_varied) c.payload = payload(rng);
+  }
+}
+
+/// What the user should know of the conditions: which are varied (the configurations file's
+/// columns, followed by `program` and `session`), and the groups a plan cannot serve.
+void add_condition_notes(const std::vector<int>& parameters, const CandidateConditions& conditions,
+                         uint64_t seed, std::vector<std::string>& notes) {
+  if (conditions.approach_varied)
+    notes.push_back(fmt::format(
+        "each joint of each candidate is approached from below or above (drawn with seed {}), "
+        "so that the backlash is identifiable: the configurations file's approach column, which "
+        "`robcal program` and `robcal session` follow",
+        seed));
+  else if (plans_any(parameters, opt_in_group_parameters("backlash")))
+    notes.push_back(
+        "every configuration is approached from below (--approach below): the backlash cannot "
+        "be told from the joint offsets; use --approach varied");
+  if (conditions.payloads_varied)
+    notes.push_back(
+        "each candidate carries the tool's own payload or one of its 'payloads' (drawn), "
+        "grouped so that each is mounted once: the configurations file's payload column");
+  if (plans_any(parameters, opt_in_group_parameters("thermal")) ||
+      plans_any(parameters, opt_in_group_parameters("warmup")))
+    notes.push_back(
+        "the thermal and warm-up groups need rows at several arm temperatures or times, which a "
+        "plan cannot choose: measure the plan through a warm-up, recording the temperature or "
+        "time of each row (docs/method/03-error-model.md §8, §10)");
 }
 
 std::vector<Vector6d> task_region(const PlanRequest& request, const PlanningCell& cell,
@@ -348,8 +452,13 @@ PlanResult plan_calibration(const PlanRequest& request) {
   settings.level = request.level;
   settings.constraints = constraints;
   settings.floor_mm = floor_mm;
-  const DesignSettings design_settings =
-      plan_design_settings(cell.robot, cell.instrument, request.level);
+  DesignSettings design_settings = plan_design_settings(cell.robot, cell.instrument, request.level);
+  design_settings.parameters = planned_parameters(request, design_settings.kind);
+  const CandidateConditions conditions = candidate_conditions(request, design_settings.parameters);
+  result.approach_varied = conditions.approach_varied;
+  result.payloads_varied = conditions.payloads_varied;
+  std::mt19937_64 condition_rng(request.seed + 4);
+  add_condition_notes(design_settings.parameters, conditions, request.seed + 4, result.notes);
   const int r = measurement_kind(cell.instrument.kind) == MeasurementKind::Points  ? 3
                 : measurement_kind(cell.instrument.kind) == MeasurementKind::Poses ? 6
                                                                                    : 1;
@@ -399,6 +508,7 @@ PlanResult plan_calibration(const PlanRequest& request) {
   while (seen < wanted) {
     const int asked = std::min(request.pool, wanted - seen);
     CandidateSet batch = drawing.get();
+    if (!listed) draw_conditions(conditions, model, tool, condition_rng, batch.candidates);
     const int drawn = seen + static_cast<int>(batch.candidates.size());
     if (static_cast<int>(batch.candidates.size()) == asked && drawn < wanted)
       drawing = draw_from(drawn);

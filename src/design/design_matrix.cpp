@@ -36,7 +36,10 @@ Eigen::MatrixXd candidate_jacobian(const RobotModel& model, const Tool& tool,
   // The analytic kinematic regressor (identify's): world twist of the flange per parameter.
   Pose<double> world_T_flange;
   TwistJacobian twist;
-  flange_twist_jacobian(model, tool.payload, params, candidate.joints, &world_T_flange, &twist);
+  RowConditions conditions;
+  conditions.approach = &candidate.approach;
+  flange_twist_jacobian(model, tool.payload_of(candidate.payload), params, candidate.joints,
+                        &world_T_flange, &twist, conditions);
   if (settings.kind == MeasurementKind::Poses) {
     // TCP position rows, and the flange's rotation rows ω times the lever arm (mm).
     Eigen::MatrixXd out(6, kParameterCount);

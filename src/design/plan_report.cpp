@@ -47,6 +47,9 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r,
   out["instrument"] = r.instrument;
   out["cell"] = r.cell;
   out["level"] = level_name(request.level);
+  out["identify"] = request.identify;
+  out["approach"] = r.approach_varied ? "varied" : "below";
+  out["payloads"] = r.payloads_varied ? "varied" : "own";
   out["sigma_mm"] = r.sigma_mm;
   out["predicted_error_mm"] = {{"task_configurations", r.task_configurations},
                                {"task_region", r.region},

@@ -347,34 +347,6 @@ void drop_isothermal_expansion(const RobotModel& model, const MeasurementSet& da
     }
 }
 
-/// Motor-angle periodic terms (docs/method/03-error-model.md §9) of joints whose gear ratio the
-/// robot file does not give: a pattern that names them ('joint6.motor_periodic*') is refused
-/// naming the joint; a family ('motor_periodic', 'groups') or a pattern without 'motor'
-/// ('joint6.*') leaves them out.
-void refuse_gearless_motor_terms(const RobotModel& model, const IdentifyOptions& options,
-                                 std::vector<bool>& requested) {
-  for (int joint = 1; joint <= kJointCount; ++joint) {
-    if (model.gear_ratio[static_cast<size_t>(joint - 1)] != 0.0) continue;
-    for (int k = 0; k < kPeriodicPerJoint; ++k) {
-      const int i = motor_periodic_param(joint, 1, false) + k;
-      if (!requested[static_cast<size_t>(i)]) continue;
-      for (const std::string& pattern : options.identify) {
-        if (selects_by_family(pattern) || pattern.find("motor") == std::string::npos) continue;
-        const std::vector<int> group = opt_in_group_parameters(pattern);
-        if (glob_match(pattern, parameter_table()[static_cast<size_t>(i)].name) ||
-            std::find(group.begin(), group.end(), i) != group.end())
-          throw InputError(
-              {"", 0, 0, "--identify"},
-              fmt::format("'{}' asks for the motor-angle periodic error of joint {}, whose gear "
-                          "ratio the robot file does not give: add 'gear_ratio' (motor turns per "
-                          "joint turn, ~ for the joints without one) or leave joint {} out",
-                          pattern, joint, joint));
-      }
-      requested[static_cast<size_t>(i)] = false;
-    }
-  }
-}
-
 /// Why the gravity torque about axis `joint` stays below the floor: axis 1 of a robot whose
 /// gravity lies along it (a floor or ceiling mounting, docs/method/03-error-model.md §7), else
 /// centres of gravity on the axis.
@@ -603,7 +575,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   setup.layout = make_unknown_layout(tool, data.kind);
   setup.options = options;
   setup.requested = select_unknowns(setup.layout, options.level, options.identify, options.fix);
-  refuse_gearless_motor_terms(model, options, setup.requested);
+  refuse_gearless_motor_terms(model, options.identify, setup.requested);
   setup.start = Eigen::VectorXd::Zero(setup.layout.size());
   if (options.start_parameters.size() != 0 && options.start_parameters.size() != kParameterCount)
     throw std::invalid_argument("IdentifyOptions::start_parameters: expected every parameter");

@@ -173,4 +173,28 @@ std::vector<bool> select_unknowns(const UnknownLayout& layout, CalibrationLevel 
   return free;
 }
 
+void refuse_gearless_motor_terms(const RobotModel& model, const std::vector<std::string>& identify,
+                                 std::vector<bool>& requested) {
+  for (int joint = 1; joint <= kJointCount; ++joint) {
+    if (model.gear_ratio[static_cast<size_t>(joint - 1)] != 0.0) continue;
+    for (int k = 0; k < kPeriodicPerJoint; ++k) {
+      const int i = motor_periodic_param(joint, 1, false) + k;
+      if (!requested[static_cast<size_t>(i)]) continue;
+      for (const std::string& pattern : identify) {
+        if (selects_by_family(pattern) || pattern.find("motor") == std::string::npos) continue;
+        const std::vector<int> group = opt_in_group_parameters(pattern);
+        if (glob_match(pattern, parameter_table()[static_cast<size_t>(i)].name) ||
+            std::find(group.begin(), group.end(), i) != group.end())
+          throw InputError(
+              {"", 0, 0, "--identify"},
+              fmt::format("'{}' asks for the motor-angle periodic error of joint {}, whose gear "
+                          "ratio the robot file does not give: add 'gear_ratio' (motor turns per "
+                          "joint turn, ~ for the joints without one) or leave joint {} out",
+                          pattern, joint, joint));
+      }
+      requested[static_cast<size_t>(i)] = false;
+    }
+  }
+}
+
 }  // namespace robcal

@@ -433,6 +433,13 @@ int payload_index_of(std::string_view name, const Tool& tool, const SourceLocati
                          when_empty));
 }
 
+std::string approach_text(const Vector6d& approach) {
+  std::string text;
+  for (int j = 0; j < kJointCount; ++j)
+    text += approach[j] > 0 ? '+' : approach[j] < 0 ? '-' : '0';
+  return text;
+}
+
 Vector6d parse_approach(std::string_view text, const SourceLocation& where) {
   Vector6d s;
   bool valid = text.size() == kJointCount;
@@ -705,10 +712,7 @@ std::string write_measurements_csv(const MeasurementSet& set, const Tool& tool,
   for (size_t row = 0; row < set.size(); ++row)
     approach = approach || approach_of(set, row) != Vector6d::Ones();
   const auto sides = [&](const Vector6d& s) {
-    if (!approach) return std::string();
-    std::string text = ",";
-    for (int j = 0; j < kJointCount; ++j) text += s[j] > 0 ? '+' : s[j] < 0 ? '-' : '0';
-    return text;
+    return approach ? "," + approach_text(s) : std::string();
   };
   bool temperatures = false;  // written when a row recorded one; empty for a row without
   for (size_t row = 0; row < set.size(); ++row)

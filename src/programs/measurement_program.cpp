@@ -76,7 +76,7 @@ void check_rapid_signal(const MeasurementProgramRequest& r) {
                                  name));
 }
 
-/// q and its approach inside the limits (the approach moves every joint by −approach_deg).
+/// q and its approach inside the limits (the approach moves each joint by ∓approach_deg).
 void check_limits(const MeasurementProgramRequest& r, const std::string& name,
                   const Vector6d& target_rad, const Vector6d& approach_rad) {
   if (!r.limits) return;
@@ -86,11 +86,12 @@ void check_limits(const MeasurementProgramRequest& r, const std::string& name,
       if (q < l.lower || q > l.upper)
         throw InputError(
             SourceLocation{"", 0, 0, name},
-            fmt::format(
-                "joint {} at {:.4f} deg{} is outside its limits [{:.4f}, "
-                "{:.4f}] deg; the approach moves every joint by -{} deg "
-                "(docs/method/05-observability.md §4), so a configuration needs that margin",
-                j + 1, rad2deg(q), what, rad2deg(l.lower), rad2deg(l.upper), r.approach_deg));
+            fmt::format("joint {} at {:.4f} deg{} is outside its limits [{:.4f}, "
+                        "{:.4f}] deg; the approach moves each joint by {} deg to the side it comes "
+                        "from (docs/method/05-observability.md §4), so a configuration needs that "
+                        "margin",
+                        j + 1, rad2deg(q), what, rad2deg(l.lower), rad2deg(l.upper),
+                        r.approach_deg));
   }
 }
 
@@ -163,28 +164,48 @@ std::vector<ProgramFile> write_measurement_program(const MeasurementProgramReque
   std::vector<Visit> visits;
   for (size_t i = 0; i < r.joints.size(); ++i) {
     check_config_name(r.names[i]);
-    const Vector6d approach = r.joints[i] - Vector6d::Constant(deg2rad(r.approach_deg));
     if (!r.joints[i].allFinite())
       throw InputError(SourceLocation{"", 0, 0, r.names[i]}, "joints are not finite");
     const ConfigurationVisit how = r.visits.empty() ? ConfigurationVisit{} : r.visits[i];
-    check_limits(r, r.names[i], r.joints[i], how.approach ? approach : r.joints[i]);
-    visits.push_back({r.names[i], r.joints[i] * kRadToDeg - Vector6d::Constant(r.approach_deg),
-                      r.joints[i] * kRadToDeg, how.approach, how.measure});
+    std::string from_above;
+    for (int j = 0; j < kJointCount; ++j) {
+      if (how.side[j] != 1.0 && how.side[j] != -1.0)
+        throw InputError(SourceLocation{"", 0, 0, r.names[i]},
+                         fmt::format("joint {}: the approach side must be + or -, found {}", j + 1,
+                                     how.side[j]));
+      if (how.side[j] < 0) from_above += (from_above.empty() ? "" : ",") + std::to_string(j + 1);
+    }
+    const Vector6d approach_deg =
+        r.joints[i] * kRadToDeg - r.approach_deg * how.side;  // 5° away on the side it comes from
+    check_limits(r, r.names[i], r.joints[i], how.approach ? approach_deg * kDegToRad : r.joints[i]);
+    visits.push_back(
+        {r.names[i], approach_deg, r.joints[i] * kRadToDeg, how.approach, how.measure, from_above});
   }
 
-  const int parts = static_cast<int>((visits.size() + static_cast<size_t>(limit) - 1) /
-                                     static_cast<size_t>(limit));
+  // Parts of at most `limit` configurations, a new one where the payload changes (the operator
+  // mounts it between programs).
+  std::vector<std::pair<size_t, size_t>> ranges;  // first, count
+  for (size_t i = 0; i < visits.size(); ++i) {
+    if (ranges.empty() || ranges.back().second == static_cast<size_t>(limit) ||
+        (!r.visits.empty() && r.visits[i].payload != r.visits[ranges.back().first].payload))
+      ranges.emplace_back(i, 0);
+    ++ranges.back().second;
+  }
+  const int parts = static_cast<int>(ranges.size());
   if (parts > 99)
     throw InputError(
         SourceLocation{"", 0, 0, "--max-configs-per-file"},
         fmt::format("{} configurations would make {} programs; at most 99", visits.size(), parts));
   std::vector<ProgramFile> files;
   for (int p = 0; p < parts; ++p) {
-    const size_t first = static_cast<size_t>(p) * static_cast<size_t>(limit);
-    const size_t count = std::min(static_cast<size_t>(limit), visits.size() - first);
-    detail::MeasurementPart part{r, parts == 1 ? r.name : fmt::format("{}{:02d}", r.name, p + 1),
-                                 p + 1, parts,
-                                 std::span<const Visit>(visits).subspan(first, count)};
+    const auto [first, count] = ranges[static_cast<size_t>(p)];
+    detail::MeasurementPart part{r,
+                                 parts == 1 ? r.name : fmt::format("{}{:02d}", r.name, p + 1),
+                                 p + 1,
+                                 parts,
+                                 first,
+                                 std::span<const Visit>(visits).subspan(first, count),
+                                 r.visits.empty() ? std::string() : r.visits[first].payload};
     // One writer per language, in ProgramLanguage order.
     using Writer = std::string (*)(const detail::MeasurementPart&);
     static constexpr Writer kWriters[] = {
@@ -227,9 +248,14 @@ MeasurementProgramFilesResult write_measurement_program_from_files(
   const Tool tool = request.tool.empty() ? Tool{} : load_tool(request.tool);
   program.names.clear();
   program.joints.clear();
+  program.visits.clear();
   for (const PlannedConfiguration& c : read_configurations_csv(request.configs, tool)) {
     program.names.push_back(c.name);
     program.joints.push_back(c.joints);
+    ConfigurationVisit visit;
+    visit.side = c.approach;
+    if (c.payload >= 0) visit.payload = tool.payloads[static_cast<size_t>(c.payload)].name;
+    program.visits.push_back(visit);
   }
   result.paths = write_measurement_program_files(program, request.out_dir);
   return result;
@@ -264,21 +290,34 @@ namespace detail {
 std::string header_comment(const MeasurementPart& part, std::string_view prefix,
                            std::string_view stop) {
   const MeasurementProgramRequest& r = part.request;
-  const size_t per_file = static_cast<size_t>(
-      r.max_configs_per_file > 0 ? r.max_configs_per_file : program_size_limit(r.language));
-  const size_t first = static_cast<size_t>(part.part - 1) * per_file;
   const auto approached = std::count_if(part.visits.begin(), part.visits.end(),
                                         [](const Visit& v) { return v.approach; });
+  const bool some_above = std::any_of(part.visits.begin(), part.visits.end(), [](const Visit& v) {
+    return v.approach && !v.from_above.empty();
+  });
   const std::string which = approached == static_cast<long>(part.visits.size())
                                 ? "Each configuration is"
                             : approached == 0 ? "No configuration is"
                                               : "Some configurations are";
-  return fmt::format(
+  std::string out = fmt::format(
       "{0} robcal measurement program, part {1} of {2}: configurations {3}-{4} of {5}.\n"
-      "{0} {6} approached from q - {7:g} deg on every joint (backlash,\n"
-      "{0} robcal method), {8}, then the arm settles {9:g} s where it measures.\n",
-      prefix, part.part, part.parts, first + 1, first + part.visits.size(), r.joints.size(), which,
-      r.approach_deg, stop, r.settle_s);
+      "{0} {6} approached from q - {7:g} deg on every joint{8} (backlash,\n"
+      "{0} robcal method), {9}, then the arm settles {10:g} s where it measures.\n",
+      prefix, part.part, part.parts, part.first + 1, part.first + part.visits.size(),
+      r.joints.size(), which, r.approach_deg,
+      some_above ? fmt::format(",\n{} or q + {:g} deg on the joints its comment names", prefix,
+                               r.approach_deg)
+                 : "",
+      stop, r.settle_s);
+  const bool payload_changes =
+      std::any_of(r.visits.begin(), r.visits.end(),
+                  [](const ConfigurationVisit& v) { return !v.payload.empty(); });
+  if (payload_changes)
+    out += fmt::format("{} Mount {} before running this part.\n", prefix,
+                       part.payload.empty()
+                           ? std::string("the tool's own payload")
+                           : fmt::format("the payload '{}' (tool file)", part.payload));
+  return out;
 }
 
 double read_number(std::string_view text, size_t& at, const std::string& file, int line,

@@ -15,10 +15,16 @@ struct Visit {
   std::string name;
   Vector6d approach_deg;
   Vector6d target_deg;
-  bool approach = true;  ///< move to approach_deg first
-  bool measure = true;   ///< settle and run the hook at target_deg
-  /// The comment naming the configuration: its name, marked when nothing is measured there.
-  [[nodiscard]] std::string label() const { return measure ? name : name + " (not measured)"; }
+  bool approach = true;    ///< move to approach_deg first
+  bool measure = true;     ///< settle and run the hook at target_deg
+  std::string from_above;  ///< the joints approached from above ("2,3"), empty when none
+  /// The comment naming the configuration: its name, marked when nothing is measured there or
+  /// when some joint comes from above.
+  [[nodiscard]] std::string label() const {
+    return name +
+           (from_above.empty() || !approach ? "" : " (from above: joints " + from_above + ")") +
+           (measure ? "" : " (not measured)");
+  }
 };
 
 /// One program (file) of a measurement program.
@@ -26,7 +32,9 @@ struct MeasurementPart {
   const MeasurementProgramRequest& request;
   std::string program;  ///< program name (RAPID module, KRL DEF, LS /PROG, JBI //NAME, UR def)
   int part = 1, parts = 1;
+  size_t first = 0;  ///< index of the part's first configuration in the request
   std::span<const Visit> visits;
+  std::string payload;  ///< the payload to mount for this part (empty: the tool's own)
 };
 
 std::string write_rapid_measurement(const MeasurementPart& part);

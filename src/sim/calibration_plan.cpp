@@ -121,10 +121,16 @@ DesignSettings plan_design_settings(const TrueRobot& cell, const VirtualInstrume
 
 std::vector<PlannedConfiguration> planned_configurations(const std::vector<Candidate>& candidates,
                                                          const std::vector<int>& chosen) {
+  // Grouped by payload, in selection order within each, so that the operator changes the
+  // payload as few times as there are payloads.
+  std::vector<int> order = chosen;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return candidates[static_cast<size_t>(a)].payload < candidates[static_cast<size_t>(b)].payload;
+  });
   std::vector<PlannedConfiguration> plan;
-  for (size_t k = 0; k < chosen.size(); ++k) {
-    const Candidate& c = candidates[static_cast<size_t>(chosen[k])];
-    plan.push_back({fmt::format("C{}", k + 1), c.joints, c.target});
+  for (size_t k = 0; k < order.size(); ++k) {
+    const Candidate& c = candidates[static_cast<size_t>(order[k])];
+    plan.push_back({fmt::format("C{}", k + 1), c.joints, c.target, c.approach, c.payload});
   }
   return plan;
 }

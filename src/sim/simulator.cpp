@@ -11,6 +11,7 @@
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/atomic_file.hpp"
+#include "robcal/io/measurement_file.hpp"
 
 namespace robcal {
 
@@ -45,7 +46,7 @@ std::vector<PlannedConfiguration> read_configurations_csv(const std::string& pat
   std::string line;
   int line_number = 0;
   std::vector<std::string> header;
-  int config_col = -1, target_col = -1;
+  int config_col = -1, target_col = -1, approach_col = -1, payload_col = -1;
   std::array<int, kJointCount> joint_cols{};
   std::vector<PlannedConfiguration> configs;
   std::map<std::string, int> first_line;  // configuration label → its line
@@ -64,6 +65,8 @@ std::vector<PlannedConfiguration> read_configurations_csv(const std::string& pat
       };
       config_col = find("config");
       target_col = find("target");
+      approach_col = find("approach");
+      payload_col = find("payload");
       for (int j = 0; j < kJointCount; ++j) {
         joint_cols[static_cast<size_t>(j)] = find(fmt::format("j{}", j + 1));
         if (joint_cols[static_cast<size_t>(j)] < 0)
@@ -115,6 +118,15 @@ std::vector<PlannedConfiguration> read_configurations_csv(const std::string& pat
             fmt::format("unknown target '{}'; the tool has {}", name, known));
       }
     }
+    if (approach_col >= 0)
+      config.approach = parse_approach(
+          cells[static_cast<size_t>(approach_col)],
+          {path, line_number, cell_column(line, static_cast<size_t>(approach_col)), "approach"});
+    if (payload_col >= 0 && !cells[static_cast<size_t>(payload_col)].empty())
+      config.payload = payload_index_of(
+          cells[static_cast<size_t>(payload_col)], tool,
+          {path, line_number, cell_column(line, static_cast<size_t>(payload_col)), "payload"},
+          "the tool's own payload");
     if (const auto [at, added] = first_line.emplace(config.name, line_number); !added)
       throw InputError(
           {path, line_number, cell_column(line, static_cast<size_t>(config_col)), "config"},
@@ -138,11 +150,20 @@ std::vector<PlannedConfiguration> read_configurations_csv(const std::string& pat
 
 std::string write_configurations_csv(const std::vector<PlannedConfiguration>& configs,
                                      const Tool& tool) {
-  std::string out = "config,target,j1,j2,j3,j4,j5,j6\n";
+  const bool approach = std::any_of(configs.begin(), configs.end(),
+                                    [](const auto& c) { return c.approach != Vector6d::Ones(); });
+  const bool payload =
+      std::any_of(configs.begin(), configs.end(), [](const auto& c) { return c.payload >= 0; });
+  std::string out = fmt::format("config,target,j1,j2,j3,j4,j5,j6{}{}\n",
+                                approach ? ",approach" : "", payload ? ",payload" : "");
   for (const PlannedConfiguration& c : configs) {
     out += c.name + ",";
     if (c.target >= 0) out += tool.targets.at(static_cast<size_t>(c.target)).name;
     for (int j = 0; j < kJointCount; ++j) out += fmt::format(",{}", rad2deg(c.joints[j]));
+    if (approach) out += "," + approach_text(c.approach);
+    if (payload)
+      out += "," + (c.payload < 0 ? std::string()
+                                  : tool.payloads.at(static_cast<size_t>(c.payload)).name);
     out += "\n";
   }
   return out;
@@ -171,17 +192,20 @@ namespace {
 
 /// The side each joint reaches `joints` from (+1 below, −1 above), the way the true robot's
 /// backlash sees it: drawn for `approach_random` (the move then starts 5° away on that side),
-/// else below, or the direction of the straight move from the previous configuration.
-Vector6d approach_to(const Vector6d& joints, const SimulationOptions& options,
-                     std::mt19937_64& sides, MotionState& motion) {
-  Vector6d approach = Vector6d::Ones();
+/// the configuration's `planned` sides as the measurement program moves, or the direction of
+/// the straight move from the previous configuration.
+Vector6d approach_to(const Vector6d& joints, const Vector6d& planned,
+                     const SimulationOptions& options, std::mt19937_64& sides,
+                     MotionState& motion) {
+  Vector6d approach = planned;  // as the measurement program moves: 5° away on the planned side
   if (options.approach_random) {
     for (int j = 0; j < kJointCount; ++j) approach[j] = (sides() & 1U) ? 1.0 : -1.0;
-    motion.previous_joints = joints - deg2rad(5.0) * approach;
   } else if (!options.approach_from_below) {
     for (int j = 0; j < kJointCount; ++j)
-      if (joints[j] < motion.previous_joints[j]) approach[j] = -1.0;
+      approach[j] = joints[j] < motion.previous_joints[j] ? -1.0 : 1.0;
+    return approach;
   }
+  motion.previous_joints = joints - deg2rad(5.0) * approach;
   return approach;
 }
 
@@ -197,13 +221,15 @@ SimulationResult simulate_measurements(const TrueRobot& truth, const VirtualInst
              : instrument.kind == InstrumentKind::OpticalCmm ? MeasurementKind::Poses
                                                              : MeasurementKind::Distances;
   MotionState motion;
-  motion.from_below = options.approach_from_below && !options.approach_random;
+  // The true robot sees each joint's side from the move (previous_joints, set per configuration).
+  motion.from_below = false;
   motion.previous_joints = configs.empty() ? Vector6d::Zero() : configs.front().joints;
   std::mt19937_64 sides(options.approach_seed);
   for (size_t k = 0; k < configs.size(); ++k) {
     const PlannedConfiguration& config = configs[k];
     motion.time_s = options.seconds_per_measurement * static_cast<double>(k);
-    const Vector6d approach = approach_to(config.joints, options, sides, motion);
+    const Vector6d approach = approach_to(config.joints, config.approach, options, sides, motion);
+    motion.payload = config.payload;
     if (options.random_payloads)  // -1: the tool's own payload, else one of its `payloads`
       motion.payload =
           std::uniform_int_distribution<int>(-1, static_cast<int>(tool.payloads.size()) - 1)(rng);

@@ -210,12 +210,14 @@ MeasurementProgramRequest iso9283_program_request(const Iso9283Plan& plan,
   base.names.clear();
   base.joints.clear();
   base.visits.clear();
+  ConfigurationVisit straight;  // no backlash approach: the ISO test moves straight to the pose
+  straight.approach = false;
   if (!multidirectional) {
     for (const auto& [cycle, pose] : plan.sequence) {
       const Iso9283PlannedPose& p = plan.poses[static_cast<size_t>(pose)];
       base.names.push_back(fmt::format("C{:02}-{}", cycle, p.name));
       base.joints.push_back(p.joints);
-      base.visits.push_back({/*approach=*/false, /*measure=*/true});
+      base.visits.push_back(straight);
     }
     return base;
   }
@@ -229,7 +231,8 @@ MeasurementProgramRequest iso9283_program_request(const Iso9283Plan& plan,
     base.joints.push_back(m.approach
                               ? plan.approaches[pose][static_cast<size_t>(m.direction - 1)].joints
                               : plan.poses[pose].joints);
-    base.visits.push_back({/*approach=*/false, /*measure=*/!m.approach});
+    straight.measure = !m.approach;
+    base.visits.push_back(straight);
   }
   return base;
 }

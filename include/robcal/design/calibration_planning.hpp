@@ -53,11 +53,30 @@ std::vector<char> near_task_region(const RobotModel& model, const Tool& tool,
                                    const ParameterVector& params, const std::vector<Vector6d>& task,
                                    const std::vector<Candidate>& candidates, double margin_mm);
 
+/// Whether the plan varies a measurement condition across its candidates (the approach side of
+/// each joint, the payload): the design then sees the groups that need the variety (backlash,
+/// compliance across payloads, docs/method/03-error-model.md §6–§7) and chooses among it.
+enum class ConditionVariety {
+  Auto,    ///< varied when a group that needs it is planned for (and, for payloads, listed)
+  Fixed,   ///< every configuration from below / with the tool's own payload
+  Varied,  ///< each candidate's sides drawn per joint / its payload drawn among the tool's
+};
+
+/// "auto", `fixed_name` ("below", "own") or "varied"; InputError naming `flag` otherwise.
+ConditionVariety parse_condition_variety(const std::string& text, const std::string& fixed_name,
+                                         const std::string& flag);
+
 struct PlanRequest {
   RobotModel model;
   Tool tool;
   InstrumentKind instrument = InstrumentKind::LaserTracker;  ///< ignored with a cell
   CalibrationLevel level = CalibrationLevel::Full;
+  /// Opt-in groups or parameter patterns planned for besides the level's, as `calibrate
+  /// --identify` takes them ("backlash", "joint6.periodic", "groups").
+  std::vector<std::string> identify;
+  /// Approach sides and payloads of drawn candidates (listed ones keep their file's).
+  ConditionVariety approach = ConditionVariety::Auto;
+  ConditionVariety payloads = ConditionVariety::Auto;
   int count = 40;
   int candidates = 5000;  ///< random candidates to draw (not with candidate_configurations)
   uint64_t seed = 1;
@@ -98,6 +117,8 @@ struct PlanResult {
   long draws = 0, below_floor = 0, not_visible = 0;
   int outside_limits = 0;                ///< listed candidates outside the joint limits (left out)
   std::vector<int> parameters, dropped;  ///< layout indices
+  bool approach_varied = false;          ///< drawn candidates approached from varied sides
+  bool payloads_varied = false;          ///< drawn candidates carrying varied payloads
   ObservabilityIndices selected, random;
   double d_efficiency_selected = 0, d_efficiency_random = 0;  ///< against the pool's optimum
   int exchanges = 0, restarts = 0;

@@ -64,10 +64,14 @@ struct CandidateOptions {
   std::optional<ParameterVector> instrument_frame_params;
 };
 
-/// One candidate measurement: a configuration and the target it measures (-1: the tool pose).
+/// One candidate measurement: a configuration and the target it measures (-1: the tool pose),
+/// with the side each joint is approached from and the payload carried (the backlash and
+/// several-payload groups' conditions, docs/method/03-error-model.md §6–§7).
 struct Candidate {
   Vector6d joints = Vector6d::Zero();  ///< controller values, rad
   int target = 0;
+  Vector6d approach = Vector6d::Ones();  ///< per joint +1 from below, −1 from above
+  int payload = -1;                      ///< index into Tool::payloads, −1 the tool's own
 };
 
 /// The candidates and why draws were rejected (for messages and reports).

@@ -11,6 +11,7 @@
 
 #include "robcal/measure/measurements.hpp"
 #include "robcal/model/parameters.hpp"
+#include "robcal/model/robot_model.hpp"
 #include "robcal/model/tool.hpp"
 
 namespace robcal {
@@ -72,5 +73,12 @@ UnknownLayout make_unknown_layout(const Tool& tool, MeasurementKind kind);
 std::vector<bool> select_unknowns(const UnknownLayout& layout, CalibrationLevel level,
                                   const std::vector<std::string>& identify,
                                   const std::vector<std::string>& fix);
+
+/// Motor-angle periodic terms (docs/method/03-error-model.md §9) of joints whose gear ratio the
+/// robot file does not give: a pattern of `identify` that names them ('joint6.motor_periodic*')
+/// is an InputError (key `--identify`) naming the joint; a family ('motor_periodic', 'groups') or
+/// a pattern without 'motor' ('joint6.*') leaves them out of `requested` (model parameters).
+void refuse_gearless_motor_terms(const RobotModel& model, const std::vector<std::string>& identify,
+                                 std::vector<bool>& requested);
 
 }  // namespace robcal

@@ -91,6 +91,8 @@ struct MeasurementFormat {
 /// Parses an approach such as "++-+++" (the `approach` column, `--approach`): per joint +1 from
 /// below, −1 from above, 0 unknown; InputError at `where` for anything but six of '+', '-', '0'.
 Vector6d parse_approach(std::string_view text, const SourceLocation& where);
+/// The approach's text, as parse_approach reads it ("++-+++").
+std::string approach_text(const Vector6d& approach);
 
 /// True for a temperature (°C) from a workshop to a foundry, [−50, 150]; outside is a unit slip
 /// (°F, K).

@@ -2,11 +2,13 @@
 /// \file
 /// Measurement programs: the robot program that visits the planned configurations while the
 /// instrument measures, in the controller's own language. Every configuration q is approached
-/// from q − 5° on every joint (backlash cancellation, docs/method/05-observability.md §4) with
+/// from q − 5° on every joint (backlash cancellation, docs/method/05-observability.md §4), or
+/// from q + 5° on the joints the plan approaches from above (backlash identification), with
 /// joint moves to exact stops (fine points), then the program waits for the arm to settle and runs
 /// the measurement hook; a comment with the configuration's name and joints precedes each one, so
 /// that the instrument's export can be joined to the plan. Long plans are split into several
-/// programs (each standalone, run one after the other) below the controllers' size limits.
+/// programs (each standalone, run one after the other) below the controllers' size limits, and
+/// where the plan changes payload (the operator mounts it between programs).
 
 #include <array>
 #include <optional>
@@ -27,10 +29,16 @@ enum class MeasurementHook {
 
 /// How one configuration is visited (MeasurementProgramRequest::visits).
 struct ConfigurationVisit {
-  bool approach = true;  ///< first a joint move to q − approach_deg (backlash cancellation)
+  bool approach = true;  ///< first a joint move to q − side·approach_deg (backlash cancellation)
+  /// Per joint +1: approached from below (q − approach_deg), −1: from above (q + approach_deg),
+  /// as the plan asks for the backlash group (docs/method/03-error-model.md §6).
+  Vector6d side = Vector6d::Ones();
   /// Then the settle wait and the measurement hook; false: the arm only passes through q (an
   /// ISO 9283 vAP pre-pose, a via point), nothing is measured there.
   bool measure = true;
+  /// The payload to carry (a name under the tool file's `payloads:`; empty: the tool's own):
+  /// a program part never changes payload, its header says which one to mount (§7).
+  std::string payload;
 };
 
 struct MeasurementProgramRequest {
@@ -93,7 +101,9 @@ struct MeasurementProgramFilesRequest {
   /// Language, hook, names of the program...; its names and joints are replaced by the CSV's,
   /// its limits by the robot's, its pulses per degree completed from the robot's when unset.
   MeasurementProgramRequest program;
-  std::string configs;  ///< CSV config,target,j1..j6 (degrees): what `robcal plan` writes
+  /// CSV config,target,j1..j6 (degrees) with optional approach and payload columns: what
+  /// `robcal plan` writes
+  std::string configs;
   std::string robot;    ///< built-in robot name or robot file; "": no limit check
   std::string tool;     ///< tool file, needed when the CSV names targets instead of joints
   std::string out_dir;  ///< folder of the program's files

@@ -63,7 +63,8 @@ CandidateSet instrument_candidates(const TrueRobot& cell, const VirtualInstrumen
 DesignSettings plan_design_settings(const TrueRobot& cell, const VirtualInstrument& instrument,
                                     CalibrationLevel level);
 
-/// The chosen candidates as configurations named C1, C2, … in selection order.
+/// The chosen candidates as configurations named C1, C2, … in selection order, grouped by
+/// payload (the operator mounts each once), with their approach sides and payloads.
 std::vector<PlannedConfiguration> planned_configurations(const std::vector<Candidate>& candidates,
                                                          const std::vector<int>& chosen);
 

@@ -28,7 +28,9 @@ struct SimulateRequest {
   double noise_mm = 0;     ///< σ per axis; 0: the instrument's own
   bool exact = false;      ///< noise-free readings
   std::vector<std::string> effects;  ///< unmodelled effects of the true robot (enable_effects)
-  std::string approach = "below";    ///< below (q − 5° on every joint), sequence or random
+  /// below (as the program: q − 5°, or the configurations file's planned sides), sequence or
+  /// random
+  std::string approach = "below";
   /// With thermal drift, the rows record their time (`time_s`) instead of the arm's temperature:
   /// data for the warm-up group (docs/method/03-error-model.md §10).
   bool clock = false;

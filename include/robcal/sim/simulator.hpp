@@ -18,19 +18,28 @@
 namespace robcal {
 
 /// One configuration to measure: controller joints (rad) and the target to read (index into
-/// Tool::targets; −1 lets the instrument pick a visible one).
+/// Tool::targets; −1 lets the instrument pick a visible one), the side each joint is approached
+/// from and the payload carried (the backlash and several-payload groups,
+/// docs/method/03-error-model.md §6–§7; the plan asks for them when those groups are identified).
 struct PlannedConfiguration {
   std::string name;
   Vector6d joints = Vector6d::Zero();
   int target = -1;
+  /// Per joint +1: approached from below (from q − 5°, the measurement programs' default), −1:
+  /// from above.
+  Vector6d approach = Vector6d::Ones();
+  int payload = -1;  ///< index into Tool::payloads; −1: the tool's own payload
 };
 
 /// Reads `config,target,j1..j6` (degrees; what `robcal plan` writes; `target` may be empty or
-/// absent). Errors name the file, line and column. Extra columns are ignored.
+/// absent) with optional `approach` ("+-++++", as measurement files have it) and `payload` (a
+/// name under the tool's `payloads:`, empty: its own) columns. Errors name the file, line and
+/// column. Other columns are ignored.
 std::vector<PlannedConfiguration> read_configurations_csv(const std::string& path,
                                                           const Tool& tool);
 
-/// Writes configurations in the same format (round-trips through read_configurations_csv).
+/// Writes configurations in the same format (round-trips through read_configurations_csv); the
+/// approach and payload columns only when some configuration has one other than the default.
 std::string write_configurations_csv(const std::vector<PlannedConfiguration>& configs,
                                      const Tool& tool);
 
@@ -53,9 +62,10 @@ VirtualInstrument standard_instrument(InstrumentKind kind, const TrueRobot& trut
 Eigen::Vector3d world_from_base(const TrueRobot& truth, const Eigen::Vector3d& p_base_mm);
 
 struct SimulationOptions {
-  /// true: every configuration approached from below (q − 5° on every joint,
-  /// docs/method/05-observability.md §4), which cancels backlash; false: the robot moves straight
-  /// from one configuration to the next.
+  /// true: every configuration approached as the measurement program does, from 5° away on each
+  /// joint's planned side (PlannedConfiguration::approach: from below, q − 5°, unless the plan
+  /// says otherwise, docs/method/05-observability.md §4); false: the robot moves straight from one
+  /// configuration to the next.
   bool approach_from_below = true;
   double seconds_per_measurement = 20;  ///< clock for thermal drift
   /// With thermal drift, the rows record their time (`time_s`, the warm-up group's input,
