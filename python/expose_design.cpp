@@ -17,6 +17,7 @@
 #include "robcal/design/plan_report.hpp"
 #include "robcal/design/selection.hpp"
 #include "robcal/identify/calibrated_robot.hpp"
+#include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 
 namespace py = pybind11;
@@ -97,12 +98,17 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          const std::string& criterion, bool guard, const std::optional<std::string>& cell,
          const std::optional<Eigen::MatrixXd>& task_joints_deg,
          const std::optional<std::string>& task_box, int task_count,
-         const std::optional<std::string>& prior_model, const std::optional<double>& misfit_mm) {
+         const std::optional<std::string>& prior_model, const std::optional<double>& misfit_mm,
+         const std::vector<std::string>& identify, const std::string& approach,
+         const std::string& payloads) {
         PlanRequest request;
         request.model = load_robot(robot);
         request.tool = tool ? load_tool(*tool) : default_simulation_tool();
         request.instrument = parse_instrument_kind(instrument, "instrument");
         request.level = parse_calibration_level(level);
+        request.identify = identify;
+        request.approach = parse_condition_variety(approach, "below", "approach");
+        request.payloads = parse_condition_variety(payloads, "own", "payloads");
         request.count = count;
         request.candidates = candidates;
         request.seed = seed;
@@ -144,14 +150,21 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         }
         Eigen::MatrixXd joints(static_cast<Eigen::Index>(r.configurations.size()), kJointCount);
         std::vector<int> targets;
+        std::vector<std::string> sides, payload_names;
         for (size_t k = 0; k < r.configurations.size(); ++k) {
+          const PlannedConfiguration& c = r.configurations[k];
           for (int j = 0; j < kJointCount; ++j)
-            joints(static_cast<Eigen::Index>(k), j) = rad2deg(r.configurations[k].joints[j]);
-          targets.push_back(r.configurations[k].target);
+            joints(static_cast<Eigen::Index>(k), j) = rad2deg(c.joints[j]);
+          targets.push_back(c.target);
+          sides.push_back(approach_text(c.approach));
+          payload_names.push_back(
+              c.payload < 0 ? "" : request.tool.payloads[static_cast<size_t>(c.payload)].name);
         }
         py::object out = json_to_python(plan_json(request, r, ""));
         out["joints_deg"] = joints;
         out["targets"] = targets;
+        out["approach_sides"] = sides;
+        out["payload_names"] = payload_names;
         return out;
       },
       py::arg("robot") = "abb-irb120", py::arg("tool") = py::none(),
@@ -162,11 +175,15 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("cell") = py::none(), py::arg("task_joints_deg") = py::none(),
       py::arg("task_box") = py::none(), py::arg("task_count") = 1000,
       py::arg("prior_model") = py::none(), py::arg("misfit_mm") = py::none(),
+      py::arg("identify") = std::vector<std::string>{}, py::arg("approach") = "auto",
+      py::arg("payloads") = "auto",
       "Choose calibration configurations and predict their accuracy (`robcal plan`): the CLI's "
       "JSON as a dict (indices for the chosen and a random choice, predicted_error_mm over the "
       "task region from instrument noise only, predicted_error_with_misfit_mm when the misfit "
       "is known: prior_model, a calibrated model file with its cross-validation, or misfit_mm) "
-      "plus joints_deg (count×6) and targets of the chosen configurations");
+      "plus joints_deg (count×6), targets, approach_sides ('+-++++' per configuration) and "
+      "payload_names ('' the tool's own) of the chosen configurations; identify adds opt-in "
+      "groups to the design, approach/payloads (auto, below/own, varied) vary the conditions");
 });
 
 }  // namespace

@@ -656,12 +656,16 @@ def plan(robot: str = "abb-irb120", tool: Optional[str] = None,
          noise_mm: float = 0.0, criterion: str = "default", guard: bool = True,
          cell: Optional[str] = None, task_joints_deg: Optional[Array] = None,
          task_box: Optional[str] = None, task_count: int = 1000,
-         prior_model: Optional[str] = None, misfit_mm: Optional[float] = None) -> Dict[str, Any]:
+         prior_model: Optional[str] = None, misfit_mm: Optional[float] = None,
+         identify: Sequence[str] = ..., approach: str = "auto",
+         payloads: str = "auto") -> Dict[str, Any]:
     """Choose calibration configurations and predict their accuracy (`robcal plan`): the CLI's
     JSON as a dict (indices for the chosen and a random choice, predicted_error_mm over the task
     region from instrument noise only, predicted_error_with_misfit_mm when the misfit is known:
     prior_model, a calibrated model file with its cross-validation, or misfit_mm) plus
-    joints_deg (count×6) and targets of the chosen configurations."""
+    joints_deg (count×6), targets, approach_sides ('+-++++' per configuration) and
+    payload_names ('' the tool's own) of the chosen configurations; identify adds opt-in groups
+    to the design, approach/payloads (auto, below/own, varied) vary the conditions."""
 
 
 def plan_study(robot: str = "abb-irb120", tool: Optional[str] = None,

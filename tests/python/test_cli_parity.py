@@ -214,6 +214,7 @@ def test_plan_misfit(tmp_path):
     # One serializer: Python's dict is the CLI's JSON, plus the chosen configurations as arrays.
     assert p.pop("out") == "" and c.pop("out") == out
     joints, targets = p.pop("joints_deg"), p.pop("targets")
+    assert set(p.pop("approach_sides")) == {"++++++"} and set(p.pop("payload_names")) == {""}
     assert c == p
     csv = np.loadtxt(out, delimiter=",", skiprows=1, usecols=range(2, 8), comments="#")
     np.testing.assert_allclose(joints, csv, rtol=0, atol=1e-6)

@@ -63,3 +63,17 @@ def test_plan_returns_joint_arrays_and_selects_among_given_ones():
         assert np.min(np.max(np.abs(given - row), axis=1)) < 1e-9
     with pytest.raises(robcal.InputError, match="--criterion|criterion"):
         robcal.plan(count=12, criterion="x")
+
+
+def test_plan_for_backlash_varies_the_approach_sides():
+    r = robcal.plan(count=30, candidates=600, identify=["backlash"], task_count=40)
+    assert r["approach"] == "varied" and r["identify"] == ["backlash"]
+    assert len(r["approach_sides"]) == 30 and all(len(s) == 6 for s in r["approach_sides"])
+    assert any("-" in s for s in r["approach_sides"])
+    assert "joint1.backlash" not in r["dropped"]
+    below = robcal.plan(count=30, candidates=600, identify=["backlash"], approach="below",
+                        task_count=40)
+    assert set(below["approach_sides"]) == {"++++++"}
+    assert "joint1.backlash" in below["dropped"]
+    with pytest.raises(robcal.InputError, match="payloads"):
+        robcal.plan(count=12, payloads="varied")
