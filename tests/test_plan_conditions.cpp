@@ -1,5 +1,5 @@
 // The plan asks for the conditions the opt-in groups need (issue 19 item 3,
-// docs/method/05-observability.md §6): approach sides for the backlash group and payload changes
+// docs/method/05-observability.md §7): approach sides for the backlash group and payload changes
 // for compliance across payloads, carried by the configurations file into the measurement
 // program, the simulator and the session. Checked end to end on the published IRB 120: the
 // backlash planned for is identified within 3σ from the plan's own sides, while a plan from below

@@ -274,10 +274,10 @@ bool plans_any(const std::vector<int>& parameters, const std::vector<int>& group
   });
 }
 
-/// Which conditions the drawn candidates vary: the approach sides when a backlash parameter is
-/// planned for (its column is the joint's column times the side, docs/method/03-error-model.md
-/// §6: one side alone makes it the joint offset's), the payloads when a compliance is planned
-/// for and the tool lists payloads (§7: several payloads separate compliance from geometry).
+/// Which conditions the drawn candidates vary (docs/method/05-observability.md §7): the approach
+/// sides when a backlash parameter is planned for (its column is the joint's column times the
+/// side: one side alone makes it the joint offset's), the payloads when a compliance is planned
+/// for and the tool lists payloads (several payloads separate compliance from geometry).
 struct CandidateConditions {
   bool approach_varied = false;
   bool payloads_varied = false;
