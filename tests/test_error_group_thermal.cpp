@@ -29,7 +29,7 @@ TEST(Thermal, NamesUnitsAndGroup) {
   // After the mounting group: no existing index moves.
   EXPECT_EQ(kMountingOffset, 67);
   EXPECT_EQ(kThermalOffset, 68);
-  EXPECT_EQ(kParameterCount, 102);
+  EXPECT_EQ(kParameterCount, 104);  // the gravity group follows (§11)
   EXPECT_EQ(parameter_table()[expansion_param(2)].name, "link2.expansion");
   EXPECT_EQ(parameter_table()[expansion_param(6)].name, "link6.expansion");
   EXPECT_EQ(parameter_table()[expansion_param(4)].unit, "ppm/K");

@@ -58,7 +58,7 @@ TEST(MotorPeriodicErrors, NamesUnitsAndGroups) {
   EXPECT_EQ(opt_in_group_parameters("joint6.motor_periodic").size(), 4u);
   EXPECT_EQ(opt_in_group_parameters("groups").size(),
             static_cast<size_t>(kParameterCount - kPeriodicOffset));
-  ASSERT_EQ(opt_in_groups().size(), 21u);
+  ASSERT_EQ(opt_in_groups().size(), 22u);
   EXPECT_EQ(opt_in_groups()[19].name, "joint6.motor_periodic");
   EXPECT_TRUE(is_opt_in(motor_periodic_param(1, 1, false)));
   for (int i : level_parameters(CalibrationLevel::Full)) EXPECT_FALSE(is_opt_in(i));

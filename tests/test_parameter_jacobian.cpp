@@ -24,7 +24,8 @@ Vector6d random_joints(const RobotModel& model, std::mt19937_64& rng) {
 }
 
 /// Parameters with every error of the model perturbed: base, links, compliance, scales, the
-/// periodic joint errors and the motors' (opt-in groups, docs/method/03-error-model.md §5, §9).
+/// periodic joint errors and the motors', the direction of gravity (opt-in groups,
+/// docs/method/03-error-model.md §5, §9, §11).
 ParameterVector perturbed(const RobotModel& model, std::mt19937_64& rng, bool compliance) {
   ParameterVector x = model.nominal();
   std::normal_distribution<double> n(0.0, 1.0);
@@ -36,6 +37,7 @@ ParameterVector perturbed(const RobotModel& model, std::mt19937_64& rng, bool co
   for (int j = 1; j <= 6; ++j) x[scale_param(j)] = 1.0 + 0.01 * n(rng);
   for (int i = kPeriodicOffset; i < kMountingOffset; ++i) x[i] = deg2rad(0.05 * n(rng));
   for (int i = kMotorPeriodicOffset; i < kWarmupOffset; ++i) x[i] = deg2rad(0.005 * n(rng));
+  for (const int i : {kGravityTiltA, kGravityTiltB}) x[i] = deg2rad(1.0 * n(rng));  // §11
   return x;
 }
 

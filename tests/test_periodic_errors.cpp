@@ -34,7 +34,7 @@ TEST(PeriodicErrors, NamesUnitsAndGroups) {
   EXPECT_EQ(parameter_index("joint4.periodic2.cos"), periodic_param(4, 2, false));
   EXPECT_EQ(match_parameters("joint6.periodic*").size(), 4u);
   EXPECT_EQ(match_parameters("*.periodic1.*").size(), 12u);
-  ASSERT_EQ(opt_in_groups().size(), 21u);
+  ASSERT_EQ(opt_in_groups().size(), 22u);
   EXPECT_EQ(opt_in_groups()[5].name, "joint6.periodic");
   EXPECT_FALSE(is_opt_in(scale_param(6)));
   EXPECT_TRUE(is_opt_in(periodic_param(1, 1, false)));

@@ -140,9 +140,9 @@ CalibratedChain make_calibrated_chain(const RobotModel& model, const ParameterVe
         backlash_shift(params.data(), model_approach(model, approach, joint), joint);
   c.mass[5] += payload.mass_kg;
   c.moment[5] += payload.mass_kg * payload.cog_mm;
-  c.gravity = model.gravity_m_s2;
+  c.gravity = tilted_gravity(model, params.data());  // the gravity group's tilt (§11)
   if (model.gravity_in_base) {  // given in the base frame: turned by R_xy·Rot_z(γ) (§7)
-    const Eigen::Vector3d& g = model.gravity_m_s2;
+    const Eigen::Vector3d g = c.gravity;
     const double cg = std::cos(c.base_gamma), sg = std::sin(c.base_gamma);
     c.gravity =
         c.base_R_xy * Eigen::Vector3d(cg * g.x() - sg * g.y(), sg * g.x() + cg * g.y(), g.z());

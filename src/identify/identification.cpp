@@ -347,6 +347,37 @@ void drop_isothermal_expansion(const RobotModel& model, const MeasurementSet& da
     }
 }
 
+/// The gravity group (docs/method/03-error-model.md §11) acts through the compliances only: it
+/// is dropped by name when no compliance is identified; otherwise each identified compliance
+/// that starts at zero starts at a plausible 1e-7 rad/N·mm instead, since the tilts' columns are
+/// proportional to the compliances and would be zero at the start.
+void seen_through_compliances(std::vector<bool>& candidates, IdentificationSetup& setup,
+                              Eigen::VectorXd& u0) {
+  if (!candidates[kGravityTiltA] && !candidates[kGravityTiltB]) return;
+  std::vector<int> compliances{kJoint1Compliance};
+  for (int joint = 2; joint <= kJointCount; ++joint) compliances.push_back(compliance_param(joint));
+  bool any = false;
+  for (int i : compliances) any = any || candidates[static_cast<size_t>(i)];
+  if (!any) {
+    for (const int i : {kGravityTiltA, kGravityTiltB}) {
+      if (!candidates[static_cast<size_t>(i)]) continue;
+      candidates[static_cast<size_t>(i)] = false;
+      Dependency dep{i, {}, 1.0, {}};
+      dep.reason =
+          "the direction of gravity is seen only through the joint compliances, and none is "
+          "identified: use level full (or --identify '*.compliance') with the robot's masses";
+      setup.dropped.push_back(dep);
+      setup.warnings.push_back(fmt::format("{} not identified: {}",
+                                           setup.layout.names[static_cast<size_t>(i)], dep.reason));
+    }
+    return;
+  }
+  constexpr double kPlausibleCompliance = 1e-7;  // rad/N·mm: industrial arms 1e-8 … 1e-6
+  for (int i : compliances)
+    if (candidates[static_cast<size_t>(i)] && u0[i] == 0.0)
+      u0[i] = setup.start[i] = kPlausibleCompliance;
+}
+
 /// Why the gravity torque about axis `joint` stays below the floor: axis 1 of a robot whose
 /// gravity lies along it (a floor or ceiling mounting, docs/method/03-error-model.md §7), else
 /// centres of gravity on the axis.
@@ -598,6 +629,7 @@ IdentificationSetup prepare_identification(const RobotModel& model, const Tool& 
   drop_unloaded_compliances(model, tool, data, u0, candidates, setup);
   drop_one_sided_backlash(data, candidates, setup);
   drop_isothermal_expansion(model, data, candidates, setup);
+  seen_through_compliances(candidates, setup, u0);
 
   // The model's own dependencies, on a rich synthetic design.
   const std::vector<int> order = preference_order(setup.layout, candidates);

@@ -88,7 +88,9 @@ double UnknownLayout::plausible_error(int index) const {
     case ParamKind::Length:
       return 1.0;
     case ParamKind::Angle:
-      return 1e-3;
+      // The direction of gravity acts through the compliances alone (a 1° tilt moves the
+      // gravity deflections by 2 %): known to a degree, not to a milliradian (§11).
+      return index == kGravityTiltA || index == kGravityTiltB ? deg2rad(1.0) : 1e-3;
     case ParamKind::Compliance:
       return 1e-7;
     case ParamKind::Scale:

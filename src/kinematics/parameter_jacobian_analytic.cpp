@@ -60,13 +60,12 @@ std::array<double, kJointCount> undeflected_angles(const RobotModel& model, cons
   return theta;
 }
 
-/// Gravity in the world (m/s²): the robot file's vector, or, given in the base frame, turned by
-/// the base rotation R_xy(α, β)·Rot_z(γ) (docs/method/03-error-model.md §7).
-Vector3d world_gravity(const RobotModel& model, const ParameterTrig& f, const double* x) {
-  if (!model.gravity_in_base) return model.gravity_m_s2;
-  const Vector3d& gb = model.gravity_m_s2;
-  const double c = std::cos(x[5]), s = std::sin(x[5]);
-  return f.R_base_xy * Vector3d(c * gb.x() - s * gb.y(), s * gb.x() + c * gb.y(), gb.z());
+/// The rotation from the frame the robot file gives gravity in to the world: identity, or for
+/// gravity given in the base frame the base rotation R_xy(α, β)·Rot_z(γ)
+/// (docs/method/03-error-model.md §7).
+Eigen::Matrix3d gravity_frame(const RobotModel& model, const ParameterTrig& f, const double* x) {
+  if (!model.gravity_in_base) return Eigen::Matrix3d::Identity();
+  return f.R_base_xy * Eigen::AngleAxisd(x[5], Vector3d::UnitZ()).toRotationMatrix();
 }
 
 }  // namespace
@@ -139,7 +138,13 @@ FlangeRegressor::FlangeRegressor(const RobotModel& model, const PointMass& paylo
   // Gravity torques (docs/method/03-error-model.md §3): suffix sums of the bodies' first moments
   // and masses.
   const std::array<Pose<double>, kJointCount>& F = undeflected_;
-  const Vector3d g = world_gravity(model, trig, x);
+  // Gravity in the world (m/s²), tilted by the gravity group (§11), and the world axes of that
+  // tilt: x of the frame it is given in, then y turned by Rot_x(rx).
+  const Eigen::Matrix3d G = gravity_frame(model, trig, x);
+  const Vector3d g = G * tilted_gravity(model, x);
+  gravity_axes_.col(0) = G.col(0);
+  gravity_axes_.col(1) =
+      G * Eigen::AngleAxisd(x[kGravityTiltA], Vector3d::UnitX()) * Vector3d::UnitY();
   C_[kJointCount].setZero();
   M_[kJointCount] = 0;
   for (int j = kJointCount - 1; j >= 0; --j) {
@@ -219,6 +224,14 @@ void FlangeRegressor::jacobian(const Eigen::Matrix<double, K, 6>& P,
       J.col(3 + i).noalias() += PZ * rotation(base_axes[i], Fu[0].p, 0);
   }
   J.col(kJoint1Compliance) = tau_[0] * PZ.col(0);
+  // Gravity turned by ω changes the torques as the whole robot turned by −ω under fixed gravity
+  // (§11); the chain itself does not move.
+  for (int k = 0; k < 2; ++k) {
+    if (compliant_)
+      J.col(kGravityTiltA + k).noalias() = -(PZ * rotation(gravity_axes_.col(k), Fu[0].p, 0));
+    else
+      J.col(kGravityTiltA + k).setZero();
+  }
   for (int link = 2; link <= kJointCount; ++link) {
     const int f = link - 1, prev = link - 2;  // 0-based frames Φ_link and Φ_{link-1}
     const int ia = link_param(link, 0), i_a = link_param(link, 1), it = link_param(link, 2),

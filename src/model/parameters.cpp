@@ -59,6 +59,8 @@ const std::array<ParameterInfo, kParameterCount>& parameter_table() {
               ParamKind::Angle, "deg"};
     for (int link = 2; link <= kJointCount; ++link)
       t[warmup_param(link)] = {fmt::format("link{}.warmup_growth", link), ParamKind::Length, "mm"};
+    t[kGravityTiltA] = {"gravity.tilt_a", ParamKind::Angle, "deg"};
+    t[kGravityTiltB] = {"gravity.tilt_b", ParamKind::Angle, "deg"};
     return t;
   }();
   return kTable;
@@ -88,6 +90,7 @@ const std::vector<ParameterGroup>& opt_in_groups() {
     ParameterGroup warmup{"warmup", {}};
     for (int link = 2; link <= kJointCount; ++link) warmup.params.push_back(warmup_param(link));
     g.push_back(warmup);
+    g.push_back({"gravity", {kGravityTiltA, kGravityTiltB}});
     return g;
   }();
   return kGroups;

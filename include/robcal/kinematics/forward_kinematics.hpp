@@ -8,6 +8,7 @@
 /// passed in are the controller's (rad); the model's joint map turns them into model angles.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <cmath>
 
@@ -104,6 +105,38 @@ std::array<T, kJointCount> model_joint_angles(const RobotModel& model, const T* 
 /// (Σ_{j≥i} m_j u_j^i × g_i)_z. Computed tip to base with the first moment S_i = Σ_{j≥i} m_j u_j^i,
 /// so it is O(n). `payload` (flange frame) is lumped with link 6. τ_1 is zero on a floor-mounted
 /// robot (gravity along axis 1) and loads joint 1 on an inclined, wall or ceiling mounting (§7).
+/// The axes the gravity group tilts the robot file's gravity about (docs/method/03-error-model.md
+/// §11), both perpendicular to it, in the frame it is given in: a = x of that frame made
+/// perpendicular to g (y when g lies within 25° of x), b = ĝ × a.
+inline std::array<Eigen::Vector3d, 2> gravity_tilt_axes(const Eigen::Vector3d& g) {
+  const Eigen::Vector3d u = g.normalized();
+  const Eigen::Vector3d x =
+      std::abs(u.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d a = (x - x.dot(u) * u).normalized();
+  return {a, u.cross(a)};
+}
+
+/// v turned by `angle` about the unit `axis` (Rodrigues).
+template <typename T>
+Vector3<T> turned(const Vector3<T>& v, const Eigen::Vector3d& axis, const T& angle) {
+  using std::cos;
+  using std::sin;
+  const Vector3<T> e = axis.template cast<T>();
+  const T c = cos(angle), s = sin(angle);
+  return v * c + e.cross(v) * s + e * (e.dot(v) * (T(1) - c));
+}
+
+/// The robot file's gravity turned by the gravity group's tilts (§11): R(a, tilt_a)·R(b, tilt_b)·g
+/// (gravity_tilt_axes), in the frame g is given in (world, or base when model.gravity_in_base).
+template <typename T>
+Vector3<T> tilted_gravity(const RobotModel& model, const T* params) {
+  const Vector3<T> g = model.gravity_m_s2.template cast<T>();
+  if (!detail::is_nonzero(params[kGravityTiltA]) && !detail::is_nonzero(params[kGravityTiltB]))
+    return g;
+  const std::array<Eigen::Vector3d, 2> axes = gravity_tilt_axes(model.gravity_m_s2);
+  return turned(turned(g, axes[1], params[kGravityTiltB]), axes[0], params[kGravityTiltA]);
+}
+
 template <typename T>
 std::array<T, kJointCount> gravity_torques(const RobotModel& model, const PointMass& payload,
                                            const T* params,
@@ -120,12 +153,12 @@ std::array<T, kJointCount> gravity_torques(const RobotModel& model, const PointM
   if (model.gravity_in_base) {
     using std::cos;
     using std::sin;
-    const Vector3<T> gb = model.gravity_m_s2.template cast<T>();
+    const Vector3<T> gb = tilted_gravity(model, params);
     const T c = cos(theta[0]), s = sin(theta[0]);
     g[0] << c * gb.x() + s * gb.y(), c * gb.y() - s * gb.x(), gb.z();
   } else {
     g[0] = detail::base_transform(params, T(0), theta[0]).R.transpose() *
-           model.gravity_m_s2.template cast<T>();
+           tilted_gravity(model, params);
   }
   for (int i = 1; i < kJointCount; ++i) g[i] = A[i].R.transpose() * g[i - 1];
   // First moments from the tip: S_6 = m_6 u_6 + m_p u_p; S_i = m_i u_i + A_{i+1}·(S_{i+1},

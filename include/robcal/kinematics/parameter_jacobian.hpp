@@ -102,6 +102,8 @@ class FlangeRegressor {
   std::array<double, kJointCount> cold_a_{}, cold_d_{}, growth_{}, warmup_per_length_{};
   bool compliant_ = false;
   bool gravity_turns_with_base_ = false;  ///< RobotModel::gravity_in_base
+  /// World axes of the gravity group's tilts rx, ry (docs/method/03-error-model.md §11).
+  Eigen::Matrix<double, 3, 2> gravity_axes_;
   Eigen::Matrix3d R_base_xy_;
   std::array<Pose<double>, kJointCount> undeflected_, deflected_;
   /// Gravity torques of the undeflected chain and what their derivatives need

@@ -3,7 +3,7 @@
 /// The robot's parameter vector: every quantity the error model of docs/method/03-error-model.md §1
 /// may identify, stored as absolute values in internal units (mm, rad, rad/(N·mm), unitless scale).
 ///
-/// Layout (kParameterCount = 102):
+/// Layout (kParameterCount = 104):
 ///   [0, 6)   base.x base.y base.z (mm), base.alpha base.beta base.gamma (rad):
 ///            world_A_1 = Trans(x, y, d1 + z) · Rot_x(alpha) · Rot_y(beta) · Rot_z(gamma + θ1)
 ///   [6, 26)  linkI.alpha (rad), linkI.a (mm), linkI.theta (rad, the joint zero offset),
@@ -31,6 +31,10 @@
 ///            expansion coefficient times the warm-up's ΔT∞ times L_I; a_I, d_I scaled by
 ///            (1 + w_I·φ(t)/L_I), φ(t) = 1 − exp(−t/τ) of the row's time; an opt-in group
 ///            (docs/method/03-error-model.md §10).
+///   [102, 104) gravity.tilt_a, gravity.tilt_b (rad): the direction of gravity identified, the
+///            robot file's vector turned about two axes perpendicular to it, in the frame it is
+///            given in (world, or base for an inclined, wall or ceiling mounting); seen through
+///            the compliances only; an opt-in group (docs/method/03-error-model.md §11).
 /// The 31 of the published full model are the first 31; scales are fixed unless asked for.
 
 #include <array>
@@ -60,7 +64,11 @@ inline constexpr int kThermalParamCount = kJointCount - 1;  ///< links 2..6
 inline constexpr int kMotorPeriodicOffset = kThermalOffset + kThermalParamCount;
 /// The warm-up group (docs/method/03-error-model.md §10) follows the motor-angle periodic group.
 inline constexpr int kWarmupOffset = kMotorPeriodicOffset + kJointCount * kPeriodicPerJoint;
-inline constexpr int kParameterCount = kWarmupOffset + kThermalParamCount;
+/// The gravity group (docs/method/03-error-model.md §11) follows the warm-up group.
+inline constexpr int kGravityOffset = kWarmupOffset + kThermalParamCount;
+inline constexpr int kGravityTiltA = kGravityOffset;      ///< gravity.tilt_a
+inline constexpr int kGravityTiltB = kGravityOffset + 1;  ///< gravity.tilt_b
+inline constexpr int kParameterCount = kGravityOffset + 2;
 
 /// Index of MDH quantity k (0 alpha, 1 a, 2 theta, 3 d) of link i (2..6).
 constexpr int link_param(int link, int k) {
@@ -129,7 +137,8 @@ struct ParameterGroup {
 /// then one backlash group per joint ("joint1.backlash" .. "joint6.backlash"), then
 /// "joint1.compliance" (docs/method/03-error-model.md §7), then "thermal" (the five
 /// linkI.expansion, §8), then one motor-angle periodic group per joint ("joint1.motor_periodic" ..
-/// "joint6.motor_periodic", §9), then "warmup" (the five linkI.warmup_growth, §10).
+/// "joint6.motor_periodic", §9), then "warmup" (the five linkI.warmup_growth, §10), then
+/// "gravity" (gravity.tilt_a, gravity.tilt_b, §11).
 const std::vector<ParameterGroup>& opt_in_groups();
 
 /// The parameters of the opt-in groups a name selects (`--identify thermal`): one group's name
