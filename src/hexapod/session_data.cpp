@@ -64,10 +64,9 @@ SessionData load_session_data(const std::filesystem::path& session,
   data.tool_sides = {*tool[0], *tool[1], *tool[2]};
   data.base_sides = {*base[0], *base[1], *base[2]};
   if (tool.size() == 6) data.tool_cup4_mm = std::array<double, 3>{*tool[3], *tool[4], *tool[5]};
-  if (const std::string problem =
-          fixture_problem(data.tool_fixture(), journal.string() + ": tool fixture distances");
+  if (const std::string problem = fixture_problem(data.tool_fixture(), "tool fixture");
       !problem.empty())
-    throw InputError({journal.string(), 0, 0, "tool"}, problem);
+    throw InputError({journal.string(), 0, 0, "tool fixture"}, problem);
   fixture_cups(data.base_sides, journal.string() + ": base fixture sides");
 
   for (size_t c = 0; c < plan.configurations.size(); ++c) {
