@@ -175,7 +175,7 @@ TEST(HexapodFourthCup, PlanSimulateSessionCalibrateAtTheNoiseFloorWithNoLargerPo
       "tool-cup uncertainty over %zu poses, mean σ multiple: three cups %.3f, four cups %.3f "
       "(worst ratio %.3f)\n",
       data.readings.size(), sum3 / (3.0 * n), sum4 / (3.0 * n), worst_ratio);
-  // Measured 2.715 → 2.678 σ (−1.4 %): of the four new distances (d14, d24, d34 and the leg)
+  // Measured 2.715 → 2.677 σ (−1.4 %): of the four new distances (d14, d24, d34 and the leg)
   // three fix T4, so one is redundant among 16 — a small gain, and never a loss (worst ratio 1).
   EXPECT_LT(sum4, 0.99 * sum3);
   EXPECT_LE(worst_ratio, 1 + 1e-9);

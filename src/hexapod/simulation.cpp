@@ -88,9 +88,10 @@ SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotMo
   }
   c.tool_sides = measure_sides(c.tool_cups_flange, options.design.tool.d12, options, rng);
   if (const auto& design4 = options.design.tool_cup4_mm) {
-    // The true T4: where the design puts it on the true triangle, within the tolerance per axis;
+    // The true T4: where the design puts it, within the tolerance per axis (not trilaterated on
+    // the true triangle: off its plane that amplifies the tolerance to √(tolerance·d14));
     // each distance read at its own set-up, its design length.
-    Eigen::Vector3d local = fixture_cup_positions({true_tool, design4})[3];
+    Eigen::Vector3d local = fixture_cup_positions(options.design.tool_fixture())[3];
     for (int a = 0; a < 3; ++a) local[a] += tolerance(rng);
     c.tool_cup4_flange = flange_T_tool * local;
     std::array<double, 3> measured{};

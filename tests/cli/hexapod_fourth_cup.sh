@@ -70,3 +70,31 @@ set +e
 rc=$?
 set -e
 [ "$rc" = 2 ] && grep -qF "nocup4.json (configurations[0].legs): leg '" "$tmp/err" && [ ! -e "$tmp/x.jsonl" ]
+
+# The two-stage way with the ±1 mm ballbar: configurations out of range are re-planned on the
+# preliminary model with their leg to T4, and the second session asks neither the sides nor T4's
+# distances again.
+mkdir -p "$tmp/p1" "$tmp/p2"
+"$ROBCAL" hexapod plan --placement 450,0,300,0 --tool-cup4-mm "$cup4" --out "$tmp/p1/plan.json" > /dev/null
+"$ROBCAL" hexapod simulate-readings --plan "$tmp/p1/plan.json" --seed 5 --out "$tmp/q1.txt" \
+  --tool-out "$tmp/tool1.yaml" --json > "$tmp/sim1.json"
+[ "$(json "$tmp/sim1.json" "d['legs_out_of_range'] > 10")" = True ]
+"$ROBCAL" hexapod session --plan "$tmp/p1/plan.json" --journal "$tmp/p1/journal.jsonl" < "$tmp/q1.txt" > /dev/null
+"$ROBCAL" hexapod calibrate --session "$tmp/p1" --tool "$tmp/tool1.yaml" --out "$tmp/prelim.yaml" \
+  --json > "$tmp/prelim.json"
+retry=$(json "$tmp/prelim.json" "len(d['configurations_to_retry'])")
+"$ROBCAL" hexapod replan --session "$tmp/p1" --model "$tmp/prelim.yaml" --out "$tmp/p2/plan.json" > /dev/null
+python3 - "$tmp/p2/plan.json" "$retry" <<'PY'
+import json, sys
+p = json.load(open(sys.argv[1]))
+assert len(p["configurations"]) == int(sys.argv[2]) > 10, (len(p["configurations"]), sys.argv[2])
+assert all(len(c["legs"]) == 7 and c["legs"][6].endswith("-T4") for c in p["configurations"])
+assert len(p["measured_sides"]["tool_mm"]) == 6 and len(p["tool_cup4_mm"]) == 3
+PY
+"$ROBCAL" hexapod simulate-readings --plan "$tmp/p2/plan.json" --seed 5 --out "$tmp/q2.txt" --json > "$tmp/sim2.json"
+[ "$(json "$tmp/sim2.json" "d['legs_out_of_range']")" = 0 ]
+"$ROBCAL" hexapod session --plan "$tmp/p2/plan.json" --journal "$tmp/p2/journal.jsonl" < "$tmp/q2.txt" > "$tmp/p2.log"
+! grep -q "tool cups T1 and T4" "$tmp/p2.log"
+"$ROBCAL" hexapod calibrate --session "$tmp/p1" --session "$tmp/p2" --tool "$tmp/tool1.yaml" \
+  --out "$tmp/final.yaml" --json > "$tmp/final.json"
+[ "$(json "$tmp/final.json" "len(d['configurations_to_retry']) == 0 and d['converged']")" = True ]

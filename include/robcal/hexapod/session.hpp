@@ -3,7 +3,8 @@
 /// The guided measurement session of the ballbar hexapod (docs/method/08-world-frame.md §3,
 /// published procedure): the tool sides, the base sides once the robot has placed the base cups,
 /// then the six legs of every planned configuration, with re-checks of the ballbar on its
-/// calibrator.
+/// calibrator. A plan with a fourth tool cup (tool_cup4_mm) adds its three distances after the tool
+/// sides and its legs to each configuration's six.
 ///
 /// The session is a deterministic script: the next step depends only on the plan and the
 /// readings so far. Every reading goes to an append-only journal (one JSON object per line,
