@@ -52,7 +52,7 @@ inline constexpr std::array<std::array<int, 2>, 6> kFixtureDistancePairs{
 struct FixtureDistances {
   FixtureDistances() = default;
   /// Implicit from the sides: a fixture of three cups.
-  FixtureDistances(const TriangleSides& sides_mm,  // NOLINT(google-explicit-constructor)
+  FixtureDistances(const TriangleSides& sides_mm,
                    std::optional<std::array<double, 3>> fourth_mm = std::nullopt)
       : sides(sides_mm), fourth(fourth_mm) {}
   TriangleSides sides;  ///< cups 1..3
