@@ -370,6 +370,16 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
       model.name, outcome.poses_enumerated, outcome.refused.size(), outcome.poses_kept,
       outcome.poses_measurable, outcome.configurations_measurable);
   for (const auto& [label, reason] : outcome.refused) fmt::print("{} refused: {}\n", label, reason);
+  if (request.geometry.tool_cup4_mm) {
+    size_t legs = 0, reaching = 0;
+    for (const SessionConfiguration& c : plan.session.configurations) {
+      legs += c.legs.size() - kDesignLegs.size();
+      reaching += c.legs.size() > kDesignLegs.size() ? 1 : 0;
+    }
+    fmt::print("tool cup T4: {} legs to it in {} of {} configurations (within ±{} mm of {} mm)\n",
+               legs, reaching, plan.session.configurations.size(),
+               kExtraLegRangeFraction * request.gauge.range_mm, request.geometry.leg_mm);
+  }
   for (const PlannedPose& p : outcome.poses) {
     std::vector<std::string> labels;
     for (const SessionConfiguration& c : plan.session.configurations)

@@ -255,9 +255,7 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   check_gauge(request.gauge, "--gauge-range-mm", "--gauge-sigma-mm");
   check_fixture_range(g, request.gauge);
   std::vector<HexapodPose> all = enumerate_poses(g);
-  // Half the gauge's range for the legs to T4, whose planned length is not the set-up's: the
-  // other half is the robot's errors' (the design legs, at the set-up, have the whole range).
-  add_fourth_cup_legs(all, g, 0.5 * request.gauge.range_mm);
+  add_fourth_cup_legs(all, g, kExtraLegRangeFraction * request.gauge.range_mm);
   const PoseScreening screening =
       screen_poses(all, g, deg2rad(request.angle_deg), request.distance_mm, request.cups);
   const std::vector<HexapodPose>& kept = screening.kept;
@@ -269,7 +267,7 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
         fmt::format("no pose that can be set up has a leg to T4 within ±{} mm of the ballbar's {} "
                     "mm: put T4 on the circumcircle of T1..T3 (every pose then has one, "
                     "docs/method/07-hexapod.md §7)",
-                    0.5 * request.gauge.range_mm, g.leg_mm));
+                    kExtraLegRangeFraction * request.gauge.range_mm, g.leg_mm));
   const Pose<double> placement = placement_pose(request.placement, request.tilt_deg);
   // The base fixture frame (B1 origin, B2 on x) for the rough placement of its cup centroid.
   Pose<double> centroid_T_base;
