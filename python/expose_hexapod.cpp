@@ -284,12 +284,14 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          const std::array<double, 4>& placement, double tilt_deg, double tool_offset_mm,
          double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
          double gauge_range_mm, double gauge_sigma_mm, double cup_diameter_mm,
-         const std::optional<std::string>& cell) {
+         const std::optional<std::string>& cell,
+         const std::optional<std::array<double, 3>>& tool_cup4_mm) {
         HexapodPlanRequest r = plan_request(
             robot, base_sides_mm, tool_sides_mm, leg_mm, tool_offset_mm, ball_offset_mm, table_z_mm,
             angle_deg, distance_mm, gauge_range_mm, gauge_sigma_mm, cup_diameter_mm, cell);
         r.placement = placement;
         r.tilt_deg = tilt_deg;
+        r.geometry.tool_cup4_mm = tool_cup4_mm;
         return plan_hexapod(load_robot(robot), r);
       },
       py::arg("robot") = "fanuc-lrmate200ic",
@@ -301,10 +303,12 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("gauge_range_mm") = LengthGauge{}.range_mm,
       py::arg("gauge_sigma_mm") = LengthGauge{}.sigma_mm,
       py::arg("cup_diameter_mm") = CupClearance{}.cup_diameter_mm, py::arg("cell") = py::none(),
+      py::arg("tool_cup4_mm") = py::none(),
       "Plans a hexapod measurement (`robcal hexapod plan`): placement = (x, y, z mm, yaw deg) of "
       "the base cups' centroid in the robot frame, tilt_deg of the pivoting platform, the gauge's "
-      "range and σ, the cup diameter (colliding poses refused) and a cell file (its floor and "
-      "keep-out boxes respected)");
+      "range and σ, the cup diameter (colliding poses refused), a cell file (its floor and "
+      "keep-out boxes respected) and a fourth tool cup by its distances (d14, d24, d34) to T1..T3 "
+      "(`--tool-cup4-mm`)");
   h.def(
       "place",
       [](const std::string& robot, const std::vector<double>& x_mm, const std::vector<double>& y_mm,

@@ -67,7 +67,7 @@ TEST(HexapodPlanFile, ReadsBackWhatItWrites) {
   EXPECT_EQ(read.cell->placement, plan.cell->placement);
   EXPECT_EQ(read.cell->table_z_mm, -20);
   EXPECT_EQ(read.session.configurations.size(), plan.session.configurations.size());
-  EXPECT_EQ(read.session.tool_sides->d23, 149.99);
+  EXPECT_EQ(read.session.tool_sides->sides.d23, 149.99);
   EXPECT_EQ(read.replanned->model, "prelim.yaml");
   // The setting-ball configurations reach their points: three points, each with solutions.
   for (const SettingBallPoint& p : read.setting) EXPECT_FALSE(p.configurations.empty());

@@ -22,7 +22,7 @@ SessionPlan small_plan() {
     config.id = c + 1;
     config.pose = "P0" + std::to_string(c + 1);
     for (size_t i = 0; i < kDesignLegs.size(); ++i)
-      config.legs[i] = {kDesignLegs[i].base, kDesignLegs[i].tool};
+      config.legs.push_back({kDesignLegs[i].base, kDesignLegs[i].tool});
     plan.configurations.push_back(config);
   }
   return plan;

@@ -22,7 +22,7 @@ namespace {
 
 TEST(HexapodSessionData, LegDesignFromItsSixLegs) {
   for (const LegDesign& d : all_leg_designs()) {
-    std::array<PhysicalLeg, 6> legs;
+    std::vector<PhysicalLeg> legs(kDesignLegs.size());
     for (size_t i = 0; i < kDesignLegs.size(); ++i)
       legs[i] = {d.base[kDesignLegs[i].base], d.tool[kDesignLegs[i].tool]};
     const std::optional<LegDesign> back = design_of_legs(legs);
@@ -155,7 +155,7 @@ TEST(HexapodSessionData, KnownSidesAreNotAskedAgainAndReadOnlyReplayKeepsTheJour
   config.id = 1;
   config.pose = "P01";
   for (size_t i = 0; i < kDesignLegs.size(); ++i)
-    config.legs[i] = {kDesignLegs[i].base, kDesignLegs[i].tool};
+    config.legs.push_back({kDesignLegs[i].base, kDesignLegs[i].tool});
   plan.configurations.push_back(config);
   plan.tool_sides = TriangleSides{150, 150.1, 149.9};
   plan.base_sides = TriangleSides{300, 300.1, 299.9};

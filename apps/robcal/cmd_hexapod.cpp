@@ -346,9 +346,13 @@ void run_setup(const CellOptions& o, double side_mm, bool json) {
 }
 
 void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
-              const MeasuringOptions& m, const std::string& cell_path, const std::string& out_path,
-              bool json) {
+              const MeasuringOptions& m, const std::string& tool_cup4, const std::string& cell_path,
+              const std::string& out_path, bool json) {
   HexapodPlanRequest request = o.request(geometry_options.geometry());
+  if (!tool_cup4.empty()) {
+    const std::vector<double> d = parse_numbers(tool_cup4, 3, "--tool-cup4-mm");
+    request.geometry.tool_cup4_mm = std::array<double, 3>{d[0], d[1], d[2]};
+  }
   request.gauge = m.gauge;
   request.cups = m.cups;
   if (!cell_path.empty()) request.workcell = campaign::load_cell(cell_path);
@@ -366,6 +370,16 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
       model.name, outcome.poses_enumerated, outcome.refused.size(), outcome.poses_kept,
       outcome.poses_measurable, outcome.configurations_measurable);
   for (const auto& [label, reason] : outcome.refused) fmt::print("{} refused: {}\n", label, reason);
+  if (request.geometry.tool_cup4_mm) {
+    size_t legs = 0, reaching = 0;
+    for (const SessionConfiguration& c : plan.session.configurations) {
+      legs += c.legs.size() - kDesignLegs.size();
+      reaching += c.legs.size() > kDesignLegs.size() ? 1 : 0;
+    }
+    fmt::print("tool cup T4: {} legs to it in {} of {} configurations (within ±{} mm of {} mm)\n",
+               legs, reaching, plan.session.configurations.size(),
+               kExtraLegRangeFraction * request.gauge.range_mm, request.geometry.leg_mm);
+  }
   for (const PlannedPose& p : outcome.poses) {
     std::vector<std::string> labels;
     for (const SessionConfiguration& c : plan.session.configurations)
@@ -670,10 +684,15 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     auto geometry = std::make_shared<GeometryOptions>();
     auto cell = std::make_shared<CellOptions>();
     auto measuring = std::make_shared<MeasuringOptions>();
+    auto tool_cup4 = std::make_shared<std::string>();
     auto cell_file = std::make_shared<std::string>();
     auto out = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
     geometry->add_to(cmd);
+    cmd->add_option("--tool-cup4-mm", *tool_cup4,
+                    "A fourth tool cup T4 by its distances d14,d24,d34 to T1..T3 (mm): its legs "
+                    "within half the gauge range of --leg-mm are measured too (on the circumcircle "
+                    "of T1..T3: one in every pose)");
     cell->add_to(cmd);
     measuring->add_to(cmd);
     cmd->add_option("--cell", *cell_file,
@@ -681,7 +700,8 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
                     "its keep-out boxes");
     cmd->add_option("--out", *out, "Write the plan (JSON) for `robcal hexapod session`");
     cmd->add_flag("--json", *json, "Machine-readable output");
-    cmd->callback([=] { run_plan(*geometry, *cell, *measuring, *cell_file, *out, *json); });
+    cmd->callback(
+        [=] { run_plan(*geometry, *cell, *measuring, *tool_cup4, *cell_file, *out, *json); });
   }
   {
     auto* cmd = hex->add_subcommand(

@@ -83,11 +83,13 @@ def plan(robot: str = "fanuc-lrmate200ic", base_sides_mm: Sequence[float] = ...,
          tool_offset_mm: float = 100.0, ball_offset_mm: float = 100.0, table_z_mm: float = 0.0,
          angle_deg: float = 30.0, distance_mm: float = 50.0, gauge_range_mm: float = 1.0,
          gauge_sigma_mm: float = 0.00051, cup_diameter_mm: float = 25.0,
-         cell: Optional[str] = None) -> Plan:
+         cell: Optional[str] = None,
+         tool_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Plan:
     """Plans a hexapod measurement (`robcal hexapod plan`): placement = (x, y, z mm, yaw deg) of
     the base cups' centroid in the robot frame, tilt_deg of the pivoting platform, the gauge's
-    range and σ, the cup diameter (colliding poses refused) and a cell file (its floor and
-    keep-out boxes respected)."""
+    range and σ, the cup diameter (colliding poses refused), a cell file (its floor and
+    keep-out boxes respected) and a fourth tool cup by its distances (d14, d24, d34) to T1..T3
+    (`--tool-cup4-mm`: its legs within half the gauge range are measured too)."""
 
 
 def read_plan(path: str) -> Plan:

@@ -72,12 +72,19 @@ PoseScreening screen_poses(const std::vector<HexapodPose>& poses, const HexapodG
         fmt::format("expected a positive cup diameter in mm, found {}", clearance.cup_diameter_mm));
   const Cups<double> base = fixture_cups(geometry.base, "base fixture");
   const std::vector<Eigen::Vector3d> base_cups(base.begin(), base.end());
+  if (geometry.tool_cup4_mm)
+    for (int j = 0; j < 3; ++j)
+      if (const double gap = (*geometry.tool_cup4_mm)[j]; gap < clearance.cup_diameter_mm)
+        throw InputError({"", 0, 0, "--tool-cup4-mm"},
+                         fmt::format("tool cup T4 is {} mm from T{}, closer than a cup diameter "
+                                     "({} mm): the cups {}",
+                                     gap, j + 1, clearance.cup_diameter_mm,
+                                     gap < 1e-3 ? "coincide" : "collide"));
   PoseScreening out;
   std::vector<HexapodPose> possible;
   for (const HexapodPose& pose : poses) {
-    const std::vector<Eigen::Vector3d> tool(pose.tool_cups.begin(), pose.tool_cups.end());
-    const std::vector<PhysicalLeg> legs(pose.legs.begin(), pose.legs.end());
-    if (std::string reason = cup_collision(base_cups, tool, legs, clearance); !reason.empty())
+    const std::vector<Eigen::Vector3d> tool = pose_tool_cups(pose, geometry);
+    if (std::string reason = cup_collision(base_cups, tool, pose.legs, clearance); !reason.empty())
       out.refused.push_back({pose, std::move(reason)});
     else
       possible.push_back(pose);

@@ -30,15 +30,6 @@ struct Problem {
   std::vector<std::string> names;
 };
 
-constexpr std::array<std::array<int, 2>, 6> kSidePairs{
-    {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}}};
-
-std::vector<double> fixture_values(const FixtureDistances& f) {
-  std::vector<double> v{f.sides.d12, f.sides.d23, f.sides.d31};
-  if (f.fourth) v.insert(v.end(), f.fourth->begin(), f.fourth->end());
-  return v;
-}
-
 Problem build_problem(const FourCupDkpRequest& request) {
   Problem p;
   p.base_count = request.base.cup_count();
@@ -50,10 +41,12 @@ Problem build_problem(const FourCupDkpRequest& request) {
     p.unknowns += 3;
   }
   const auto add_fixture = [&](const FixtureDistances& f, int offset, char letter) {
-    const std::vector<double> values = fixture_values(f);
+    const std::vector<double> values = f.values();
     for (size_t k = 0; k < values.size(); ++k) {
-      p.observations.push_back({offset + kSidePairs[k][0], offset + kSidePairs[k][1], values[k]});
-      p.names.push_back(fmt::format("{}{}{}", letter, kSidePairs[k][0] + 1, kSidePairs[k][1] + 1));
+      p.observations.push_back(
+          {offset + kFixtureDistancePairs[k][0], offset + kFixtureDistancePairs[k][1], values[k]});
+      p.names.push_back(fmt::format("{}{}{}", letter, kFixtureDistancePairs[k][0] + 1,
+                                    kFixtureDistancePairs[k][1] + 1));
     }
   };
   add_fixture(request.base, 0, 'b');
@@ -125,23 +118,6 @@ Fit gauss_newton(const Problem& p, Eigen::VectorXd x) {
   return fit;
 }
 
-/// A fourth cup in its fixture's plane from its distances to cups 1 and 2, on the side of the
-/// line c1c2 that matches its distance to cup 3 best.
-Eigen::Vector3d fourth_in_plane(const Cups<double>& c, const std::array<double, 3>& d) {
-  const double d12 = c[1].x();
-  const double x = (d[0] * d[0] - d[1] * d[1] + d12 * d12) / (2 * d12);
-  const double y = std::sqrt(std::max(0.0, d[0] * d[0] - x * x));
-  const Eigen::Vector3d up(x, y, 0), down(x, -y, 0);
-  return std::abs((up - c[2]).norm() - d[2]) <= std::abs((down - c[2]).norm() - d[2]) ? up : down;
-}
-
-std::vector<Eigen::Vector3d> fixture_start(const FixtureDistances& f) {
-  const Cups<double> c = triangle_from_sides(f.sides.d12, f.sides.d23, f.sides.d31);
-  std::vector<Eigen::Vector3d> cups(c.begin(), c.end());
-  if (f.fourth) cups.push_back(fourth_in_plane(c, *f.fourth));
-  return cups;
-}
-
 /// A problem of the request's input and where it lies; an empty message: none.
 struct InputProblem {
   std::string message;
@@ -187,31 +163,6 @@ std::vector<CupUncertainty> cup_uncertainties(const Eigen::VectorXd& variances) 
 }
 
 }  // namespace
-
-std::string fixture_problem(const FixtureDistances& f, const std::string& what) {
-  const char letter = what.rfind("tool", 0) == 0 ? 'T' : 'B';
-  const std::vector<double> values = fixture_values(f);
-  for (size_t k = 0; k < values.size(); ++k)
-    if (!std::isfinite(values[k]) || values[k] <= 0)
-      return fmt::format("{}: side d{}{} = {} mm is not a positive length", what,
-                         kSidePairs[k][0] + 1, kSidePairs[k][1] + 1, values[k]);
-  if (f.fourth) {
-    // Each triangle with the fourth cup, as (cup i, cup j, side ij, side i4, side j4).
-    const std::array<std::array<int, 5>, 3> triangles{
-        {{0, 1, 0, 3, 4}, {1, 2, 1, 4, 5}, {2, 0, 2, 5, 3}}};
-    for (const auto& t : triangles)
-      if (!triangle_problem({values[t[2]], values[t[4]], values[t[3]]}).empty())
-        return fmt::format(
-            "{}: the fourth cup {}4 is collinear with {}{} and {}{} (d{}{} = {}, d{}4 = {}, d{}4 = "
-            "{} mm break the triangle inequality): put the fourth cup off the lines through the "
-            "others",
-            what, letter, letter, t[0] + 1, letter, t[1] + 1, t[0] + 1, t[1] + 1, values[t[2]],
-            t[0] + 1, values[t[3]], t[1] + 1, values[t[4]]);
-  }
-  if (const std::string problem = triangle_problem(f.sides); !problem.empty())
-    return what + ": " + problem;
-  return {};
-}
 
 FourCupDkpRequest four_cup_distances(const std::vector<Eigen::Vector3d>& base,
                                      const std::vector<Eigen::Vector3d>& tool,
@@ -267,8 +218,8 @@ FourCupDkpResult solve_four_cup_dkp(const FourCupDkpRequest& request) {
         "tool cups, one to all three, one to the first): no closed-form starting point";
     return result;
   }
-  const std::vector<Eigen::Vector3d> base = fixture_start(request.base);
-  const std::vector<Eigen::Vector3d> tool_local = fixture_start(request.tool);
+  const std::vector<Eigen::Vector3d> base = fixture_cup_positions(request.base);
+  const std::vector<Eigen::Vector3d> tool_local = fixture_cup_positions(request.tool);
   const Cups<double> base3{base[0], base[1], base[2]};
   const Cups<double> tool3{tool_local[0], tool_local[1], tool_local[2]};
   const DkpResult dkp = solve_dkp(design_base_cups(result.design, base3), Eigen::Vector3d::UnitZ(),

@@ -43,31 +43,31 @@ struct SideResidual {
   }
 };
 
-/// Extras after the model parameters: 9 base-cup coordinates per placement, then 9 tool-cup ones
+/// Extras after the model parameters: 9 base-cup coordinates per placement, then 3 per tool cup
 /// and the length offset.
-std::string extra_name(int k, int placements) {
+std::string extra_name(int k, int placements, int tool_cups) {
   if (k < 9 * placements) {
     const std::string cup = fmt::format("base_cup.B{}.{}", (k % 9) / 3 + 1, "xyz"[k % 3]);
     return placements == 1 ? cup : fmt::format("placement{}.{}", k / 9 + 1, cup);
   }
   k -= 9 * placements;
-  if (k < 9) return fmt::format("tool_cup.T{}.{}", k / 3 + 1, "xyz"[k % 3]);
+  if (k < 3 * tool_cups) return fmt::format("tool_cup.T{}.{}", k / 3 + 1, "xyz"[k % 3]);
   return "ballbar.length_offset";
 }
 
 }  // namespace
 
 LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
-                           const TriangleSides& base_sides, const TriangleSides& tool_sides,
+                           const TriangleSides& base_sides, const FixtureDistances& tool,
                            const std::vector<LegReadings>& readings,
                            const ParameterVector& start_params, const Pose<double>& robot_T_world,
                            const Pose<double>& flange_T_tool, const LegFitOptions& options) {
-  return fit_from_legs(model, payload, tool_sides, {{base_sides, readings, robot_T_world}},
-                       start_params, flange_T_tool, options);
+  return fit_from_legs(model, payload, tool, {{base_sides, readings, robot_T_world}}, start_params,
+                       flange_T_tool, options);
 }
 
 LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
-                           const TriangleSides& tool_sides,
+                           const FixtureDistances& tool,
                            const std::vector<LegPlacement>& placements,
                            const ParameterVector& start_params, const Pose<double>& flange_T_tool,
                            const LegFitOptions& options) {
@@ -78,18 +78,22 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
   if (placements.empty())
     throw InputError({"", 0, 0, "placements"}, "expected the readings of at least one placement");
   const int n_placements = static_cast<int>(placements.size());
-  const int extras = 9 * n_placements + 10;
+  const int tool_cups = tool.cup_count();
+  const int extras = 9 * n_placements + 3 * tool_cups + 1;
   const int offset_index = kParameterCount + extras - 1;
   LegFitResult result;
   result.params = start_params;
   result.base_cups_robot.resize(placements.size());
-  const Cups<double> tool_local = fixture_cups(tool_sides, "tool fixture sides");
+  if (const std::string problem = fixture_problem(tool, "tool fixture"); !problem.empty())
+    throw InputError({"", 0, 0, "tool fixture"}, problem);
+  const std::vector<Eigen::Vector3d> tool_local = fixture_cup_positions(tool);
   for (int p = 0; p < n_placements; ++p) {
     const Cups<double> base_local = fixture_cups(placements[p].base_sides, "base fixture sides");
     for (int i = 0; i < 3; ++i)
       result.base_cups_robot[p][i] = placements[p].robot_T_world * base_local[i];
   }
   for (int i = 0; i < 3; ++i) result.tool_cups_flange[i] = flange_T_tool * tool_local[i];
+  if (tool.fourth) result.tool_cup4_flange = flange_T_tool * tool_local[3];
   // Which unknowns are candidates: the requested parameters except those the free tool cups
   // absorb, every cup coordinate, the offset if asked.
   std::vector<bool> candidate(kParameterCount + extras, false);
@@ -108,6 +112,18 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
   for (Cups<double>& cups : result.base_cups_robot)
     for (Eigen::Vector3d& c : cups) cup_blocks.push_back(c.data());
   for (Eigen::Vector3d& c : result.tool_cups_flange) cup_blocks.push_back(c.data());
+  if (result.tool_cup4_flange) cup_blocks.push_back(result.tool_cup4_flange->data());
+  const auto tool_cup = [&](int t) {
+    return t < 3 ? result.tool_cups_flange[t].data() : result.tool_cup4_flange->data();
+  };
+  const auto add_leg = [&](ceres::Problem& problem, const LegReadings& r, int p, int b, int t,
+                           double reading) {
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<LegResidual, 1, kParameterCount, 3, 3, 1>(
+            new LegResidual{&model, payload, r.joints, reading}),
+        nullptr, result.params.data(), result.base_cups_robot[p][b].data(), tool_cup(t),
+        &result.length_offset_mm);
+  };
 
   double zero_offset = 0;  // the tool sides' set-up offset, held
   ceres::Problem::Options problem_options;
@@ -118,16 +134,13 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     for (double* block : cup_blocks) problem.AddParameterBlock(block, 3);
     problem.AddParameterBlock(&result.length_offset_mm, 1);
     for (int p = 0; p < n_placements; ++p)
-      for (const LegReadings& r : placements[p].readings)
-        for (size_t i = 0; i < kDesignLegs.size(); ++i) {
-          const int b = r.design.base[kDesignLegs[i].base];
-          const int t = r.design.tool[kDesignLegs[i].tool];
-          problem.AddResidualBlock(
-              new ceres::AutoDiffCostFunction<LegResidual, 1, kParameterCount, 3, 3, 1>(
-                  new LegResidual{&model, payload, r.joints, r.legs[i]}),
-              nullptr, params, result.base_cups_robot[p][b].data(),
-              result.tool_cups_flange[t].data(), &result.length_offset_mm);
-        }
+      for (const LegReadings& r : placements[p].readings) {
+        for (size_t i = 0; i < kDesignLegs.size(); ++i)
+          add_leg(problem, r, p, r.design.base[kDesignLegs[i].base],
+                  r.design.tool[kDesignLegs[i].tool], r.legs[i]);
+        for (const MeasuredLeg& leg : r.extra_legs)
+          add_leg(problem, r, p, leg.base, leg.tool, leg.length_mm);
+      }
     // Base sides at the leg set-up share its offset; the tool sides (150 mm set-up) get their own,
     // held at zero: that set-up is calibrated separately.
     problem.AddParameterBlock(&zero_offset, 1);
@@ -143,9 +156,11 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
       for (int i = 0; i < 3; ++i)
         side(bs[i], cups[i].data(), cups[(i + 1) % 3].data(), &result.length_offset_mm);
     }
-    const std::array<double, 3> ts = tool_sides.as_array();
-    Cups<double>& tool = result.tool_cups_flange;
-    for (int i = 0; i < 3; ++i) side(ts[i], tool[i].data(), tool[(i + 1) % 3].data(), &zero_offset);
+    // The tool sides, and a fourth cup's distances (each at its own set-up: no offset either).
+    const std::vector<double> ts = tool.values();
+    for (size_t i = 0; i < ts.size(); ++i)
+      side(ts[i], tool_cup(kFixtureDistancePairs[i][0]), tool_cup(kFixtureDistancePairs[i][1]),
+           &zero_offset);
   };
 
   // Rank-revealing QR of the column-scaled Jacobian over the candidates, at the start point.
@@ -179,8 +194,9 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     for (int c = rank; c < J.cols(); ++c) {
       const int k = columns[qr.colsPermutation().indices()[c]];
       candidate[k] = false;
-      result.held.push_back((k < kParameterCount ? parameter_table()[k].name
-                                                 : extra_name(k - kParameterCount, n_placements)) +
+      result.held.push_back((k < kParameterCount
+                                 ? parameter_table()[k].name
+                                 : extra_name(k - kParameterCount, n_placements, tool_cups)) +
                             ": not identifiable from these readings (rank test)");
     }
   }
@@ -263,6 +279,7 @@ CalibratedRobot leg_fit_robot(const RobotModel& model, const PointMass& payload,
   robot.tool.flange_T_tcp.translation() = flange_T_tool.p;
   for (int j = 0; j < 3; ++j)
     robot.tool.targets.push_back({"T" + std::to_string(j + 1), fit.tool_cups_flange[j], true});
+  if (fit.tool_cup4_flange) robot.tool.targets.push_back({"T4", *fit.tool_cup4_flange, true});
   return robot;
 }
 

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include "json_fields.hpp"
@@ -253,10 +254,20 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   const Cups<double> base_cups = fixture_cups(g.base, "--base-mm");
   check_gauge(request.gauge, "--gauge-range-mm", "--gauge-sigma-mm");
   check_fixture_range(g, request.gauge);
-  const std::vector<HexapodPose> all = enumerate_poses(g);
+  std::vector<HexapodPose> all = enumerate_poses(g);
+  add_fourth_cup_legs(all, g, kExtraLegRangeFraction * request.gauge.range_mm);
   const PoseScreening screening =
       screen_poses(all, g, deg2rad(request.angle_deg), request.distance_mm, request.cups);
   const std::vector<HexapodPose>& kept = screening.kept;
+  if (g.tool_cup4_mm && std::none_of(kept.begin(), kept.end(), [](const HexapodPose& p) {
+        return p.legs.size() > kDesignLegs.size();
+      }))
+    throw InputError(
+        {"", 0, 0, "--tool-cup4-mm"},
+        fmt::format("no pose that can be set up has a leg to T4 within ±{} mm of the ballbar's {} "
+                    "mm: put T4 on the circumcircle of T1..T3 (every pose then has one, "
+                    "docs/method/07-hexapod.md §7)",
+                    kExtraLegRangeFraction * request.gauge.range_mm, g.leg_mm));
   const Pose<double> placement = placement_pose(request.placement, request.tilt_deg);
   // The base fixture frame (B1 origin, B2 on x) for the rough placement of its cup centroid.
   Pose<double> centroid_T_base;
@@ -283,6 +294,7 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   plan.session.tool_nominal_mm = g.tool.d12;
   plan.session.leg_mm = g.leg_mm;
   plan.session.range_mm = request.gauge.range_mm;
+  plan.session.tool_cup4_mm = g.tool_cup4_mm;
   plan.session.flange_T_tool = cell.flange_T_tool;
   plan.session.setting_points =
       Cups<double>{plan.setting[0].ball_position_mm, plan.setting[1].ball_position_mm,
@@ -321,6 +333,7 @@ nlohmann::json hexapod_plan_json(const HexapodPlan& plan) {
                     {"leg_mm", s.leg_mm},
                     {"range_mm", s.range_mm},
                     {"recheck_every", s.recheck_every}};
+  if (s.tool_cup4_mm) out["tool_cup4_mm"] = *s.tool_cup4_mm;
   if (plan.cell) {
     const HexapodPlanRequest& c = *plan.cell;
     out["geometry"] = {{"base_sides_mm", c.geometry.base.as_array()},
@@ -374,7 +387,7 @@ nlohmann::json hexapod_plan_json(const HexapodPlan& plan) {
     out["configurations"].push_back(entry);
   }
   if (s.tool_sides && s.base_sides)
-    out["measured_sides"] = {{"tool_mm", s.tool_sides->as_array()},
+    out["measured_sides"] = {{"tool_mm", s.tool_sides->values()},
                              {"base_mm", s.base_sides->as_array()}};
   if (plan.replanned)
     out["replanned"] = {{"sessions", plan.replanned->sessions}, {"model", plan.replanned->model}};
@@ -387,6 +400,12 @@ HexapodPlan parse_hexapod_plan(const nlohmann::json& root, const std::string& fi
   if (root.contains("geometry")) {
     plan.cell = parse_cell(root, file);
     plan.cell->geometry.leg_mm = plan.session.leg_mm;
+    plan.cell->geometry.tool_cup4_mm = plan.session.tool_cup4_mm;
+    if (plan.session.tool_cup4_mm)
+      if (const std::string problem =
+              fixture_problem(plan.cell->geometry.tool_fixture(), "tool fixture");
+          !problem.empty())
+        throw InputError({file, 0, 0, "tool_cup4_mm"}, problem);
   }
   if (root.contains("poses_enumerated")) plan.outcome = parse_outcome(root, file);
   parse_setting_configurations(root, file, plan);

@@ -50,7 +50,8 @@ std::optional<Cups<double>> planned_tool_cups(const Cups<double>& base, const Cu
   return physical_tool_cups(design, solution->tool);
 }
 
-std::optional<LegDesign> design_of_legs(const std::array<PhysicalLeg, 6>& legs) {
+std::optional<LegDesign> design_of_legs(const std::vector<PhysicalLeg>& legs) {
+  if (legs.size() < kDesignLegs.size()) return std::nullopt;
   // Roles as in kDesignLegs: B1 of ρ11, B2 of ρ21, B3 of ρ31; T1 of ρ11, T2 of ρ12, T3 of ρ23.
   const LegDesign design{{legs[0].base, legs[2].base, legs[5].base},
                          {legs[0].tool, legs[1].tool, legs[4].tool}};
@@ -96,8 +97,8 @@ std::vector<HexapodPose> enumerate_poses(const HexapodGeometry& geometry,
         pose.design = design;
         pose.tool_cups = *cups;
         pose.base_T_tool = frame_from_cups(pose.tool_cups);
-        for (size_t i = 0; i < kDesignLegs.size(); ++i)
-          pose.legs[i] = {design.base[kDesignLegs[i].base], design.tool[kDesignLegs[i].tool]};
+        for (const LegRoles& roles : kDesignLegs)
+          pose.legs.push_back({design.base[roles.base], design.tool[roles.tool]});
         poses.push_back(pose);
       } while (std::next_permutation(perm.begin(), perm.end()));
     }
@@ -117,9 +118,43 @@ std::vector<HexapodPose> prune_redundant(const std::vector<HexapodPose>& poses,
   return kept;
 }
 
+std::vector<Eigen::Vector3d> pose_tool_cups(const HexapodPose& pose,
+                                            const HexapodGeometry& geometry) {
+  std::vector<Eigen::Vector3d> cups(pose.tool_cups.begin(), pose.tool_cups.end());
+  if (geometry.tool_cup4_mm)
+    cups.push_back(pose.base_T_tool * fixture_cup_positions(geometry.tool_fixture())[3]);
+  return cups;
+}
+
+void add_fourth_cup_legs(std::vector<HexapodPose>& poses, const HexapodGeometry& geometry,
+                         double tolerance_mm) {
+  if (!geometry.tool_cup4_mm) return;
+  const Cups<double> base = fixture_cups(geometry.base, "base fixture");
+  for (HexapodPose& pose : poses) {
+    const Eigen::Vector3d t4 = pose_tool_cups(pose, geometry)[3];
+    for (int b = 0; b < 3; ++b)
+      if (std::abs((base[b] - t4).norm() - geometry.leg_mm) <= tolerance_mm)
+        pose.legs.push_back({b, 3});
+  }
+}
+
 void check_geometry(const HexapodGeometry& geometry) {
   fixture_cups(geometry.base, "--base-mm");
   fixture_cups(geometry.tool, "--tool-mm");
+  if (geometry.tool_cup4_mm) {
+    const FixtureDistances tool = geometry.tool_fixture();
+    if (const std::string problem = fixture_problem(tool, "tool fixture"); !problem.empty())
+      throw InputError({"", 0, 0, "--tool-cup4-mm"}, problem);
+    // Trilateration reproduces d14 and d24 by construction; d34 only when a point has all three.
+    const std::vector<Eigen::Vector3d> cups = fixture_cup_positions(tool);
+    const double d34 = (cups[3] - cups[2]).norm();
+    if (std::abs(d34 - (*geometry.tool_cup4_mm)[2]) > 1e-3)
+      throw InputError({"", 0, 0, "--tool-cup4-mm"},
+                       fmt::format("no point is {} mm from T1 and {} mm from T2 and {} mm from T3 "
+                                   "(the nearest in the fixture plane is {:.3f} mm from T3)",
+                                   (*geometry.tool_cup4_mm)[0], (*geometry.tool_cup4_mm)[1],
+                                   (*geometry.tool_cup4_mm)[2], d34));
+  }
   if (!(geometry.leg_mm > 0) || !std::isfinite(geometry.leg_mm))
     throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length in mm");
 }

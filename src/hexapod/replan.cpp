@@ -15,7 +15,7 @@ Replan replan_retries(const SessionData& data, const CalibratedRobot& robot,
   out.plan = read_hexapod_plan(data.plan_file);
   SessionPlan& session = out.plan.session;
   session.configurations.clear();
-  session.tool_sides = data.tool_sides;
+  session.tool_sides = data.tool_fixture();
   session.base_sides = data.base_sides;
   out.plan.replanned = Replanned{data.source, model_file, {}};
   for (const RetryConfiguration& r : data.retry) {

@@ -14,15 +14,16 @@
 namespace robcal::hexapod {
 namespace {
 
-// Cup pairs of the three sides, cup i to cup i+1.
-constexpr std::array<std::array<int, 2>, 3> kSides{{{1, 2}, {2, 3}, {3, 1}}};
-
-PhysicalLeg parse_leg(const std::string& text, const SourceLocation& where) {
+/// A leg "Bi-Tj" between cups the plan's fixtures have: B1..B3, T1..T`tool_cups`.
+PhysicalLeg parse_leg(const std::string& text, int tool_cups, const SourceLocation& where) {
   int b = 0, t = 0;
   char extra = 0;
   if (std::sscanf(text.c_str(), "B%d-T%d%c", &b, &t, &extra) != 2 || b < 1 || b > 3 || t < 1 ||
-      t > 3)
-    throw InputError(where, fmt::format("leg '{}': expected Bi-Tj with i, j in 1..3", text));
+      t > tool_cups)
+    throw InputError(
+        where,
+        fmt::format("leg '{}': expected Bi-Tj with i in 1..3, j in 1..{}{}", text, tool_cups,
+                    tool_cups == 3 ? " (T4 only with a fourth tool cup, tool_cup4_mm)" : ""));
   return {b - 1, t - 1};
 }
 
@@ -100,7 +101,20 @@ void parse_plan_cell(const nlohmann::json& root, const At& at, SessionPlan& plan
     const nlohmann::json& m = root["measured_sides"];
     if (!m.is_object() || !m.contains("tool_mm") || !m.contains("base_mm"))
       throw InputError(at("measured_sides"), "expected {\"tool_mm\": [...], \"base_mm\": [...]}");
-    plan.tool_sides = sides(m["tool_mm"], at("measured_sides.tool_mm"));
+    const nlohmann::json& tool = m["tool_mm"];
+    if (plan.tool_cup4_mm && tool.is_array() && tool.size() == 6) {
+      const std::array<double, 3> fourth =
+          three_numbers(nlohmann::json{tool[3], tool[4], tool[5]}, at("measured_sides.tool_mm"),
+                        "six distances [d12, d23, d31, d14, d24, d34] (mm)");
+      plan.tool_sides = FixtureDistances(
+          sides(nlohmann::json{tool[0], tool[1], tool[2]}, at("measured_sides.tool_mm")), fourth);
+    } else {
+      plan.tool_sides = sides(tool, at("measured_sides.tool_mm"));
+      if (plan.tool_cup4_mm)
+        throw InputError(at("measured_sides.tool_mm"),
+                         "expected six distances [d12, d23, d31, d14, d24, d34] (mm): the plan "
+                         "has a fourth tool cup");
+    }
     plan.base_sides = sides(m["base_mm"], at("measured_sides.base_mm"));
   }
 }
@@ -123,6 +137,14 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
       plan.recheck_every = every.get<int>();
     }
   }
+  if (root.contains("tool_cup4_mm")) {
+    const std::array<double, 3> d =
+        three_numbers(root["tool_cup4_mm"], at("tool_cup4_mm"), "three distances d14, d24, d34");
+    for (const double v : d)
+      if (!(v > 0)) throw InputError(at("tool_cup4_mm"), "expected three positive distances (mm)");
+    plan.tool_cup4_mm = d;
+  }
+  const int tool_cups = plan.tool_cup4_mm ? 4 : 3;
   if (!root.contains("configurations") || !root["configurations"].is_array())
     throw InputError(at("configurations"), "expected a list of configurations");
   const nlohmann::json& list = root["configurations"];
@@ -152,12 +174,17 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
         config.joints_deg.push_back(q.get<double>());
       }
     }
-    if (!c.contains("legs") || !c["legs"].is_array() || c["legs"].size() != 6)
-      throw InputError(at(key + ".legs"), "expected six legs like \"B1-T1\"");
-    for (size_t l = 0; l < 6; ++l) {
-      if (!c["legs"][l].is_string()) throw InputError(at(key + ".legs"), "expected strings");
-      config.legs[l] = parse_leg(c["legs"][l].get<std::string>(), at(key + ".legs"));
+    // The six of the design, then at most one leg from each base cup to each extra tool cup.
+    const size_t max_legs = kDesignLegs.size() + 3 * (tool_cups - 3);
+    const std::string expected = fmt::format("expected six legs like \"B1-T1\"{}",
+                                             tool_cups > 3 ? " and up to three to T4" : "");
+    if (!c.contains("legs") || !c["legs"].is_array()) throw InputError(at(key + ".legs"), expected);
+    for (const nlohmann::json& leg : c["legs"]) {
+      if (!leg.is_string()) throw InputError(at(key + ".legs"), "expected strings");
+      config.legs.push_back(parse_leg(leg.get<std::string>(), tool_cups, at(key + ".legs")));
     }
+    if (config.legs.size() < kDesignLegs.size() || config.legs.size() > max_legs)
+      throw InputError(at(key + ".legs"), expected);
     plan.configurations.push_back(config);
   }
   parse_plan_cell(root, at, plan);
@@ -207,10 +234,16 @@ SessionPlan load_session_plan(const std::filesystem::path& path) {
 
 Session::Session(SessionPlan plan) : plan_(std::move(plan)) {
   state_.configurations.resize(plan_.configurations.size());
-  for (int i = 0; i < 3; ++i) {
-    if (plan_.tool_sides) state_.tool_sides[i] = plan_.tool_sides->as_array()[i];
-    if (plan_.base_sides) state_.base_sides[i] = plan_.base_sides->as_array()[i];
+  for (size_t c = 0; c < plan_.configurations.size(); ++c)
+    state_.configurations[c].legs.resize(plan_.configurations[c].legs.size());
+  state_.tool_sides.resize(plan_.tool_cup4_mm ? 6 : 3);
+  if (plan_.tool_sides) {  // measured earlier: the sides, and T4's distances when both have T4
+    const std::vector<double> known = plan_.tool_sides->values();
+    if (known.size() == state_.tool_sides.size())
+      std::copy(known.begin(), known.end(), state_.tool_sides.begin());
   }
+  for (int i = 0; i < 3; ++i)
+    if (plan_.base_sides) state_.base_sides[i] = plan_.base_sides->as_array()[i];
 }
 
 bool Session::configuration_done(size_t c) const {
@@ -232,31 +265,35 @@ bool Session::recheck_due_after(size_t c) const {
 }
 
 std::optional<SessionStep> Session::next_step() const {
-  for (int i = 0; i < 3; ++i)
-    if (!state_.tool_sides[i])
+  for (size_t i = 0; i < state_.tool_sides.size(); ++i)
+    if (!state_.tool_sides[i]) {
+      // The sides at the tool set-up; each distance to T4 at its own (its design length).
+      const double setup = i < 3 ? plan_.tool_nominal_mm : (*plan_.tool_cup4_mm)[i - 3];
+      const auto [a, b] = kFixtureDistancePairs[i];
       return SessionStep{
           StepKind::ToolSide,
-          fmt::format("tool/T{}-T{}", kSides[i][0], kSides[i][1]),
-          fmt::format(
-              "{}Attach the ballbar between tool cups T{} and T{}, then enter the reading "
-              "(mm)",
-              i == 0 ? fmt::format("Set the ballbar up at {} mm. ", plan_.tool_nominal_mm) : "",
-              kSides[i][0], kSides[i][1]),
+          fmt::format("tool/T{}-T{}", a + 1, b + 1),
+          fmt::format("{}Attach the ballbar between tool cups T{} and T{}, then enter the reading "
+                      "(mm)",
+                      i == 0 || i >= 3 ? fmt::format("Set the ballbar up at {} mm. ", setup) : "",
+                      a + 1, b + 1),
           -1,
-          i,
-          plan_.tool_nominal_mm};
+          static_cast<int>(i),
+          setup};
+    }
   for (int i = 0; i < 3; ++i)
     if (!state_.base_sides[i])
       return SessionStep{
           StepKind::BaseSide,
-          fmt::format("base/B{}-B{}", kSides[i][0], kSides[i][1]),
+          fmt::format("base/B{}-B{}", kFixtureDistancePairs[i][0] + 1,
+                      kFixtureDistancePairs[i][1] + 1),
           fmt::format("{}Attach the ballbar between base cups B{} and B{}, then enter the reading "
                       "(mm)",
                       i == 0 ? fmt::format("The robot has placed and locked the base cups. Set the "
                                            "ballbar up at {} mm. ",
                                            plan_.leg_mm)
                              : "",
-                      kSides[i][0], kSides[i][1]),
+                      kFixtureDistancePairs[i][0] + 1, kFixtureDistancePairs[i][1] + 1),
           -1,
           i,
           plan_.leg_mm};

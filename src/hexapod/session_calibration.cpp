@@ -45,7 +45,7 @@ void fit_legs(const std::vector<SessionData>& placements, const RobotModel& mode
     legs.push_back({placements[p].base_sides, placements[p].readings,
                     out.placement_worlds[p].robot_T_fixture});
   const SessionData& first = placements.front();
-  const LegFitResult fit = fit_from_legs(model, out.tool.payload, first.tool_sides, legs,
+  const LegFitResult fit = fit_from_legs(model, out.tool.payload, first.tool_fixture(), legs,
                                          model.nominal(), first.flange_T_tool, options);
   out.robot = leg_fit_robot(model, out.tool.payload, fit, out.world.robot_T_fixture);
   out.robot.level = level_name(level);
@@ -142,13 +142,15 @@ SessionCalibration calibrate_sessions(const std::vector<SessionData>& placements
 nlohmann::json session_summary_json(const SessionData& data, const WorldFrameFit& world) {
   nlohmann::json retry = nlohmann::json::array();
   for (const RetryConfiguration& r : data.retry) retry.push_back(r.config);
-  return {{"sessions", data.source},
-          {"configurations_measured", data.readings.size()},
-          {"configurations_to_retry", retry},
-          {"configurations_pending", data.pending},
-          {"tool_sides_mm", data.tool_sides.as_array()},
-          {"base_sides_mm", data.base_sides.as_array()},
-          {"world_frame_rms_mm", rounded(world.rms_mm)}};
+  nlohmann::json out{{"sessions", data.source},
+                     {"configurations_measured", data.readings.size()},
+                     {"configurations_to_retry", retry},
+                     {"configurations_pending", data.pending},
+                     {"tool_sides_mm", data.tool_sides.as_array()},
+                     {"base_sides_mm", data.base_sides.as_array()},
+                     {"world_frame_rms_mm", rounded(world.rms_mm)}};
+  if (data.tool_cup4_mm) out["tool_cup4_mm"] = *data.tool_cup4_mm;
+  return out;
 }
 
 nlohmann::json session_calibration_json(const std::vector<SessionData>& placements,

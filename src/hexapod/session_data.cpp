@@ -53,17 +53,20 @@ SessionData load_session_data(const std::filesystem::path& session,
   Session replay(plan);
   SessionJournal::replay_read_only(journal, replay);
   const SessionState& state = replay.state();
-  std::array<double, 3> tool{}, base{};
-  for (int i = 0; i < 3; ++i) {
-    if (!state.tool_sides[i] || !state.base_sides[i])
-      throw InputError({journal.string(), 0, 0, "journal"},
-                       "the fixture sides were not all measured: continue the session first");
-    tool[i] = *state.tool_sides[i];
-    base[i] = *state.base_sides[i];
-  }
-  data.tool_sides = {tool[0], tool[1], tool[2]};
-  data.base_sides = {base[0], base[1], base[2]};
-  fixture_cups(data.tool_sides, journal.string() + ": tool fixture sides");
+  const auto all_read = [](const auto& sides) {
+    return std::all_of(sides.begin(), sides.end(), [](auto& d) { return d.has_value(); });
+  };
+  if (!all_read(state.tool_sides) || !all_read(state.base_sides))
+    throw InputError({journal.string(), 0, 0, "journal"},
+                     "the fixture sides were not all measured: continue the session first");
+  const std::vector<std::optional<double>>& tool = state.tool_sides;
+  const std::array<std::optional<double>, 3>& base = state.base_sides;
+  data.tool_sides = {*tool[0], *tool[1], *tool[2]};
+  data.base_sides = {*base[0], *base[1], *base[2]};
+  if (tool.size() == 6) data.tool_cup4_mm = std::array<double, 3>{*tool[3], *tool[4], *tool[5]};
+  if (const std::string problem = fixture_problem(data.tool_fixture(), "tool fixture");
+      !problem.empty())
+    throw InputError({journal.string(), 0, 0, "tool fixture"}, problem);
   fixture_cups(data.base_sides, journal.string() + ": base fixture sides");
 
   for (size_t c = 0; c < plan.configurations.size(); ++c) {
@@ -81,8 +84,8 @@ SessionData load_session_data(const std::filesystem::path& session,
     const std::optional<LegDesign> design = design_of_legs(config.legs);
     if (!design)
       throw InputError({plan_file.string(), 0, 0, key + ".legs"},
-                       "the six legs do not follow design 1^12 2^123 3^1 (B1-T1, B1-T2, B2-T1, "
-                       "B2-T2, B2-T3, B3-T1 up to a relabelling of the cups)");
+                       "the first six legs do not follow design 1^12 2^123 3^1 (B1-T1, B1-T2, "
+                       "B2-T1, B2-T2, B2-T3, B3-T1 up to a relabelling of the cups)");
     Vector6d q;
     for (int i = 0; i < kJointCount; ++i) q[i] = deg2rad(config.joints_deg[i]);
     if (r.retry) {
@@ -90,9 +93,14 @@ SessionData load_session_data(const std::filesystem::path& session,
           {config_label(config), config.pose, config.labels, config.mode, *design, config.legs, q});
       continue;
     }
-    LegLengths<double> legs{};
-    for (int i = 0; i < 6; ++i) legs[i] = *r.legs[i];
-    data.readings.push_back({config_label(config), q, *design, config.mode, legs});
+    LegReadings readings{config_label(config), q, *design, config.mode, {}, {}};
+    for (size_t i = 0; i < config.legs.size(); ++i) {
+      if (i < kDesignLegs.size())
+        readings.legs[i] = *r.legs[i];
+      else
+        readings.extra_legs.push_back({config.legs[i].base, config.legs[i].tool, *r.legs[i]});
+    }
+    data.readings.push_back(std::move(readings));
   }
   return data;
 }
@@ -199,7 +207,7 @@ WorldFrameFit session_world_frame(const SessionData& data) {
 }
 
 MeasurementSet session_pose_measurements(const SessionData& data) {
-  return pose_measurements(data.base_sides, data.tool_sides, data.readings,
+  return pose_measurements(data.base_sides, data.tool_fixture(), data.readings,
                            session_world_frame(data).robot_T_fixture, data.source);
 }
 
@@ -208,12 +216,16 @@ std::string session_legs_csv(const SessionData& data) {
     return fmt::format("{}, {}, {}", s.d12, s.d23, s.d31);
   };
   std::string out = fmt::format(
-      "# raw ballbar legs of {}\n# tool sides t12, t23, t31 = {} mm (set-up {} mm)\n"
+      "# raw ballbar legs of {}\n# tool sides t12, t23, t31 = {} mm (set-up {} mm)\n{}"
       "# base sides b12, b23, b31 = {} mm (set-up {} mm)\n"
-      "# leg = design role (rho11 … rho31), base_cup/tool_cup = the physical cups\n"
+      "# leg = design role (rho11 … rho31, extra: beyond the design), base_cup/tool_cup = the "
+      "physical cups\n"
       "config,pose,mode,j1,j2,j3,j4,j5,j6,leg,base_cup,tool_cup,length\n",
-      data.source, sides(data.tool_sides), data.plan.tool_nominal_mm, sides(data.base_sides),
-      data.plan.leg_mm);
+      data.source, sides(data.tool_sides), data.plan.tool_nominal_mm,
+      data.tool_cup4_mm ? fmt::format("# tool cup T4 t14, t24, t34 = {} mm\n",
+                                      fmt::join(*data.tool_cup4_mm, ", "))
+                        : "",
+      sides(data.base_sides), data.plan.leg_mm);
   static constexpr std::array<const char*, 6> kRoles{"rho11", "rho12", "rho21",
                                                      "rho22", "rho23", "rho31"};
   for (const LegReadings& r : data.readings) {
@@ -224,6 +236,9 @@ std::string session_legs_csv(const SessionData& data) {
       out += fmt::format("{},{},{}{},{},B{},T{},{}\n", r.config, pose, r.mode, joints, kRoles[i],
                          r.design.base[kDesignLegs[i].base] + 1,
                          r.design.tool[kDesignLegs[i].tool] + 1, r.legs[i]);
+    for (const MeasuredLeg& leg : r.extra_legs)
+      out += fmt::format("{},{},{}{},extra,B{},T{},{}\n", r.config, pose, r.mode, joints,
+                         leg.base + 1, leg.tool + 1, leg.length_mm);
   }
   return out;
 }

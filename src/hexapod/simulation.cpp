@@ -34,7 +34,9 @@ std::optional<double> read_leg(const SimulatedHexapodCell& cell, const PhysicalL
                                const Pose<double>& sim_T_flange, std::mt19937_64& rng) {
   const Ballbar bar{cell.base_cups_sim[leg.base], cell.options.design.leg_mm, cell.options.sigma_mm,
                     cell.options.range_mm};
-  return read_length(bar, sim_T_flange * cell.tool_cups_flange[leg.tool], rng);
+  const Eigen::Vector3d& tool_cup =
+      leg.tool < 3 ? cell.tool_cups_flange[leg.tool] : cell.tool_cup4_flange.value();
+  return read_length(bar, sim_T_flange * tool_cup, rng);
 }
 
 }  // namespace
@@ -85,6 +87,27 @@ SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotMo
     c.base_cups_sim[i] = true_flange_pose(truth, s->joints) * ball_flange;
   }
   c.tool_sides = measure_sides(c.tool_cups_flange, options.design.tool.d12, options, rng);
+  if (const auto& design4 = options.design.tool_cup4_mm) {
+    // The true T4: where the design puts it, within the tolerance per axis (not trilaterated on
+    // the true triangle: off its plane that amplifies the tolerance to √(tolerance·d14));
+    // each distance read at its own set-up, its design length.
+    Eigen::Vector3d local = fixture_cup_positions(options.design.tool_fixture())[3];
+    for (int a = 0; a < 3; ++a) local[a] += tolerance(rng);
+    c.tool_cup4_flange = flange_T_tool * local;
+    std::array<double, 3> measured{};
+    for (int j = 0; j < 3; ++j) {
+      const Ballbar bar{c.tool_cups_flange[j], (*design4)[j], options.sigma_mm, options.range_mm};
+      const std::optional<double> r = read_length(bar, *c.tool_cup4_flange, rng);
+      if (!r)
+        throw InputError({"", 0, 0, "tool_cup4_mm"},
+                         fmt::format("tool cup T4 is {:.3f} mm from T{}, outside the ballbar's "
+                                     "±{} mm about its design {} mm",
+                                     (*c.tool_cup4_flange - c.tool_cups_flange[j]).norm(), j + 1,
+                                     options.range_mm, (*design4)[j]));
+      measured[j] = *r;
+    }
+    c.tool_cup4_mm = measured;
+  }
   c.base_sides = measure_sides(c.base_cups_sim, options.design.leg_mm, options, rng);
   c.world = fit_world_frame(c.setting_points, c.base_sides);
   c.world_T_sim = frame_from_cups(c.base_cups_sim).inverse();
@@ -104,7 +127,8 @@ std::optional<double> simulate_session_reading(const SimulatedHexapodCell& cell,
                                                std::mt19937_64& rng) {
   switch (step.kind) {
     case StepKind::ToolSide:
-      return cell.tool_sides.as_array()[step.item];
+      return step.item < 3 ? cell.tool_sides.as_array()[step.item]
+                           : cell.tool_cup4_mm.value()[step.item - 3];
     case StepKind::BaseSide:
       return cell.base_sides.as_array()[step.item];
     case StepKind::CalibratorCheck:
@@ -145,7 +169,7 @@ std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell
                                                 std::mt19937_64& rng, int* out_of_range) {
   const Pose<double> sim_T_flange = true_flange_pose(cell.truth, joints);  // once for six legs
   LegLengths<double> legs{};
-  for (size_t i = 0; i < pose.legs.size(); ++i) {
+  for (size_t i = 0; i < kDesignLegs.size(); ++i) {
     const std::optional<double> r = read_leg(cell, pose.legs[i], sim_T_flange, rng);
     if (!r) {
       if (out_of_range != nullptr) *out_of_range = static_cast<int>(i);

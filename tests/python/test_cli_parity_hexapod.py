@@ -169,3 +169,37 @@ def test_model_import_export_and_program(tmp_path):
     for path in paths:
         cli_text = (tmp_path / "cli" / pathlib.Path(path).name).read_text()
         assert cli_text == pathlib.Path(path).read_text()
+
+
+def test_fourth_tool_cup_plan_session_calibrate(tmp_path):
+    # T4 on the circumcircle of T1..T3, opposite T1: a seventh leg in every configuration.
+    r = 150 / 3 ** 0.5
+    cup4 = (2 * r, r, r)
+    plan = hexapod.plan("fanuc-lrmate200ic", placement=(450, 0, 300, 0), gauge_range_mm=5,
+                        tool_cup4_mm=cup4)
+    cli_plan = str(tmp_path / "cli_plan.json")
+    subprocess.run([CLI, "hexapod", "plan", "--placement", "450,0,300,0", "--gauge-range-mm", "5",
+                    "--tool-cup4-mm", ",".join(repr(d) for d in cup4), "--out", cli_plan],
+                   check=True, capture_output=True)
+    plan.save(str(tmp_path / "py_plan.json"))
+    assert (tmp_path / "py_plan.json").read_text() == pathlib.Path(cli_plan).read_text()
+    legs = [c["legs"] for c in json.loads(plan.to_json())["configurations"]]
+    assert legs and all(len(x) == 7 and x[6].endswith("-T4") for x in legs)
+    session = tmp_path / "s"
+    session.mkdir()
+    plan.save(str(session / "plan.json"))
+    sim = hexapod.simulate_readings(plan, seed=5, validation=0)
+    assert sim["legs_out_of_range"] == 0
+    done = hexapod.session(str(session / "plan.json"), str(session / "journal.jsonl"),
+                           sim["text"].splitlines())
+    assert done["status"] == "complete"
+    for fit in ("poses", "legs"):
+        c = cli_json("hexapod", "calibrate", "--session", str(session), "--fit", fit, "--out",
+                     str(tmp_path / f"cli_{fit}.yaml"))
+        p = hexapod.calibrate([str(session)], fit=fit, out=str(tmp_path / f"py_{fit}.yaml"))
+        assert c["converged"] and c["configurations_measured"] == len(legs)
+        assert c["tool_cup4_mm"] == p["tool_cup4_mm"]
+        assert c["rms_mm"] == p["rms_mm"]
+    with pytest.raises(robcal.InputError, match="--tool-cup4-mm: tool fixture: the fourth cup T4 "
+                                                "is collinear with T1 and T2"):
+        hexapod.plan("fanuc-lrmate200ic", tool_cup4_mm=(75, 75, 75 * 3 ** 0.5))

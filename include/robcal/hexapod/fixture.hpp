@@ -14,7 +14,9 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "robcal/kinematics/forward_kinematics.hpp"
 
@@ -41,6 +43,26 @@ struct TriangleSides {
   [[nodiscard]] std::array<double, 3> as_array() const { return {d12, d23, d31}; }
 };
 
+/// The cup pairs of FixtureDistances::values(), 0-based: 12, 23, 31, 14, 24, 34.
+inline constexpr std::array<std::array<int, 2>, 6> kFixtureDistancePairs{
+    {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}}};
+
+/// The measured (or designed) distances of a fixture of three or four cups (mm): the fourth cup
+/// of issue 20 (four_cup_kinematics.hpp) is given by its distances to cups 1..3.
+struct FixtureDistances {
+  FixtureDistances() = default;
+  /// Implicit from the sides: a fixture of three cups.
+  FixtureDistances(const TriangleSides& sides_mm,
+                   std::optional<std::array<double, 3>> fourth_mm = std::nullopt)
+      : sides(sides_mm), fourth(fourth_mm) {}
+  TriangleSides sides;  ///< cups 1..3
+  /// d14, d24, d34 when the fixture has a fourth cup.
+  std::optional<std::array<double, 3>> fourth;
+  [[nodiscard]] int cup_count() const { return fourth ? 4 : 3; }
+  /// d12, d23, d31 then d14, d24, d34: the order the session reads them in.
+  [[nodiscard]] std::vector<double> values() const;
+};
+
 /// Empty when the sides make a proper triangle; otherwise why not (a side not positive or
 /// finite, or the triangle inequality broken or within 1e-6 of equality: the cups are collinear).
 std::string triangle_problem(const TriangleSides& sides);
@@ -63,6 +85,18 @@ Cups<T> triangle_from_sides(const T& d12, const T& d23, const T& d31) {
 /// Checked version for measured sides: throws InputError naming `what` (e.g. "base fixture")
 /// and the sides when they do not make a triangle.
 Cups<double> fixture_cups(const TriangleSides& sides, const std::string& what);
+
+/// Empty when the fixture's distances can be solved; otherwise why not (`what` names it:
+/// "base fixture"): a triangle of any three of its cups that is not a proper triangle, i.e. a
+/// side not positive or three cups collinear — a fourth cup on the line through two others.
+std::string fixture_problem(const FixtureDistances& fixture, const std::string& what);
+
+/// The cups in the fixture's own frame (cups 1..3 as triangle_from_sides, the fourth by
+/// trilateration on the side its cups open to, +z; in the plane when its distances put it there
+/// within rounding or are inconsistent: then d34 is not reproduced, which callers that design a
+/// fixture check).
+/// Precondition: fixture_problem is empty.
+std::vector<Eigen::Vector3d> fixture_cup_positions(const FixtureDistances& fixture);
 
 /// The fixture frame defined by three cup positions: origin at c1, x towards c2,
 /// z = (c2 − c1) × (c3 − c1) normalised. Returns frame_T_fixture (maps fixture coordinates into

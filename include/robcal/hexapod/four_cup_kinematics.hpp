@@ -23,14 +23,6 @@
 
 namespace robcal::hexapod {
 
-/// The measured distances of a fixture of three or four cups (mm).
-struct FixtureDistances {
-  TriangleSides sides;  ///< cups 1..3
-  /// d14, d24, d34 when the fixture has a fourth cup.
-  std::optional<std::array<double, 3>> fourth;
-  [[nodiscard]] int cup_count() const { return fourth ? 4 : 3; }
-};
-
 /// One measured leg between physical cups (0-based: base cup B(base+1), tool cup T(tool+1)).
 struct MeasuredLeg {
   int base = 0;
@@ -43,11 +35,6 @@ struct FourCupDkpRequest {
   FixtureDistances tool;
   std::vector<MeasuredLeg> legs;  ///< must include a 1^12 2^123 3^1 design on cups 1..3
 };
-
-/// Empty when the fixture's distances can be solved; otherwise why not (`what` names it:
-/// "base fixture"): a triangle of any three of its cups that is not a proper triangle, i.e. a
-/// side not positive or three cups collinear — a fourth cup on the line through two others.
-std::string fixture_problem(const FixtureDistances& fixture, const std::string& what);
 
 /// One least-squares solution, started from one assembly mode of the cascade.
 struct FourCupSolution {

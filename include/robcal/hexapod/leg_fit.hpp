@@ -13,6 +13,7 @@
 /// (a shift along and a turn about the flange axis) and are held; any further rank deficiency of
 /// the column-scaled Jacobian (rank-revealing QR) holds the dependent unknowns and names them.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,11 +31,12 @@ struct LegFitOptions {
 
 struct LegFitResult {
   ParameterVector params = ParameterVector::Zero();
-  std::vector<Cups<double>> base_cups_robot;  ///< per placement, robot frame, mm
-  Cups<double> tool_cups_flange;              ///< flange frame, mm
-  double length_offset_mm = 0;                ///< true length = reading + offset (leg set-up)
-  std::vector<int> identified;                ///< model parameters fitted
-  std::vector<std::string> held;              ///< unknowns held, each with why
+  std::vector<Cups<double>> base_cups_robot;          ///< per placement, robot frame, mm
+  Cups<double> tool_cups_flange;                      ///< flange frame, mm
+  std::optional<Eigen::Vector3d> tool_cup4_flange{};  ///< a fourth tool cup's, flange frame, mm
+  double length_offset_mm = 0;    ///< true length = reading + offset (leg set-up)
+  std::vector<int> identified;    ///< model parameters fitted
+  std::vector<std::string> held;  ///< unknowns held, each with why
   int residuals = 0;
   double initial_rms_mm = 0;
   double rms_mm = 0;
@@ -53,17 +55,18 @@ struct LegPlacement {
 
 /// Fits from the readings of one or more placements. Start: `start_params`, each placement's base
 /// cups where its world frame puts them (`robot_T_world` × its measured base triangle), the tool
-/// cups from the measured tool triangle through `flange_T_tool`, offset 0. Throws InputError when
+/// cups (a fourth one too: its legs are the readings' extra legs, its distances residuals like the
+/// sides) from the measured tool fixture through `flange_T_tool`, offset 0. Throws InputError when
 /// a start index is a base parameter or no placement is given.
 LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
-                           const TriangleSides& tool_sides,
+                           const FixtureDistances& tool,
                            const std::vector<LegPlacement>& placements,
                            const ParameterVector& start_params, const Pose<double>& flange_T_tool,
                            const LegFitOptions& options);
 
 /// One placement.
 LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
-                           const TriangleSides& base_sides, const TriangleSides& tool_sides,
+                           const TriangleSides& base_sides, const FixtureDistances& tool,
                            const std::vector<LegReadings>& readings,
                            const ParameterVector& start_params, const Pose<double>& robot_T_world,
                            const Pose<double>& flange_T_tool, const LegFitOptions& options);

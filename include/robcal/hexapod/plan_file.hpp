@@ -26,6 +26,11 @@
 
 namespace robcal::hexapod {
 
+/// A planned leg to a fourth cup is within this fraction of the gauge's range of the ballbar's
+/// length: the rest is left for the robot's errors (the design legs, at the set-up length, have
+/// the whole range).
+inline constexpr double kExtraLegRangeFraction = 0.5;
+
 /// The cell a plan is made for, as the operator describes it.
 struct HexapodPlanRequest {
   std::string robot = "fanuc-lrmate200ic";  ///< built-in name or robot file, kept in the plan

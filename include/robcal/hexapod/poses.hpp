@@ -20,10 +20,16 @@ struct HexapodGeometry {
   TriangleSides base{300, 300, 300};  ///< b12, b23, b31
   TriangleSides tool{150, 150, 150};  ///< t12, t23, t31
   double leg_mm = 300;                ///< every leg at this length in a planned pose
+  /// A fourth tool cup T4 (issue 20): its distances d14, d24, d34 to T1..T3 (fixture_cup_positions
+  /// places it). Its legs are extra legs of the poses where they fit the gauge
+  /// (add_fourth_cup_legs); the design of each pose stays on T1..T3.
+  std::optional<std::array<double, 3>> tool_cup4_mm{};
+  [[nodiscard]] FixtureDistances tool_fixture() const { return {tool, tool_cup4_mm}; }
 };
 
-/// Throws InputError naming the setting (`--base-mm`, `--tool-mm`, `--leg-mm`) when a fixture's
-/// sides make no triangle or the ballbar length is not positive: every workflow that plans with
+/// Throws InputError naming the setting (`--base-mm`, `--tool-mm`, `--leg-mm`, `--tool-cup4-mm`)
+/// when a fixture's sides make no triangle, the fourth cup is collinear with two others or no
+/// point has its distances, or the ballbar length is not positive: every workflow that plans with
 /// a geometry checks it here first.
 void check_geometry(const HexapodGeometry& geometry);
 
@@ -36,15 +42,17 @@ struct PhysicalLeg {
 };
 
 struct HexapodPose {
-  int index = 0;                    ///< 1-based position in the enumeration (1..72)
-  std::string label;                ///< "P01".."P72"
-  int mode = 0;                     ///< assembly mode 1..4
-  int rotation_deg = 0;             ///< tool fixture rotation: 0, -120 or 120 (of the labels
-                                    ///< T1 T3 T2 when design.tool_mirrored())
-  LegDesign design;                 ///< physical cup of each design role
-  Cups<double> tool_cups;           ///< physical T1..T3 in the base fixture frame, mm
-  Pose<double> base_T_tool;         ///< tool fixture frame in the base fixture frame
-  std::array<PhysicalLeg, 6> legs;  ///< the six legs in measurement order (kDesignLegs)
+  int index = 0;             ///< 1-based position in the enumeration (1..72)
+  std::string label;         ///< "P01".."P72"
+  int mode = 0;              ///< assembly mode 1..4
+  int rotation_deg = 0;      ///< tool fixture rotation: 0, -120 or 120 (of the labels
+                             ///< T1 T3 T2 when design.tool_mirrored())
+  LegDesign design;          ///< physical cup of each design role
+  Cups<double> tool_cups;    ///< physical T1..T3 in the base fixture frame, mm
+  Pose<double> base_T_tool;  ///< tool fixture frame in the base fixture frame
+  /// The six legs of the design in measurement order (kDesignLegs), then the extra legs to a
+  /// fourth cup (add_fourth_cup_legs).
+  std::vector<PhysicalLeg> legs;
 
   /// "mode 2, tool −120°, base B2 B1 B3" (the physical cups in the design roles B1, B2, B3).
   [[nodiscard]] std::string description() const;
@@ -80,9 +88,22 @@ std::vector<HexapodPose> prune_redundant(const std::vector<HexapodPose>& poses,
 std::optional<Cups<double>> planned_tool_cups(const Cups<double>& base, const Cups<double>& tool,
                                               const LegDesign& design, int mode, double leg_mm);
 
-/// The leg design a pose's six physical legs (measurement order) follow, or nullopt when they do
-/// not follow design 1^12 2^123 3^1 with one cup per role.
-std::optional<LegDesign> design_of_legs(const std::array<PhysicalLeg, 6>& legs);
+/// The leg design a pose's first six physical legs (measurement order) follow, or nullopt when
+/// there are fewer or they do not follow design 1^12 2^123 3^1 with one cup per role (the legs
+/// after them are extra).
+std::optional<LegDesign> design_of_legs(const std::vector<PhysicalLeg>& legs);
+
+/// The physical tool cups of a pose in the base fixture frame: T1..T3, then T4 when the geometry
+/// has one (carried by the pose's tool fixture frame).
+std::vector<Eigen::Vector3d> pose_tool_cups(const HexapodPose& pose,
+                                            const HexapodGeometry& geometry);
+
+/// Adds to each pose the legs from B1..B3 to a fourth tool cup whose planned length is within
+/// `tolerance_mm` of the ballbar's length (those the gauge reads with the robot's errors on top).
+/// With T4 on the circumcircle of T1..T3 the base cup of design role B2 — at the ballbar's
+/// length from all three tool cups, so on the tool triangle's axis — reaches T4 in every pose.
+void add_fourth_cup_legs(std::vector<HexapodPose>& poses, const HexapodGeometry& geometry,
+                         double tolerance_mm);
 
 /// Physical tool cups (base fixture frame) from a DKP solution in design roles.
 Cups<double> physical_tool_cups(const LegDesign& design, const Cups<double>& design_tool);

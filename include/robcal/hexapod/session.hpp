@@ -3,7 +3,8 @@
 /// The guided measurement session of the ballbar hexapod (docs/method/08-world-frame.md §3,
 /// published procedure): the tool sides, the base sides once the robot has placed the base cups,
 /// then the six legs of every planned configuration, with re-checks of the ballbar on its
-/// calibrator.
+/// calibrator. A plan with a fourth tool cup (tool_cup4_mm) adds its three distances after the tool
+/// sides and its legs to each configuration's six.
 ///
 /// The session is a deterministic script: the next step depends only on the plan and the
 /// readings so far. Every reading goes to an append-only journal (one JSON object per line,
@@ -26,12 +27,13 @@ namespace robcal::hexapod {
 
 /// One robot configuration to measure: a pose of the device reached with given joints.
 struct SessionConfiguration {
-  int id = 0;                       ///< 1-based, as shown to the operator
-  std::string pose;                 ///< pose label ("P07")
-  std::string labels;               ///< "front/up/no-flip" (may be empty)
-  int mode = 0;                     ///< planned assembly mode 1..4 (0: not given)
-  std::vector<double> joints_deg;   ///< controller joints (may be empty: pose-only plans)
-  std::array<PhysicalLeg, 6> legs;  ///< in measurement order
+  int id = 0;                      ///< 1-based, as shown to the operator
+  std::string pose;                ///< pose label ("P07")
+  std::string labels;              ///< "front/up/no-flip" (may be empty)
+  int mode = 0;                    ///< planned assembly mode 1..4 (0: not given)
+  std::vector<double> joints_deg;  ///< controller joints (may be empty: pose-only plans)
+  /// The six of the design in measurement order, then the extra legs (to a fourth tool cup).
+  std::vector<PhysicalLeg> legs;
 };
 
 /// What the session needs from a plan.
@@ -40,6 +42,9 @@ struct SessionPlan {
   double leg_mm = 300;           ///< ballbar set-up for the base sides and the legs
   double range_mm = 1.0;         ///< the ballbar reads only within ±range of its set-up length
   int recheck_every = 5;         ///< configurations between calibrator re-checks (0: never)
+  /// The design distances d14, d24, d34 of a fourth tool cup T4 (the ballbar's set-up for each
+  /// when the session measures them); legs may then name T4.
+  std::optional<std::array<double, 3>> tool_cup4_mm{};
   std::vector<SessionConfiguration> configurations;
   /// The cell as planned, for calibrating from the session (absent from hand-written plans):
   /// where the robot put the setting ball for B1..B3 (robot frame, mm) and the tool fixture frame
@@ -47,7 +52,7 @@ struct SessionPlan {
   std::optional<Cups<double>> setting_points;
   std::optional<Pose<double>> flange_T_tool;
   /// Fixture sides measured in an earlier session of the same cell (a re-plan): not asked again.
-  std::optional<TriangleSides> tool_sides;
+  std::optional<FixtureDistances> tool_sides;  ///< with T4's distances when the plan has T4
   std::optional<TriangleSides> base_sides;
 };
 
@@ -62,20 +67,20 @@ struct SessionStep {
   std::string key;        ///< stable identity, checked on resume: "tool/T1-T2", "leg/12/B1-T1"
   std::string prompt;     ///< what the operator is asked
   int configuration = 0;  ///< index into plan.configurations for legs (else -1)
-  int item = 0;           ///< side 0..2 or leg 0..5
+  int item = 0;  ///< fixture distance (FixtureDistances::values order) or leg of the configuration
   double nominal_mm = 0;  ///< set-up length the reading must be within range of
 };
 
 /// Readings of one configuration.
 struct ConfigurationReadings {
-  std::array<std::optional<double>, 6> legs;  ///< mm, in measurement order
+  std::vector<std::optional<double>> legs;  ///< mm, in the order of the configuration's legs
   bool retry =
       false;  ///< a leg was out of the ballbar's range: retry after preliminary calibration
 };
 
 /// The state of a session: everything read so far.
 struct SessionState {
-  std::array<std::optional<double>, 3> tool_sides;
+  std::vector<std::optional<double>> tool_sides;  ///< FixtureDistances::values order (3 or 6)
   std::array<std::optional<double>, 3> base_sides;
   std::vector<ConfigurationReadings> configurations;
   std::vector<std::pair<int, double>> calibrator_checks;  ///< (after configuration id, reading)

@@ -31,7 +31,7 @@ struct RetryConfiguration {
   std::string labels;  ///< arm configuration labels
   int mode = 1;
   LegDesign design;
-  std::array<PhysicalLeg, 6> legs;
+  std::vector<PhysicalLeg> legs;       ///< as the plan lists them (the design's six, then extras)
   Vector6d joints = Vector6d::Zero();  ///< as planned, controller, rad
 };
 
@@ -40,9 +40,11 @@ struct SessionData {
   std::filesystem::path plan_file;  ///< the (first) session's plan file
   SessionPlan plan;                 ///< … and its contents: ballbar set-up and cell
   TriangleSides tool_sides, base_sides;
+  std::optional<std::array<double, 3>> tool_cup4_mm{};  ///< measured d14, d24, d34 of a fourth cup
+  [[nodiscard]] FixtureDistances tool_fixture() const { return {tool_sides, tool_cup4_mm}; }
   Cups<double> setting_points;        ///< where the robot put the setting ball, robot frame
   Pose<double> flange_T_tool;         ///< tool fixture frame in the flange frame
-  std::vector<LegReadings> readings;  ///< configurations with all six legs read
+  std::vector<LegReadings> readings;  ///< configurations with all their legs read
   std::vector<RetryConfiguration> retry;
   int pending = 0;  ///< configurations the session has not reached yet
 };

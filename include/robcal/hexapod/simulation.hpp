@@ -37,12 +37,14 @@ struct SimulatedHexapodCell {
   HexapodCellOptions options;
   CellSetup cell;              ///< as the operator knows it: fitted world frame, nominal tool mount
   Cups<double> base_cups_sim;  ///< true cup centres, simulation world frame
-  Cups<double> tool_cups_flange;  ///< true tool cups, flange frame
-  Cups<double> setting_points;    ///< p_i: where the nominal model put the ball, robot frame
-  TriangleSides base_sides;       ///< measured with the ballbar
-  TriangleSides tool_sides;       ///< measured with the ballbar
-  WorldFrameFit world;            ///< robot_T_world from p_i and the measured base sides
-  Pose<double> world_T_sim;       ///< true base fixture frame ← simulation world
+  Cups<double> tool_cups_flange;                      ///< true tool cups, flange frame
+  std::optional<Eigen::Vector3d> tool_cup4_flange{};  ///< a true fourth tool cup, flange frame
+  Cups<double> setting_points;  ///< p_i: where the nominal model put the ball, robot frame
+  TriangleSides base_sides;     ///< measured with the ballbar
+  TriangleSides tool_sides;     ///< measured with the ballbar
+  std::optional<std::array<double, 3>> tool_cup4_mm{};  ///< T4's d14, d24, d34, measured
+  WorldFrameFit world;       ///< robot_T_world from p_i and the measured base sides
+  Pose<double> world_T_sim;  ///< true base fixture frame ← simulation world
 };
 
 /// A true robot with random errors (sim/true_robot.hpp) levelled on its table: base tilts zero,
@@ -80,7 +82,7 @@ TrackerValidation simulate_tracker_validation(const SimulatedHexapodCell& cell,
                                               const Eigen::Vector3d& point_flange, int count,
                                               double sigma_mm, std::mt19937_64& rng);
 
-/// Readings of the six legs of `pose` with the true robot at `joints` (controller, rad), in
+/// Readings of the six design legs of `pose` with the true robot at `joints` (controller, rad), in
 /// measurement order, or nullopt with `out_of_range` set to the first leg the ballbar cannot
 /// read (0..5).
 std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell,
