@@ -95,8 +95,8 @@ std::vector<CorrectedTarget> correct_targets(const std::vector<const Compensator
 std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows, const RobotModel& model,
                                   bool with_conditions) {
   const auto labels = euler_labels(model.euler);
-  // The warm-up time only when a row was corrected for one: the thermal runs' files stay as
-  // they were.
+  // The warm-up time only when a row was corrected for one: the files of runs without a warm-up
+  // stay as they were.
   const bool with_time =
       with_conditions && std::any_of(rows.begin(), rows.end(), [](const auto& r) {
         return r.condition.warmup_time_s.has_value();
