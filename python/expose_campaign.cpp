@@ -253,7 +253,7 @@ const bool registered = register_bindings(90, [](py::module_& m) {
          const std::string& join, double time_tolerance, const std::string& target,
          const std::string& delimiter, const std::string& decimal, const std::string& columns,
          const std::string& unit, const std::string& config_column, bool allow_unmeasured,
-         const std::string& world_frame) {
+         const std::string& world_frame, const std::string& configs) {
         campaign::ImportResult r = campaign::import_files({export_path,
                                                            joints,
                                                            map,
@@ -266,7 +266,8 @@ const bool registered = register_bindings(90, [](py::module_& m) {
                                                            time_tolerance,
                                                            target,
                                                            allow_unmeasured,
-                                                           world_frame});
+                                                           world_frame,
+                                                           configs});
         py::dict d = json_to_python(campaign::import_json(r));
         d["csv"] = r.csv;
         d["measurements"] = Measurements{std::move(r.measurements), r.targets, r.warnings};
@@ -276,11 +277,12 @@ const bool registered = register_bindings(90, [](py::module_& m) {
       py::arg("time_tolerance") = 0.5, py::arg("target") = "", py::arg("delimiter") = "",
       py::arg("decimal") = "", py::arg("columns") = "", py::arg("unit") = "",
       py::arg("config_column") = "", py::arg("allow_unmeasured") = false,
-      py::arg("world_frame") = "",
+      py::arg("world_frame") = "", py::arg("configs") = "",
       "`robcal import`: an instrument export joined with the joint log; {'rows', 'kind', "
       "'warnings', 'csv' (the measurement file's text), 'measurements' (Measurements)}; with "
       "world_frame (a `robcal frames world` file) the positions in that frame and "
-      "'world_frame'");
+      "'world_frame'; with configs (the plan's configurations file) each row's approach and "
+      "payload from its configuration there");
 
   m.def(
       "frames_base",

@@ -11,6 +11,7 @@
 #include "robcal/compensate/compensate_targets.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/io/measurement_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/orientation.hpp"
 #include "robcal/programs/program_compensation.hpp"
@@ -21,10 +22,20 @@ namespace py = pybind11;
 namespace robcal::python {
 namespace {
 
+/// The conditions the targets are reached under (`robcal compensate --approach, --payload,
+/// --temperature-c, --warmup-time-s, --warm`), checked by prepare_compensation.
+struct ReachOptions {
+  std::string approach = "++++++";
+  std::optional<std::string> payload;
+  std::optional<double> temperature_c, warmup_time_s;
+  bool warm = false;
+};
+
 PyCompensator make(CalibratedRobot robot, const std::string& source,
                    const std::optional<std::string>& tool,
                    const std::optional<double>& payload_mass_kg,
-                   const std::optional<Eigen::Vector3d>& payload_cog_mm) {
+                   const std::optional<Eigen::Vector3d>& payload_cog_mm,
+                   const ReachOptions& reach = {}) {
   CompensationSetup setup;
   setup.robot = std::move(robot);
   setup.model_file = source;
@@ -33,8 +44,27 @@ PyCompensator make(CalibratedRobot robot, const std::string& source,
     throw InputError({"", 0, 0, payload_mass_kg ? "payload_cog_mm" : "payload_mass_kg"},
                      "give both payload_mass_kg and payload_cog_mm");
   if (payload_mass_kg) setup.payload = PointMass{*payload_mass_kg, *payload_cog_mm};
+  setup.approach = parse_approach(reach.approach, {"", 0, 0, "approach"});
+  setup.payload_name = reach.payload.value_or("");
+  setup.temperature_c = reach.temperature_c;
+  setup.warmup_time_s = reach.warmup_time_s;
+  setup.warm = reach.warm;
   Compensation c = prepare_compensation(setup);
   return PyCompensator{std::move(setup), std::move(c)};
+}
+
+/// from_model / from_truth: a calibrated robot from `path` read by `load`, with the CLI's tool,
+/// payload and reach options.
+template <typename Load>
+auto from_file(Load load) {
+  return [load](const std::string& path, const std::optional<std::string>& tool,
+                const std::optional<double>& mass, const std::optional<Eigen::Vector3d>& cog,
+                const std::string& approach, const std::optional<std::string>& payload,
+                const std::optional<double>& temperature_c,
+                const std::optional<double>& warmup_time_s, bool warm) {
+    return make(load(path), path, tool, mass, cog,
+                {approach, payload, temperature_c, warmup_time_s, warm});
+  };
 }
 
 Pose<double> pose_of(const Eigen::Vector3d& position_mm, const Eigen::Vector4d& quaternion_wxyz) {
@@ -46,21 +76,22 @@ const bool registered = register_bindings(70, [](py::module_& m) {
                             "Calibrated inverse kinematics and corrected targets for one "
                             "calibrated robot, tool and payload (docs/method/10-compensation.md)")
       .def_static(
-          "from_model",
-          [](const std::string& model, const std::optional<std::string>& tool,
-             const std::optional<double>& mass, const std::optional<Eigen::Vector3d>& cog) {
-            return make(load_calibrated_robot(model), model, tool, mass, cog);
-          },
+          "from_model", from_file([](const std::string& p) { return load_calibrated_robot(p); }),
           py::arg("model"), py::arg("tool") = py::none(), py::arg("payload_mass_kg") = py::none(),
-          py::arg("payload_cog_mm") = py::none(), "From a calibrated model file")
-      .def_static(
-          "from_truth",
-          [](const std::string& truth, const std::optional<std::string>& tool,
-             const std::optional<double>& mass, const std::optional<Eigen::Vector3d>& cog) {
-            return make(load_truth(truth).robot, truth, tool, mass, cog);
-          },
-          py::arg("truth"), py::arg("tool") = py::none(), py::arg("payload_mass_kg") = py::none(),
-          py::arg("payload_cog_mm") = py::none(), "From a simulation's truth file")
+          py::arg("payload_cog_mm") = py::none(), py::arg("approach") = "++++++",
+          py::arg("payload") = py::none(), py::arg("temperature_c") = py::none(),
+          py::arg("warmup_time_s") = py::none(), py::arg("warm") = false,
+          "From a calibrated model file, for targets reached under the CLI's conditions: "
+          "approach (each joint's side, '+-++++'), payload (a name of the tool's "
+          "payloads), temperature_c, warmup_time_s (how long the arm has worked) or warm "
+          "(fully warm); a targets file's rows may give their own")
+      .def_static("from_truth", from_file([](const std::string& p) { return load_truth(p).robot; }),
+                  py::arg("truth"), py::arg("tool") = py::none(),
+                  py::arg("payload_mass_kg") = py::none(), py::arg("payload_cog_mm") = py::none(),
+                  py::arg("approach") = "++++++", py::arg("payload") = py::none(),
+                  py::arg("temperature_c") = py::none(), py::arg("warmup_time_s") = py::none(),
+                  py::arg("warm") = false,
+                  "From a simulation's truth file, with from_model's conditions")
       .def_static(
           "nominal",
           [](const std::string& robot, const std::optional<std::string>& tool) {
@@ -206,6 +237,7 @@ const bool registered = register_bindings(70, [](py::module_& m) {
             Eigen::MatrixXd nominal(static_cast<Eigen::Index>(r.rows.size()), 3);
             Eigen::MatrixXd approach(static_cast<Eigen::Index>(r.rows.size()), kJointCount);
             Eigen::VectorXd temperature(static_cast<Eigen::Index>(r.rows.size()));
+            Eigen::VectorXd warmup_time(static_cast<Eigen::Index>(r.rows.size()));
             std::vector<std::string> names, payloads;
             for (size_t i = 0; i < r.rows.size(); ++i) {
               const auto row = static_cast<Eigen::Index>(i);
@@ -216,11 +248,13 @@ const bool registered = register_bindings(70, [](py::module_& m) {
               approach.row(row) = condition.approach.transpose();
               temperature[row] =
                   c.c.robot.model.reference_temperature_c + condition.temperature_rise_k;
+              warmup_time[row] = condition.warmup_time_s.value_or(NAN);
               payloads.push_back(condition.payload_name);
             }
             d["names"] = names;
             d["approach"] = approach;
             d["temperature_c"] = temperature;
+            d["warmup_time_s"] = warmup_time;
             d["payloads"] = payloads;
             d["joints_deg"] = joints;
             d["nominal_position_mm"] = nominal;
@@ -230,11 +264,11 @@ const bool registered = register_bindings(70, [](py::module_& m) {
           py::arg("targets"), py::arg("method") = "newton", py::arg("check_truth") = py::none(),
           py::arg("out") = py::none(),
           "Corrected targets for a pose-list file of wanted world poses, each under its row's "
-          "approach, temperature and payload (the compensator's where a row gives none), as "
-          "`robcal compensate`: its JSON summary (conditions: how many distinct) plus names, "
-          "joints_deg N×6, nominal_position_mm N×3, each row's condition (approach N×6 of +1 "
-          "below, -1 above, 0 unknown; temperature_c N; payloads N names, '' for the tool's own "
-          "or one given by mass) and the CSV text");
+          "approach, temperature, warm-up time and payload (the compensator's where a row gives "
+          "none), as `robcal compensate`: its JSON summary (conditions: how many distinct) plus "
+          "names, joints_deg N×6, nominal_position_mm N×3, each row's condition (approach N×6 of "
+          "+1 below, -1 above, 0 unknown; temperature_c N; warmup_time_s N, inf fully warm, NaN "
+          "cold; payloads N names, '' for the tool's own or one given by mass) and the CSV text");
 });
 
 }  // namespace

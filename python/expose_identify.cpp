@@ -30,7 +30,8 @@ namespace {
 CalibrationRequest make_request(const std::string& level, const std::vector<std::string>& identify,
                                 const std::vector<std::string>& fix, const std::string& loss,
                                 uint64_t seed, double sigma_mm, int kfold,
-                                double orientation_weight_mm, bool keep_near_dependent) {
+                                double orientation_weight_mm, bool keep_near_dependent,
+                                std::optional<double> warmup_tau_s) {
   CalibrationRequest request;
   IdentifyOptions& options = request.options;
   options.level = parse_calibration_level(level);
@@ -40,6 +41,7 @@ CalibrationRequest make_request(const std::string& level, const std::vector<std:
   options.instrument_sigma_mm = sigma_mm;
   options.orientation_weight_mm = orientation_weight_mm;
   options.resolve_near_dependencies = !keep_near_dependent;
+  options.warmup_time_constant_s = warmup_tau_s;
   request.kfold = kfold;
   options = checked_options(options, loss);
   return request;
@@ -397,7 +399,7 @@ const bool registered = register_bindings(30, [](py::module_& m) {
          const std::string& loss, uint64_t seed, const std::optional<std::string>& model,
          double sigma, int kfold, const std::optional<std::string>& folds,
          const std::optional<std::string>& units, const std::optional<std::string>& euler,
-         double orientation_weight, bool keep_near_dependent) {
+         double orientation_weight, bool keep_near_dependent, std::optional<double> warmup_tau_s) {
         CalibrateFilesRequest request{robot.value_or(""), model.value_or(""),
                                       tool.value_or(""),  measurements,
                                       units.value_or(""), euler.value_or(""),
@@ -410,6 +412,7 @@ const bool registered = register_bindings(30, [](py::module_& m) {
         options.instrument_sigma_mm = sigma;
         options.orientation_weight_mm = orientation_weight;
         options.resolve_near_dependencies = !keep_near_dependent;
+        options.warmup_time_constant_s = warmup_tau_s;
         request.request.kfold = kfold;
         return calibrate_files(request);
       },
@@ -419,10 +422,11 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       py::arg("sigma") = 0.0, py::arg("kfold") = 0, py::arg("folds") = py::none(),
       py::arg("units") = py::none(), py::arg("euler") = py::none(),
       py::arg("orientation_weight") = kDefaultOrientationWeightMm,
-      py::arg("keep_near_dependent") = false,
+      py::arg("keep_near_dependent") = false, py::arg("warmup_tau_s") = py::none(),
       "`robcal calibrate` from files: robot name or file, tool file, measurement CSV (level "
       "default full), with the CLI's options (sigma: the instrument's σ in mm, kfold/folds, "
-      "units/euler of the file, orientation_weight, keep_near_dependent) and checks. With "
+      "units/euler of the file, orientation_weight, keep_near_dependent, warmup_tau_s: the "
+      "warm-up group's time constant, default the robot file's) and checks. With "
       "model= (a calibrated model file; robot=None) only what level ('tool', 'base') or "
       "identify asks is re-identified, the rest kept (tool: the new tool, or None). Returns a "
       "Calibration: save(path) refuses a model with problems unless force=True");
@@ -432,16 +436,16 @@ const bool registered = register_bindings(30, [](py::module_& m) {
       [](const RobotModel& robot, const Measurements& measurements, const std::string& level,
          const std::vector<std::string>& identify, const std::vector<std::string>& fix,
          const std::string& loss, uint64_t seed, double sigma, int kfold, double orientation_weight,
-         bool keep_near_dependent) {
+         bool keep_near_dependent, std::optional<double> warmup_tau_s) {
         return run_calibration(robot, measurements.tool, measurements.set,
                                make_request(level, identify, fix, loss, seed, sigma, kfold,
-                                            orientation_weight, keep_near_dependent));
+                                            orientation_weight, keep_near_dependent, warmup_tau_s));
       },
       py::arg("robot"), py::arg("measurements"), py::arg("level") = "full",
       py::arg("identify") = std::vector<std::string>{}, py::arg("fix") = std::vector<std::string>{},
       py::arg("loss") = "none", py::arg("seed") = 1, py::arg("sigma") = 0.0, py::arg("kfold") = 0,
       py::arg("orientation_weight") = kDefaultOrientationWeightMm,
-      py::arg("keep_near_dependent") = false,
+      py::arg("keep_near_dependent") = false, py::arg("warmup_tau_s") = py::none(),
       "Calibrate a RobotModel from Measurements (their tool included); a Calibration");
 
   m.def(
@@ -450,18 +454,18 @@ const bool registered = register_bindings(30, [](py::module_& m) {
          const std::vector<std::string>& targets, const Eigen::MatrixXd& positions_mm,
          const std::string& level, const std::vector<std::string>& identify,
          const std::vector<std::string>& fix, const std::string& loss, uint64_t seed, double sigma,
-         int kfold, bool keep_near_dependent) {
+         int kfold, bool keep_near_dependent, std::optional<double> warmup_tau_s) {
         const Tool t = load_tool(tool);
-        return run_calibration(load_robot(robot), t,
-                               points_from_arrays(t, joints_deg, targets, positions_mm).set,
-                               make_request(level, identify, fix, loss, seed, sigma, kfold,
-                                            kDefaultOrientationWeightMm, keep_near_dependent));
+        return run_calibration(
+            load_robot(robot), t, points_from_arrays(t, joints_deg, targets, positions_mm).set,
+            make_request(level, identify, fix, loss, seed, sigma, kfold,
+                         kDefaultOrientationWeightMm, keep_near_dependent, warmup_tau_s));
       },
       py::arg("robot"), py::arg("tool"), py::arg("joints_deg"), py::arg("targets"),
       py::arg("positions_mm"), py::arg("level") = "full",
       py::arg("identify") = std::vector<std::string>{}, py::arg("fix") = std::vector<std::string>{},
       py::arg("loss") = "none", py::arg("seed") = 1, py::arg("sigma") = 0.0, py::arg("kfold") = 0,
-      py::arg("keep_near_dependent") = false,
+      py::arg("keep_near_dependent") = false, py::arg("warmup_tau_s") = py::none(),
       "Calibrate from arrays: joints N×6 (deg), target names (N), measured positions N×3 (mm); "
       "a Calibration");
 
@@ -472,8 +476,8 @@ const bool registered = register_bindings(30, [](py::module_& m) {
         const RobotModel model = load_robot(robot);
         const Tool t = load_tool(tool);
         const MeasurementFile file = read_measurements_csv(measurements, t);
-        const CalibrationRequest request =
-            make_request(level, {}, {}, "none", seed, 0, 0, kDefaultOrientationWeightMm, false);
+        const CalibrationRequest request = make_request(
+            level, {}, {}, "none", seed, 0, 0, kDefaultOrientationWeightMm, false, std::nullopt);
         return cross_validation_dict(
             cross_validate(model, t, file.measurements, request.options, folds, seed));
       },

@@ -22,7 +22,7 @@ namespace {
 py::dict simulate(const std::string& instrument_name, const std::string& truth_name, int count,
                   uint64_t seed, double noise_mm, const std::string& robot, const std::string& cell,
                   const std::string& tool_file, const std::string& configs,
-                  const std::vector<std::string>& effects, const std::string& approach,
+                  const std::vector<std::string>& effects, const std::string& approach, bool clock,
                   double error_length_mm, double error_angle_deg, const std::string& out_dir) {
   SimulateRequest request;
   request.robot = robot;
@@ -37,6 +37,7 @@ py::dict simulate(const std::string& instrument_name, const std::string& truth_n
   request.exact = noise_mm == 0;
   request.effects = effects;
   request.approach = approach;
+  request.clock = clock;
   request.error_length_mm = error_length_mm;
   request.error_angle_deg = error_angle_deg;
   request.out = out_dir;
@@ -48,9 +49,12 @@ py::dict simulate(const std::string& instrument_name, const std::string& truth_n
   const Tool& tool = result.tool;
   const Eigen::Index n = static_cast<Eigen::Index>(set.size());
   Eigen::MatrixXd joints(n, kJointCount), values(n, set.residuals_per_row() == 1 ? 1 : 3);
+  Eigen::VectorXd times(n), temperatures(n);  // NaN: the row records none
   py::list names, targets;
   for (Eigen::Index i = 0; i < n; ++i) {
     const size_t k = static_cast<size_t>(i);
+    times[i] = set.time_s(k).value_or(NAN);
+    temperatures[i] = set.temperature_c(k).value_or(NAN);
     switch (set.kind) {
       case MeasurementKind::Points:
         names.append(set.points[k].config);
@@ -77,6 +81,8 @@ py::dict simulate(const std::string& instrument_name, const std::string& truth_n
   out["target"] = targets;
   out["joints_deg"] = joints;
   out[set.kind == MeasurementKind::Distances ? "length_mm" : "position_mm"] = values;
+  out["time_s"] = times;
+  out["temperature_c"] = temperatures;
   out["summary"] = json_to_python(simulation_json(result));
   return out;
 }
@@ -125,14 +131,16 @@ const bool registered = register_bindings(40, [](py::module_& m) {
         py::arg("noise_mm") = 0.0, py::arg("robot") = "abb-irb120", py::arg("cell") = "",
         py::arg("tool") = "", py::arg("configs") = "",
         py::arg("effects") = std::vector<std::string>{}, py::arg("approach") = "below",
-        py::arg("error_length_mm") = ErrorBounds{}.length_mm,
+        py::arg("clock") = false, py::arg("error_length_mm") = ErrorBounds{}.length_mm,
         py::arg("error_angle_deg") = ErrorBounds{}.angle_deg, py::arg("out") = "",
         "`robcal simulate`: measures `count` random measurable configurations (or those of the "
         "`configs` file) of a virtual robot (published, random or a truth file, with unmodelled "
         "`effects`) with a virtual instrument placed by `cell`; noise_mm = 0 gives exact "
-        "readings (the CLI's --noise-mm 0 means the instrument's own σ). With `out` the files "
-        "of a real campaign are written there. Returns a dict of config, target, joints_deg "
-        "(n×6) and position_mm (n×3) or length_mm (n×1), and 'summary' (the CLI's --json).");
+        "readings (the CLI's --noise-mm 0 means the instrument's own σ); with thermal drift, "
+        "clock=True records each row's time instead of the arm's temperature (--clock). With "
+        "`out` the files of a real campaign are written there. Returns a dict of config, target, "
+        "joints_deg (n×6) and position_mm (n×3) or length_mm (n×1), time_s and temperature_c "
+        "(n, NaN where a row records none), and 'summary' (the CLI's --json).");
 });
 
 }  // namespace

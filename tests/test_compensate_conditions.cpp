@@ -340,6 +340,21 @@ TEST(CompensateConditions, TargetsFileColumns) {
                  "t.csv:2:23 (temperature): 'warm' is not a number");
   EXPECT_REFUSED(parse_pose_list("name,x,y,z,qw,qx,qy,qz,approach,approach\n", "t.csv"), InputError,
                  "t.csv:1:33 (approach): column 'approach' appears twice");
+  // The warm-up time (s, or warm), as the measurement file's `time_s` column.
+  const std::vector<ListedPose> timed = parse_pose_list(
+      "name,x,y,z,qw,qx,qy,qz,time_s\np1,400,0,500,0,0,1,0,125.5\np2,410,0,500,0,0,1,0,warm\n"
+      "p3,420,0,500,0,0,1,0,\n",
+      "t.csv");
+  EXPECT_EQ(timed[0].time_s, 125.5);
+  EXPECT_EQ(timed[1].time_s, kFullyWarmS);
+  EXPECT_FALSE(timed[2].time_s.has_value());
+  const std::string time_header = "name,x,y,z,qw,qx,qy,qz,time_s\n";
+  EXPECT_REFUSED(parse_pose_list(time_header + "p1,400,0,500,0,0,1,0,-5\n", "t.csv"), InputError,
+                 "t.csv:2:22 (time_s): time -5 s is implausible: expected seconds in [0, 1e7]");
+  EXPECT_REFUSED(parse_pose_list(time_header + "p1,400,0,500,0,0,1,0,nan\n", "t.csv"), InputError,
+                 "t.csv:2:22 (time_s): ");
+  EXPECT_REFUSED(parse_pose_list(time_header + "p1,400,0,500,0,0,1,0,hot\n", "t.csv"), InputError,
+                 "t.csv:2:22 (time_s): 'hot' is not a number");
   // The measurement reader says the same of the same cell.
   EXPECT_REFUSED(parse_measurements_csv("config,target,j1,j2,j3,j4,j5,j6,x,y,z,temperature\n"
                                         "c1,1,0,10,20,30,40,50,100,200,300,451\n",
@@ -379,6 +394,20 @@ TEST(CompensateConditions, TargetsFileColumns) {
   request.targets[0] = request.targets[1];
   request.targets[0].name = "p0";
   EXPECT_EQ(compensate_targets(request).csv.find("approach"), std::string::npos);
+
+  // A row's own warm-up time, and the run's --warm for the others: the CSV's time_s column.
+  request.targets =
+      parse_pose_list("name,x,y,z,qw,qx,qy,qz,time_s\np1," + p1 + ",600\np2," + p2 + "\n", "t.csv");
+  request.setup.warm = true;
+  const CompensateTargetsResult warm = compensate_targets(request);
+  EXPECT_EQ(warm.conditions, 2);
+  EXPECT_NE(warm.csv.find(",approach,temperature,payload,time_s\n"), std::string::npos);
+  EXPECT_NE(warm.csv.find(",++++++,22,,600\n"), std::string::npos) << warm.csv;
+  EXPECT_NE(warm.csv.find(",++++++,22,,warm\n"), std::string::npos) << warm.csv;
+  EXPECT_EQ(warm.rows[1].condition.warmup_fraction, 1.0);
+  EXPECT_EQ(warm.rows[0].condition.warmup_fraction,
+            warmup_fraction(request.setup.robot.model, 600));
+  request.setup.warm = false;
 
   request.targets =
       parse_pose_list("name,x,y,z,qw,qx,qy,qz,payload\np1,400,0,500,0,0,1,0,vise\n", "t.csv");

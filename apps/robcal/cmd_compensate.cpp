@@ -78,7 +78,7 @@ void run_compensate(const ModelOptions& o, const std::string& targets, const std
   fmt::print("{} targets corrected for {} ({}), written to {}\n", r.rows.size(), r.robot,
              ik_method_name(r.method), r.out);
   if (r.conditions > 1)
-    fmt::print("  each under its own approach, temperature and payload: {} conditions\n",
+    fmt::print("  each under its own approach, temperature, warm-up and payload: {} conditions\n",
                r.conditions);
   fmt::print("  calibrated-model residual ≤ {:.2g} mm, ≤ {} iterations; payload {} kg\n",
              r.max_residual_mm, r.max_iterations, r.payload_kg);
@@ -182,14 +182,16 @@ const bool compensate_registered = register_command(70, [](CLI::App& app) {
   auto truth = std::make_shared<std::string>();
   add_model_options(cmd, *o);
   cmd->add_option("--targets", *targets,
-                  "CSV name,x,y,z,qw,qx,qy,qz[,config][,approach][,temperature][,payload]: "
-                  "wanted TCP poses in the world (mm), a row's approach, temperature (°C) and "
-                  "payload replacing --approach, --temperature-c and --payload for it")
+                  "CSV name,x,y,z,qw,qx,qy,qz[,config][,approach][,temperature][,time_s]"
+                  "[,payload]: wanted TCP poses in the world (mm), a row's approach, temperature "
+                  "(°C), warm-up time (s, or warm) and payload replacing --approach, "
+                  "--temperature-c, --warmup-time-s/--warm and --payload for it")
       ->required();
   cmd->add_option("--out", *out,
                   "Output CSV name,config,j1..j6 (deg),x,y,z,qw,qx,qy,qz (nominal target in the "
                   "base frame),A/B/C or W/P/R,iterations,residual_mm,confidence95_mm[,approach,"
-                  "temperature,payload: each row's condition, when the targets give any]")
+                  "temperature,payload[,time_s]: each row's condition, when the targets give "
+                  "any]")
       ->required();
   cmd->add_option("--method", o->method, "newton (default) or pose-shift");
   cmd->add_option("--check-truth", *truth,

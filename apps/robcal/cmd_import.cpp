@@ -16,7 +16,7 @@ struct ImportOptions {
   std::string export_path, log_path, map_path, out;
   std::string join = "order";
   double tolerance_s = 0.5;
-  std::string target, delimiter, decimal, columns, unit, config_column, world_frame;
+  std::string target, delimiter, decimal, columns, unit, config_column, world_frame, configs;
   bool allow_unmeasured = false;
   bool json = false;
 };
@@ -34,7 +34,8 @@ void run_import(const ImportOptions& o) {
                                                                 o.tolerance_s,
                                                                 o.target,
                                                                 o.allow_unmeasured,
-                                                                o.world_frame});
+                                                                o.world_frame,
+                                                                o.configs});
   write_file_atomically(o.out, result.csv);
   if (o.json) {
     nlohmann::json out = campaign::import_json(result);
@@ -48,6 +49,8 @@ void run_import(const ImportOptions& o) {
              o.export_path, o.join, o.log_path, o.out);
   if (!result.world_frame.empty())
     fmt::print("positions in the world frame of {}\n", result.world_frame);
+  if (!o.configs.empty())
+    fmt::print("each row's approach and payload from its configuration in {}\n", o.configs);
 }
 
 const bool import_registered = register_command(75, [](CLI::App& app) {
@@ -83,6 +86,10 @@ const bool import_registered = register_command(75, [](CLI::App& app) {
   cmd->add_option("--world-frame", o->world_frame,
                   "Frame file of `robcal frames world`: write the positions (and orientations) "
                   "in that frame (the nests' world) instead of the instrument's");
+  cmd->add_option("--configs", o->configs,
+                  "The configurations file the program ran (robcal plan --out): each row takes "
+                  "its configuration's approach and payload columns (backlash, several payloads), "
+                  "joined by the joint log's configuration names");
   cmd->add_option("--out", o->out, "Measurement CSV to write")->required();
   cmd->add_flag("--json", o->json, "Machine-readable output");
   cmd->callback([o] { run_import(*o); });

@@ -319,13 +319,19 @@ class Compensator:
 
     @staticmethod
     def from_model(model: str, tool: Optional[str] = None, payload_mass_kg: Optional[float] = None,
-                   payload_cog_mm: Optional[ArrayLike] = None) -> "Compensator":
-        """From a calibrated model file."""
+                   payload_cog_mm: Optional[ArrayLike] = None, approach: str = "++++++",
+                   payload: Optional[str] = None, temperature_c: Optional[float] = None,
+                   warmup_time_s: Optional[float] = None, warm: bool = False) -> "Compensator":
+        """From a calibrated model file, for targets reached under `robcal compensate`'s
+        conditions: approach ('+-++++'), payload (a name of the tool's payloads), temperature_c,
+        warmup_time_s (how long the arm has worked) or warm (fully warm)."""
 
     @staticmethod
     def from_truth(truth: str, tool: Optional[str] = None, payload_mass_kg: Optional[float] = None,
-                   payload_cog_mm: Optional[ArrayLike] = None) -> "Compensator":
-        """From a simulation's truth file."""
+                   payload_cog_mm: Optional[ArrayLike] = None, approach: str = "++++++",
+                   payload: Optional[str] = None, temperature_c: Optional[float] = None,
+                   warmup_time_s: Optional[float] = None, warm: bool = False) -> "Compensator":
+        """From a simulation's truth file, with from_model's conditions."""
 
     @staticmethod
     def nominal(robot: str, tool: Optional[str] = None) -> "Compensator":
@@ -368,13 +374,13 @@ class Compensator:
                            check_truth: Optional[str] = None,
                            out: Optional[str] = None) -> Dict[str, Any]:
         """Corrected targets for a pose-list file of wanted world poses, as `robcal compensate`,
-        each under its row's approach, temperature and payload (the optional `approach`,
-        `temperature`, `payload` columns; the compensator's where a row gives none): its JSON
-        summary (robot, targets, method, conditions: how many distinct, max_residual_mm,
-        closed_loop ...) plus names, joints_deg N×6, nominal_position_mm N×3, each row's
-        condition: approach N×6 (+1 from below, -1 from above, 0 unknown), temperature_c N (°C),
-        payloads N (the tool's payload names, '' for its own or one given by mass), and the CSV
-        text."""
+        each under its row's approach, temperature, warm-up time and payload (the optional
+        `approach`, `temperature`, `time_s`, `payload` columns; the compensator's where a row
+        gives none): its JSON summary (robot, targets, method, conditions: how many distinct,
+        max_residual_mm, closed_loop ...) plus names, joints_deg N×6, nominal_position_mm N×3,
+        each row's condition: approach N×6 (+1 from below, -1 from above, 0 unknown),
+        temperature_c N (°C), warmup_time_s N (s; inf fully warm, NaN cold), payloads N (the
+        tool's payload names, '' for its own or one given by mass), and the CSV text."""
 
 
 class LaserTracker:
@@ -475,9 +481,11 @@ def calibrate(robot: Union[None, str, RobotModel], tool: Union[None, str, Measur
               *args: Any, **kwargs: Any) -> Calibration:
     """calibrate(robot, tool, measurements, level='full', identify=[], fix=[], loss='none',
     seed=1, model=None, sigma=0, kfold=0, folds=None, units=None, euler=None,
-    orientation_weight=100, keep_near_dependent=False) from files, as `robcal calibrate` (the
-    same library workflow and checks), or calibrate(robot_model, measurements, level=..., ...,
-    sigma=0, kfold=0, orientation_weight=100, keep_near_dependent=False) from objects. With
+    orientation_weight=100, keep_near_dependent=False, warmup_tau_s=None) from files, as
+    `robcal calibrate` (the same library workflow and checks), or calibrate(robot_model,
+    measurements, level=..., ..., sigma=0, kfold=0, orientation_weight=100,
+    keep_near_dependent=False, warmup_tau_s=None) from objects. warmup_tau_s: the warm-up
+    group's time constant (s; `--warmup-tau-s`, default the robot file's). With
     model='calibrated.yaml' (robot=None) only what level ('tool': the new tool's points or TCP
     frame; 'base': a moved base) or identify asks is re-identified, the rest kept; tool=None then
     means the model's tool. save(path) refuses a model with problems unless force=True."""
@@ -486,8 +494,8 @@ def calibrate(robot: Union[None, str, RobotModel], tool: Union[None, str, Measur
 def calibrate_points(robot: str, tool: str, joints_deg: ArrayLike, targets: Sequence[str],
                      positions_mm: ArrayLike, level: str = "full", identify: Sequence[str] = ...,
                      fix: Sequence[str] = ..., loss: str = "none", seed: int = 1,
-                     sigma: float = 0.0, kfold: int = 0,
-                     keep_near_dependent: bool = False) -> Calibration:
+                     sigma: float = 0.0, kfold: int = 0, keep_near_dependent: bool = False,
+                     warmup_tau_s: Optional[float] = None) -> Calibration:
     """Calibrate from arrays: joints N×6 (deg), target names (N), positions N×3 (mm)."""
 
 
@@ -567,11 +575,13 @@ def ballbar_readable(ballbar: Ballbar, length_mm: float) -> bool:
 def simulate(instrument: str = "laser-tracker", truth: str = "published", count: int = 20,
              seed: int = 1, noise_mm: float = 0.0, robot: str = "abb-irb120", cell: str = "",
              tool: str = "", configs: str = "", effects: Sequence[str] = ...,
-             approach: str = "below", error_length_mm: float = ...,
+             approach: str = "below", clock: bool = False, error_length_mm: float = ...,
              error_angle_deg: float = ..., out: str = "") -> Dict[str, Any]:
     """`robcal simulate`: `count` random measurable configurations (or the `configs` file's) of
-    a virtual robot measured by a virtual instrument; noise_mm = 0 gives exact readings; files
-    written to `out` when given; 'summary' is the CLI's --json."""
+    a virtual robot measured by a virtual instrument; noise_mm = 0 gives exact readings; with
+    thermal drift, clock=True records each row's time instead of its temperature (time_s and
+    temperature_c arrays, NaN where a row has none); files written to `out` when given;
+    'summary' is the CLI's --json."""
 
 
 def read_program_points(text: str, language: str, joints: bool = False,
@@ -749,9 +759,10 @@ def import_measurements(export: str, joints: str, map: str = "", join: str = "or
                         time_tolerance: float = 0.5, target: str = "", delimiter: str = "",
                         decimal: str = "", columns: str = "", unit: str = "",
                         config_column: str = "", allow_unmeasured: bool = False,
-                        world_frame: str = "") -> Dict[str, Any]:
+                        world_frame: str = "", configs: str = "") -> Dict[str, Any]:
     """`robcal import`: an instrument export joined with the joint log; {'rows', 'kind',
-    'warnings', 'csv', 'measurements': Measurements}; positions in a `frames world` frame."""
+    'warnings', 'csv', 'measurements': Measurements}; positions in a `frames world` frame;
+    configs: the plan's configurations file, each row's approach and payload from it."""
 
 
 def frames_base(robot: str, joint1: str, joint2: str, target: str = "1", cell: str = "",

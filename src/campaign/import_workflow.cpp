@@ -26,6 +26,8 @@ ImportResult import_files(const ImportFilesRequest& request) {
   r.time_tolerance_s = request.time_tolerance_s;
   r.default_target = request.target;
   r.allow_unmeasured = request.allow_unmeasured;
+  if (!request.configs_path.empty())
+    r.plan = NamedText{request.configs_path, read_text_file(request.configs_path)};
   return import_measurements(r);
 }
 

@@ -7,13 +7,16 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <set>
+#include <tuple>
 
 #include "robcal/campaign/frames_world.hpp"
 #include "robcal/core/units.hpp"
 #include "robcal/io/measurement_file.hpp"
 #include "robcal/io/yaml_checks.hpp"
 #include "robcal/io/yaml_support.hpp"
+#include "robcal/sim/simulator.hpp"
 
 namespace robcal::campaign {
 namespace {
@@ -617,6 +620,40 @@ void check_target_name(const std::string& name) {
                                  name));
 }
 
+/// The plan's rows by configuration name.
+std::map<std::string, ConfigurationRow> plan_rows(const NamedText& plan) {
+  std::map<std::string, ConfigurationRow> rows;
+  for (ConfigurationRow& row : parse_configuration_rows(plan.text, plan.name)) {
+    const std::string name = row.config.name;
+    rows.emplace(name, std::move(row));
+  }
+  return rows;
+}
+
+/// The plan's condition of the reading joined with log row `row`: its configuration's approach
+/// and payload (an index into `payloads`, the names met so far, extended with a new one).
+std::pair<Vector6d, int> planned_condition(const std::map<std::string, ConfigurationRow>& plan,
+                                           const std::string& plan_file, const LogRow& row,
+                                           const std::string& log_file,
+                                           std::vector<NamedPayload>& payloads) {
+  const auto it = plan.find(row.config);
+  if (it == plan.end())
+    throw InputError({log_file, row.line, 0, "config"},
+                     fmt::format("configuration '{}' is not in the plan {} (--configs): the "
+                                 "joint log is of another measurement program",
+                                 row.config, plan_file));
+  const ConfigurationRow& planned = it->second;
+  int index = -1;  // the tool's own payload
+  if (!planned.payload.empty()) {
+    const auto named = std::find_if(payloads.begin(), payloads.end(), [&](const NamedPayload& p) {
+      return p.name == planned.payload;
+    });
+    index = static_cast<int>(named - payloads.begin());
+    if (named == payloads.end()) payloads.push_back({planned.payload, {}});
+  }
+  return {planned.config.approach, index};
+}
+
 }  // namespace
 
 ImportResult import_measurements(const ImportRequest& request) {
@@ -652,6 +689,13 @@ ImportResult import_measurements(const ImportRequest& request) {
   }
   const auto pairs = join(request, readings, log, export_has_config, export_has_time, log_has_time,
                           log_has_target, export_has_target, result.warnings);
+  const std::map<std::string, ConfigurationRow> plan =
+      request.plan ? plan_rows(*request.plan) : std::map<std::string, ConfigurationRow>{};
+  const auto condition = [&](const LogRow& row) {
+    return request.plan ? planned_condition(plan, request.plan->name, row, request.joint_log.name,
+                                            result.targets.payloads)
+                        : std::pair<Vector6d, int>{Vector6d::Ones(), -1};
+  };
 
   MeasurementSet& set = result.measurements;
   set.kind = kind;
@@ -670,6 +714,7 @@ ImportResult import_measurements(const ImportRequest& request) {
       PoseMeasurement m;
       m.config = row.config;
       m.joints = row.joints;
+      std::tie(m.approach, m.payload) = condition(row);
       m.world_T_tcp.R = reading.R;
       m.world_T_tcp.p = reading.position_mm;
       m.line = reading.line;
@@ -705,6 +750,7 @@ ImportResult import_measurements(const ImportRequest& request) {
     m.config = row.config;
     m.target = index;
     m.joints = row.joints;
+    std::tie(m.approach, m.payload) = condition(row);
     m.position_mm = reading.position_mm;
     m.line = reading.line;
     set.points.push_back(std::move(m));
@@ -715,6 +761,8 @@ ImportResult import_measurements(const ImportRequest& request) {
                   : request.join == JoinBy::Name ? "configuration name"
                                                  : "time",
                   request.joint_log.name);
+  if (request.plan)
+    comment += fmt::format("\nconditions (approach, payload) from the plan {}", request.plan->name);
   if (request.instrument_T_world) {
     set = measurements_in_frame(set, *request.instrument_T_world);
     result.world_frame = request.world_frame_file;

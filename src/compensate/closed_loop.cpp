@@ -43,10 +43,14 @@ ClosedLoopReport closed_loop_check(const std::vector<const Compensator*>& comps,
     // as the program will move it, the arm at its temperature, carrying the named payload.
     MotionState motion;
     motion.from_below = false;
-    // A warm-up state (§10) is the truth's warm-up at that fraction.
-    motion.temperature_rise_k = condition.warmup_fraction > 0
-                                    ? truth.effects.temperature_rise_k * condition.warmup_fraction
-                                    : condition.temperature_rise_k;
+    // A warm-up time (§10) is the truth's own warm-up at that time; a bare fraction (or a fully
+    // warm arm) its warm-up at that fraction.
+    if (condition.warmup_time_s && std::isfinite(*condition.warmup_time_s))
+      motion.time_s = *condition.warmup_time_s;
+    else
+      motion.temperature_rise_k = condition.warmup_fraction > 0
+                                      ? truth.effects.temperature_rise_k * condition.warmup_fraction
+                                      : condition.temperature_rise_k;
     motion.payload = truth.robot.tool.payload_index(condition.payload_name);
     motion.previous_joints = joints - deg2rad(5.0) * condition.approach;
     add(report.compensated, report.compensated_mm, want,

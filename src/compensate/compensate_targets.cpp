@@ -12,14 +12,19 @@ namespace robcal {
 
 namespace {
 
-/// The condition `target` is reached under: its own approach, temperature and payload where the
-/// targets file gives them (docs/method/10-compensation.md §6), the run's otherwise.
+/// The condition `target` is reached under: its own approach, temperature, warm-up time and
+/// payload where the targets file gives them (docs/method/10-compensation.md §6), the run's
+/// otherwise.
 ReachCondition condition_of(const Compensation& c, const WantedTarget& target,
                             const std::string& file) {
   ReachCondition condition = c.comp.condition;
   if (target.approach) condition.approach = *target.approach;
   if (target.temperature_c)
     condition.temperature_rise_k = *target.temperature_c - c.robot.model.reference_temperature_c;
+  if (target.time_s) {
+    condition.warmup_time_s = target.time_s;
+    condition.warmup_fraction = warmup_fraction(c.robot.model, *target.time_s);
+  }
   if (!target.payload.empty()) {
     const int index =
         payload_index_of(target.payload, c.robot.tool,
@@ -31,7 +36,7 @@ ReachCondition condition_of(const Compensation& c, const WantedTarget& target,
 }
 
 bool has_own_condition(const WantedTarget& target) {
-  return target.approach || target.temperature_c || !target.payload.empty();
+  return target.approach || target.temperature_c || target.time_s || !target.payload.empty();
 }
 
 }  // namespace

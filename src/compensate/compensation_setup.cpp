@@ -5,6 +5,7 @@
 
 #include "robcal/core/error.hpp"
 #include "robcal/io/measurement_file.hpp"
+#include "robcal/io/pose_list_file.hpp"
 
 namespace robcal {
 
@@ -67,9 +68,8 @@ Compensation prepare_compensation(const CompensationSetup& setup) {
     throw InputError({"", 0, 0, "--warmup-time-s"},
                      setup.warm ? "give either the warm-up time or --warm, not both"
                                 : "expected seconds in [0, 1e7] since the arm started working");
-  run.warmup_fraction = setup.warm            ? 1.0
-                        : setup.warmup_time_s ? warmup_fraction(robot.model, *setup.warmup_time_s)
-                                              : 0.0;
+  run.warmup_time_s = setup.warm ? std::optional(kFullyWarmS) : setup.warmup_time_s;
+  run.warmup_fraction = run.warmup_time_s ? warmup_fraction(robot.model, *run.warmup_time_s) : 0.0;
   run.approach = setup.approach;
   Compensation out{robot, make_compensator(robot, run), setup.pulses_per_degree};
   return out;
@@ -83,6 +83,7 @@ CompensatorsByCondition::Key CompensatorsByCondition::key_of(const ReachConditio
   return {{a[0], a[1], a[2], a[3], a[4], a[5]},
           c.temperature_rise_k,
           c.warmup_fraction,
+          c.warmup_time_s.value_or(-1.0),  // none: cold (a time is never negative)
           c.payload.mass_kg,
           {g.x(), g.y(), g.z()},
           c.payload_name};

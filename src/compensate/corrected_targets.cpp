@@ -95,15 +95,28 @@ std::vector<CorrectedTarget> correct_targets(const std::vector<const Compensator
 std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows, const RobotModel& model,
                                   bool with_conditions) {
   const auto labels = euler_labels(model.euler);
+  // The warm-up time only when a row was corrected for one: the files of runs without a warm-up
+  // stay as they were.
+  const bool with_time =
+      with_conditions && std::any_of(rows.begin(), rows.end(), [](const auto& r) {
+        return r.condition.warmup_time_s.has_value();
+      });
   std::string out = fmt::format(
       "name,config,j1,j2,j3,j4,j5,j6,x,y,z,qw,qx,qy,qz,{},{},{},iterations,residual_mm,"
-      "confidence95_mm{}\n",
-      labels[0], labels[1], labels[2], with_conditions ? ",approach,temperature,payload" : "");
+      "confidence95_mm{}{}\n",
+      labels[0], labels[1], labels[2], with_conditions ? ",approach,temperature,payload" : "",
+      with_time ? ",time_s" : "");
   // The condition in the targets file's own notation (io/pose_list_file.hpp).
   const auto condition = [&](const ReachCondition& c) {
     if (!with_conditions) return std::string();
-    return fmt::format(",{},{:.6g},{}", approach_text(c.approach), model.reference_temperature_c + c.temperature_rise_k,
-                       c.payload_name);
+    std::string text =
+        fmt::format(",{},{:.6g},{}", approach_text(c.approach),
+                    model.reference_temperature_c + c.temperature_rise_k, c.payload_name);
+    if (with_time)
+      text += !c.warmup_time_s               ? ","
+              : std::isinf(*c.warmup_time_s) ? fmt::format(",{}", kWarmCell)
+                                             : fmt::format(",{:.10g}", *c.warmup_time_s);
+    return text;
   };
   for (const CorrectedTarget& r : rows) {
     const Eigen::Quaterniond q = to_quaternion(r.base_T_tcp_nominal.R);

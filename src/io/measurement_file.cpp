@@ -167,15 +167,8 @@ class RowReader {
   /// The optional `time_s` column (s since the arm started working, the warm-up group,
   /// docs/method/03-error-model.md §10): empty for a row without a time.
   [[nodiscard]] std::optional<double> time_s(const Row& row) const {
-    const std::string_view text = row.fields[static_cast<size_t>(columns_.at("time_s"))];
-    if (text.empty()) return std::nullopt;
-    const double t = parse_finite_number(text, where(row, "time_s"), " (s)");
-    if (t < 0 || t > 1e7)  // beyond 16 weeks: a unit slip (ms) or a clock's epoch
-      throw InputError(where(row, "time_s"),
-                       fmt::format("time {} s is implausible: expected seconds in [0, 1e7] since "
-                                   "the arm started working",
-                                   t));
-    return t;
+    return parse_time_s(row.fields[static_cast<size_t>(columns_.at("time_s"))],
+                        where(row, "time_s"));
   }
 
   [[nodiscard]] int target(const Row& row, const Tool& tool) const {
@@ -420,6 +413,16 @@ std::optional<double> parse_temperature_c(std::string_view text, const SourceLoc
   return t;
 }
 
+std::optional<double> parse_time_s(std::string_view text, const SourceLocation& where) {
+  if (text.empty()) return std::nullopt;
+  const double t = parse_finite_number(text, where, " (s)");
+  if (t < 0 || t > 1e7)  // beyond 16 weeks: a unit slip (ms) or a clock's epoch
+    throw InputError(where, fmt::format("time {} s is implausible: expected seconds in [0, 1e7] "
+                                        "since the arm started working",
+                                        t));
+  return t;
+}
+
 int payload_index_of(std::string_view name, const Tool& tool, const SourceLocation& where,
                      std::string_view when_empty) {
   const int index = tool.payload_index(name);
@@ -435,8 +438,7 @@ int payload_index_of(std::string_view name, const Tool& tool, const SourceLocati
 
 std::string approach_text(const Vector6d& approach) {
   std::string text;
-  for (int j = 0; j < kJointCount; ++j)
-    text += approach[j] > 0 ? '+' : approach[j] < 0 ? '-' : '0';
+  for (int j = 0; j < kJointCount; ++j) text += approach[j] > 0 ? '+' : approach[j] < 0 ? '-' : '0';
   return text;
 }
 

@@ -36,7 +36,7 @@ std::vector<ListedPose> read_pose_list(const std::string& path) {
 
 std::vector<ListedPose> parse_pose_list(const std::string& text, const std::string& file) {
   static const char* const kColumns[] = {"name", "x", "y", "z", "qw", "qx", "qy", "qz"};
-  static const char* const kOptional[] = {"config", "approach", "temperature", "payload"};
+  static const char* const kOptional[] = {"config", "approach", "temperature", "time_s", "payload"};
   std::vector<ListedPose> out;
   std::istringstream in{std::string(csv::without_bom(text))};
   std::string line;
@@ -62,11 +62,12 @@ std::vector<ListedPose> parse_pose_list(const std::string& text, const std::stri
                           k + 1, kColumns[k]));
       for (size_t k = 8; k < cells.size(); ++k) {
         const std::string& name = cells[k].first;
+        // time_s after the list: its words are older than the column (catalogued messages).
         if (std::find(std::begin(kOptional), std::end(kOptional), name) == std::end(kOptional))
           throw InputError(SourceLocation{file, number, cells[k].second, ""},
                            fmt::format("unexpected column after the header's pose columns: "
                                        "expected config, approach, temperature or payload, "
-                                       "found '{}'",
+                                       "found '{}' (or time_s, the warm-up time)",
                                        name));
         if (std::find(optional.begin(), optional.end(), name) != optional.end())
           throw InputError(SourceLocation{file, number, cells[k].second, name},
@@ -123,6 +124,8 @@ std::vector<ListedPose> parse_pose_list(const std::string& text, const std::stri
         t.approach = parse_approach(cell, where);
       } else if (key == "temperature") {
         t.temperature_c = parse_temperature_c(cell, where);
+      } else if (key == "time_s") {
+        t.time_s = cell == kWarmCell ? kFullyWarmS : parse_time_s(cell, where);
       } else {
         t.payload = cell;
         t.payload_column = column;

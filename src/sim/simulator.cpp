@@ -39,16 +39,15 @@ int cell_column(const std::string& line, size_t cell) {
 
 }  // namespace
 
-std::vector<PlannedConfiguration> read_configurations_csv(const std::string& path,
-                                                          const Tool& tool) {
-  const std::string text = read_text_file(path);
+std::vector<ConfigurationRow> parse_configuration_rows(const std::string& text,
+                                                       const std::string& path) {
   std::stringstream stream(text);
   std::string line;
   int line_number = 0;
   std::vector<std::string> header;
   int config_col = -1, target_col = -1, approach_col = -1, payload_col = -1;
   std::array<int, kJointCount> joint_cols{};
-  std::vector<PlannedConfiguration> configs;
+  std::vector<ConfigurationRow> configs;
   std::map<std::string, int> first_line;  // configuration label → its line
   double largest_deg = 0;
   constexpr double kMaxJointDeg = 1080;
@@ -82,7 +81,9 @@ std::vector<PlannedConfiguration> read_configurations_csv(const std::string& pat
       throw InputError({path, line_number, 0, ""},
                        fmt::format("expected {} fields as in the header, found {}", header.size(),
                                    cells.size()));
-    PlannedConfiguration config;
+    ConfigurationRow row;
+    row.line = line_number;
+    PlannedConfiguration& config = row.config;
     config.name = cells[static_cast<size_t>(config_col)];
     if (config.name.empty())
       throw InputError(
@@ -107,33 +108,27 @@ std::vector<PlannedConfiguration> read_configurations_csv(const std::string& pat
                                             cells[col], kMaxJointDeg, kMaxJointDeg));
       config.joints[j] = deg2rad(value);
     }
-    if (target_col >= 0 && !cells[static_cast<size_t>(target_col)].empty()) {
-      const std::string& name = cells[static_cast<size_t>(target_col)];
-      config.target = tool.target_index(name);
-      if (config.target < 0) {
-        std::string known;
-        for (const Target& t : tool.targets) known += (known.empty() ? "" : ", ") + t.name;
-        throw InputError(
-            {path, line_number, cell_column(line, static_cast<size_t>(target_col)), "target"},
-            fmt::format("unknown target '{}'; the tool has {}", name, known));
-      }
+    if (target_col >= 0) {
+      row.target = cells[static_cast<size_t>(target_col)];
+      row.target_at = {path, line_number, cell_column(line, static_cast<size_t>(target_col)),
+                       "target"};
     }
     if (approach_col >= 0)
       config.approach = parse_approach(
           cells[static_cast<size_t>(approach_col)],
           {path, line_number, cell_column(line, static_cast<size_t>(approach_col)), "approach"});
-    if (payload_col >= 0 && !cells[static_cast<size_t>(payload_col)].empty())
-      config.payload = payload_index_of(
-          cells[static_cast<size_t>(payload_col)], tool,
-          {path, line_number, cell_column(line, static_cast<size_t>(payload_col)), "payload"},
-          "the tool's own payload");
+    if (payload_col >= 0) {
+      row.payload = cells[static_cast<size_t>(payload_col)];
+      row.payload_at = {path, line_number, cell_column(line, static_cast<size_t>(payload_col)),
+                        "payload"};
+    }
     if (const auto [at, added] = first_line.emplace(config.name, line_number); !added)
       throw InputError(
           {path, line_number, cell_column(line, static_cast<size_t>(config_col)), "config"},
           fmt::format("configuration '{}' is listed twice (first on line {})", config.name,
                       at->second));
     largest_deg = std::max(largest_deg, rad2deg(config.joints.cwiseAbs().maxCoeff()));
-    configs.push_back(config);
+    configs.push_back(std::move(row));
   }
   if (header.empty()) throw InputError({path, 0, 0, ""}, "empty file: expected a header row");
   if (configs.empty())
@@ -145,6 +140,27 @@ std::vector<PlannedConfiguration> read_configurations_csv(const std::string& pat
                      fmt::format("every joint value is within ±{:.3f} over {} rows: they look like "
                                  "radians; a configurations file holds degrees",
                                  largest_deg, configs.size()));
+  return configs;
+}
+
+std::vector<PlannedConfiguration> read_configurations_csv(const std::string& path,
+                                                          const Tool& tool) {
+  std::vector<PlannedConfiguration> configs;
+  for (ConfigurationRow& row : parse_configuration_rows(read_text_file(path), path)) {
+    if (!row.target.empty()) {
+      row.config.target = tool.target_index(row.target);
+      if (row.config.target < 0) {
+        std::string known;
+        for (const Target& t : tool.targets) known += (known.empty() ? "" : ", ") + t.name;
+        throw InputError(row.target_at,
+                         fmt::format("unknown target '{}'; the tool has {}", row.target, known));
+      }
+    }
+    if (!row.payload.empty())
+      row.config.payload =
+          payload_index_of(row.payload, tool, row.payload_at, "the tool's own payload");
+    configs.push_back(std::move(row.config));
+  }
   return configs;
 }
 

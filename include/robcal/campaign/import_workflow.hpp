@@ -25,6 +25,8 @@ struct ImportFilesRequest {
   std::string target;  ///< target name when neither file names one
   bool allow_unmeasured = false;
   std::string world_frame;  ///< frame file of `robcal frames world`: positions in that frame
+  /// The configurations file the program ran (`--configs`): each row's approach and payload.
+  std::string configs_path;
 };
 
 /// Reads the files and joins them. InputError names the file (line, column) or the option

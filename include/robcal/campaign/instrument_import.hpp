@@ -101,18 +101,25 @@ struct ImportRequest {
   /// world` file (campaign/frames_world.hpp): instrument_T_F, and the file's name for the CSV.
   std::optional<Pose<double>> instrument_T_world;
   std::string world_frame_file;
+  /// The configurations file the measurement program ran (`robcal plan --out`): each reading
+  /// takes the `approach` and `payload` of its configuration's row there, joined by the joint
+  /// log's configuration name (docs/method/05-observability.md §7).
+  std::optional<NamedText> plan;
 };
 
 struct ImportResult {
   MeasurementSet measurements;  ///< points or poses, in the export's order
-  Tool targets;                 ///< the target names met, in order (indices of the points)
+  /// The target names met, in order (indices of the points), and the plan's payload names met
+  /// (indices of the rows' payloads; masses unknown here: the tool file has them).
+  Tool targets;
   std::vector<std::string> warnings;
   std::string csv;          ///< the measurement CSV (io/measurement_file.hpp writer)
   std::string world_frame;  ///< the frame file the positions are in (empty: the instrument's)
 };
 
 /// Reads, joins and renders. \throws InputError naming the file, line and column (or the rows
-/// on both sides of a mismatch) for anything that cannot be joined unambiguously.
+/// on both sides of a mismatch) for anything that cannot be joined unambiguously, or a joint log
+/// configuration the plan does not list.
 ImportResult import_measurements(const ImportRequest& request);
 
 /// The point readings (mm) of an export read so far, in file order, for a session that follows

@@ -81,14 +81,18 @@ struct ReachCondition {
   /// How far the arm has warmed up, φ = 1 − exp(−t/τ) (1 warm, 0 cold): the warm-up group's
   /// factor (§10).
   double warmup_fraction = 0;
+  /// The time φ is of (s since the arm started working; ∞: fully warm); none: cold, or φ given
+  /// directly. Recorded for the corrected targets and the closed-loop check.
+  std::optional<double> warmup_time_s;
   PointMass payload;  ///< the payload the compliance is computed for (§3, §7)
   /// Its name among the tool's `payloads`; empty: the tool's `payload` or one given by mass.
   std::string payload_name;
 
   [[nodiscard]] bool operator==(const ReachCondition& other) const {
     return approach == other.approach && temperature_rise_k == other.temperature_rise_k &&
-           warmup_fraction == other.warmup_fraction && payload.mass_kg == other.payload.mass_kg &&
-           payload.cog_mm == other.payload.cog_mm && payload_name == other.payload_name;
+           warmup_fraction == other.warmup_fraction && warmup_time_s == other.warmup_time_s &&
+           payload.mass_kg == other.payload.mass_kg && payload.cog_mm == other.payload.cog_mm &&
+           payload_name == other.payload_name;
   }
 };
 

@@ -31,8 +31,8 @@ struct CompensateTargetsResult {
   std::string robot;  ///< the model's robot name
   IkMethod method = IkMethod::Newton;
   double payload_kg = 0;  ///< the run's
-  /// Distinct conditions the targets are reached under (approach, temperature, payload; 1: all
-  /// alike), one compensator each.
+  /// Distinct conditions the targets are reached under (approach, temperature, warm-up time,
+  /// payload; 1: all alike), one compensator each.
   int conditions = 1;
   std::vector<CorrectedTarget> rows;  ///< each with the condition it was corrected for
   std::string csv;                    ///< corrected_targets_csv of the rows
@@ -44,10 +44,10 @@ struct CompensateTargetsResult {
 };
 
 /// Corrects every target under its own condition (docs/method/10-compensation.md §6): the
-/// approach, temperature and payload its row gives, the setup's otherwise. The CSV records each
-/// row's condition when some target gives one. InputError (file and line of the target) when one
-/// cannot be corrected, or (file, line, column, key "payload") names a payload the tool does not
-/// list: nothing is written then.
+/// approach, temperature, warm-up time and payload its row gives, the setup's otherwise. The CSV
+/// records each row's condition when some target gives one. InputError (file and line of the
+/// target) when one cannot be corrected, or (file, line, column, key "payload") names a payload the
+/// tool does not list: nothing is written then.
 CompensateTargetsResult compensate_targets(const CompensateTargetsRequest& request);
 
 /// {robot, targets, out, method, payload_kg, conditions, max_iterations, max_residual_mm,

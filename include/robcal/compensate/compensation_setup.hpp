@@ -66,8 +66,8 @@ class CompensatorsByCondition {
  private:
   /// A condition's exact values, ordered: one lookup in log time, as many rows as a target file
   /// has (a temperature column can make every row a condition of its own).
-  using Key =
-      std::tuple<std::array<double, 6>, double, double, double, std::array<double, 3>, std::string>;
+  using Key = std::tuple<std::array<double, 6>, double, double, double, double,
+                         std::array<double, 3>, std::string>;
   static Key key_of(const ReachCondition& condition);
 
   const Compensation& run_;

@@ -30,7 +30,7 @@ struct CorrectedTarget {
   /// J the parameter Jacobian of the TCP position, Σ the model's covariance; nullopt when
   /// the model has none.
   std::optional<double> confidence95_mm;
-  ReachCondition condition;  ///< the approach, temperature and payload it was corrected for
+  ReachCondition condition;  ///< the approach, temperature, warm-up and payload corrected for
 };
 
 /// Corrects every wanted target, target i with `comps[i]` (the compensator of the condition it is
@@ -48,7 +48,8 @@ std::vector<CorrectedTarget> correct_targets(const Compensator& comp, const Cali
 /// `name,config,j1..j6,x,y,z,qw,qx,qy,qz,<euler labels>,iterations,residual_mm,confidence95_mm`
 /// (degrees and mm; the Euler angles in the maker's convention of `model`); `with_conditions`
 /// adds `approach,temperature,payload`, each row's condition in the targets file's notation
-/// (°C; the payload's name, empty for the tool's own or one given by mass).
+/// (°C; the payload's name, empty for the tool's own or one given by mass), and `time_s` when a
+/// row was corrected for a warm-up time (s, `warm` fully warm, empty cold).
 std::string corrected_targets_csv(const std::vector<CorrectedTarget>& rows, const RobotModel& model,
                                   bool with_conditions = false);
 

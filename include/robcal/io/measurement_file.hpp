@@ -103,6 +103,11 @@ bool plausible_temperature_c(double celsius);
 /// temperature.
 std::optional<double> parse_temperature_c(std::string_view text, const SourceLocation& where);
 
+/// Parses a time cell (the `time_s` column, s since the arm started working, the warm-up group,
+/// docs/method/03-error-model.md §10): empty is no time (nullopt); InputError at `where` for
+/// anything but a finite time in [0, 1e7] s.
+std::optional<double> parse_time_s(std::string_view text, const SourceLocation& where);
+
 /// The index of the payload `name` among the tool's `payloads` (the `payload` column,
 /// docs/method/03-error-model.md §7); InputError at `where` listing them, `when_empty` saying what
 /// an empty cell means instead.

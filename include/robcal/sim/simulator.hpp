@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "robcal/core/error.hpp"
 #include "robcal/design/candidates.hpp"
 #include "robcal/measure/instrument.hpp"
 #include "robcal/measure/measurements.hpp"
@@ -37,6 +38,19 @@ struct PlannedConfiguration {
 /// column. Other columns are ignored.
 std::vector<PlannedConfiguration> read_configurations_csv(const std::string& path,
                                                           const Tool& tool);
+
+/// A configurations file's row as written, before its names meet a tool: the configuration with
+/// its target and payload unresolved (−1), their names (empty: none given) and cells.
+struct ConfigurationRow {
+  PlannedConfiguration config;
+  std::string target, payload;
+  SourceLocation target_at, payload_at;
+  int line = 0;
+};
+/// The rows of the text of a configurations file named `file`, with read_configurations_csv's
+/// checks but the names unchecked (their user checks them against its tool, or passes them on).
+std::vector<ConfigurationRow> parse_configuration_rows(const std::string& text,
+                                                       const std::string& file);
 
 /// Writes configurations in the same format (round-trips through read_configurations_csv); the
 /// approach and payload columns only when some configuration has one other than the default.
