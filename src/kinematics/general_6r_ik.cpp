@@ -451,8 +451,12 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
         found = std::max(found, null_space_candidates(lambda.real(), 1));
     }
     if (found < e - b) null_space_candidates(x3, e - b);
-    // Fewer solutions than roots from a crowded cluster: a twin may share a solution's exact x3
-    // (a multiple root split beyond the cluster); M(x3) there has it in its null space.
+    // Fewer solutions at this x3 than roots from a multiple or crowded cluster: a twin may share
+    // a solution's exact x3 (a multiple root split beyond the cluster, or both candidates of a
+    // double root polished to one twin); M(x3) there has it in its near-null space, three wide
+    // (on the CRX two structural directions have singular values ~1e-6 at every x3, and the
+    // twin's vector mixes with them). Solutions reached from here but lying at another root's
+    // x3 do not count.
     bool crowded = false;
     for (int k = b; k < e && !crowded; ++k)
       for (int o = 0; o < 24 && !crowded; ++o) {
@@ -461,13 +465,18 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
         crowded = !inside &&
                   std::abs(eigen.eigenvalues()[o] - lambda) <= kCrowded * (1 + std::abs(lambda));
       }
-    if (crowded && std::popcount(reached) < std::max(2, e - b)) {
+    const auto x3_of_solution = [&](int s) {
+      return std::tan(wrap(out[s][(2 + g.cyclic_shift) % kJointCount] - phi3) / 2);
+    };
+    int reached_here = 0;
+    for (int s = 0; s < count; ++s)
+      reached_here +=
+          (reached >> s & 1u) && std::abs(x3_of_solution(s) - x3) <= kCrowded * (1 + std::abs(x3));
+    if ((crowded || e - b > 1) && reached_here < std::max(2, e - b)) {
       const unsigned seek = reached & ~twins_sought;
       twins_sought |= seek;
       for (int s = 0; s < count; ++s)
-        if (seek & (1u << s))
-          null_space_candidates(
-              std::tan(wrap(out[s][(2 + g.cyclic_shift) % kJointCount] - phi3) / 2), 2);
+        if (seek & (1u << s)) null_space_candidates(x3_of_solution(s), 3);
     }
   }
   return count;
