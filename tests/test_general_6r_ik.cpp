@@ -236,7 +236,18 @@ TEST(General6rIk, DoubleEigenvaluesLoseNoSolution) {
                              .finished()},
       {"doosan-m1013", (Vector6d() << -5.962426631679496, 1.4409252559143493, -0.81668856023752578,
                         -4.0644839308083061, -3.1153809331026783, -1.6309925114978512)
-                           .finished()}};
+                           .finished()},
+      // Missed before the changes of issue 15 (1 in 100,000 random configurations each): both
+      // candidates of a double root polished to the twin, and the real Schur of the 24×24 companion
+      // did not converge (no solution at all).
+      {"fanuc-crx10ia-l",
+       (Vector6d() << 0.30682848554319664, -2.9156274775899802, 0.83359661550960684,
+        1.5020851254952814, 3.0667192022729939, -0.14627760898757014)
+           .finished()},
+      {"fanuc-crx10ia-l",
+       (Vector6d() << 2.3170793427922574, 0.87818014656458487, -0.42731254736068713,
+        3.2076695391854639, 0.71330093279277795, 1.4790905850674698)
+           .finished()}};
   for (const auto& [name, q] : recorded) {
     const RobotModel model = load_robot(name);
     const auto g = analyze_general_6r(model);

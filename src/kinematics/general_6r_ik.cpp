@@ -329,35 +329,48 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
           for (int c = 0; c < 3; ++c)
             poly[a].col(3 * i + j) += H4(i, b) * H5(j, c) * S.col(9 * a + 3 * b + c);
   }
-  // M(x3) = M0 + M1·x3 + M2·x3², choosing the θ3 shift whose M2 is best conditioned.
-  std::array<Matrix12, 3> M;
-  double phi3 = kShifts3[0], best_rcond = -1;
-  for (const double shift : kShifts3) {
+  // M(x3) = M0 + M1·x3 + M2·x3² for a θ3 shift; returns the reciprocal condition of M2.
+  const auto matrix_polynomial = [&](double shift, std::array<Matrix12, 3>& out) {
     const Eigen::Matrix3d H3 = half_angle(shift);
-    std::array<Matrix12, 3> trial;
     for (int power = 0; power < 3; ++power) {
       const Eigen::Matrix<double, 6, 9> E =
           H3(power, 0) * poly[0] + H3(power, 1) * poly[1] + H3(power, 2) * poly[2];
-      trial[power].setZero();
-      trial[power].block<6, 9>(0, 0) = E;  // monomials x4^i·x5^j at column 3i + j
-      trial[power].block<6, 9>(6, 3) = E;  // the same times x4
+      out[power].setZero();
+      out[power].block<6, 9>(0, 0) = E;  // monomials x4^i·x5^j at column 3i + j
+      out[power].block<6, 9>(6, 3) = E;  // the same times x4
     }
-    const double rcond = trial[2].partialPivLu().rcond();
-    if (rcond > best_rcond) {
-      best_rcond = rcond;
-      phi3 = shift;
-      M = trial;
+    return out[2].partialPivLu().rcond();
+  };
+  // The eigenvalues x3 of the 24×24 companion matrix, with the first θ3 shift whose M2 is well
+  // conditioned (else the best conditioned); when the real Schur does not converge (four-fold
+  // spurious eigenvalues ±i: CRX-10iA/L, 1 configuration in 100,000), with the next such shift.
+  std::array<Matrix12, 3> M;
+  double phi3 = 0;
+  Eigen::EigenSolver<Matrix24> eigen;
+  for (unsigned tried = 0; tried == 0 || eigen.info() != Eigen::Success;) {
+    int pick = -1;
+    double best_rcond = 1e-15;
+    for (int s = 0; s < 4; ++s) {
+      if (tried & (1u << s)) continue;
+      std::array<Matrix12, 3> trial;
+      const double rcond = matrix_polynomial(kShifts3[s], trial);
+      if (rcond > best_rcond) {
+        best_rcond = rcond;
+        pick = s;
+        M = trial;
+      }
+      if (rcond > kWellConditioned) break;
     }
-    if (rcond > kWellConditioned) break;
+    if (pick < 0) return 0;
+    tried |= 1u << pick;
+    phi3 = kShifts3[pick];
+    const Eigen::PartialPivLU<Matrix12> lead(M[2]);
+    Matrix24 C = Matrix24::Zero();
+    C.block<12, 12>(0, 12).setIdentity();
+    C.block<12, 12>(12, 0) = -lead.solve(M[0]);
+    C.block<12, 12>(12, 12) = -lead.solve(M[1]);
+    eigen.compute(C, false);
   }
-  if (!(best_rcond > 1e-15)) return 0;
-  const Eigen::PartialPivLU<Matrix12> lead(M[2]);
-  Matrix24 C = Matrix24::Zero();
-  C.block<12, 12>(0, 12).setIdentity();
-  C.block<12, 12>(12, 0) = -lead.solve(M[0]);
-  C.block<12, 12>(12, 12) = -lead.solve(M[1]);
-  const Eigen::EigenSolver<Matrix24> eigen(C, false);
-  if (eigen.info() != Eigen::Success) return 0;
   int count = 0;
   // One candidate (x3, v): θ4, θ5 from v's monomial ratios, θ1, θ2, θ6 from the pose, polished.
   // Returns the solution reached (new or already found), or -1.
@@ -395,11 +408,14 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     const Vector12 r = qr.matrixR().diagonal().cwiseAbs();
     while (dimension < kMaxCluster && r[11 - dimension] <= kNullSpace * r[0]) ++dimension;
     dimension = std::min(dimension, kMaxCluster);
-    const Matrix12 Q = qr.householderQ();
+    // The last kMaxCluster columns of Q only.
+    Eigen::Matrix<double, 12, kMaxCluster> Q = Eigen::Matrix<double, 12, kMaxCluster>::Zero();
+    Q.bottomRows<kMaxCluster>().setIdentity();
+    Q.applyOnTheLeft(qr.householderQ());
     const auto use = [&](const Vector12& v) {
       if (const int s = candidate(x3, v); s >= 0) reached |= 1u << s;
     };
-    if (dimension == 1) use(Q.col(11));
+    if (dimension == 1) use(Q.col(kMaxCluster - 1));
     if (dimension == 2) null_space_monomials<2>(Q.rightCols<2>(), use);
     if (dimension == 3) null_space_monomials<3>(Q.rightCols<3>(), use);
     if (dimension == 4) null_space_monomials<4>(Q.rightCols<4>(), use);
@@ -435,8 +451,12 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
         found = std::max(found, null_space_candidates(lambda.real(), 1));
     }
     if (found < e - b) null_space_candidates(x3, e - b);
-    // Fewer solutions than roots from a crowded cluster: a twin may share a solution's exact x3
-    // (a multiple root split beyond the cluster); M(x3) there has it in its null space.
+    // Fewer solutions at this x3 than roots from a multiple or crowded cluster: a twin may share
+    // a solution's exact x3 (a multiple root split beyond the cluster, or both candidates of a
+    // double root polished to one twin); M(x3) there has it in its near-null space, three wide
+    // (on the CRX two structural directions have singular values ~1e-6 at every x3, and the
+    // twin's vector mixes with them). Solutions reached from here but lying at another root's
+    // x3 do not count.
     bool crowded = false;
     for (int k = b; k < e && !crowded; ++k)
       for (int o = 0; o < 24 && !crowded; ++o) {
@@ -445,13 +465,18 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
         crowded = !inside &&
                   std::abs(eigen.eigenvalues()[o] - lambda) <= kCrowded * (1 + std::abs(lambda));
       }
-    if (crowded && std::popcount(reached) < std::max(2, e - b)) {
+    const auto x3_of_solution = [&](int s) {
+      return std::tan(wrap(out[s][(2 + g.cyclic_shift) % kJointCount] - phi3) / 2);
+    };
+    int reached_here = 0;
+    for (int s = 0; s < count; ++s)
+      reached_here +=
+          (reached >> s & 1u) && std::abs(x3_of_solution(s) - x3) <= kCrowded * (1 + std::abs(x3));
+    if ((crowded || e - b > 1) && reached_here < std::max(2, e - b)) {
       const unsigned seek = reached & ~twins_sought;
       twins_sought |= seek;
       for (int s = 0; s < count; ++s)
-        if (seek & (1u << s))
-          null_space_candidates(
-              std::tan(wrap(out[s][(2 + g.cyclic_shift) % kJointCount] - phi3) / 2), 2);
+        if (seek & (1u << s)) null_space_candidates(x3_of_solution(s), 3);
     }
   }
   return count;

@@ -36,8 +36,9 @@
 /// searched for its monomial vectors (a small shift eigenproblem); every candidate is polished,
 /// so the extra ones cost time, never a wrong answer. On spherical-wrist-like robots (TX2-60,
 /// M1013) the double root is defective and rounding spreads it as ε^(1/4), beyond the cluster:
-/// a crowded cluster that reaches fewer solutions than roots also searches the null space at each
-/// reached solution's exact x3 for its twin. Near a singularity (a
+/// a multiple or crowded cluster that reaches fewer solutions at its own x3 than roots also
+/// searches the near-null space (three wide) at each reached solution's exact x3 for its twin. A
+/// real Schur that does not converge is retried with the next θ3 shift. Near a singularity (a
 /// continuum of solutions) the solutions returned are the ones Newton reaches; they are exact,
 /// the continuum is not enumerated.
 ///
