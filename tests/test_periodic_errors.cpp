@@ -27,7 +27,7 @@ namespace robcal {
 namespace {
 
 TEST(PeriodicErrors, NamesUnitsAndGroups) {
-  EXPECT_EQ(kParameterCount, 102);
+  EXPECT_EQ(kParameterCount, 104);
   EXPECT_EQ(parameter_table()[periodic_param(6, 2, true)].name, "joint6.periodic2.sin");
   EXPECT_EQ(parameter_table()[periodic_param(1, 1, false)].name, "joint1.periodic1.cos");
   EXPECT_EQ(parameter_table()[periodic_param(3, 1, true)].unit, "deg");

@@ -199,7 +199,8 @@ const bool calibrate_registered = register_command(30, [](CLI::App& app) {
       "--identify", args->identify,
       "Also identify the parameters matching this glob (repeatable), e.g. "
       "'joint*.scale', or an opt-in group by name: periodic, backlash, mounting, "
-      "thermal, warmup, motor_periodic (joints with a gear_ratio), groups (all of them)");
+      "thermal, warmup, motor_periodic (joints with a gear_ratio), gravity (its direction), "
+      "groups (all of them)");
   cmd->add_option("--warmup-tau-s", args->warmup_tau,
                   "Time constant (s) of the warm-up 1 - exp(-t/tau) for the warmup group, rows "
                   "with a time_s column (default: the robot file's warmup_time_constant_s, 1800)");

@@ -165,7 +165,7 @@ std::vector<bool> select_unknowns(const UnknownLayout& layout, CalibrationLevel 
             fmt::format(
                 "pattern '{}' matches no parameter (names look like "
                 "base.x, link3.a, joint2.compliance, joint1.scale{}; opt-in groups: periodic, "
-                "backlash, mounting, thermal, motor_periodic or groups for all)",
+                "backlash, mounting, thermal, warmup, motor_periodic, gravity or groups for all)",
                 pattern,
                 layout.size() > kParameterCount ? ", " + layout.names[kParameterCount] : ""));
     }

@@ -138,13 +138,13 @@ FlangeRegressor::FlangeRegressor(const RobotModel& model, const PointMass& paylo
   // Gravity torques (docs/method/03-error-model.md §3): suffix sums of the bodies' first moments
   // and masses.
   const std::array<Pose<double>, kJointCount>& F = undeflected_;
-  // Gravity in the world (m/s²), tilted by the gravity group (§11), and the world axes of that
-  // tilt: x of the frame it is given in, then y turned by Rot_x(rx).
+  // Gravity in the world (m/s²), tilted by the gravity group (§11), and the world axes of the
+  // tilts: a, then b turned about a by tilt_a.
   const Eigen::Matrix3d G = gravity_frame(model, trig, x);
   const Vector3d g = G * tilted_gravity(model, x);
-  gravity_axes_.col(0) = G.col(0);
-  gravity_axes_.col(1) =
-      G * Eigen::AngleAxisd(x[kGravityTiltA], Vector3d::UnitX()) * Vector3d::UnitY();
+  const std::array<Vector3d, 2> axes = gravity_tilt_axes(model.gravity_m_s2);
+  gravity_axes_.col(0) = G * axes[0];
+  gravity_axes_.col(1) = G * turned(axes[1], axes[0], x[kGravityTiltA]);
   C_[kJointCount].setZero();
   M_[kJointCount] = 0;
   for (int j = kJointCount - 1; j >= 0; --j) {
