@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "robcal/identify/cross_validation.hpp"
 #include "robcal/identify/identification.hpp"
 #include "robcal/sim/simulator.hpp"
 #include "robcal/validate/validation.hpp"
@@ -117,6 +118,34 @@ TEST(GravityDirection, WallOffPlumbIdentified) {
       plumb, without, with, z.rms(), z.count);
   EXPECT_LT(with, 1.10 * plumb);
   EXPECT_GT(without, 1.2 * with);
+}
+
+// The model-selection guard: on a plumb wall (nothing to find), enabling the group costs at most
+// 2 % of the cross-validated error and the group is reported as not significant.
+TEST(GravityDirection, GroupOnPlumbWallIsHarmlessAndNotSignificant) {
+  const test::GroupCampaign c = wall_campaign(0, 0, 1990);
+  RobotModel wall = load_robot("abb-irb120");
+  wall.gravity_m_s2 = kWall;
+  wall.gravity_in_base = true;
+  IdentifyOptions without;
+  without.level = CalibrationLevel::Full;
+  without.identify = {"joint1.compliance"};
+  IdentifyOptions with = without;
+  with.identify.emplace_back("gravity");
+  const Tool tool = default_simulation_tool();
+  const double a = cross_validate(wall, tool, c.calibration, without, 5, 7).mean_mm;
+  const double b = cross_validate(wall, tool, c.calibration, with, 5, 7).mean_mm;
+  std::printf("cross-validated mean on a plumb wall: %.4f mm without, %.4f mm with the group\n", a,
+              b);
+  EXPECT_LT(b, 1.02 * a);
+  const IdentificationResult r = fit_wall(c.calibration, {"gravity"});
+  bool reported = false;
+  for (const GroupSignificance& g : group_significance(r.robot))
+    if (g.group == "gravity") {
+      reported = true;
+      EXPECT_FALSE(g.significant) << "Wald " << g.wald;
+    }
+  EXPECT_TRUE(reported);
 }
 
 // Gravity reaches the measurements only through the compliances: without them (level
