@@ -424,16 +424,7 @@ TEST(CampaignImport, PlanGivesEachRowItsApproachAndPayload) {
   identify.level = CalibrationLevel::Full;
   identify.identify = {"backlash"};
   const IdentificationResult with_plan = calibrate(load_robot("abb-irb120"), tool, back, identify);
-  test::NormalisedErrors z;
-  for (int joint = 1; joint <= kJointCount; ++joint) {
-    const double truth_rad = deg2rad(truth.effects.backlash_deg[static_cast<size_t>(joint - 1)]);
-    const double sigma = z.add(with_plan, backlash_param(joint), truth_rad, 2131);
-    std::printf("joint%d.backlash %.5f ± %.5f deg (truth %.3f)\n", joint,
-                rad2deg(with_plan.robot.params[backlash_param(joint)]), rad2deg(sigma),
-                rad2deg(truth_rad));
-    EXPECT_LT(sigma, 0.25 * truth_rad);  // determined, not merely bounded
-  }
-  std::printf("normalised errors: rms %.2f over %d\n", z.rms(), z.count);
+  test::expect_dead_bands_recovered(with_plan, truth, 2131);
 
   request.plan.reset();
   const MeasurementSet from_below =

@@ -186,6 +186,22 @@ struct NormalisedErrors {
   [[nodiscard]] double rms() const { return std::sqrt(sum_sq / count); }
 };
 
+/// The dead bands of `truth` recovered by `fit` (`*.backlash` identified): each within 3σ and
+/// determined (σ under a quarter of the band), printed with the normalised errors' RMS.
+inline void expect_dead_bands_recovered(const IdentificationResult& fit, const TrueRobot& truth,
+                                        uint64_t seed) {
+  NormalisedErrors z;
+  for (int joint = 1; joint <= kJointCount; ++joint) {
+    const double truth_rad = deg2rad(truth.effects.backlash_deg[static_cast<size_t>(joint - 1)]);
+    const double sigma = z.add(fit, backlash_param(joint), truth_rad, seed);
+    std::printf("joint%d.backlash %.5f ± %.5f deg (truth %.3f)\n", joint,
+                rad2deg(fit.robot.params[backlash_param(joint)]), rad2deg(sigma),
+                rad2deg(truth_rad));
+    EXPECT_LT(sigma, 0.25 * truth_rad);  // determined, not merely bounded
+  }
+  std::printf("normalised errors: rms %.2f over %d\n", z.rms(), z.count);
+}
+
 /// Cross-validated mean error (5 folds, seed 7) on `model` without and with the groups
 /// `identify`.
 inline std::pair<double, double> cross_validated_cost(

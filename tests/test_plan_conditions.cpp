@@ -155,16 +155,7 @@ TEST(PlanConditions, BacklashIdentifiedFromThePlansOwnSides) {
   const MeasurementSet data =
       measure(truth, read_configurations_csv(configs, tool), 1977);  // the file, as read back
   const IdentificationResult fit = test::fit_full(data, {"backlash"});
-  test::NormalisedErrors z;
-  for (int joint = 1; joint <= kJointCount; ++joint) {
-    const double truth_rad = deg2rad(truth.effects.backlash_deg[static_cast<size_t>(joint - 1)]);
-    const double sigma = z.add(fit, backlash_param(joint), truth_rad, 1977);
-    std::printf("joint%d.backlash %.5f ± %.5f deg (truth %.3f)\n", joint,
-                rad2deg(fit.robot.params[backlash_param(joint)]), rad2deg(sigma),
-                rad2deg(truth_rad));
-    EXPECT_LT(sigma, 0.25 * truth_rad);  // determined, not merely bounded
-  }
-  std::printf("normalised errors: rms %.2f over %d\n", z.rms(), z.count);
+  test::expect_dead_bands_recovered(fit, truth, 1977);
 }
 
 // Payloads varied (the tool lists some and compliance is at the level): the plan carries the
