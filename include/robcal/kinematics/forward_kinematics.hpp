@@ -118,23 +118,23 @@ inline std::array<Eigen::Vector3d, 2> gravity_tilt_axes(const Eigen::Vector3d& g
 
 /// v turned by `angle` about the unit `axis` (Rodrigues).
 template <typename T>
-Vector3<T> turned(const Vector3<T>& v, const Eigen::Vector3d& axis, const T& angle) {
+Vector3<T> turned(const Vector3<T>& v, const Vector3<T>& axis, const T& angle) {
   using std::cos;
   using std::sin;
-  const Vector3<T> e = axis.template cast<T>();
   const T c = cos(angle), s = sin(angle);
-  return v * c + e.cross(v) * s + e * (e.dot(v) * (T(1) - c));
+  return v * c + axis.cross(v) * s + axis * (axis.dot(v) * (T(1) - c));
 }
 
 /// The robot file's gravity turned by the gravity group's tilts (§11): R(a, tilt_a)·R(b, tilt_b)·g
 /// (gravity_tilt_axes), in the frame g is given in (world, or base when model.gravity_in_base).
 template <typename T>
 Vector3<T> tilted_gravity(const RobotModel& model, const T* params) {
-  const Vector3<T> g = model.gravity_m_s2.template cast<T>();
   if (!detail::is_nonzero(params[kGravityTiltA]) && !detail::is_nonzero(params[kGravityTiltB]))
-    return g;
+    return model.gravity_m_s2.template cast<T>();
   const std::array<Eigen::Vector3d, 2> axes = gravity_tilt_axes(model.gravity_m_s2);
-  return turned(turned(g, axes[1], params[kGravityTiltB]), axes[0], params[kGravityTiltA]);
+  const Vector3<T> tilted_b = turned<T>(model.gravity_m_s2.template cast<T>(),
+                                        axes[1].template cast<T>(), params[kGravityTiltB]);
+  return turned<T>(tilted_b, axes[0].template cast<T>(), params[kGravityTiltA]);
 }
 
 template <typename T>
