@@ -31,7 +31,8 @@ TEST(Backlash, NamesUnitsAndGroups) {
   EXPECT_TRUE(is_opt_in(backlash_param(3)));
   for (int i : level_parameters(CalibrationLevel::Full)) EXPECT_NE(i, backlash_param(2));
   const auto& groups = opt_in_groups();
-  ASSERT_EQ(groups.size(), 22u);  // periodic, backlash, joint1.compliance, thermal, motor, warmup, gravity
+  ASSERT_EQ(groups.size(),
+            22u);  // periodic, backlash, joint1.compliance, thermal, motor, warmup, gravity
   EXPECT_EQ(groups[6].name, "joint1.backlash");
   EXPECT_EQ(groups[11].params, std::vector<int>{backlash_param(6)});
 }

@@ -60,12 +60,13 @@ const bool simulate_registered = register_command(80, [](CLI::App& app) {
   cmd->add_option("--effects", o->request.effects,
                   "Unmodelled effects: backlash,j6-periodic,mass-error,thermal")
       ->delimiter(',');
-  cmd->add_option("--approach", o->request.approach,
-                  "below: every configuration approached as the measurement program does, from q - 5 deg "
-                  "(cancels backlash) unless the configurations file's approach column gives "
-                  "another side; "
-                  "sequence: straight from the previous one; random: each joint from below or "
-                  "above at random (seeded), recorded in the 'approach' column (backlash group)")
+  cmd->add_option(
+         "--approach", o->request.approach,
+         "below: every configuration approached as the measurement program does, from q - 5 deg "
+         "(cancels backlash) unless the configurations file's approach column gives "
+         "another side; "
+         "sequence: straight from the previous one; random: each joint from below or "
+         "above at random (seeded), recorded in the 'approach' column (backlash group)")
       ->capture_default_str();
   cmd->add_flag("--clock", o->request.clock,
                 "With thermal drift: record each row's time (time_s column, warmup group) "
