@@ -255,19 +255,6 @@ DesignMatrix with_rows(const DesignMatrix& layout, Eigen::MatrixXd rows) {
   return out;
 }
 
-/// The model parameters the design is made for: the level's and those of `identify` (as the
-/// calibration resolves them, motor-angle terms of gearless joints left out).
-std::vector<int> planned_parameters(const PlanRequest& request, MeasurementKind kind) {
-  std::vector<bool> requested =
-      select_unknowns(make_unknown_layout(request.tool, kind), request.level, request.identify, {});
-  requested.resize(kParameterCount);
-  refuse_gearless_motor_terms(request.model, request.identify, requested);
-  std::vector<int> out;
-  for (int i = 0; i < kParameterCount; ++i)
-    if (requested[static_cast<size_t>(i)]) out.push_back(i);
-  return out;
-}
-
 bool plans_any(const std::vector<int>& parameters, const std::vector<int>& group) {
   return std::any_of(parameters.begin(), parameters.end(), [&](int i) {
     return std::find(group.begin(), group.end(), i) != group.end();
@@ -453,7 +440,8 @@ PlanResult plan_calibration(const PlanRequest& request) {
   settings.constraints = constraints;
   settings.floor_mm = floor_mm;
   DesignSettings design_settings = plan_design_settings(cell.robot, cell.instrument, request.level);
-  design_settings.parameters = planned_parameters(request, design_settings.kind);
+  design_settings.parameters = identified_model_parameters(
+      request.model, request.tool, design_settings.kind, request.level, request.identify);
   const CandidateConditions conditions = candidate_conditions(request, design_settings.parameters);
   result.approach_varied = conditions.approach_varied;
   result.payloads_varied = conditions.payloads_varied;

@@ -252,8 +252,9 @@ class ISearch {
 template <int R>
 TaskSelection run_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd& B, int count,
                             const std::vector<Vector6d>& joints, const SelectionGuard& guard,
-                            const std::vector<char>& in_task) {
+                            const std::vector<char>& in_task, const std::vector<int>& start) {
   ISearch<R> search(design, B, joints, guard, count, in_task);
+  for (int i : start) search.insert(i);
   Progress progress("choosing configurations (I-optimal)", count);
   while (static_cast<int>(search.chosen().size()) < count) {
     const auto [best, gained] = search.best_addition();
@@ -322,7 +323,8 @@ double i_criterion(const DesignMatrix& design, const Eigen::MatrixXd& task_infor
 
 TaskSelection select_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd& task_information,
                                int count, const std::vector<Vector6d>& joints,
-                               const SelectionGuard& guard, const std::vector<char>& in_task) {
+                               const SelectionGuard& guard, const std::vector<char>& in_task,
+                               const std::vector<int>& start) {
   if (count <= 0 || count > design.candidates())
     throw InputError(
         {"", 0, 0, "--count"},
@@ -332,13 +334,19 @@ TaskSelection select_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd
       task_information.rows() != design.columns() || task_information.cols() != design.columns() ||
       (!in_task.empty() && static_cast<int>(in_task.size()) != design.candidates()))
     throw std::invalid_argument("select_i_optimal: sizes of joints or task information differ");
+  std::vector<int> distinct = start;
+  std::sort(distinct.begin(), distinct.end());
+  if (static_cast<int>(start.size()) > count ||
+      std::adjacent_find(distinct.begin(), distinct.end()) != distinct.end() ||
+      (!distinct.empty() && (distinct.front() < 0 || distinct.back() >= design.candidates())))
+    throw std::invalid_argument("select_i_optimal: start is not a set of at most count candidates");
   switch (design.rows_per_candidate) {
     case 1:
-      return run_i_optimal<1>(design, task_information, count, joints, guard, in_task);
+      return run_i_optimal<1>(design, task_information, count, joints, guard, in_task, start);
     case 3:
-      return run_i_optimal<3>(design, task_information, count, joints, guard, in_task);
+      return run_i_optimal<3>(design, task_information, count, joints, guard, in_task, start);
     case 6:
-      return run_i_optimal<6>(design, task_information, count, joints, guard, in_task);
+      return run_i_optimal<6>(design, task_information, count, joints, guard, in_task, start);
     default:
       throw std::invalid_argument(
           fmt::format("select_i_optimal: {} rows per candidate (expected 1, 3 or 6)",

@@ -116,6 +116,13 @@ Prediction predict(const Context& c, const std::vector<std::vector<int>>& groups
   return p;
 }
 
+/// The model parameters every prediction is made for: the level's and the opt-in groups'.
+std::vector<int> searched_parameters(const RobotModel& model,
+                                     const PlacementSearchRequest& request) {
+  return identified_model_parameters(model, Tool{}, MeasurementKind::Poses, request.level,
+                                     request.identify);
+}
+
 /// The design over `candidates` (pose rows of the tool fixture mounted at `flange_T_tool`) and the
 /// validation configurations of the request.
 Context make_context(const RobotModel& model, const Pose<double>& flange_T_tool,
@@ -127,7 +134,7 @@ Context make_context(const RobotModel& model, const Pose<double>& flange_T_tool,
   tool.tcp_given = true;
   DesignSettings settings;
   settings.kind = MeasurementKind::Poses;
-  settings.parameters = level_parameters(request.level);
+  settings.parameters = searched_parameters(model, request);
   Context c{model,
             build_design_matrix(model, tool, candidates, settings),
             0,
@@ -302,7 +309,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   setting_points.resize(scores.size());
   PlacementSearchResult result;
   result.best = request.best;
-  result.parameters = static_cast<int>(level_parameters(request.level).size());
+  result.parameters = static_cast<int>(searched_parameters(model, request).size());
   result.pose_sigma_mm = request.pose_sigma_multiple * base.gauge.sigma_mm;
   if (std::none_of(scores.begin(), scores.end(),
                    [](const PlacementScore& s) { return s.usable(); }))
@@ -408,6 +415,25 @@ PlacementSearchResult search_placements(const RobotModel& model,
   return result;
 }
 
+/// `count` candidates spread over the groups as equally as their sizes allow, evenly spaced
+/// within each group.
+std::vector<int> equal_shares(const std::vector<std::vector<int>>& groups, int count) {
+  std::vector<size_t> share(groups.size(), 0);
+  for (int left = count; left > 0;) {
+    const int before = left;
+    for (size_t p = 0; p < groups.size() && left > 0; ++p)
+      if (share[p] < groups[p].size()) {
+        ++share[p];
+        --left;
+      }
+    if (left == before) break;  // every group taken whole
+  }
+  std::vector<int> out;
+  for (size_t p = 0; p < groups.size(); ++p)
+    for (size_t k = 0; k < share[p]; ++k) out.push_back(groups[p][k * groups[p].size() / share[p]]);
+  return out;
+}
+
 PlacementsDesign design_placements(const RobotModel& model, const std::vector<HexapodPlan>& plans,
                                    int count, const PlacementSearchRequest& request) {
   if (plans.empty()) throw InputError({"", 0, 0, "placements"}, "expected at least one plan");
@@ -449,10 +475,18 @@ PlacementsDesign design_placements(const RobotModel& model, const std::vector<He
   for (const Candidate& k : candidates) joints.push_back(k.joints);
   SelectionGuard guard;
   guard.enabled = false;
-  const TaskSelection selection =
-      select_i_optimal(design, task_information(design, task), count, joints, guard);
+  const Eigen::MatrixXd information = task_information(design, task);
+  TaskSelection selection = select_i_optimal(design, information, count, joints, guard);
+  // One configuration at a further placement only pays for its world frame, so one-at-a-time
+  // steps from nothing never leave the first placement; the search started from equal shares of
+  // every placement can (docs/method/07-hexapod.md §7). The better of the two is kept.
+  if (groups.size() > 1) {
+    TaskSelection shared = select_i_optimal(design, information, count, joints, guard, {},
+                                            equal_shares(groups, count));
+    if (shared.criterion < selection.criterion) selection = std::move(shared);
+  }
   PlacementsDesign out;
-  out.parameters = static_cast<int>(level_parameters(request.level).size());
+  out.parameters = static_cast<int>(searched_parameters(model, request).size());
   out.identifiable = c.asked;
   out.chosen.resize(plans.size());
   std::vector<std::vector<int>> chosen(plans.size());
@@ -537,6 +571,7 @@ PlacementsDesignResult design_placements(const PlacementsDesignRequest& request)
   PlacementSearchRequest search;
   search.plan = *plans.front().cell;
   search.level = request.level;
+  search.identify = request.identify;
   search.validation_configurations = request.validation_configurations;
   search.seed = request.seed;
   result.robot = model.name;

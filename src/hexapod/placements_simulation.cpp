@@ -75,7 +75,8 @@ PlacementsSimulation simulate_placements(const RobotModel& model, const TrueRobo
   }
 
   LegFitOptions fit_options;
-  for (int i : level_parameters(o.level))
+  for (int i :
+       identified_model_parameters(model, Tool{}, MeasurementKind::Poses, o.level, o.identify))
     if (i >= kBaseParamCount) fit_options.free_parameters.push_back(i);
   const SimulatedHexapodCell& first = cells.front();
   const LegFitResult fit = fit_from_legs(model, payload, first.tool_sides, legs, model.nominal(),

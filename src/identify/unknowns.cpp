@@ -199,4 +199,17 @@ void refuse_gearless_motor_terms(const RobotModel& model, const std::vector<std:
   }
 }
 
+std::vector<int> identified_model_parameters(const RobotModel& model, const Tool& tool,
+                                             MeasurementKind kind, CalibrationLevel level,
+                                             const std::vector<std::string>& identify) {
+  std::vector<bool> requested =
+      select_unknowns(make_unknown_layout(tool, kind), level, identify, {});
+  requested.resize(kParameterCount);
+  refuse_gearless_motor_terms(model, identify, requested);
+  std::vector<int> out;
+  for (int i = 0; i < kParameterCount; ++i)
+    if (requested[static_cast<size_t>(i)]) out.push_back(i);
+  return out;
+}
+
 }  // namespace robcal

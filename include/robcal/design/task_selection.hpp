@@ -67,11 +67,16 @@ struct TaskSelection {
 /// exchanges (remove the chosen configuration whose removal raises it least, add the best
 /// admissible candidate) while the criterion decreases. Candidate i's gain tr((I + A_iPA_iᵀ)⁻¹
 /// V_iV_iᵀ), V_i = A_i P L (B = LLᵀ, P = M⁻¹), is kept current under the rank-r changes of P, so a
-/// step costs O(N r² m). Deterministic. InputError (key
+/// step costs O(N r² m). Deterministic. `start` (distinct candidate indices, at most `count`):
+/// chosen before the greedy fill, so the search starts from that design; the exchanges may still
+/// remove them. A design whose candidates pay off only in groups (a placement's world frame needs
+/// two configurations before the second adds information) is not reached by one-at-a-time steps
+/// from nothing; started from a design holding such groups, it is. InputError (key
 /// `--count`) when fewer than `count` candidates, or when the guard leaves fewer admissible.
 TaskSelection select_i_optimal(const DesignMatrix& design, const Eigen::MatrixXd& task_information,
                                int count, const std::vector<Vector6d>& joints,
-                               const SelectionGuard& guard, const std::vector<char>& in_task = {});
+                               const SelectionGuard& guard, const std::vector<char>& in_task = {},
+                               const std::vector<int>& start = {});
 
 /// tr(M_S⁻¹ B) of a subset (the same ridge as the selection); +∞ when M_S is singular.
 double i_criterion(const DesignMatrix& design, const Eigen::MatrixXd& task_information,

@@ -43,6 +43,9 @@ struct PlacementSearchRequest {
   HexapodPlanRequest plan;
   std::vector<double> x_mm{450}, y_mm{0}, z_mm{300}, yaw_deg{0}, tilt_deg{0};
   CalibrationLevel level = CalibrationLevel::Kinematic;  ///< the parameters to identify
+  /// Opt-in groups or parameter patterns identified beyond the level (as `calibrate --identify`),
+  /// e.g. "periodic": joint-dependent errors need the joint ranges several placements visit.
+  std::vector<std::string> identify;
   /// σ of one pose row (mm; rotation rows × the lever arm): the gauge σ times the DKP's worst-case
   /// amplification (≈ 3.2, docs/method/07-hexapod.md §4).
   double pose_sigma_multiple = 3.2;
@@ -141,6 +144,7 @@ struct PlacementsDesignRequest {
   /// measuring that placement alone).
   int count = 0;
   CalibrationLevel level = CalibrationLevel::Kinematic;
+  std::vector<std::string> identify;  ///< as PlacementSearchRequest::identify
   int validation_configurations = 2000;
   uint64_t seed = 1;
   /// Where to write each reduced plan (none, or one per plan file, in order; each written whole

@@ -32,6 +32,7 @@ struct PlacementsSimulationOptions {
   double sigma_mm = 0.00051;                        ///< ballbar σ
   double fixture_tolerance_mm = 0.05;               ///< true fixture sides about the design
   CalibrationLevel level = CalibrationLevel::Full;  ///< identified (base held: leg fit)
+  std::vector<std::string> identify;                ///< opt-in groups identified beyond the level
   int validation_configurations = 2000;
   uint64_t validation_seed = 1;  ///< of the validation configurations (the same for every design)
 };

@@ -81,4 +81,11 @@ std::vector<bool> select_unknowns(const UnknownLayout& layout, CalibrationLevel 
 void refuse_gearless_motor_terms(const RobotModel& model, const std::vector<std::string>& identify,
                                  std::vector<bool>& requested);
 
+/// The model parameter indices (ascending) a calibration of `model` with `tool` and `kind`
+/// identifies: the level's and those of `identify` (select_unknowns), motor-angle terms of
+/// gearless joints left out (refuse_gearless_motor_terms). What a design is made for.
+std::vector<int> identified_model_parameters(const RobotModel& model, const Tool& tool,
+                                             MeasurementKind kind, CalibrationLevel level,
+                                             const std::vector<std::string>& identify);
+
 }  // namespace robcal
