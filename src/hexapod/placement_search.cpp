@@ -17,6 +17,7 @@
 #include "robcal/design/observability.hpp"
 #include "robcal/design/predicted_accuracy.hpp"
 #include "robcal/design/task_selection.hpp"
+#include "robcal/hexapod/four_cup_kinematics.hpp"
 #include "robcal/identify/accuracy_prediction.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
@@ -114,6 +115,23 @@ Prediction predict(const Context& c, const std::vector<std::vector<int>>& groups
   p.mean_mm = a.mean_mm;
   p.max_mm = a.max_mm;
   return p;
+}
+
+/// σ of one pose row: the request's multiple of the gauge σ (§4's worst case of three tool
+/// cups); with a fourth tool cup, scaled by how much its legs lower the worst tool-cup GUM
+/// uncertainty over the poses planned with it (docs/method/07-hexapod.md §7).
+double pose_sigma_mm(const PlacementSearchRequest& request) {
+  const HexapodPlanRequest& plan = request.plan;
+  double multiple = request.pose_sigma_multiple;
+  if (plan.geometry.tool_cup4_mm) {
+    const WorstToolCupUncertainty worst =
+        worst_tool_cup_uncertainty(plannable_poses(plan.geometry, plan.gauge.range_mm,
+                                                   plan.angle_deg, plan.distance_mm, plan.cups)
+                                       .kept,
+                                   plan.geometry);
+    multiple *= worst.all_legs / worst.design_legs;
+  }
+  return multiple * plan.gauge.sigma_mm;
 }
 
 /// The design over `candidates` (pose rows of the tool fixture mounted at `flange_T_tool`) and the
@@ -303,7 +321,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   PlacementSearchResult result;
   result.best = request.best;
   result.parameters = static_cast<int>(level_parameters(request.level).size());
-  result.pose_sigma_mm = request.pose_sigma_multiple * base.gauge.sigma_mm;
+  result.pose_sigma_mm = pose_sigma_mm(request);
   if (std::none_of(scores.begin(), scores.end(),
                    [](const PlacementScore& s) { return s.usable(); }))
     throw InputError(
@@ -426,7 +444,7 @@ PlacementsDesign design_placements(const RobotModel& model, const std::vector<He
     throw InputError({"", 0, 0, "count"},
                      fmt::format("expected 1 to {} configurations", candidates.size()));
   const Context c = make_context(model, *plans.front().session.flange_T_tool, candidates, request,
-                                 request.pose_sigma_multiple * request.plan.gauge.sigma_mm);
+                                 pose_sigma_mm(request));
   // The I-optimal machinery (design/task_selection.hpp) on the scaled Jacobian of every candidate
   // with its placement's world-frame columns: the mean predicted squared error over the
   // validation configurations, to which the frames contribute nothing.
@@ -519,7 +537,8 @@ PlacementsDesignResult design_placements(const PlacementsDesignRequest& request)
                       plan.cell->robot, request.plan_files.front(), first.cell->robot));
     if (!plan.session.flange_T_tool || !first.session.flange_T_tool ||
         !plan.session.flange_T_tool->p.isApprox(first.session.flange_T_tool->p, 1e-9) ||
-        !plan.session.flange_T_tool->R.isApprox(first.session.flange_T_tool->R, 1e-12))
+        !plan.session.flange_T_tool->R.isApprox(first.session.flange_T_tool->R, 1e-12) ||
+        plan.cell->geometry.tool_cup4_mm != first.cell->geometry.tool_cup4_mm)
       throw InputError({file, 0, 0, "tool"},
                        fmt::format("this plan's tool fixture is not the one of {}: one tool "
                                    "fixture for every placement",

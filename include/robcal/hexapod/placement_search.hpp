@@ -44,7 +44,9 @@ struct PlacementSearchRequest {
   std::vector<double> x_mm{450}, y_mm{0}, z_mm{300}, yaw_deg{0}, tilt_deg{0};
   CalibrationLevel level = CalibrationLevel::Kinematic;  ///< the parameters to identify
   /// σ of one pose row (mm; rotation rows × the lever arm): the gauge σ times the DKP's worst-case
-  /// amplification (≈ 3.2, docs/method/07-hexapod.md §4).
+  /// amplification (≈ 3.2, docs/method/07-hexapod.md §4). With a fourth tool cup in the plan's
+  /// geometry it is scaled by worst_tool_cup_uncertainty's all_legs / design_legs over the poses
+  /// planned with it (§7).
   double pose_sigma_multiple = 3.2;
   int validation_configurations = 2000;  ///< random configurations in the joint limits
   uint64_t seed = 1;
