@@ -19,6 +19,7 @@
 #include "robcal/design/task_selection.hpp"
 #include "robcal/hexapod/four_cup_kinematics.hpp"
 #include "robcal/identify/accuracy_prediction.hpp"
+#include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
 
@@ -565,10 +566,17 @@ PlacementsDesignResult design_placements(const PlacementsDesignRequest& request)
                                          std::min(result.count, result.offered.front()), search);
   for (size_t p = 0; p < plans.size(); ++p)
     result.plans.push_back(plan_with_configurations(plans[p], result.design.chosen[p]));
+  // Every reduced plan or none (write_files_atomically).
+  std::vector<std::string> texts;
+  std::vector<std::pair<std::filesystem::path, std::string_view>> files;
+  texts.reserve(request.out_files.size());
   for (size_t p = 0; p < request.out_files.size(); ++p) {
     result.written.push_back(!result.design.chosen[p].empty());
-    if (result.written.back()) write_hexapod_plan(request.out_files[p], result.plans[p]);
+    if (!result.written.back()) continue;
+    texts.push_back(hexapod_plan_text(result.plans[p]));
+    files.emplace_back(request.out_files[p], texts.back());
   }
+  write_files_atomically(files);
   return result;
 }
 

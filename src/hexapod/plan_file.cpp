@@ -426,8 +426,12 @@ HexapodPlan read_hexapod_plan(const std::filesystem::path& path) {
   return parse_hexapod_plan(root, path.string());
 }
 
+std::string hexapod_plan_text(const HexapodPlan& plan) {
+  return hexapod_plan_json(plan).dump(2) + "\n";
+}
+
 void write_hexapod_plan(const std::filesystem::path& path, const HexapodPlan& plan) {
-  write_file_atomically(path, hexapod_plan_json(plan).dump(2) + "\n");
+  write_file_atomically(path, hexapod_plan_text(plan));
 }
 
 }  // namespace robcal::hexapod

@@ -145,8 +145,9 @@ struct PlacementsDesignRequest {
   CalibrationLevel level = CalibrationLevel::Kinematic;
   int validation_configurations = 2000;
   uint64_t seed = 1;
-  /// Where to write each reduced plan (none, or one per plan file, in order; each written whole
-  /// or not at all). A placement with nothing chosen is not worth setting up: no plan for it.
+  /// Where to write each reduced plan (none, or one per plan file, in order; all written or none,
+  /// write_files_atomically). A placement with nothing chosen is not worth setting up: no plan
+  /// for it.
   std::vector<std::string> out_files;
 };
 struct PlacementsDesignResult {

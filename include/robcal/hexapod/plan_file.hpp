@@ -129,5 +129,7 @@ HexapodPlan parse_hexapod_plan(const nlohmann::json& root, const std::string& fi
 /// Reads a plan file (JSON); writes one whole or not at all.
 HexapodPlan read_hexapod_plan(const std::filesystem::path& path);
 void write_hexapod_plan(const std::filesystem::path& path, const HexapodPlan& plan);
+/// The plan file's text (what write_hexapod_plan writes).
+std::string hexapod_plan_text(const HexapodPlan& plan);
 
 }  // namespace robcal::hexapod
