@@ -318,11 +318,13 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          const std::array<double, 3>& base_sides_mm, const std::array<double, 3>& tool_sides_mm,
          double leg_mm, double tool_offset_mm, double ball_offset_mm, double table_z_mm,
          double angle_deg, double distance_mm, double gauge_range_mm, double gauge_sigma_mm,
-         double cup_diameter_mm, const std::optional<std::string>& cell) {
+         double cup_diameter_mm, const std::optional<std::string>& cell,
+         const std::optional<std::array<double, 3>>& tool_cup4_mm) {
         PlacementSearchRequest r;
         r.plan = plan_request(robot, base_sides_mm, tool_sides_mm, leg_mm, tool_offset_mm,
                               ball_offset_mm, table_z_mm, angle_deg, distance_mm, gauge_range_mm,
                               gauge_sigma_mm, cup_diameter_mm, cell);
+        r.plan.geometry.tool_cup4_mm = tool_cup4_mm;
         for (const std::string& plan : measured)
           r.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
         r.x_mm = x_mm;
@@ -355,11 +357,12 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("gauge_range_mm") = LengthGauge{}.range_mm,
       py::arg("gauge_sigma_mm") = LengthGauge{}.sigma_mm,
       py::arg("cup_diameter_mm") = CupClearance{}.cup_diameter_mm, py::arg("cell") = py::none(),
+      py::arg("tool_cup4_mm") = py::none(),
       "Placement search (`robcal hexapod place`): the grid's placements ranked by predicted "
       "accuracy, and the best pairs; with `measured` (plan files of the placements already "
       "measured) the grid's placements ranked as the next one ('next'); the fixtures, offsets, "
-      "pruning, gauge (range and σ, mm), cup diameter and cell file as `plan`'s (the CLI's "
-      "flags); the CLI's JSON as a dict");
+      "pruning, gauge (range and σ, mm), cup diameter, cell file and fourth tool cup as `plan`'s "
+      "(the CLI's flags); the CLI's JSON as a dict");
   h.def(
       "design",
       [](const std::vector<std::string>& plans, int count, const std::string& level, int validation,
@@ -408,8 +411,12 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       "simulate",
       [](const std::string& robot, const std::array<double, 4>& placement, double tool_offset_mm,
          double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
-         uint64_t seed, int validation, int threads, bool leg_fit, bool relative) {
-        const HexapodPlanRequest cell{.placement = placement,
+         uint64_t seed, int validation, int threads, bool leg_fit, bool relative,
+         const std::optional<std::array<double, 3>>& tool_cup4_mm) {
+        HexapodGeometry geometry;
+        geometry.tool_cup4_mm = tool_cup4_mm;
+        const HexapodPlanRequest cell{.geometry = geometry,
+                                      .placement = placement,
                                       .tool_offset_mm = tool_offset_mm,
                                       .ball_offset_mm = ball_offset_mm,
                                       .table_z_mm = table_z_mm,
@@ -434,9 +441,10 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("tool_offset_mm") = 100.0, py::arg("ball_offset_mm") = 100.0,
       py::arg("table_z_mm") = 0.0, py::arg("angle_deg") = 30.0, py::arg("distance_mm") = 50.0,
       py::arg("seed") = 1, py::arg("validation") = 10000, py::arg("threads") = 2,
-      py::arg("leg_fit") = true, py::arg("relative") = false,
+      py::arg("leg_fit") = true, py::arg("relative") = false, py::arg("tool_cup4_mm") = py::none(),
       "Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings, "
-      "preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict");
+      "preliminary and final calibration, laser-tracker validation; a fourth tool cup by its "
+      "distances (d14, d24, d34) to T1..T3 (`--tool-cup4-mm`); the CLI's JSON as a dict");
   h.def(
       "calibrate",
       [](const std::vector<std::string>& sessions, const std::string& robot,

@@ -53,6 +53,37 @@ TEST(AtomicFile, CreatesParentsAndReplacesRegularFileKeepingPermissions) {
   EXPECT_EQ(std::distance(fs::directory_iterator(out.parent_path()), fs::directory_iterator{}), 1);
 }
 
+TEST(AtomicFile, SeveralFilesAllOrNothing) {
+  ScratchDir dir("several");
+  const fs::path first = dir.path / "first.json";
+  const fs::path second = dir.path / "second.json";
+  write_file_atomically(first, "old first");
+  write_files_atomically({{first, "new first"}, {second, "new second"}});
+  EXPECT_EQ(slurp(first), "new first");
+  EXPECT_EQ(slurp(second), "new second");
+  const auto entries = [&] {
+    return std::distance(fs::directory_iterator(dir.path), fs::directory_iterator{});
+  };
+  EXPECT_EQ(entries(), 2);
+
+  // The second target in a folder that cannot be made (a file stands where the folder would
+  // be), or a folder itself: the first is left as it was, no temporary left anywhere.
+  write_file_atomically(dir.path / "blocker", "a file");
+  for (const fs::path& bad : {dir.path / "blocker" / "sub" / "second.json", dir.path}) {
+    const std::string why = test::refusal_message([&] {
+      write_files_atomically({{first, "newer first"}, {bad, "newer second"}});
+    });
+    EXPECT_NE(why.find(bad.string()), std::string::npos) << why;
+    EXPECT_EQ(slurp(first), "new first");
+    EXPECT_EQ(slurp(second), "new second");
+    EXPECT_EQ(entries(), 3) << "a temporary left behind";
+  }
+  // A missing folder is created, as for one file.
+  write_files_atomically({{first, "third"}, {dir.path / "new" / "x.json", "x"}});
+  EXPECT_EQ(slurp(first), "third");
+  EXPECT_EQ(slurp(dir.path / "new" / "x.json"), "x");
+}
+
 TEST(AtomicFile, FollowsSymbolicLinkAndKeepsIt) {
   ScratchDir dir("link");
   fs::create_directories(dir.path / "data");

@@ -16,8 +16,10 @@
 
 #include "refusal.hpp"
 #include "robcal/core/error.hpp"
+#include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/four_cup_kinematics.hpp"
 #include "robcal/hexapod/measurement.hpp"
+#include "robcal/hexapod/placement_search.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/session.hpp"
 #include "robcal/hexapod/session_calibration.hpp"
@@ -279,6 +281,110 @@ TEST(HexapodFourthCup, BadFourthCupsAndLegsAreRefusedNamingTheFlagOrFileKey) {
       parse_hexapod_plan(hexapod_plan_json(plan_hexapod(model, cell_request(false))), "old.json");
   EXPECT_FALSE(three.session.tool_cup4_mm);
   EXPECT_EQ(three.session.configurations.front().legs.size(), 6u);
+}
+
+TEST(HexapodFourthCup, SimulatedEndToEndReadsT4AtTheNoiseFloor) {
+  // `robcal hexapod simulate --gauge-range-mm 5 [--tool-cup4-mm …]`, same seed: every
+  // configuration readable, and with T4 each reads its seventh leg.
+  const RobotModel model = load_robot("fanuc-lrmate200ic");
+  const auto run = [&](bool fourth_cup) {
+    EndToEndOptions settings;
+    settings.validation_configurations = 300;
+    const EndToEndOptions o = end_to_end_options(cell_request(fourth_cup), settings);
+    std::mt19937_64 rng(5);
+    return run_end_to_end(model, o, rng);
+  };
+  const EndToEndReport three = run(false), four = run(true);
+  for (const EndToEndReport* r : {&three, &four}) {
+    EXPECT_EQ(r->retried, 0);
+    EXPECT_EQ(r->measured_first, r->configurations_planned);
+    EXPECT_GT(r->measured_first, 50);
+  }
+  EXPECT_EQ(four.configurations_planned, three.configurations_planned);
+  const int n = four.measured_first;
+  EXPECT_EQ(three.legs_read, 6 * three.measured_first);
+  EXPECT_EQ(three.legs_read_fourth_cup, 0);
+  EXPECT_EQ(four.legs_read, 7 * n);  // T4 on the circumcircle: one leg to it in every pose
+  EXPECT_EQ(four.legs_read_fourth_cup, n);
+  const double floor_mm = EndToEndOptions{}.tracker_sigma_mm * std::sqrt(8 / M_PI);
+  std::printf(
+      "simulate: %d configurations, legs read three cups %d, four cups %d; validation mean mm "
+      "three cups poses %.4f legs %.4f, four cups poses %.4f legs %.4f (floor %.4f)\n",
+      n, three.legs_read, four.legs_read, three.final_pose_fit.validation.absolute.mean,
+      three.leg_fit.validation.absolute.mean, four.final_pose_fit.validation.absolute.mean,
+      four.leg_fit.validation.absolute.mean, floor_mm);
+  for (const CalibrationStage* s : {&four.final_pose_fit, &four.leg_fit}) {
+    EXPECT_TRUE(s->converged);
+    EXPECT_GT(s->validation.absolute.mean, 0.95 * floor_mm);
+    EXPECT_LT(s->validation.absolute.mean, 1.2 * floor_mm);
+  }
+  EXPECT_GT(four.nominal.absolute.mean, 0.3);
+
+  // A bad T4 is refused as `hexapod plan` refuses it, before anything is simulated.
+  HexapodPlanRequest collinear = cell_request(false);
+  collinear.geometry.tool_cup4_mm = std::array<double, 3>{75, 75, 75 * std::numbers::sqrt3};
+  std::mt19937_64 rng(5);
+  EXPECT_REFUSED(run_end_to_end(model, end_to_end_options(collinear), rng), InputError,
+                 "--tool-cup4-mm: tool fixture: the fourth cup T4 is collinear with T1 and T2");
+}
+
+TEST(HexapodFourthCup, PlacementPredictionUsesTheFourCupAmplification) {
+  // The worst tool-cup GUM uncertainty over the planned poses: three cups at least the published
+  // 3.2 σ of the nominal poses (§4; the base-cup permutations kept reach 3.52 σ), lower with the
+  // seventh leg and T4's distances (measured 3.47 σ: one redundant distance, a small gain).
+  HexapodPlanRequest request = cell_request(true);
+  const HexapodGeometry& g = request.geometry;
+  const WorstToolCupUncertainty worst =
+      worst_tool_cup_uncertainty(plannable_poses(g, request.gauge.range_mm, request.angle_deg,
+                                                 request.distance_mm, request.cups)
+                                     .kept,
+                                 g);
+  std::printf("worst tool-cup σ multiple over the planned poses: design legs %.4f, all legs %.4f\n",
+              worst.design_legs, worst.all_legs);
+  EXPECT_GT(worst.design_legs, 3.2);
+  EXPECT_LT(worst.design_legs, 3.6);
+  EXPECT_LT(worst.all_legs, 0.995 * worst.design_legs);
+  EXPECT_GT(worst.all_legs, 0.9 * worst.design_legs);
+
+  // The placement search scales the pose σ by that ratio; the same configurations (T4 refuses
+  // no pose here), so the predicted errors scale by it too (C = σ²(JᵀJ)⁻¹ is linear in σ).
+  const RobotModel model = load_robot("fanuc-lrmate200ic");
+  PlacementSearchRequest search;
+  search.plan = cell_request(false);
+  search.validation_configurations = 200;
+  search.best = 1;
+  const PlacementSearchResult r3 = search_placements(model, search);
+  search.plan = request;
+  const PlacementSearchResult r4 = search_placements(model, search);
+  const double ratio = worst.all_legs / worst.design_legs;
+  EXPECT_NEAR(r3.pose_sigma_mm, 3.2 * request.gauge.sigma_mm, 1e-15);
+  EXPECT_NEAR(r4.pose_sigma_mm, r3.pose_sigma_mm * ratio, 1e-15);
+  ASSERT_EQ(r4.ranked.front().configurations, r3.ranked.front().configurations);
+  EXPECT_NEAR(r4.ranked.front().predicted_mean_mm, r3.ranked.front().predicted_mean_mm * ratio,
+              1e-9 * r3.ranked.front().predicted_mean_mm);
+
+  // `hexapod design` takes T4 from the plans (the same σ); plans whose tool fixtures differ in
+  // the fourth cup are refused.
+  const auto dir = std::filesystem::temp_directory_path() / "robcal_test_cup4_design";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  write_hexapod_plan(dir / "four.json", plan_hexapod(model, request));
+  HexapodPlanRequest other = cell_request(false);
+  other.placement = {350, 0, 300, 0};
+  write_hexapod_plan(dir / "three.json", plan_hexapod(model, other));
+  PlacementsDesignRequest design;
+  design.plan_files = {(dir / "four.json").string(), (dir / "three.json").string()};
+  design.validation_configurations = 200;
+  EXPECT_REFUSED(design_placements(design), InputError,
+                 "three.json (tool): this plan's tool fixture is not the one of");
+  design.plan_files.pop_back();
+  design.count = r4.ranked.front().configurations;
+  const PlacementsDesignResult one = design_placements(design);
+  // Every configuration of the plan chosen: the search's prediction of that placement, with the
+  // four-cup σ.
+  EXPECT_NEAR(one.design.predicted_mean_mm, r4.ranked.front().predicted_mean_mm,
+              1e-8 * r4.ranked.front().predicted_mean_mm);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -72,6 +72,20 @@ struct GeometryOptions {
   }
 };
 
+/// `--tool-cup4-mm d14,d24,d34` (empty: no fourth cup); check_geometry refuses a bad T4.
+std::optional<std::array<double, 3>> parse_tool_cup4(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  const std::vector<double> d = parse_numbers(text, 3, "--tool-cup4-mm");
+  return std::array<double, 3>{d[0], d[1], d[2]};
+}
+
+void add_tool_cup4_option(CLI::App* cmd, std::string& text) {
+  cmd->add_option("--tool-cup4-mm", text,
+                  "A fourth tool cup T4 by its distances d14,d24,d34 to T1..T3 (mm): its legs "
+                  "within half the gauge range of --leg-mm are measured too (on the circumcircle "
+                  "of T1..T3: one in every pose)");
+}
+
 // ---- dkp -------------------------------------------------------------------------------------
 
 /// A fixture's distances: one side, three (d12,d23,d31), or six with a fourth cup
@@ -349,10 +363,7 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
               const MeasuringOptions& m, const std::string& tool_cup4, const std::string& cell_path,
               const std::string& out_path, bool json) {
   HexapodPlanRequest request = o.request(geometry_options.geometry());
-  if (!tool_cup4.empty()) {
-    const std::vector<double> d = parse_numbers(tool_cup4, 3, "--tool-cup4-mm");
-    request.geometry.tool_cup4_mm = std::array<double, 3>{d[0], d[1], d[2]};
-  }
+  request.geometry.tool_cup4_mm = parse_tool_cup4(tool_cup4);
   request.gauge = m.gauge;
   request.cups = m.cups;
   if (!cell_path.empty()) request.workcell = campaign::load_cell(cell_path);
@@ -395,13 +406,15 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
 // ---- placement search ------------------------------------------------------------------------
 
 void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
-               const MeasuringOptions& m, const std::string& cell_path,
-               const std::array<std::string, 5>& grid, const std::string& level, int validation,
-               uint64_t seed, int best, const std::vector<std::string>& measured, bool json) {
+               const MeasuringOptions& m, const std::string& tool_cup4,
+               const std::string& cell_path, const std::array<std::string, 5>& grid,
+               const std::string& level, int validation, uint64_t seed, int best,
+               const std::vector<std::string>& measured, bool json) {
   PlacementSearchRequest request;
   for (const std::string& plan : measured)
     request.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
   request.plan = o.request(geometry_options.geometry());
+  request.plan.geometry.tool_cup4_mm = parse_tool_cup4(tool_cup4);
   request.plan.gauge = m.gauge;
   request.plan.cups = m.cups;
   if (!cell_path.empty()) request.plan.workcell = campaign::load_cell(cell_path);
@@ -528,8 +541,11 @@ void run_session(const HexapodSessionRequest& request, bool json) {
 // ---- simulate ------------------------------------------------------------------------------
 
 void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m,
-                  const EndToEndOptions& settings, uint64_t seed, bool json) {
-  HexapodPlanRequest cell = cell_options.request(HexapodGeometry{});
+                  const std::string& tool_cup4, const EndToEndOptions& settings, uint64_t seed,
+                  bool json) {
+  HexapodGeometry geometry;
+  geometry.tool_cup4_mm = parse_tool_cup4(tool_cup4);
+  HexapodPlanRequest cell = cell_options.request(geometry);
   cell.gauge = m.gauge;
   cell.cups = m.cups;
   const EndToEndOptions o = end_to_end_options(cell, settings);
@@ -548,8 +564,9 @@ void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m,
       r.configurations_planned);
   fmt::print(
       "first pass: {} measured, {} out of the gauge's range (±{} mm); after the preliminary "
-      "calibration {} of those measured\n",
-      r.measured_first, r.retried, m.gauge.range_mm, r.measured_after_replan);
+      "calibration {} of those measured; {} legs read{}\n",
+      r.measured_first, r.retried, m.gauge.range_mm, r.measured_after_replan, r.legs_read,
+      o.cell.design.tool_cup4_mm ? fmt::format(" ({} to T4)", r.legs_read_fourth_cup) : "");
   fmt::print(
       "world frame from the base cups: rms {:.4f} mm; off the true base fixture frame by {:.3f} "
       "mm, "
@@ -689,10 +706,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     auto out = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
     geometry->add_to(cmd);
-    cmd->add_option("--tool-cup4-mm", *tool_cup4,
-                    "A fourth tool cup T4 by its distances d14,d24,d34 to T1..T3 (mm): its legs "
-                    "within half the gauge range of --leg-mm are measured too (on the circumcircle "
-                    "of T1..T3: one in every pose)");
+    add_tool_cup4_option(cmd, *tool_cup4);
     cell->add_to(cmd);
     measuring->add_to(cmd);
     cmd->add_option("--cell", *cell_file,
@@ -719,8 +733,10 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     auto seed = std::make_shared<uint64_t>(1);
     auto best = std::make_shared<int>(5);
     auto measured = std::make_shared<std::vector<std::string>>();
+    auto tool_cup4 = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
     geometry->add_to(cmd);
+    add_tool_cup4_option(cmd, *tool_cup4);
     cell->add_to(cmd, false);
     measuring->add_to(cmd);
     cmd->add_option("--cell", *cell_file, "Cell file: floor and keep-out boxes respected");
@@ -744,8 +760,8 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
                     "the next one to measure");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
-      run_place(*geometry, *cell, *measuring, *cell_file, *grid, *level, *validation, *seed, *best,
-                *measured, *json);
+      run_place(*geometry, *cell, *measuring, *tool_cup4, *cell_file, *grid, *level, *validation,
+                *seed, *best, *measured, *json);
     });
   }
   {
@@ -787,9 +803,11 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     auto seed = std::make_shared<uint64_t>(1);
     auto settings = std::make_shared<EndToEndOptions>();
     auto no_leg_fit = std::make_shared<bool>(false);
+    auto tool_cup4 = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
     cell->add_to(cmd);
     measuring->add_to(cmd);
+    add_tool_cup4_option(cmd, *tool_cup4);
     cmd->add_option("--seed", *seed, "Seed of the true robot, the readings and the validation")
         ->capture_default_str();
     cmd->add_option("--validation", settings->validation_configurations,
@@ -804,7 +822,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
       settings->leg_fit = !*no_leg_fit;
-      run_simulate(*cell, *measuring, *settings, *seed, *json);
+      run_simulate(*cell, *measuring, *tool_cup4, *settings, *seed, *json);
     });
   }
   {

@@ -108,9 +108,11 @@ def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, fl
              tool_offset_mm: float = 100.0, ball_offset_mm: float = 100.0,
              table_z_mm: float = 0.0, angle_deg: float = 30.0, distance_mm: float = 50.0,
              seed: int = 1, validation: int = 10000, threads: int = 2, leg_fit: bool = True,
-             relative: bool = False) -> Dict[str, Any]:
+             relative: bool = False,
+             tool_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Dict[str, Any]:
     """Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings,
-    preliminary and final calibration, laser-tracker validation; the CLI's JSON as a dict."""
+    preliminary and final calibration, laser-tracker validation; a fourth tool cup by its
+    distances (d14, d24, d34) to T1..T3 (`--tool-cup4-mm`); the CLI's JSON as a dict."""
 
 
 def place(robot: str = "fanuc-lrmate200ic", x_mm: Sequence[float] = ..., y_mm: Sequence[float] = ...,
@@ -121,12 +123,13 @@ def place(robot: str = "fanuc-lrmate200ic", x_mm: Sequence[float] = ..., y_mm: S
           leg_mm: float = 300.0, tool_offset_mm: float = 100.0, ball_offset_mm: float = 100.0,
           table_z_mm: float = 0.0, angle_deg: float = 30.0, distance_mm: float = 50.0,
           gauge_range_mm: float = ..., gauge_sigma_mm: float = ..., cup_diameter_mm: float = ...,
-          cell: Optional[str] = None) -> Dict[str, Any]:
+          cell: Optional[str] = None,
+          tool_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Dict[str, Any]:
     """Placement search (`robcal hexapod place`): the grid's placements ranked by predicted
     accuracy, and the best pairs; with `measured` (plan files of the placements already
     measured) the grid's placements ranked as the next one ('next'); the fixtures, offsets,
-    pruning, gauge (range and σ, mm), cup diameter and cell file as plan()'s (the CLI's flags);
-    the CLI's JSON as a dict."""
+    pruning, gauge (range and σ, mm), cup diameter, cell file and fourth tool cup as plan()'s
+    (the CLI's flags); the CLI's JSON as a dict."""
 
 
 def design(plans: Sequence[str], count: int = 0, level: str = "kinematic", validation: int = 2000,

@@ -8,6 +8,7 @@
 #include "robcal/hexapod/gauge.hpp"
 #include "robcal/hexapod/leg_fit.hpp"
 #include "robcal/hexapod/measurement.hpp"
+#include "robcal/hexapod/plan_file.hpp"
 #include "robcal/identify/identification.hpp"
 #include "robcal/kinematics/numeric_ik.hpp"
 #include "robcal/measure/instrument.hpp"
@@ -78,6 +79,7 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
     throw InputError({"", 0, 0, "--validation"}, "expected at least 2 configurations");
   if (o.threads < 1) throw InputError({"", 0, 0, "--threads"}, "expected at least 1 thread");
   check_gauge({o.cell.range_mm, o.cell.sigma_mm}, "--gauge-range-mm", "--gauge-sigma-mm");
+  check_geometry(o.cell.design);  // as `hexapod plan` refuses it (a bad fourth cup named)
   EndToEndReport rep;
   rep.robot = model.name;
   // The true robot: random errors, levelled on its table (the relative model keeps gravity along
@@ -101,15 +103,16 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
     rep.world_frame_error_deg = rad2deg(Eigen::AngleAxisd(error.R).angle());
   }
 
-  // Plan with the measured fixtures.
-  const HexapodGeometry measured{cell.base_sides, cell.tool_sides, o.cell.design.leg_mm};
-  const std::vector<HexapodPose> all = enumerate_poses(measured);
-  const PoseScreening screening =
-      screen_poses(all, measured, deg2rad(o.angle_deg), o.distance_mm, o.cups);
+  // Plan with the measured fixtures (a fourth tool cup by its measured distances, its legs
+  // read in every pose that has one, as `robcal hexapod plan` plans them).
+  const HexapodGeometry measured{cell.base_sides, cell.tool_sides, o.cell.design.leg_mm,
+                                 cell.tool_cup4_mm};
+  const FixtureDistances tool_fixture = measured.tool_fixture();
+  const PoseScreening screening = plannable_poses(measured, o.cell.range_mm, o.angle_deg,
+                                                  o.distance_mm, o.cups, &rep.poses_enumerated);
   const std::vector<HexapodPose>& kept = screening.kept;
   const PlanSummary plan =
       plan_poses(model, cell.cell, fixture_cups(cell.base_sides, "base fixture"), kept);
-  rep.poses_enumerated = static_cast<int>(all.size());
   rep.poses_refused = static_cast<int>(screening.refused.size());
   rep.poses_kept = static_cast<int>(kept.size());
   rep.poses_measurable = plan.measurable_poses;
@@ -121,8 +124,8 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   for (const PosePlan& p : plan.poses)
     for (const PoseConfiguration& c : p.configurations) {
       const std::string name = fmt::format("{}-{}", p.pose.label, c.config.label());
-      if (auto legs = simulate_legs(cell, p.pose, c.joints, rng))
-        readings.push_back({name, c.joints, p.pose.design, p.pose.mode, *legs});
+      if (auto r = simulate_pose_readings(cell, p.pose, name, c.joints, rng))
+        readings.push_back(std::move(*r));
       else
         retry.emplace_back(&p, c);
     }
@@ -130,7 +133,7 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   rep.retried = static_cast<int>(retry.size());
   const Tool tool = hexapod_tool(payload, cell.cell.flange_T_tool, cell.tool_sides);
   const auto measurements = [&] {
-    return pose_measurements(cell.base_sides, cell.tool_sides, readings, cell.world.robot_T_fixture,
+    return pose_measurements(cell.base_sides, tool_fixture, readings, cell.world.robot_T_fixture,
                              "simulated hexapod");
   };
   const IdentificationResult preliminary =
@@ -143,11 +146,15 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
     const NumericIkResult ik =
         numeric_ik(model, payload, preliminary.robot.params, p->robot_T_flange, c.joints);
     if (ik.status != NumericIkStatus::Converged || !ik.within_limits) continue;
-    if (auto legs = simulate_legs(cell, p->pose, ik.joints, rng)) {
-      readings.push_back({fmt::format("{}-{}", p->pose.label, c.config.label()), ik.joints,
-                          p->pose.design, p->pose.mode, *legs});
+    if (auto r = simulate_pose_readings(
+            cell, p->pose, fmt::format("{}-{}", p->pose.label, c.config.label()), ik.joints, rng)) {
+      readings.push_back(std::move(*r));
       ++rep.measured_after_replan;
     }
+  }
+  for (const LegReadings& r : readings) {
+    rep.legs_read += static_cast<int>(kDesignLegs.size() + r.extra_legs.size());
+    rep.legs_read_fourth_cup += static_cast<int>(r.extra_legs.size());
   }
   const IdentificationResult final_fit =
       calibrate(model, tool, measurements(), pose_fit_options(o.relative_pose_fit));
@@ -174,7 +181,7 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
       if (final_fit.free[i] >= kBaseParamCount && final_fit.free[i] < kParameterCount)
         leg_options.free_parameters.push_back(final_fit.free[i]);
     const LegFitResult legs =
-        fit_from_legs(model, payload, cell.base_sides, cell.tool_sides, readings, model.nominal(),
+        fit_from_legs(model, payload, cell.base_sides, tool_fixture, readings, model.nominal(),
                       cell.world.robot_T_fixture, cell.cell.flange_T_tool, leg_options);
     rep.leg_fit.configurations = static_cast<int>(readings.size());
     rep.leg_fit.rms_mm = legs.rms_mm;

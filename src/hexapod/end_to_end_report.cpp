@@ -37,6 +37,8 @@ nlohmann::json end_to_end_json(const EndToEndReport& r, const EndToEndOptions& o
       {"measured_first_pass", r.measured_first},
       {"out_of_range_first_pass", r.retried},
       {"measured_after_replanning", r.measured_after_replan},
+      {"legs_read", r.legs_read},
+      {"legs_read_tool_cup4", r.legs_read_fourth_cup},
       {"world_frame_rms_mm", rounded(r.world_frame_rms_mm, 6)},
       {"world_frame_error_mm", rounded(r.world_frame_error_mm, 6)},
       {"world_frame_error_deg", rounded(r.world_frame_error_deg, 6)},
@@ -45,6 +47,7 @@ nlohmann::json end_to_end_json(const EndToEndReport& r, const EndToEndOptions& o
       {"nominal", figures_json(r.nominal)},
       {"preliminary", stage_json(r.preliminary)},
       {"final", stage_json(r.final_pose_fit)}};
+  if (options.cell.design.tool_cup4_mm) out["tool_cup4_mm"] = *options.cell.design.tool_cup4_mm;
   if (options.leg_fit) {
     out["leg_fit"] = stage_json(r.leg_fit);
     out["leg_fit"]["length_offset_mm"] = rounded(r.leg_fit_offset_mm, 6);

@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "robcal/core/error.hpp"
 #include "robcal/hexapod/poses.hpp"
@@ -322,6 +323,45 @@ std::vector<CupUncertainty> four_cup_uncertainty_monte_carlo(const FourCupDkpReq
   const Eigen::VectorXd var =
       (sum2 / used - mean.cwiseProduct(mean)) * (double(used) / (used - 1)) / (sigma_mm * sigma_mm);
   return cup_uncertainties(var);
+}
+
+WorstToolCupUncertainty worst_tool_cup_uncertainty(const std::vector<HexapodPose>& poses,
+                                                   const HexapodGeometry& geometry) {
+  const Cups<double> base = fixture_cups(geometry.base, "--base-mm");
+  const std::vector<Eigen::Vector3d> base_cups(base.begin(), base.end());
+  // The worst cup of the solution nearest the planned tool cups.
+  const auto worst_cup = [](const FourCupDkpRequest& request,
+                            const std::vector<Eigen::Vector3d>& planned) {
+    const FourCupDkpResult fit = solve_four_cup_dkp(request);
+    if (fit.status != FourCupDkpStatus::Ok || fit.solutions.empty())
+      throw std::logic_error("a planned hexapod pose has no solution: " + fit.message);
+    const auto gap = [&](const FourCupSolution& s) {
+      double g = 0;
+      for (int j = 0; j < 3; ++j) g = std::max(g, (s.tool_cups[j] - planned[j]).norm());
+      return g;
+    };
+    const FourCupSolution& nearest = *std::min_element(
+        fit.solutions.begin(), fit.solutions.end(),
+        [&](const FourCupSolution& a, const FourCupSolution& b) { return gap(a) < gap(b); });
+    double worst = 0;
+    for (int j = 0; j < 3; ++j) worst = std::max(worst, nearest.uncertainty[j].norm);
+    return worst;
+  };
+  WorstToolCupUncertainty worst;
+  for (const HexapodPose& pose : poses) {
+    const std::vector<Eigen::Vector3d> tool = pose_tool_cups(pose, geometry);
+    const std::vector<PhysicalLeg> design(
+        pose.legs.begin(), pose.legs.begin() + static_cast<std::ptrdiff_t>(kDesignLegs.size()));
+    const double three =
+        worst_cup(four_cup_distances(base_cups, {tool.begin(), tool.begin() + 3}, design), tool);
+    const bool reaches_fourth = std::any_of(pose.legs.begin(), pose.legs.end(),
+                                            [](const PhysicalLeg& l) { return l.tool == 3; });
+    worst.design_legs = std::max(worst.design_legs, three);
+    worst.all_legs = std::max(
+        worst.all_legs,
+        reaches_fourth ? worst_cup(four_cup_distances(base_cups, tool, pose.legs), tool) : three);
+  }
+  return worst;
 }
 
 }  // namespace robcal::hexapod

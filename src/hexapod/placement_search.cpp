@@ -17,7 +17,9 @@
 #include "robcal/design/observability.hpp"
 #include "robcal/design/predicted_accuracy.hpp"
 #include "robcal/design/task_selection.hpp"
+#include "robcal/hexapod/four_cup_kinematics.hpp"
 #include "robcal/identify/accuracy_prediction.hpp"
+#include "robcal/io/atomic_file.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/kinematics/parameter_jacobian.hpp"
 
@@ -121,6 +123,23 @@ std::vector<int> searched_parameters(const RobotModel& model,
                                      const PlacementSearchRequest& request) {
   return identified_model_parameters(model, Tool{}, MeasurementKind::Poses, request.level,
                                      request.identify);
+}
+
+/// σ of one pose row: the request's multiple of the gauge σ (§4's worst case of three tool
+/// cups); with a fourth tool cup, scaled by how much its legs lower the worst tool-cup GUM
+/// uncertainty over the poses planned with it (docs/method/07-hexapod.md §7).
+double pose_sigma_mm(const PlacementSearchRequest& request) {
+  const HexapodPlanRequest& plan = request.plan;
+  double multiple = request.pose_sigma_multiple;
+  if (plan.geometry.tool_cup4_mm) {
+    const WorstToolCupUncertainty worst =
+        worst_tool_cup_uncertainty(plannable_poses(plan.geometry, plan.gauge.range_mm,
+                                                   plan.angle_deg, plan.distance_mm, plan.cups)
+                                       .kept,
+                                   plan.geometry);
+    multiple *= worst.all_legs / worst.design_legs;
+  }
+  return multiple * plan.gauge.sigma_mm;
 }
 
 /// The design over `candidates` (pose rows of the tool fixture mounted at `flange_T_tool`) and the
@@ -310,7 +329,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   PlacementSearchResult result;
   result.best = request.best;
   result.parameters = static_cast<int>(searched_parameters(model, request).size());
-  result.pose_sigma_mm = request.pose_sigma_multiple * base.gauge.sigma_mm;
+  result.pose_sigma_mm = pose_sigma_mm(request);
   if (std::none_of(scores.begin(), scores.end(),
                    [](const PlacementScore& s) { return s.usable(); }))
     throw InputError(
@@ -452,7 +471,7 @@ PlacementsDesign design_placements(const RobotModel& model, const std::vector<He
     throw InputError({"", 0, 0, "count"},
                      fmt::format("expected 1 to {} configurations", candidates.size()));
   const Context c = make_context(model, *plans.front().session.flange_T_tool, candidates, request,
-                                 request.pose_sigma_multiple * request.plan.gauge.sigma_mm);
+                                 pose_sigma_mm(request));
   // The I-optimal machinery (design/task_selection.hpp) on the scaled Jacobian of every candidate
   // with its placement's world-frame columns: the mean predicted squared error over the
   // validation configurations, to which the frames contribute nothing.
@@ -553,7 +572,8 @@ PlacementsDesignResult design_placements(const PlacementsDesignRequest& request)
                       plan.cell->robot, request.plan_files.front(), first.cell->robot));
     if (!plan.session.flange_T_tool || !first.session.flange_T_tool ||
         !plan.session.flange_T_tool->p.isApprox(first.session.flange_T_tool->p, 1e-9) ||
-        !plan.session.flange_T_tool->R.isApprox(first.session.flange_T_tool->R, 1e-12))
+        !plan.session.flange_T_tool->R.isApprox(first.session.flange_T_tool->R, 1e-12) ||
+        plan.cell->geometry.tool_cup4_mm != first.cell->geometry.tool_cup4_mm)
       throw InputError({file, 0, 0, "tool"},
                        fmt::format("this plan's tool fixture is not the one of {}: one tool "
                                    "fixture for every placement",
@@ -581,10 +601,17 @@ PlacementsDesignResult design_placements(const PlacementsDesignRequest& request)
                                          std::min(result.count, result.offered.front()), search);
   for (size_t p = 0; p < plans.size(); ++p)
     result.plans.push_back(plan_with_configurations(plans[p], result.design.chosen[p]));
+  // Every reduced plan or none (write_files_atomically).
+  std::vector<std::string> texts;
+  std::vector<std::pair<std::filesystem::path, std::string_view>> files;
+  texts.reserve(request.out_files.size());
   for (size_t p = 0; p < request.out_files.size(); ++p) {
     result.written.push_back(!result.design.chosen[p].empty());
-    if (result.written.back()) write_hexapod_plan(request.out_files[p], result.plans[p]);
+    if (!result.written.back()) continue;
+    texts.push_back(hexapod_plan_text(result.plans[p]));
+    files.emplace_back(request.out_files[p], texts.back());
   }
+  write_files_atomically(files);
   return result;
 }
 

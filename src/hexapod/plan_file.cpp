@@ -248,26 +248,34 @@ nlohmann::json setup_json(const std::string& robot, double side_mm,
   return {{"robot", robot}, {"side_mm", side_mm}, {"setting_ball", setting_ball_json(points)}};
 }
 
+PoseScreening plannable_poses(const HexapodGeometry& g, double gauge_range_mm, double angle_deg,
+                              double distance_mm, const CupClearance& cups, int* enumerated) {
+  std::vector<HexapodPose> all = enumerate_poses(g);
+  if (enumerated != nullptr) *enumerated = static_cast<int>(all.size());
+  add_fourth_cup_legs(all, g, kExtraLegRangeFraction * gauge_range_mm);
+  PoseScreening screening = screen_poses(all, g, deg2rad(angle_deg), distance_mm, cups);
+  if (g.tool_cup4_mm &&
+      std::none_of(screening.kept.begin(), screening.kept.end(),
+                   [](const HexapodPose& p) { return p.legs.size() > kDesignLegs.size(); }))
+    throw InputError(
+        {"", 0, 0, "--tool-cup4-mm"},
+        fmt::format("no pose that can be set up has a leg to T4 within ±{} mm of the ballbar's {} "
+                    "mm: put T4 on the circumcircle of T1..T3 (every pose then has one, "
+                    "docs/method/07-hexapod.md §7)",
+                    kExtraLegRangeFraction * gauge_range_mm, g.leg_mm));
+  return screening;
+}
+
 HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& request) {
   const HexapodGeometry& g = request.geometry;
   check_geometry(g);
   const Cups<double> base_cups = fixture_cups(g.base, "--base-mm");
   check_gauge(request.gauge, "--gauge-range-mm", "--gauge-sigma-mm");
   check_fixture_range(g, request.gauge);
-  std::vector<HexapodPose> all = enumerate_poses(g);
-  add_fourth_cup_legs(all, g, kExtraLegRangeFraction * request.gauge.range_mm);
-  const PoseScreening screening =
-      screen_poses(all, g, deg2rad(request.angle_deg), request.distance_mm, request.cups);
+  int enumerated = 0;
+  const PoseScreening screening = plannable_poses(g, request.gauge.range_mm, request.angle_deg,
+                                                  request.distance_mm, request.cups, &enumerated);
   const std::vector<HexapodPose>& kept = screening.kept;
-  if (g.tool_cup4_mm && std::none_of(kept.begin(), kept.end(), [](const HexapodPose& p) {
-        return p.legs.size() > kDesignLegs.size();
-      }))
-    throw InputError(
-        {"", 0, 0, "--tool-cup4-mm"},
-        fmt::format("no pose that can be set up has a leg to T4 within ±{} mm of the ballbar's {} "
-                    "mm: put T4 on the circumcircle of T1..T3 (every pose then has one, "
-                    "docs/method/07-hexapod.md §7)",
-                    kExtraLegRangeFraction * request.gauge.range_mm, g.leg_mm));
   const Pose<double> placement = placement_pose(request.placement, request.tilt_deg);
   // The base fixture frame (B1 origin, B2 on x) for the rough placement of its cup centroid.
   Pose<double> centroid_T_base;
@@ -300,7 +308,7 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
       Cups<double>{plan.setting[0].ball_position_mm, plan.setting[1].ball_position_mm,
                    plan.setting[2].ball_position_mm};
   PlanOutcome outcome;
-  outcome.poses_enumerated = static_cast<int>(all.size());
+  outcome.poses_enumerated = enumerated;
   outcome.poses_kept = static_cast<int>(kept.size());
   outcome.poses_measurable = summary.measurable_poses;
   outcome.configurations_measurable = summary.configurations;
@@ -418,8 +426,12 @@ HexapodPlan read_hexapod_plan(const std::filesystem::path& path) {
   return parse_hexapod_plan(root, path.string());
 }
 
+std::string hexapod_plan_text(const HexapodPlan& plan) {
+  return hexapod_plan_json(plan).dump(2) + "\n";
+}
+
 void write_hexapod_plan(const std::filesystem::path& path, const HexapodPlan& plan) {
-  write_file_atomically(path, hexapod_plan_json(plan).dump(2) + "\n");
+  write_file_atomically(path, hexapod_plan_text(plan));
 }
 
 }  // namespace robcal::hexapod

@@ -180,4 +180,19 @@ std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell
   return legs;
 }
 
+std::optional<LegReadings> simulate_pose_readings(const SimulatedHexapodCell& cell,
+                                                  const HexapodPose& pose, std::string config,
+                                                  const Vector6d& joints, std::mt19937_64& rng) {
+  const std::optional<LegLengths<double>> design = simulate_legs(cell, pose, joints, rng);
+  if (!design) return std::nullopt;
+  LegReadings r{std::move(config), joints, pose.design, pose.mode, *design, {}};
+  const Pose<double> sim_T_flange = true_flange_pose(cell.truth, joints);
+  for (size_t i = kDesignLegs.size(); i < pose.legs.size(); ++i) {
+    const std::optional<double> reading = read_leg(cell, pose.legs[i], sim_T_flange, rng);
+    if (!reading) return std::nullopt;
+    r.extra_legs.push_back({pose.legs[i].base, pose.legs[i].tool, *reading});
+  }
+  return r;
+}
+
 }  // namespace robcal::hexapod

@@ -203,3 +203,23 @@ def test_fourth_tool_cup_plan_session_calibrate(tmp_path):
     with pytest.raises(robcal.InputError, match="--tool-cup4-mm: tool fixture: the fourth cup T4 "
                                                 "is collinear with T1 and T2"):
         hexapod.plan("fanuc-lrmate200ic", tool_cup4_mm=(75, 75, 75 * 3 ** 0.5))
+
+
+def test_fourth_tool_cup_place_and_simulate():
+    # place: the pose σ scaled by the fourth cup's worst-case gain, the same numbers as the CLI.
+    r = 150 / 3 ** 0.5
+    cup4 = (2 * r, r, r)
+    grid = dict(x_mm=[450], y_mm=[0], z_mm=[300], validation=100, best=1)
+    three = hexapod.place(**grid)
+    four = hexapod.place(**grid, tool_cup4_mm=cup4)
+    c = cli_json("hexapod", "place", "--x-mm", "450", "--y-mm", "0", "--z-mm", "300",
+                 "--validation", "100", "--best", "1", "--tool-cup4-mm", numbers(cup4))
+    assert c == four
+    assert 0.98 * three["pose_sigma_mm"] < four["pose_sigma_mm"] < three["pose_sigma_mm"]
+    # simulate: a seventh leg read in every configuration measured.
+    s = hexapod.simulate(validation=50, leg_fit=False, tool_cup4_mm=cup4)
+    assert s["legs_read"] == 7 * s["legs_read_tool_cup4"] > 0
+    assert s["tool_cup4_mm"] == list(cup4)
+    with pytest.raises(robcal.InputError, match="--tool-cup4-mm: tool fixture: the fourth cup T4 "
+                                                "is collinear with T1 and T2"):
+        hexapod.simulate(tool_cup4_mm=(75, 75, 75 * 3 ** 0.5))

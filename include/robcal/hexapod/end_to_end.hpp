@@ -64,6 +64,9 @@ struct EndToEndReport {
   int measured_first = 0;  ///< configurations whose six legs were all in range
   int retried = 0;         ///< out of range at first, re-planned with the preliminary model
   int measured_after_replan = 0;
+  /// Legs read in the configurations measured (first pass and after re-planning), and of those
+  /// the legs to a fourth tool cup.
+  int legs_read = 0, legs_read_fourth_cup = 0;
   double world_frame_rms_mm = 0;
   /// The fitted world frame against the true base fixture frame (translation, rotation): the
   /// uncalibrated robot's error where it placed the cups.

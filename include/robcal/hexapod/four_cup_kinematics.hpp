@@ -89,4 +89,15 @@ std::vector<CupUncertainty> four_cup_uncertainty_monte_carlo(const FourCupDkpReq
                                                              double sigma_mm, int samples,
                                                              std::mt19937_64& rng);
 
+/// The worst standard uncertainty of a tool cup T1..T3 (multiples of one distance's σ,
+/// docs/method/07-hexapod.md §4) over `poses` of `geometry`, every distance at its planned value:
+/// solved from the fixture sides and the six design legs (`design_legs`), and from every leg of
+/// the pose with the fourth tool cup's distances when a leg reaches it (`all_legs`). Throws
+/// std::logic_error when a planned pose has no solution (the poses are not of this geometry).
+struct WorstToolCupUncertainty {
+  double design_legs = 0, all_legs = 0;
+};
+WorstToolCupUncertainty worst_tool_cup_uncertainty(const std::vector<HexapodPose>& poses,
+                                                   const HexapodGeometry& geometry);
+
 }  // namespace robcal::hexapod

@@ -47,7 +47,9 @@ struct PlacementSearchRequest {
   /// e.g. "periodic": joint-dependent errors need the joint ranges several placements visit.
   std::vector<std::string> identify;
   /// σ of one pose row (mm; rotation rows × the lever arm): the gauge σ times the DKP's worst-case
-  /// amplification (≈ 3.2, docs/method/07-hexapod.md §4).
+  /// amplification (≈ 3.2, docs/method/07-hexapod.md §4). With a fourth tool cup in the plan's
+  /// geometry it is scaled by worst_tool_cup_uncertainty's all_legs / design_legs over the poses
+  /// planned with it (§7).
   double pose_sigma_multiple = 3.2;
   int validation_configurations = 2000;  ///< random configurations in the joint limits
   uint64_t seed = 1;
@@ -147,8 +149,9 @@ struct PlacementsDesignRequest {
   std::vector<std::string> identify;  ///< as PlacementSearchRequest::identify
   int validation_configurations = 2000;
   uint64_t seed = 1;
-  /// Where to write each reduced plan (none, or one per plan file, in order; each written whole
-  /// or not at all). A placement with nothing chosen is not worth setting up: no plan for it.
+  /// Where to write each reduced plan (none, or one per plan file, in order; all written or none,
+  /// write_files_atomically). A placement with nothing chosen is not worth setting up: no plan
+  /// for it.
   std::vector<std::string> out_files;
 };
 struct PlacementsDesignResult {

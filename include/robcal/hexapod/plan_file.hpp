@@ -110,6 +110,14 @@ struct HexapodPlan {
   std::optional<Replanned> replanned;
 };
 
+/// The poses a plan offers for `geometry`: all enumerated ones (`enumerated`), each with its legs
+/// to a fourth cup within kExtraLegRangeFraction of `gauge_range_mm` (add_fourth_cup_legs), then
+/// screened for colliding cups and legs and pruned (screen_poses). Throws InputError naming
+/// --tool-cup4-mm when a fourth cup has no leg in any pose kept.
+PoseScreening plannable_poses(const HexapodGeometry& geometry, double gauge_range_mm,
+                              double angle_deg, double distance_mm, const CupClearance& cups,
+                              int* enumerated = nullptr);
+
 /// Plans every pose of the cell (enumeration, pruning, IK with clearance checks) and the set-up
 /// of the base cups. Throws InputError on bad fixtures or a robot without closed-form IK.
 HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& request);
@@ -121,5 +129,7 @@ HexapodPlan parse_hexapod_plan(const nlohmann::json& root, const std::string& fi
 /// Reads a plan file (JSON); writes one whole or not at all.
 HexapodPlan read_hexapod_plan(const std::filesystem::path& path);
 void write_hexapod_plan(const std::filesystem::path& path, const HexapodPlan& plan);
+/// The plan file's text (what write_hexapod_plan writes).
+std::string hexapod_plan_text(const HexapodPlan& plan);
 
 }  // namespace robcal::hexapod

@@ -11,7 +11,9 @@
 
 #include <optional>
 #include <random>
+#include <string>
 
+#include "robcal/hexapod/measurement.hpp"
 #include "robcal/hexapod/planning.hpp"
 #include "robcal/hexapod/poses.hpp"
 #include "robcal/hexapod/session.hpp"
@@ -88,5 +90,12 @@ TrackerValidation simulate_tracker_validation(const SimulatedHexapodCell& cell,
 std::optional<LegLengths<double>> simulate_legs(const SimulatedHexapodCell& cell,
                                                 const HexapodPose& pose, const Vector6d& joints,
                                                 std::mt19937_64& rng, int* out_of_range = nullptr);
+
+/// One configuration's readings of every leg of `pose` (the design's, then those to a fourth cup)
+/// with the true robot at `joints`, labelled `config`; nullopt when any leg is out of the
+/// ballbar's range (the session then retries the whole configuration).
+std::optional<LegReadings> simulate_pose_readings(const SimulatedHexapodCell& cell,
+                                                  const HexapodPose& pose, std::string config,
+                                                  const Vector6d& joints, std::mt19937_64& rng);
 
 }  // namespace robcal::hexapod

@@ -18,6 +18,15 @@ namespace robcal {
 /// parent directories. Throws InputError naming the path when it cannot be written.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
 
+/// Writes several files all or nothing: every regular target to a temporary file beside it first
+/// (then devices, pipes and standard output, written in place as above), and only when all are
+/// written are the temporaries renamed over their targets. When a target cannot be written
+/// (a folder, a folder that cannot be created, a full disk) the temporaries are removed and no
+/// regular target is touched; throws InputError naming that path. (A rename refused after others
+/// succeeded, which needs the folder to change under the writer, leaves those replaced.)
+void write_files_atomically(
+    const std::vector<std::pair<std::filesystem::path, std::string_view>>& files);
+
 /// Reads a whole file ("-": standard input); throws InputError naming the path when it cannot
 /// be read.
 std::string read_text_file(const std::filesystem::path& path);
