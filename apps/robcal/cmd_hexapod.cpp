@@ -2,6 +2,7 @@
 /// poses, uncertainty, world frame and set-up, planning, the guided session and the simulated run.
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cstdio>
 #include <sstream>
@@ -84,6 +85,20 @@ void add_tool_cup4_option(CLI::App* cmd, std::string& text) {
                   "A fourth tool cup T4 by its distances d14,d24,d34 to T1..T3 (mm): its legs "
                   "within half the gauge range of --leg-mm are measured too (on the circumcircle "
                   "of T1..T3: one in every pose)");
+}
+
+/// "kinematic" or "kinematic + periodic, backlash": what the predictions are made for.
+std::string parameters_text(const std::string& level, const std::vector<std::string>& identify) {
+  return identify.empty() ? level : fmt::format("{} + {}", level, fmt::join(identify, ", "));
+}
+
+/// `--identify` as `robcal calibrate` takes it: the placement predictions are made for those
+/// parameters too.
+void add_identify_option(CLI::App* cmd, std::vector<std::string>& patterns) {
+  cmd->add_option("--identify", patterns,
+                  "Also identify the parameters matching this glob or opt-in group (repeatable), "
+                  "as calibrate --identify takes them, e.g. periodic: joint-dependent errors "
+                  "need the joint ranges several placements visit");
 }
 
 // ---- dkp -------------------------------------------------------------------------------------
@@ -408,8 +423,8 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
 void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
                const MeasuringOptions& m, const std::string& tool_cup4,
                const std::string& cell_path, const std::array<std::string, 5>& grid,
-               const std::string& level, int validation, uint64_t seed, int best,
-               const std::vector<std::string>& measured, bool json) {
+               const std::string& level, const std::vector<std::string>& identify, int validation,
+               uint64_t seed, int best, const std::vector<std::string>& measured, bool json) {
   PlacementSearchRequest request;
   for (const std::string& plan : measured)
     request.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
@@ -424,6 +439,7 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
                                            &request.yaw_deg, &request.tilt_deg};
   for (int i = 0; i < 5; ++i) *axes[i] = parse_numbers(grid[i], -1, kFlags[i]);
   request.level = parse_calibration_level(level);
+  request.identify = identify;
   request.validation_configurations = validation;
   request.seed = seed;
   request.best = best;
@@ -436,8 +452,8 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
   fmt::print(
       "{}: {} placements searched; {} of {} {} parameters identifiable from hexapod poses; pose "
       "σ {:.5f} mm; predicted errors over {} random configurations in the joint limits (seed {})\n",
-      model.name, r.ranked.size(), r.identified_parameters.size(), r.parameters, level,
-      r.pose_sigma_mm, validation, seed);
+      model.name, r.ranked.size(), r.identified_parameters.size(), r.parameters,
+      parameters_text(level, identify), r.pose_sigma_mm, validation, seed);
   fmt::print("{:>4}  {:<22} {:>6}  {:>5} {:>7} {:>6} {:>8} {:>11} {:>10}\n", "rank", "x,y,z,yaw",
              "tilt", "poses", "configs", "undet", "O1", "pred. mean", "pred. max");
   for (int i = 0; i < best && i < static_cast<int>(r.ranked.size()); ++i) {
@@ -488,7 +504,8 @@ void run_design(const PlacementsDesignRequest& request, bool json) {
   fmt::print(
       "{}: {} configurations chosen among {} placements ({} level; predicted errors over {} "
       "random configurations in the joint limits, seed {})\n",
-      r.robot, r.count, r.plans.size(), level_name(request.level),
+      r.robot, r.count, r.plans.size(),
+      parameters_text(level_name(request.level), request.identify),
       request.validation_configurations, request.seed);
   for (size_t p = 0; p < r.plans.size(); ++p)
     fmt::print("  {:<32} placement {} tilt {:g}: {} of {} configurations{}\n",
@@ -499,7 +516,7 @@ void run_design(const PlacementsDesignRequest& request, bool json) {
                                      : " (nothing to measure there: no plan written)");
   const auto line = [](const char* what, const PlacementsDesign& d, size_t n) {
     fmt::print(
-        "{}: {} configurations, {} of the level's {} parameters identifiable{}, predicted mean "
+        "{}: {} configurations, {} of the {} parameters identifiable{}, predicted mean "
         "{:.6f} mm, max {:.6f} mm (of those parameters only)\n",
         what, n, d.identifiable, d.parameters,
         d.undetermined > 0 ? fmt::format(" ({} unknowns undetermined)", d.undetermined) : "",
@@ -729,6 +746,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     auto grid = std::make_shared<std::array<std::string, 5>>(
         std::array<std::string, 5>{"350,450,550", "-200,0,200", "200,300", "0", "0"});
     auto level = std::make_shared<std::string>("kinematic");
+    auto identify = std::make_shared<std::vector<std::string>>();
     auto validation = std::make_shared<int>(2000);
     auto seed = std::make_shared<uint64_t>(1);
     auto best = std::make_shared<int>(5);
@@ -749,6 +767,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--level", *level, "Parameters to identify: base, joints, kinematic")
         ->capture_default_str();
+    add_identify_option(cmd, *identify);
     cmd->add_option("--validation", *validation, "Random configurations the error is predicted on")
         ->capture_default_str();
     cmd->add_option("--seed", *seed, "Seed of the validation configurations")
@@ -760,8 +779,8 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
                     "the next one to measure");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
-      run_place(*geometry, *cell, *measuring, *tool_cup4, *cell_file, *grid, *level, *validation,
-                *seed, *best, *measured, *json);
+      run_place(*geometry, *cell, *measuring, *tool_cup4, *cell_file, *grid, *level, *identify,
+                *validation, *seed, *best, *measured, *json);
     });
   }
   {
@@ -779,6 +798,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
                     "Configurations in all (default: as many as the first plan offers)");
     cmd->add_option("--level", *level, "Parameters to identify: base, joints, kinematic")
         ->capture_default_str();
+    add_identify_option(cmd, request->identify);
     cmd->add_option("--validation", request->validation_configurations,
                     "Random configurations the error is predicted on")
         ->capture_default_str();

@@ -83,6 +83,7 @@ struct CalibrateOptions {
   SessionOptions session;
   std::string robot = "fanuc-lrmate200ic";
   std::string level = "full";
+  std::vector<std::string> identify;
   std::string fit = "poses";
   bool relative = false;
   double orientation_weight = kDefaultOrientationWeightMm;
@@ -95,6 +96,8 @@ void run_calibrate(const CalibrateOptions& o) {
   SessionCalibrationRequest request;
   request.fit = parse_session_fit(o.fit);
   request.level = parse_calibration_level(o.level);
+  request.identify = o.identify;
+  check_identify_patterns(request.level, request.identify);
   request.relative = o.relative;
   request.orientation_weight_mm = o.orientation_weight;
   request.seed = o.seed;
@@ -226,6 +229,9 @@ const bool hexapod_calibrate_registered = register_command(61, [](CLI::App& app)
     cmd->add_option("--robot", o->robot, "Built-in robot name or robot file")
         ->capture_default_str();
     cmd->add_option("--level", o->level, "base, joints, kinematic or full")->capture_default_str();
+    cmd->add_option("--identify", o->identify,
+                    "Also identify the parameters matching this glob or opt-in group (repeatable), "
+                    "as calibrate --identify takes them, e.g. periodic");
     cmd->add_option("--fit", o->fit,
                     "poses: identification (`robcal calibrate`) on the tool fixture poses; legs: "
                     "straight from the raw leg lengths, with the cups and the ballbar offset")

@@ -547,6 +547,7 @@ PlacementsDesignResult design_placements(const PlacementsDesignRequest& request)
     throw InputError({"", 0, 0, "--out"},
                      fmt::format("expected one --out per --plan ({}), got {}",
                                  request.plan_files.size(), request.out_files.size()));
+  check_identify_patterns(request.level, request.identify);
   if (request.validation_configurations < 2)
     throw InputError({"", 0, 0, "--validation"},
                      fmt::format("expected at least 2 validation configurations, got {}",
@@ -628,6 +629,7 @@ nlohmann::json placements_design_json(const PlacementsDesignRequest& request,
   json out{{"robot", r.robot},
            {"count", r.count},
            {"level", level_name(request.level)},
+           {"identify", request.identify},
            {"validation_configurations", request.validation_configurations},
            {"seed", request.seed},
            {"design", prediction(r.design)},

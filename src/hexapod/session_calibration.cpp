@@ -33,12 +33,13 @@ RenderedFiles export_files(const SessionData& data, const Tool& tool, const Meas
   return files;
 }
 
-/// The fit from the raw legs: the level's link and compliance parameters, the cups and the
-/// ballbar's offset; written in the frame of the pose fit.
+/// The fit from the raw legs: the level's link and compliance parameters and the groups asked
+/// for, the cups and the ballbar's offset; written in the frame of the pose fit.
 void fit_legs(const std::vector<SessionData>& placements, const RobotModel& model,
-              CalibrationLevel level, SessionCalibration& out) {
+              const SessionCalibrationRequest& request, SessionCalibration& out) {
   LegFitOptions options;
-  for (int i : level_parameters(level))
+  for (int i : identified_model_parameters(model, out.tool, MeasurementKind::Poses, request.level,
+                                           request.identify))
     if (i >= kBaseParamCount) options.free_parameters.push_back(i);
   std::vector<LegPlacement> legs;
   for (size_t p = 0; p < placements.size(); ++p)
@@ -48,7 +49,7 @@ void fit_legs(const std::vector<SessionData>& placements, const RobotModel& mode
   const LegFitResult fit = fit_from_legs(model, out.tool.payload, first.tool_fixture(), legs,
                                          model.nominal(), first.flange_T_tool, options);
   out.robot = leg_fit_robot(model, out.tool.payload, fit, out.world.robot_T_fixture);
-  out.robot.level = level_name(level);
+  out.robot.level = level_name(request.level);
   YAML::Node stats;
   stats["leg_fit"]["residuals"] = fit.residuals;
   stats["leg_fit"]["initial_rms_mm"] = fit.initial_rms_mm;
@@ -121,11 +122,12 @@ SessionCalibration calibrate_sessions(const std::vector<SessionData>& placements
   out.poses = session_pose_measurements(data);
   out.exports = export_files(data, out.tool, out.poses, request.exports);
   if (request.fit == SessionFit::Legs) {
-    fit_legs(placements, model, request.level, out);
+    fit_legs(placements, model, request, out);
     return out;
   }
   IdentifyOptions options;
   options.level = request.level;
+  options.identify = request.identify;
   if (request.relative) options.fix = {"base.*"};
   options.orientation_weight_mm = request.orientation_weight_mm;
   options.seed = request.seed;

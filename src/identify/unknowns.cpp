@@ -199,6 +199,10 @@ void refuse_gearless_motor_terms(const RobotModel& model, const std::vector<std:
   }
 }
 
+void check_identify_patterns(CalibrationLevel level, const std::vector<std::string>& identify) {
+  select_unknowns(make_unknown_layout(Tool{}, MeasurementKind::Poses), level, identify, {});
+}
+
 std::vector<int> identified_model_parameters(const RobotModel& model, const Tool& tool,
                                              MeasurementKind kind, CalibrationLevel level,
                                              const std::vector<std::string>& identify) {

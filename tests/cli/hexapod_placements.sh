@@ -67,6 +67,16 @@ assert d["rms_mm"] < 1.2 * 0.00051, d["rms_mm"]  # the ballbar's σ: both world 
 assert any(h.startswith("link3.d") or h.startswith("link2.d") for h in d["held"])
 PY
 "$ROBCAL" hexapod calibrate --session "$tmp/a" --fit legs --tool "$tmp/tool.yaml" --out "$tmp/one.yaml" > /dev/null
+# The joint-periodic group identified from both placements as well (the design's --identify):
+# the fit still reaches the ballbar's σ and the model file holds the periodic terms.
+"$ROBCAL" hexapod calibrate --session "$tmp/a" --session "$tmp/b" --fit legs --tool "$tmp/tool.yaml" \
+  --identify periodic --out "$tmp/periodic.yaml" --json > "$tmp/periodic.json"
+python3 - "$tmp/periodic.json" <<'PY' || fail "calibrate --identify periodic: $(cat "$tmp/periodic.json")"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["converged"] and d["rms_mm"] < 1.2 * 0.00051, d
+PY
+grep -q "joint2.periodic1.cos" "$tmp/periodic.yaml" || fail "no periodic terms in $(cat "$tmp/periodic.yaml")"
 if [ ${#fixture[@]} -gt 0 ]; then
   # With a fourth tool cup: seven legs in every configuration of both sessions, and the fitted T4
   # (a target of the calibrated tool, flange frame) where its measured distances put it: the true

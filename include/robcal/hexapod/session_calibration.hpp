@@ -35,6 +35,8 @@ using RenderedFiles = std::vector<std::pair<std::string, std::string>>;
 
 struct SessionCalibrationRequest {
   CalibrationLevel level = CalibrationLevel::Full;
+  /// Opt-in groups or parameter patterns identified beyond the level (`calibrate --identify`).
+  std::vector<std::string> identify;
   SessionFit fit = SessionFit::Poses;
   bool relative = false;  ///< hold the base (the published relative model); poses fit only
   double orientation_weight_mm = kDefaultOrientationWeightMm;

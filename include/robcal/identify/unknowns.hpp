@@ -81,6 +81,10 @@ std::vector<bool> select_unknowns(const UnknownLayout& layout, CalibrationLevel 
 void refuse_gearless_motor_terms(const RobotModel& model, const std::vector<std::string>& identify,
                                  std::vector<bool>& requested);
 
+/// InputError (key `--identify`) naming the first pattern that matches no model parameter: checks
+/// a request's patterns before any file is read.
+void check_identify_patterns(CalibrationLevel level, const std::vector<std::string>& identify);
+
 /// The model parameter indices (ascending) a calibration of `model` with `tool` and `kind`
 /// identifies: the level's and those of `identify` (select_unknowns), motor-angle terms of
 /// gearless joints left out (refuse_gearless_motor_terms). What a design is made for.
