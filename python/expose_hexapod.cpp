@@ -319,7 +319,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          double leg_mm, double tool_offset_mm, double ball_offset_mm, double table_z_mm,
          double angle_deg, double distance_mm, double gauge_range_mm, double gauge_sigma_mm,
          double cup_diameter_mm, const std::optional<std::string>& cell,
-         const std::optional<std::array<double, 3>>& tool_cup4_mm) {
+         const std::optional<std::array<double, 3>>& tool_cup4_mm,
+         const std::vector<std::string>& identify) {
         PlacementSearchRequest r;
         r.plan = plan_request(robot, base_sides_mm, tool_sides_mm, leg_mm, tool_offset_mm,
                               ball_offset_mm, table_z_mm, angle_deg, distance_mm, gauge_range_mm,
@@ -333,6 +334,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         r.yaw_deg = yaw_deg;
         r.tilt_deg = tilt_deg;
         r.level = parse_calibration_level(level);
+        r.identify = identify;
         r.validation_configurations = validation;
         r.seed = seed;
         r.best = best;
@@ -357,20 +359,23 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("gauge_range_mm") = LengthGauge{}.range_mm,
       py::arg("gauge_sigma_mm") = LengthGauge{}.sigma_mm,
       py::arg("cup_diameter_mm") = CupClearance{}.cup_diameter_mm, py::arg("cell") = py::none(),
-      py::arg("tool_cup4_mm") = py::none(),
+      py::arg("tool_cup4_mm") = py::none(), py::arg("identify") = std::vector<std::string>{},
       "Placement search (`robcal hexapod place`): the grid's placements ranked by predicted "
       "accuracy, and the best pairs; with `measured` (plan files of the placements already "
       "measured) the grid's placements ranked as the next one ('next'); the fixtures, offsets, "
       "pruning, gauge (range and σ, mm), cup diameter, cell file and fourth tool cup as `plan`'s "
-      "(the CLI's flags); the CLI's JSON as a dict");
+      "(the CLI's flags); `identify`: opt-in groups or patterns predicted for too (`--identify`); "
+      "the CLI's JSON as a dict");
   h.def(
       "design",
       [](const std::vector<std::string>& plans, int count, const std::string& level, int validation,
-         uint64_t seed, const std::vector<std::string>& out) {
+         uint64_t seed, const std::vector<std::string>& out,
+         const std::vector<std::string>& identify) {
         PlacementsDesignRequest r;
         r.plan_files = plans;
         r.count = count;
         r.level = parse_calibration_level(level);
+        r.identify = identify;
         r.validation_configurations = validation;
         r.seed = seed;
         r.out_files = out;
@@ -383,11 +388,11 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       },
       py::arg("plans"), py::arg("count") = 0, py::arg("level") = "kinematic",
       py::arg("validation") = 2000, py::arg("seed") = 1,
-      py::arg("out") = std::vector<std::string>{},
+      py::arg("out") = std::vector<std::string>{}, py::arg("identify") = std::vector<std::string>{},
       "Which configurations to measure at each of several planned placements (`robcal hexapod "
       "design`): plans = plan files written by `plan`, count = configurations in all (0: as many "
       "as the first plan offers); `out` = one reduced plan file per plan (none written for a "
-      "placement with nothing chosen); the CLI's JSON as a dict");
+      "placement with nothing chosen); `identify` as `place`'s; the CLI's JSON as a dict");
   h.def(
       "device_validation",
       [](const std::array<double, 3>& base_sides_mm, const std::array<double, 3>& tool_sides_mm,
@@ -450,10 +455,13 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::vector<std::string>& sessions, const std::string& robot,
          const std::optional<std::string>& tool, const std::string& level, const std::string& fit,
          bool relative, double orientation_weight_mm, uint64_t seed,
-         const std::optional<std::string>& plan, const std::optional<std::string>& out) {
+         const std::optional<std::string>& plan, const std::optional<std::string>& out,
+         const std::vector<std::string>& identify) {
         SessionCalibrationRequest request;
         request.fit = parse_session_fit(fit);
         request.level = parse_calibration_level(level);
+        request.identify = identify;
+        check_identify_patterns(request.level, request.identify);
         request.relative = relative;
         request.orientation_weight_mm = orientation_weight_mm;
         request.seed = seed;
@@ -477,6 +485,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("level") = "full", py::arg("fit") = "poses", py::arg("relative") = false,
       py::arg("orientation_weight_mm") = kDefaultOrientationWeightMm, py::arg("seed") = 1,
       py::arg("plan") = py::none(), py::arg("out") = py::none(),
+      py::arg("identify") = std::vector<std::string>{},
       "Calibrates from measured sessions (`robcal hexapod calibrate`; sessions of several "
       "base-fixture placements together with fit='legs'): the CLI's JSON as a dict "
       "plus model (CalibratedRobot), tool (the tool fixture) and poses (Measurements); with `out` "

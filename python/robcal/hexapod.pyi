@@ -124,20 +124,23 @@ def place(robot: str = "fanuc-lrmate200ic", x_mm: Sequence[float] = ..., y_mm: S
           table_z_mm: float = 0.0, angle_deg: float = 30.0, distance_mm: float = 50.0,
           gauge_range_mm: float = ..., gauge_sigma_mm: float = ..., cup_diameter_mm: float = ...,
           cell: Optional[str] = None,
-          tool_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Dict[str, Any]:
+          tool_cup4_mm: Optional[Tuple[float, float, float]] = None,
+          identify: Sequence[str] = ...) -> Dict[str, Any]:
     """Placement search (`robcal hexapod place`): the grid's placements ranked by predicted
     accuracy, and the best pairs; with `measured` (plan files of the placements already
     measured) the grid's placements ranked as the next one ('next'); the fixtures, offsets,
     pruning, gauge (range and σ, mm), cup diameter, cell file and fourth tool cup as plan()'s
-    (the CLI's flags); the CLI's JSON as a dict."""
+    (the CLI's flags); `identify`: opt-in groups or patterns predicted for too (`--identify`);
+    the CLI's JSON as a dict."""
 
 
 def design(plans: Sequence[str], count: int = 0, level: str = "kinematic", validation: int = 2000,
-           seed: int = 1, out: Sequence[str] = ...) -> Dict[str, Any]:
+           seed: int = 1, out: Sequence[str] = ...,
+           identify: Sequence[str] = ...) -> Dict[str, Any]:
     """Which configurations to measure at each of several planned placements (`robcal hexapod
     design`): plans = plan files written by plan(), count = configurations in all (0: as many as
     the first plan offers); `out` = one reduced plan file per plan (none written for a placement
-    with nothing chosen); the CLI's JSON as a dict."""
+    with nothing chosen); `identify` as place()'s; the CLI's JSON as a dict."""
 
 
 def device_validation(base_sides_mm: Tuple[float, float, float] = ...,
@@ -185,7 +188,8 @@ def export_poses(sessions: Sequence[str], out: str, legs_out: Optional[str] = No
 def calibrate(sessions: Sequence[str], robot: str = "fanuc-lrmate200ic",
               tool: Optional[str] = None, level: str = "full", fit: str = "poses",
               relative: bool = False, orientation_weight_mm: float = 100.0, seed: int = 1,
-              plan: Optional[str] = None, out: Optional[str] = None) -> Dict[str, Any]:
+              plan: Optional[str] = None, out: Optional[str] = None,
+              identify: Sequence[str] = ...) -> Dict[str, Any]:
     """Calibrates from measured sessions (`robcal hexapod calibrate`; sessions of several
     base-fixture placements together with fit='legs'): the CLI's JSON as a dict
     plus model (CalibratedRobot), tool (the tool fixture) and poses (Measurements); with `out` the

@@ -102,6 +102,14 @@ def test_design_over_two_placements(tmp_path):
             assert pathlib.Path(cli_out).read_text() == pathlib.Path(py_out).read_text()
     with pytest.raises(robcal.InputError, match="--out"):
         hexapod.design(plans, out=[outs[0]])
+    # With the joint-periodic group predicted for too (--identify): the same choice both ways.
+    c = cli_json("hexapod", "design", "--plan", plans[0], "--plan", plans[1], "--count", "40",
+                 "--validation", "200", "--identify", "periodic")
+    p = hexapod.design(plans, count=40, validation=200, identify=["periodic"])
+    assert c == p and p["identify"] == ["periodic"]
+    assert p["design"]["parameters"] > 40  # the level's and the group's
+    with pytest.raises(robcal.InputError, match="--identify"):
+        hexapod.design(plans, identify=["nosuch*"])
 
 
 def test_session_and_export_poses(tmp_path):
