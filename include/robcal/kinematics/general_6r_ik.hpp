@@ -47,6 +47,7 @@
 /// index: docs/method/02-frames.md §7). Joint limits and turns as for the closed forms.
 
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -58,6 +59,8 @@ namespace robcal {
 /// The most real solutions a 6R arm has.
 inline constexpr int kMaxGeneral6rSolutions = 16;
 
+struct General6rElimination;
+
 /// Constants of a 6R arm for the eigenvalue method. Immutable once built.
 struct General6rGeometry : ClosedFormJoints {
   Pose<double> base;                 ///< B, mm
@@ -66,6 +69,10 @@ struct General6rGeometry : ClosedFormJoints {
   /// Which joint plays θ1 in the elimination: the loop Rz(θ1)·K1⋯Rz(θ6)·(B⁻¹·T)⁻¹ = I is
   /// started at joint 1 + cyclic_shift, the first start on which the elimination is regular.
   int cyclic_shift = 0;
+  /// The part of the elimination that does not depend on the pose (the left sides and the
+  /// spurious eigenvalues' deflation, general_6r_ik.cpp), computed once by analyze_general_6r;
+  /// null when the pose enters it (cyclic_shift 1 to 3), then computed per pose.
+  std::shared_ptr<const General6rElimination> elimination;
 };
 
 /// The geometry of any model with an integer joint map, else std::nullopt with `why_not`
