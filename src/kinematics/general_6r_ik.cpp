@@ -16,13 +16,27 @@
 #include "robcal/model/parameters.hpp"
 
 namespace robcal {
+
+/// What the elimination takes from the three kept joints alone (docs/method/02-frames.md §7).
+struct General6rElimination {
+  /// Left sides times (1 + x4²)(1 + x5²): for each θ3 term (1, cos θ3, sin θ3) the coefficients
+  /// of x4^i·x5^j, column 3i + j.
+  std::array<Eigen::Matrix<double, 14, 9>, 3> left;
+  /// Y = [top; bottom], an orthonormal basis of the companion space orthogonal to the spurious
+  /// eigenvectors (x3 = ±i), and topᵀ·bottom.
+  Eigen::Matrix<double, 12, Eigen::Dynamic, 0, 12, 24> top, bottom;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 24, 24> top_t_bottom;
+};
+
 namespace {
 
 using Equations = Eigen::Matrix<double, 14, 1>;
 using Matrix12 = Eigen::Matrix<double, 12, 12>;
-using Matrix24 = Eigen::Matrix<double, 24, 24>;
 using Vector12 = Eigen::Matrix<double, 12, 1>;
 using Angles = std::array<double, kJointCount>;
+/// The companion matrix with the spurious eigenvalues deflated (16×16 on every arm tried).
+using Companion = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 24, 24>;
+using CompanionBasis = Eigen::Matrix<double, 12, Eigen::Dynamic, 0, 12, 24>;
 
 /// Interpolation nodes 0, 2π/3, 4π/3: a degree-one trigonometric polynomial is fixed by them.
 constexpr double kNodes[3] = {0.0, 2.0 * std::numbers::pi / 3.0, 4.0 * std::numbers::pi / 3.0};
@@ -48,6 +62,9 @@ constexpr int kMaxCluster = 4;
 /// twins sharing x3) the double root is defective and its eigenvalues spread as ε^(1/4), up to
 /// 1e-2 (Stäubli TX2-60, Doosan M1013, CRX near θ5 = 0).
 constexpr double kCrowded = 3e-2;
+/// A singular value of the left sides at x3 = i below this fraction of the largest spans a
+/// spurious eigenvector (they are 1e-16 relative, the others above 1e-3, on the arms tried).
+constexpr double kSpuriousNull = 1e-10;
 /// Acceptance of a polished candidate, and the distance below which two are the same.
 constexpr double kAcceptPositionMm = 1e-9;
 constexpr double kAcceptOrientationRad = 1e-11;
@@ -86,6 +103,62 @@ Eigen::Matrix3d half_angle(double phi) {
   Eigen::Matrix3d H;
   H << 1, c, s, 0, -2 * s, 2 * c, 1, -c, -s;
   return H;
+}
+
+/// The 14×12 equations of M(x3) before the θ1θ2 elimination: the 9 monomials x4^i·x5^j of
+/// `coeff` (column 3i + j), and the same equations times x4 on 12 monomials.
+template <typename Out, typename In>
+void place_twice(Out&& out, const In& coeff) {
+  out.template block<14, 9>(0, 0) = coeff;
+  out.template block<14, 9>(14, 3) = coeff;
+}
+
+/// The elimination's constants from the kept links K3, K4, K5 (scaled lengths).
+General6rElimination kept_joints_elimination(const Pose<double>& K3, const Pose<double>& K4,
+                                             const Pose<double>& K5) {
+  const Eigen::Matrix3d& W = kNodeWeights;
+  // Left sides at the 27 node triples, interpolated over {1, cos, sin} of θ3, θ4, θ5.
+  Eigen::Matrix<double, 14, 27> values, left = Eigen::Matrix<double, 14, 27>::Zero();
+  for (int k3 = 0; k3 < 3; ++k3)
+    for (int k4 = 0; k4 < 3; ++k4)
+      for (int k5 = 0; k5 < 3; ++k5)
+        values.col(9 * k3 + 3 * k4 + k5) =
+            equations(rot_z(kNodes[k3]) * K3 * rot_z(kNodes[k4]) * K4 * rot_z(kNodes[k5]) * K5);
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      for (int c = 0; c < 3; ++c)
+        for (int k3 = 0; k3 < 3; ++k3)
+          for (int k4 = 0; k4 < 3; ++k4)
+            for (int k5 = 0; k5 < 3; ++k5)
+              left.col(9 * a + 3 * b + c) +=
+                  W(a, k3) * W(b, k4) * W(c, k5) * values.col(9 * k3 + 3 * k4 + k5);
+  // Half-angle polynomials in x4, x5 for each trigonometric term a of θ3.
+  const Eigen::Matrix3d H4 = half_angle(kShift4), H5 = half_angle(kShift5);
+  General6rElimination e;
+  for (int a = 0; a < 3; ++a) {
+    e.left[a].setZero();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int b = 0; b < 3; ++b)
+          for (int c = 0; c < 3; ++c)
+            e.left[a].col(3 * i + j) += H4(i, b) * H5(j, c) * left.col(9 * a + 3 * b + c);
+  }
+  // At x3 = ±i the constant θ3 term, hence the whole right side, vanishes with (1 + x3²):
+  // M(i) = 2·e^(−iφ3)·Uᵀ(L_cos + i·L_sin) whatever the pose. The null vectors v = a + i·b of the
+  // left sides' L_cos + i·L_sin give the companion's spurious eigenvectors [v; i·v], whose real
+  // span is {[a; −b]}: (a, b) the null space of the real form [[Re, −Im], [Im, Re]].
+  Eigen::Matrix<double, 56, 24> real_form = Eigen::Matrix<double, 56, 24>::Zero();
+  place_twice(real_form.block<28, 12>(0, 0), e.left[1]);
+  place_twice(real_form.block<28, 12>(28, 12), e.left[1]);
+  place_twice(real_form.block<28, 12>(0, 12), -e.left[2]);
+  place_twice(real_form.block<28, 12>(28, 0), e.left[2]);
+  const Eigen::JacobiSVD<Eigen::Matrix<double, 56, 24>> svd(real_form, Eigen::ComputeFullV);
+  int rank = 0;
+  while (rank < 24 && svd.singularValues()[rank] > kSpuriousNull * svd.singularValues()[0]) ++rank;
+  e.top = svd.matrixV().topRows<12>().leftCols(rank);
+  e.bottom = -svd.matrixV().bottomRows<12>().leftCols(rank);
+  e.top_t_bottom = e.top.transpose() * e.bottom;
+  return e;
 }
 
 /// Pose of the chain's flange and, if asked, each joint's axis origin and direction.
@@ -237,12 +310,24 @@ std::optional<General6rGeometry> analyze_general_6r(const RobotModel& model, std
   }
   g.length_scale = std::max(length, 1.0);
   // The elimination degenerates on some special shapes for some choices of the eliminated
-  // joint: take the first cyclic shift of the loop on which three arbitrary configurations
-  // are found again.
-  const std::array<Angles, 3> probes = {Angles{0.3, -0.7, 1.1, 0.5, -1.3, 0.9},
-                                        Angles{-2.1, 0.4, -0.6, 2.5, 0.8, -1.7},
-                                        Angles{1.4, 1.9, 2.6, -0.4, 2.2, 0.1}};
+  // joint: take the first cyclic shift of the loop on which eight arbitrary configurations
+  // are found again (three were not enough: the Stäubli TX2-60 started at joint 5 finds them
+  // but misses a third of random configurations).
+  const std::array<Angles, 8> probes = {
+      Angles{0.3, -0.7, 1.1, 0.5, -1.3, 0.9},  Angles{-2.1, 0.4, -0.6, 2.5, 0.8, -1.7},
+      Angles{1.4, 1.9, 2.6, -0.4, 2.2, 0.1},   Angles{-0.9, -1.6, 0.2, -2.8, 1.7, 2.4},
+      Angles{2.7, 0.9, -1.9, 1.3, -0.5, -2.6}, Angles{-1.2, 2.3, -2.7, -1.1, -2.4, 1.5},
+      Angles{0.8, -2.5, 1.6, 3.0, 0.4, -0.8},  Angles{-2.9, -0.2, 0.7, -1.8, 1.1, 2.9}};
   for (g.cyclic_shift = 0; g.cyclic_shift < kJointCount; ++g.cyclic_shift) {
+    // The kept links K3..K5 of this start; without the pose, their part is computed once.
+    const auto kept = [&](int i) {
+      return scaled(g.link[(i + g.cyclic_shift) % kJointCount], g.length_scale);
+    };
+    const int pose_link = (2 * kJointCount - 1 - g.cyclic_shift) % kJointCount;
+    g.elimination = pose_link < 2 || pose_link > 4
+                        ? std::make_shared<const General6rElimination>(
+                              kept_joints_elimination(kept(2), kept(3), kept(4)))
+                        : nullptr;
     bool all_found = true;
     for (const Angles& probe : probes) {
       std::array<Angles, kMaxGeneral6rSolutions> found;
@@ -276,22 +361,10 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   std::array<Pose<double>, 5> K;
   for (int i = 0; i < 5; ++i) K[i] = loop[(i + g.cyclic_shift) % kJointCount];
   const Pose<double> Tp = loop[(5 + g.cyclic_shift) % kJointCount].inverse();
+  std::optional<General6rElimination> per_pose;
+  if (!g.elimination) per_pose = kept_joints_elimination(K[2], K[3], K[4]);
+  const General6rElimination& kept = g.elimination ? *g.elimination : *per_pose;
   const Eigen::Matrix3d& W = kNodeWeights;
-  // Left sides at the 27 node triples, interpolated over {1, cos, sin} of φ3, φ4, φ5.
-  Eigen::Matrix<double, 14, 27> left_values, left = Eigen::Matrix<double, 14, 27>::Zero();
-  for (int k3 = 0; k3 < 3; ++k3)
-    for (int k4 = 0; k4 < 3; ++k4)
-      for (int k5 = 0; k5 < 3; ++k5)
-        left_values.col(9 * k3 + 3 * k4 + k5) = equations(
-            rot_z(kNodes[k3]) * K[2] * rot_z(kNodes[k4]) * K[3] * rot_z(kNodes[k5]) * K[4]);
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b)
-      for (int c = 0; c < 3; ++c)
-        for (int k3 = 0; k3 < 3; ++k3)
-          for (int k4 = 0; k4 < 3; ++k4)
-            for (int k5 = 0; k5 < 3; ++k5)
-              left.col(9 * a + 3 * b + c) +=
-                  W(a, k3) * W(b, k4) * W(c, k5) * left_values.col(9 * k3 + 3 * k4 + k5);
   // Right sides at the 9 node pairs, interpolated over {1, cos, sin} of φ1, φ2.
   Eigen::Matrix<double, 14, 9> values, Q = Eigen::Matrix<double, 14, 9>::Zero();
   const Pose<double> K1inv = K[0].inverse(), K2inv = K[1].inverse();
@@ -304,31 +377,25 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
       for (int k1 = 0; k1 < 3; ++k1)
         for (int k2 = 0; k2 < 3; ++k2)
           Q.col(3 * a + b) += W(a, k1) * W(b, k2) * values.col(3 * k1 + k2);
-  // Left side minus the constant term of the right; eliminate the other 8 by the left null space.
-  Eigen::Matrix<double, 14, 27> P = left;
-  P.col(0) -= Q.col(0);
-  const Eigen::Matrix<double, 14, 8> Q8 = Q.rightCols<8>();
-  const Eigen::JacobiSVD<Eigen::Matrix<double, 14, 8>> svd(Q8, Eigen::ComputeFullU);
+  // Eliminate the 8 non-constant θ1θ2 terms by the left null space of their coefficients (the
+  // last columns of a rank-revealing QR's Q).
+  const Eigen::ColPivHouseholderQR<Eigen::Matrix<double, 14, 8>> qr(Q.rightCols<8>());
   int rank = 0;
-  for (int i = 0; i < 8; ++i)
-    if (svd.singularValues()[i] > 1e-10 * svd.singularValues()[0]) ++rank;
+  while (rank < 8 && std::abs(qr.matrixR()(rank, rank)) > 1e-10 * std::abs(qr.matrixR()(0, 0)))
+    ++rank;
   const int k = 14 - rank;
-  Eigen::Matrix<double, 6, 27> S;
+  const Eigen::Matrix<double, 14, 14> basis = qr.householderQ();
+  Eigen::Matrix<double, 6, 14> project;
   if (k == 6)
-    S = svd.matrixU().rightCols<6>().transpose() * P;
+    project = basis.rightCols<6>().transpose();
   else
-    S = mixing(k) * svd.matrixU().rightCols(k).transpose() * P;
-  // Half-angle polynomials in x4, x5 for each trigonometric term a of θ3.
-  const Eigen::Matrix3d H4 = half_angle(kShift4), H5 = half_angle(kShift5);
+    project = mixing(k) * basis.rightCols(k).transpose();
+  // Left side minus the right's constant term, whose half-angle form is (1 + x4²)(1 + x5²)·Q0:
+  // the monomials x4^i·x5^j with i and j even.
   std::array<Eigen::Matrix<double, 6, 9>, 3> poly;
-  for (int a = 0; a < 3; ++a) {
-    poly[a].setZero();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        for (int b = 0; b < 3; ++b)
-          for (int c = 0; c < 3; ++c)
-            poly[a].col(3 * i + j) += H4(i, b) * H5(j, c) * S.col(9 * a + 3 * b + c);
-  }
+  for (int a = 0; a < 3; ++a) poly[a] = project * kept.left[a];
+  const Eigen::Matrix<double, 6, 1> constant = project * Q.col(0);
+  for (const int m : {0, 2, 6, 8}) poly[0].col(m) -= constant;
   // M(x3) = M0 + M1·x3 + M2·x3² for a θ3 shift; returns the reciprocal condition of M2.
   const auto matrix_polynomial = [&](double shift, std::array<Matrix12, 3>& out) {
     const Eigen::Matrix3d H3 = half_angle(shift);
@@ -341,12 +408,13 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     }
     return out[2].partialPivLu().rcond();
   };
-  // The eigenvalues x3 of the 24×24 companion matrix, with the first θ3 shift whose M2 is well
-  // conditioned (else the best conditioned); when the real Schur does not converge (four-fold
-  // spurious eigenvalues ±i: CRX-10iA/L, 1 configuration in 100,000), with the next such shift.
+  // The eigenvalues x3 of the companion matrix C = [0, I; −M2⁻¹M0, −M2⁻¹M1] on Y: C·Y has no
+  // component along the spurious eigenvectors, so Yᵀ·C·Y holds the other eigenvalues. With the
+  // first θ3 shift whose M2 is well conditioned (else the best conditioned); when the real Schur
+  // does not converge, with the next such shift.
   std::array<Matrix12, 3> M;
   double phi3 = 0;
-  Eigen::EigenSolver<Matrix24> eigen;
+  Eigen::EigenSolver<Companion> eigen;
   for (unsigned tried = 0; tried == 0 || eigen.info() != Eigen::Success;) {
     int pick = -1;
     double best_rcond = 1e-15;
@@ -365,11 +433,8 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     tried |= 1u << pick;
     phi3 = kShifts3[pick];
     const Eigen::PartialPivLU<Matrix12> lead(M[2]);
-    Matrix24 C = Matrix24::Zero();
-    C.block<12, 12>(0, 12).setIdentity();
-    C.block<12, 12>(12, 0) = -lead.solve(M[0]);
-    C.block<12, 12>(12, 12) = -lead.solve(M[1]);
-    eigen.compute(C, false);
+    const CompanionBasis lower = lead.solve(M[0] * kept.top + M[1] * kept.bottom);
+    eigen.compute(Companion(kept.top_t_bottom - kept.bottom.transpose() * lower), false);
   }
   int count = 0;
   // One candidate (x3, v): θ4, θ5 from v's monomial ratios, θ1, θ2, θ6 from the pose, polished.
@@ -424,7 +489,7 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   // Real candidates (both members of a near-real conjugate pair), by real part.
   std::array<int, 24> order{};
   int n = 0;
-  for (int e = 0; e < 24; ++e) {
+  for (int e = 0; e < eigen.eigenvalues().size(); ++e) {
     const std::complex<double> lambda = eigen.eigenvalues()[e];
     if (std::abs(lambda.imag()) <= kRealEigenvalue * (1 + std::abs(lambda))) order[n++] = e;
   }
@@ -459,7 +524,7 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     // x3 do not count.
     bool crowded = false;
     for (int k = b; k < e && !crowded; ++k)
-      for (int o = 0; o < 24 && !crowded; ++o) {
+      for (int o = 0; o < eigen.eigenvalues().size() && !crowded; ++o) {
         const std::complex<double> lambda = eigen.eigenvalues()[order[k]];
         const bool inside = std::find(order.begin() + b, order.begin() + e, o) != order.begin() + e;
         crowded = !inside &&

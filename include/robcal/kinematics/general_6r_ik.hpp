@@ -19,8 +19,10 @@
 /// coefficient matrix: 6 equations in θ3, θ4, θ5. Half-angle tangents x_i = tan((θ_i − φ_i)/2)
 /// (fixed shifts φ_i keep the roots away from x = ∞), times (1 + x4²)(1 + x5²)(1 + x3²), and
 /// the 6 equations again multiplied by x4 give M(x3)·v = 0, M = M0 + M1·x3 + M2·x3² (12×12),
-/// v = (x4^i·x5^j), i ≤ 3, j ≤ 2. Its real eigenvalues (24×24 companion matrix) are the θ3 of
-/// the solutions, v (eigenvector or null vector of M(x3)) gives θ4 and θ5; θ2 from the 3×5 linear
+/// v = (x4^i·x5^j), i ≤ 3, j ≤ 2. Its 24×24 companion matrix has 8 spurious eigenvalues x3 = ±i
+/// whose eigenvectors depend on the geometry alone; restricted to their orthogonal complement
+/// (computed once per geometry) it is 16×16 (docs/method/02-frames.md §7). Its real eigenvalues
+/// are the θ3 of the solutions, v (null vector of M(x3)) gives θ4 and θ5; θ2 from the 3×5 linear
 /// system of the two-rotation subproblem, θ1 and θ6 from the pose. Every candidate is polished by
 /// Newton on the exact forward kinematics and kept only when it reproduces the pose within 1e-9 mm
 /// and 1e-11 rad; duplicates (within 1e-6 rad) are merged.
@@ -47,6 +49,7 @@
 /// index: docs/method/02-frames.md §7). Joint limits and turns as for the closed forms.
 
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -58,6 +61,8 @@ namespace robcal {
 /// The most real solutions a 6R arm has.
 inline constexpr int kMaxGeneral6rSolutions = 16;
 
+struct General6rElimination;
+
 /// Constants of a 6R arm for the eigenvalue method. Immutable once built.
 struct General6rGeometry : ClosedFormJoints {
   Pose<double> base;                 ///< B, mm
@@ -66,6 +71,10 @@ struct General6rGeometry : ClosedFormJoints {
   /// Which joint plays θ1 in the elimination: the loop Rz(θ1)·K1⋯Rz(θ6)·(B⁻¹·T)⁻¹ = I is
   /// started at joint 1 + cyclic_shift, the first start on which the elimination is regular.
   int cyclic_shift = 0;
+  /// The part of the elimination that does not depend on the pose (the left sides and the
+  /// spurious eigenvalues' deflation, general_6r_ik.cpp), computed once by analyze_general_6r;
+  /// null when the pose enters it (cyclic_shift 1 to 3), then computed per pose.
+  std::shared_ptr<const General6rElimination> elimination;
 };
 
 /// The geometry of any model with an integer joint map, else std::nullopt with `why_not`
