@@ -158,9 +158,12 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot, const YamlWri
     out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << table[i].name
         << YAML::Key << "unit" << YAML::Value << table[i].unit << YAML::Key << "nominal"
         << YAML::Value << nominal[i] * f << YAML::Key << "value" << YAML::Value
-        << robot.params[i] * f << YAML::Key << "std" << YAML::Value
-        << std::sqrt(std::max(0.0, variance)) * f << YAML::Key << "status" << YAML::Value
-        << status_name(robot.status[s]);
+        << robot.params[i] * f;
+    // A fit without a covariance (the hexapod leg fit) does not know its σ: no `std` rather than
+    // a 0 that reads as exact.
+    if (has_covariance)
+      out << YAML::Key << "std" << YAML::Value << std::sqrt(std::max(0.0, variance)) * f;
+    out << YAML::Key << "status" << YAML::Value << status_name(robot.status[s]);
     if (!robot.reason[s].empty()) out << YAML::Key << "reason" << YAML::Value << robot.reason[s];
     out << YAML::EndMap;
     if (robot.status[s] == ParameterStatus::Identified) identified.push_back(i);
