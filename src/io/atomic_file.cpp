@@ -93,6 +93,7 @@ fs::path write_temporary(const Target& t, std::string_view content) {
 
 void write_files_atomically(const std::vector<std::pair<fs::path, std::string_view>>& files) {
   std::vector<Target> targets;
+  targets.reserve(files.size());
   for (const auto& file : files) targets.push_back(resolve_target(file.first));
   std::vector<fs::path> temporaries(files.size());
   const auto remove_temporaries = [&] {
