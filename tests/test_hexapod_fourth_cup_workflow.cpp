@@ -24,6 +24,7 @@
 #include "robcal/hexapod/session.hpp"
 #include "robcal/hexapod/session_calibration.hpp"
 #include "robcal/hexapod/session_data.hpp"
+#include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/simulated_readings.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/validate/validation.hpp"
@@ -341,6 +342,27 @@ TEST(HexapodFourthCup, PlacementPredictionUsesTheFourCupAmplification) {
                                  g);
   std::printf("worst tool-cup σ multiple over the planned poses: design legs %.4f, all legs %.4f\n",
               worst.design_legs, worst.all_legs);
+  // A second computation: at the unpermuted nominal pose of each assembly mode (rotation-only
+  // numbering, base B1 B2 B3), the least-squares GUM of the six design legs is the cascade's
+  // autodiff GUM (uncertainty.hpp: the same 12 distances, an exactly determined system).
+  const std::vector<ModeUncertainty> cascade = dkp_uncertainty(g);
+  int compared = 0;
+  for (const HexapodPose& pose : enumerate_poses(g, ToolRelabelling::Rotations)) {
+    if (pose.rotation_deg != 0 || pose.description().find("base B1 B2 B3") == std::string::npos)
+      continue;
+    HexapodPose design_only = pose;
+    design_only.legs.resize(kDesignLegs.size());
+    for (const ModeUncertainty& m : cascade)
+      if (m.mode == pose.mode) {
+        double expected = 0;
+        for (const CupUncertainty& c : m.cups) expected = std::max(expected, c.norm);
+        EXPECT_NEAR(worst_tool_cup_uncertainty({design_only}, g).design_legs, expected,
+                    1e-6 * expected)
+            << pose.description();
+        ++compared;
+      }
+  }
+  EXPECT_EQ(compared, 4);
   EXPECT_GT(worst.design_legs, 3.2);
   EXPECT_LT(worst.design_legs, 3.6);
   EXPECT_LT(worst.all_legs, 0.995 * worst.design_legs);
