@@ -92,6 +92,32 @@ TEST(TaskSelection, IOptimalIsALocalOptimumBySwapsAndBeatsDOptimalOnItsCriterion
   EXPECT_GT(d.log_det, information_log_det(f.design, s.chosen));
 }
 
+// A start design (hexapod design: equal shares of every placement): the search fills up from it and
+// its exchanges only lower the criterion, so the result is no worse than the start itself; a
+// start that is not a set of at most `count` candidates is a programming error.
+TEST(TaskSelection, StartDesignIsImprovedNeverWorsened) {
+  const Fixture f(150);
+  SelectionGuard off = f.guard;
+  off.enabled = false;
+  const int count = 12;
+  std::vector<int> start;
+  for (int i = 0; i < count; ++i) start.push_back(5 * i);  // an arbitrary full design
+  const TaskSelection s = select_i_optimal(f.design, f.task_info, count, f.joints, off, {}, start);
+  ASSERT_EQ(s.chosen.size(), static_cast<size_t>(count));
+  EXPECT_NEAR(s.criterion, i_criterion(f.design, f.task_info, s.chosen), 1e-12 * s.criterion);
+  EXPECT_LT(s.criterion, i_criterion(f.design, f.task_info, start));
+  EXPECT_GT(s.exchanges, 0);
+  // Half a design: filled up greedily to the count.
+  const std::vector<int> half(start.begin(), start.begin() + count / 2);
+  const TaskSelection filled =
+      select_i_optimal(f.design, f.task_info, count, f.joints, off, {}, half);
+  EXPECT_EQ(filled.chosen.size(), static_cast<size_t>(count));
+  EXPECT_THROW(select_i_optimal(f.design, f.task_info, count, f.joints, off, {}, {3, 3}),
+               std::invalid_argument);
+  EXPECT_THROW(select_i_optimal(f.design, f.task_info, 2, f.joints, off, {}, {1, 2, 3}),
+               std::invalid_argument);
+}
+
 TEST(TaskSelection, GuardCapsEdgesKeepsSpacingAndTheTaskShare) {
   const Fixture f(400);
   const int count = 20;
