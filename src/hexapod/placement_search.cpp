@@ -328,6 +328,8 @@ PlacementSearchResult search_placements(const RobotModel& model,
   setting_points.resize(scores.size());
   PlacementSearchResult result;
   result.best = request.best;
+  result.level = request.level;
+  result.identify = request.identify;
   result.parameters = static_cast<int>(searched_parameters(model, request).size());
   result.pose_sigma_mm = pose_sigma_mm(request);
   if (std::none_of(scores.begin(), scores.end(),
@@ -650,7 +652,9 @@ nlohmann::json placements_design_json(const PlacementsDesignRequest& request,
 nlohmann::json placement_search_json(const PlacementSearchResult& r) {
   using nlohmann::json;
   const int best = r.best;
-  json out{{"parameters", r.parameters},
+  json out{{"level", level_name(r.level)},
+           {"identify", r.identify},
+           {"parameters", r.parameters},
            {"identified_parameters", r.identified_parameters.size()},
            {"pose_sigma_mm", rounded(r.pose_sigma_mm, 9)},
            {"placements_searched", r.ranked.size()}};

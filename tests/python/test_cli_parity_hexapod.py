@@ -78,7 +78,13 @@ def test_device_validation_world_frame_and_place():
     c = cli_json("hexapod", "place", "--x-mm", "400,500", "--y-mm", "0", "--z-mm", "300",
                  "--validation", "200", "--best", "2")
     p = hexapod.place(x_mm=[400, 500], y_mm=[0], z_mm=[300], validation=200, best=2)
-    assert c == p and len(p["ranked"]) == 2
+    assert c == p and len(p["ranked"]) == 2 and p["identify"] == []
+    # With the joint-periodic group (--identify): the same ranking both ways, more parameters.
+    c = cli_json("hexapod", "place", "--x-mm", "400,500", "--y-mm", "0", "--z-mm", "300",
+                 "--validation", "200", "--best", "2", "--identify", "periodic")
+    q = hexapod.place(x_mm=[400, 500], y_mm=[0], z_mm=[300], validation=200, best=2,
+                      identify=["periodic"])
+    assert c == q and q["identify"] == ["periodic"] and q["parameters"] > p["parameters"]
     with pytest.raises(robcal.InputError, match="--best"):
         hexapod.place(x_mm=[400], y_mm=[0], z_mm=[300], best=0)
 

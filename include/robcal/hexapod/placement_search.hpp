@@ -98,7 +98,9 @@ struct PlacementSearchResult {
   /// mean error, then those leaving parameters undetermined, then unusable ones.
   std::vector<PlacementScore> ranked;
   std::vector<PlacementPair> pairs;  ///< best first (predicted mean error of the union)
-  int parameters = 0;                ///< asked for at the level
+  CalibrationLevel level = CalibrationLevel::Kinematic;  ///< the request's
+  std::vector<std::string> identify;                     ///< the request's opt-in groups
+  int parameters = 0;                                    ///< asked for at the level and by identify
   /// The design's parameters (layout indices): the level's less those no placement determines.
   std::vector<int> identified_parameters;
   double pose_sigma_mm = 0;
