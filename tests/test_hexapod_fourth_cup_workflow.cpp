@@ -24,8 +24,8 @@
 #include "robcal/hexapod/session.hpp"
 #include "robcal/hexapod/session_calibration.hpp"
 #include "robcal/hexapod/session_data.hpp"
-#include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/hexapod/simulated_readings.hpp"
+#include "robcal/hexapod/uncertainty.hpp"
 #include "robcal/io/robot_file.hpp"
 #include "robcal/validate/validation.hpp"
 
