@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <numeric>
+
 #include "robcal/hexapod/leg_fit.hpp"
 #include "robcal/hexapod/simulation.hpp"
 #include "robcal/io/robot_file.hpp"
@@ -18,17 +21,21 @@ struct Fixture {
   std::vector<LegReadings> readings;
 };
 
-Fixture simulate(double offset_mm) {
+/// One true robot (seed 17); the cell set up and read with σ `sigma_mm` from `noise_seed` (the
+/// cups' true places and the readings' noise), the same true robot for every noise seed.
+Fixture simulate(double offset_mm, double sigma_mm = 0, uint64_t noise_seed = 17) {
   Fixture f;
-  auto rng = test::seeded_rng(17);
+  auto truth_rng = test::seeded_rng(17);
   ErrorBounds bounds;
   bounds.compliance_max = 0.2e-6;
-  TrueRobot truth = random_truth(f.model, Tool{}, bounds, rng);
+  TrueRobot truth = random_truth(f.model, Tool{}, bounds, truth_rng);
   // Levelled: gravity along the base's z, as the relative model (base held) assumes.
   truth.robot.params[3] = truth.robot.params[4] = 0;
   HexapodCellOptions o;
   o.placement.p = Eigen::Vector3d(450, 0, 300);
-  o.sigma_mm = 0;
+  o.sigma_mm = sigma_mm;
+  auto noise = test::seeded_rng(noise_seed);
+  auto& rng = noise_seed == 17 ? truth_rng : noise;  // seed 17: one stream, as before
   f.cell = set_up_simulated_cell(truth, f.model, o, rng);
   // A ballbar that reads `offset_mm` short at its leg set-up.
   f.cell.base_sides = {f.cell.base_sides.d12 - offset_mm, f.cell.base_sides.d23 - offset_mm,
@@ -126,6 +133,65 @@ TEST(HexapodLegFit, NoiseFreeFitReproducesTheTrueToolCupsAndTheOffset) {
         offset, f.readings.size(), fit.residuals, fit.initial_rms_mm, fit.rms_mm,
         fit.length_offset_mm, worst);
   }
+}
+
+// The fit's covariance σ̂²(JᵀJ)⁻¹ against Monte Carlo: the same true robot measured again with
+// fresh noise (σ 1 µm on every reading and fixture side), the spread of every identified
+// parameter — the six base parameters of leg_fit_robot included, carried from the base cups —
+// against its predicted σ.
+TEST(HexapodLegFit, CovarianceMatchesTheSpreadOverRepeatedNoise) {
+  const int repeats = 40;
+  const double sigma = 0.001;
+  std::vector<CalibratedRobot> robots;
+  std::vector<double> sigma_hat;
+  for (int r = 0; r < repeats; ++r) {
+    const Fixture f = simulate(0, sigma, 1000 + static_cast<uint64_t>(r));
+    LegFitOptions options;
+    options.free_parameters = relative_full_model();
+    const LegFitResult fit = fit_from_legs(
+        f.model, f.cell.truth.robot.tool.payload, f.cell.base_sides, f.cell.tool_sides, f.readings,
+        f.model.nominal(), f.cell.world.robot_T_fixture, f.cell.cell.flange_T_tool, options);
+    ASSERT_TRUE(fit.converged) << fit.message;
+    ASSERT_EQ(fit.covariance.rows(), static_cast<Eigen::Index>(fit.unknowns.size()));
+    sigma_hat.push_back(fit.sigma_mm);
+    robots.push_back(
+        leg_fit_robot(f.model, f.cell.truth.robot.tool.payload, fit, f.cell.world.robot_T_fixture));
+  }
+  // σ̂ estimates the readings' σ.
+  const double mean_sigma_hat = std::accumulate(sigma_hat.begin(), sigma_hat.end(), 0.0) / repeats;
+  EXPECT_NEAR(mean_sigma_hat, sigma, 0.05 * sigma);
+  std::vector<double> ratios;
+  for (int i = 0; i < kParameterCount; ++i) {
+    // Of parallel axes 2 and 3, the rank test holds link2.d or link3.d, as the draw has it.
+    if (!std::all_of(robots.begin(), robots.end(), [i](const CalibratedRobot& robot) {
+          return robot.status[i] == ParameterStatus::Identified;
+        }))
+      continue;
+    double mean = 0, predicted = 0;
+    for (const CalibratedRobot& robot : robots) {
+      mean += robot.params[i] / repeats;
+      predicted += robot.covariance(i, i) / repeats;
+    }
+    double spread = 0;
+    for (const CalibratedRobot& robot : robots)
+      spread += (robot.params[i] - mean) * (robot.params[i] - mean) / (repeats - 1);
+    ASSERT_GT(predicted, 0) << parameter_table()[i].name;
+    const double ratio = std::sqrt(spread / predicted);
+    // 40 repeats: the sample σ is within ±11 % (one σ) of the true one; ±35 % allows the worst
+    // of some thirty parameters.
+    EXPECT_GT(ratio, 0.65) << parameter_table()[i].name;
+    EXPECT_LT(ratio, 1.35) << parameter_table()[i].name;
+    ratios.push_back(ratio);
+  }
+  ASSERT_GE(ratios.size(), 20u);
+  std::sort(ratios.begin(), ratios.end());
+  const double median = ratios[ratios.size() / 2];
+  EXPECT_GT(median, 0.85);
+  EXPECT_LT(median, 1.15);
+  std::printf(
+      "leg-fit covariance over %d noise draws: %zu parameters, σ̂ %.4f mm, spread / predicted σ "
+      "from %.2f to %.2f, median %.2f\n",
+      repeats, ratios.size(), mean_sigma_hat, ratios.front(), ratios.back(), median);
 }
 
 }  // namespace

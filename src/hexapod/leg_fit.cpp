@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "robcal/core/error.hpp"
+#include "robcal/identify/accuracy_prediction.hpp"
 
 namespace robcal::hexapod {
 namespace {
@@ -53,6 +54,26 @@ std::string extra_name(int k, int placements, int tool_cups) {
   k -= 9 * placements;
   if (k < 3 * tool_cups) return fmt::format("tool_cup.T{}.{}", k / 3 + 1, "xyz"[k % 3]);
   return "ballbar.length_offset";
+}
+
+/// The six base parameters that carry the world frame the cups define, seen from the fit's robot
+/// frame, to where `robot_T_world` puts it: T = robot_T_world · frame(cups)⁻¹ written exactly as
+/// world_A_1 = Trans(x, y, d1 + z) · Rx Ry Rz(γ + θ1) (docs/method/02-frames.md §4).
+template <typename T>
+std::array<T, kBaseParamCount> base_parameters(const Cups<T>& cups,
+                                               const Pose<double>& robot_T_world, double d1) {
+  Pose<T> world;
+  world.R = robot_T_world.R.cast<T>();
+  world.p = robot_T_world.p.cast<T>();
+  const Pose<T> t = world * frame_from_cups(cups).inverse();
+  const Vector3<T> origin = t.p + t.R.col(2) * T(d1);
+  using std::asin;
+  using std::atan2;
+  // T.R = Rx(α) Ry(β) Rz(γ); |R(0, 2)| ≤ 1 up to rounding.
+  const T sin_beta = t.R(0, 2) > T(1) ? T(1) : (t.R(0, 2) < T(-1) ? T(-1) : t.R(0, 2));
+  return {origin.x(),         origin.y(),
+          origin.z() - T(d1), atan2(-t.R(1, 2), t.R(2, 2)),
+          asin(sin_beta),     atan2(-t.R(0, 1), t.R(0, 0))};
 }
 
 }  // namespace
@@ -163,11 +184,9 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
            &zero_offset);
   };
 
-  // Rank-revealing QR of the column-scaled Jacobian over the candidates, at the start point.
-  std::vector<int> columns;
-  for (int k = 0; k < kParameterCount + extras; ++k)
-    if (candidate[k]) columns.push_back(k);
-  {
+  // The Jacobian of every residual over the unknowns `columns` (indices into parameters + extras)
+  // at the current values, and the residual sum of squares.
+  const auto jacobian = [&](const std::vector<int>& columns, double* rss) {
     ceres::Problem probe(problem_options);
     build(probe);
     ceres::CRSMatrix crs;
@@ -176,16 +195,26 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     eval.parameter_blocks.insert(eval.parameter_blocks.end(), cup_blocks.begin(), cup_blocks.end());
     eval.parameter_blocks.push_back(&result.length_offset_mm);
     double cost = 0;
-    std::vector<double> residuals;
-    probe.Evaluate(eval, &cost, &residuals, nullptr, &crs);
-    result.residuals = static_cast<int>(residuals.size());
-    result.initial_rms_mm = std::sqrt(2 * cost / residuals.size());
+    probe.Evaluate(eval, &cost, nullptr, nullptr, &crs);
+    *rss = 2 * cost;
     Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, static_cast<int>(columns.size()));
     std::vector<int> where(kParameterCount + extras, -1);
     for (size_t c = 0; c < columns.size(); ++c) where[columns[c]] = static_cast<int>(c);
     for (int row = 0; row < crs.num_rows; ++row)
       for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k)
         if (where[crs.cols[k]] >= 0) J(row, where[crs.cols[k]]) = crs.values[k];
+    return J;
+  };
+
+  // Rank-revealing QR of the column-scaled Jacobian over the candidates, at the start point.
+  std::vector<int> columns;
+  for (int k = 0; k < kParameterCount + extras; ++k)
+    if (candidate[k]) columns.push_back(k);
+  {
+    double rss = 0;
+    Eigen::MatrixXd J = jacobian(columns, &rss);
+    result.residuals = static_cast<int>(J.rows());
+    result.initial_rms_mm = std::sqrt(rss / J.rows());
     for (int c = 0; c < J.cols(); ++c)
       if (J.col(c).norm() > 0) J.col(c) /= J.col(c).norm();
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(J);
@@ -237,6 +266,16 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
   result.iterations = static_cast<int>(summary.iterations.size()) - 1;
   result.message = summary.message;
   result.rms_mm = std::sqrt(2 * summary.final_cost / result.residuals);
+  // The fitted unknowns' covariance σ̂²(JᵀJ)⁻¹ at the solution (docs/method/04-identification.md
+  // §4).
+  result.unknowns.clear();
+  for (int k = 0; k < kParameterCount + extras; ++k)
+    if (candidate[k]) result.unknowns.push_back(k);
+  double rss = 0;
+  const Eigen::MatrixXd J = jacobian(result.unknowns, &rss);
+  const auto dof = std::max<Eigen::Index>(1, J.rows() - J.cols());
+  result.sigma_mm = std::sqrt(rss / static_cast<double>(dof));
+  result.covariance = design_covariance(J, result.sigma_mm);
   return result;
 }
 
@@ -257,18 +296,33 @@ CalibratedRobot leg_fit_robot(const RobotModel& model, const PointMass& payload,
         robot.reason[i] = held.substr(held.find(':') + 2);
       }
   }
-  // The fit's robot frame in the pose fit's one: T = robot_T_world · (fit robot_T_world)⁻¹.
+  // The fit's robot frame in the pose fit's one, as the six base parameters, with their
+  // derivatives by the first placement's nine base-cup coordinates (the fit's first extras).
+  using Jet = ceres::Jet<double, 9>;
+  Cups<Jet> cups;
+  for (int c = 0; c < 3; ++c)
+    for (int a = 0; a < 3; ++a) cups[c][a] = Jet(fit.base_cups_robot.front()[c][a], 3 * c + a);
+  const std::array<Jet, kBaseParamCount> base =
+      base_parameters(cups, robot_T_world, model.mdh[0].d);
+  for (int i = 0; i < kBaseParamCount; ++i) {
+    robot.params[i] = base[i].a;
+    robot.status[i] = ParameterStatus::Identified;
+  }
   const Pose<double> T = robot_T_world * frame_from_cups(fit.base_cups_robot.front()).inverse();
-  const double d1 = model.mdh[0].d;
-  const Eigen::Vector3d origin = T.p + T.R * Eigen::Vector3d(0, 0, d1);
-  // T.R = Rx(α) Ry(β) Rz(γ).
-  robot.params[0] = origin.x();
-  robot.params[1] = origin.y();
-  robot.params[2] = origin.z() - d1;
-  robot.params[3] = std::atan2(-T.R(1, 2), T.R(2, 2));
-  robot.params[4] = std::asin(std::clamp(T.R(0, 2), -1.0, 1.0));
-  robot.params[5] = std::atan2(-T.R(0, 1), T.R(0, 0));
-  for (int i = 0; i < kBaseParamCount; ++i) robot.status[i] = ParameterStatus::Identified;
+  // Covariance: C_model = G · C_fit · Gᵀ with G the derivatives of the model's parameters by the
+  // fitted unknowns (1 for an identified parameter, the Jet's for the base parameters).
+  if (fit.covariance.rows() == static_cast<Eigen::Index>(fit.unknowns.size()) &&
+      !fit.unknowns.empty()) {
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(kParameterCount, fit.covariance.rows());
+    for (Eigen::Index c = 0; c < G.cols(); ++c) {
+      const int k = fit.unknowns[static_cast<size_t>(c)];
+      if (k < kParameterCount)
+        G(k, c) = 1;
+      else if (k < kParameterCount + 9)
+        for (int i = 0; i < kBaseParamCount; ++i) G(i, c) = base[i].v[k - kParameterCount];
+    }
+    robot.covariance = G * fit.covariance * G.transpose();
+  }
   // Gravity given in the world was along the fit's robot z: seen from the new world it is
   // tilted by T. Gravity given in the base frame turns with the base placement already
   // (docs/method/03-error-model.md §7), so it stays as it is.

@@ -159,8 +159,8 @@ std::string calibrated_robot_to_yaml(const CalibratedRobot& robot, const YamlWri
         << YAML::Key << "unit" << YAML::Value << table[i].unit << YAML::Key << "nominal"
         << YAML::Value << nominal[i] * f << YAML::Key << "value" << YAML::Value
         << robot.params[i] * f;
-    // An identified parameter of a fit without a covariance (the hexapod leg fit) has no known
-    // σ: no `std` rather than a 0 that reads as exact. Held parameters have none to report.
+    // An identified parameter of a fit without a covariance has no known σ: no `std` rather than
+    // a 0 that reads as exact. Held parameters have none to report.
     if (has_covariance || robot.status[s] != ParameterStatus::Identified)
       out << YAML::Key << "std" << YAML::Value << std::sqrt(std::max(0.0, variance)) * f;
     out << YAML::Key << "status" << YAML::Value << status_name(robot.status[s]);

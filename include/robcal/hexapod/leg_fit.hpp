@@ -43,6 +43,11 @@ struct LegFitResult {
   int iterations = 0;
   bool converged = false;
   std::string message;  ///< Ceres' termination reason
+  /// The fitted unknowns, as indices into the model parameters followed by the extras: 9 base-cup
+  /// coordinates per placement (B1..B3, x y z), 3 per tool cup (T1..T3, then T4) and the offset.
+  std::vector<int> unknowns;
+  double sigma_mm = 0;         ///< a-posteriori σ̂ of one reading, √(RSS / (m − n))
+  Eigen::MatrixXd covariance;  ///< σ̂²(JᵀJ)⁻¹ of `unknowns` at the solution (internal units)
 };
 
 /// One base-fixture placement's data: its measured sides, the readings taken there and the world
@@ -77,7 +82,8 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
 /// six base parameters carry the difference, written exactly as world_A_1 = Trans(x, y, d1 + z) ·
 /// Rx Ry Rz(γ + θ1), and the gravity vector is turned with them (the compliance sees the same
 /// torques). Its tool: the fitted tool cups as targets T1..T3, the tool fixture frame they define
-/// as TCP.
+/// as TCP. Its covariance is the fit's, carried to the six base parameters through the first
+/// placement's base cups they are computed from.
 CalibratedRobot leg_fit_robot(const RobotModel& model, const PointMass& payload,
                               const LegFitResult& fit, const Pose<double>& robot_T_world);
 
