@@ -54,6 +54,7 @@ void fit_legs(const std::vector<SessionData>& placements, const RobotModel& mode
   stats["leg_fit"]["residuals"] = fit.residuals;
   stats["leg_fit"]["initial_rms_mm"] = fit.initial_rms_mm;
   stats["leg_fit"]["rms_mm"] = fit.rms_mm;
+  stats["leg_fit"]["sigma_mm"] = fit.sigma_mm;  // a-posteriori σ̂, the stds' scale
   stats["leg_fit"]["iterations"] = fit.iterations;
   stats["leg_fit"]["converged"] = fit.converged;
   stats["leg_fit"]["ballbar_length_offset_mm"] = fit.length_offset_mm;

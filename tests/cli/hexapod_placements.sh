@@ -66,6 +66,18 @@ assert d["configurations_measured"] == na + nb and d["configurations_pending"] =
 assert d["rms_mm"] < 1.2 * 0.00051, d["rms_mm"]  # the ballbar's σ: both world frames fitted
 assert any(h.startswith("link3.d") or h.startswith("link2.d") for h in d["held"])
 PY
+# The leg fit's covariance: every identified parameter has a positive std in the model file, and
+# the a-posteriori σ̂ that scales them is the ballbar's.
+python3 - "$tmp/both.yaml" <<'PY' || fail "leg-fit std: $(cat "$tmp/both.yaml")"
+import re, sys
+text = open(sys.argv[1]).read()
+rows = re.findall(r"\{name: ([^,]+),.*status: identified", text)
+stds = dict(re.findall(r"\{name: ([^,]+),[^}]*std: ([-0-9.e+]+)[^}]*status: identified", text))
+assert len(rows) > 20 and sorted(rows) == sorted(stds), (rows, stds)
+assert all(float(v) > 0 for v in stds.values()), stds
+sigma = float(re.search(r"sigma_mm: ([0-9.e+-]+)", text).group(1))
+assert 0.5 * 0.00051 < sigma < 1.5 * 0.00051, sigma
+PY
 "$ROBCAL" hexapod calibrate --session "$tmp/a" --fit legs --tool "$tmp/tool.yaml" --out "$tmp/one.yaml" > /dev/null
 # The joint-periodic group identified from both placements as well (the design's --identify):
 # the fit still reaches the ballbar's σ and the model file holds the periodic terms.
