@@ -66,25 +66,45 @@ struct Figures {
   PlacementsSimulation both;  ///< every configuration of both placements (2 N), when asked
 };
 
-Figures simulate(const RobotModel& model, const TwoPlacements& t, uint64_t seed,
-                 bool with_both = false, const std::vector<std::string>& effects = {},
-                 double periodic_deg = 0) {
+/// One seeded true robot, with `effects` and `periodic_deg` on every periodic harmonic term of
+/// every joint, on which any design is simulated with the same set-up and noise draws.
+struct TrueRobotTrial {
+  const RobotModel* model;
+  uint64_t seed;
+  PointMass payload{2.6, Eigen::Vector3d(50, 25, 100)};
+  TrueRobot truth;
+  PlacementsSimulationOptions options;
+
+  [[nodiscard]] PlacementsSimulation run(const std::vector<SimulatedPlacement>& placements) const {
+    auto readings = test::seeded_rng(seed + 2);
+    return simulate_placements(*model, truth, payload, placements, options, readings);
+  }
+};
+
+TrueRobotTrial true_robot_trial(const RobotModel& model, const TwoPlacements& t, uint64_t seed,
+                                const std::vector<std::string>& effects, double periodic_deg) {
+  TrueRobotTrial trial{&model, seed};
   auto rng = test::seeded_rng(seed);
-  const PointMass payload{2.6, Eigen::Vector3d(50, 25, 100)};
-  TrueRobot truth =
-      levelled_random_truth(model, payload, ErrorBounds{0.3, 0.1, 0.05e-6, 1.0, 0.1}, rng);
-  enable_effects(truth, effects, rng);
+  trial.truth =
+      levelled_random_truth(model, trial.payload, ErrorBounds{0.3, 0.1, 0.05e-6, 1.0, 0.1}, rng);
+  enable_effects(trial.truth, effects, rng);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   for (int joint = 1; joint <= kJointCount && periodic_deg > 0; ++joint)
     for (int k = 0; k < kPeriodicPerJoint; ++k)
-      truth.robot.params[periodic_param(joint, 1, false) + k] = deg2rad(periodic_deg) * unit(rng);
-  PlacementsSimulationOptions options;
-  options.identify = t.request.identify;
-  options.validation_configurations = 1000;
-  options.validation_seed = seed + 1;
-  const auto run = [&](const std::vector<SimulatedPlacement>& placements) {
-    auto readings = test::seeded_rng(seed + 2);  // the same set-up and noise draws in each design
-    return simulate_placements(model, truth, payload, placements, options, readings);
+      trial.truth.robot.params[periodic_param(joint, 1, false) + k] =
+          deg2rad(periodic_deg) * unit(rng);
+  trial.options.identify = t.request.identify;
+  trial.options.validation_configurations = 1000;
+  trial.options.validation_seed = seed + 1;
+  return trial;
+}
+
+Figures simulate(const RobotModel& model, const TwoPlacements& t, uint64_t seed,
+                 bool with_both = false, const std::vector<std::string>& effects = {},
+                 double periodic_deg = 0) {
+  const TrueRobotTrial trial = true_robot_trial(model, t, seed, effects, periodic_deg);
+  const auto run = [&trial](const std::vector<SimulatedPlacement>& placements) {
+    return trial.run(placements);
   };
   // Every other configuration of each placement: N/2 + N/2.
   const int n = static_cast<int>(t.first.session.configurations.size());
@@ -212,24 +232,11 @@ CountComparison compare_at_count(const RobotModel& model, const TwoPlacements& t
   CountComparison c;
   c.single = design_placements(model, {t.first}, count, t.request);
   c.split = design_placements(model, {t.first, t.second}, count, t.request);
-  const PointMass payload{2.6, Eigen::Vector3d(50, 25, 100)};
   for (int robot = 1; robot <= robots; ++robot) {
-    const auto seed = static_cast<uint64_t>(robot) * 100;
-    auto rng = test::seeded_rng(seed);
-    TrueRobot truth =
-        levelled_random_truth(model, payload, ErrorBounds{0.3, 0.1, 0.05e-6, 1.0, 0.1}, rng);
-    std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    for (int joint = 1; joint <= kJointCount && periodic_deg > 0; ++joint)
-      for (int k = 0; k < kPeriodicPerJoint; ++k)
-        truth.robot.params[periodic_param(joint, 1, false) + k] = deg2rad(periodic_deg) * unit(rng);
-    PlacementsSimulationOptions options;
-    options.identify = t.request.identify;
-    options.validation_configurations = 1000;
-    options.validation_seed = seed + 1;
+    const TrueRobotTrial trial =
+        true_robot_trial(model, t, static_cast<uint64_t>(robot) * 100, {}, periodic_deg);
     const auto run = [&](const std::vector<SimulatedPlacement>& placements) {
-      auto readings = test::seeded_rng(seed + 2);  // the same set-up and noise in each design
-      const PlacementsSimulation s =
-          simulate_placements(model, truth, payload, placements, options, readings);
+      const PlacementsSimulation s = trial.run(placements);
       c.converged = c.converged && s.converged;
       c.worst_fit_rms_mm = std::max(c.worst_fit_rms_mm, s.fit_rms_mm);
       return s.calibrated.mean / robots;
