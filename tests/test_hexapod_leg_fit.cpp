@@ -57,16 +57,21 @@ std::vector<int> relative_full_model() {
   return free;
 }
 
+/// The leg fit of every non-base parameter, started from nominal.
+LegFitResult fit_relative_full_model(const Fixture& f) {
+  LegFitOptions options;
+  options.free_parameters = relative_full_model();
+  return fit_from_legs(f.model, f.cell.truth.robot.tool.payload, f.cell.base_sides,
+                       f.cell.tool_sides, f.readings, f.model.nominal(),
+                       f.cell.world.robot_T_fixture, f.cell.cell.flange_T_tool, options);
+}
+
 TEST(HexapodLegFit, NoiseFreeFitReproducesTheTrueToolCupsAndTheOffset) {
   for (const double offset : {0.0, 0.004}) {
     SCOPED_TRACE(offset);
     const Fixture f = simulate(offset);
     ASSERT_GT(f.readings.size(), 30u);
-    LegFitOptions options;
-    options.free_parameters = relative_full_model();
-    const LegFitResult fit = fit_from_legs(
-        f.model, f.cell.truth.robot.tool.payload, f.cell.base_sides, f.cell.tool_sides, f.readings,
-        f.model.nominal(), f.cell.world.robot_T_fixture, f.cell.cell.flange_T_tool, options);
+    const LegFitResult fit = fit_relative_full_model(f);
     EXPECT_TRUE(fit.converged) << fit.message;
     EXPECT_GT(fit.initial_rms_mm, 0.05);
     EXPECT_LT(fit.rms_mm, 1e-6);
@@ -146,11 +151,7 @@ TEST(HexapodLegFit, CovarianceMatchesTheSpreadOverRepeatedNoise) {
   std::vector<double> sigma_hat;
   for (int r = 0; r < repeats; ++r) {
     const Fixture f = simulate(0, sigma, 1000 + static_cast<uint64_t>(r));
-    LegFitOptions options;
-    options.free_parameters = relative_full_model();
-    const LegFitResult fit = fit_from_legs(
-        f.model, f.cell.truth.robot.tool.payload, f.cell.base_sides, f.cell.tool_sides, f.readings,
-        f.model.nominal(), f.cell.world.robot_T_fixture, f.cell.cell.flange_T_tool, options);
+    const LegFitResult fit = fit_relative_full_model(f);
     ASSERT_TRUE(fit.converged) << fit.message;
     ASSERT_EQ(fit.covariance.rows(), static_cast<Eigen::Index>(fit.unknowns.size()));
     sigma_hat.push_back(fit.sigma_mm);
