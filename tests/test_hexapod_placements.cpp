@@ -273,10 +273,11 @@ TEST(HexapodPlacements, JointPeriodicErrorsMakeTheSecondPlacementPayOff) {
     EXPECT_LT(c.worst_fit_rms_mm, 1.2 * PlacementsSimulationOptions{}.sigma_mm);
     std::printf(
         "%s with the periodic group, %d configurations: best single %s predicted %.4f, achieved "
-        "%.4f mm; split %zu + %zu predicted %.4f, achieved %.4f mm (ratio %.2f)\n",
+        "%.4f mm; split %zu + %zu with %s predicted %.4f, achieved %.4f mm (ratio %.2f)\n",
         robot, count, placement_text(t.best.placement).c_str(), c.single.predicted_mean_mm,
         c.single_mean_mm, c.split.chosen[0].size(), c.split.chosen[1].size(),
-        c.split.predicted_mean_mm, c.split_mean_mm, c.split_mean_mm / c.single_mean_mm);
+        placement_text(t.second.cell->placement).c_str(), c.split.predicted_mean_mm,
+        c.split_mean_mm, c.split_mean_mm / c.single_mean_mm);
     EXPECT_LT(c.split_mean_mm, 0.7 * c.single_mean_mm);
   }
 }
