@@ -126,12 +126,12 @@ std::vector<int> searched_parameters(const RobotModel& model,
 }
 
 /// σ of one pose row: the request's multiple of the gauge σ (§4's worst case of three tool
-/// cups); with a fourth tool cup, scaled by how much its legs lower the worst tool-cup GUM
-/// uncertainty over the poses planned with it (docs/method/07-hexapod.md §7).
+/// cups); with a fourth cup on either fixture, scaled by how much its legs lower the worst tool-cup
+/// GUM uncertainty over the poses planned with it (docs/method/07-hexapod.md §7).
 double pose_sigma_mm(const PlacementSearchRequest& request) {
   const HexapodPlanRequest& plan = request.plan;
   double multiple = request.pose_sigma_multiple;
-  if (plan.geometry.tool_cup4_mm) {
+  if (plan.geometry.tool_cup4_mm || plan.geometry.base_cup4_mm) {
     const WorstToolCupUncertainty worst =
         worst_tool_cup_uncertainty(plannable_poses(plan.geometry, plan.gauge.range_mm,
                                                    plan.angle_deg, plan.distance_mm, plan.cups)
@@ -299,7 +299,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
             try {
               const HexapodPlan plan = plan_hexapod(model, r);
               // The robot places the cups itself (docs/method/08-world-frame.md §1).
-              for (int cup = 0; cup < 3; ++cup)
+              for (size_t cup = 0; cup < plan.setting.size(); ++cup)
                 if (plan.setting[cup].configurations.empty())
                   throw InputError({"", 0, 0, "--placement"},
                                    fmt::format("the robot cannot put the setting ball at base "

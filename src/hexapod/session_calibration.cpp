@@ -43,7 +43,7 @@ void fit_legs(const std::vector<SessionData>& placements, const RobotModel& mode
     if (i >= kBaseParamCount) options.free_parameters.push_back(i);
   std::vector<LegPlacement> legs;
   for (size_t p = 0; p < placements.size(); ++p)
-    legs.push_back({placements[p].base_sides, placements[p].readings,
+    legs.push_back({placements[p].base_fixture(), placements[p].readings,
                     out.placement_worlds[p].robot_T_fixture});
   const SessionData& first = placements.front();
   const LegFitResult fit = fit_from_legs(model, out.tool.payload, first.tool_fixture(), legs,
@@ -152,6 +152,7 @@ nlohmann::json session_summary_json(const SessionData& data, const WorldFrameFit
                      {"base_sides_mm", data.base_sides.as_array()},
                      {"world_frame_rms_mm", rounded(world.rms_mm)}};
   if (data.tool_cup4_mm) out["tool_cup4_mm"] = *data.tool_cup4_mm;
+  if (data.base_cup4_mm) out["base_cup4_mm"] = *data.base_cup4_mm;
   return out;
 }
 
