@@ -193,6 +193,14 @@ nlohmann::json session_calibration_json(const std::vector<SessionData>& placemen
     out["initial_rms_mm"] = rounded(fit.initial_rms_mm);
     out["rms_mm"] = rounded(fit.rms_mm);
     out["ballbar_length_offset_mm"] = rounded(fit.length_offset_mm);
+    // A fitted fourth base cup by its distances to B1..B3 (next to the measured base_cup4_mm).
+    for (size_t p = 0; p < fit.base_cup4_robot.size(); ++p)
+      if (const auto& b4 = fit.base_cup4_robot[p]) {
+        nlohmann::json d = nlohmann::json::array();
+        for (const Eigen::Vector3d& b : fit.base_cups_robot[p])
+          d.push_back(rounded((*b4 - b).norm()));
+        (placements.size() > 1 ? out["placements"][p] : out)["base_cup4_fitted_mm"] = d;
+      }
   } else {
     const IdentificationResult& r = *c.identification;
     out["relative"] = c.relative;
