@@ -176,11 +176,21 @@ Context make_context(const RobotModel& model, const Pose<double>& flange_T_tool,
   return c;
 }
 
+/// The setting points of a plan's base cups: B1..B3, then B4 if any.
+std::vector<Eigen::Vector3d> plan_setting_points(const HexapodPlan& plan) {
+  std::vector<Eigen::Vector3d> points(plan.session.setting_points->begin(),
+                                      plan.session.setting_points->end());
+  if (plan.session.setting_point4) points.push_back(*plan.session.setting_point4);
+  return points;
+}
+
 /// The smallest distance between a cup of one placement and a cup of another, and which cups.
-double closest_cups(const Cups<double>& a, const Cups<double>& b, int* cup_a, int* cup_b) {
+
+double closest_cups(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                    int* cup_a, int* cup_b) {
   double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
+  for (int i = 0; i < static_cast<int>(a.size()); ++i)
+    for (int j = 0; j < static_cast<int>(b.size()); ++j)
       if ((a[i] - b[j]).norm() < best) {
         best = (a[i] - b[j]).norm();
         *cup_a = i;
@@ -227,7 +237,7 @@ MeasuredPlacement measured_placement(const HexapodPlan& plan, const std::string&
   m.source = source;
   m.placement = plan.cell->placement;
   m.tilt_deg = plan.cell->tilt_deg;
-  m.setting_points = *plan.session.setting_points;
+  m.setting_points = plan_setting_points(plan);
   for (size_t c = 0; c < plan.session.configurations.size(); ++c) {
     const SessionConfiguration& config = plan.session.configurations[c];
     if (config.joints_deg.size() != kJointCount)
@@ -282,7 +292,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   // Plan every placement; keep each one's configurations as design candidates.
   std::vector<PlacementScore> scores;
   std::vector<std::vector<int>> members;
-  std::vector<Cups<double>> setting_points;
+  std::vector<std::vector<Eigen::Vector3d>> setting_points;
   Pose<double> flange_T_tool;
   for (double x : request.x_mm)
     for (double y : request.y_mm)
@@ -307,7 +317,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
                                                cup + 1));
               flange_T_tool = *plan.session.flange_T_tool;
               setting_points.resize(scores.size() + 1);
-              setting_points.back() = *plan.session.setting_points;
+              setting_points.back() = plan_setting_points(plan);
               s.poses_measurable = plan.outcome->poses_measurable;
               for (const SessionConfiguration& c : plan.session.configurations) {
                 Candidate candidate;
@@ -360,7 +370,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   };
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return key(a) < key(b); });
   std::vector<std::vector<int>> ranked_members;
-  std::vector<Cups<double>> ranked_points;
+  std::vector<std::vector<Eigen::Vector3d>> ranked_points;
   for (size_t i : order) {
     result.ranked.push_back(scores[i]);
     ranked_members.push_back(members[i]);
