@@ -10,6 +10,25 @@
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::hexapod {
+namespace {
+
+/// A fourth cup's distances: solvable, and reproduced by the trilaterated position (d14 and d24
+/// are by construction, d34 only when a point has all three). `flag` names the setting.
+void check_fourth_cup(const FixtureDistances& fixture, const std::string& what, char letter,
+                      const std::string& flag) {
+  if (const std::string problem = fixture_problem(fixture, what); !problem.empty())
+    throw InputError({"", 0, 0, flag}, problem);
+  const std::vector<Eigen::Vector3d> cups = fixture_cup_positions(fixture);
+  const std::array<double, 3>& d = *fixture.fourth;
+  const double d34 = (cups[3] - cups[2]).norm();
+  if (std::abs(d34 - d[2]) > 1e-3)
+    throw InputError({"", 0, 0, flag},
+                     fmt::format("no point is {} mm from {}1 and {} mm from {}2 and {} mm from {}3 "
+                                 "(the nearest in the fixture plane is {:.3f} mm from {}3)",
+                                 d[0], letter, d[1], letter, d[2], letter, d34, letter));
+}
+
+}  // namespace
 
 std::string PhysicalLeg::name() const {
   return fmt::format("B{}-T{}", base + 1, tool + 1);
@@ -146,26 +165,6 @@ void add_fourth_cup_legs(std::vector<HexapodPose>& poses, const HexapodGeometry&
       for (int t = 0; t < static_cast<int>(tool.size()); ++t) add_if_in_reach(3, t);
   }
 }
-
-namespace {
-
-/// A fourth cup's distances: solvable, and reproduced by the trilaterated position (d14 and d24
-/// are by construction, d34 only when a point has all three). `flag` names the setting.
-void check_fourth_cup(const FixtureDistances& fixture, const std::string& what, char letter,
-                      const std::string& flag) {
-  if (const std::string problem = fixture_problem(fixture, what); !problem.empty())
-    throw InputError({"", 0, 0, flag}, problem);
-  const std::vector<Eigen::Vector3d> cups = fixture_cup_positions(fixture);
-  const std::array<double, 3>& d = *fixture.fourth;
-  const double d34 = (cups[3] - cups[2]).norm();
-  if (std::abs(d34 - d[2]) > 1e-3)
-    throw InputError({"", 0, 0, flag},
-                     fmt::format("no point is {} mm from {}1 and {} mm from {}2 and {} mm from {}3 "
-                                 "(the nearest in the fixture plane is {:.3f} mm from {}3)",
-                                 d[0], letter, d[1], letter, d[2], letter, d34, letter));
-}
-
-}  // namespace
 
 void check_geometry(const HexapodGeometry& geometry) {
   fixture_cups(geometry.base, "--base-mm");

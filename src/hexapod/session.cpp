@@ -64,7 +64,7 @@ TriangleSides sides(const nlohmann::json& node, const SourceLocation& where) {
   return s;
 }
 
-/// Three positive distances d14, d24, d34 of a fourth cup at `key`.
+/// Three positive distances d14, d24, d34 of a fourth cup, else an InputError at `where`.
 std::array<double, 3> fourth_cup_distances(const nlohmann::json& node,
                                            const SourceLocation& where) {
   const std::array<double, 3> d = three_numbers(node, where, "three distances d14, d24, d34");

@@ -5,6 +5,7 @@
 # while it reads B4's distances and resumed, and `hexapod calibrate` (poses by the over-determined
 # DKP, and the leg fit with B4 free) validated at the laser-tracker noise floor, the fitted B4 where
 # its measured distances put it. With T4 as well: both fourth cups' legs in every configuration.
+# The two-stage way (±1 mm ballbar, re-plan of the retries with their leg from B4).
 # Bad input: a collinear B4 on plan/simulate/place, a leg from B4 in a plan without it.
 set -euo pipefail
 ROBCAL="$1" tmp=$(mktemp -d) pid=""
@@ -119,6 +120,35 @@ PY
   --measurements "$tmp/valb.csv" --json > "$tmp/val_both.json"
 [ "$(json "$tmp/val_both.json" "d['position_error_mm']['mean_mm'] < 1.2 * 0.0351")" = True ] ||
   fail "validation with both: $(cat "$tmp/val_both.json")"
+
+# The two-stage way with the ±1 mm ballbar: configurations out of range are re-planned on the
+# preliminary model with their leg from B4, and the second session asks neither the sides nor B4's
+# distances again; both sessions calibrate together with nothing left to retry.
+mkdir -p "$tmp/p1" "$tmp/p2"
+"$ROBCAL" hexapod plan --placement 450,0,300,0 --base-cup4-mm "$base4" --out "$tmp/p1/plan.json" > /dev/null
+"$ROBCAL" hexapod simulate-readings --plan "$tmp/p1/plan.json" --seed 5 --out "$tmp/q1.txt" \
+  --tool-out "$tmp/tool1.yaml" --json > "$tmp/sim1.json"
+[ "$(json "$tmp/sim1.json" "d['legs_out_of_range'] > 10")" = True ] || fail "±1 mm: all in range"
+"$ROBCAL" hexapod session --plan "$tmp/p1/plan.json" --journal "$tmp/p1/journal.jsonl" < "$tmp/q1.txt" > /dev/null
+"$ROBCAL" hexapod calibrate --session "$tmp/p1" --tool "$tmp/tool1.yaml" --out "$tmp/prelim.yaml" \
+  --json > "$tmp/prelim.json"
+retry=$(json "$tmp/prelim.json" "len(d['configurations_to_retry'])")
+"$ROBCAL" hexapod replan --session "$tmp/p1" --model "$tmp/prelim.yaml" --out "$tmp/p2/plan.json" > /dev/null
+python3 - "$tmp/p2/plan.json" "$retry" <<'PY' || fail "replan: $(head -c 600 "$tmp/p2/plan.json")"
+import json, sys
+p = json.load(open(sys.argv[1]))
+assert len(p["configurations"]) == int(sys.argv[2]) > 10, (len(p["configurations"]), sys.argv[2])
+assert all(len(c["legs"]) == 7 and c["legs"][6].startswith("B4-") for c in p["configurations"])
+assert len(p["measured_sides"]["base_mm"]) == 6 and len(p["setting_ball"]) == 4
+PY
+"$ROBCAL" hexapod simulate-readings --plan "$tmp/p2/plan.json" --seed 5 --out "$tmp/q2.txt" --json > "$tmp/sim2.json"
+[ "$(json "$tmp/sim2.json" "d['legs_out_of_range']")" = 0 ] || fail "re-planned legs out of range"
+"$ROBCAL" hexapod session --plan "$tmp/p2/plan.json" --journal "$tmp/p2/journal.jsonl" < "$tmp/q2.txt" > "$tmp/p2.log"
+! grep -q "base cups B1 and B4" "$tmp/p2.log" || fail "B4's distances asked again"
+"$ROBCAL" hexapod calibrate --session "$tmp/p1" --session "$tmp/p2" --tool "$tmp/tool1.yaml" \
+  --out "$tmp/final.yaml" --json > "$tmp/final.json"
+[ "$(json "$tmp/final.json" "len(d['configurations_to_retry']) == 0 and d['converged']")" = True ] ||
+  fail "two-stage: $(cat "$tmp/final.json")"
 
 # The simulated end to end reads every leg from B4.
 "$ROBCAL" hexapod simulate --gauge-range-mm 5 --base-cup4-mm "$base4" --seed 5 --validation 300 \
