@@ -583,18 +583,26 @@ const bool registered = register_bindings(60, [](py::module_& m) {
   h.def(
       "setup",
       [](const std::string& robot, const std::array<double, 4>& placement, double tilt_deg,
-         double side_mm, double ball_offset_mm) {
+         double side_mm, double ball_offset_mm,
+         const std::optional<std::array<double, 3>>& base_cup4_mm) {
+        HexapodGeometry base;
+        base.base = {side_mm, side_mm, side_mm};
+        base.leg_mm = side_mm;
+        base.base_cup4_mm = base_cup4_mm;
+        check_geometry(base);  // as the CLI: a bad B4 named
         return json_to_python(
             setup_json(robot, side_mm,
                        plan_setting_ball(load_robot(robot), placement_pose(placement, tilt_deg),
-                                         side_mm, ball_offset_mm)));
+                                         side_mm, ball_offset_mm, base_cup4_mm)));
       },
       py::arg("robot") = "fanuc-lrmate200ic",
       py::arg("placement") = std::array<double, 4>{450, 0, 300, 0}, py::arg("tilt_deg") = 0.0,
       py::arg("side_mm") = 300.0, py::arg("ball_offset_mm") = 100.0,
+      py::arg("base_cup4_mm") = py::none(),
       "Where to put the setting ball for each base cup (`robcal hexapod setup`): the CLI's JSON "
       "as a dict, setting_ball holding per cup its position (robot frame, mm) and the "
-      "configurations reaching it (labels, joints_deg)");
+      "configurations reaching it (labels, joints_deg); B4 too with a fourth base cup by its "
+      "distances to B1..B3 (`--base-cup4-mm`)");
 });
 
 }  // namespace

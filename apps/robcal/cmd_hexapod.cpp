@@ -82,6 +82,9 @@ struct FourthCupOptions {
                     "A fourth tool cup T4 by its distances d14,d24,d34 to T1..T3 (mm): its legs "
                     "within half the gauge range of --leg-mm are measured too (on the circumcircle "
                     "of T1..T3: one in every pose)");
+    add_base_to(cmd);
+  }
+  void add_base_to(CLI::App* cmd) {
     cmd->add_option("--base-cup4-mm", base,
                     "A fourth base cup B4 by its distances d14,d24,d34 to B1..B3 (mm), placed by "
                     "the robot like B1..B3: its legs within half the gauge range of --leg-mm are "
@@ -365,11 +368,16 @@ struct CellOptions {
   }
 };
 
-void run_setup(const CellOptions& o, double side_mm, bool json) {
+void run_setup(const CellOptions& o, double side_mm, const FourthCupOptions& fourth, bool json) {
+  // The base triangle the setting points make, with B4 by its distances to it.
+  HexapodGeometry base;
+  base.base = {side_mm, side_mm, side_mm};
+  base.leg_mm = side_mm;
+  fourth.apply(base);
   const nlohmann::json out =
       setup_json(o.plan.robot, side_mm,
                  plan_setting_ball(load_robot(o.plan.robot), o.rough_placement(), side_mm,
-                                   o.plan.ball_offset_mm));
+                                   o.plan.ball_offset_mm, base.base_cup4_mm));
   if (json) {
     print_json(out);
     return;
@@ -730,12 +738,14 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
         "setup", "Where the robot must put the setting ball to place the base cups");
     auto cell = std::make_shared<CellOptions>();
     auto side = std::make_shared<double>(300.0);
+    auto fourth = std::make_shared<FourthCupOptions>();
     auto json = std::make_shared<bool>(false);
     cell->add_to(cmd);
     cmd->add_option("--leg-mm", *side, "Distance between the cups (the ballbar's length)")
         ->capture_default_str();
+    fourth->add_base_to(cmd);
     cmd->add_flag("--json", *json, "Machine-readable output");
-    cmd->callback([=] { run_setup(*cell, *side, *json); });
+    cmd->callback([=] { run_setup(*cell, *side, *fourth, *json); });
   }
   {
     auto* cmd = hex->add_subcommand(

@@ -101,10 +101,12 @@ def read_plan(path: str) -> Plan:
 
 def setup(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, float, float] = ...,
           tilt_deg: float = 0.0, side_mm: float = 300.0,
-          ball_offset_mm: float = 100.0) -> Dict[str, Any]:
+          ball_offset_mm: float = 100.0,
+          base_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Dict[str, Any]:
     """Where to put the setting ball for each base cup (`robcal hexapod setup`): the CLI's JSON
     as a dict, setting_ball holding per cup its position (robot frame, mm) and the
-    configurations reaching it (labels, joints_deg)."""
+    configurations reaching it (labels, joints_deg); B4 too with a fourth base cup by its
+    distances to B1..B3 (`--base-cup4-mm`)."""
 
 
 def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, float, float] = ...,

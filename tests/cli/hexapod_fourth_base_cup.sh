@@ -6,7 +6,8 @@
 # DKP, and the leg fit with B4 free) validated at the laser-tracker noise floor, the fitted B4 where
 # its measured distances put it. With T4 as well: both fourth cups' legs in every configuration.
 # The two-stage way (±1 mm ballbar, re-plan of the retries with their leg from B4).
-# Bad input: a collinear B4 on plan/simulate/place, a leg from B4 in a plan without it.
+# `hexapod setup --base-cup4-mm` lists B4's setting point as the plan does.
+# Bad input: a collinear B4 on plan/simulate/place/setup, a leg from B4 in a plan without it.
 set -euo pipefail
 ROBCAL="$1" tmp=$(mktemp -d) pid=""
 trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
@@ -38,6 +39,14 @@ for c in configs:
     assert len(legs) == 7 and legs[6].startswith("B4-"), legs
     t1 = max({l[3:] for l in legs[:6]}, key=lambda t: sum(l.endswith(t) for l in legs[:6]))
     assert legs[6] == "B4-" + t1, legs
+PY
+
+# `hexapod setup` gives the same four setting points as the plan.
+"$ROBCAL" hexapod setup --placement 450,0,300,0 --base-cup4-mm "$base4" --json > "$tmp/setup.json"
+python3 - "$tmp/setup.json" "$tmp/s/plan.json" <<'PY' || fail "setup: $(cat "$tmp/setup.json")"
+import json, sys
+setup, plan = (json.load(open(f))["setting_ball"] for f in sys.argv[1:3])
+assert setup == plan, (setup, plan)
 PY
 
 "$ROBCAL" hexapod simulate-readings --plan "$tmp/s/plan.json" --seed 5 --out "$tmp/r.txt" \
@@ -166,7 +175,7 @@ expect_refusal() {  # fragment, command...
   [ "$rc" = 2 ] && grep -qF -- "$fragment" "$tmp/err" || fail "expected exit 2 and '$fragment': $(cat "$tmp/err")"
 }
 collinear=150,150,259.8076211353316
-for cmd in "plan --out $tmp/x.json" "simulate --validation 10" "place"; do
+for cmd in "plan --out $tmp/x.json" "simulate --validation 10" "place" "setup"; do
   # shellcheck disable=SC2086
   expect_refusal "--base-cup4-mm: base fixture: the fourth cup B4 is collinear with B1 and B2" \
     "$ROBCAL" hexapod $cmd --base-cup4-mm "$collinear"

@@ -254,6 +254,10 @@ def test_fourth_base_cup_plan_session_calibrate_place_simulate(tmp_path):
     assert (tmp_path / "py_plan.json").read_text() == pathlib.Path(cli_plan).read_text()
     setting = plan.setting_ball_mm
     assert setting.shape == (4, 3)
+    setup = hexapod.setup(placement=(450, 0, 300, 0), base_cup4_mm=cup4)
+    assert setup == cli_json("hexapod", "setup", "--placement", "450,0,300,0", "--base-cup4-mm",
+                             numbers(cup4))
+    assert setup["setting_ball"] == json.loads(plan.to_json())["setting_ball"]
     np.testing.assert_allclose(setting[3], 2 * setting[:3].mean(axis=0) - setting[0], atol=1e-6)
     legs = [c["legs"] for c in json.loads(plan.to_json())["configurations"]]
     assert legs and all(len(x) == 7 and x[6].startswith("B4-") for x in legs)
