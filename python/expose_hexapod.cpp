@@ -254,11 +254,15 @@ const bool registered = register_bindings(60, [](py::module_& m) {
           "Arm configuration label of each configuration")
       .def_property_readonly(
           "setting_ball_mm",
-          [](const HexapodPlan& p) -> std::optional<Eigen::Matrix3d> {
+          [](const HexapodPlan& p) -> std::optional<Eigen::MatrixXd> {
             if (!p.session.setting_points) return std::nullopt;
-            return rows_from_cups(*p.session.setting_points);
+            Eigen::MatrixXd rows(p.session.setting_point4 ? 4 : 3, 3);
+            rows.topRows<3>() = rows_from_cups(*p.session.setting_points);
+            if (p.session.setting_point4) rows.row(3) = p.session.setting_point4->transpose();
+            return rows;
           },
-          "Where the robot puts the setting ball for B1..B3 (3×3, robot frame, mm), or None")
+          "Where the robot puts the setting ball for B1..B3, and B4 with a fourth base cup (3×3 "
+          "or 4×3, robot frame, mm), or None")
       .def(
           "to_json", [](const HexapodPlan& p) { return hexapod_plan_json(p).dump(2) + "\n"; },
           "The plan file's text (what `robcal hexapod plan --out` writes)")
@@ -285,13 +289,15 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
          double gauge_range_mm, double gauge_sigma_mm, double cup_diameter_mm,
          const std::optional<std::string>& cell,
-         const std::optional<std::array<double, 3>>& tool_cup4_mm) {
+         const std::optional<std::array<double, 3>>& tool_cup4_mm,
+         const std::optional<std::array<double, 3>>& base_cup4_mm) {
         HexapodPlanRequest r = plan_request(
             robot, base_sides_mm, tool_sides_mm, leg_mm, tool_offset_mm, ball_offset_mm, table_z_mm,
             angle_deg, distance_mm, gauge_range_mm, gauge_sigma_mm, cup_diameter_mm, cell);
         r.placement = placement;
         r.tilt_deg = tilt_deg;
         r.geometry.tool_cup4_mm = tool_cup4_mm;
+        r.geometry.base_cup4_mm = base_cup4_mm;
         return plan_hexapod(load_robot(robot), r);
       },
       py::arg("robot") = "fanuc-lrmate200ic",
@@ -303,12 +309,12 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("gauge_range_mm") = LengthGauge{}.range_mm,
       py::arg("gauge_sigma_mm") = LengthGauge{}.sigma_mm,
       py::arg("cup_diameter_mm") = CupClearance{}.cup_diameter_mm, py::arg("cell") = py::none(),
-      py::arg("tool_cup4_mm") = py::none(),
+      py::arg("tool_cup4_mm") = py::none(), py::arg("base_cup4_mm") = py::none(),
       "Plans a hexapod measurement (`robcal hexapod plan`): placement = (x, y, z mm, yaw deg) of "
       "the base cups' centroid in the robot frame, tilt_deg of the pivoting platform, the gauge's "
       "range and σ, the cup diameter (colliding poses refused), a cell file (its floor and "
-      "keep-out boxes respected) and a fourth tool cup by its distances (d14, d24, d34) to T1..T3 "
-      "(`--tool-cup4-mm`)");
+      "keep-out boxes respected), a fourth tool cup by its distances (d14, d24, d34) to T1..T3 "
+      "(`--tool-cup4-mm`) and a fourth base cup by its distances to B1..B3 (`--base-cup4-mm`)");
   h.def(
       "place",
       [](const std::string& robot, const std::vector<double>& x_mm, const std::vector<double>& y_mm,
@@ -320,12 +326,15 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          double angle_deg, double distance_mm, double gauge_range_mm, double gauge_sigma_mm,
          double cup_diameter_mm, const std::optional<std::string>& cell,
          const std::optional<std::array<double, 3>>& tool_cup4_mm,
-         const std::vector<std::string>& identify) {
+         const std::vector<std::string>& identify,
+         const std::optional<std::array<double, 3>>& base_cup4_mm) {
         PlacementSearchRequest r;
         r.plan = plan_request(robot, base_sides_mm, tool_sides_mm, leg_mm, tool_offset_mm,
                               ball_offset_mm, table_z_mm, angle_deg, distance_mm, gauge_range_mm,
                               gauge_sigma_mm, cup_diameter_mm, cell);
         r.plan.geometry.tool_cup4_mm = tool_cup4_mm;
+        r.plan.geometry.base_cup4_mm = base_cup4_mm;
+        check_geometry(r.plan.geometry);  // as the CLI: the fixtures before the measured plans
         for (const std::string& plan : measured)
           r.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
         r.x_mm = x_mm;
@@ -360,10 +369,11 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("gauge_sigma_mm") = LengthGauge{}.sigma_mm,
       py::arg("cup_diameter_mm") = CupClearance{}.cup_diameter_mm, py::arg("cell") = py::none(),
       py::arg("tool_cup4_mm") = py::none(), py::arg("identify") = std::vector<std::string>{},
+      py::arg("base_cup4_mm") = py::none(),
       "Placement search (`robcal hexapod place`): the grid's placements ranked by predicted "
       "accuracy, and the best pairs; with `measured` (plan files of the placements already "
       "measured) the grid's placements ranked as the next one ('next'); the fixtures, offsets, "
-      "pruning, gauge (range and σ, mm), cup diameter, cell file and fourth tool cup as `plan`'s "
+      "pruning, gauge (range and σ, mm), cup diameter, cell file and fourth cups as `plan`'s "
       "(the CLI's flags); `identify`: opt-in groups or patterns predicted for too (`--identify`); "
       "the CLI's JSON as a dict");
   h.def(
@@ -417,9 +427,11 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       [](const std::string& robot, const std::array<double, 4>& placement, double tool_offset_mm,
          double ball_offset_mm, double table_z_mm, double angle_deg, double distance_mm,
          uint64_t seed, int validation, int threads, bool leg_fit, bool relative,
-         const std::optional<std::array<double, 3>>& tool_cup4_mm) {
+         const std::optional<std::array<double, 3>>& tool_cup4_mm,
+         const std::optional<std::array<double, 3>>& base_cup4_mm) {
         HexapodGeometry geometry;
         geometry.tool_cup4_mm = tool_cup4_mm;
+        geometry.base_cup4_mm = base_cup4_mm;
         const HexapodPlanRequest cell{.geometry = geometry,
                                       .placement = placement,
                                       .tool_offset_mm = tool_offset_mm,
@@ -447,9 +459,11 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("table_z_mm") = 0.0, py::arg("angle_deg") = 30.0, py::arg("distance_mm") = 50.0,
       py::arg("seed") = 1, py::arg("validation") = 10000, py::arg("threads") = 2,
       py::arg("leg_fit") = true, py::arg("relative") = false, py::arg("tool_cup4_mm") = py::none(),
+      py::arg("base_cup4_mm") = py::none(),
       "Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings, "
       "preliminary and final calibration, laser-tracker validation; a fourth tool cup by its "
-      "distances (d14, d24, d34) to T1..T3 (`--tool-cup4-mm`); the CLI's JSON as a dict");
+      "distances (d14, d24, d34) to T1..T3 (`--tool-cup4-mm`), a fourth base cup by its distances "
+      "to B1..B3 (`--base-cup4-mm`); the CLI's JSON as a dict");
   h.def(
       "calibrate",
       [](const std::vector<std::string>& sessions, const std::string& robot,
@@ -569,18 +583,26 @@ const bool registered = register_bindings(60, [](py::module_& m) {
   h.def(
       "setup",
       [](const std::string& robot, const std::array<double, 4>& placement, double tilt_deg,
-         double side_mm, double ball_offset_mm) {
+         double side_mm, double ball_offset_mm,
+         const std::optional<std::array<double, 3>>& base_cup4_mm) {
+        HexapodGeometry base;
+        base.base = {side_mm, side_mm, side_mm};
+        base.leg_mm = side_mm;
+        base.base_cup4_mm = base_cup4_mm;
+        check_geometry(base);  // as the CLI: a bad B4 named
         return json_to_python(
             setup_json(robot, side_mm,
                        plan_setting_ball(load_robot(robot), placement_pose(placement, tilt_deg),
-                                         side_mm, ball_offset_mm)));
+                                         side_mm, ball_offset_mm, base_cup4_mm)));
       },
       py::arg("robot") = "fanuc-lrmate200ic",
       py::arg("placement") = std::array<double, 4>{450, 0, 300, 0}, py::arg("tilt_deg") = 0.0,
       py::arg("side_mm") = 300.0, py::arg("ball_offset_mm") = 100.0,
+      py::arg("base_cup4_mm") = py::none(),
       "Where to put the setting ball for each base cup (`robcal hexapod setup`): the CLI's JSON "
       "as a dict, setting_ball holding per cup its position (robot frame, mm) and the "
-      "configurations reaching it (labels, joints_deg)");
+      "configurations reaching it (labels, joints_deg); B4 too with a fourth base cup by its "
+      "distances to B1..B3 (`--base-cup4-mm`)");
 });
 
 }  // namespace

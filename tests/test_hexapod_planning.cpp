@@ -47,7 +47,7 @@ TEST(HexapodPlanning, ConfigurationsReachTheirPosesWithinLimitsAndClearOfTheTabl
       const Pose<double> f = flange_pose(model, PointMass{}, model.nominal(), c.joints);
       EXPECT_LT((f.p - p.robot_T_flange.p).norm(), 1e-8) << p.pose.label;
       EXPECT_LT(rotation_distance(f.R, p.robot_T_flange.R), 1e-10) << p.pose.label;
-      Cups<double> cups_robot;
+      std::vector<Eigen::Vector3d> cups_robot(3);
       for (int i = 0; i < 3; ++i) cups_robot[i] = cell.robot_T_base * base[i];
       EXPECT_EQ(check_clearance(model, cell, cups_robot, c.joints), Clearance::Ok);
       // The tool cups sit on the planned pose: every leg at the ballbar length.
@@ -69,7 +69,7 @@ TEST(HexapodPlanning, ArmBelowTheTableIsRejected) {
   CellSetup cell;
   cell.robot_T_base.p = Eigen::Vector3d(1500, 0, 0);  // far away: only the table matters
   const Cups<double> base = fixture_cups({300, 300, 300}, "base");
-  Cups<double> cups_robot;
+  std::vector<Eigen::Vector3d> cups_robot(3);
   for (int i = 0; i < 3; ++i) cups_robot[i] = cell.robot_T_base * base[i];
   // Upper arm leaning far forward, forearm turned down until the wrist centre is near the table.
   Vector6d down = Vector6d::Zero();

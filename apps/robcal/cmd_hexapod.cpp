@@ -73,19 +73,35 @@ struct GeometryOptions {
   }
 };
 
-/// `--tool-cup4-mm d14,d24,d34` (empty: no fourth cup); check_geometry refuses a bad T4.
-std::optional<std::array<double, 3>> parse_tool_cup4(const std::string& text) {
-  if (text.empty()) return std::nullopt;
-  const std::vector<double> d = parse_numbers(text, 3, "--tool-cup4-mm");
-  return std::array<double, 3>{d[0], d[1], d[2]};
-}
-
-void add_tool_cup4_option(CLI::App* cmd, std::string& text) {
-  cmd->add_option("--tool-cup4-mm", text,
-                  "A fourth tool cup T4 by its distances d14,d24,d34 to T1..T3 (mm): its legs "
-                  "within half the gauge range of --leg-mm are measured too (on the circumcircle "
-                  "of T1..T3: one in every pose)");
-}
+/// `--tool-cup4-mm` and `--base-cup4-mm`, each d14,d24,d34 (empty: no fourth cup on that
+/// fixture); check_geometry refuses a bad one.
+struct FourthCupOptions {
+  std::string tool, base;
+  void add_to(CLI::App* cmd) {
+    cmd->add_option("--tool-cup4-mm", tool,
+                    "A fourth tool cup T4 by its distances d14,d24,d34 to T1..T3 (mm): its legs "
+                    "within half the gauge range of --leg-mm are measured too (on the circumcircle "
+                    "of T1..T3: one in every pose)");
+    add_base_to(cmd);
+  }
+  void add_base_to(CLI::App* cmd) {
+    cmd->add_option("--base-cup4-mm", base,
+                    "A fourth base cup B4 by its distances d14,d24,d34 to B1..B3 (mm), placed by "
+                    "the robot like B1..B3: its legs within half the gauge range of --leg-mm are "
+                    "measured too (on the circumcircle of B1..B3: one in every pose)");
+  }
+  /// Parses both flags into `geometry` and checks it.
+  void apply(HexapodGeometry& geometry) const {
+    const auto parse = [](const std::string& text, const char* flag) {
+      if (text.empty()) return std::optional<std::array<double, 3>>{};
+      const std::vector<double> d = parse_numbers(text, 3, flag);
+      return std::optional(std::array<double, 3>{d[0], d[1], d[2]});
+    };
+    geometry.tool_cup4_mm = parse(tool, "--tool-cup4-mm");
+    geometry.base_cup4_mm = parse(base, "--base-cup4-mm");
+    check_geometry(geometry);
+  }
+};
 
 /// "kinematic" or "kinematic + periodic, backlash": what the predictions are made for.
 std::string parameters_text(const std::string& level, const std::vector<std::string>& identify) {
@@ -352,11 +368,16 @@ struct CellOptions {
   }
 };
 
-void run_setup(const CellOptions& o, double side_mm, bool json) {
+void run_setup(const CellOptions& o, double side_mm, const FourthCupOptions& fourth, bool json) {
+  // The base triangle the setting points make, with B4 by its distances to it.
+  HexapodGeometry base;
+  base.base = {side_mm, side_mm, side_mm};
+  base.leg_mm = side_mm;
+  fourth.apply(base);
   const nlohmann::json out =
       setup_json(o.plan.robot, side_mm,
                  plan_setting_ball(load_robot(o.plan.robot), o.rough_placement(), side_mm,
-                                   o.plan.ball_offset_mm));
+                                   o.plan.ball_offset_mm, base.base_cup4_mm));
   if (json) {
     print_json(out);
     return;
@@ -375,10 +396,10 @@ void run_setup(const CellOptions& o, double side_mm, bool json) {
 }
 
 void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
-              const MeasuringOptions& m, const std::string& tool_cup4, const std::string& cell_path,
-              const std::string& out_path, bool json) {
+              const MeasuringOptions& m, const FourthCupOptions& fourth,
+              const std::string& cell_path, const std::string& out_path, bool json) {
   HexapodPlanRequest request = o.request(geometry_options.geometry());
-  request.geometry.tool_cup4_mm = parse_tool_cup4(tool_cup4);
+  fourth.apply(request.geometry);
   request.gauge = m.gauge;
   request.cups = m.cups;
   if (!cell_path.empty()) request.workcell = campaign::load_cell(cell_path);
@@ -396,16 +417,21 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
       model.name, outcome.poses_enumerated, outcome.refused.size(), outcome.poses_kept,
       outcome.poses_measurable, outcome.configurations_measurable);
   for (const auto& [label, reason] : outcome.refused) fmt::print("{} refused: {}\n", label, reason);
-  if (request.geometry.tool_cup4_mm) {
+  const auto report_fourth_cup = [&](const char* name, auto reaches) {
     size_t legs = 0, reaching = 0;
     for (const SessionConfiguration& c : plan.session.configurations) {
-      legs += c.legs.size() - kDesignLegs.size();
-      reaching += c.legs.size() > kDesignLegs.size() ? 1 : 0;
+      const auto n = std::count_if(c.legs.begin(), c.legs.end(), reaches);
+      legs += static_cast<size_t>(n);
+      reaching += n > 0 ? 1 : 0;
     }
-    fmt::print("tool cup T4: {} legs to it in {} of {} configurations (within ±{} mm of {} mm)\n",
+    fmt::print("{}: {} legs to it in {} of {} configurations (within ±{} mm of {} mm)\n", name,
                legs, reaching, plan.session.configurations.size(),
                kExtraLegRangeFraction * request.gauge.range_mm, request.geometry.leg_mm);
-  }
+  };
+  if (request.geometry.tool_cup4_mm)
+    report_fourth_cup("tool cup T4", [](const PhysicalLeg& l) { return l.tool == 3; });
+  if (request.geometry.base_cup4_mm)
+    report_fourth_cup("base cup B4", [](const PhysicalLeg& l) { return l.base == 3; });
   for (const PlannedPose& p : outcome.poses) {
     std::vector<std::string> labels;
     for (const SessionConfiguration& c : plan.session.configurations)
@@ -421,15 +447,15 @@ void run_plan(const GeometryOptions& geometry_options, const CellOptions& o,
 // ---- placement search ------------------------------------------------------------------------
 
 void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
-               const MeasuringOptions& m, const std::string& tool_cup4,
+               const MeasuringOptions& m, const FourthCupOptions& fourth,
                const std::string& cell_path, const std::array<std::string, 5>& grid,
                const std::string& level, const std::vector<std::string>& identify, int validation,
                uint64_t seed, int best, const std::vector<std::string>& measured, bool json) {
   PlacementSearchRequest request;
+  request.plan = o.request(geometry_options.geometry());
+  fourth.apply(request.plan.geometry);  // flags before files
   for (const std::string& plan : measured)
     request.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
-  request.plan = o.request(geometry_options.geometry());
-  request.plan.geometry.tool_cup4_mm = parse_tool_cup4(tool_cup4);
   request.plan.gauge = m.gauge;
   request.plan.cups = m.cups;
   if (!cell_path.empty()) request.plan.workcell = campaign::load_cell(cell_path);
@@ -558,10 +584,10 @@ void run_session(const HexapodSessionRequest& request, bool json) {
 // ---- simulate ------------------------------------------------------------------------------
 
 void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m,
-                  const std::string& tool_cup4, const EndToEndOptions& settings, uint64_t seed,
+                  const FourthCupOptions& fourth, const EndToEndOptions& settings, uint64_t seed,
                   bool json) {
   HexapodGeometry geometry;
-  geometry.tool_cup4_mm = parse_tool_cup4(tool_cup4);
+  fourth.apply(geometry);
   HexapodPlanRequest cell = cell_options.request(geometry);
   cell.gauge = m.gauge;
   cell.cups = m.cups;
@@ -583,7 +609,10 @@ void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m,
       "first pass: {} measured, {} out of the gauge's range (±{} mm); after the preliminary "
       "calibration {} of those measured; {} legs read{}\n",
       r.measured_first, r.retried, m.gauge.range_mm, r.measured_after_replan, r.legs_read,
-      o.cell.design.tool_cup4_mm ? fmt::format(" ({} to T4)", r.legs_read_fourth_cup) : "");
+      fmt::format(
+          "{}{}",
+          o.cell.design.tool_cup4_mm ? fmt::format(" ({} to T4)", r.legs_read_fourth_cup) : "",
+          o.cell.design.base_cup4_mm ? fmt::format(" ({} from B4)", r.legs_read_base_cup4) : ""));
   fmt::print(
       "world frame from the base cups: rms {:.4f} mm; off the true base fixture frame by {:.3f} "
       "mm, "
@@ -603,6 +632,11 @@ void run_simulate(const CellOptions& cell_options, const MeasuringOptions& m,
   row("preliminary (poses)", r.preliminary.validation);
   row("final (poses)", r.final_pose_fit.validation);
   if (o.leg_fit) row("final (raw legs)", r.leg_fit.validation);
+  if (r.leg_fit_base_cup4_error_mm && r.leg_fit_base_cup4_distance_error_mm)
+    fmt::print(
+        "base cup B4 fitted from the raw legs: {:.4f} mm from the true one (B1..B3 frame), its "
+        "distances to B1..B3 within {:.4f} mm\n",
+        *r.leg_fit_base_cup4_error_mm, *r.leg_fit_base_cup4_distance_error_mm);
   fmt::print(
       "published (LR Mate 200iC, real robot): nominal 1.355 mean; 46 configs 0.517 / 1.223; "
       "61 configs 0.796 / 1.630; pairs 1.062 → 0.400 / 1.666\n");
@@ -704,12 +738,14 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
         "setup", "Where the robot must put the setting ball to place the base cups");
     auto cell = std::make_shared<CellOptions>();
     auto side = std::make_shared<double>(300.0);
+    auto fourth = std::make_shared<FourthCupOptions>();
     auto json = std::make_shared<bool>(false);
     cell->add_to(cmd);
     cmd->add_option("--leg-mm", *side, "Distance between the cups (the ballbar's length)")
         ->capture_default_str();
+    fourth->add_base_to(cmd);
     cmd->add_flag("--json", *json, "Machine-readable output");
-    cmd->callback([=] { run_setup(*cell, *side, *json); });
+    cmd->callback([=] { run_setup(*cell, *side, *fourth, *json); });
   }
   {
     auto* cmd = hex->add_subcommand(
@@ -718,12 +754,12 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     auto geometry = std::make_shared<GeometryOptions>();
     auto cell = std::make_shared<CellOptions>();
     auto measuring = std::make_shared<MeasuringOptions>();
-    auto tool_cup4 = std::make_shared<std::string>();
+    auto fourth = std::make_shared<FourthCupOptions>();
     auto cell_file = std::make_shared<std::string>();
     auto out = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
     geometry->add_to(cmd);
-    add_tool_cup4_option(cmd, *tool_cup4);
+    fourth->add_to(cmd);
     cell->add_to(cmd);
     measuring->add_to(cmd);
     cmd->add_option("--cell", *cell_file,
@@ -732,7 +768,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     cmd->add_option("--out", *out, "Write the plan (JSON) for `robcal hexapod session`");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback(
-        [=] { run_plan(*geometry, *cell, *measuring, *tool_cup4, *cell_file, *out, *json); });
+        [=] { run_plan(*geometry, *cell, *measuring, *fourth, *cell_file, *out, *json); });
   }
   {
     auto* cmd = hex->add_subcommand(
@@ -751,10 +787,10 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     auto seed = std::make_shared<uint64_t>(1);
     auto best = std::make_shared<int>(5);
     auto measured = std::make_shared<std::vector<std::string>>();
-    auto tool_cup4 = std::make_shared<std::string>();
+    auto fourth = std::make_shared<FourthCupOptions>();
     auto json = std::make_shared<bool>(false);
     geometry->add_to(cmd);
-    add_tool_cup4_option(cmd, *tool_cup4);
+    fourth->add_to(cmd);
     cell->add_to(cmd, false);
     measuring->add_to(cmd);
     cmd->add_option("--cell", *cell_file, "Cell file: floor and keep-out boxes respected");
@@ -779,7 +815,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
                     "the next one to measure");
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
-      run_place(*geometry, *cell, *measuring, *tool_cup4, *cell_file, *grid, *level, *identify,
+      run_place(*geometry, *cell, *measuring, *fourth, *cell_file, *grid, *level, *identify,
                 *validation, *seed, *best, *measured, *json);
     });
   }
@@ -823,11 +859,11 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     auto seed = std::make_shared<uint64_t>(1);
     auto settings = std::make_shared<EndToEndOptions>();
     auto no_leg_fit = std::make_shared<bool>(false);
-    auto tool_cup4 = std::make_shared<std::string>();
+    auto fourth = std::make_shared<FourthCupOptions>();
     auto json = std::make_shared<bool>(false);
     cell->add_to(cmd);
     measuring->add_to(cmd);
-    add_tool_cup4_option(cmd, *tool_cup4);
+    fourth->add_to(cmd);
     cmd->add_option("--seed", *seed, "Seed of the true robot, the readings and the validation")
         ->capture_default_str();
     cmd->add_option("--validation", settings->validation_configurations,
@@ -842,7 +878,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
       settings->leg_fit = !*no_leg_fit;
-      run_simulate(*cell, *measuring, *tool_cup4, *settings, *seed, *json);
+      run_simulate(*cell, *measuring, *fourth, *settings, *seed, *json);
     });
   }
   {

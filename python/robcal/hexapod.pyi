@@ -19,7 +19,8 @@ class Plan:
     labels: List[str]
     """Arm configuration label of each configuration."""
     setting_ball_mm: Optional[Array]
-    """Where the robot puts the setting ball for B1..B3 (3×3, robot frame, mm), or None."""
+    """Where the robot puts the setting ball for B1..B3, and B4 with a fourth base cup (3×3
+    or 4×3, robot frame, mm), or None."""
 
     def to_json(self) -> str:
         """The plan file's text (what `robcal hexapod plan --out` writes)."""
@@ -84,12 +85,14 @@ def plan(robot: str = "fanuc-lrmate200ic", base_sides_mm: Sequence[float] = ...,
          angle_deg: float = 30.0, distance_mm: float = 50.0, gauge_range_mm: float = 1.0,
          gauge_sigma_mm: float = 0.00051, cup_diameter_mm: float = 25.0,
          cell: Optional[str] = None,
-         tool_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Plan:
+         tool_cup4_mm: Optional[Tuple[float, float, float]] = None,
+         base_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Plan:
     """Plans a hexapod measurement (`robcal hexapod plan`): placement = (x, y, z mm, yaw deg) of
     the base cups' centroid in the robot frame, tilt_deg of the pivoting platform, the gauge's
     range and σ, the cup diameter (colliding poses refused), a cell file (its floor and
-    keep-out boxes respected) and a fourth tool cup by its distances (d14, d24, d34) to T1..T3
-    (`--tool-cup4-mm`: its legs within half the gauge range are measured too)."""
+    keep-out boxes respected), a fourth tool cup by its distances (d14, d24, d34) to T1..T3
+    (`--tool-cup4-mm`: its legs within half the gauge range are measured too) and a fourth base
+    cup by its distances to B1..B3 (`--base-cup4-mm`: placed by the robot, its legs likewise)."""
 
 
 def read_plan(path: str) -> Plan:
@@ -98,10 +101,12 @@ def read_plan(path: str) -> Plan:
 
 def setup(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, float, float] = ...,
           tilt_deg: float = 0.0, side_mm: float = 300.0,
-          ball_offset_mm: float = 100.0) -> Dict[str, Any]:
+          ball_offset_mm: float = 100.0,
+          base_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Dict[str, Any]:
     """Where to put the setting ball for each base cup (`robcal hexapod setup`): the CLI's JSON
     as a dict, setting_ball holding per cup its position (robot frame, mm) and the
-    configurations reaching it (labels, joints_deg)."""
+    configurations reaching it (labels, joints_deg); B4 too with a fourth base cup by its
+    distances to B1..B3 (`--base-cup4-mm`)."""
 
 
 def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, float, float] = ...,
@@ -109,10 +114,12 @@ def simulate(robot: str = "fanuc-lrmate200ic", placement: Tuple[float, float, fl
              table_z_mm: float = 0.0, angle_deg: float = 30.0, distance_mm: float = 50.0,
              seed: int = 1, validation: int = 10000, threads: int = 2, leg_fit: bool = True,
              relative: bool = False,
-             tool_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Dict[str, Any]:
+             tool_cup4_mm: Optional[Tuple[float, float, float]] = None,
+             base_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Dict[str, Any]:
     """Simulated end to end (`robcal hexapod simulate`): placement, planning, ballbar readings,
     preliminary and final calibration, laser-tracker validation; a fourth tool cup by its
-    distances (d14, d24, d34) to T1..T3 (`--tool-cup4-mm`); the CLI's JSON as a dict."""
+    distances (d14, d24, d34) to T1..T3 (`--tool-cup4-mm`), a fourth base cup by its distances
+    to B1..B3 (`--base-cup4-mm`); the CLI's JSON as a dict."""
 
 
 def place(robot: str = "fanuc-lrmate200ic", x_mm: Sequence[float] = ..., y_mm: Sequence[float] = ...,
@@ -125,11 +132,12 @@ def place(robot: str = "fanuc-lrmate200ic", x_mm: Sequence[float] = ..., y_mm: S
           gauge_range_mm: float = ..., gauge_sigma_mm: float = ..., cup_diameter_mm: float = ...,
           cell: Optional[str] = None,
           tool_cup4_mm: Optional[Tuple[float, float, float]] = None,
-          identify: Sequence[str] = ...) -> Dict[str, Any]:
+          identify: Sequence[str] = ...,
+          base_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Dict[str, Any]:
     """Placement search (`robcal hexapod place`): the grid's placements ranked by predicted
     accuracy, and the best pairs; with `measured` (plan files of the placements already
     measured) the grid's placements ranked as the next one ('next'); the fixtures, offsets,
-    pruning, gauge (range and σ, mm), cup diameter, cell file and fourth tool cup as plan()'s
+    pruning, gauge (range and σ, mm), cup diameter, cell file and fourth cups as plan()'s
     (the CLI's flags); `identify`: opt-in groups or patterns predicted for too (`--identify`);
     the CLI's JSON as a dict."""
 

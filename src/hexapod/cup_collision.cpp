@@ -70,16 +70,22 @@ PoseScreening screen_poses(const std::vector<HexapodPose>& poses, const HexapodG
     throw InputError(
         {"", 0, 0, "--cup-diameter-mm (cup_diameter_mm)"},
         fmt::format("expected a positive cup diameter in mm, found {}", clearance.cup_diameter_mm));
-  const Cups<double> base = fixture_cups(geometry.base, "base fixture");
-  const std::vector<Eigen::Vector3d> base_cups(base.begin(), base.end());
-  if (geometry.tool_cup4_mm)
+  fixture_cups(geometry.base, "base fixture");
+  const std::vector<Eigen::Vector3d> base_cups = base_cup_positions(geometry);
+  const auto check_fourth = [&](const std::optional<std::array<double, 3>>& distances, char letter,
+                                const char* flag) {
+    if (!distances) return;
     for (int j = 0; j < 3; ++j)
-      if (const double gap = (*geometry.tool_cup4_mm)[j]; gap < clearance.cup_diameter_mm)
-        throw InputError({"", 0, 0, "--tool-cup4-mm"},
-                         fmt::format("tool cup T4 is {} mm from T{}, closer than a cup diameter "
-                                     "({} mm): the cups {}",
-                                     gap, j + 1, clearance.cup_diameter_mm,
-                                     gap < 1e-3 ? "coincide" : "collide"));
+      if (const double gap = (*distances)[j]; gap < clearance.cup_diameter_mm)
+        throw InputError(
+            {"", 0, 0, flag},
+            fmt::format("{} cup {}4 is {} mm from {}{}, closer than a cup diameter "
+                        "({} mm): the cups {}",
+                        letter == 'T' ? "tool" : "base", letter, gap, letter, j + 1,
+                        clearance.cup_diameter_mm, gap < 1e-3 ? "coincide" : "collide"));
+  };
+  check_fourth(geometry.tool_cup4_mm, 'T', "--tool-cup4-mm");
+  check_fourth(geometry.base_cup4_mm, 'B', "--base-cup4-mm");
   PoseScreening out;
   std::vector<HexapodPose> possible;
   for (const HexapodPose& pose : poses) {

@@ -4,6 +4,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "robcal/core/units.hpp"
 #include "robcal/hexapod/gauge.hpp"
 #include "robcal/hexapod/leg_fit.hpp"
@@ -106,13 +109,15 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   // Plan with the measured fixtures (a fourth tool cup by its measured distances, its legs
   // read in every pose that has one, as `robcal hexapod plan` plans them).
   const HexapodGeometry measured{cell.base_sides, cell.tool_sides, o.cell.design.leg_mm,
-                                 cell.tool_cup4_mm};
+                                 cell.tool_cup4_mm, cell.base_cup4_mm};
   const FixtureDistances tool_fixture = measured.tool_fixture();
+  const FixtureDistances base_fixture = measured.base_fixture();
   const PoseScreening screening = plannable_poses(measured, o.cell.range_mm, o.angle_deg,
                                                   o.distance_mm, o.cups, &rep.poses_enumerated);
   const std::vector<HexapodPose>& kept = screening.kept;
   const PlanSummary plan =
-      plan_poses(model, cell.cell, fixture_cups(cell.base_sides, "base fixture"), kept);
+      plan_poses(model, cell.cell, fixture_cups(cell.base_sides, "base fixture"), kept,
+                 cell.base_cup4_mm ? std::optional(base_cup_positions(measured)[3]) : std::nullopt);
   rep.poses_refused = static_cast<int>(screening.refused.size());
   rep.poses_kept = static_cast<int>(kept.size());
   rep.poses_measurable = plan.measurable_poses;
@@ -133,7 +138,7 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   rep.retried = static_cast<int>(retry.size());
   const Tool tool = hexapod_tool(payload, cell.cell.flange_T_tool, cell.tool_sides);
   const auto measurements = [&] {
-    return pose_measurements(cell.base_sides, tool_fixture, readings, cell.world.robot_T_fixture,
+    return pose_measurements(base_fixture, tool_fixture, readings, cell.world.robot_T_fixture,
                              "simulated hexapod");
   };
   const IdentificationResult preliminary =
@@ -154,7 +159,10 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
   }
   for (const LegReadings& r : readings) {
     rep.legs_read += static_cast<int>(kDesignLegs.size() + r.extra_legs.size());
-    rep.legs_read_fourth_cup += static_cast<int>(r.extra_legs.size());
+    for (const MeasuredLeg& leg : r.extra_legs) {
+      rep.legs_read_fourth_cup += leg.tool == 3 ? 1 : 0;
+      rep.legs_read_base_cup4 += leg.base == 3 ? 1 : 0;
+    }
   }
   const IdentificationResult final_fit =
       calibrate(model, tool, measurements(), pose_fit_options(o.relative_pose_fit));
@@ -181,7 +189,7 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
       if (final_fit.free[i] >= kBaseParamCount && final_fit.free[i] < kParameterCount)
         leg_options.free_parameters.push_back(final_fit.free[i]);
     const LegFitResult legs =
-        fit_from_legs(model, payload, cell.base_sides, tool_fixture, readings, model.nominal(),
+        fit_from_legs(model, payload, base_fixture, tool_fixture, readings, model.nominal(),
                       cell.world.robot_T_fixture, cell.cell.flange_T_tool, leg_options);
     rep.leg_fit.configurations = static_cast<int>(readings.size());
     rep.leg_fit.rms_mm = legs.rms_mm;
@@ -192,6 +200,17 @@ EndToEndReport run_end_to_end(const RobotModel& model, const EndToEndOptions& o,
     rep.leg_fit.validation =
         validate(model, payload, legs.params, centroid(legs.tool_cups_flange),
                  frame_from_cups(legs.base_cups_robot.front()), validation, o.threads);
+    if (const auto& b4 = legs.base_cup4_robot.front()) {
+      const Cups<double>& fitted = legs.base_cups_robot.front();
+      const Eigen::Vector3d& truth4 = cell.base_cup4_sim.value();
+      rep.leg_fit_base_cup4_error_mm =
+          (frame_from_cups(fitted).inverse() * *b4 - cell.world_T_sim * truth4).norm();
+      double worst = 0;
+      for (int i = 0; i < 3; ++i)
+        worst = std::max(
+            worst, std::abs((*b4 - fitted[i]).norm() - (truth4 - cell.base_cups_sim[i]).norm()));
+      rep.leg_fit_base_cup4_distance_error_mm = worst;
+    }
   }
   return rep;
 }

@@ -48,9 +48,18 @@ nlohmann::json end_to_end_json(const EndToEndReport& r, const EndToEndOptions& o
       {"preliminary", stage_json(r.preliminary)},
       {"final", stage_json(r.final_pose_fit)}};
   if (options.cell.design.tool_cup4_mm) out["tool_cup4_mm"] = *options.cell.design.tool_cup4_mm;
+  if (options.cell.design.base_cup4_mm) {
+    out["base_cup4_mm"] = *options.cell.design.base_cup4_mm;
+    out["legs_read_base_cup4"] = r.legs_read_base_cup4;
+  }
   if (options.leg_fit) {
     out["leg_fit"] = stage_json(r.leg_fit);
     out["leg_fit"]["length_offset_mm"] = rounded(r.leg_fit_offset_mm, 6);
+    if (r.leg_fit_base_cup4_error_mm)
+      out["leg_fit"]["base_cup4_error_mm"] = rounded(*r.leg_fit_base_cup4_error_mm, 6);
+    if (r.leg_fit_base_cup4_distance_error_mm)
+      out["leg_fit"]["base_cup4_distance_error_mm"] =
+          rounded(*r.leg_fit_base_cup4_distance_error_mm, 6);
   }
   // The published run on a real LR Mate 200iC (docs/method/08-world-frame.md §3), for comparison.
   out["published"] = {{"poses", 46},

@@ -327,8 +327,8 @@ std::vector<CupUncertainty> four_cup_uncertainty_monte_carlo(const FourCupDkpReq
 
 WorstToolCupUncertainty worst_tool_cup_uncertainty(const std::vector<HexapodPose>& poses,
                                                    const HexapodGeometry& geometry) {
-  const Cups<double> base = fixture_cups(geometry.base, "--base-mm");
-  const std::vector<Eigen::Vector3d> base_cups(base.begin(), base.end());
+  fixture_cups(geometry.base, "--base-mm");
+  const std::vector<Eigen::Vector3d> base_cups = base_cup_positions(geometry);
   // The worst cup of the solution nearest the planned tool cups.
   const auto worst_cup = [](const FourCupDkpRequest& request,
                             const std::vector<Eigen::Vector3d>& planned) {
@@ -352,14 +352,22 @@ WorstToolCupUncertainty worst_tool_cup_uncertainty(const std::vector<HexapodPose
     const std::vector<Eigen::Vector3d> tool = pose_tool_cups(pose, geometry);
     const std::vector<PhysicalLeg> design(
         pose.legs.begin(), pose.legs.begin() + static_cast<std::ptrdiff_t>(kDesignLegs.size()));
-    const double three =
-        worst_cup(four_cup_distances(base_cups, {tool.begin(), tool.begin() + 3}, design), tool);
-    const bool reaches_fourth = std::any_of(pose.legs.begin(), pose.legs.end(),
-                                            [](const PhysicalLeg& l) { return l.tool == 3; });
+    const double three = worst_cup(four_cup_distances({base_cups.begin(), base_cups.begin() + 3},
+                                                      {tool.begin(), tool.begin() + 3}, design),
+                                   tool);
+    // Fourth cups that no leg reaches are left out of four_cup_distances' fixtures.
+    std::vector<Eigen::Vector3d> base_reached(base_cups.begin(), base_cups.begin() + 3);
+    std::vector<Eigen::Vector3d> tool_reached(tool.begin(), tool.begin() + 3);
+    for (const PhysicalLeg& l : pose.legs) {
+      if (l.base == 3) base_reached = base_cups;
+      if (l.tool == 3) tool_reached = tool;
+    }
     worst.design_legs = std::max(worst.design_legs, three);
-    worst.all_legs = std::max(
-        worst.all_legs,
-        reaches_fourth ? worst_cup(four_cup_distances(base_cups, tool, pose.legs), tool) : three);
+    worst.all_legs =
+        std::max(worst.all_legs,
+                 pose.legs.size() > kDesignLegs.size()
+                     ? worst_cup(four_cup_distances(base_reached, tool_reached, pose.legs), tool)
+                     : three);
   }
   return worst;
 }

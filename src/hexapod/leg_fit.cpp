@@ -44,18 +44,6 @@ struct SideResidual {
   }
 };
 
-/// Extras after the model parameters: 9 base-cup coordinates per placement, then 3 per tool cup
-/// and the length offset.
-std::string extra_name(int k, int placements, int tool_cups) {
-  if (k < 9 * placements) {
-    const std::string cup = fmt::format("base_cup.B{}.{}", (k % 9) / 3 + 1, "xyz"[k % 3]);
-    return placements == 1 ? cup : fmt::format("placement{}.{}", k / 9 + 1, cup);
-  }
-  k -= 9 * placements;
-  if (k < 3 * tool_cups) return fmt::format("tool_cup.T{}.{}", k / 3 + 1, "xyz"[k % 3]);
-  return "ballbar.length_offset";
-}
-
 /// The six base parameters that carry the world frame the cups define, seen from the fit's robot
 /// frame, to where `robot_T_world` puts it: T = robot_T_world · frame(cups)⁻¹ written exactly as
 /// world_A_1 = Trans(x, y, d1 + z) · Rx Ry Rz(γ + θ1) (docs/method/02-frames.md §4).
@@ -79,11 +67,11 @@ std::array<T, kBaseParamCount> base_parameters(const Cups<T>& cups,
 }  // namespace
 
 LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
-                           const TriangleSides& base_sides, const FixtureDistances& tool,
+                           const FixtureDistances& base, const FixtureDistances& tool,
                            const std::vector<LegReadings>& readings,
                            const ParameterVector& start_params, const Pose<double>& robot_T_world,
                            const Pose<double>& flange_T_tool, const LegFitOptions& options) {
-  return fit_from_legs(model, payload, tool, {{base_sides, readings, robot_T_world}}, start_params,
+  return fit_from_legs(model, payload, tool, {{base, readings, robot_T_world}}, start_params,
                        flange_T_tool, options);
 }
 
@@ -99,22 +87,52 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
   if (placements.empty())
     throw InputError({"", 0, 0, "placements"}, "expected the readings of at least one placement");
   const int n_placements = static_cast<int>(placements.size());
-  const int tool_cups = tool.cup_count();
-  const int extras = 9 * n_placements + 3 * tool_cups + 1;
-  const int offset_index = kParameterCount + extras - 1;
   LegFitResult result;
   result.params = start_params;
   result.base_cups_robot.resize(placements.size());
+  result.base_cup4_robot.resize(placements.size());
   if (const std::string problem = fixture_problem(tool, "tool fixture"); !problem.empty())
     throw InputError({"", 0, 0, "tool fixture"}, problem);
   const std::vector<Eigen::Vector3d> tool_local = fixture_cup_positions(tool);
   for (int p = 0; p < n_placements; ++p) {
-    const Cups<double> base_local = fixture_cups(placements[p].base_sides, "base fixture sides");
+    fixture_cups(placements[p].base.sides, "base fixture sides");
+    if (const std::string problem = fixture_problem(placements[p].base, "base fixture");
+        !problem.empty())
+      throw InputError({"", 0, 0, "base fixture"}, problem);
+    const std::vector<Eigen::Vector3d> base_local = fixture_cup_positions(placements[p].base);
     for (int i = 0; i < 3; ++i)
       result.base_cups_robot[p][i] = placements[p].robot_T_world * base_local[i];
+    if (placements[p].base.fourth)
+      result.base_cup4_robot[p] = placements[p].robot_T_world * base_local[3];
   }
   for (int i = 0; i < 3; ++i) result.tool_cups_flange[i] = flange_T_tool * tool_local[i];
   if (tool.fourth) result.tool_cup4_flange = flange_T_tool * tool_local[3];
+  // The 3-vector blocks in extras order, named: base cups of each placement, then the tool cups.
+  std::vector<double*> cup_blocks;
+  std::vector<std::string> block_names;
+  for (int p = 0; p < n_placements; ++p) {
+    const auto add_base = [&](Eigen::Vector3d& c, int cup) {
+      cup_blocks.push_back(c.data());
+      const std::string name = fmt::format("base_cup.B{}", cup);
+      block_names.push_back(n_placements == 1 ? name : fmt::format("placement{}.{}", p + 1, name));
+    };
+    for (int i = 0; i < 3; ++i) add_base(result.base_cups_robot[p][i], i + 1);
+    if (result.base_cup4_robot[p]) add_base(*result.base_cup4_robot[p], 4);
+  }
+  for (int j = 0; j < 3; ++j) {
+    cup_blocks.push_back(result.tool_cups_flange[j].data());
+    block_names.push_back(fmt::format("tool_cup.T{}", j + 1));
+  }
+  if (result.tool_cup4_flange) {
+    cup_blocks.push_back(result.tool_cup4_flange->data());
+    block_names.push_back("tool_cup.T4");
+  }
+  const int extras = 3 * static_cast<int>(cup_blocks.size()) + 1;
+  const int offset_index = kParameterCount + extras - 1;
+  const auto extra_name = [&](int k) {
+    return k + 1 == extras ? std::string("ballbar.length_offset")
+                           : fmt::format("{}.{}", block_names[k / 3], "xyz"[k % 3]);
+  };
   // Which unknowns are candidates: the requested parameters except those the free tool cups
   // absorb, every cup coordinate, the offset if asked.
   std::vector<bool> candidate(kParameterCount + extras, false);
@@ -128,12 +146,9 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     }
   for (int k = 0; k < extras - 1; ++k) candidate[kParameterCount + k] = true;
   candidate[offset_index] = options.fit_length_offset;
-  // The 3-vector blocks in extras order: base cups of each placement, then the tool cups.
-  std::vector<double*> cup_blocks;
-  for (Cups<double>& cups : result.base_cups_robot)
-    for (Eigen::Vector3d& c : cups) cup_blocks.push_back(c.data());
-  for (Eigen::Vector3d& c : result.tool_cups_flange) cup_blocks.push_back(c.data());
-  if (result.tool_cup4_flange) cup_blocks.push_back(result.tool_cup4_flange->data());
+  const auto base_cup = [&](int p, int b) {
+    return b < 3 ? result.base_cups_robot[p][b].data() : result.base_cup4_robot[p]->data();
+  };
   const auto tool_cup = [&](int t) {
     return t < 3 ? result.tool_cups_flange[t].data() : result.tool_cup4_flange->data();
   };
@@ -142,8 +157,7 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     problem.AddResidualBlock(
         new ceres::AutoDiffCostFunction<LegResidual, 1, kParameterCount, 3, 3, 1>(
             new LegResidual{&model, payload, r.joints, reading}),
-        nullptr, result.params.data(), result.base_cups_robot[p][b].data(), tool_cup(t),
-        &result.length_offset_mm);
+        nullptr, result.params.data(), base_cup(p, b), tool_cup(t), &result.length_offset_mm);
   };
 
   double zero_offset = 0;  // the tool sides' set-up offset, held
@@ -171,11 +185,13 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
           new ceres::AutoDiffCostFunction<SideResidual, 1, 3, 3, 1>(new SideResidual{reading}),
           nullptr, a, b, offset);
     };
+    // A fourth base cup's distances, each at its own set-up, get no offset either.
     for (int p = 0; p < n_placements; ++p) {
-      const std::array<double, 3> bs = placements[p].base_sides.as_array();
-      Cups<double>& cups = result.base_cups_robot[p];
-      for (int i = 0; i < 3; ++i)
-        side(bs[i], cups[i].data(), cups[(i + 1) % 3].data(), &result.length_offset_mm);
+      const std::vector<double> bs = placements[p].base.values();
+      for (size_t i = 0; i < bs.size(); ++i)
+        side(bs[i], base_cup(p, kFixtureDistancePairs[i][0]),
+             base_cup(p, kFixtureDistancePairs[i][1]),
+             i < 3 ? &result.length_offset_mm : &zero_offset);
     }
     // The tool sides, and a fourth cup's distances (each at its own set-up: no offset either).
     const std::vector<double> ts = tool.values();
@@ -223,10 +239,9 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
     for (int c = rank; c < J.cols(); ++c) {
       const int k = columns[qr.colsPermutation().indices()[c]];
       candidate[k] = false;
-      result.held.push_back((k < kParameterCount
-                                 ? parameter_table()[k].name
-                                 : extra_name(k - kParameterCount, n_placements, tool_cups)) +
-                            ": not identifiable from these readings (rank test)");
+      result.held.push_back(
+          (k < kParameterCount ? parameter_table()[k].name : extra_name(k - kParameterCount)) +
+          ": not identifiable from these readings (rank test)");
     }
   }
 

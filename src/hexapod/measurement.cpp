@@ -6,27 +6,29 @@
 
 namespace robcal::hexapod {
 
-FourCupDkpRequest readings_dkp_request(const TriangleSides& base_sides,
-                                       const FixtureDistances& tool, const LegReadings& r) {
-  FourCupDkpRequest request{base_sides, tool.sides, {}};
+FourCupDkpRequest readings_dkp_request(const FixtureDistances& base, const FixtureDistances& tool,
+                                       const LegReadings& r) {
+  FourCupDkpRequest request{base.sides, tool.sides, {}};
   for (size_t i = 0; i < kDesignLegs.size(); ++i)
     request.legs.push_back(
         {r.design.base[kDesignLegs[i].base], r.design.tool[kDesignLegs[i].tool], r.legs[i]});
   request.legs.insert(request.legs.end(), r.extra_legs.begin(), r.extra_legs.end());
-  // Without a leg to it, the fourth cup's distances fix it only up to a mirror (the solver
+  // Without a leg to it, a fourth cup's distances fix it only up to a mirror (the solver
   // refuses).
-  if (std::any_of(r.extra_legs.begin(), r.extra_legs.end(),
-                  [](const MeasuredLeg& l) { return l.tool == 3; }))
-    request.tool.fourth = tool.fourth;
+  const auto reached = [&](auto leg_reaches) {
+    return std::any_of(r.extra_legs.begin(), r.extra_legs.end(), leg_reaches);
+  };
+  if (reached([](const MeasuredLeg& l) { return l.tool == 3; })) request.tool.fourth = tool.fourth;
+  if (reached([](const MeasuredLeg& l) { return l.base == 3; })) request.base.fourth = base.fourth;
   return request;
 }
 
-Pose<double> measured_tool_pose(const TriangleSides& base_sides, const FixtureDistances& tool,
+Pose<double> measured_tool_pose(const FixtureDistances& base_fixture, const FixtureDistances& tool,
                                 const LegReadings& r, const std::string& file) {
   const auto refuse = [&](const std::string& why) {
     return InputError({file, 0, 0, r.config}, "configuration " + r.config + ": " + why);
   };
-  const Cups<double> base = fixture_cups(base_sides, "base fixture sides");
+  const Cups<double> base = fixture_cups(base_fixture.sides, "base fixture sides");
   const Cups<double> tool_cups = fixture_cups(tool.sides, "tool fixture sides");
   const DkpResult dkp = solve_dkp(design_base_cups(r.design, base), Eigen::Vector3d::UnitZ(),
                                   design_tool_sides(r.design, tool_cups), r.legs);
@@ -39,7 +41,7 @@ Pose<double> measured_tool_pose(const TriangleSides& base_sides, const FixtureDi
   if (r.extra_legs.empty()) return frame_from_cups(closed_form);
   // The least-squares solution of the planned mode: the one nearest the mode's closed form (a
   // start of another mode may converge to it first and carry that mode's number).
-  const FourCupDkpResult fit = solve_four_cup_dkp(readings_dkp_request(base_sides, tool, r));
+  const FourCupDkpResult fit = solve_four_cup_dkp(readings_dkp_request(base_fixture, tool, r));
   if (fit.status != FourCupDkpStatus::Ok) throw refuse(fit.message);
   const auto gap = [&](const FourCupSolution& s) {
     double g = 0;
@@ -53,7 +55,7 @@ Pose<double> measured_tool_pose(const TriangleSides& base_sides, const FixtureDi
       Cups<double>{nearest.tool_cups[0], nearest.tool_cups[1], nearest.tool_cups[2]});
 }
 
-MeasurementSet pose_measurements(const TriangleSides& base_sides, const FixtureDistances& tool,
+MeasurementSet pose_measurements(const FixtureDistances& base, const FixtureDistances& tool,
                                  const std::vector<LegReadings>& readings,
                                  const Pose<double>& robot_T_world, const std::string& file) {
   MeasurementSet set;
@@ -63,7 +65,7 @@ MeasurementSet pose_measurements(const TriangleSides& base_sides, const FixtureD
     PoseMeasurement m;
     m.config = r.config;
     m.joints = r.joints;
-    m.world_T_tcp = robot_T_world * measured_tool_pose(base_sides, tool, r, file);
+    m.world_T_tcp = robot_T_world * measured_tool_pose(base, tool, r, file);
     set.poses.push_back(m);
   }
   return set;

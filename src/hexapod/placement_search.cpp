@@ -126,12 +126,12 @@ std::vector<int> searched_parameters(const RobotModel& model,
 }
 
 /// σ of one pose row: the request's multiple of the gauge σ (§4's worst case of three tool
-/// cups); with a fourth tool cup, scaled by how much its legs lower the worst tool-cup GUM
-/// uncertainty over the poses planned with it (docs/method/07-hexapod.md §7).
+/// cups); with a fourth cup on either fixture, scaled by how much its legs lower the worst tool-cup
+/// GUM uncertainty over the poses planned with it (docs/method/07-hexapod.md §7).
 double pose_sigma_mm(const PlacementSearchRequest& request) {
   const HexapodPlanRequest& plan = request.plan;
   double multiple = request.pose_sigma_multiple;
-  if (plan.geometry.tool_cup4_mm) {
+  if (plan.geometry.tool_cup4_mm || plan.geometry.base_cup4_mm) {
     const WorstToolCupUncertainty worst =
         worst_tool_cup_uncertainty(plannable_poses(plan.geometry, plan.gauge.range_mm,
                                                    plan.angle_deg, plan.distance_mm, plan.cups)
@@ -176,11 +176,21 @@ Context make_context(const RobotModel& model, const Pose<double>& flange_T_tool,
   return c;
 }
 
+/// The setting points of a plan's base cups: B1..B3, then B4 if any.
+std::vector<Eigen::Vector3d> plan_setting_points(const HexapodPlan& plan) {
+  std::vector<Eigen::Vector3d> points(plan.session.setting_points->begin(),
+                                      plan.session.setting_points->end());
+  if (plan.session.setting_point4) points.push_back(*plan.session.setting_point4);
+  return points;
+}
+
 /// The smallest distance between a cup of one placement and a cup of another, and which cups.
-double closest_cups(const Cups<double>& a, const Cups<double>& b, int* cup_a, int* cup_b) {
+
+double closest_cups(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                    int* cup_a, int* cup_b) {
   double best = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j)
+  for (int i = 0; i < static_cast<int>(a.size()); ++i)
+    for (int j = 0; j < static_cast<int>(b.size()); ++j)
       if ((a[i] - b[j]).norm() < best) {
         best = (a[i] - b[j]).norm();
         *cup_a = i;
@@ -227,7 +237,7 @@ MeasuredPlacement measured_placement(const HexapodPlan& plan, const std::string&
   m.source = source;
   m.placement = plan.cell->placement;
   m.tilt_deg = plan.cell->tilt_deg;
-  m.setting_points = *plan.session.setting_points;
+  m.setting_points = plan_setting_points(plan);
   for (size_t c = 0; c < plan.session.configurations.size(); ++c) {
     const SessionConfiguration& config = plan.session.configurations[c];
     if (config.joints_deg.size() != kJointCount)
@@ -282,7 +292,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   // Plan every placement; keep each one's configurations as design candidates.
   std::vector<PlacementScore> scores;
   std::vector<std::vector<int>> members;
-  std::vector<Cups<double>> setting_points;
+  std::vector<std::vector<Eigen::Vector3d>> setting_points;
   Pose<double> flange_T_tool;
   for (double x : request.x_mm)
     for (double y : request.y_mm)
@@ -299,7 +309,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
             try {
               const HexapodPlan plan = plan_hexapod(model, r);
               // The robot places the cups itself (docs/method/08-world-frame.md §1).
-              for (int cup = 0; cup < 3; ++cup)
+              for (size_t cup = 0; cup < plan.setting.size(); ++cup)
                 if (plan.setting[cup].configurations.empty())
                   throw InputError({"", 0, 0, "--placement"},
                                    fmt::format("the robot cannot put the setting ball at base "
@@ -307,7 +317,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
                                                cup + 1));
               flange_T_tool = *plan.session.flange_T_tool;
               setting_points.resize(scores.size() + 1);
-              setting_points.back() = *plan.session.setting_points;
+              setting_points.back() = plan_setting_points(plan);
               s.poses_measurable = plan.outcome->poses_measurable;
               for (const SessionConfiguration& c : plan.session.configurations) {
                 Candidate candidate;
@@ -360,7 +370,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   };
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return key(a) < key(b); });
   std::vector<std::vector<int>> ranked_members;
-  std::vector<Cups<double>> ranked_points;
+  std::vector<std::vector<Eigen::Vector3d>> ranked_points;
   for (size_t i : order) {
     result.ranked.push_back(scores[i]);
     ranked_members.push_back(members[i]);

@@ -134,9 +134,11 @@ PlanOutcome parse_outcome(const json& root, const std::string& file) {
 /// The reach of the setting-ball points, when the plan lists it.
 void parse_setting_configurations(const json& root, const std::string& file, HexapodPlan& plan) {
   if (!plan.session.setting_points) return;
-  for (int i = 0; i < 3; ++i) {
-    plan.setting[i].ball_position_mm = (*plan.session.setting_points)[i];
-    const json& entry = root["setting_ball"][i];  // three objects: parse_session_plan checked
+  plan.setting.assign(plan.session.setting_point4 ? 4 : 3, {});
+  for (size_t i = 0; i < plan.setting.size(); ++i) {
+    plan.setting[i].ball_position_mm =
+        i < 3 ? (*plan.session.setting_points)[i] : *plan.session.setting_point4;
+    const json& entry = root["setting_ball"][i];  // 3 or 4 objects: parse_session_plan checked
     if (!entry.contains("configurations")) continue;
     const std::string key = fmt::format("setting_ball[{}].configurations", i);
     if (!entry["configurations"].is_array()) throw InputError({file, 0, 0, key}, "expected a list");
@@ -208,14 +210,16 @@ Pose<double> placement_pose(const std::array<double, 4>& placement, double tilt_
   return pose;
 }
 
-std::array<SettingBallPoint, 3> plan_setting_ball(const RobotModel& model,
-                                                  const Pose<double>& placement, double side_mm,
-                                                  double ball_offset_mm) {
+std::vector<SettingBallPoint> plan_setting_ball(
+    const RobotModel& model, const Pose<double>& placement, double side_mm, double ball_offset_mm,
+    const std::optional<std::array<double, 3>>& base_cup4_mm) {
   if (!(side_mm > 0)) throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length");
-  const Cups<double> points = setting_ball_points(placement, side_mm);
+  const Cups<double> triangle = setting_ball_points(placement, side_mm);
+  std::vector<Eigen::Vector3d> points(triangle.begin(), triangle.end());
+  if (base_cup4_mm) points.push_back(fourth_setting_ball_point(triangle, *base_cup4_mm));
   const auto geometry = analyze_ortho_parallel(model);
-  std::array<SettingBallPoint, 3> out;
-  for (int i = 0; i < 3; ++i) {
+  std::vector<SettingBallPoint> out(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
     // Flange z pointing down, the ball ball_offset_mm below the flange.
     Pose<double> robot_T_flange;
     robot_T_flange.R =
@@ -229,9 +233,9 @@ std::array<SettingBallPoint, 3> plan_setting_ball(const RobotModel& model,
   return out;
 }
 
-nlohmann::json setting_ball_json(const std::array<SettingBallPoint, 3>& points) {
+nlohmann::json setting_ball_json(const std::vector<SettingBallPoint>& points) {
   json out = json::array();
-  for (int i = 0; i < 3; ++i) {
+  for (size_t i = 0; i < points.size(); ++i) {
     json entry{{"cup", fmt::format("B{}", i + 1)},
                {"ball_position_mm", vec_json(points[i].ball_position_mm)}};
     entry["configurations"] = json::array();
@@ -244,7 +248,7 @@ nlohmann::json setting_ball_json(const std::array<SettingBallPoint, 3>& points) 
 }
 
 nlohmann::json setup_json(const std::string& robot, double side_mm,
-                          const std::array<SettingBallPoint, 3>& points) {
+                          const std::vector<SettingBallPoint>& points) {
   return {{"robot", robot}, {"side_mm", side_mm}, {"setting_ball", setting_ball_json(points)}};
 }
 
@@ -254,15 +258,22 @@ PoseScreening plannable_poses(const HexapodGeometry& g, double gauge_range_mm, d
   if (enumerated != nullptr) *enumerated = static_cast<int>(all.size());
   add_fourth_cup_legs(all, g, kExtraLegRangeFraction * gauge_range_mm);
   PoseScreening screening = screen_poses(all, g, deg2rad(angle_deg), distance_mm, cups);
-  if (g.tool_cup4_mm &&
-      std::none_of(screening.kept.begin(), screening.kept.end(),
-                   [](const HexapodPose& p) { return p.legs.size() > kDesignLegs.size(); }))
+  const auto refuse_without_leg = [&](bool has_cup, const char* flag, const char* cup,
+                                      const char* circle, auto reaches) {
+    if (!has_cup) return;
+    for (const HexapodPose& p : screening.kept)
+      if (std::any_of(p.legs.begin(), p.legs.end(), reaches)) return;
     throw InputError(
-        {"", 0, 0, "--tool-cup4-mm"},
-        fmt::format("no pose that can be set up has a leg to T4 within ±{} mm of the ballbar's {} "
-                    "mm: put T4 on the circumcircle of T1..T3 (every pose then has one, "
-                    "docs/method/07-hexapod.md §7)",
-                    kExtraLegRangeFraction * gauge_range_mm, g.leg_mm));
+        {"", 0, 0, flag},
+        fmt::format("no pose that can be set up has a leg to {} within ±{} mm of the "
+                    "ballbar's {} mm: put {} on the circumcircle of {} (every pose "
+                    "then has one, docs/method/07-hexapod.md §7)",
+                    cup, kExtraLegRangeFraction * gauge_range_mm, g.leg_mm, cup, circle));
+  };
+  refuse_without_leg(g.tool_cup4_mm.has_value(), "--tool-cup4-mm", "T4", "T1..T3",
+                     [](const PhysicalLeg& l) { return l.tool == 3; });
+  refuse_without_leg(g.base_cup4_mm.has_value(), "--base-cup4-mm", "B4", "B1..B3",
+                     [](const PhysicalLeg& l) { return l.base == 3; });
   return screening;
 }
 
@@ -288,25 +299,31 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   if (request.workcell) {
     const Cups<double> tool = fixture_cups(g.tool, "--tool-mm");
     for (int j = 0; j < 3; ++j) cell.tool_cups_flange[j] = cell.flange_T_tool * tool[j];
-    Cups<double> cups_robot;
-    for (int i = 0; i < 3; ++i) cups_robot[i] = cell.robot_T_base * base_cups[i];
+    std::vector<Eigen::Vector3d> cups_robot;
+    for (const Eigen::Vector3d& cup : base_cup_positions(g))
+      cups_robot.push_back(cell.robot_T_base * cup);
     if (const std::string problem = base_fixture_in_workcell(model, *request.workcell, cups_robot);
         !problem.empty())
       throw InputError({request.workcell->file, 0, 0, "--placement"}, problem);
   }
-  const PlanSummary summary = plan_poses(model, cell, base_cups, kept);
+  const std::optional<Eigen::Vector3d> base_cup4 =
+      g.base_cup4_mm ? std::optional(base_cup_positions(g)[3]) : std::nullopt;
+  const PlanSummary summary = plan_poses(model, cell, base_cups, kept, base_cup4);
 
   HexapodPlan plan;
   plan.cell = request;
-  plan.setting = plan_setting_ball(model, placement, g.leg_mm, request.ball_offset_mm);
+  plan.setting =
+      plan_setting_ball(model, placement, g.leg_mm, request.ball_offset_mm, g.base_cup4_mm);
   plan.session.tool_nominal_mm = g.tool.d12;
   plan.session.leg_mm = g.leg_mm;
   plan.session.range_mm = request.gauge.range_mm;
   plan.session.tool_cup4_mm = g.tool_cup4_mm;
+  plan.session.base_cup4_mm = g.base_cup4_mm;
   plan.session.flange_T_tool = cell.flange_T_tool;
   plan.session.setting_points =
       Cups<double>{plan.setting[0].ball_position_mm, plan.setting[1].ball_position_mm,
                    plan.setting[2].ball_position_mm};
+  if (g.base_cup4_mm) plan.session.setting_point4 = plan.setting[3].ball_position_mm;
   PlanOutcome outcome;
   outcome.poses_enumerated = enumerated;
   outcome.poses_kept = static_cast<int>(kept.size());
@@ -342,6 +359,7 @@ nlohmann::json hexapod_plan_json(const HexapodPlan& plan) {
                     {"range_mm", s.range_mm},
                     {"recheck_every", s.recheck_every}};
   if (s.tool_cup4_mm) out["tool_cup4_mm"] = *s.tool_cup4_mm;
+  if (s.base_cup4_mm) out["base_cup4_mm"] = *s.base_cup4_mm;
   if (plan.cell) {
     const HexapodPlanRequest& c = *plan.cell;
     out["geometry"] = {{"base_sides_mm", c.geometry.base.as_array()},
@@ -357,8 +375,10 @@ nlohmann::json hexapod_plan_json(const HexapodPlan& plan) {
   }
   if (s.flange_T_tool) out["tool_mount"] = pose_json(*s.flange_T_tool);
   if (s.setting_points) {
-    std::array<SettingBallPoint, 3> setting = plan.setting;
-    for (int i = 0; i < 3; ++i) setting[i].ball_position_mm = (*s.setting_points)[i];
+    std::vector<SettingBallPoint> setting = plan.setting;
+    setting.resize(s.setting_point4 ? 4 : 3);
+    for (size_t i = 0; i < setting.size(); ++i)
+      setting[i].ball_position_mm = i < 3 ? (*s.setting_points)[i] : *s.setting_point4;
     out["setting_ball"] = setting_ball_json(setting);
   }
   if (plan.outcome) {
@@ -396,7 +416,7 @@ nlohmann::json hexapod_plan_json(const HexapodPlan& plan) {
   }
   if (s.tool_sides && s.base_sides)
     out["measured_sides"] = {{"tool_mm", s.tool_sides->values()},
-                             {"base_mm", s.base_sides->as_array()}};
+                             {"base_mm", s.base_sides->values()}};
   if (plan.replanned)
     out["replanned"] = {{"sessions", plan.replanned->sessions}, {"model", plan.replanned->model}};
   return out;
@@ -409,11 +429,13 @@ HexapodPlan parse_hexapod_plan(const nlohmann::json& root, const std::string& fi
     plan.cell = parse_cell(root, file);
     plan.cell->geometry.leg_mm = plan.session.leg_mm;
     plan.cell->geometry.tool_cup4_mm = plan.session.tool_cup4_mm;
-    if (plan.session.tool_cup4_mm)
-      if (const std::string problem =
-              fixture_problem(plan.cell->geometry.tool_fixture(), "tool fixture");
-          !problem.empty())
-        throw InputError({file, 0, 0, "tool_cup4_mm"}, problem);
+    plan.cell->geometry.base_cup4_mm = plan.session.base_cup4_mm;
+    for (const auto& [fixture, what, key] :
+         {std::tuple{plan.cell->geometry.tool_fixture(), "tool fixture", "tool_cup4_mm"},
+          std::tuple{plan.cell->geometry.base_fixture(), "base fixture", "base_cup4_mm"}})
+      if (fixture.fourth)
+        if (const std::string problem = fixture_problem(fixture, what); !problem.empty())
+          throw InputError({file, 0, 0, key}, problem);
   }
   if (root.contains("poses_enumerated")) plan.outcome = parse_outcome(root, file);
   parse_setting_configurations(root, file, plan);

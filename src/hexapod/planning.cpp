@@ -24,9 +24,9 @@ Pose<double> workcell_T_robot(const RobotModel& model, const campaign::Cell& wor
 }
 
 std::string base_fixture_in_workcell(const RobotModel& model, const campaign::Cell& workcell,
-                                     const Cups<double>& base_cups_robot) {
+                                     const std::vector<Eigen::Vector3d>& base_cups_robot) {
   const Pose<double> world_T_robot = workcell_T_robot(model, workcell);
-  for (int i = 0; i < 3; ++i) {
+  for (size_t i = 0; i < base_cups_robot.size(); ++i) {
     const Eigen::Vector3d p = world_T_robot * base_cups_robot[i];
     if (p.z() < workcell.floor_z_mm)
       return fmt::format(
@@ -44,7 +44,8 @@ std::string base_fixture_in_workcell(const RobotModel& model, const campaign::Ce
 }
 
 Clearance check_clearance(const RobotModel& model, const CellSetup& cell,
-                          const Cups<double>& base_cups_robot, const Vector6d& joints) {
+                          const std::vector<Eigen::Vector3d>& base_cups_robot,
+                          const Vector6d& joints) {
   const ParameterVector params = model.nominal();
   const auto frames = link_frames(model, PointMass{}, params.data(), joints.data());
   // The arm as a polyline: shoulder (Φ2), elbow (Φ3), wrist centre (Φ5), flange (Φ6).
@@ -57,7 +58,8 @@ Clearance check_clearance(const RobotModel& model, const CellSetup& cell,
   for (int i = 0; i < 3; ++i) cups_fixture[i] = base_T_robot * base_cups_robot[i];
   const Eigen::Vector3d c = centroid(cups_fixture);
   double radius = 0;
-  for (const auto& cup : cups_fixture) radius = std::max(radius, (cup - c).head<2>().norm());
+  for (const auto& cup : base_cups_robot)
+    radius = std::max(radius, (base_T_robot * cup - c).head<2>().norm());
   radius += cell.fixture_margin_mm;
   constexpr int kSamples = 24;
   for (int i = 0; i + 1 < 4; ++i)
@@ -85,15 +87,17 @@ Clearance check_clearance(const RobotModel& model, const CellSetup& cell,
 }
 
 PlanSummary plan_poses(const RobotModel& model, const CellSetup& cell,
-                       const Cups<double>& base_cups_fixture,
-                       const std::vector<HexapodPose>& poses) {
+                       const Cups<double>& base_cups_fixture, const std::vector<HexapodPose>& poses,
+                       const std::optional<Eigen::Vector3d>& base_cup4_fixture) {
   std::string why_not;
   const auto geometry = analyze_ortho_parallel(model, &why_not);
   if (!geometry)
     throw InputError({"", 0, 0, "robot"},
                      model.name + " has no closed-form inverse kinematics: " + why_not);
-  Cups<double> cups_robot;
-  for (int i = 0; i < 3; ++i) cups_robot[i] = cell.robot_T_base * base_cups_fixture[i];
+  std::vector<Eigen::Vector3d> cups_robot;
+  for (const Eigen::Vector3d& cup : base_cups_fixture)
+    cups_robot.push_back(cell.robot_T_base * cup);
+  if (base_cup4_fixture) cups_robot.push_back(cell.robot_T_base * *base_cup4_fixture);
   const Pose<double> tool_T_flange = cell.flange_T_tool.inverse();
   PlanSummary summary;
   for (const HexapodPose& pose : poses) {

@@ -10,6 +10,25 @@
 #include "robcal/kinematics/orientation.hpp"
 
 namespace robcal::hexapod {
+namespace {
+
+/// A fourth cup's distances: solvable, and reproduced by the trilaterated position (d14 and d24
+/// are by construction, d34 only when a point has all three). `flag` names the setting.
+void check_fourth_cup(const FixtureDistances& fixture, const std::string& what, char letter,
+                      const std::string& flag) {
+  if (const std::string problem = fixture_problem(fixture, what); !problem.empty())
+    throw InputError({"", 0, 0, flag}, problem);
+  const std::vector<Eigen::Vector3d> cups = fixture_cup_positions(fixture);
+  const std::array<double, 3>& d = *fixture.fourth;
+  const double d34 = (cups[3] - cups[2]).norm();
+  if (std::abs(d34 - d[2]) > 1e-3)
+    throw InputError({"", 0, 0, flag},
+                     fmt::format("no point is {} mm from {}1 and {} mm from {}2 and {} mm from {}3 "
+                                 "(the nearest in the fixture plane is {:.3f} mm from {}3)",
+                                 d[0], letter, d[1], letter, d[2], letter, d34, letter));
+}
+
+}  // namespace
 
 std::string PhysicalLeg::name() const {
   return fmt::format("B{}-T{}", base + 1, tool + 1);
@@ -126,35 +145,34 @@ std::vector<Eigen::Vector3d> pose_tool_cups(const HexapodPose& pose,
   return cups;
 }
 
+std::vector<Eigen::Vector3d> base_cup_positions(const HexapodGeometry& geometry) {
+  return fixture_cup_positions(geometry.base_fixture());
+}
+
 void add_fourth_cup_legs(std::vector<HexapodPose>& poses, const HexapodGeometry& geometry,
                          double tolerance_mm) {
-  if (!geometry.tool_cup4_mm) return;
-  const Cups<double> base = fixture_cups(geometry.base, "base fixture");
+  if (!geometry.tool_cup4_mm && !geometry.base_cup4_mm) return;
+  const std::vector<Eigen::Vector3d> base = base_cup_positions(geometry);
   for (HexapodPose& pose : poses) {
-    const Eigen::Vector3d t4 = pose_tool_cups(pose, geometry)[3];
-    for (int b = 0; b < 3; ++b)
-      if (std::abs((base[b] - t4).norm() - geometry.leg_mm) <= tolerance_mm)
-        pose.legs.push_back({b, 3});
+    const std::vector<Eigen::Vector3d> tool = pose_tool_cups(pose, geometry);
+    const auto add_if_in_reach = [&](int b, int t) {
+      if (std::abs((base[b] - tool[t]).norm() - geometry.leg_mm) <= tolerance_mm)
+        pose.legs.push_back({b, t});
+    };
+    if (geometry.tool_cup4_mm)
+      for (int b = 0; b < 3; ++b) add_if_in_reach(b, 3);
+    if (geometry.base_cup4_mm)
+      for (int t = 0; t < static_cast<int>(tool.size()); ++t) add_if_in_reach(3, t);
   }
 }
 
 void check_geometry(const HexapodGeometry& geometry) {
   fixture_cups(geometry.base, "--base-mm");
   fixture_cups(geometry.tool, "--tool-mm");
-  if (geometry.tool_cup4_mm) {
-    const FixtureDistances tool = geometry.tool_fixture();
-    if (const std::string problem = fixture_problem(tool, "tool fixture"); !problem.empty())
-      throw InputError({"", 0, 0, "--tool-cup4-mm"}, problem);
-    // Trilateration reproduces d14 and d24 by construction; d34 only when a point has all three.
-    const std::vector<Eigen::Vector3d> cups = fixture_cup_positions(tool);
-    const double d34 = (cups[3] - cups[2]).norm();
-    if (std::abs(d34 - (*geometry.tool_cup4_mm)[2]) > 1e-3)
-      throw InputError({"", 0, 0, "--tool-cup4-mm"},
-                       fmt::format("no point is {} mm from T1 and {} mm from T2 and {} mm from T3 "
-                                   "(the nearest in the fixture plane is {:.3f} mm from T3)",
-                                   (*geometry.tool_cup4_mm)[0], (*geometry.tool_cup4_mm)[1],
-                                   (*geometry.tool_cup4_mm)[2], d34));
-  }
+  if (geometry.tool_cup4_mm)
+    check_fourth_cup(geometry.tool_fixture(), "tool fixture", 'T', "--tool-cup4-mm");
+  if (geometry.base_cup4_mm)
+    check_fourth_cup(geometry.base_fixture(), "base fixture", 'B', "--base-cup4-mm");
   if (!(geometry.leg_mm > 0) || !std::isfinite(geometry.leg_mm))
     throw InputError({"", 0, 0, "--leg-mm"}, "expected a positive length in mm");
 }

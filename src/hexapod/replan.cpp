@@ -16,7 +16,7 @@ Replan replan_retries(const SessionData& data, const CalibratedRobot& robot,
   SessionPlan& session = out.plan.session;
   session.configurations.clear();
   session.tool_sides = data.tool_fixture();
-  session.base_sides = data.base_sides;
+  session.base_sides = data.base_fixture();
   out.plan.replanned = Replanned{data.source, model_file, {}};
   for (const RetryConfiguration& r : data.retry) {
     // Newton from the planned joints on the preliminary model, for the flange pose that puts every

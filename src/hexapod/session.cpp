@@ -14,16 +14,19 @@
 namespace robcal::hexapod {
 namespace {
 
-/// A leg "Bi-Tj" between cups the plan's fixtures have: B1..B3, T1..T`tool_cups`.
-PhysicalLeg parse_leg(const std::string& text, int tool_cups, const SourceLocation& where) {
+/// A leg "Bi-Tj" between cups the plan's fixtures have: B1..B`base_cups`, T1..T`tool_cups`.
+PhysicalLeg parse_leg(const std::string& text, int base_cups, int tool_cups,
+                      const SourceLocation& where) {
   int b = 0, t = 0;
   char extra = 0;
-  if (std::sscanf(text.c_str(), "B%d-T%d%c", &b, &t, &extra) != 2 || b < 1 || b > 3 || t < 1 ||
-      t > tool_cups)
+  if (std::sscanf(text.c_str(), "B%d-T%d%c", &b, &t, &extra) != 2 || b < 1 || b > base_cups ||
+      t < 1 || t > tool_cups)
     throw InputError(
         where,
-        fmt::format("leg '{}': expected Bi-Tj with i in 1..3, j in 1..{}{}", text, tool_cups,
-                    tool_cups == 3 ? " (T4 only with a fourth tool cup, tool_cup4_mm)" : ""));
+        fmt::format("leg '{}': expected Bi-Tj with i in 1..{}, j in 1..{}{}{}", text, base_cups,
+                    tool_cups,
+                    tool_cups == 3 ? " (T4 only with a fourth tool cup, tool_cup4_mm)" : "",
+                    base_cups == 3 ? " (B4 only with a fourth base cup, base_cup4_mm)" : ""));
   return {b - 1, t - 1};
 }
 
@@ -61,21 +64,51 @@ TriangleSides sides(const nlohmann::json& node, const SourceLocation& where) {
   return s;
 }
 
+/// Three positive distances d14, d24, d34 of a fourth cup, else an InputError at `where`.
+std::array<double, 3> fourth_cup_distances(const nlohmann::json& node,
+                                           const SourceLocation& where) {
+  const std::array<double, 3> d = three_numbers(node, where, "three distances d14, d24, d34");
+  for (const double v : d)
+    if (!(v > 0)) throw InputError(where, "expected three positive distances (mm)");
+  return d;
+}
+
+/// Measured fixture distances: three sides, or six with the plan's fourth cup.
+FixtureDistances measured_fixture(const nlohmann::json& node, bool fourth_cup,
+                                  const SourceLocation& where, const char* fixture) {
+  if (fourth_cup && node.is_array() && node.size() == 6)
+    return {sides(nlohmann::json{node[0], node[1], node[2]}, where),
+            three_numbers(nlohmann::json{node[3], node[4], node[5]}, where,
+                          "six distances [d12, d23, d31, d14, d24, d34] (mm)")};
+  const TriangleSides s = sides(node, where);
+  if (fourth_cup)
+    throw InputError(where,
+                     fmt::format("expected six distances [d12, d23, d31, d14, d24, d34] (mm): the "
+                                 "plan has a fourth {} cup",
+                                 fixture));
+  return s;
+}
+
 /// The optional cell fields of a plan written by `robcal hexapod plan` or `replan`.
 template <typename At>
 void parse_plan_cell(const nlohmann::json& root, const At& at, SessionPlan& plan) {
   if (root.contains("setting_ball")) {
     const nlohmann::json& list = root["setting_ball"];
-    if (!list.is_array() || list.size() != 3)
-      throw InputError(at("setting_ball"), "expected the three setting-ball points B1..B3");
-    Cups<double> points;
-    for (int i = 0; i < 3; ++i) {
+    const size_t cups = plan.base_cup4_mm ? 4 : 3;
+    if (!list.is_array() || list.size() != cups)
+      throw InputError(at("setting_ball"),
+                       cups == 4 ? "expected the four setting-ball points B1..B4 (the plan has a "
+                                   "fourth base cup)"
+                                 : "expected the three setting-ball points B1..B3");
+    std::vector<Eigen::Vector3d> points;
+    for (size_t i = 0; i < cups; ++i) {
       const std::string key = fmt::format("setting_ball[{}].ball_position_mm", i);
       if (!list[i].is_object() || !list[i].contains("ball_position_mm"))
         throw InputError(at(key), "expected the ball position (robot frame, mm)");
-      points[i] = point3(list[i]["ball_position_mm"], at(key));
+      points.push_back(point3(list[i]["ball_position_mm"], at(key)));
     }
-    plan.setting_points = points;
+    plan.setting_points = Cups<double>{points[0], points[1], points[2]};
+    if (cups == 4) plan.setting_point4 = points[3];
   }
   if (root.contains("tool_mount")) {
     const nlohmann::json& m = root["tool_mount"];
@@ -101,21 +134,10 @@ void parse_plan_cell(const nlohmann::json& root, const At& at, SessionPlan& plan
     const nlohmann::json& m = root["measured_sides"];
     if (!m.is_object() || !m.contains("tool_mm") || !m.contains("base_mm"))
       throw InputError(at("measured_sides"), "expected {\"tool_mm\": [...], \"base_mm\": [...]}");
-    const nlohmann::json& tool = m["tool_mm"];
-    if (plan.tool_cup4_mm && tool.is_array() && tool.size() == 6) {
-      const std::array<double, 3> fourth =
-          three_numbers(nlohmann::json{tool[3], tool[4], tool[5]}, at("measured_sides.tool_mm"),
-                        "six distances [d12, d23, d31, d14, d24, d34] (mm)");
-      plan.tool_sides = FixtureDistances(
-          sides(nlohmann::json{tool[0], tool[1], tool[2]}, at("measured_sides.tool_mm")), fourth);
-    } else {
-      plan.tool_sides = sides(tool, at("measured_sides.tool_mm"));
-      if (plan.tool_cup4_mm)
-        throw InputError(at("measured_sides.tool_mm"),
-                         "expected six distances [d12, d23, d31, d14, d24, d34] (mm): the plan "
-                         "has a fourth tool cup");
-    }
-    plan.base_sides = sides(m["base_mm"], at("measured_sides.base_mm"));
+    plan.tool_sides = measured_fixture(m["tool_mm"], plan.tool_cup4_mm.has_value(),
+                                       at("measured_sides.tool_mm"), "tool");
+    plan.base_sides = measured_fixture(m["base_mm"], plan.base_cup4_mm.has_value(),
+                                       at("measured_sides.base_mm"), "base");
   }
 }
 
@@ -137,14 +159,12 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
       plan.recheck_every = every.get<int>();
     }
   }
-  if (root.contains("tool_cup4_mm")) {
-    const std::array<double, 3> d =
-        three_numbers(root["tool_cup4_mm"], at("tool_cup4_mm"), "three distances d14, d24, d34");
-    for (const double v : d)
-      if (!(v > 0)) throw InputError(at("tool_cup4_mm"), "expected three positive distances (mm)");
-    plan.tool_cup4_mm = d;
-  }
+  if (root.contains("tool_cup4_mm"))
+    plan.tool_cup4_mm = fourth_cup_distances(root["tool_cup4_mm"], at("tool_cup4_mm"));
+  if (root.contains("base_cup4_mm"))
+    plan.base_cup4_mm = fourth_cup_distances(root["base_cup4_mm"], at("base_cup4_mm"));
   const int tool_cups = plan.tool_cup4_mm ? 4 : 3;
+  const int base_cups = plan.base_cup4_mm ? 4 : 3;
   if (!root.contains("configurations") || !root["configurations"].is_array())
     throw InputError(at("configurations"), "expected a list of configurations");
   const nlohmann::json& list = root["configurations"];
@@ -174,14 +194,18 @@ SessionPlan parse_session_plan(const nlohmann::json& root, const std::string& fi
         config.joints_deg.push_back(q.get<double>());
       }
     }
-    // The six of the design, then at most one leg from each base cup to each extra tool cup.
-    const size_t max_legs = kDesignLegs.size() + 3 * (tool_cups - 3);
-    const std::string expected = fmt::format("expected six legs like \"B1-T1\"{}",
-                                             tool_cups > 3 ? " and up to three to T4" : "");
+    // The six of the design, then at most one leg between each pair of cups not both among
+    // B1..B3 and T1..T3.
+    const size_t max_legs = kDesignLegs.size() + base_cups * tool_cups - 9;
+    const std::string expected = fmt::format(
+        "expected six legs like \"B1-T1\"{}{}",
+        tool_cups > 3 ? (base_cups > 3 ? " and up to four to T4" : " and up to three to T4") : "",
+        base_cups > 3 ? " and up to three from B4 to T1..T3" : "");
     if (!c.contains("legs") || !c["legs"].is_array()) throw InputError(at(key + ".legs"), expected);
     for (const nlohmann::json& leg : c["legs"]) {
       if (!leg.is_string()) throw InputError(at(key + ".legs"), "expected strings");
-      config.legs.push_back(parse_leg(leg.get<std::string>(), tool_cups, at(key + ".legs")));
+      config.legs.push_back(
+          parse_leg(leg.get<std::string>(), base_cups, tool_cups, at(key + ".legs")));
     }
     if (config.legs.size() < kDesignLegs.size() || config.legs.size() > max_legs)
       throw InputError(at(key + ".legs"), expected);
@@ -237,13 +261,14 @@ Session::Session(SessionPlan plan) : plan_(std::move(plan)) {
   for (size_t c = 0; c < plan_.configurations.size(); ++c)
     state_.configurations[c].legs.resize(plan_.configurations[c].legs.size());
   state_.tool_sides.resize(plan_.tool_cup4_mm ? 6 : 3);
-  if (plan_.tool_sides) {  // measured earlier: the sides, and T4's distances when both have T4
-    const std::vector<double> known = plan_.tool_sides->values();
-    if (known.size() == state_.tool_sides.size())
-      std::copy(known.begin(), known.end(), state_.tool_sides.begin());
-  }
-  for (int i = 0; i < 3; ++i)
-    if (plan_.base_sides) state_.base_sides[i] = plan_.base_sides->as_array()[i];
+  state_.base_sides.resize(plan_.base_cup4_mm ? 6 : 3);
+  // Measured earlier: the sides, and a fourth cup's distances when both have it.
+  for (const auto& [measured, state] : {std::pair{&plan_.tool_sides, &state_.tool_sides},
+                                        std::pair{&plan_.base_sides, &state_.base_sides}})
+    if (*measured) {
+      const std::vector<double> known = (*measured)->values();
+      if (known.size() == state->size()) std::copy(known.begin(), known.end(), state->begin());
+    }
 }
 
 bool Session::configuration_done(size_t c) const {
@@ -281,22 +306,26 @@ std::optional<SessionStep> Session::next_step() const {
           static_cast<int>(i),
           setup};
     }
-  for (int i = 0; i < 3; ++i)
-    if (!state_.base_sides[i])
-      return SessionStep{
-          StepKind::BaseSide,
-          fmt::format("base/B{}-B{}", kFixtureDistancePairs[i][0] + 1,
-                      kFixtureDistancePairs[i][1] + 1),
-          fmt::format("{}Attach the ballbar between base cups B{} and B{}, then enter the reading "
-                      "(mm)",
-                      i == 0 ? fmt::format("The robot has placed and locked the base cups. Set the "
-                                           "ballbar up at {} mm. ",
-                                           plan_.leg_mm)
-                             : "",
-                      kFixtureDistancePairs[i][0] + 1, kFixtureDistancePairs[i][1] + 1),
-          -1,
-          i,
-          plan_.leg_mm};
+  for (size_t i = 0; i < state_.base_sides.size(); ++i)
+    if (!state_.base_sides[i]) {
+      // The sides at the leg set-up; each distance to B4 at its own (its design length).
+      const double setup = i < 3 ? plan_.leg_mm : (*plan_.base_cup4_mm)[i - 3];
+      const auto [a, b] = kFixtureDistancePairs[i];
+      std::string intro;
+      if (i == 0)
+        intro = fmt::format(
+            "The robot has placed and locked the base cups. Set the ballbar up at {} mm. ", setup);
+      else if (i >= 3)
+        intro = fmt::format("Set the ballbar up at {} mm. ", setup);
+      return SessionStep{StepKind::BaseSide,
+                         fmt::format("base/B{}-B{}", a + 1, b + 1),
+                         fmt::format("{}Attach the ballbar between base cups B{} and B{}, then "
+                                     "enter the reading (mm)",
+                                     intro, a + 1, b + 1),
+                         -1,
+                         static_cast<int>(i),
+                         setup};
+    }
   for (size_t c = 0; c < plan_.configurations.size(); ++c) {
     const SessionConfiguration& config = plan_.configurations[c];
     if (configuration_done(c)) {

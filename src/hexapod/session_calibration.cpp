@@ -43,7 +43,7 @@ void fit_legs(const std::vector<SessionData>& placements, const RobotModel& mode
     if (i >= kBaseParamCount) options.free_parameters.push_back(i);
   std::vector<LegPlacement> legs;
   for (size_t p = 0; p < placements.size(); ++p)
-    legs.push_back({placements[p].base_sides, placements[p].readings,
+    legs.push_back({placements[p].base_fixture(), placements[p].readings,
                     out.placement_worlds[p].robot_T_fixture});
   const SessionData& first = placements.front();
   const LegFitResult fit = fit_from_legs(model, out.tool.payload, first.tool_fixture(), legs,
@@ -153,6 +153,7 @@ nlohmann::json session_summary_json(const SessionData& data, const WorldFrameFit
                      {"base_sides_mm", data.base_sides.as_array()},
                      {"world_frame_rms_mm", rounded(world.rms_mm)}};
   if (data.tool_cup4_mm) out["tool_cup4_mm"] = *data.tool_cup4_mm;
+  if (data.base_cup4_mm) out["base_cup4_mm"] = *data.base_cup4_mm;
   return out;
 }
 
@@ -193,6 +194,14 @@ nlohmann::json session_calibration_json(const std::vector<SessionData>& placemen
     out["initial_rms_mm"] = rounded(fit.initial_rms_mm);
     out["rms_mm"] = rounded(fit.rms_mm);
     out["ballbar_length_offset_mm"] = rounded(fit.length_offset_mm);
+    // A fitted fourth base cup by its distances to B1..B3 (next to the measured base_cup4_mm).
+    for (size_t p = 0; p < fit.base_cup4_robot.size(); ++p)
+      if (const auto& b4 = fit.base_cup4_robot[p]) {
+        nlohmann::json d = nlohmann::json::array();
+        for (const Eigen::Vector3d& b : fit.base_cups_robot[p])
+          d.push_back(rounded((*b4 - b).norm()));
+        (placements.size() > 1 ? out["placements"][p] : out)["base_cup4_fitted_mm"] = d;
+      }
   } else {
     const IdentificationResult& r = *c.identification;
     out["relative"] = c.relative;

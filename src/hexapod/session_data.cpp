@@ -60,14 +60,18 @@ SessionData load_session_data(const std::filesystem::path& session,
     throw InputError({journal.string(), 0, 0, "journal"},
                      "the fixture sides were not all measured: continue the session first");
   const std::vector<std::optional<double>>& tool = state.tool_sides;
-  const std::array<std::optional<double>, 3>& base = state.base_sides;
+  const std::vector<std::optional<double>>& base = state.base_sides;
   data.tool_sides = {*tool[0], *tool[1], *tool[2]};
   data.base_sides = {*base[0], *base[1], *base[2]};
   if (tool.size() == 6) data.tool_cup4_mm = std::array<double, 3>{*tool[3], *tool[4], *tool[5]};
+  if (base.size() == 6) data.base_cup4_mm = std::array<double, 3>{*base[3], *base[4], *base[5]};
   if (const std::string problem = fixture_problem(data.tool_fixture(), "tool fixture");
       !problem.empty())
     throw InputError({journal.string(), 0, 0, "tool fixture"}, problem);
   fixture_cups(data.base_sides, journal.string() + ": base fixture sides");
+  if (const std::string problem = fixture_problem(data.base_fixture(), "base fixture");
+      !problem.empty())
+    throw InputError({journal.string(), 0, 0, "base fixture"}, problem);
 
   for (size_t c = 0; c < plan.configurations.size(); ++c) {
     const SessionConfiguration& config = plan.configurations[c];
@@ -114,6 +118,13 @@ void check_same_tool_mount(const SessionData& d, const SessionData& first) {
     throw InputError(
         {d.source, 0, 0, "tool_mount"},
         fmt::format("the tool fixture mount differs from the one of {}", first.source));
+}
+
+/// Where the robot put the setting ball for each base cup: B1..B3, then B4 if any.
+std::vector<Eigen::Vector3d> placement_cups(const SessionData& d) {
+  std::vector<Eigen::Vector3d> cups(d.setting_points.begin(), d.setting_points.end());
+  if (d.plan.setting_point4) cups.push_back(*d.plan.setting_point4);
+  return cups;
 }
 
 bool same_placement(const SessionData& a, const SessionData& b) {
@@ -169,10 +180,12 @@ std::vector<SessionData> group_placements(const std::vector<SessionData>& sessio
     }
     // A new placement: its cups must stand apart from every earlier placement's.
     const double clearance = CupClearance{}.cup_diameter_mm;
-    for (size_t g = 0; g < groups.size(); ++g)
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) {
-          const double gap = (s.setting_points[a] - groups[g].front().setting_points[b]).norm();
+    const std::vector<Eigen::Vector3d> mine = placement_cups(s);
+    for (size_t g = 0; g < groups.size(); ++g) {
+      const std::vector<Eigen::Vector3d> theirs = placement_cups(groups[g].front());
+      for (size_t a = 0; a < mine.size(); ++a)
+        for (size_t b = 0; b < theirs.size(); ++b) {
+          const double gap = (mine[a] - theirs[b]).norm();
           if (gap < clearance)
             throw InputError(
                 {s.source, 0, 0, "setting_ball"},
@@ -183,6 +196,7 @@ std::vector<SessionData> group_placements(const std::vector<SessionData>& sessio
                     groups.size() + 1, g + 1, groups[g].front().source, a + 1, gap, b + 1,
                     clearance));
         }
+    }
     groups.push_back({s});
   }
   std::vector<SessionData> out;
@@ -207,7 +221,7 @@ WorldFrameFit session_world_frame(const SessionData& data) {
 }
 
 MeasurementSet session_pose_measurements(const SessionData& data) {
-  return pose_measurements(data.base_sides, data.tool_fixture(), data.readings,
+  return pose_measurements(data.base_fixture(), data.tool_fixture(), data.readings,
                            session_world_frame(data).robot_T_fixture, data.source);
 }
 
@@ -217,7 +231,7 @@ std::string session_legs_csv(const SessionData& data) {
   };
   std::string out = fmt::format(
       "# raw ballbar legs of {}\n# tool sides t12, t23, t31 = {} mm (set-up {} mm)\n{}"
-      "# base sides b12, b23, b31 = {} mm (set-up {} mm)\n"
+      "# base sides b12, b23, b31 = {} mm (set-up {} mm)\n{}"
       "# leg = design role (rho11 … rho31, extra: beyond the design), base_cup/tool_cup = the "
       "physical cups\n"
       "config,pose,mode,j1,j2,j3,j4,j5,j6,leg,base_cup,tool_cup,length\n",
@@ -225,7 +239,10 @@ std::string session_legs_csv(const SessionData& data) {
       data.tool_cup4_mm ? fmt::format("# tool cup T4 t14, t24, t34 = {} mm\n",
                                       fmt::join(*data.tool_cup4_mm, ", "))
                         : "",
-      sides(data.base_sides), data.plan.leg_mm);
+      sides(data.base_sides), data.plan.leg_mm,
+      data.base_cup4_mm ? fmt::format("# base cup B4 b14, b24, b34 = {} mm\n",
+                                      fmt::join(*data.base_cup4_mm, ", "))
+                        : "");
   static constexpr std::array<const char*, 6> kRoles{"rho11", "rho12", "rho21",
                                                      "rho22", "rho23", "rho31"};
   for (const LegReadings& r : data.readings) {

@@ -29,10 +29,32 @@ TriangleSides measure_sides(const Cups<double>& cups, double nominal, const Hexa
   return {d[0], d[1], d[2]};
 }
 
+/// A fourth cup's distances to cups 1..3 of its fixture, each read at its design length.
+std::array<double, 3> measure_fourth_cup(const Cups<double>& cups, const Eigen::Vector3d& fourth,
+                                         const std::array<double, 3>& design, char letter,
+                                         const HexapodCellOptions& o, std::mt19937_64& rng) {
+  std::array<double, 3> measured{};
+  for (int j = 0; j < 3; ++j) {
+    const Ballbar bar{cups[j], design[j], o.sigma_mm, o.range_mm};
+    const std::optional<double> r = read_length(bar, fourth, rng);
+    if (!r)
+      throw InputError(
+          {"", 0, 0, letter == 'T' ? "tool_cup4_mm" : "base_cup4_mm"},
+          fmt::format("{} cup {}4 is {:.3f} mm from {}{}, outside the ballbar's ±{} "
+                      "mm about its design {} mm",
+                      letter == 'T' ? "tool" : "base", letter, (fourth - cups[j]).norm(), letter,
+                      j + 1, o.range_mm, design[j]));
+    measured[j] = *r;
+  }
+  return measured;
+}
+
 /// One leg's reading with the true flange at `sim_T_flange`.
 std::optional<double> read_leg(const SimulatedHexapodCell& cell, const PhysicalLeg& leg,
                                const Pose<double>& sim_T_flange, std::mt19937_64& rng) {
-  const Ballbar bar{cell.base_cups_sim[leg.base], cell.options.design.leg_mm, cell.options.sigma_mm,
+  const Eigen::Vector3d& base_cup =
+      leg.base < 3 ? cell.base_cups_sim[leg.base] : cell.base_cup4_sim.value();
+  const Ballbar bar{base_cup, cell.options.design.leg_mm, cell.options.sigma_mm,
                     cell.options.range_mm};
   const Eigen::Vector3d& tool_cup =
       leg.tool < 3 ? cell.tool_cups_flange[leg.tool] : cell.tool_cup4_flange.value();
@@ -73,18 +95,27 @@ SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotMo
   // snaps on where the ball truly is.
   c.setting_points = setting_ball_points(options.placement, options.design.leg_mm);
   const Eigen::Vector3d ball_flange(0, 0, options.ball_offset_mm);
-  for (int i = 0; i < 3; ++i) {
+  // The true cup where the nominal model puts the ball for base cup `cup` (1-based).
+  const auto place_cup = [&](const Eigen::Vector3d& point, int cup) {
     Pose<double> robot_T_flange;
     robot_T_flange.R =
         Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()).toRotationMatrix() * options.placement.R;
-    robot_T_flange.p = c.setting_points[i] - robot_T_flange.R * ball_flange;
+    robot_T_flange.p = point - robot_T_flange.R * ball_flange;
     const IkResult ik = nominal_ik(*geometry, robot_T_flange);
     const IkSolution* s = nearest_solution(ik, Vector6d::Zero());
     if (s == nullptr)
       throw InputError({"", 0, 0, "--placement"},
                        fmt::format("the robot cannot put the setting ball at base cup B{} ({})",
-                                   i + 1, to_string(ik.status)));
-    c.base_cups_sim[i] = true_flange_pose(truth, s->joints) * ball_flange;
+                                   cup, to_string(ik.status)));
+    return Eigen::Vector3d(true_flange_pose(truth, s->joints) * ball_flange);
+  };
+  for (int i = 0; i < 3; ++i) c.base_cups_sim[i] = place_cup(c.setting_points[i], i + 1);
+  if (const auto& design4 = options.design.base_cup4_mm) {
+    // B4 is placed by the robot like B1..B3: off its design position by the robot's error there.
+    c.setting_point4 = fourth_setting_ball_point(c.setting_points, *design4);
+    c.base_cup4_sim = place_cup(*c.setting_point4, 4);
+    c.base_cup4_mm =
+        measure_fourth_cup(c.base_cups_sim, *c.base_cup4_sim, *design4, 'B', options, rng);
   }
   c.tool_sides = measure_sides(c.tool_cups_flange, options.design.tool.d12, options, rng);
   if (const auto& design4 = options.design.tool_cup4_mm) {
@@ -94,19 +125,8 @@ SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotMo
     Eigen::Vector3d local = fixture_cup_positions(options.design.tool_fixture())[3];
     for (int a = 0; a < 3; ++a) local[a] += tolerance(rng);
     c.tool_cup4_flange = flange_T_tool * local;
-    std::array<double, 3> measured{};
-    for (int j = 0; j < 3; ++j) {
-      const Ballbar bar{c.tool_cups_flange[j], (*design4)[j], options.sigma_mm, options.range_mm};
-      const std::optional<double> r = read_length(bar, *c.tool_cup4_flange, rng);
-      if (!r)
-        throw InputError({"", 0, 0, "tool_cup4_mm"},
-                         fmt::format("tool cup T4 is {:.3f} mm from T{}, outside the ballbar's "
-                                     "±{} mm about its design {} mm",
-                                     (*c.tool_cup4_flange - c.tool_cups_flange[j]).norm(), j + 1,
-                                     options.range_mm, (*design4)[j]));
-      measured[j] = *r;
-    }
-    c.tool_cup4_mm = measured;
+    c.tool_cup4_mm =
+        measure_fourth_cup(c.tool_cups_flange, *c.tool_cup4_flange, *design4, 'T', options, rng);
   }
   c.base_sides = measure_sides(c.base_cups_sim, options.design.leg_mm, options, rng);
   c.world = fit_world_frame(c.setting_points, c.base_sides);
@@ -130,7 +150,8 @@ std::optional<double> simulate_session_reading(const SimulatedHexapodCell& cell,
       return step.item < 3 ? cell.tool_sides.as_array()[step.item]
                            : cell.tool_cup4_mm.value()[step.item - 3];
     case StepKind::BaseSide:
-      return cell.base_sides.as_array()[step.item];
+      return step.item < 3 ? cell.base_sides.as_array()[step.item]
+                           : cell.base_cup4_mm.value()[step.item - 3];
     case StepKind::CalibratorCheck:
       return plan.leg_mm + std::normal_distribution<double>(0, cell.options.sigma_mm)(rng);
     case StepKind::Leg:

@@ -66,4 +66,11 @@ Cups<double> setting_ball_points(const Pose<double>& robot_T_rough, double side_
           robot_T_rough * Eigen::Vector3d(0, 2 * h, 0)};
 }
 
+Eigen::Vector3d fourth_setting_ball_point(const Cups<double>& points,
+                                          const std::array<double, 3>& base_cup4_mm) {
+  const TriangleSides sides{(points[1] - points[0]).norm(), (points[2] - points[1]).norm(),
+                            (points[0] - points[2]).norm()};
+  return frame_from_cups(points) * fixture_cup_positions({sides, base_cup4_mm})[3];
+}
+
 }  // namespace robcal::hexapod

@@ -237,3 +237,53 @@ def test_fourth_tool_cup_place_and_simulate():
     with pytest.raises(robcal.InputError, match="--tool-cup4-mm: tool fixture: the fourth cup T4 "
                                                 "is collinear with T1 and T2"):
         hexapod.simulate(tool_cup4_mm=(75, 75, 75 * 3 ** 0.5))
+
+
+def test_fourth_base_cup_plan_session_calibrate_place_simulate(tmp_path):
+    # B4 on the circumcircle of B1..B3, opposite B1: a leg from it in every configuration, its
+    # setting point B1 mirrored through the centroid of B1..B3.
+    r = 300 / 3 ** 0.5
+    cup4 = (2 * r, r, r)
+    plan = hexapod.plan("fanuc-lrmate200ic", placement=(450, 0, 300, 0), gauge_range_mm=5,
+                        base_cup4_mm=cup4)
+    cli_plan = str(tmp_path / "cli_plan.json")
+    subprocess.run([CLI, "hexapod", "plan", "--placement", "450,0,300,0", "--gauge-range-mm", "5",
+                    "--base-cup4-mm", numbers(cup4), "--out", cli_plan],
+                   check=True, capture_output=True)
+    plan.save(str(tmp_path / "py_plan.json"))
+    assert (tmp_path / "py_plan.json").read_text() == pathlib.Path(cli_plan).read_text()
+    setting = plan.setting_ball_mm
+    assert setting.shape == (4, 3)
+    setup = hexapod.setup(placement=(450, 0, 300, 0), base_cup4_mm=cup4)
+    assert setup == cli_json("hexapod", "setup", "--placement", "450,0,300,0", "--base-cup4-mm",
+                             numbers(cup4))
+    assert setup["setting_ball"] == json.loads(plan.to_json())["setting_ball"]
+    np.testing.assert_allclose(setting[3], 2 * setting[:3].mean(axis=0) - setting[0], atol=1e-6)
+    legs = [c["legs"] for c in json.loads(plan.to_json())["configurations"]]
+    assert legs and all(len(x) == 7 and x[6].startswith("B4-") for x in legs)
+    session = tmp_path / "s"
+    session.mkdir()
+    plan.save(str(session / "plan.json"))
+    sim = hexapod.simulate_readings(plan, seed=5, validation=0)
+    assert sim["legs_out_of_range"] == 0
+    done = hexapod.session(str(session / "plan.json"), str(session / "journal.jsonl"),
+                           sim["text"].splitlines())
+    assert done["status"] == "complete"
+    c = cli_json("hexapod", "calibrate", "--session", str(session), "--fit", "legs", "--out",
+                 str(tmp_path / "cli_legs.yaml"))
+    p = hexapod.calibrate([str(session)], fit="legs", out=str(tmp_path / "py_legs.yaml"))
+    assert c["converged"] and c["configurations_measured"] == len(legs)
+    assert c["base_cup4_mm"] == p["base_cup4_mm"]
+    assert c["base_cup4_fitted_mm"] == p["base_cup4_fitted_mm"]
+    # place: the same numbers as the CLI, the pose σ lowered by B4's legs.
+    grid = dict(x_mm=[450], y_mm=[0], z_mm=[300], validation=100, best=1)
+    four = hexapod.place(**grid, base_cup4_mm=cup4)
+    assert four == cli_json("hexapod", "place", "--x-mm", "450", "--y-mm", "0", "--z-mm", "300",
+                            "--validation", "100", "--best", "1", "--base-cup4-mm", numbers(cup4))
+    assert four["pose_sigma_mm"] < hexapod.place(**grid)["pose_sigma_mm"]
+    s = hexapod.simulate(validation=50, leg_fit=False, base_cup4_mm=cup4)
+    assert s["legs_read"] == 7 * s["legs_read_base_cup4"] > 0
+    assert s["base_cup4_mm"] == list(cup4)
+    with pytest.raises(robcal.InputError, match="--base-cup4-mm: base fixture: the fourth cup B4 "
+                                                "is collinear with B1 and B2"):
+        hexapod.plan("fanuc-lrmate200ic", base_cup4_mm=(150, 150, 150 * 3 ** 0.5))

@@ -40,10 +40,11 @@ struct PoseScreening {
 };
 
 /// Refuses the poses that cannot be set up (cup_collision with the base cups of `geometry` and
-/// the pose's tool cups, a fourth one included, with all its legs), then prunes the others as
+/// the pose's tool cups, fourth ones included, with all its legs), then prunes the others as
 /// prune_redundant does (a refused pose cannot make another redundant). Throws InputError when a
-/// fixture's sides do not make a triangle, the clearance is not a positive length or a fourth tool
-/// cup is within a cup diameter of another (key "--tool-cup4-mm").
+/// fixture's sides do not make a triangle, the clearance is not a positive length or a fourth
+/// cup is within a cup diameter of another of its fixture (key "--tool-cup4-mm" or
+/// "--base-cup4-mm").
 PoseScreening screen_poses(const std::vector<HexapodPose>& poses, const HexapodGeometry& geometry,
                            double max_angle_rad, double max_distance_mm,
                            const CupClearance& clearance);

@@ -10,6 +10,7 @@
 /// from the raw readings (leg_fit.hpp).
 
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -65,8 +66,8 @@ struct EndToEndReport {
   int retried = 0;         ///< out of range at first, re-planned with the preliminary model
   int measured_after_replan = 0;
   /// Legs read in the configurations measured (first pass and after re-planning), and of those
-  /// the legs to a fourth tool cup.
-  int legs_read = 0, legs_read_fourth_cup = 0;
+  /// the legs to a fourth tool cup and from a fourth base cup (a B4–T4 leg counts in both).
+  int legs_read = 0, legs_read_fourth_cup = 0, legs_read_base_cup4 = 0;
   double world_frame_rms_mm = 0;
   /// The fitted world frame against the true base fixture frame (translation, rotation): the
   /// uncalibrated robot's error where it placed the cups.
@@ -74,6 +75,9 @@ struct EndToEndReport {
   ValidationFigures nominal;
   CalibrationStage preliminary, final_pose_fit, leg_fit;
   double leg_fit_offset_mm = 0;
+  /// With a fourth base cup: |fitted B4 − true B4| in the frame of B1..B3 (each fit's own
+  /// B1..B3 against the true ones), and the worst error of its fitted distances to B1..B3, mm.
+  std::optional<double> leg_fit_base_cup4_error_mm, leg_fit_base_cup4_distance_error_mm;
   int validation_configurations = 0;
 };
 

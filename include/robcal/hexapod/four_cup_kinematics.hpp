@@ -92,8 +92,9 @@ std::vector<CupUncertainty> four_cup_uncertainty_monte_carlo(const FourCupDkpReq
 /// The worst standard uncertainty of a tool cup T1..T3 (multiples of one distance's σ,
 /// docs/method/07-hexapod.md §4) over `poses` of `geometry`, every distance at its planned value:
 /// solved from the fixture sides and the six design legs (`design_legs`), and from every leg of
-/// the pose with the fourth tool cup's distances when a leg reaches it (`all_legs`). Throws
-/// std::logic_error when a planned pose has no solution (the poses are not of this geometry).
+/// the pose with a fourth cup's distances (either fixture) when a leg reaches it (`all_legs`).
+/// Throws std::logic_error when a planned pose has no solution (the poses are not of this
+/// geometry).
 struct WorstToolCupUncertainty {
   double design_legs = 0, all_legs = 0;
 };

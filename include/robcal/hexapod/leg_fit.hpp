@@ -31,7 +31,9 @@ struct LegFitOptions {
 
 struct LegFitResult {
   ParameterVector params = ParameterVector::Zero();
-  std::vector<Cups<double>> base_cups_robot;          ///< per placement, robot frame, mm
+  std::vector<Cups<double>> base_cups_robot;  ///< per placement, robot frame, mm
+  /// Per placement: its fourth base cup's, robot frame, mm (when its fixture has one).
+  std::vector<std::optional<Eigen::Vector3d>> base_cup4_robot;
   Cups<double> tool_cups_flange;                      ///< flange frame, mm
   std::optional<Eigen::Vector3d> tool_cup4_flange{};  ///< a fourth tool cup's, flange frame, mm
   double length_offset_mm = 0;    ///< true length = reading + offset (leg set-up)
@@ -43,23 +45,25 @@ struct LegFitResult {
   int iterations = 0;
   bool converged = false;
   std::string message;  ///< Ceres' termination reason
-  /// The fitted unknowns, as indices into the model parameters followed by the extras: 9 base-cup
-  /// coordinates per placement (B1..B3, x y z), 3 per tool cup (T1..T3, then T4) and the offset.
+  /// The fitted unknowns, as indices into the model parameters followed by the extras: per
+  /// placement 3 coordinates (x y z) of each base cup (B1..B3, then B4), 3 per tool cup (T1..T3,
+  /// then T4) and the offset.
   std::vector<int> unknowns;
   double sigma_mm = 0;         ///< a-posteriori σ̂ of one reading, √(RSS / (m − n))
   Eigen::MatrixXd covariance;  ///< σ̂²(JᵀJ)⁻¹ of `unknowns` at the solution (internal units)
 };
 
-/// One base-fixture placement's data: its measured sides, the readings taken there and the world
-/// frame its cups were placed in (robot frame; world_frame.hpp).
+/// One base-fixture placement's data: its measured distances (a fourth cup's too), the readings
+/// taken there and the world frame its cups B1..B3 were placed in (robot frame; world_frame.hpp).
 struct LegPlacement {
-  TriangleSides base_sides;
+  FixtureDistances base;
   std::vector<LegReadings> readings;
   Pose<double> robot_T_world;
 };
 
 /// Fits from the readings of one or more placements. Start: `start_params`, each placement's base
-/// cups where its world frame puts them (`robot_T_world` × its measured base triangle), the tool
+/// cups where its world frame puts them (`robot_T_world` × its measured base fixture: a fourth
+/// base cup is unknowns of its placement, its distances residuals at their own set-up), the tool
 /// cups (a fourth one too: its legs are the readings' extra legs, its distances residuals like the
 /// sides) from the measured tool fixture through `flange_T_tool`, offset 0. Throws InputError when
 /// a start index is a base parameter or no placement is given.
@@ -71,7 +75,7 @@ LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
 
 /// One placement.
 LegFitResult fit_from_legs(const RobotModel& model, const PointMass& payload,
-                           const TriangleSides& base_sides, const FixtureDistances& tool,
+                           const FixtureDistances& base, const FixtureDistances& tool,
                            const std::vector<LegReadings>& readings,
                            const ParameterVector& start_params, const Pose<double>& robot_T_world,
                            const Pose<double>& flange_T_tool, const LegFitOptions& options);

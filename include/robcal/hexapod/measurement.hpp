@@ -26,25 +26,25 @@ struct LegReadings {
   LegDesign design;                    ///< physical cups in the design roles
   int mode = 1;                        ///< planned assembly mode
   LegLengths<double> legs{};           ///< ρ11, ρ12, ρ21, ρ22, ρ23, ρ31 in design roles, mm
-  std::vector<MeasuredLeg> extra_legs{};  ///< beyond the design (physical cups): to a fourth cup
+  std::vector<MeasuredLeg> extra_legs{};  ///< beyond the design (physical cups): fourth cups'
 };
 
 /// The tool fixture frame (cups 1..3) in the base fixture frame from one configuration's readings,
 /// or an InputError naming `file` and the configuration when the distances have no solution in
 /// its mode. With extra legs, the over-determined DKP in least squares (four_cup_kinematics.hpp)
-/// on every leg and the fixture distances, the fourth cup's included when a leg reaches it;
-/// otherwise the closed-form cascade.
-Pose<double> measured_tool_pose(const TriangleSides& base_sides, const FixtureDistances& tool,
+/// on every leg and the fixture distances, a fourth cup's included when a leg reaches it;
+/// otherwise the closed-form cascade on B1..B3 and T1..T3.
+Pose<double> measured_tool_pose(const FixtureDistances& base, const FixtureDistances& tool,
                                 const LegReadings& readings, const std::string& file = "");
 
 /// The over-determined DKP request of one configuration's readings (its design legs as physical
-/// legs, then the extra ones; a fourth tool cup's distances only when a leg reaches it).
-FourCupDkpRequest readings_dkp_request(const TriangleSides& base_sides,
-                                       const FixtureDistances& tool, const LegReadings& readings);
+/// legs, then the extra ones; a fourth cup's distances only when a leg reaches it).
+FourCupDkpRequest readings_dkp_request(const FixtureDistances& base, const FixtureDistances& tool,
+                                       const LegReadings& readings);
 
 /// Poses MeasurementSet (world_T_tcp expressed in the robot frame through `robot_T_world`) from
 /// every configuration's readings; `file` names the source in messages.
-MeasurementSet pose_measurements(const TriangleSides& base_sides, const FixtureDistances& tool,
+MeasurementSet pose_measurements(const FixtureDistances& base, const FixtureDistances& tool,
                                  const std::vector<LegReadings>& readings,
                                  const Pose<double>& robot_T_world, const std::string& file);
 

@@ -29,7 +29,8 @@ struct MeasuredPlacement {
   std::string source;                 ///< the plan file, for messages
   std::array<double, 4> placement{};  ///< x, y, z (mm), yaw (deg)
   double tilt_deg = 0;
-  Cups<double> setting_points;   ///< where the robot put the base cups, robot frame
+  /// Where the robot put the base cups B1..B3 (and B4), robot frame.
+  std::vector<Eigen::Vector3d> setting_points;
   std::vector<Vector6d> joints;  ///< the configurations (controller, rad)
 };
 

@@ -66,18 +66,19 @@ struct SettingBallPoint {
   Eigen::Vector3d ball_position_mm = Eigen::Vector3d::Zero();
   std::vector<PoseConfiguration> configurations;  ///< empty for robots without closed-form IK
 };
-std::array<SettingBallPoint, 3> plan_setting_ball(const RobotModel& model,
-                                                  const Pose<double>& placement, double side_mm,
-                                                  double ball_offset_mm);
+/// B1..B3, then B4 when `base_cup4_mm` gives a fourth base cup (fourth_setting_ball_point).
+std::vector<SettingBallPoint> plan_setting_ball(
+    const RobotModel& model, const Pose<double>& placement, double side_mm, double ball_offset_mm,
+    const std::optional<std::array<double, 3>>& base_cup4_mm = std::nullopt);
 
 /// The set-up's JSON, as the plan file's "setting_ball" holds it: cup, ball position, the
 /// configurations (labels, joints_deg).
-nlohmann::json setting_ball_json(const std::array<SettingBallPoint, 3>& points);
+nlohmann::json setting_ball_json(const std::vector<SettingBallPoint>& points);
 
 /// What `robcal hexapod setup` reports: {robot (as given), side_mm, setting_ball
 /// (setting_ball_json)}.
 nlohmann::json setup_json(const std::string& robot, double side_mm,
-                          const std::array<SettingBallPoint, 3>& points);
+                          const std::vector<SettingBallPoint>& points);
 
 /// The planning outcome of one pose, as the plan file lists it.
 struct PlannedPose {
@@ -103,17 +104,17 @@ struct Replanned {
 
 /// Everything a plan file holds.
 struct HexapodPlan {
-  SessionPlan session;                      ///< the session's script
-  std::optional<HexapodPlanRequest> cell;   ///< absent from hand-written plans
-  std::array<SettingBallPoint, 3> setting;  ///< with `cell`: the set-up of the base cups
-  std::optional<PlanOutcome> outcome;       ///< with `cell`: the planning outcome
+  SessionPlan session;                     ///< the session's script
+  std::optional<HexapodPlanRequest> cell;  ///< absent from hand-written plans
+  std::vector<SettingBallPoint> setting;   ///< with `cell`: the set-up of the base cups (3 or 4)
+  std::optional<PlanOutcome> outcome;      ///< with `cell`: the planning outcome
   std::optional<Replanned> replanned;
 };
 
 /// The poses a plan offers for `geometry`: all enumerated ones (`enumerated`), each with its legs
 /// to a fourth cup within kExtraLegRangeFraction of `gauge_range_mm` (add_fourth_cup_legs), then
 /// screened for colliding cups and legs and pruned (screen_poses). Throws InputError naming
-/// --tool-cup4-mm when a fourth cup has no leg in any pose kept.
+/// --tool-cup4-mm or --base-cup4-mm when a fourth cup has no leg in any pose kept.
 PoseScreening plannable_poses(const HexapodGeometry& geometry, double gauge_range_mm,
                               double angle_deg, double distance_mm, const CupClearance& cups,
                               int* enumerated = nullptr);

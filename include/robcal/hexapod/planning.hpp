@@ -42,10 +42,10 @@ struct CellSetup {
 /// The robot frame of the planner (nominal model, base at the origin) in the workcell's world.
 Pose<double> workcell_T_robot(const RobotModel& model, const campaign::Cell& workcell);
 
-/// Empty when the base cups (robot frame) are above the workcell's floor and outside its
-/// keep-out boxes; otherwise which cup and why.
+/// Empty when the base cups (robot frame; B1..B3, then B4 if any) are above the workcell's floor
+/// and outside its keep-out boxes; otherwise which cup and why.
 std::string base_fixture_in_workcell(const RobotModel& model, const campaign::Cell& workcell,
-                                     const Cups<double>& base_cups_robot);
+                                     const std::vector<Eigen::Vector3d>& base_cups_robot);
 
 /// Default tool-fixture mount: fixture plane perpendicular to the flange axis, its centroid
 /// `offset_mm` along the flange z, cups opening away from the flange (fixture z = flange z).
@@ -77,13 +77,16 @@ struct PlanSummary {
   int configurations = 0;    ///< all configurations of all poses
 };
 
-/// Clearance of one configuration (controller joints, rad) of the nominal robot.
+/// Clearance of one configuration (controller joints, rad) of the nominal robot; the base
+/// fixture's cylinder covers every cup of `base_cups_robot` (B1..B3, then B4 if any).
 Clearance check_clearance(const RobotModel& model, const CellSetup& cell,
-                          const Cups<double>& base_cups_robot, const Vector6d& joints);
+                          const std::vector<Eigen::Vector3d>& base_cups_robot,
+                          const Vector6d& joints);
 
 /// Plans every pose. Throws InputError when the robot is not ortho-parallel (no closed-form IK).
+/// A fourth base cup (`base_cup4_fixture`, base fixture frame) widens the fixture's cylinder.
 PlanSummary plan_poses(const RobotModel& model, const CellSetup& cell,
-                       const Cups<double>& base_cups_fixture,
-                       const std::vector<HexapodPose>& poses);
+                       const Cups<double>& base_cups_fixture, const std::vector<HexapodPose>& poses,
+                       const std::optional<Eigen::Vector3d>& base_cup4_fixture = std::nullopt);
 
 }  // namespace robcal::hexapod

@@ -24,11 +24,16 @@ struct HexapodGeometry {
   /// places it). Its legs are extra legs of the poses where they fit the gauge
   /// (add_fourth_cup_legs); the design of each pose stays on T1..T3.
   std::optional<std::array<double, 3>> tool_cup4_mm{};
+  /// A fourth base cup B4: its distances d14, d24, d34 to B1..B3, as T4's. B1..B3 still define
+  /// the base fixture frame (the world); B4's legs are extra legs like T4's.
+  std::optional<std::array<double, 3>> base_cup4_mm{};
   [[nodiscard]] FixtureDistances tool_fixture() const { return {tool, tool_cup4_mm}; }
+  [[nodiscard]] FixtureDistances base_fixture() const { return {base, base_cup4_mm}; }
 };
 
-/// Throws InputError naming the setting (`--base-mm`, `--tool-mm`, `--leg-mm`, `--tool-cup4-mm`)
-/// when a fixture's sides make no triangle, the fourth cup is collinear with two others or no
+/// Throws InputError naming the setting (`--base-mm`, `--tool-mm`, `--leg-mm`, `--tool-cup4-mm`,
+/// `--base-cup4-mm`) when a fixture's sides make no triangle, a fourth cup is collinear with two
+/// others or no
 /// point has its distances, or the ballbar length is not positive: every workflow that plans with
 /// a geometry checks it here first.
 void check_geometry(const HexapodGeometry& geometry);
@@ -51,7 +56,7 @@ struct HexapodPose {
   Cups<double> tool_cups;    ///< physical T1..T3 in the base fixture frame, mm
   Pose<double> base_T_tool;  ///< tool fixture frame in the base fixture frame
   /// The six legs of the design in measurement order (kDesignLegs), then the extra legs to a
-  /// fourth cup (add_fourth_cup_legs).
+  /// fourth cup on either fixture (add_fourth_cup_legs).
   std::vector<PhysicalLeg> legs;
 
   /// "mode 2, tool −120°, base B2 B1 B3" (the physical cups in the design roles B1, B2, B3).
@@ -98,10 +103,15 @@ std::optional<LegDesign> design_of_legs(const std::vector<PhysicalLeg>& legs);
 std::vector<Eigen::Vector3d> pose_tool_cups(const HexapodPose& pose,
                                             const HexapodGeometry& geometry);
 
-/// Adds to each pose the legs from B1..B3 to a fourth tool cup whose planned length is within
-/// `tolerance_mm` of the ballbar's length (those the gauge reads with the robot's errors on top).
-/// With T4 on the circumcircle of T1..T3 the base cup of design role B2 — at the ballbar's
-/// length from all three tool cups, so on the tool triangle's axis — reaches T4 in every pose.
+/// The base cups in the base fixture frame: B1..B3, then B4 when the geometry has one.
+std::vector<Eigen::Vector3d> base_cup_positions(const HexapodGeometry& geometry);
+
+/// Adds to each pose the legs from B1..B3 to a fourth tool cup, then those from a fourth base cup
+/// to T1..T3 (and T4), whose planned length is within `tolerance_mm` of the ballbar's length
+/// (those the gauge reads with the robot's errors on top). With T4 on the circumcircle of T1..T3
+/// the base cup of design role B2 — at the ballbar's length from all three tool cups, so on the
+/// tool triangle's axis — reaches T4 in every pose; likewise the tool cup of design role T1
+/// reaches a B4 on the circumcircle of B1..B3.
 void add_fourth_cup_legs(std::vector<HexapodPose>& poses, const HexapodGeometry& geometry,
                          double tolerance_mm);
 

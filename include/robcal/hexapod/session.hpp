@@ -4,7 +4,8 @@
 /// published procedure): the tool sides, the base sides once the robot has placed the base cups,
 /// then the six legs of every planned configuration, with re-checks of the ballbar on its
 /// calibrator. A plan with a fourth tool cup (tool_cup4_mm) adds its three distances after the tool
-/// sides and its legs to each configuration's six.
+/// sides and its legs to each configuration's six; a fourth base cup (base_cup4_mm) likewise after
+/// the base sides.
 ///
 /// The session is a deterministic script: the next step depends only on the plan and the
 /// readings so far. Every reading goes to an append-only journal (one JSON object per line,
@@ -32,7 +33,7 @@ struct SessionConfiguration {
   std::string labels;              ///< "front/up/no-flip" (may be empty)
   int mode = 0;                    ///< planned assembly mode 1..4 (0: not given)
   std::vector<double> joints_deg;  ///< controller joints (may be empty: pose-only plans)
-  /// The six of the design in measurement order, then the extra legs (to a fourth tool cup).
+  /// The six of the design in measurement order, then the extra legs (to a fourth cup).
   std::vector<PhysicalLeg> legs;
 };
 
@@ -45,15 +46,18 @@ struct SessionPlan {
   /// The design distances d14, d24, d34 of a fourth tool cup T4 (the ballbar's set-up for each
   /// when the session measures them); legs may then name T4.
   std::optional<std::array<double, 3>> tool_cup4_mm{};
+  /// The design distances d14, d24, d34 of a fourth base cup B4, as T4's; legs may then name B4.
+  std::optional<std::array<double, 3>> base_cup4_mm{};
   std::vector<SessionConfiguration> configurations;
   /// The cell as planned, for calibrating from the session (absent from hand-written plans):
   /// where the robot put the setting ball for B1..B3 (robot frame, mm) and the tool fixture frame
   /// in the flange frame.
   std::optional<Cups<double>> setting_points;
+  std::optional<Eigen::Vector3d> setting_point4;  ///< B4's, with setting_points and base_cup4_mm
   std::optional<Pose<double>> flange_T_tool;
   /// Fixture sides measured in an earlier session of the same cell (a re-plan): not asked again.
   std::optional<FixtureDistances> tool_sides;  ///< with T4's distances when the plan has T4
-  std::optional<TriangleSides> base_sides;
+  std::optional<FixtureDistances> base_sides;  ///< with B4's distances when the plan has B4
 };
 
 /// Reads a plan file (JSON written by `robcal hexapod plan`); errors name the file and key.
@@ -81,7 +85,7 @@ struct ConfigurationReadings {
 /// The state of a session: everything read so far.
 struct SessionState {
   std::vector<std::optional<double>> tool_sides;  ///< FixtureDistances::values order (3 or 6)
-  std::array<std::optional<double>, 3> base_sides;
+  std::vector<std::optional<double>> base_sides;  ///< FixtureDistances::values order (3 or 6)
   std::vector<ConfigurationReadings> configurations;
   std::vector<std::pair<int, double>> calibrator_checks;  ///< (after configuration id, reading)
 };

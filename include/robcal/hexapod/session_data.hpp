@@ -41,7 +41,9 @@ struct SessionData {
   SessionPlan plan;                 ///< … and its contents: ballbar set-up and cell
   TriangleSides tool_sides, base_sides;
   std::optional<std::array<double, 3>> tool_cup4_mm{};  ///< measured d14, d24, d34 of a fourth cup
+  std::optional<std::array<double, 3>> base_cup4_mm{};  ///< … of a fourth base cup
   [[nodiscard]] FixtureDistances tool_fixture() const { return {tool_sides, tool_cup4_mm}; }
+  [[nodiscard]] FixtureDistances base_fixture() const { return {base_sides, base_cup4_mm}; }
   Cups<double> setting_points;        ///< where the robot put the setting ball, robot frame
   Pose<double> flange_T_tool;         ///< tool fixture frame in the flange frame
   std::vector<LegReadings> readings;  ///< configurations with all their legs read
@@ -68,7 +70,8 @@ SessionData load_sessions(const std::vector<std::string>& sessions,
 
 /// Sessions grouped by base-fixture placement (their setting-ball points), in the order each
 /// placement first appears, each group merged as merge_sessions does. Throws InputError naming
-/// the session and key when two placements' base cups overlap (a cup of one within a cup diameter,
+/// the session and key when two placements' base cups (B4's included) overlap (a cup of one within
+/// a cup diameter,
 /// 25 mm, of a cup of another: the same placement given twice with different points, or fixtures
 /// that cannot both stand there) or the tool fixture mount differs between placements.
 std::vector<SessionData> group_placements(const std::vector<SessionData>& sessions);

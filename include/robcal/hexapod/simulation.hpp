@@ -39,12 +39,16 @@ struct SimulatedHexapodCell {
   HexapodCellOptions options;
   CellSetup cell;              ///< as the operator knows it: fitted world frame, nominal tool mount
   Cups<double> base_cups_sim;  ///< true cup centres, simulation world frame
+  std::optional<Eigen::Vector3d> base_cup4_sim{};     ///< a true fourth base cup, simulation world
   Cups<double> tool_cups_flange;                      ///< true tool cups, flange frame
   std::optional<Eigen::Vector3d> tool_cup4_flange{};  ///< a true fourth tool cup, flange frame
   Cups<double> setting_points;  ///< p_i: where the nominal model put the ball, robot frame
-  TriangleSides base_sides;     ///< measured with the ballbar
-  TriangleSides tool_sides;     ///< measured with the ballbar
+  std::optional<Eigen::Vector3d> setting_point4{};      ///< … for a fourth base cup
+  TriangleSides base_sides;                             ///< measured with the ballbar
+  TriangleSides tool_sides;                             ///< measured with the ballbar
   std::optional<std::array<double, 3>> tool_cup4_mm{};  ///< T4's d14, d24, d34, measured
+  std::optional<std::array<double, 3>> base_cup4_mm{};  ///< B4's d14, d24, d34, measured
+  [[nodiscard]] FixtureDistances base_fixture() const { return {base_sides, base_cup4_mm}; }
   WorldFrameFit world;       ///< robot_T_world from p_i and the measured base sides
   Pose<double> world_T_sim;  ///< true base fixture frame ← simulation world
 };
@@ -55,8 +59,10 @@ TrueRobot levelled_random_truth(const RobotModel& model, const PointMass& payloa
                                 const ErrorBounds& errors, std::mt19937_64& rng);
 
 /// Places the base cups with the true robot (nominal inverse kinematics of the setting-ball
-/// points, the configuration nearest the joints' zero), measures the fixture sides and fits the
-/// world frame. Throws InputError when a setting point cannot be reached.
+/// points, the configuration nearest the joints' zero; a fourth base cup at its own setting point,
+/// fourth_setting_ball_point), measures the fixture sides (and fourth cups' distances, each at
+/// its design length) and fits the world frame on B1..B3. Throws InputError when a setting point
+/// cannot be reached or a fourth cup's distance is out of the ballbar's range.
 SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotModel& nominal,
                                            const HexapodCellOptions& options, std::mt19937_64& rng);
 

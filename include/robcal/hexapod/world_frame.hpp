@@ -35,4 +35,10 @@ WorldFrameFit fit_world_frame(const Cups<double>& robot_points, const TriangleSi
 /// c3 = (0, s/√3, 0), counter-clockwise seen from above; returned in the robot frame.
 Cups<double> setting_ball_points(const Pose<double>& robot_T_rough, double side_mm);
 
+/// Where the robot must put the setting ball for a fourth base cup B4 given by its distances
+/// d14, d24, d34 to B1..B3: on the triangle of `points` (the setting points of B1..B3, robot
+/// frame) as fixture_cup_positions places it (fixture.hpp). B1..B3 keep defining the world frame.
+Eigen::Vector3d fourth_setting_ball_point(const Cups<double>& points,
+                                          const std::array<double, 3>& base_cup4_mm);
+
 }  // namespace robcal::hexapod
