@@ -19,10 +19,12 @@
 #include "robcal/core/error.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
 #include "robcal/hexapod/four_cup_kinematics.hpp"
+#include "robcal/hexapod/placements_simulation.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/hexapod/session.hpp"
 #include "robcal/hexapod/world_frame.hpp"
 #include "robcal/io/robot_file.hpp"
+#include "test_support.hpp"
 
 namespace robcal::hexapod {
 namespace {
@@ -149,6 +151,51 @@ TEST(HexapodFourthBaseCup, WithT4TooBothFourthCupsAreReadAndFitted) {
   std::printf("worst tool-cup σ multiple with B4: design legs %.4f, all legs %.4f\n",
               worst.design_legs, worst.all_legs);
   EXPECT_LT(worst.all_legs, worst.design_legs);
+}
+
+// Two placements with both fourth cups (simulate_placements, as `hexapod design` plans them): each
+// configuration reads its legs from B4 and to T4 too, each placement's B4 is fitted with its
+// other cups, and the whole-workspace error stays that of the three-cup fit of the same
+// configurations (the floor the fixture sides leave, a few µm).
+TEST(HexapodFourthBaseCup, TwoPlacementsReadAndFitBothFourthCups) {
+  const RobotModel model = load_robot("fanuc-lrmate200ic");
+  PointMass payload{2.6, Eigen::Vector3d(50, 25, 100)};
+  auto truth_rng = test::seeded_rng(7);
+  const TrueRobot truth =
+      levelled_random_truth(model, payload, ErrorBounds{0.3, 0.1, 0.05e-6, 1.0, 0.1}, truth_rng);
+  PlacementsSimulationOptions options;
+  options.validation_configurations = 300;
+  const auto run = [&](bool fourth_cups) {
+    std::vector<SimulatedPlacement> placements;
+    for (const std::array<double, 4>& at :
+         {std::array<double, 4>{450, 0, 300, 0}, std::array<double, 4>{350, 0, 300, 0}}) {
+      HexapodPlanRequest request = cell_request(fourth_cups, fourth_cups);
+      request.placement = at;
+      const HexapodPlan plan = plan_hexapod(model, request);
+      std::vector<int> every_third;
+      for (int k = 0; k < static_cast<int>(plan.session.configurations.size()); k += 3)
+        every_third.push_back(k);
+      placements.push_back({plan, every_third});
+    }
+    auto rng = test::seeded_rng(8);
+    return simulate_placements(model, truth, payload, placements, options, rng);
+  };
+  const PlacementsSimulation three = run(false), four = run(true);
+  for (const PlacementsSimulation* s : {&three, &four}) {
+    EXPECT_TRUE(s->converged);
+    EXPECT_EQ(s->out_of_range, 0);
+    EXPECT_LT(s->fit_rms_mm, 1.2 * options.sigma_mm);
+  }
+  EXPECT_EQ(four.configurations, three.configurations);
+  EXPECT_EQ(three.legs, 6 * three.configurations);
+  EXPECT_GE(four.legs, 8 * four.configurations);  // a leg from B4 and one to T4 in every pose
+  EXPECT_LT(four.calibrated.mean, 1.2 * three.calibrated.mean);
+  EXPECT_LT(four.calibrated.mean, 0.005);
+  std::printf(
+      "two placements, %d configurations: three cups %d legs, whole workspace %.5f mm; both fourth "
+      "cups %d legs, %.5f mm (fit rms %.6f mm)\n",
+      four.configurations, three.legs, three.calibrated.mean, four.legs, four.calibrated.mean,
+      four.fit_rms_mm);
 }
 
 TEST(HexapodFourthBaseCup, PlanFileRoundTripAndSessionStepsWithResume) {

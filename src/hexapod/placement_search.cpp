@@ -307,14 +307,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
             r.tilt_deg = tilt;
             std::vector<int> mine;
             try {
-              const HexapodPlan plan = plan_hexapod(model, r);
-              // The robot places the cups itself (docs/method/08-world-frame.md §1).
-              for (size_t cup = 0; cup < plan.setting.size(); ++cup)
-                if (plan.setting[cup].configurations.empty())
-                  throw InputError({"", 0, 0, "--placement"},
-                                   fmt::format("the robot cannot put the setting ball at base "
-                                               "cup B{}",
-                                               cup + 1));
+              const HexapodPlan plan = plan_hexapod(model, r);  // refuses unplaceable cups
               flange_T_tool = *plan.session.flange_T_tool;
               setting_points.resize(scores.size() + 1);
               setting_points.back() = plan_setting_points(plan);

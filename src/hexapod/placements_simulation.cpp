@@ -37,11 +37,13 @@ PlacementsSimulation simulate_placements(const RobotModel& model, const TrueRobo
     cell.sigma_mm = o.sigma_mm;
     cell.range_mm = plan.session.range_mm;
     SimulatedHexapodCell c = set_up_simulated_cell(truth, model, cell, rng);
-    if (!cells.empty()) {  // one tool fixture throughout: its cups and measured sides
+    if (!cells.empty()) {  // one tool fixture throughout: its cups and measured distances
       c.tool_cups_flange = cells.front().tool_cups_flange;
       c.tool_sides = cells.front().tool_sides;
+      c.tool_cup4_flange = cells.front().tool_cup4_flange;
+      c.tool_cup4_mm = cells.front().tool_cup4_mm;
     }
-    LegPlacement placement{c.base_sides, {}, c.world.robot_T_fixture};
+    LegPlacement placement{c.base_fixture(), {}, c.world.robot_T_fixture};
     for (int k : placements[p].chosen) {
       const SessionConfiguration& config = plan.session.configurations.at(k);
       const std::optional<LegDesign> design = design_of_legs(config.legs);
@@ -58,12 +60,20 @@ PlacementsSimulation simulate_placements(const RobotModel& model, const TrueRobo
         readable = r.has_value();
         if (r) lengths[i] = *r;
       }
+      // The legs to or from a fourth cup, after the design's six.
+      std::vector<MeasuredLeg> extra;
+      for (size_t i = kDesignLegs.size(); i < config.legs.size() && readable; ++i) {
+        const std::optional<double> r = simulate_leg(c, config.legs[i], q, rng);
+        readable = r.has_value();
+        if (r) extra.push_back({config.legs[i].base, config.legs[i].tool, *r});
+      }
       if (!readable) {
         ++out.out_of_range;
         continue;
       }
+      out.legs += static_cast<int>(kDesignLegs.size() + extra.size());
       placement.readings.push_back(
-          {fmt::format("{}-{}", p + 1, k), q, *design, config.mode, lengths});
+          {fmt::format("{}-{}", p + 1, k), q, *design, config.mode, lengths, std::move(extra)});
     }
     out.configurations += static_cast<int>(placement.readings.size());
     // A placement with nothing measured brings only its unknown cups: left out of the fit.
@@ -79,8 +89,9 @@ PlacementsSimulation simulate_placements(const RobotModel& model, const TrueRobo
        identified_model_parameters(model, Tool{}, MeasurementKind::Poses, o.level, o.identify))
     if (i >= kBaseParamCount) fit_options.free_parameters.push_back(i);
   const SimulatedHexapodCell& first = cells.front();
-  const LegFitResult fit = fit_from_legs(model, payload, first.tool_sides, legs, model.nominal(),
-                                         first.cell.flange_T_tool, fit_options);
+  const LegFitResult fit =
+      fit_from_legs(model, payload, FixtureDistances{first.tool_sides, first.tool_cup4_mm}, legs,
+                    model.nominal(), first.cell.flange_T_tool, fit_options);
   out.fit_rms_mm = fit.rms_mm;
   out.converged = fit.converged;
 

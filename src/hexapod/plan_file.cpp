@@ -314,6 +314,17 @@ HexapodPlan plan_hexapod(const RobotModel& model, const HexapodPlanRequest& requ
   plan.cell = request;
   plan.setting =
       plan_setting_ball(model, placement, g.leg_mm, request.ball_offset_mm, g.base_cup4_mm);
+  // The robot places the base cups itself (docs/method/08-world-frame.md §1), flange down: a
+  // setting point it cannot reach makes a plan the operator cannot set up.
+  for (size_t cup = 0; cup < plan.setting.size(); ++cup)
+    if (plan.setting[cup].configurations.empty()) {
+      const Eigen::Vector3d& at = plan.setting[cup].ball_position_mm;
+      throw InputError(
+          {"", 0, 0, cup == 3 ? "--base-cup4-mm" : "--placement"},
+          fmt::format("the robot cannot put the setting ball at base cup B{} ({:.1f}, {:.1f}, "
+                      "{:.1f} mm, flange down): choose a placement {}within its reach",
+                      cup + 1, at.x(), at.y(), at.z(), cup == 3 ? "or a fourth cup " : ""));
+    }
   plan.session.tool_nominal_mm = g.tool.d12;
   plan.session.leg_mm = g.leg_mm;
   plan.session.range_mm = request.gauge.range_mm;

@@ -40,6 +40,7 @@ struct PlacementsSimulationOptions {
 struct PlacementsSimulation {
   int configurations = 0;  ///< measured (all six legs in range)
   int out_of_range = 0;    ///< chosen configurations a leg of which the gauge could not read
+  int legs = 0;            ///< legs read: six per configuration, and those to a fourth cup
   double fit_rms_mm = 0;
   bool converged = false;
   ErrorStatistics nominal;     ///< the nominal model (world frame of the cups) vs the truth, mm
