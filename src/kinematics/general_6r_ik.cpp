@@ -69,6 +69,11 @@ constexpr double kSpuriousNull = 1e-10;
 constexpr double kAcceptPositionMm = 1e-9;
 constexpr double kAcceptOrientationRad = 1e-11;
 constexpr double kSameSolutionRad = 1e-6;
+/// A candidate starting this close to a solution already found would be polished to it (another
+/// solution within kSameSolutionRad is merged with it anyway, one farther lies outside Newton's
+/// path): it is that solution, unpolished. The twin search's null space at a solution's own x3
+/// returns that solution again, 1e-10 close (a third of the CRX's candidates).
+constexpr double kSameStartRad = 1e-8;
 constexpr int kNewtonIterations = 20;
 
 Pose<double> rot_z(double theta) {
@@ -313,11 +318,19 @@ struct Frames {
   std::array<Pose<double>, kJointCount> frame;
 };
 
+/// F·Rz(θ): the x and y axes turn, the z axis and the origin stay (cheaper than the product).
+void turn_about_z(Pose<double>& F, double theta) {
+  const double c = std::cos(theta), s = std::sin(theta);
+  const Eigen::Vector3d x = F.R.col(0);
+  F.R.col(0) = c * x + s * F.R.col(1);
+  F.R.col(1) = c * F.R.col(1) - s * x;
+}
+
 Frames forward(const General6rGeometry& g, const Angles& theta) {
   Frames f;
   Pose<double> F = g.base;
   for (int i = 0; i < kJointCount; ++i) {
-    F = F * rot_z(theta[i]);
+    turn_about_z(F, theta[i]);
     f.frame[i] = F;
     f.origin[i] = F.p;
     f.axis[i] = F.R.col(2);
@@ -601,13 +614,19 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     solve_first_and_last(K, Tp, phi);
     Angles theta;
     for (int i = 0; i < kJointCount; ++i) theta[(i + g.cyclic_shift) % kJointCount] = phi[i];
+    // The solution found within `radius` of theta, else -1.
+    const auto known = [&](double radius) {
+      for (int s = 0; s < count; ++s) {
+        double d = 0;
+        for (int i = 0; i < kJointCount; ++i) d = std::max(d, std::abs(wrap(out[s][i] - theta[i])));
+        if (d < radius) return s;
+      }
+      return -1;
+    };
+    if (const int s = known(kSameStartRad); s >= 0) return s;
     if (!polish(g, world_T_flange, theta)) return -1;
     for (double& t : theta) t = wrap(t);
-    for (int s = 0; s < count; ++s) {
-      double d = 0;
-      for (int i = 0; i < kJointCount; ++i) d = std::max(d, std::abs(wrap(out[s][i] - theta[i])));
-      if (d < kSameSolutionRad) return s;
-    }
+    if (const int s = known(kSameSolutionRad); s >= 0) return s;
     out[count] = theta;
     return count++;
   };
