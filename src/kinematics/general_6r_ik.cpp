@@ -75,6 +75,9 @@ constexpr double kSameSolutionRad = 1e-6;
 /// returns that solution again, 1e-10 close (a third of the CRX's candidates).
 constexpr double kSameStartRad = 1e-8;
 constexpr int kNewtonIterations = 20;
+/// An accepted Newton step this small (rad, largest joint) leaves an error of its square times
+/// the curvature, below rounding: the polish stops there without one more step to confirm.
+constexpr double kConvergedStepRad = 1e-10;
 
 Pose<double> rot_z(double theta) {
   const double c = std::cos(theta), s = std::sin(theta);
@@ -164,6 +167,25 @@ General6rElimination kept_joints_elimination(const Pose<double>& K3, const Pose<
   e.bottom = -svd.matrixV().bottomRows<12>().leftCols(rank);
   e.top_t_bottom = e.top.transpose() * e.bottom;
   return e;
+}
+
+/// The elementary reflector I − τ·u·uᵀ, u = [1; ess], that maps x to (β, 0, …) (Eigen's
+/// makeHouseholder for a real vector, inlined: it is the inner loop of the eigenvalue QR).
+/// Returns β; τ = 0 when x's tail is already zero.
+template <int N>
+double make_reflector(const Eigen::Matrix<double, N, 1>& x, Eigen::Matrix<double, N - 1, 1>& ess,
+                      double& tau) {
+  const double tail = x.template tail<N - 1>().squaredNorm();
+  if (tail <= std::numeric_limits<double>::min()) {
+    tau = 0;
+    ess.setZero();
+    return x[0];
+  }
+  double beta = std::sqrt(x[0] * x[0] + tail);
+  if (x[0] >= 0) beta = -beta;
+  ess = x.template tail<N - 1>() / (x[0] - beta);
+  tau = (beta - x[0]) / beta;
+  return beta;
 }
 
 /// An elementary reflector I − τ·u·uᵀ, u = [1; ess], on rows and columns r..r+N−1 of T: from the
@@ -286,8 +308,8 @@ bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 
     for (Index k = im; k <= iu - 2; ++k) {
       if (k > im) v = T.block<3, 1>(k, k - 1);
       Eigen::Vector2d ess;
-      double tau, beta;
-      v.makeHouseholder(ess, tau, beta);
+      double tau;
+      const double beta = make_reflector<3>(v, ess, tau);
       if (beta == 0) continue;
       if (k > im)
         T(k, k - 1) = beta;
@@ -296,8 +318,9 @@ bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 
       reflect<3>(T, k, ess, tau, k, iu, il, std::min(iu, k + 3));
     }
     Eigen::Matrix<double, 1, 1> ess;
-    double tau, beta;
-    Eigen::Vector2d(T(iu - 1, iu - 2), T(iu, iu - 2)).makeHouseholder(ess, tau, beta);
+    double tau;
+    const double beta =
+        make_reflector<2>(Eigen::Vector2d(T(iu - 1, iu - 2), T(iu, iu - 2)), ess, tau);
     if (beta != 0) {
       T(iu - 1, iu - 2) = beta;
       reflect<2>(T, iu - 1, ess, tau, iu - 1, iu, il, iu);
@@ -347,7 +370,7 @@ double wrap(double angle) {
 /// Newton on the exact chain from `theta`; true when it reproduces `target` within the
 /// acceptance tolerances.
 bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& theta) {
-  double previous = std::numeric_limits<double>::infinity();
+  double previous = std::numeric_limits<double>::infinity(), last_step = previous;
   for (int it = 0;; ++it) {
     const Frames f = forward(g, theta);
     Eigen::Matrix<double, 6, 1> e;
@@ -356,9 +379,12 @@ bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& thet
     e.tail<3>() = aa.angle() * aa.axis();
     const bool accepted =
         e.head<3>().norm() <= kAcceptPositionMm && e.tail<3>().norm() <= kAcceptOrientationRad;
-    // Once accepted, go on while a step still gains (quadratic convergence down to rounding).
+    // Once accepted, go on while a step still gains (quadratic convergence down to rounding),
+    // unless the last step was already so small that the next would be below rounding.
     const double error = e.head<3>().norm() / g.length_scale + e.tail<3>().norm();
-    if (it == kNewtonIterations || (accepted && error > 0.25 * previous)) return accepted;
+    if (it == kNewtonIterations ||
+        (accepted && (error > 0.25 * previous || last_step <= kConvergedStepRad)))
+      return accepted;
     previous = error;
     Matrix6d J;
     for (int i = 0; i < kJointCount; ++i) {
@@ -369,6 +395,7 @@ bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& thet
     if (!step.allFinite()) return accepted;
     const double largest = step.cwiseAbs().maxCoeff();
     if (largest > 0.3) step *= 0.3 / largest;  // far from a root: stay in its basin
+    last_step = std::min(largest, 0.3);
     for (int i = 0; i < kJointCount; ++i) theta[i] += step[i];
   }
 }
