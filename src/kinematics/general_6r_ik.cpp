@@ -72,7 +72,7 @@ constexpr double kSameSolutionRad = 1e-6;
 /// A candidate starting this close to a solution already found would be polished to it (another
 /// solution within kSameSolutionRad is merged with it anyway, one farther lies outside Newton's
 /// path): it is that solution, unpolished. The twin search's null space at a solution's own x3
-/// returns that solution again, 1e-10 close (a third of the CRX's candidates).
+/// returns that solution again, 1e-10 close (a quarter of the CRX's candidates).
 constexpr double kSameStartRad = 1e-8;
 constexpr int kNewtonIterations = 20;
 /// An accepted Newton step this small (rad, largest joint) leaves an error of its square times
