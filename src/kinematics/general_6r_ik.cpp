@@ -69,7 +69,15 @@ constexpr double kSpuriousNull = 1e-10;
 constexpr double kAcceptPositionMm = 1e-9;
 constexpr double kAcceptOrientationRad = 1e-11;
 constexpr double kSameSolutionRad = 1e-6;
+/// A candidate starting this close to a solution already found would be polished to it (another
+/// solution within kSameSolutionRad is merged with it anyway, one farther lies outside Newton's
+/// path): it is that solution, unpolished. The twin search's null space at a solution's own x3
+/// returns that solution again, 1e-10 close (a quarter of the CRX's candidates).
+constexpr double kSameStartRad = 1e-8;
 constexpr int kNewtonIterations = 20;
+/// An accepted Newton step this small (rad, largest joint) leaves an error of its square times
+/// the curvature, below rounding: the polish stops there without one more step to confirm.
+constexpr double kConvergedStepRad = 1e-10;
 
 Pose<double> rot_z(double theta) {
   const double c = std::cos(theta), s = std::sin(theta);
@@ -161,6 +169,171 @@ General6rElimination kept_joints_elimination(const Pose<double>& K3, const Pose<
   return e;
 }
 
+/// The elementary reflector I − τ·u·uᵀ, u = [1; ess], that maps x to (β, 0, …) (Eigen's
+/// makeHouseholder for a real vector, inlined: it is the inner loop of the eigenvalue QR).
+/// Returns β; τ = 0 when x's tail is already zero.
+template <int N>
+double make_reflector(const Eigen::Matrix<double, N, 1>& x, Eigen::Matrix<double, N - 1, 1>& ess,
+                      double& tau) {
+  const double tail = x.template tail<N - 1>().squaredNorm();
+  if (tail <= std::numeric_limits<double>::min()) {
+    tau = 0;
+    ess.setZero();
+    return x[0];
+  }
+  double beta = std::sqrt(x[0] * x[0] + tail);
+  if (x[0] >= 0) beta = -beta;
+  ess = x.template tail<N - 1>() / (x[0] - beta);
+  tau = (beta - x[0]) / beta;
+  return beta;
+}
+
+/// An elementary reflector I − τ·u·uᵀ, u = [1; ess], on rows and columns r..r+N−1 of T: from the
+/// left on columns `left_from`..`left_to`, then from the right on rows `right_from`..`right_to`.
+template <int N>
+void reflect(Companion& T, Eigen::Index r, const Eigen::Matrix<double, N - 1, 1>& ess, double tau,
+             Eigen::Index left_from, Eigen::Index left_to, Eigen::Index right_from,
+             Eigen::Index right_to) {
+  for (Eigen::Index j = left_from; j <= left_to; ++j) {
+    double t = T(r, j);
+    for (int i = 1; i < N; ++i) t += ess[i - 1] * T(r + i, j);
+    t *= tau;
+    T(r, j) -= t;
+    for (int i = 1; i < N; ++i) T(r + i, j) -= ess[i - 1] * t;
+  }
+  for (Eigen::Index i = right_from; i <= right_to; ++i) {
+    double t = T(i, r);
+    for (int k = 1; k < N; ++k) t += T(i, r + k) * ess[k - 1];
+    t *= tau;
+    T(i, r) -= t;
+    for (int k = 1; k < N; ++k) T(i, r + k) -= t * ess[k - 1];
+  }
+}
+
+/// The eigenvalues of the deflated companion, eigenvalues only (docs/method/02-frames.md §7):
+/// Eigen's Hessenberg reduction, then the Francis double-shift QR of Eigen's RealSchur (the same
+/// shifts, exceptional shifts, deflation test and iteration limit) with each step applied to the
+/// active window alone, as LAPACK's dlahqr does without the Schur form: the rows right of the
+/// window and the columns above it are read only by the Schur vectors and the full Schur form,
+/// which are not wanted. In the order of the quasi-triangular form, a complex pair + then −;
+/// false when the QR does not converge or an eigenvalue is not finite.
+bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 24>& lambda) {
+  using Eigen::Index;
+  using std::abs;
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  const Index n = C.rows();
+  const double scale = C.cwiseAbs().maxCoeff();
+  if (!(scale > 0)) {
+    std::fill(lambda.begin(), lambda.begin() + n, 0.0);
+    return true;
+  }
+  Companion T = Eigen::HessenbergDecomposition<Companion>(C / scale).matrixH();
+  double norm = 0;
+  for (Index j = 0; j < n; ++j) norm += T.col(j).head(std::min(n, j + 2)).cwiseAbs().sum();
+  const double negligible = std::max(norm * eps * eps, std::numeric_limits<double>::min());
+  Index iu = n - 1;
+  int iter = 0, total = 0;
+  double exshift = 0;
+  while (iu >= 0) {
+    Index il = iu;  // the window: T(il, il − 1) negligible
+    for (; il > 0; --il)
+      if (abs(T(il, il - 1)) <=
+          std::max((abs(T(il - 1, il - 1)) + abs(T(il, il))) * eps, negligible))
+        break;
+    if (il == iu) {
+      lambda[iu] = (T(iu, iu) + exshift) * scale;
+      --iu;
+      iter = 0;
+      continue;
+    }
+    if (il == iu - 1) {  // a 2×2 block: two real eigenvalues (Givens-triangularized) or a pair
+      Eigen::Matrix2d B = T.block<2, 2>(iu - 1, iu - 1);
+      const double p = 0.5 * (B(0, 0) - B(1, 1)), q = p * p + B(1, 0) * B(0, 1);
+      B.diagonal().array() += exshift;
+      if (q >= 0) {
+        const double z = std::sqrt(q);
+        Eigen::JacobiRotation<double> rot;
+        rot.makeGivens(p >= 0 ? p + z : p - z, B(1, 0));
+        B.applyOnTheLeft(0, 1, rot.adjoint());
+        B.applyOnTheRight(0, 1, rot);
+        lambda[iu - 1] = B(0, 0) * scale;
+        lambda[iu] = B(1, 1) * scale;
+      } else {
+        B *= scale;
+        const double h = 0.5 * (B(0, 0) - B(1, 1));
+        const double big = std::max(abs(h), std::max(abs(B(1, 0)), abs(B(0, 1))));
+        const double hb = h / big,
+                     z = big * std::sqrt(abs(hb * hb + (B(1, 0) / big) * (B(0, 1) / big)));
+        lambda[iu - 1] = {B(1, 1) + h, z};
+        lambda[iu] = {B(1, 1) + h, -z};
+      }
+      iu -= 2;
+      iter = 0;
+      continue;
+    }
+    // Shift (Eigen's computeShift: Wilkinson's exceptional shift at 10 iterations, MATLAB's at 30).
+    Eigen::Vector3d shift(T(iu, iu), T(iu - 1, iu - 1), T(iu, iu - 1) * T(iu - 1, iu));
+    if (iter == 10) {
+      exshift += shift[0];
+      for (Index i = 0; i <= iu; ++i) T(i, i) -= shift[0];
+      const double s = abs(T(iu, iu - 1)) + abs(T(iu - 1, iu - 2));
+      shift << 0.75 * s, 0.75 * s, -0.4375 * s * s;
+    }
+    if (iter == 30) {
+      double s = (shift[1] - shift[0]) / 2.0;
+      s = s * s + shift[2];
+      if (s > 0) {
+        s = std::sqrt(s);
+        if (shift[1] < shift[0]) s = -s;
+        s = shift[0] - shift[2] / (s + (shift[1] - shift[0]) / 2.0);
+        exshift += s;
+        for (Index i = 0; i <= iu; ++i) T(i, i) -= s;
+        shift.setConstant(0.964);
+      }
+    }
+    ++iter;
+    if (++total > 40 * n) return false;
+    // Where the step starts (two consecutive small subdiagonals) and its first reflector.
+    Eigen::Vector3d v;
+    Index im = iu - 2;
+    for (;; --im) {
+      const double Tmm = T(im, im), r = shift[0] - Tmm, s = shift[1] - Tmm;
+      v << (r * s - shift[2]) / T(im + 1, im) + T(im, im + 1), T(im + 1, im + 1) - Tmm - r - s,
+          T(im + 2, im + 1);
+      if (im == il) break;
+      const double lhs = T(im, im - 1) * (abs(v[1]) + abs(v[2]));
+      const double rhs = v[0] * (abs(T(im - 1, im - 1)) + abs(Tmm) + abs(T(im + 1, im + 1)));
+      if (abs(lhs) < eps * rhs) break;
+    }
+    for (Index k = im; k <= iu - 2; ++k) {
+      if (k > im) v = T.block<3, 1>(k, k - 1);
+      Eigen::Vector2d ess;
+      double tau;
+      const double beta = make_reflector<3>(v, ess, tau);
+      if (beta == 0) continue;
+      if (k > im)
+        T(k, k - 1) = beta;
+      else if (k > il)
+        T(k, k - 1) = -T(k, k - 1);
+      reflect<3>(T, k, ess, tau, k, iu, il, std::min(iu, k + 3));
+    }
+    Eigen::Matrix<double, 1, 1> ess;
+    double tau;
+    const double beta =
+        make_reflector<2>(Eigen::Vector2d(T(iu - 1, iu - 2), T(iu, iu - 2)), ess, tau);
+    if (beta != 0) {
+      T(iu - 1, iu - 2) = beta;
+      reflect<2>(T, iu - 1, ess, tau, iu - 1, iu, il, iu);
+    }
+    for (Index i = im + 2; i <= iu; ++i) {  // rounding pollution below the subdiagonal
+      T(i, i - 2) = 0;
+      if (i > im + 2) T(i, i - 3) = 0;
+    }
+  }
+  return std::all_of(lambda.begin(), lambda.begin() + n,
+                     [](const std::complex<double>& l) { return std::isfinite(std::abs(l)); });
+}
+
 /// Pose of the chain's flange and, if asked, each joint's axis origin and direction.
 struct Frames {
   Pose<double> flange;
@@ -168,11 +341,19 @@ struct Frames {
   std::array<Pose<double>, kJointCount> frame;
 };
 
+/// F·Rz(θ): the x and y axes turn, the z axis and the origin stay (cheaper than the product).
+void turn_about_z(Pose<double>& F, double theta) {
+  const double c = std::cos(theta), s = std::sin(theta);
+  const Eigen::Vector3d x = F.R.col(0);
+  F.R.col(0) = c * x + s * F.R.col(1);
+  F.R.col(1) = c * F.R.col(1) - s * x;
+}
+
 Frames forward(const General6rGeometry& g, const Angles& theta) {
   Frames f;
   Pose<double> F = g.base;
   for (int i = 0; i < kJointCount; ++i) {
-    F = F * rot_z(theta[i]);
+    turn_about_z(F, theta[i]);
     f.frame[i] = F;
     f.origin[i] = F.p;
     f.axis[i] = F.R.col(2);
@@ -189,7 +370,7 @@ double wrap(double angle) {
 /// Newton on the exact chain from `theta`; true when it reproduces `target` within the
 /// acceptance tolerances.
 bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& theta) {
-  double previous = std::numeric_limits<double>::infinity();
+  double previous = std::numeric_limits<double>::infinity(), last_step = previous;
   for (int it = 0;; ++it) {
     const Frames f = forward(g, theta);
     Eigen::Matrix<double, 6, 1> e;
@@ -198,9 +379,12 @@ bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& thet
     e.tail<3>() = aa.angle() * aa.axis();
     const bool accepted =
         e.head<3>().norm() <= kAcceptPositionMm && e.tail<3>().norm() <= kAcceptOrientationRad;
-    // Once accepted, go on while a step still gains (quadratic convergence down to rounding).
+    // Once accepted, go on while a step still gains (quadratic convergence down to rounding),
+    // unless the last step was already so small that the next would be below rounding.
     const double error = e.head<3>().norm() / g.length_scale + e.tail<3>().norm();
-    if (it == kNewtonIterations || (accepted && error > 0.25 * previous)) return accepted;
+    if (it == kNewtonIterations ||
+        (accepted && (error > 0.25 * previous || last_step <= kConvergedStepRad)))
+      return accepted;
     previous = error;
     Matrix6d J;
     for (int i = 0; i < kJointCount; ++i) {
@@ -211,6 +395,7 @@ bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& thet
     if (!step.allFinite()) return accepted;
     const double largest = step.cwiseAbs().maxCoeff();
     if (largest > 0.3) step *= 0.3 / largest;  // far from a root: stay in its basin
+    last_step = std::min(largest, 0.3);
     for (int i = 0; i < kJointCount; ++i) theta[i] += step[i];
   }
 }
@@ -414,8 +599,9 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   // does not converge, with the next such shift.
   std::array<Matrix12, 3> M;
   double phi3 = 0;
-  Eigen::EigenSolver<Companion> eigen;
-  for (unsigned tried = 0; tried == 0 || eigen.info() != Eigen::Success;) {
+  std::array<std::complex<double>, 24> eigenvalues;
+  int eigenvalue_count = 0;
+  for (unsigned tried = 0; eigenvalue_count == 0;) {
     int pick = -1;
     double best_rcond = 1e-15;
     for (int s = 0; s < 4; ++s) {
@@ -434,7 +620,9 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     phi3 = kShifts3[pick];
     const Eigen::PartialPivLU<Matrix12> lead(M[2]);
     const CompanionBasis lower = lead.solve(M[0] * kept.top + M[1] * kept.bottom);
-    eigen.compute(Companion(kept.top_t_bottom - kept.bottom.transpose() * lower), false);
+    const Companion companion = kept.top_t_bottom - kept.bottom.transpose() * lower;
+    if (companion_eigenvalues(companion, eigenvalues))
+      eigenvalue_count = static_cast<int>(companion.rows());
   }
   int count = 0;
   // One candidate (x3, v): θ4, θ5 from v's monomial ratios, θ1, θ2, θ6 from the pose, polished.
@@ -453,13 +641,19 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     solve_first_and_last(K, Tp, phi);
     Angles theta;
     for (int i = 0; i < kJointCount; ++i) theta[(i + g.cyclic_shift) % kJointCount] = phi[i];
+    // The solution found within `radius` of theta, else -1.
+    const auto known = [&](double radius) {
+      for (int s = 0; s < count; ++s) {
+        double d = 0;
+        for (int i = 0; i < kJointCount; ++i) d = std::max(d, std::abs(wrap(out[s][i] - theta[i])));
+        if (d < radius) return s;
+      }
+      return -1;
+    };
+    if (const int s = known(kSameStartRad); s >= 0) return s;
     if (!polish(g, world_T_flange, theta)) return -1;
     for (double& t : theta) t = wrap(t);
-    for (int s = 0; s < count; ++s) {
-      double d = 0;
-      for (int i = 0; i < kJointCount; ++i) d = std::max(d, std::abs(wrap(out[s][i] - theta[i])));
-      if (d < kSameSolutionRad) return s;
-    }
+    if (const int s = known(kSameSolutionRad); s >= 0) return s;
     out[count] = theta;
     return count++;
   };
@@ -489,11 +683,11 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   // Real candidates (both members of a near-real conjugate pair), by real part.
   std::array<int, 24> order{};
   int n = 0;
-  for (int e = 0; e < eigen.eigenvalues().size(); ++e) {
-    const std::complex<double> lambda = eigen.eigenvalues()[e];
+  for (int e = 0; e < eigenvalue_count; ++e) {
+    const std::complex<double> lambda = eigenvalues[e];
     if (std::abs(lambda.imag()) <= kRealEigenvalue * (1 + std::abs(lambda))) order[n++] = e;
   }
-  const auto x3_of = [&](int e) { return eigen.eigenvalues()[e].real(); };
+  const auto x3_of = [&](int e) { return eigenvalues[e].real(); };
   std::sort(order.begin(), order.begin() + n, [&](int a, int b) { return x3_of(a) < x3_of(b); });
   for (int b = 0, e = 0; b < n; b = e) {
     reached = 0;
@@ -510,7 +704,7 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     double x3 = 0;
     int found = 0;
     for (int k = b; k < e; ++k) {
-      const std::complex<double> lambda = eigen.eigenvalues()[order[k]];
+      const std::complex<double> lambda = eigenvalues[order[k]];
       x3 += lambda.real() / (e - b);
       if (lambda.imag() >= 0 && found < e - b)
         found = std::max(found, null_space_candidates(lambda.real(), 1));
@@ -524,11 +718,10 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     // x3 do not count.
     bool crowded = false;
     for (int k = b; k < e && !crowded; ++k)
-      for (int o = 0; o < eigen.eigenvalues().size() && !crowded; ++o) {
-        const std::complex<double> lambda = eigen.eigenvalues()[order[k]];
+      for (int o = 0; o < eigenvalue_count && !crowded; ++o) {
+        const std::complex<double> lambda = eigenvalues[order[k]];
         const bool inside = std::find(order.begin() + b, order.begin() + e, o) != order.begin() + e;
-        crowded = !inside &&
-                  std::abs(eigen.eigenvalues()[o] - lambda) <= kCrowded * (1 + std::abs(lambda));
+        crowded = !inside && std::abs(eigenvalues[o] - lambda) <= kCrowded * (1 + std::abs(lambda));
       }
     const auto x3_of_solution = [&](int s) {
       return std::tan(wrap(out[s][(2 + g.cyclic_shift) % kJointCount] - phi3) / 2);

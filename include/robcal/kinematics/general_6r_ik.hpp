@@ -22,10 +22,12 @@
 /// v = (x4^i·x5^j), i ≤ 3, j ≤ 2. Its 24×24 companion matrix has 8 spurious eigenvalues x3 = ±i
 /// whose eigenvectors depend on the geometry alone; restricted to their orthogonal complement
 /// (computed once per geometry) it is 16×16 (docs/method/02-frames.md §7). Its real eigenvalues
-/// are the θ3 of the solutions, v (null vector of M(x3)) gives θ4 and θ5; θ2 from the 3×5 linear
-/// system of the two-rotation subproblem, θ1 and θ6 from the pose. Every candidate is polished by
-/// Newton on the exact forward kinematics and kept only when it reproduces the pose within 1e-9 mm
-/// and 1e-11 rad; duplicates (within 1e-6 rad) are merged.
+/// are the θ3 of the solutions (eigenvalues only: Hessenberg and Francis QR on the active
+/// window), v (null vector of M(x3)) gives θ4 and θ5; θ2 from the 3×5 linear system of the
+/// two-rotation subproblem, θ1 and θ6 from the pose. Every candidate is polished by Newton on the
+/// exact forward kinematics (unless it starts within 1e-8 rad of a solution already found: it is
+/// that one) and kept only when it reproduces the pose within 1e-9 mm and 1e-11 rad; duplicates
+/// (within 1e-6 rad) are merged.
 ///
 /// Limits of the method: on special shapes (many zero lengths and twists) the elimination
 /// started at joint 1 degenerates; `analyze_general_6r` takes the first cyclic start of the loop
