@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <bit>
@@ -10,6 +11,7 @@
 #include <complex>
 #include <limits>
 #include <numbers>
+#include <type_traits>
 #include <vector>
 
 #include "ik_sink.hpp"
@@ -334,30 +336,44 @@ bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 
                      [](const std::complex<double>& l) { return std::isfinite(std::abs(l)); });
 }
 
-/// Pose of the chain's flange and, if asked, each joint's axis origin and direction.
+/// Pose of the chain's flange and each joint's frame, axis origin and direction.
+template <typename T>
 struct Frames {
-  Pose<double> flange;
-  std::array<Eigen::Vector3d, kJointCount> origin, axis;
-  std::array<Pose<double>, kJointCount> frame;
+  Pose<T> flange;
+  std::array<Vector3<T>, kJointCount> origin, axis;
+  std::array<Pose<T>, kJointCount> frame;
 };
 
 /// F·Rz(θ): the x and y axes turn, the z axis and the origin stay (cheaper than the product).
-void turn_about_z(Pose<double>& F, double theta) {
-  const double c = std::cos(theta), s = std::sin(theta);
-  const Eigen::Vector3d x = F.R.col(0);
+template <typename T>
+void turn_about_z(Pose<T>& F, T theta) {
+  using std::cos;
+  using std::sin;
+  const T c = cos(theta), s = sin(theta);
+  const Vector3<T> x = F.R.col(0);
   F.R.col(0) = c * x + s * F.R.col(1);
   F.R.col(1) = c * F.R.col(1) - s * x;
 }
 
-Frames forward(const General6rGeometry& g, const Angles& theta) {
-  Frames f;
-  Pose<double> F = g.base;
+template <typename T>
+Pose<T> cast_pose(const Pose<double>& pose) {
+  if constexpr (std::is_same_v<T, double>)
+    return pose;
+  else
+    return {pose.R.cast<T>(), pose.p.cast<T>()};
+}
+
+/// The chain B·Rz(θ1)·K1 ⋯ K5·Rz(θ6) in T (double, or long double for the refinement).
+template <typename T>
+Frames<T> forward(const General6rGeometry& g, const std::array<T, kJointCount>& theta) {
+  Frames<T> f;
+  Pose<T> F = cast_pose<T>(g.base);
   for (int i = 0; i < kJointCount; ++i) {
     turn_about_z(F, theta[i]);
     f.frame[i] = F;
     f.origin[i] = F.p;
     f.axis[i] = F.R.col(2);
-    if (i < kJointCount - 1) F = F * g.link[i];
+    if (i < kJointCount - 1) F = F * cast_pose<T>(g.link[i]);
   }
   f.flange = F;
   return f;
@@ -367,30 +383,77 @@ double wrap(double angle) {
   return std::remainder(angle, 2.0 * std::numbers::pi);
 }
 
+/// The pose error (position mm, rotation vector rad) of the chain's flange against `target`
+/// and the geometric Jacobian of the joints, in T.
+template <typename T>
+void pose_error_and_jacobian(const Frames<T>& f, const Pose<T>& target, Eigen::Matrix<T, 6, 1>& e,
+                             Eigen::Matrix<T, 6, 6>& J) {
+  e.template head<3>() = target.p - f.flange.p;
+  const Eigen::AngleAxis<T> aa(Eigen::Matrix<T, 3, 3>(target.R * f.flange.R.transpose()));
+  e.template tail<3>() = aa.angle() * aa.axis();
+  for (int i = 0; i < kJointCount; ++i) {
+    J.template block<3, 1>(0, i) = f.axis[i].cross(f.flange.p - f.origin[i]);
+    J.template block<3, 1>(3, i) = f.axis[i];
+  }
+}
+
+/// Where the Jacobian is this close to singular (smallest to largest pivot of its LU, lengths
+/// scaled), the solution is determined only to the rounding of the double chain divided by it —
+/// 1e-9 rad and more beside a near-double root (two solutions 1e-6 rad apart on a CRX-10iA/L):
+/// Newton goes on in long double (docs/method/02-frames.md §7).
+constexpr double kIllConditionedPivots = 1e-6;
+constexpr int kExtendedIterations = 6;
+constexpr double kExtendedStepRad = 1e-11;
+
+/// Newton steps in long double from an accepted `theta`: the chain's own rounding, 1e-13 mm in
+/// double, no longer hides the root of an ill-conditioned pose. Kept when they converge (a last
+/// step below kExtendedStepRad) within kSameSolutionRad of the start: this solution's root, not
+/// its twin's.
+void refine_extended(const General6rGeometry& g, const Pose<double>& target, Angles& theta) {
+  using Extended = long double;
+  std::array<Extended, kJointCount> x;
+  for (int i = 0; i < kJointCount; ++i) x[i] = theta[i];
+  const Pose<Extended> goal = cast_pose<Extended>(target);
+  Eigen::Matrix<Extended, 6, 1> e;
+  Eigen::Matrix<Extended, 6, 6> J;
+  Extended last_step = std::numeric_limits<Extended>::infinity();
+  for (int it = 0; it < kExtendedIterations && last_step > kExtendedStepRad; ++it) {
+    pose_error_and_jacobian(forward(g, x), goal, e, J);
+    const Eigen::Matrix<Extended, 6, 1> step = J.colPivHouseholderQr().solve(e);
+    if (!step.allFinite()) return;
+    for (int i = 0; i < kJointCount; ++i) x[i] += step[i];
+    last_step = step.cwiseAbs().maxCoeff();
+  }
+  if (last_step > kExtendedStepRad) return;
+  for (int i = 0; i < kJointCount; ++i)
+    if (std::abs(static_cast<double>(x[i]) - theta[i]) > kSameSolutionRad) return;
+  for (int i = 0; i < kJointCount; ++i) theta[i] = static_cast<double>(x[i]);
+}
+
 /// Newton on the exact chain from `theta`; true when it reproduces `target` within the
 /// acceptance tolerances.
 bool polish(const General6rGeometry& g, const Pose<double>& target, Angles& theta) {
   double previous = std::numeric_limits<double>::infinity(), last_step = previous;
+  Vector6d e;
+  Matrix6d J;
   for (int it = 0;; ++it) {
-    const Frames f = forward(g, theta);
-    Eigen::Matrix<double, 6, 1> e;
-    e.head<3>() = target.p - f.flange.p;
-    const Eigen::AngleAxisd aa(Eigen::Matrix3d(target.R * f.flange.R.transpose()));
-    e.tail<3>() = aa.angle() * aa.axis();
+    pose_error_and_jacobian(forward(g, theta), target, e, J);
     const bool accepted =
         e.head<3>().norm() <= kAcceptPositionMm && e.tail<3>().norm() <= kAcceptOrientationRad;
     // Once accepted, go on while a step still gains (quadratic convergence down to rounding),
     // unless the last step was already so small that the next would be below rounding.
     const double error = e.head<3>().norm() / g.length_scale + e.tail<3>().norm();
     if (it == kNewtonIterations ||
-        (accepted && (error > 0.25 * previous || last_step <= kConvergedStepRad)))
+        (accepted && (error > 0.25 * previous || last_step <= kConvergedStepRad))) {
+      if (accepted) {
+        J.topRows<3>() /= g.length_scale;
+        const Vector6d pivots = J.partialPivLu().matrixLU().diagonal().cwiseAbs();
+        if (pivots.minCoeff() < kIllConditionedPivots * pivots.maxCoeff())
+          refine_extended(g, target, theta);
+      }
       return accepted;
-    previous = error;
-    Matrix6d J;
-    for (int i = 0; i < kJointCount; ++i) {
-      J.block<3, 1>(0, i) = f.axis[i].cross(f.flange.p - f.origin[i]);
-      J.block<3, 1>(3, i) = f.axis[i];
     }
+    previous = error;
     Vector6d step = J.partialPivLu().solve(e);
     if (!step.allFinite()) return accepted;
     const double largest = step.cwiseAbs().maxCoeff();
@@ -467,7 +530,7 @@ void null_space_monomials(const Eigen::Matrix<double, 12, K>& N, Use&& use) {
   for (int c = 0; c < K; ++c) use(Vector12(N * eigen.eigenvectors().col(c).real()));
 }
 
-ArmConfig label(const Frames& f, double theta5) {
+ArmConfig label(const Frames<double>& f, double theta5) {
   const Eigen::Vector3d x1 = f.frame[0].R.col(0), y1 = f.frame[0].R.col(1);
   const Eigen::Vector3d S = f.frame[1].p, E = f.frame[2].p, W = f.frame[3].p;
   ArmConfig c{};
