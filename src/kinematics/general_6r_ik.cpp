@@ -222,7 +222,7 @@ void reflect(Companion& T, Eigen::Index r, const Eigen::Matrix<double, N - 1, 1>
 bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 24>& lambda) {
   using Eigen::Index;
   using std::abs;
-  constexpr double eps = std::numeric_limits<double>::epsilon();
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
   const Index n = C.rows();
   const double scale = C.cwiseAbs().maxCoeff();
   if (!(scale > 0)) {
@@ -232,7 +232,7 @@ bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 
   Companion T = Eigen::HessenbergDecomposition<Companion>(C / scale).matrixH();
   double norm = 0;
   for (Index j = 0; j < n; ++j) norm += T.col(j).head(std::min(n, j + 2)).cwiseAbs().sum();
-  const double negligible = std::max(norm * eps * eps, std::numeric_limits<double>::min());
+  const double negligible = std::max(norm * kEps * kEps, std::numeric_limits<double>::min());
   Index iu = n - 1;
   int iter = 0, total = 0;
   double exshift = 0;
@@ -240,7 +240,7 @@ bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 
     Index il = iu;  // the window: T(il, il − 1) negligible
     for (; il > 0; --il)
       if (abs(T(il, il - 1)) <=
-          std::max((abs(T(il - 1, il - 1)) + abs(T(il, il))) * eps, negligible))
+          std::max((abs(T(il - 1, il - 1)) + abs(T(il, il))) * kEps, negligible))
         break;
     if (il == iu) {
       lambda[iu] = (T(iu, iu) + exshift) * scale;
@@ -305,7 +305,7 @@ bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 
       if (im == il) break;
       const double lhs = T(im, im - 1) * (abs(v[1]) + abs(v[2]));
       const double rhs = v[0] * (abs(T(im - 1, im - 1)) + abs(Tmm) + abs(T(im + 1, im + 1)));
-      if (abs(lhs) < eps * rhs) break;
+      if (abs(lhs) < kEps * rhs) break;
     }
     for (Index k = im; k <= iu - 2; ++k) {
       if (k > im) v = T.block<3, 1>(k, k - 1);
