@@ -13,6 +13,7 @@
 #include "robcal/campaign/cell.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/design/task_region.hpp"
 #include "robcal/hexapod/device_validation.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
@@ -327,7 +328,8 @@ const bool registered = register_bindings(60, [](py::module_& m) {
          double cup_diameter_mm, const std::optional<std::string>& cell,
          const std::optional<std::array<double, 3>>& tool_cup4_mm,
          const std::vector<std::string>& identify,
-         const std::optional<std::array<double, 3>>& base_cup4_mm) {
+         const std::optional<std::array<double, 3>>& base_cup4_mm,
+         const std::optional<std::string>& task_box) {
         PlacementSearchRequest r;
         r.plan = plan_request(robot, base_sides_mm, tool_sides_mm, leg_mm, tool_offset_mm,
                               ball_offset_mm, table_z_mm, angle_deg, distance_mm, gauge_range_mm,
@@ -335,6 +337,7 @@ const bool registered = register_bindings(60, [](py::module_& m) {
         r.plan.geometry.tool_cup4_mm = tool_cup4_mm;
         r.plan.geometry.base_cup4_mm = base_cup4_mm;
         check_geometry(r.plan.geometry);  // as the CLI: the fixtures before the measured plans
+        if (task_box) r.task_box = parse_task_box(*task_box, "task_box");
         for (const std::string& plan : measured)
           r.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
         r.x_mm = x_mm;
@@ -369,19 +372,21 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("gauge_sigma_mm") = LengthGauge{}.sigma_mm,
       py::arg("cup_diameter_mm") = CupClearance{}.cup_diameter_mm, py::arg("cell") = py::none(),
       py::arg("tool_cup4_mm") = py::none(), py::arg("identify") = std::vector<std::string>{},
-      py::arg("base_cup4_mm") = py::none(),
+      py::arg("base_cup4_mm") = py::none(), py::arg("task_box") = py::none(),
       "Placement search (`robcal hexapod place`): the grid's placements ranked by predicted "
       "accuracy, and the best pairs; with `measured` (plan files of the placements already "
       "measured) the grid's placements ranked as the next one ('next'); the fixtures, offsets, "
       "pruning, gauge (range and σ, mm), cup diameter, cell file and fourth cups as `plan`'s "
       "(the CLI's flags); `identify`: opt-in groups or patterns predicted for too (`--identify`); "
-      "the CLI's JSON as a dict");
+      "`task_box` \"xmin,xmax,ymin,ymax,zmin,zmax\" (mm, robot frame): the task region the "
+      "predictions are over (`--task-box`; default the whole workspace); the CLI's JSON as a dict");
   h.def(
       "design",
       [](const std::vector<std::string>& plans, int count, const std::string& level, int validation,
          uint64_t seed, const std::vector<std::string>& out,
-         const std::vector<std::string>& identify) {
+         const std::vector<std::string>& identify, const std::optional<std::string>& task_box) {
         PlacementsDesignRequest r;
+        if (task_box) r.task_box = parse_task_box(*task_box, "task_box");
         r.plan_files = plans;
         r.count = count;
         r.level = parse_calibration_level(level);
@@ -399,10 +404,12 @@ const bool registered = register_bindings(60, [](py::module_& m) {
       py::arg("plans"), py::arg("count") = 0, py::arg("level") = "kinematic",
       py::arg("validation") = 2000, py::arg("seed") = 1,
       py::arg("out") = std::vector<std::string>{}, py::arg("identify") = std::vector<std::string>{},
+      py::arg("task_box") = py::none(),
       "Which configurations to measure at each of several planned placements (`robcal hexapod "
       "design`): plans = plan files written by `plan`, count = configurations in all (0: as many "
       "as the first plan offers); `out` = one reduced plan file per plan (none written for a "
-      "placement with nothing chosen); `identify` as `place`'s; the CLI's JSON as a dict");
+      "placement with nothing chosen); `identify` and `task_box` as `place`'s; the CLI's JSON as "
+      "a dict");
   h.def(
       "device_validation",
       [](const std::array<double, 3>& base_sides_mm, const std::array<double, 3>& tool_sides_mm,

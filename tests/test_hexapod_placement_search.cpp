@@ -164,6 +164,32 @@ TEST(HexapodPlacementSearch, RanksReachablePlacementsAndPredictsWhatAStraightCom
       pair.equal_count_configurations, pair.equal_count_mean_mm);
 }
 
+// A task region (`--task-box`): the predictions are over configurations putting the tool fixture
+// in the box, tool axis down. Measured from one placement, the model is best where it was
+// measured: a box over the base fixture predicts less than the same box on the far side of the
+// robot. A box the robot cannot reach is refused naming the flag.
+TEST(HexapodPlacementSearch, TaskBoxPredictsOverTheTaskRegion) {
+  const RobotModel model = load_robot("fanuc-lrmate200ic");
+  PlacementSearchRequest request;  // the one placement 450,0,300,0
+  request.validation_configurations = 300;
+  const auto predicted = [&](const std::optional<TaskBox>& box) {
+    request.task_box = box;
+    const PlacementSearchResult r = search_placements(model, request);
+    EXPECT_EQ(r.task_box.has_value(), box.has_value());
+    return r.ranked.front().predicted_mean_mm;
+  };
+  const double workspace = predicted(std::nullopt);
+  const double over_fixture = predicted(TaskBox{{350, -100, 450}, {550, 100, 600}});
+  const double far_side = predicted(TaskBox{{-550, -100, 450}, {-350, 100, 600}});
+  std::printf(
+      "predicted mean: whole workspace %.6f mm, over the fixture %.6f mm, far side %.6f mm\n",
+      workspace, over_fixture, far_side);
+  EXPECT_LT(over_fixture, far_side);
+  EXPECT_NE(over_fixture, workspace);
+  request.task_box = TaskBox{{3000, 0, 0}, {3100, 100, 100}};
+  EXPECT_REFUSED(search_placements(model, request), InputError, "--task-box");
+}
+
 TEST(HexapodPlacementSearch, BadGridsAreRefused) {
   const RobotModel model = load_robot("fanuc-lrmate200ic");
   PlacementSearchRequest request;

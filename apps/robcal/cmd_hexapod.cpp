@@ -17,6 +17,7 @@
 #include "robcal/campaign/cell.hpp"
 #include "robcal/core/error.hpp"
 #include "robcal/core/units.hpp"
+#include "robcal/design/task_region.hpp"
 #include "robcal/hexapod/device_validation.hpp"
 #include "robcal/hexapod/direct_kinematics.hpp"
 #include "robcal/hexapod/end_to_end.hpp"
@@ -450,10 +451,12 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
                const MeasuringOptions& m, const FourthCupOptions& fourth,
                const std::string& cell_path, const std::array<std::string, 5>& grid,
                const std::string& level, const std::vector<std::string>& identify, int validation,
-               uint64_t seed, int best, const std::vector<std::string>& measured, bool json) {
+               const std::string& task_box, uint64_t seed, int best,
+               const std::vector<std::string>& measured, bool json) {
   PlacementSearchRequest request;
   request.plan = o.request(geometry_options.geometry());
   fourth.apply(request.plan.geometry);  // flags before files
+  if (!task_box.empty()) request.task_box = parse_task_box(task_box, "--task-box");
   for (const std::string& plan : measured)
     request.measured.push_back(measured_placement(read_hexapod_plan(plan), plan));
   request.plan.gauge = m.gauge;
@@ -477,9 +480,10 @@ void run_place(const GeometryOptions& geometry_options, const CellOptions& o,
   }
   fmt::print(
       "{}: {} placements searched; {} of {} {} parameters identifiable from hexapod poses; pose "
-      "σ {:.5f} mm; predicted errors over {} random configurations in the joint limits (seed {})\n",
+      "σ {:.5f} mm; predicted errors over {} {} (seed {})\n",
       model.name, r.ranked.size(), r.identified_parameters.size(), r.parameters,
-      parameters_text(level, identify), r.pose_sigma_mm, validation, seed);
+      parameters_text(level, identify), r.pose_sigma_mm, validation,
+      task_region_text(request.task_box), seed);
   fmt::print("{:>4}  {:<22} {:>6}  {:>5} {:>7} {:>6} {:>8} {:>11} {:>10}\n", "rank", "x,y,z,yaw",
              "tilt", "poses", "configs", "undet", "O1", "pred. mean", "pred. max");
   for (int i = 0; i < best && i < static_cast<int>(r.ranked.size()); ++i) {
@@ -529,10 +533,10 @@ void run_design(const PlacementsDesignRequest& request, bool json) {
   }
   fmt::print(
       "{}: {} configurations chosen among {} placements ({} level; predicted errors over {} "
-      "random configurations in the joint limits, seed {})\n",
+      "{}, seed {})\n",
       r.robot, r.count, r.plans.size(),
       parameters_text(level_name(request.level), request.identify),
-      request.validation_configurations, request.seed);
+      request.validation_configurations, task_region_text(request.task_box), request.seed);
   for (size_t p = 0; p < r.plans.size(); ++p)
     fmt::print("  {:<32} placement {} tilt {:g}: {} of {} configurations{}\n",
                request.plan_files[p], placement_text(r.plans[p].cell->placement),
@@ -784,6 +788,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     auto level = std::make_shared<std::string>("kinematic");
     auto identify = std::make_shared<std::vector<std::string>>();
     auto validation = std::make_shared<int>(2000);
+    auto task_box = std::make_shared<std::string>();
     auto seed = std::make_shared<uint64_t>(1);
     auto best = std::make_shared<int>(5);
     auto measured = std::make_shared<std::vector<std::string>>();
@@ -806,6 +811,10 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     add_identify_option(cmd, *identify);
     cmd->add_option("--validation", *validation, "Random configurations the error is predicted on")
         ->capture_default_str();
+    cmd->add_option("--task-box", *task_box,
+                    "Task region xmin,xmax,ymin,ymax,zmin,zmax (mm, robot frame): predict over "
+                    "configurations putting the tool fixture there, tool axis down (default: the "
+                    "whole workspace)");
     cmd->add_option("--seed", *seed, "Seed of the validation configurations")
         ->capture_default_str();
     cmd->add_option("--best", *best, "How many placements and pairs to list")
@@ -816,7 +825,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
       run_place(*geometry, *cell, *measuring, *fourth, *cell_file, *grid, *level, *identify,
-                *validation, *seed, *best, *measured, *json);
+                *validation, *task_box, *seed, *best, *measured, *json);
     });
   }
   {
@@ -838,6 +847,10 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     cmd->add_option("--validation", request->validation_configurations,
                     "Random configurations the error is predicted on")
         ->capture_default_str();
+    auto task_box = std::make_shared<std::string>();
+    cmd->add_option("--task-box", *task_box,
+                    "Task region xmin,xmax,ymin,ymax,zmin,zmax (mm, robot frame), as `hexapod "
+                    "place --task-box` (default: the whole workspace)");
     cmd->add_option("--seed", request->seed, "Seed of the validation configurations")
         ->capture_default_str();
     cmd->add_option("--out", request->out_files,
@@ -846,6 +859,7 @@ const bool hexapod_registered = register_command(60, [](CLI::App& app) {
     cmd->add_flag("--json", *json, "Machine-readable output");
     cmd->callback([=] {
       request->level = parse_calibration_level(*level);
+      if (!task_box->empty()) request->task_box = parse_task_box(*task_box, "--task-box");
       run_design(*request, *json);
     });
   }

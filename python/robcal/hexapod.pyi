@@ -133,22 +133,24 @@ def place(robot: str = "fanuc-lrmate200ic", x_mm: Sequence[float] = ..., y_mm: S
           cell: Optional[str] = None,
           tool_cup4_mm: Optional[Tuple[float, float, float]] = None,
           identify: Sequence[str] = ...,
-          base_cup4_mm: Optional[Tuple[float, float, float]] = None) -> Dict[str, Any]:
+          base_cup4_mm: Optional[Tuple[float, float, float]] = None,
+          task_box: Optional[str] = None) -> Dict[str, Any]:
     """Placement search (`robcal hexapod place`): the grid's placements ranked by predicted
     accuracy, and the best pairs; with `measured` (plan files of the placements already
     measured) the grid's placements ranked as the next one ('next'); the fixtures, offsets,
     pruning, gauge (range and σ, mm), cup diameter, cell file and fourth cups as plan()'s
     (the CLI's flags); `identify`: opt-in groups or patterns predicted for too (`--identify`);
-    the CLI's JSON as a dict."""
+    `task_box` "xmin,xmax,ymin,ymax,zmin,zmax" (mm, robot frame): the task region the
+    predictions are over (`--task-box`; default the whole workspace); the CLI's JSON as a dict."""
 
 
 def design(plans: Sequence[str], count: int = 0, level: str = "kinematic", validation: int = 2000,
            seed: int = 1, out: Sequence[str] = ...,
-           identify: Sequence[str] = ...) -> Dict[str, Any]:
+           identify: Sequence[str] = ..., task_box: Optional[str] = None) -> Dict[str, Any]:
     """Which configurations to measure at each of several planned placements (`robcal hexapod
     design`): plans = plan files written by plan(), count = configurations in all (0: as many as
     the first plan offers); `out` = one reduced plan file per plan (none written for a placement
-    with nothing chosen); `identify` as place()'s; the CLI's JSON as a dict."""
+    with nothing chosen); `identify` and `task_box` as place()'s; the CLI's JSON as a dict."""
 
 
 def device_validation(base_sides_mm: Tuple[float, float, float] = ...,

@@ -167,6 +167,12 @@ Context make_context(const RobotModel& model, const Pose<double>& flange_T_tool,
     c.tcp_mm.push_back(flange_pose(model, PointMass{}, model.nominal(), k.joints) *
                        flange_T_tool.p);
   std::mt19937_64 rng(request.seed);
+  if (request.task_box) {
+    c.validation = task_box_configurations(model, tool, model.nominal(), unconstrained_joints(),
+                                           *request.task_box, request.validation_configurations,
+                                           rng, "--task-box");
+    return c;
+  }
   Vector6d lower, upper;
   for (int j = 0; j < kJointCount; ++j) {
     lower[j] = model.limits[j].lower;
@@ -226,7 +232,23 @@ void check_apart(const std::vector<MeasuredPlacement>& placements, double cleara
     }
 }
 
+/// The task box as [xmin, xmax, ymin, ymax, zmin, zmax] (mm), null for the whole workspace.
+nlohmann::json task_box_json(const std::optional<TaskBox>& box) {
+  if (!box) return nullptr;
+  return {box->min_mm.x(), box->max_mm.x(), box->min_mm.y(),
+          box->max_mm.y(), box->min_mm.z(), box->max_mm.z()};
+}
+
 }  // namespace
+
+std::string task_region_text(const std::optional<TaskBox>& task_box) {
+  if (!task_box) return "random configurations in the joint limits";
+  return fmt::format(
+      "configurations putting the tool fixture in the task box x {:g}..{:g}, y {:g}..{:g}, z "
+      "{:g}..{:g} mm (tool axis down)",
+      task_box->min_mm.x(), task_box->max_mm.x(), task_box->min_mm.y(), task_box->max_mm.y(),
+      task_box->min_mm.z(), task_box->max_mm.z());
+}
 
 MeasuredPlacement measured_placement(const HexapodPlan& plan, const std::string& source) {
   if (!plan.cell || !plan.session.setting_points)
@@ -333,6 +355,7 @@ PlacementSearchResult search_placements(const RobotModel& model,
   result.best = request.best;
   result.level = request.level;
   result.identify = request.identify;
+  result.task_box = request.task_box;
   result.parameters = static_cast<int>(searched_parameters(model, request).size());
   result.pose_sigma_mm = pose_sigma_mm(request);
   if (std::none_of(scores.begin(), scores.end(),
@@ -599,6 +622,7 @@ PlacementsDesignResult design_placements(const PlacementsDesignRequest& request)
   search.level = request.level;
   search.identify = request.identify;
   search.validation_configurations = request.validation_configurations;
+  search.task_box = request.task_box;
   search.seed = request.seed;
   result.robot = model.name;
   result.count = request.count > 0 ? request.count : result.offered.front();
@@ -636,6 +660,7 @@ nlohmann::json placements_design_json(const PlacementsDesignRequest& request,
            {"level", level_name(request.level)},
            {"identify", request.identify},
            {"validation_configurations", request.validation_configurations},
+           {"task_box", task_box_json(request.task_box)},
            {"seed", request.seed},
            {"design", prediction(r.design)},
            {"first_alone", prediction(r.first_alone)}};
@@ -657,6 +682,7 @@ nlohmann::json placement_search_json(const PlacementSearchResult& r) {
   const int best = r.best;
   json out{{"level", level_name(r.level)},
            {"identify", r.identify},
+           {"task_box", task_box_json(r.task_box)},
            {"parameters", r.parameters},
            {"identified_parameters", r.identified_parameters.size()},
            {"pose_sigma_mm", rounded(r.pose_sigma_mm, 9)},

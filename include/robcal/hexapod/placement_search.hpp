@@ -14,11 +14,13 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "robcal/design/task_region.hpp"
 #include "robcal/hexapod/plan_file.hpp"
 #include "robcal/identify/unknowns.hpp"
 
@@ -52,7 +54,10 @@ struct PlacementSearchRequest {
   /// geometry it is scaled by worst_tool_cup_uncertainty's all_legs / design_legs over the poses
   /// planned with it (§7).
   double pose_sigma_multiple = 3.2;
-  int validation_configurations = 2000;  ///< random configurations in the joint limits
+  int validation_configurations = 2000;  ///< random configurations in the joint limits …
+  /// … or, given, configurations putting the tool fixture's frame in this box of the robot frame
+  /// (tool axis down, task_region.hpp): the task region the predictions are over.
+  std::optional<TaskBox> task_box;
   uint64_t seed = 1;
   /// How many placements, pairs and next placements to report (≥ 1); pairs are searched among
   /// the max(best, 2) best single placements.
@@ -60,6 +65,10 @@ struct PlacementSearchRequest {
   /// Placements already measured (none: no `next` ranking). Each once, apart from each other.
   std::vector<MeasuredPlacement> measured;
 };
+
+/// What the predictions are over, as the CLI prints it: "random configurations in the joint
+/// limits" or the task box.
+std::string task_region_text(const std::optional<TaskBox>& task_box);
 
 struct PlacementScore {
   std::array<double, 4> placement{};  ///< x, y, z (mm), yaw (deg)
@@ -101,6 +110,7 @@ struct PlacementSearchResult {
   std::vector<PlacementPair> pairs;  ///< best first (predicted mean error of the union)
   CalibrationLevel level = CalibrationLevel::Kinematic;  ///< the request's
   std::vector<std::string> identify;                     ///< the request's opt-in groups
+  std::optional<TaskBox> task_box;                       ///< the request's task region
   int parameters = 0;                                    ///< asked for at the level and by identify
   /// The design's parameters (layout indices): the level's less those no placement determines.
   std::vector<int> identified_parameters;
@@ -151,6 +161,7 @@ struct PlacementsDesignRequest {
   CalibrationLevel level = CalibrationLevel::Kinematic;
   std::vector<std::string> identify;  ///< as PlacementSearchRequest::identify
   int validation_configurations = 2000;
+  std::optional<TaskBox> task_box;  ///< as PlacementSearchRequest::task_box
   uint64_t seed = 1;
   /// Where to write each reduced plan (none, or one per plan file, in order; all written or none,
   /// write_files_atomically). A placement with nothing chosen is not worth setting up: no plan
