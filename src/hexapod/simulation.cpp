@@ -104,7 +104,7 @@ SimulatedHexapodCell set_up_simulated_cell(const TrueRobot& truth, const RobotMo
     const IkResult ik = nominal_ik(*geometry, robot_T_flange);
     const IkSolution* s = nearest_solution(ik, Vector6d::Zero());
     if (s == nullptr)
-      throw InputError({"", 0, 0, "--placement"},
+      throw InputError({"", 0, 0, cup == 4 ? "--base-cup4-mm" : "--placement"},
                        fmt::format("the robot cannot put the setting ball at base cup B{} ({})",
                                    cup, to_string(ik.status)));
     return Eigen::Vector3d(true_flange_pose(truth, s->joints) * ball_flange);
