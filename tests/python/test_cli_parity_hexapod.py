@@ -28,6 +28,18 @@ def numbers(values):
     return ",".join(repr(float(v)) for v in np.ravel(values))
 
 
+
+def simulated_session(plan, folder):
+    """The plan's session run to the end with simulated readings (seed 5): its folder."""
+    folder.mkdir()
+    plan.save(str(folder / "plan.json"))
+    sim = hexapod.simulate_readings(plan, seed=5, validation=0)
+    assert sim["legs_out_of_range"] == 0
+    done = hexapod.session(str(folder / "plan.json"), str(folder / "journal.jsonl"),
+                           sim["text"].splitlines())
+    assert done["status"] == "complete"
+    return folder
+
 def test_dkp():
     pose = hexapod.enumerate_poses()[7]
     legs = hexapod.leg_lengths(hexapod.triangle_from_sides([300, 300, 300]), pose["tool_cups"])
@@ -199,14 +211,7 @@ def test_fourth_tool_cup_plan_session_calibrate(tmp_path):
     assert (tmp_path / "py_plan.json").read_text() == pathlib.Path(cli_plan).read_text()
     legs = [c["legs"] for c in json.loads(plan.to_json())["configurations"]]
     assert legs and all(len(x) == 7 and x[6].endswith("-T4") for x in legs)
-    session = tmp_path / "s"
-    session.mkdir()
-    plan.save(str(session / "plan.json"))
-    sim = hexapod.simulate_readings(plan, seed=5, validation=0)
-    assert sim["legs_out_of_range"] == 0
-    done = hexapod.session(str(session / "plan.json"), str(session / "journal.jsonl"),
-                           sim["text"].splitlines())
-    assert done["status"] == "complete"
+    session = simulated_session(plan, tmp_path / "s")
     for fit in ("poses", "legs"):
         c = cli_json("hexapod", "calibrate", "--session", str(session), "--fit", fit, "--out",
                      str(tmp_path / f"cli_{fit}.yaml"))
@@ -261,14 +266,7 @@ def test_fourth_base_cup_plan_session_calibrate_place_simulate(tmp_path):
     np.testing.assert_allclose(setting[3], 2 * setting[:3].mean(axis=0) - setting[0], atol=1e-6)
     legs = [c["legs"] for c in json.loads(plan.to_json())["configurations"]]
     assert legs and all(len(x) == 7 and x[6].startswith("B4-") for x in legs)
-    session = tmp_path / "s"
-    session.mkdir()
-    plan.save(str(session / "plan.json"))
-    sim = hexapod.simulate_readings(plan, seed=5, validation=0)
-    assert sim["legs_out_of_range"] == 0
-    done = hexapod.session(str(session / "plan.json"), str(session / "journal.jsonl"),
-                           sim["text"].splitlines())
-    assert done["status"] == "complete"
+    session = simulated_session(plan, tmp_path / "s")
     c = cli_json("hexapod", "calibrate", "--session", str(session), "--fit", "legs", "--out",
                  str(tmp_path / "cli_legs.yaml"))
     p = hexapod.calibrate([str(session)], fit="legs", out=str(tmp_path / "py_legs.yaml"))
