@@ -13,6 +13,8 @@ ROBCAL="$1" tmp=$(mktemp -d) pid=""
 trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
 json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 fail() { echo "hexapod fourth base cup: $*" >&2; exit 1; }
+TMP="$tmp"
+source "$(dirname "$0")/lib/killed_session.sh"
 mkdir -p "$tmp/s" "$tmp/both"
 # 2R, R, R with R = 300/√3: B4 opposite B1 on the circumcircle of the base triangle.
 base4=346.41016151377545,173.20508075688772,173.20508075688772
@@ -58,20 +60,8 @@ n=$(json "$tmp/s/plan.json" "len(d['configurations'])")
 
 # The session killed (SIGKILL) once its journal holds 8 readings (B4's second distance), resumed.
 valid_before_kill=8
-mkfifo "$tmp/fifo"
-"$ROBCAL" hexapod session --plan "$tmp/s/plan.json" --journal "$tmp/s/journal.jsonl" < "$tmp/fifo" > "$tmp/first.log" &
-pid=$!
-exec 3> "$tmp/fifo"
-head -n "$valid_before_kill" "$tmp/r.txt" >&3
-for _ in $(seq 1 1200); do
-  [ -f "$tmp/s/journal.jsonl" ] && [ "$(wc -l < "$tmp/s/journal.jsonl")" -ge "$valid_before_kill" ] && break
-  sleep 0.05
-done
-[ "$(wc -l < "$tmp/s/journal.jsonl")" -eq "$valid_before_kill" ] || fail "journal not at $valid_before_kill"
-kill -9 "$pid"
-wait "$pid" 2>/dev/null || true
-pid=""
-exec 3>&-
+kill_session_after "$valid_before_kill" "$tmp/s/plan.json" "$tmp/s/journal.jsonl" "$tmp/r.txt" \
+  "$tmp/first.log" || fail "journal not at $valid_before_kill"
 grep -q "Set the ballbar up at 346.41016151377545 mm. Attach the ballbar between base cups B1 and B4" \
   "$tmp/first.log" || fail "no B1-B4 step: $(cat "$tmp/first.log")"
 [ "$(tail -n 1 "$tmp/s/journal.jsonl" | json /dev/stdin "d['key']")" = "base/B2-B4" ] ||

@@ -16,6 +16,8 @@ fixture=("$@")
 trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
 json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 fail() { echo "hexapod placements: $*" >&2; exit 1; }
+TMP="$tmp"
+source "$(dirname "$0")/lib/killed_session.sh"
 mkdir -p "$tmp/a" "$tmp/b" "$tmp/c"
 
 "$ROBCAL" hexapod plan --placement 500,300,150,0 --gauge-range-mm 5 "${fixture[@]}" --out "$tmp/a/plan.json" > /dev/null
@@ -29,20 +31,8 @@ mkdir -p "$tmp/a" "$tmp/b" "$tmp/c"
 
 # The second placement's session: killed once its journal holds 40 readings, then resumed.
 valid_before_kill=40
-mkfifo "$tmp/fifo"
-"$ROBCAL" hexapod session --plan "$tmp/b/plan.json" --journal "$tmp/b/journal.jsonl" < "$tmp/fifo" > /dev/null &
-pid=$!
-exec 3> "$tmp/fifo"
-head -n "$valid_before_kill" "$tmp/rb.txt" >&3
-for _ in $(seq 1 1200); do
-  [ -f "$tmp/b/journal.jsonl" ] && [ "$(wc -l < "$tmp/b/journal.jsonl")" -ge "$valid_before_kill" ] && break
-  sleep 0.05
-done
-[ "$(wc -l < "$tmp/b/journal.jsonl")" -eq "$valid_before_kill" ] || fail "journal not at $valid_before_kill"
-kill -9 "$pid"
-wait "$pid" 2>/dev/null || true
-pid=""
-exec 3>&-
+kill_session_after "$valid_before_kill" "$tmp/b/plan.json" "$tmp/b/journal.jsonl" "$tmp/rb.txt" \
+  /dev/null || fail "journal not at $valid_before_kill"
 # Before the resume, the partial second session calibrates with the first (its measured part).
 "$ROBCAL" hexapod calibrate --session "$tmp/a" --session "$tmp/b" --fit legs --tool "$tmp/tool.yaml" \
   --out "$tmp/partial.yaml" --json > "$tmp/partial.json"
