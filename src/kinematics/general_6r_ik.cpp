@@ -77,8 +77,9 @@ constexpr double kSameSolutionRad = 1e-6;
 /// returns that solution again, 1e-10 close (a quarter of the CRX's candidates).
 constexpr double kSameStartRad = 1e-8;
 constexpr int kNewtonIterations = 20;
-/// An accepted Newton step this small (rad, largest joint) leaves an error of its square times
-/// the curvature, below rounding: the polish stops there without one more step to confirm.
+/// An accepted Newton step this small (rad, largest joint) leaves, at a well-conditioned root, an
+/// error of its square times the curvature, below rounding: the polish stops there without one
+/// more step to confirm (beside a near-double root the error is about one step: refine_extended).
 constexpr double kConvergedStepRad = 1e-10;
 
 Pose<double> rot_z(double theta) {
@@ -215,8 +216,8 @@ void reflect(Companion& T, Eigen::Index r, const Eigen::Matrix<double, N - 1, 1>
 /// The eigenvalues of the deflated companion, eigenvalues only (docs/method/02-frames.md §7):
 /// Eigen's Hessenberg reduction, then the Francis double-shift QR of Eigen's RealSchur (the same
 /// shifts, exceptional shifts, deflation test and iteration limit) with each step applied to the
-/// active window alone, as LAPACK's dlahqr does without the Schur form: the rows right of the
-/// window and the columns above it are read only by the Schur vectors and the full Schur form,
+/// active window alone, as LAPACK's dlahqr does without the Schur form: the columns right of the
+/// window and the rows above it are read only by the Schur vectors and the full Schur form,
 /// which are not wanted. In the order of the quasi-triangular form, a complex pair + then −;
 /// false when the QR does not converge or an eigenvalue is not finite.
 bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 24>& lambda) {
@@ -225,7 +226,8 @@ bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 
   constexpr double kEps = std::numeric_limits<double>::epsilon();
   const Index n = C.rows();
   const double scale = C.cwiseAbs().maxCoeff();
-  if (!(scale > 0)) {
+  if (!std::isfinite(scale)) return false;
+  if (scale == 0) {
     std::fill(lambda.begin(), lambda.begin() + n, 0.0);
     return true;
   }
@@ -312,11 +314,11 @@ bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 
       Eigen::Vector2d ess;
       double tau;
       const double beta = make_reflector<3>(v, ess, tau);
-      if (beta == 0) continue;
+      if (beta == 0 || tau == 0) continue;  // the identity: nothing to apply
       if (k > im)
         T(k, k - 1) = beta;
       else if (k > il)
-        T(k, k - 1) = -T(k, k - 1);
+        T(k, k - 1) *= 1 - tau;  // dlahqr: the similarity's effect on the entry left of the bulge
       reflect<3>(T, k, ess, tau, k, iu, il, std::min(iu, k + 3));
     }
     Eigen::Matrix<double, 1, 1> ess;
@@ -398,17 +400,22 @@ void pose_error_and_jacobian(const Frames<T>& f, const Pose<T>& target, Eigen::M
 }
 
 /// Where the Jacobian is this close to singular (smallest to largest pivot of its LU, lengths
-/// scaled), the solution is determined only to the rounding of the double chain divided by it —
-/// 1e-9 rad and more beside a near-double root (two solutions 1e-6 rad apart on a CRX-10iA/L):
-/// Newton goes on in long double (docs/method/02-frames.md §7).
+/// scaled), the root is near-double (two solutions 1e-6 rad apart on a CRX-10iA/L): Newton
+/// converges only linearly there, each step halving the distance while the error falls by 4, so
+/// the factor-4 stop ends it up to 1e-6 rad short, with the pose already within 1e-10 mm; the
+/// double chain's rounding (1e-13 mm over 4e-5 mm/rad) would leave 2e-9 rad more. Newton goes
+/// on in long double (docs/method/02-frames.md §7).
 constexpr double kIllConditionedPivots = 1e-6;
 constexpr int kExtendedIterations = 6;
 constexpr double kExtendedStepRad = 1e-11;
 
-/// Newton steps in long double from an accepted `theta`: the chain's own rounding, 1e-13 mm in
-/// double, no longer hides the root of an ill-conditioned pose. Kept when they converge (a last
-/// step below kExtendedStepRad) within kSameSolutionRad of the start: this solution's root, not
-/// its twin's.
+/// Newton steps in long double from an accepted `theta` beside a near-double root. Kept when they
+/// converge (a last step below kExtendedStepRad) while every step is at most 3/4 of the one before
+/// and the whole move stays within 4 first steps (a geometric series of ratio 3/4): Newton
+/// contracting onto a root near the start, not wandering. From a start between two twins it
+/// still reaches whichever is nearer; the solutions are then merged at kSameSolutionRad as
+/// before, so their number does not change, but which twin represents the pair may.
+/// Where long double is double (not on Debian's x86-64 and aarch64), it changes nothing.
 void refine_extended(const General6rGeometry& g, const Pose<double>& target, Angles& theta) {
   using Extended = long double;
   std::array<Extended, kJointCount> x;
@@ -416,17 +423,22 @@ void refine_extended(const General6rGeometry& g, const Pose<double>& target, Ang
   const Pose<Extended> goal = cast_pose<Extended>(target);
   Eigen::Matrix<Extended, 6, 1> e;
   Eigen::Matrix<Extended, 6, 6> J;
-  Extended last_step = std::numeric_limits<Extended>::infinity();
+  Extended last_step = std::numeric_limits<Extended>::infinity(), first_step = 0;
   for (int it = 0; it < kExtendedIterations && last_step > kExtendedStepRad; ++it) {
     pose_error_and_jacobian(forward(g, x), goal, e, J);
     const Eigen::Matrix<Extended, 6, 1> step = J.colPivHouseholderQr().solve(e);
     if (!step.allFinite()) return;
+    const Extended size = step.cwiseAbs().maxCoeff();
+    if (it == 0)
+      first_step = size;
+    else if (size > 0.75 * last_step)
+      return;  // not contracting towards a root
     for (int i = 0; i < kJointCount; ++i) x[i] += step[i];
-    last_step = step.cwiseAbs().maxCoeff();
+    last_step = size;
   }
   if (last_step > kExtendedStepRad) return;
   for (int i = 0; i < kJointCount; ++i)
-    if (std::abs(static_cast<double>(x[i]) - theta[i]) > kSameSolutionRad) return;
+    if (std::abs(x[i] - Extended{theta[i]}) > 4 * first_step + kExtendedStepRad) return;
   for (int i = 0; i < kJointCount; ++i) theta[i] = static_cast<double>(x[i]);
 }
 
@@ -708,7 +720,8 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     const auto known = [&](double radius) {
       for (int s = 0; s < count; ++s) {
         double d = 0;
-        for (int i = 0; i < kJointCount; ++i) d = std::max(d, std::abs(wrap(out[s][i] - theta[i])));
+        for (int i = 0; i < kJointCount && d < radius; ++i)
+          d = std::max(d, std::abs(wrap(out[s][i] - theta[i])));
         if (d < radius) return s;
       }
       return -1;
