@@ -64,6 +64,11 @@ constexpr int kMaxCluster = 4;
 /// twins sharing x3) the double root is defective and its eigenvalues spread as ε^(1/4), up to
 /// 1e-2 (Stäubli TX2-60, Doosan M1013, CRX near θ5 = 0).
 constexpr double kCrowded = 3e-2;
+/// A lone root whose solutions all lie this close (· (1 + |x3|)) to its eigenvalue is simple:
+/// rounding moves a simple root's eigenvalue by about ε times its condition, while a multiple
+/// root split by rounding is off by √ε or more (the twins the crowded search finds, on 400,000
+/// configurations of the four general 6R arms, were at 1e-10 or farther; 1e-12 to 1e-15 is usual).
+constexpr double kSimpleRoot = 1e-12;
 /// A singular value of the left sides at x3 = i below this fraction of the largest spans a
 /// spurious eigenvector (they are 1e-16 relative, the others above 1e-3, on the arms tried).
 constexpr double kSpuriousNull = 1e-10;
@@ -786,12 +791,12 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
         found = std::max(found, null_space_candidates(lambda.real(), 1));
     }
     if (found < e - b) null_space_candidates(x3, e - b);
-    // Fewer solutions at this x3 than roots from a multiple or crowded cluster: a twin may share
-    // a solution's exact x3 (a multiple root split beyond the cluster, or both candidates of a
-    // double root polished to one twin); M(x3) there has it in its near-null space, three wide
-    // (on the CRX two structural directions have singular values ~1e-6 at every x3, and the
-    // twin's vector mixes with them). Solutions reached from here but lying at another root's
-    // x3 do not count.
+    // Fewer solutions at this x3 than roots from a multiple cluster, or from a crowded lone root
+    // whose solutions are off its eigenvalue by more than rounding: a twin may share a solution's
+    // exact x3 (a multiple root split beyond the cluster, or both candidates of a double root
+    // polished to one twin); M(x3) there has it in its near-null space, three wide (on the CRX
+    // two structural directions have singular values ~1e-6 at every x3, and the twin's vector
+    // mixes with them). Solutions reached from here but lying at another root's x3 do not count.
     bool crowded = false;
     for (int k = b; k < e && !crowded; ++k)
       for (int o = 0; o < eigenvalue_count && !crowded; ++o) {
@@ -803,10 +808,14 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
       return std::tan(wrap(out[s][(2 + g.cyclic_shift) % kJointCount] - phi3) / 2);
     };
     int reached_here = 0;
-    for (int s = 0; s < count; ++s)
-      reached_here +=
-          (reached >> s & 1u) && std::abs(x3_of_solution(s) - x3) <= kCrowded * (1 + std::abs(x3));
-    if ((crowded || e - b > 1) && reached_here < std::max(2, e - b)) {
+    bool rounding_only = true;
+    for (int s = 0; s < count; ++s) {
+      if (!(reached >> s & 1u)) continue;
+      const double offset = std::abs(x3_of_solution(s) - x3);
+      reached_here += offset <= kCrowded * (1 + std::abs(x3));
+      rounding_only = rounding_only && offset <= kSimpleRoot * (1 + std::abs(x3));
+    }
+    if ((e - b > 1 || (crowded && !rounding_only)) && reached_here < std::max(2, e - b)) {
       const unsigned seek = reached & ~twins_sought;
       twins_sought |= seek;
       for (int s = 0; s < count; ++s)
