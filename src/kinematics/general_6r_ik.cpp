@@ -218,6 +218,15 @@ void reflect(Companion& T, Eigen::Index r, const Eigen::Matrix<double, N - 1, 1>
   }
 }
 
+/// The deflated companion's Hessenberg form (divided by its largest entry, `scale`) and, once
+/// companion_eigenvalues succeeded, its `count` eigenvalues.
+struct CompanionSpectrum {
+  Eigen::HessenbergDecomposition<Companion> hessenberg;
+  double scale = 0;
+  std::array<std::complex<double>, 24> eigenvalues;
+  int count = 0;
+};
+
 /// The eigenvalues of the deflated companion, eigenvalues only (docs/method/02-frames.md §7):
 /// Eigen's Hessenberg reduction, then the Francis double-shift QR of Eigen's RealSchur (the same
 /// shifts, exceptional shifts, deflation test and iteration limit) with each step applied to the
@@ -225,18 +234,17 @@ void reflect(Companion& T, Eigen::Index r, const Eigen::Matrix<double, N - 1, 1>
 /// window and the rows above it are read only by the Schur vectors and the full Schur form,
 /// which are not wanted. In the order of the quasi-triangular form, a complex pair + then −;
 /// false when the QR does not converge or an eigenvalue is not finite.
-bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 24>& lambda) {
+bool companion_eigenvalues(const Companion& C, CompanionSpectrum& spectrum) {
   using Eigen::Index;
   using std::abs;
   constexpr double kEps = std::numeric_limits<double>::epsilon();
   const Index n = C.rows();
-  const double scale = C.cwiseAbs().maxCoeff();
-  if (!std::isfinite(scale)) return false;
-  if (scale == 0) {
-    std::fill(lambda.begin(), lambda.begin() + n, 0.0);
-    return true;
-  }
-  Companion T = Eigen::HessenbergDecomposition<Companion>(C / scale).matrixH();
+  spectrum.count = 0;
+  const double largest = C.cwiseAbs().maxCoeff();
+  if (!std::isfinite(largest)) return false;
+  const double scale = spectrum.scale = largest > 0 ? largest : 1.0;
+  std::array<std::complex<double>, 24>& lambda = spectrum.eigenvalues;
+  Companion T = spectrum.hessenberg.compute(C / scale).matrixH();
   double norm = 0;
   for (Index j = 0; j < n; ++j) norm += T.col(j).head(std::min(n, j + 2)).cwiseAbs().sum();
   const double negligible = std::max(norm * kEps * kEps, std::numeric_limits<double>::min());
@@ -339,8 +347,45 @@ bool companion_eigenvalues(const Companion& C, std::array<std::complex<double>, 
       if (i > im + 2) T(i, i - 3) = 0;
     }
   }
-  return std::all_of(lambda.begin(), lambda.begin() + n,
-                     [](const std::complex<double>& l) { return std::isfinite(std::abs(l)); });
+  if (!std::all_of(lambda.begin(), lambda.begin() + n,
+                   [](const std::complex<double>& l) { return std::isfinite(std::abs(l)); }))
+    return false;
+  spectrum.count = static_cast<int>(n);
+  return true;
+}
+
+/// The companion's eigenvector for its real eigenvalue `lambda`, by inverse iteration on the
+/// Hessenberg form H (LAPACK's dlaein): Gaussian elimination of H − λ·I with partial pivoting
+/// between neighbouring rows (O(n²)), a first solve of U·x = 1, a second of (H − λ·I)·x = x, a
+/// pivot that rounding made zero replaced by ε·‖H‖; then back to the companion's coordinates by
+/// the Hessenberg reduction's Q.
+Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 24, 1> companion_eigenvector(
+    const CompanionSpectrum& spectrum, double lambda) {
+  using Eigen::Index;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 24, 1>;
+  const Index n = spectrum.hessenberg.packedMatrix().rows();
+  Companion A = spectrum.hessenberg.matrixH();
+  A.diagonal().array() -= lambda / spectrum.scale;
+  const double tiny = std::numeric_limits<double>::epsilon() * A.cwiseAbs().maxCoeff();
+  std::array<bool, 24> swapped{};
+  std::array<double, 24> factor{};
+  for (Index k = 0; k + 1 < n; ++k) {
+    swapped[k] = std::abs(A(k + 1, k)) > std::abs(A(k, k));
+    if (swapped[k]) A.row(k).tail(n - k).swap(A.row(k + 1).tail(n - k));
+    if (A(k, k) == 0) A(k, k) = tiny;
+    factor[k] = A(k + 1, k) / A(k, k);
+    A.row(k + 1).tail(n - k - 1) -= factor[k] * A.row(k).tail(n - k - 1);
+  }
+  if (A(n - 1, n - 1) == 0) A(n - 1, n - 1) = tiny;
+  const auto U = A.triangularView<Eigen::Upper>();
+  Vector x = U.solve(Vector::Ones(n));
+  x /= x.cwiseAbs().maxCoeff();
+  for (Index k = 0; k + 1 < n; ++k) {
+    if (swapped[k]) std::swap(x[k], x[k + 1]);
+    x[k + 1] -= factor[k] * x[k];
+  }
+  U.solveInPlace(x);
+  return spectrum.hessenberg.matrixQ() * (x / x.norm());
 }
 
 /// Pose of the chain's flange and each joint's frame, axis origin and direction.
@@ -679,9 +724,9 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   // does not converge, with the next such shift.
   std::array<Matrix12, 3> M;
   double phi3 = 0;
-  std::array<std::complex<double>, 24> eigenvalues;
-  int eigenvalue_count = 0;
-  for (unsigned tried = 0; eigenvalue_count == 0;) {
+  CompanionSpectrum spectrum;
+  CompanionBasis lower;
+  for (unsigned tried = 0; spectrum.count == 0;) {
     int pick = -1;
     double best_rcond = 1e-15;
     for (int s = 0; s < 4; ++s) {
@@ -699,10 +744,9 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     tried |= 1u << pick;
     phi3 = kShifts3[pick];
     const Eigen::PartialPivLU<Matrix12> lead(M[2]);
-    const CompanionBasis lower = lead.solve(M[0] * kept.top + M[1] * kept.bottom);
+    lower = lead.solve(M[0] * kept.top + M[1] * kept.bottom);
     const Companion companion = kept.top_t_bottom - kept.bottom.transpose() * lower;
-    if (companion_eigenvalues(companion, eigenvalues))
-      eigenvalue_count = static_cast<int>(companion.rows());
+    companion_eigenvalues(companion, spectrum);
   }
   int count = 0;
   // One candidate (x3, v): θ4, θ5 from v's monomial ratios, θ1, θ2, θ6 from the pose, polished.
@@ -764,6 +808,8 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   // Real candidates (both members of a near-real conjugate pair), by real part.
   std::array<int, 24> order{};
   int n = 0;
+  const std::array<std::complex<double>, 24>& eigenvalues = spectrum.eigenvalues;
+  const int eigenvalue_count = spectrum.count;
   for (int e = 0; e < eigenvalue_count; ++e) {
     const std::complex<double> lambda = eigenvalues[e];
     if (std::abs(lambda.imag()) <= kRealEigenvalue * (1 + std::abs(lambda))) order[n++] = e;
@@ -787,8 +833,19 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     for (int k = b; k < e; ++k) {
       const std::complex<double> lambda = eigenvalues[order[k]];
       x3 += lambda.real() / (e - b);
-      if (lambda.imag() >= 0 && found < e - b)
+      if (e - b == 1 && lambda.imag() == 0) {
+        // A lone real root: the null vector from the eigenvector w of Yᵀ·C·Y (docs/method/
+        // 02-frames.md §7). Y·w is C's eigenvector [v; x3·v] less a part s in the spurious span,
+        // where C² = −I; (C − x3)·s = −(C − x3)·Y·w gives v ∝ (top − M2⁻¹(M0·top + M1·bottom))·w.
+        // When it gives no new solution, the pivoted QR's null space as before (wider where it
+        // shows more: near-singular poses, where a root's eigenvector is poorly determined).
+        const Vector12 v = (kept.top - lower) * companion_eigenvector(spectrum, lambda.real());
+        const int before = count;
+        if (const int s = candidate(lambda.real(), v); s >= 0) reached |= 1u << s;
+        found = count > before ? 1 : null_space_candidates(lambda.real(), 1);
+      } else if (lambda.imag() >= 0 && found < e - b) {
         found = std::max(found, null_space_candidates(lambda.real(), 1));
+      }
     }
     if (found < e - b) null_space_candidates(x3, e - b);
     // Fewer solutions at this x3 than roots from a multiple cluster, or from a crowded lone root
