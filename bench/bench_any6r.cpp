@@ -69,6 +69,25 @@ void nominal_all(benchmark::State& state, const NominalInputs<Geometry>& in) {
   state.counters["solutions"] = static_cast<double>(solutions) / static_cast<double>(solves);
 }
 
+/// Which paths the general solver took, per pose over the inputs (counted once, untimed).
+void report_general_paths(benchmark::State& state, const NominalInputs<General6rGeometry>& in) {
+  General6rCounts sum;
+  for (const Pose<double>& pose : in.poses) {
+    std::array<std::array<double, kJointCount>, kMaxGeneral6rSolutions> out;
+    General6rCounts c;
+    general_6r_link_angles(in.geometry, pose, out, &c);
+    sum += c;
+  }
+  const auto per_pose = [&](int total) {
+    return static_cast<double>(total) / static_cast<double>(in.poses.size());
+  };
+  state.counters["real_roots"] = per_pose(sum.real_roots);
+  state.counters["eigenvector"] = per_pose(sum.eigenvector_solutions);
+  state.counters["null_spaces"] = per_pose(sum.null_spaces);
+  state.counters["twin_searches"] = per_pose(sum.twin_searches);
+  state.counters["polishes"] = per_pose(sum.polishes);
+}
+
 void Any6r_Ur10eNominalIkEveryTurn(benchmark::State& state) {
   nominal_all(state, ur10e_inputs(360));
 }
@@ -84,7 +103,9 @@ BENCHMARK(Any6r_Ur10eNominalIk8Branches);
 void Any6r_CrxGeneralIkAllSolutions(benchmark::State& state) {
   RobotModel model = load_robot("fanuc-crx10ia-l");
   for (JointLimit& l : model.limits) l = {-deg2rad(180), deg2rad(180)};
-  nominal_all(state, inputs_for(model, *analyze_general_6r(model)));
+  const auto in = inputs_for(model, *analyze_general_6r(model));
+  nominal_all(state, in);
+  report_general_paths(state, in);
 }
 BENCHMARK(Any6r_CrxGeneralIkAllSolutions);
 
@@ -96,7 +117,9 @@ void Any6r_Random6rGeneralIkAllSolutions(benchmark::State& state) {
   for (int i = 1; i < kJointCount; ++i)
     model.mdh[i] = {deg2rad(twist(rng)), length(rng), deg2rad(twist(rng)), length(rng)};
   for (JointLimit& l : model.limits) l = {-deg2rad(180), deg2rad(180)};
-  nominal_all(state, inputs_for(model, *analyze_general_6r(model)));
+  const auto in = inputs_for(model, *analyze_general_6r(model));
+  nominal_all(state, in);
+  report_general_paths(state, in);
 }
 BENCHMARK(Any6r_Random6rGeneralIkAllSolutions);
 

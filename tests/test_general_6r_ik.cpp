@@ -111,6 +111,46 @@ TEST(General6rIk, RandomGeometriesRoundTrip) {
   EXPECT_EQ(odd, 0);
 }
 
+// Which paths the solver takes (General6rCounts): a lone real root's companion eigenvector gives
+// its solution without a pivoted-QR null space (a wrong eigenvector would fall back to the QR
+// every time and pass every round trip, only slower), and on the CRX the twin search runs only
+// where a root's solutions are off its eigenvalue by more than rounding (6.2 searches per pose
+// when every crowded root was searched).
+TEST(General6rIk, LoneRootsTakeTheirEigenvectorAndTwinsAreSoughtOnlyOffRounding) {
+  auto rng = test::seeded_rng(1507);
+  const auto tally = [&](const RobotModel& model, const General6rGeometry& g, int poses,
+                         General6rCounts& sum) {
+    const NominalChain chain = make_nominal_chain(model);
+    for (int k = 0; k < poses; ++k) {
+      std::array<std::array<double, kJointCount>, kMaxGeneral6rSolutions> out;
+      General6rCounts c;
+      general_6r_link_angles(g, nominal_flange_pose(chain, uniform_joints(model, rng)), out, &c);
+      sum += c;
+    }
+  };
+  General6rCounts random;
+  for (int robot = 0; robot < 20; ++robot) {
+    const RobotModel model = random_6r(rng);
+    const auto g = analyze_general_6r(model);
+    ASSERT_TRUE(g);
+    tally(model, *g, 40, random);
+  }
+  const RobotModel crx_model = load_robot("fanuc-crx10ia-l");
+  General6rCounts crx;
+  tally(crx_model, *analyze_general_6r(crx_model), 500, crx);
+  std::printf(
+      "[random 6R, 800 poses] real roots %d, eigenvector solutions %d, null spaces %d, "
+      "twin searches %d, polishes %d\n[CRX-10iA/L, 500 poses] real roots %d, eigenvector "
+      "solutions %d, null spaces %d, twin searches %d, polishes %d\n",
+      random.real_roots, random.eigenvector_solutions, random.null_spaces, random.twin_searches,
+      random.polishes, crx.real_roots, crx.eigenvector_solutions, crx.null_spaces,
+      crx.twin_searches, crx.polishes);
+  EXPECT_GE(random.eigenvector_solutions, 0.97 * random.real_roots);
+  EXPECT_LE(random.null_spaces, 0.03 * random.real_roots);
+  EXPECT_GE(crx.eigenvector_solutions, 0.85 * crx.real_roots);
+  EXPECT_LE(crx.twin_searches, 500);
+}
+
 /// Solutions a damped-least-squares search from `starts` random seeds converges to, which the
 /// solver did not return (identity joint map: controller joints are link angles minus offsets).
 int missed_by_solver(const RobotModel& model, const IkResult& r, const Pose<double>& target,
@@ -258,6 +298,13 @@ TEST(General6rIk, DoubleEigenvaluesLoseNoSolution) {
       {"fanuc-crx10ia", (Vector6d() << 2.6209881596776947, 1.9106174478842721, 2.4819552836940968,
                          1.8604635967318122, 1.2052415793662528, 0.32711423424827712)
                             .finished()},
+      // Found only by the twin search at a lone crowded root whose solutions lie 1e-10 or more off
+      // its eigenvalue (a multiple root split by rounding; 1 in 100,000): searching no lone root
+      // returns 5 of its 8 solutions, q not among them.
+      {"fanuc-crx10ia",
+       (Vector6d() << -0.53722356733803922, 0.32438784521081532, 4.0212248446764836,
+        1.3491950141010833, -0.38202891696950347, 0.32011128482067575)
+           .finished()},
       // Returned 5.4e-7 rad from q (1 in 100,000): twins 1.2e-6 rad apart, the smallest
       // singular value of the joint Jacobian 4.3e-5 mm/rad; Newton in double stops short of the
       // near-double root. Newton in long double puts it 5.7e-10 rad from q (the margin to 1e-9 is

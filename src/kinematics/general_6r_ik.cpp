@@ -661,7 +661,8 @@ std::optional<General6rGeometry> analyze_general_6r(const RobotModel& model, std
 }
 
 int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world_T_flange,
-                           std::array<Angles, kMaxGeneral6rSolutions>& out) {
+                           std::array<Angles, kMaxGeneral6rSolutions>& out,
+                           General6rCounts* counts) {
   const double L = g.length_scale;
   // The loop Rz(θ1)·J1⋯Rz(θ6)·J6 = I with J_i = K_i (i ≤ 5), J6 = T'⁻¹, started at joint
   // 1 + cyclic_shift: φ_i = θ_{i+shift}, K_i in the header's equations becomes J_{i+shift}.
@@ -718,8 +719,9 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     }
     return out[2].partialPivLu().rcond();
   };
-  // The eigenvalues x3 of the companion matrix C = [0, I; −M2⁻¹M0, −M2⁻¹M1] on Y: C·Y has no
-  // component along the spurious eigenvectors, so Yᵀ·C·Y holds the other eigenvalues. With the
+  // The eigenvalues x3 of the companion matrix C = [0, I; −M2⁻¹M0, −M2⁻¹M1] on Y: the spurious
+  // span Z is invariant and Y ⟂ Z, so C is block triangular in [Y, Z] and Yᵀ·C·Y holds the
+  // other eigenvalues (docs/method/02-frames.md §7). With the
   // first θ3 shift whose M2 is well conditioned (else the best conditioned); when the real Schur
   // does not converge, with the next such shift.
   std::array<Matrix12, 3> M;
@@ -740,7 +742,10 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
       }
       if (rcond > kWellConditioned) break;
     }
-    if (pick < 0) return 0;
+    if (pick < 0) {
+      if (counts) *counts = {};
+      return 0;
+    }
     tried |= 1u << pick;
     phi3 = kShifts3[pick];
     const Eigen::PartialPivLU<Matrix12> lead(M[2]);
@@ -748,7 +753,10 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
     const Companion companion = kept.top_t_bottom - kept.bottom.transpose() * lower;
     companion_eigenvalues(companion, spectrum);
   }
+  // (C² + I)·Y's top half: maps an eigenvector w of Yᵀ·C·Y to C's null vector v (below).
+  const CompanionBasis eigenvector_map = kept.top - lower;
   int count = 0;
+  General6rCounts tally;
   // One candidate (x3, v): θ4, θ5 from v's monomial ratios, θ1, θ2, θ6 from the pose, polished.
   // Returns the solution reached (new or already found), or -1.
   auto candidate = [&](double x3, const Vector12& v) -> int {
@@ -776,6 +784,7 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
       return -1;
     };
     if (const int s = known(kSameStartRad); s >= 0) return s;
+    ++tally.polishes;
     if (!polish(g, world_T_flange, theta)) return -1;
     for (double& t : theta) t = wrap(t);
     if (const int s = known(kSameSolutionRad); s >= 0) return s;
@@ -787,6 +796,7 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   // Candidates from the null space of M(x3), at least `dimension` wide (more when the pivoted QR
   // of M(x3)ᵀ shows it; its last columns of Q are orthogonal to M's rows); returns the width.
   auto null_space_candidates = [&](double x3, int dimension) {
+    ++tally.null_spaces;
     const Matrix12 A = M[0] + x3 * (M[1] + x3 * M[2]);
     const Eigen::ColPivHouseholderQR<Matrix12> qr(A.transpose());
     const Vector12 r = qr.matrixR().diagonal().cwiseAbs();
@@ -816,6 +826,7 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
   }
   const auto x3_of = [&](int e) { return eigenvalues[e].real(); };
   std::sort(order.begin(), order.begin() + n, [&](int a, int b) { return x3_of(a) < x3_of(b); });
+  tally.real_roots = n;
   for (int b = 0, e = 0; b < n; b = e) {
     reached = 0;
     // A cluster: roots within kSameRoot of each other (two solutions sharing, or nearly
@@ -835,13 +846,14 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
       x3 += lambda.real() / (e - b);
       if (e - b == 1 && lambda.imag() == 0) {
         // A lone real root: the null vector from the eigenvector w of Yᵀ·C·Y (docs/method/
-        // 02-frames.md §7). Y·w is C's eigenvector [v; x3·v] less a part s in the spurious span,
-        // where C² = −I; (C − x3)·s = −(C − x3)·Y·w gives v ∝ (top − M2⁻¹(M0·top + M1·bottom))·w.
+        // 02-frames.md §7). Y·w is C's eigenvector [v; x3·v] plus a part s in the spurious span,
+        // where C² = −I: (C² + I)·Y·w ∝ [v; x3·v], v ∝ (top − M2⁻¹(M0·top + M1·bottom))·w.
         // When it gives no new solution, the pivoted QR's null space as before (wider where it
         // shows more: near-singular poses, where a root's eigenvector is poorly determined).
-        const Vector12 v = (kept.top - lower) * companion_eigenvector(spectrum, lambda.real());
+        const Vector12 v = eigenvector_map * companion_eigenvector(spectrum, lambda.real());
         const int before = count;
         if (const int s = candidate(lambda.real(), v); s >= 0) reached |= 1u << s;
+        tally.eigenvector_solutions += count > before;
         found = count > before ? 1 : null_space_candidates(lambda.real(), 1);
       } else if (lambda.imag() >= 0 && found < e - b) {
         found = std::max(found, null_space_candidates(lambda.real(), 1));
@@ -876,9 +888,13 @@ int general_6r_link_angles(const General6rGeometry& g, const Pose<double>& world
       const unsigned seek = reached & ~twins_sought;
       twins_sought |= seek;
       for (int s = 0; s < count; ++s)
-        if (seek & (1u << s)) null_space_candidates(x3_of_solution(s), 3);
+        if (seek & (1u << s)) {
+          ++tally.twin_searches;
+          null_space_candidates(x3_of_solution(s), 3);
+        }
     }
   }
+  if (counts) *counts = tally;
   return count;
 }
 

@@ -84,11 +84,31 @@ struct General6rGeometry : ClosedFormJoints {
 std::optional<General6rGeometry> analyze_general_6r(const RobotModel& model,
                                                     std::string* why_not = nullptr);
 
+/// Which paths one call of general_6r_link_angles took (docs/method/02-frames.md §7): what the
+/// benchmarks report per pose and the tests hold the method to.
+struct General6rCounts {
+  int real_roots = 0;             ///< eigenvalues x3 taken as real (near-real pairs included)
+  int eigenvector_solutions = 0;  ///< new solutions from a lone root's companion eigenvector
+  int null_spaces = 0;            ///< pivoted-QR null spaces of M(x3) (clusters, fallbacks, twins)
+  int twin_searches = 0;          ///< of those, searches for a twin at a solution's own x3
+  int polishes = 0;               ///< candidates polished by Newton
+
+  General6rCounts& operator+=(const General6rCounts& other) {
+    real_roots += other.real_roots;
+    eigenvector_solutions += other.eigenvector_solutions;
+    null_spaces += other.null_spaces;
+    twin_searches += other.twin_searches;
+    polishes += other.polishes;
+    return *this;
+  }
+};
+
 /// MDH link angles θ1..θ6 (rad) of every real solution for `world_T_flange`, before joint
-/// limits and turns; returns how many (≤ kMaxGeneral6rSolutions) were written to `out`.
-int general_6r_link_angles(
-    const General6rGeometry& geometry, const Pose<double>& world_T_flange,
-    std::array<std::array<double, kJointCount>, kMaxGeneral6rSolutions>& out);
+/// limits and turns; returns how many (≤ kMaxGeneral6rSolutions) were written to `out`, and
+/// (if given) which paths it took in `counts`.
+int general_6r_link_angles(const General6rGeometry& geometry, const Pose<double>& world_T_flange,
+                           std::array<std::array<double, kJointCount>, kMaxGeneral6rSolutions>& out,
+                           General6rCounts* counts = nullptr);
 
 /// Every solution of the branches in `branch_mask` with every turn inside the limits.
 IkResult nominal_ik(const General6rGeometry& geometry, const Pose<double>& world_T_flange,
