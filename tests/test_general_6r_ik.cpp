@@ -112,10 +112,11 @@ TEST(General6rIk, RandomGeometriesRoundTrip) {
 }
 
 // Which paths the solver takes (General6rCounts): a lone real root's companion eigenvector gives
-// its solution without a pivoted-QR null space (a wrong eigenvector would fall back to the QR
-// every time and pass every round trip, only slower), and on the CRX the twin search runs only
-// where a root's solutions are off its eigenvalue by more than rounding (6.2 searches per pose
-// when every crowded root was searched).
+// its solution without a pivoted-QR null space (an eigenvector that only polishes to solutions
+// already found falls back to the QR and passes every round trip, only slower), and on the CRX
+// the twin search runs only where a root's solutions are off its eigenvalue by more than
+// rounding. Searching every crowded root (kSimpleRoot = 0) gives 2986 twin searches here and
+// fails all four bounds.
 TEST(General6rIk, LoneRootsTakeTheirEigenvectorAndTwinsAreSoughtOnlyOffRounding) {
   auto rng = test::seeded_rng(1507);
   const auto tally = [&](const RobotModel& model, const General6rGeometry& g, int poses,
@@ -136,8 +137,10 @@ TEST(General6rIk, LoneRootsTakeTheirEigenvectorAndTwinsAreSoughtOnlyOffRounding)
     tally(model, *g, 40, random);
   }
   const RobotModel crx_model = load_robot("fanuc-crx10ia-l");
+  const auto crx_geometry = analyze_general_6r(crx_model);
+  ASSERT_TRUE(crx_geometry);
   General6rCounts crx;
-  tally(crx_model, *analyze_general_6r(crx_model), 500, crx);
+  tally(crx_model, *crx_geometry, 500, crx);
   std::printf(
       "[random 6R, 800 poses] real roots %d, eigenvector solutions %d, null spaces %d, "
       "twin searches %d, polishes %d\n[CRX-10iA/L, 500 poses] real roots %d, eigenvector "
